@@ -1,0 +1,24 @@
+#pragma once
+// The subcommands of the `candela` program. Each registers its options on a CLI11 subcommand and
+// returns the process exit code: 0 success, 1 a check that failed (compare, validate, converge),
+// 2 bad input (scene errors name file:line), 130 interrupted.
+
+#include <CLI/CLI.hpp>
+
+#include <functional>
+
+namespace candela::app {
+
+constexpr int ExitOk = 0;
+constexpr int ExitCheckFailed = 1;
+constexpr int ExitBadInput = 2;
+constexpr int ExitInterrupted = 130;
+
+// Adds a subcommand to `app`; `run` is set to the function that executes it after parsing.
+void add_render_command(CLI::App& app, std::function<int()>& run);
+void add_compare_command(CLI::App& app, std::function<int()>& run);
+
+// Runs `body`, turning scene and input errors into a message on stderr and exit code 2.
+int run_guarded(const std::function<int()>& body);
+
+}  // namespace candela::app

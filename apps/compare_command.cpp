@@ -1,0 +1,62 @@
+// candela compare A.exr B.exr [--heatmap OUT.png] [--tolerance T] [--block-tolerance B]
+// Compares a test image A against a reference B. With --tolerance the exit code says whether
+// they agree: 0 yes, 1 no (channel means within T, 16x16 block luminance within B, default 2T).
+
+#include "apps/commands.h"
+
+#include "core/error.h"
+#include "core/image_metrics.h"
+
+#include <cstdio>
+
+namespace candela::app {
+
+namespace {
+struct CompareArgs {
+    std::string a, b, heatmap;
+    double tolerance = -1.0, block_tolerance = -1.0, range = 0.1;
+};
+}  // namespace
+
+void add_compare_command(CLI::App& app, std::function<int()>& run) {
+    auto args = std::make_shared<CompareArgs>();
+    CLI::App* cmd = app.add_subcommand("compare", "Compare an image against a reference: RMSE, relMSE, relative errors");
+    cmd->add_option("test", args->a, "Image to check (EXR or any OpenImageIO format)")->required();
+    cmd->add_option("reference", args->b, "Reference image")->required();
+    cmd->add_option("--heatmap", args->heatmap, "Write a relative-difference heatmap (PNG) with a legend");
+    cmd->add_option("--heatmap-range", args->range, "Relative difference at full colour (default 0.1 = 10%)")->check(CLI::PositiveNumber);
+    cmd->add_option("--tolerance", args->tolerance, "Agreement check: channel means within this relative tolerance (e.g. 0.01)")
+        ->check(CLI::NonNegativeNumber);
+    cmd->add_option("--block-tolerance", args->block_tolerance, "Block luminance tolerance (default: twice --tolerance)")
+        ->check(CLI::NonNegativeNumber);
+    cmd->callback([args, &run] {
+        run = [args] {
+            if (!args->heatmap.empty()) check_output_path(args->heatmap);
+            Image a = read_image(args->a), b = read_image(args->b);
+            ImageComparison c = compare_images(a, b);
+            std::printf("size            %d x %d\n", c.width, c.height);
+            std::printf("mean (test)     %.6g %.6g %.6g\n", c.mean_test.x, c.mean_test.y, c.mean_test.z);
+            std::printf("mean (ref)      %.6g %.6g %.6g\n", c.mean_reference.x, c.mean_reference.y, c.mean_reference.z);
+            std::printf("mean rel. diff  %+.3f%% %+.3f%% %+.3f%%\n", 100 * c.mean_relative_difference.x, 100 * c.mean_relative_difference.y,
+                        100 * c.mean_relative_difference.z);
+            std::printf("RMSE            %.6g\n", c.rmse);
+            std::printf("relMSE          %.6g\n", c.relmse);
+            std::printf("MARE            %.6g\n", c.mare);
+            std::printf("block MARE      %.3f%% (%d of %d 16x16 blocks)\n", 100 * c.block_mare, c.blocks_used, c.blocks_total);
+            if (!args->heatmap.empty()) write_png_display(relative_difference_heatmap(a, b, float(args->range)), args->heatmap);
+            if (args->tolerance < 0.0) return ExitOk;
+            AgreementThresholds t;
+            t.mean = args->tolerance;
+            t.block = args->block_tolerance >= 0.0 ? args->block_tolerance : 2.0 * args->tolerance;
+            std::string reason;
+            if (images_agree(c, t, &reason)) {
+                std::printf("agree           yes\n");
+                return ExitOk;
+            }
+            std::printf("agree           no: %s\n", reason.c_str());
+            return ExitCheckFailed;
+        };
+    });
+}
+
+}  // namespace candela::app

@@ -1,0 +1,99 @@
+// candela render SCENE.xml -o OUT.exr [--spp N] [-D k=v]... [--threads N] [--seed S] [--png]
+//                [--quiet] [--aov albedo,normal,depth,variance]
+
+#include "apps/commands.h"
+
+#include "core/integrator.h"
+#include "core/progress.h"
+#include "core/render_output.h"
+#include "core/xml.h"
+
+#include <csignal>
+#include <filesystem>
+#include <iostream>
+
+namespace candela::app {
+
+namespace {
+
+std::atomic<bool> g_interrupted{false};
+
+void on_sigint(int) {
+    g_interrupted = true;
+    std::signal(SIGINT, SIG_DFL);  // a second Ctrl-C ends the program at once
+}
+
+struct RenderArgs {
+    std::string scene, output;
+    int spp = 0, threads = 0;
+    int64_t seed = -1;
+    std::vector<std::string> defines, aovs;
+    bool png = false, quiet = false;
+};
+
+}  // namespace
+
+SceneParameters parse_defines(const std::vector<std::string>& defines) {
+    SceneParameters params;
+    for (const std::string& d : defines) {
+        size_t eq = d.find('=');
+        if (eq == std::string::npos || eq == 0) throw InputError("-D expects name=value, got \"" + d + "\"");
+        params[d.substr(0, eq)] = d.substr(eq + 1);
+    }
+    return params;
+}
+
+std::string default_output_for(const std::string& scene_path, const std::string& extension) {
+    return std::filesystem::path(scene_path).stem().string() + extension;
+}
+
+void add_render_command(CLI::App& app, std::function<int()>& run) {
+    auto args = std::make_shared<RenderArgs>();
+    CLI::App* cmd = app.add_subcommand("render", "Render a Mitsuba 3 scene file to OpenEXR");
+    cmd->add_option("scene", args->scene, "Scene file (Mitsuba 3 XML)")->required();
+    cmd->add_option("-o,--output", args->output, "Output EXR (default: the scene's name in the current directory)");
+    cmd->add_option("--spp", args->spp, "Samples per pixel (default: the scene's sampler)")->check(CLI::PositiveNumber);
+    cmd->add_option("-D", args->defines, "Set a scene parameter: -D name=value (repeatable)")->take_all();
+    cmd->add_option("--threads,-t", args->threads, "Worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
+    cmd->add_option("--seed", args->seed, "Random seed (default: the sampler's)")->check(CLI::NonNegativeNumber);
+    cmd->add_flag("--png", args->png, "Also write a tonemapped sRGB PNG beside the EXR");
+    cmd->add_flag("--quiet,-q", args->quiet, "No progress bar and no summary line");
+    cmd->add_option("--aov", args->aovs, "Extra EXR layers: albedo, normal, depth, variance")->delimiter(',');
+    cmd->callback([args, &run] {
+        run = [args] {
+            SceneParameters params = parse_defines(args->defines);
+            std::string output = args->output.empty() ? default_output_for(args->scene, ".exr") : args->output;
+            std::string png = std::filesystem::path(output).replace_extension(".png").string();
+            check_output_path(output);
+            if (args->png) check_output_path(png);
+
+            Ref<Scene> scene = load_scene(args->scene, params);
+            RenderOptions options;
+            options.spp = args->spp;
+            if (args->seed >= 0) options.seed = uint64_t(args->seed);
+            options.threads = args->threads;
+            options.progress = !args->quiet && stderr_is_terminal();
+            options.interrupt = &g_interrupted;
+            options.aovs = args->aovs;
+
+            g_interrupted = false;
+            auto previous = std::signal(SIGINT, on_sigint);
+            RenderResult result = scene->integrator().render(*scene, options);
+            std::signal(SIGINT, previous);
+
+            annotate_render(result, *scene, args->scene);
+            write_exr(result.image, output, scene->sensor().film().float32());
+            if (args->png) write_png(result.image, png);
+            if (!args->quiet) std::cerr << render_summary(result.stats, output) << "\n";
+            if (result.stats.nonfinite > 0)
+                std::cerr << "warning: " << result.stats.nonfinite << " samples were NaN or infinite and were dropped\n";
+            if (result.stats.partial) {
+                std::cerr << "interrupted: wrote the partial image to " << output << "\n";
+                return ExitInterrupted;
+            }
+            return ExitOk;
+        };
+    });
+}
+
+}  // namespace candela::app

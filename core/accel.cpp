@@ -1,0 +1,98 @@
+#include "core/accel.h"
+
+#include "core/error.h"
+#include "core/integrator.h"
+
+#include <cstdio>
+
+namespace candela {
+
+namespace {
+thread_local uint64_t g_rays_traced = 0;
+
+void embree_error(void*, RTCError code, const char* message) {
+    if (code != RTC_ERROR_NONE) std::fprintf(stderr, "embree error %d: %s\n", int(code), message ? message : "");
+}
+}  // namespace
+
+uint64_t thread_ray_count() { return g_rays_traced; }
+
+Accel::Accel() {
+    device_ = rtcNewDevice(nullptr);
+    if (!device_) throw std::runtime_error("could not create the Embree device");
+    rtcSetDeviceErrorFunction(device_, embree_error, nullptr);
+}
+
+Accel::~Accel() {
+    if (scene_) rtcReleaseScene(scene_);
+    if (device_) rtcReleaseDevice(device_);
+}
+
+void Accel::build(const std::vector<Ref<Shape>>& shapes) {
+    if (scene_) rtcReleaseScene(scene_);
+    scene_ = rtcNewScene(device_);
+    // ROBUST: no optimisations that trade arithmetic accuracy for speed (watertight hits).
+    rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
+    shapes_.clear();
+    for (const Ref<Shape>& shape : shapes) {
+        RTCGeometry geometry = shape->create_embree_geometry(device_);
+        rtcCommitGeometry(geometry);
+        unsigned id = rtcAttachGeometry(scene_, geometry);
+        rtcReleaseGeometry(geometry);
+        if (shapes_.size() <= id) shapes_.resize(id + 1, nullptr);
+        shapes_[id] = shape.get();
+    }
+    rtcCommitScene(scene_);
+}
+
+const Shape* Accel::intersect(const Ray& ray, RayHit& hit) const {
+    ++g_rays_traced;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRayHit rh;
+    rh.ray.org_x = ray.o.x;
+    rh.ray.org_y = ray.o.y;
+    rh.ray.org_z = ray.o.z;
+    rh.ray.dir_x = ray.d.x;
+    rh.ray.dir_y = ray.d.y;
+    rh.ray.dir_z = ray.d.z;
+    rh.ray.tnear = ray.tmin;
+    rh.ray.tfar = ray.tmax;
+    rh.ray.time = 0.0f;
+    rh.ray.mask = 0xFFFFFFFFu;
+    rh.ray.id = 0;
+    rh.ray.flags = 0;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(scene_, &context, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return nullptr;
+    hit.t = rh.ray.tfar;
+    hit.u = rh.hit.u;
+    hit.v = rh.hit.v;
+    hit.prim_index = rh.hit.primID;
+    return shapes_[rh.hit.geomID];
+}
+
+bool Accel::occluded(const Ray& ray) const {
+    ++g_rays_traced;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRay r;
+    r.org_x = ray.o.x;
+    r.org_y = ray.o.y;
+    r.org_z = ray.o.z;
+    r.dir_x = ray.d.x;
+    r.dir_y = ray.d.y;
+    r.dir_z = ray.d.z;
+    r.tnear = ray.tmin;
+    r.tfar = ray.tmax;
+    r.time = 0.0f;
+    r.mask = 0xFFFFFFFFu;
+    r.id = 0;
+    r.flags = 0;
+    rtcOccluded1(scene_, &context, &r);
+    return r.tfar < 0.0f;  // Embree sets tfar to -inf on a hit
+}
+
+}  // namespace candela

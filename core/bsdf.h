@@ -1,0 +1,76 @@
+#pragma once
+// The BSDF interface. Everything happens in the local shading frame (normal = +z): `wi` points
+// back toward where the path came from (the camera side) and `wo` is the sampled or queried
+// direction. eval returns f * |cos(wo)|; pdf is per unit solid angle; sample returns the weight
+// f * |cos(wo)| / pdf (for a delta lobe, the weight alone). Every BSDF is one-sided unless
+// wrapped in `twosided`; transmissive ones are two-sided by nature.
+
+#include "core/object.h"
+#include "core/ray.h"
+#include "core/spectrum.h"
+
+#include <cstdint>
+
+namespace candela {
+
+enum BSDFFlags : uint32_t {
+    BSDFNone = 0,
+    DiffuseReflection = 1u << 0,
+    DiffuseTransmission = 1u << 1,
+    GlossyReflection = 1u << 2,
+    GlossyTransmission = 1u << 3,
+    DeltaReflection = 1u << 4,
+    DeltaTransmission = 1u << 5,
+
+    Reflection = DiffuseReflection | GlossyReflection | DeltaReflection,
+    Transmission = DiffuseTransmission | GlossyTransmission | DeltaTransmission,
+    Diffuse = DiffuseReflection | DiffuseTransmission,
+    Glossy = GlossyReflection | GlossyTransmission,
+    Smooth = Diffuse | Glossy,
+    Delta = DeltaReflection | DeltaTransmission,
+    AllLobes = Reflection | Transmission,
+};
+
+// Radiance: paths traced from the camera (the usual case). Importance: paths from the lights,
+// where the eta^2 radiance scaling on refraction must not be applied.
+enum class TransportMode { Radiance, Importance };
+
+struct BSDFContext {
+    TransportMode mode = TransportMode::Radiance;
+    uint32_t lobes = AllLobes;  // lobes that may be sampled or evaluated
+    bool allows(uint32_t lobe) const { return (lobes & lobe) != 0; }
+};
+
+struct BSDFSample {
+    Vec3 wo{0.0f};
+    float pdf = 0.0f;       // 0 marks a failed sample
+    float eta = 1.0f;       // relative IOR along the sampled direction (1 for reflection)
+    uint32_t lobe = BSDFNone;  // the one lobe that was chosen
+    Spectrum weight{0.0f};  // f * |cos wo| / pdf
+    bool valid() const { return pdf > 0.0f; }
+};
+
+class BSDF : public Object {
+public:
+    ObjectKind kind() const override { return ObjectKind::BSDF; }
+
+    virtual BSDFSample sample(const BSDFContext& ctx, const SurfaceInteraction& si, float u_lobe, const Vec2& u_dir) const = 0;
+    virtual Spectrum eval(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const = 0;
+    virtual float pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const = 0;
+
+    // Directional albedo estimate for AOVs and light-path heuristics (not used for rendering).
+    virtual Spectrum albedo(const SurfaceInteraction& si) const = 0;
+    // BSDFs that perturb the shading frame (bump and normal maps) override this.
+    virtual void adjust_shading_frame(SurfaceInteraction& si) const {}
+
+    uint32_t flags() const { return flags_; }
+    bool has_smooth_lobe() const { return (flags_ & Smooth) != 0; }
+    bool is_delta_only() const { return flags_ != 0 && (flags_ & Smooth) == 0; }
+
+protected:
+    uint32_t flags_ = BSDFNone;
+};
+
+inline bool is_delta(uint32_t lobe) { return (lobe & Delta) != 0; }
+
+}  // namespace candela

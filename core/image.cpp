@@ -1,0 +1,165 @@
+#include "core/image.h"
+
+#include "core/error.h"
+
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfStringAttribute.h>
+#include <OpenImageIO/imageio.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+
+namespace candela {
+
+Image::Image(int width, int height, std::vector<std::string> channels)
+    : width_(width), height_(height), channels_(std::move(channels)),
+      data_(size_t(width) * size_t(height) * channels_.size(), 0.0f) {}
+
+int Image::channel_index(const std::string& name) const {
+    for (size_t i = 0; i < channels_.size(); ++i)
+        if (channels_[i] == name) return int(i);
+    return -1;
+}
+
+Image Image::select_channels(const std::vector<std::string>& names) const {
+    std::vector<int> src;
+    for (auto& n : names) {
+        int i = channel_index(n);
+        if (i < 0) throw InputError("image has no channel \"" + n + "\"");
+        src.push_back(i);
+    }
+    Image out(width_, height_, names);
+    out.metadata = metadata;
+    for (int y = 0; y < height_; ++y)
+        for (int x = 0; x < width_; ++x)
+            for (size_t c = 0; c < src.size(); ++c) out.at(x, y, int(c)) = at(x, y, src[c]);
+    return out;
+}
+
+Image read_image(const std::string& path) {
+    if (!fs::exists(path)) throw InputError(path + ": file not found");
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) throw InputError(path + ": cannot read image: " + OIIO::geterror());
+    const OIIO::ImageSpec& spec = in->spec();
+    std::vector<std::string> names;
+    for (int c = 0; c < spec.nchannels; ++c) {
+        std::string n = c < int(spec.channelnames.size()) ? spec.channelnames[c] : "";
+        names.push_back(n.empty() ? "C" + std::to_string(c) : n);
+    }
+    Image image(spec.width, spec.height, names);
+    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.data().data()))
+        throw InputError(path + ": cannot read image: " + in->geterror());
+    for (const auto& p : spec.extra_attribs) image.metadata[p.name().string()] = p.get_string();
+    in->close();
+    return image;
+}
+
+bool image_is_integer_format(const std::string& path) {
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) throw InputError(path + ": cannot read image: " + OIIO::geterror());
+    OIIO::TypeDesc f = in->spec().format;
+    return f.basetype == OIIO::TypeDesc::UINT8 || f.basetype == OIIO::TypeDesc::UINT16 ||
+           f.basetype == OIIO::TypeDesc::INT8 || f.basetype == OIIO::TypeDesc::INT16;
+}
+
+void check_output_path(const std::string& path) {
+    if (path.empty()) throw InputError("no output file given");
+    fs::path p(path);
+    fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec)) throw InputError(path + ": cannot write: directory " + dir.string() + " does not exist");
+    if (::access(dir.c_str(), W_OK) != 0) throw InputError(path + ": cannot write: directory " + dir.string() + " is not writable");
+    if (fs::exists(p, ec)) {
+        if (fs::is_directory(p, ec)) throw InputError(path + ": cannot write: it is a directory");
+        if (::access(p.c_str(), W_OK) != 0) throw InputError(path + ": cannot write: file is not writable");
+    }
+}
+
+namespace {
+// A temporary file name beside the target that keeps its extension (format detection).
+std::string temporary_for(const std::string& path) {
+    fs::path p(path);
+    std::string name = "." + p.stem().string() + ".tmp" + std::to_string(::getpid()) + p.extension().string();
+    return (p.has_parent_path() ? p.parent_path() / name : fs::path(name)).string();
+}
+
+void commit_temporary(const std::string& tmp, const std::string& path) {
+    std::error_code ec;
+    fs::rename(tmp, path, ec);
+    if (ec) {
+        fs::remove(tmp, ec);
+        throw InputError(path + ": cannot write: " + ec.message());
+    }
+}
+}  // namespace
+
+void write_exr(const Image& image, const std::string& path, bool float32) {
+    check_output_path(path);
+    std::string tmp = temporary_for(path);
+    // Sanitise: never write NaN or infinity; half floats saturate at their largest value.
+    std::vector<float> data = image.data();
+    const float limit = float32 ? std::numeric_limits<float>::max() : 65504.0f;
+    for (float& v : data) v = std::isnan(v) ? 0.0f : std::clamp(v, -limit, limit);
+    try {
+        Imf::Header header(image.width(), image.height());
+        header.compression() = Imf::ZIP_COMPRESSION;
+        for (auto& [key, value] : image.metadata) header.insert(key, Imf::StringAttribute(value));
+        Imf::FrameBuffer fb;
+        size_t nch = size_t(image.channel_count());
+        for (size_t c = 0; c < nch; ++c) {
+            header.channels().insert(image.channels()[c], Imf::Channel(float32 ? Imf::FLOAT : Imf::HALF));
+            fb.insert(image.channels()[c], Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(data.data() + c),
+                                                      sizeof(float) * nch, sizeof(float) * nch * size_t(image.width())));
+        }
+        Imf::OutputFile file(tmp.c_str(), header);
+        file.setFrameBuffer(fb);
+        file.writePixels(image.height());
+    } catch (const std::exception& e) {
+        std::error_code ec;
+        fs::remove(tmp, ec);
+        throw InputError(path + ": cannot write EXR: " + e.what());
+    }
+    commit_temporary(tmp, path);
+}
+
+void write_png_display(const Image& image, const std::string& path) {
+    check_output_path(path);
+    std::string tmp = temporary_for(path);
+    int nch = std::min(image.channel_count(), 4);
+    std::vector<unsigned char> bytes(size_t(image.width()) * image.height() * nch);
+    for (int y = 0; y < image.height(); ++y)
+        for (int x = 0; x < image.width(); ++x)
+            for (int c = 0; c < nch; ++c) {
+                float v = image.at(x, y, c);
+                v = std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : 0.0f;
+                bytes[(size_t(y) * image.width() + x) * nch + c] = static_cast<unsigned char>(std::lround(v * 255.0f));
+            }
+    auto out = OIIO::ImageOutput::create(tmp);
+    OIIO::ImageSpec spec(image.width(), image.height(), nch, OIIO::TypeDesc::UINT8);
+    if (!out || !out->open(tmp, spec) || !out->write_image(OIIO::TypeDesc::UINT8, bytes.data()) || !out->close()) {
+        std::error_code ec;
+        fs::remove(tmp, ec);
+        throw InputError(path + ": cannot write PNG: " + OIIO::geterror());
+    }
+    commit_temporary(tmp, path);
+}
+
+void write_png(const Image& image, const std::string& path, float exposure) {
+    float scale = std::exp2(exposure);
+    Image display = Image::rgb(image.width(), image.height());
+    for (int y = 0; y < image.height(); ++y)
+        for (int x = 0; x < image.width(); ++x)
+            for (int c = 0; c < 3; ++c) {
+                float v = image.at(x, y, std::min(c, image.channel_count() - 1)) * scale;
+                display.at(x, y, c) = linear_to_srgb(std::clamp(std::isfinite(v) ? v : 0.0f, 0.0f, 1.0f));
+            }
+    write_png_display(display, path);
+}
+
+}  // namespace candela

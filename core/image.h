@@ -1,0 +1,63 @@
+#pragma once
+// Float images with named channels, read through OpenImageIO and written as OpenEXR (with
+// metadata) or as a tonemapped sRGB PNG. Every file is written whole or not at all: to a
+// temporary beside the target, then renamed.
+
+#include "core/spectrum.h"
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace candela {
+
+class Image {
+public:
+    Image() = default;
+    Image(int width, int height, std::vector<std::string> channels);
+    static Image rgb(int width, int height) { return Image(width, height, {"R", "G", "B"}); }
+
+    int width() const { return width_; }
+    int height() const { return height_; }
+    int channel_count() const { return int(channels_.size()); }
+    const std::vector<std::string>& channels() const { return channels_; }
+    int channel_index(const std::string& name) const;  // -1 when absent
+
+    float& at(int x, int y, int c) { return data_[(size_t(y) * width_ + x) * channels_.size() + c]; }
+    float at(int x, int y, int c) const { return data_[(size_t(y) * width_ + x) * channels_.size() + c]; }
+    Spectrum rgb_at(int x, int y) const { return Spectrum(at(x, y, 0), at(x, y, 1), at(x, y, 2)); }
+    void set_rgb(int x, int y, const Spectrum& s) {
+        at(x, y, 0) = s.x;
+        at(x, y, 1) = s.y;
+        at(x, y, 2) = s.z;
+    }
+    std::vector<float>& data() { return data_; }
+    const std::vector<float>& data() const { return data_; }
+    // A copy with only the named channels (e.g. {"R","G","B"} or {"variance.R",...}).
+    Image select_channels(const std::vector<std::string>& names) const;
+
+    std::map<std::string, std::string> metadata;
+
+private:
+    int width_ = 0, height_ = 0;
+    std::vector<std::string> channels_;
+    std::vector<float> data_;
+};
+
+// Reads any format OpenImageIO knows. Channels come back as the file names them; 8- and 16-bit
+// integer images are returned in [0, 1] without colour conversion. Throws InputError.
+Image read_image(const std::string& path);
+// True when the file stores integer (display-referred, usually sRGB-encoded) values.
+bool image_is_integer_format(const std::string& path);
+
+// Fails with InputError if `path` cannot be created or replaced (missing directory, no
+// permission, a directory in the way). Creates nothing.
+void check_output_path(const std::string& path);
+
+void write_exr(const Image& image, const std::string& path, bool float32);
+// Tonemaps linear RGB (times 2^exposure) with the sRGB curve, clamped, to an 8-bit PNG.
+void write_png(const Image& image, const std::string& path, float exposure = 0.0f);
+// Writes an 8-bit image whose values are already display-referred in [0, 1].
+void write_png_display(const Image& image, const std::string& path);
+
+}  // namespace candela

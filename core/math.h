@@ -1,0 +1,80 @@
+#pragma once
+// Candela's math vocabulary: GLM vectors in float, the constants and the small scalar helpers
+// that every other file uses. Points, vectors and normals share glm::vec3; names say which.
+
+#include <glm/glm.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+namespace candela {
+
+using Vec2 = glm::vec2;
+using Vec3 = glm::vec3;
+using Vec4 = glm::vec4;
+using Vec2i = glm::ivec2;
+using Vec3d = glm::dvec3;
+using Mat3 = glm::mat3;
+using Mat4 = glm::mat4;
+
+constexpr float Pi = 3.14159265358979323846f;
+constexpr float TwoPi = 2.0f * Pi;
+constexpr float FourPi = 4.0f * Pi;
+constexpr float InvPi = 1.0f / Pi;
+constexpr float InvTwoPi = 1.0f / TwoPi;
+constexpr float InvFourPi = 1.0f / FourPi;
+constexpr float Infinity = std::numeric_limits<float>::infinity();
+// Relative offset for spawning rays off surfaces (times 1 + the largest coordinate of the point),
+// the same scale-aware rule Mitsuba 3 uses; a fixed world-space epsilon breaks for big scenes.
+constexpr float RayEpsilon = 1500.0f * std::numeric_limits<float>::epsilon() / 2.0f;
+// Shadow rays stop this fraction short of their target.
+constexpr float ShadowEpsilon = 10.0f * RayEpsilon;
+
+inline float sqr(float x) { return x * x; }
+inline float safe_sqrt(float x) { return std::sqrt(std::max(x, 0.0f)); }
+inline float safe_acos(float x) { return std::acos(std::clamp(x, -1.0f, 1.0f)); }
+inline float safe_asin(float x) { return std::asin(std::clamp(x, -1.0f, 1.0f)); }
+inline float radians(float deg) { return deg * (Pi / 180.0f); }
+inline float degrees(float rad) { return rad * (180.0f / Pi); }
+inline float lerp(float t, float a, float b) { return a + t * (b - a); }
+inline float max_component(const Vec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
+inline float min_component(const Vec3& v) { return std::min(v.x, std::min(v.y, v.z)); }
+inline float max_abs_component(const Vec3& v) { return max_component(glm::abs(v)); }
+inline bool all_finite(const Vec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+inline float squared_length(const Vec3& v) { return glm::dot(v, v); }
+
+// Veach's power heuristic (beta = 2) for combining two sampling strategies; the weight of the
+// strategy with density `pdf_a`. An infinite density (a delta) takes all the weight.
+inline float power_heuristic(float pdf_a, float pdf_b) {
+    if (std::isinf(pdf_a)) return 1.0f;
+    float a2 = pdf_a * pdf_a, b2 = pdf_b * pdf_b;
+    float w = a2 / (a2 + b2);
+    return std::isfinite(w) ? w : 0.0f;
+}
+
+// Axis-aligned bounding box.
+struct BoundingBox {
+    Vec3 min = Vec3(Infinity);
+    Vec3 max = Vec3(-Infinity);
+
+    bool valid() const { return min.x <= max.x && min.y <= max.y && min.z <= max.z; }
+    void expand(const Vec3& p) {
+        min = glm::min(min, p);
+        max = glm::max(max, p);
+    }
+    void expand(const BoundingBox& b) {
+        min = glm::min(min, b.min);
+        max = glm::max(max, b.max);
+    }
+    Vec3 center() const { return 0.5f * (min + max); }
+    Vec3 extents() const { return max - min; }
+    // Radius of a sphere around center() that encloses the box.
+    float bounding_radius() const { return valid() ? 0.5f * glm::length(max - min) : 0.0f; }
+};
+
+}  // namespace candela

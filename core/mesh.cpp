@@ -1,0 +1,149 @@
+#include "core/mesh.h"
+
+#include "core/warp.h"
+
+namespace candela {
+
+void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
+    for (const auto& t : triangles_)
+        if (t.x >= positions_.size() || t.y >= positions_.size() || t.z >= positions_.size())
+            props.fail("mesh has a face that refers to a vertex that does not exist");
+    if (!uvs_.empty() && uvs_.size() != positions_.size()) props.fail("mesh has a uv count that differs from its vertex count");
+    if (!normals_.empty() && normals_.size() != positions_.size())
+        props.fail("mesh has a normal count that differs from its vertex count");
+
+    for (auto& p : positions_) {
+        p = to_world_.apply_point(p);
+        if (!all_finite(p)) props.fail("mesh has a vertex that is not a finite number");
+        bbox_.expand(p);
+    }
+    for (auto& n : normals_) {
+        n = to_world_.apply_normal(n);
+        float len = glm::length(n);
+        n = len > 0.0f && std::isfinite(len) ? n / len : Vec3(0.0f, 0.0f, 1.0f);
+    }
+
+    // Zero-area triangles cannot be hit or sampled; drop them.
+    std::vector<glm::uvec3> kept;
+    std::vector<float> areas;
+    kept.reserve(triangles_.size());
+    for (const auto& t : triangles_) {
+        float a = 0.5f * glm::length(glm::cross(positions_[t.y] - positions_[t.x], positions_[t.z] - positions_[t.x]));
+        if (a > 0.0f && std::isfinite(a)) {
+            kept.push_back(t);
+            areas.push_back(a);
+        }
+    }
+    triangles_ = std::move(kept);
+    if (triangles_.empty()) props.fail("mesh has no triangles with non-zero area");
+    double total = 0.0;
+    for (float a : areas) total += a;
+    area_ = float(total);
+    area_distribution_ = Distribution1D(std::move(areas));
+    if (normals_.empty() && smooth_if_missing) recompute_vertex_normals();
+}
+
+void Mesh::recompute_vertex_normals() {
+    std::vector<glm::dvec3> sum(positions_.size(), glm::dvec3(0.0));
+    for (const auto& t : triangles_) {
+        glm::dvec3 p[3] = {glm::dvec3(positions_[t.x]), glm::dvec3(positions_[t.y]), glm::dvec3(positions_[t.z])};
+        glm::dvec3 face = glm::cross(p[1] - p[0], p[2] - p[0]);
+        double len = glm::length(face);
+        if (len == 0.0) continue;
+        face /= len;
+        for (int k = 0; k < 3; ++k) {
+            glm::dvec3 e1 = p[(k + 1) % 3] - p[k], e2 = p[(k + 2) % 3] - p[k];
+            double l1 = glm::length(e1), l2 = glm::length(e2);
+            if (l1 == 0.0 || l2 == 0.0) continue;
+            double angle = std::acos(std::clamp(glm::dot(e1, e2) / (l1 * l2), -1.0, 1.0));
+            sum[t[k]] += angle * face;
+        }
+    }
+    normals_.resize(positions_.size());
+    for (size_t i = 0; i < sum.size(); ++i) {
+        double len = glm::length(sum[i]);
+        normals_[i] = len > 0.0 ? Vec3(sum[i] / len) : Vec3(1.0f, 0.0f, 0.0f);
+    }
+}
+
+RTCGeometry Mesh::create_embree_geometry(RTCDevice device) const {
+    RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    // Embree reads vertices with 16-byte loads: the buffer gets one float of padding at the end.
+    float* v = static_cast<float*>(
+        rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, sizeof(float) * 3, positions_.size() + 1));
+    for (size_t i = 0; i < positions_.size(); ++i) {
+        v[3 * i + 0] = positions_[i].x;
+        v[3 * i + 1] = positions_[i].y;
+        v[3 * i + 2] = positions_[i].z;
+    }
+    unsigned* idx = static_cast<unsigned*>(
+        rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, sizeof(unsigned) * 3, triangles_.size()));
+    for (size_t i = 0; i < triangles_.size(); ++i) {
+        idx[3 * i + 0] = triangles_[i].x;
+        idx[3 * i + 1] = triangles_[i].y;
+        idx[3 * i + 2] = triangles_[i].z;
+    }
+    return g;
+}
+
+void Mesh::fill_interaction(const Ray& ray, const RayHit& hit, SurfaceInteraction& si) const {
+    const glm::uvec3& t = triangles_[hit.prim_index];
+    const Vec3 &p0 = positions_[t.x], &p1 = positions_[t.y], &p2 = positions_[t.z];
+    float b1 = hit.u, b2 = hit.v, b0 = 1.0f - b1 - b2;
+    // Barycentric interpolation is more accurate than o + t d far from the origin.
+    si.p = b0 * p0 + b1 * p1 + b2 * p2;
+    Vec3 n = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+
+    Vec3 dpdu, dpdv;
+    if (!uvs_.empty()) {
+        const Vec2 &uv0 = uvs_[t.x], &uv1 = uvs_[t.y], &uv2 = uvs_[t.z];
+        si.uv = b0 * uv0 + b1 * uv1 + b2 * uv2;
+        Vec2 duv1 = uv1 - uv0, duv2 = uv2 - uv0;
+        Vec3 dp1 = p1 - p0, dp2 = p2 - p0;
+        float det = duv1.x * duv2.y - duv1.y * duv2.x;
+        if (std::abs(det) > 1e-12f) {
+            float inv = 1.0f / det;
+            dpdu = (duv2.y * dp1 - duv1.y * dp2) * inv;
+            dpdv = (-duv2.x * dp1 + duv1.x * dp2) * inv;
+        } else {
+            coordinate_system(n, dpdu, dpdv);
+        }
+    } else {
+        si.uv = Vec2(b1, b2);
+        coordinate_system(n, dpdu, dpdv);
+    }
+    Vec3 ns = n;
+    if (!normals_.empty()) {
+        Vec3 interp = b0 * normals_[t.x] + b1 * normals_[t.y] + b2 * normals_[t.z];
+        float len = glm::length(interp);
+        if (len > 0.0f) ns = interp / len;
+    }
+    if (flip_normals_) {
+        n = -n;
+        ns = -ns;
+    }
+    si.n = n;
+    si.dpdu = dpdu;
+    si.dpdv = dpdv;
+    si.shading = Frame::from_normal_tangent(ns, dpdu);
+}
+
+PositionSample Mesh::sample_position(const Vec2& u) const {
+    float ux = u.x;
+    size_t i = area_distribution_.sample_discrete(ux);
+    Vec2 b = warp::square_to_uniform_triangle(Vec2(ux, u.y));
+    const glm::uvec3& t = triangles_[i];
+    const Vec3 &p0 = positions_[t.x], &p1 = positions_[t.y], &p2 = positions_[t.z];
+    PositionSample ps;
+    float b0 = 1.0f - b.x - b.y;
+    ps.p = b0 * p0 + b.x * p1 + b.y * p2;
+    // The geometric normal: the area-to-solid-angle conversion needs the true surface
+    // orientation, not an interpolated shading normal.
+    Vec3 n = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+    ps.n = flip_normals_ ? -n : n;
+    ps.uv = uvs_.empty() ? b : b0 * uvs_[t.x] + b.x * uvs_[t.y] + b.y * uvs_[t.z];
+    ps.pdf = 1.0f / area_;
+    return ps;
+}
+
+}  // namespace candela

@@ -1,0 +1,45 @@
+#pragma once
+// Triangle meshes in world space, intersected by Embree's triangle geometry. The mesh plugins
+// (obj, ply, rectangle, cube) fill the arrays in object space and call finalize().
+
+#include "core/distribution.h"
+#include "core/shape.h"
+
+#include <vector>
+
+namespace candela {
+
+class Mesh : public Shape {
+public:
+    explicit Mesh(const Properties& props) : Shape(props) {}
+
+    RTCGeometry create_embree_geometry(RTCDevice device) const override;
+    void fill_interaction(const Ray& ray, const RayHit& hit, SurfaceInteraction& si) const override;
+    BoundingBox bbox() const override { return bbox_; }
+    float surface_area() const override { return area_; }
+    PositionSample sample_position(const Vec2& u) const override;
+
+    size_t triangle_count() const { return triangles_.size(); }
+    const std::vector<Vec3>& positions() const { return positions_; }
+    const std::vector<Vec3>& normals() const { return normals_; }
+    const std::vector<Vec2>& uvs() const { return uvs_; }
+    const std::vector<glm::uvec3>& triangles() const { return triangles_; }
+
+protected:
+    // Moves the object-space data to world space, drops degenerate triangles, and builds the
+    // area table. With `smooth_if_missing`, a mesh without vertex normals gets angle-weighted
+    // smooth normals (Thürmer & Wüthrich 1998), as Mitsuba does for OBJ and PLY files.
+    void finalize(const Properties& props, bool smooth_if_missing);
+    void recompute_vertex_normals();
+
+    std::vector<Vec3> positions_, normals_;
+    std::vector<Vec2> uvs_;
+    std::vector<glm::uvec3> triangles_;
+
+private:
+    Distribution1D area_distribution_;
+    float area_ = 0.0f;
+    BoundingBox bbox_;
+};
+
+}  // namespace candela

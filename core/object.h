@@ -1,0 +1,25 @@
+#pragma once
+// The base of every scene object that a plugin creates, and the kinds a scene file can name.
+
+#include <memory>
+#include <string>
+
+namespace candela {
+
+enum class ObjectKind { Scene, Shape, BSDF, Emitter, Texture, Sensor, Film, Filter, Sampler, Integrator };
+
+// The XML tag of each kind ("bsdf", "rfilter", ...).
+const char* kind_tag(ObjectKind kind);
+
+class Object {
+public:
+    virtual ~Object() = default;
+    virtual ObjectKind kind() const = 0;
+    // A one-line description for logs and error messages.
+    virtual std::string to_string() const { return kind_tag(kind()); }
+    std::string id;  // the scene file's id attribute, if any
+};
+
+template <typename T> using Ref = std::shared_ptr<T>;
+
+}  // namespace candela

@@ -1,0 +1,210 @@
+#include "core/properties.h"
+
+#include "core/texture.h"
+
+#include <algorithm>
+#include <filesystem>
+
+namespace candela {
+
+const char* kind_tag(ObjectKind kind) {
+    switch (kind) {
+    case ObjectKind::Scene: return "scene";
+    case ObjectKind::Shape: return "shape";
+    case ObjectKind::BSDF: return "bsdf";
+    case ObjectKind::Emitter: return "emitter";
+    case ObjectKind::Texture: return "texture";
+    case ObjectKind::Sensor: return "sensor";
+    case ObjectKind::Film: return "film";
+    case ObjectKind::Filter: return "rfilter";
+    case ObjectKind::Sampler: return "sampler";
+    case ObjectKind::Integrator: return "integrator";
+    }
+    return "object";
+}
+
+const char* type_name(Properties::Type t) {
+    switch (t) {
+    case Properties::Type::Integer: return "integer";
+    case Properties::Type::Float: return "float";
+    case Properties::Type::Boolean: return "boolean";
+    case Properties::Type::String: return "string";
+    case Properties::Type::Point: return "point";
+    case Properties::Type::Vector: return "vector";
+    case Properties::Type::RGB: return "rgb";
+    case Properties::Type::Transform: return "transform";
+    case Properties::Type::Object: return "object";
+    }
+    return "?";
+}
+
+void Properties::set(const std::string& name, Type type, Value value, const SourceLocation& where) {
+    auto it = entries_.find(name);
+    if (it != entries_.end())
+        throw SceneError(where, "property \"" + name + "\" was already specified (at " + it->second.where.str() + ")");
+    entries_.emplace(name, Entry{type, std::move(value), where, entries_.size()});
+}
+
+void Properties::fail(const std::string& name, const std::string& message) const {
+    throw SceneError(location_of(name), message);
+}
+
+void Properties::fail(const std::string& message) const { throw SceneError(location_, message); }
+
+SourceLocation Properties::location_of(const std::string& name) const {
+    auto it = entries_.find(name);
+    return it == entries_.end() ? location_ : it->second.where;
+}
+
+const Properties::Entry* Properties::find(const std::string& name, Type expected) const {
+    auto it = entries_.find(name);
+    if (it == entries_.end()) return nullptr;
+    const Entry& e = it->second;
+    bool ok = e.type == expected || (expected == Type::Float && e.type == Type::Integer) ||
+              (expected == Type::RGB && (e.type == Type::Float || e.type == Type::Integer)) ||
+              (expected == Type::Point && e.type == Type::Vector) || (expected == Type::Vector && e.type == Type::Point);
+    if (!ok)
+        throw SceneError(e.where, "property \"" + name + "\" of " + plugin_type_ + " has type " + type_name(e.type) +
+                                      ", expected " + type_name(expected));
+    e.used = true;
+    return &e;
+}
+
+const Properties::Entry& Properties::require(const std::string& name, Type expected) const {
+    const Entry* e = find(name, expected);
+    if (!e) throw SceneError(location_, plugin_type_ + ": missing required property \"" + name + "\" (" + type_name(expected) + ")");
+    return *e;
+}
+
+static double as_double(const Properties::Value& v) {
+    if (auto i = std::get_if<int64_t>(&v)) return double(*i);
+    return std::get<double>(v);
+}
+
+int Properties::get_int(const std::string& name) const {
+    const Entry& e = require(name, Type::Integer);
+    return int(std::get<int64_t>(e.value));
+}
+int Properties::get_int(const std::string& name, int def) const {
+    const Entry* e = find(name, Type::Integer);
+    return e ? int(std::get<int64_t>(e->value)) : def;
+}
+float Properties::get_float(const std::string& name) const { return float(as_double(require(name, Type::Float).value)); }
+float Properties::get_float(const std::string& name, float def) const {
+    const Entry* e = find(name, Type::Float);
+    return e ? float(as_double(e->value)) : def;
+}
+bool Properties::get_bool(const std::string& name, bool def) const {
+    const Entry* e = find(name, Type::Boolean);
+    return e ? std::get<bool>(e->value) : def;
+}
+std::string Properties::get_string(const std::string& name) const { return std::get<std::string>(require(name, Type::String).value); }
+std::string Properties::get_string(const std::string& name, const std::string& def) const {
+    const Entry* e = find(name, Type::String);
+    return e ? std::get<std::string>(e->value) : def;
+}
+Vec3 Properties::get_point(const std::string& name) const { return std::get<Vec3>(require(name, Type::Point).value); }
+Vec3 Properties::get_point(const std::string& name, const Vec3& def) const {
+    const Entry* e = find(name, Type::Point);
+    return e ? std::get<Vec3>(e->value) : def;
+}
+Vec3 Properties::get_vector(const std::string& name) const { return std::get<Vec3>(require(name, Type::Vector).value); }
+Vec3 Properties::get_vector(const std::string& name, const Vec3& def) const {
+    const Entry* e = find(name, Type::Vector);
+    return e ? std::get<Vec3>(e->value) : def;
+}
+
+static Spectrum as_rgb(const Properties::Value& v) {
+    if (auto s = std::get_if<Vec3>(&v)) return *s;
+    return Spectrum(float(as_double(v)));
+}
+Spectrum Properties::get_rgb(const std::string& name) const { return as_rgb(require(name, Type::RGB).value); }
+Spectrum Properties::get_rgb(const std::string& name, const Spectrum& def) const {
+    const Entry* e = find(name, Type::RGB);
+    return e ? as_rgb(e->value) : def;
+}
+Transform Properties::get_transform(const std::string& name, const Transform& def) const {
+    const Entry* e = find(name, Type::Transform);
+    return e ? std::get<Transform>(e->value) : def;
+}
+
+std::string Properties::get_file_path(const std::string& name) const {
+    namespace fs = std::filesystem;
+    std::string value = get_string(name);
+    SourceLocation where = location_of(name);
+    fs::path p(value);
+    if (p.is_relative() && !where.file.empty()) p = fs::path(where.file).parent_path() / p;
+    std::error_code ec;
+    if (!fs::is_regular_file(p, ec))
+        throw SceneError(where, "file not found: \"" + value + "\"" + (p.string() != value ? " (looked for " + p.string() + ")" : ""));
+    return p.string();
+}
+
+Ref<Texture> Properties::get_texture(const std::string& name, const Spectrum& def) const {
+    auto it = entries_.find(name);
+    if (it == entries_.end()) return std::make_shared<ConstantTexture>(def);
+    if (it->second.type == Type::Object) {
+        auto obj = std::get<Ref<Object>>(it->second.value);
+        auto tex = std::dynamic_pointer_cast<Texture>(obj);
+        if (!tex)
+            throw SceneError(it->second.where, "property \"" + name + "\" of " + plugin_type_ + " must be a texture or rgb, not a " +
+                                                   kind_tag(obj->kind()));
+        it->second.used = true;
+        return tex;
+    }
+    return std::make_shared<ConstantTexture>(get_rgb(name));
+}
+
+Ref<Texture> Properties::get_texture(const std::string& name) const {
+    if (!has(name)) throw SceneError(location_, plugin_type_ + ": missing required property \"" + name + "\" (texture or rgb)");
+    return get_texture(name, Spectrum(0.0f));
+}
+
+Ref<Object> Properties::get_object(const std::string& name) const {
+    const Entry* e = find(name, Type::Object);
+    return e ? std::get<Ref<Object>>(e->value) : nullptr;
+}
+
+std::vector<Ref<Object>> Properties::get_objects(ObjectKind kind) const {
+    std::vector<const Entry*> found;
+    for (auto& [name, e] : entries_) {
+        if (e.type != Type::Object) continue;
+        if (std::get<Ref<Object>>(e.value)->kind() == kind) found.push_back(&e);
+    }
+    std::sort(found.begin(), found.end(), [](const Entry* a, const Entry* b) { return a->order < b->order; });
+    std::vector<Ref<Object>> out;
+    for (const Entry* e : found) {
+        e->used = true;
+        out.push_back(std::get<Ref<Object>>(e->value));
+    }
+    return out;
+}
+
+void Properties::check_all_used() const {
+    const Entry* first = nullptr;
+    std::string first_name;
+    for (auto& [name, e] : entries_)
+        if (!e.used && (!first || e.order < first->order)) {
+            first = &e;
+            first_name = name;
+        }
+    if (!first) return;
+    if (first->type == Type::Object) {
+        auto obj = std::get<Ref<Object>>(first->value);
+        throw SceneError(first->where, std::string("unexpected nested ") + kind_tag(obj->kind()) + " in " + plugin_type_ +
+                                           (first_name.rfind("_arg", 0) == 0 ? "" : " (named \"" + first_name + "\")") +
+                                           ": nothing uses it");
+    }
+    throw SceneError(first->where, "unused property \"" + first_name + "\" in " + plugin_type_ + ": no such parameter");
+}
+
+std::vector<std::string> Properties::names() const {
+    std::vector<std::pair<size_t, std::string>> v;
+    for (auto& [name, e] : entries_) v.emplace_back(e.order, name);
+    std::sort(v.begin(), v.end());
+    std::vector<std::string> out;
+    for (auto& p : v) out.push_back(p.second);
+    return out;
+}
+
+}  // namespace candela

@@ -1,0 +1,109 @@
+#pragma once
+// The typed property bag a plugin is built from, as parsed from a scene file. Every read marks
+// the property as used; a property that no plugin reads is an error naming its file and line,
+// as in Mitsuba 3 (a typo like "reflectence" must not be silently ignored).
+
+#include "core/error.h"
+#include "core/object.h"
+#include "core/spectrum.h"
+#include "core/transform.h"
+
+#include <map>
+#include <optional>
+#include <variant>
+#include <vector>
+
+namespace candela {
+
+class Texture;
+
+class Properties {
+public:
+    // What a property tag holds. Points and vectors share Vec3; the tag is kept for messages.
+    // Points, vectors and rgb values all hold a Vec3 (Spectrum is the same type); `Type` tells them apart.
+    using Value = std::variant<int64_t, double, bool, std::string, Vec3, Transform, Ref<Object>>;
+    enum class Type { Integer, Float, Boolean, String, Point, Vector, RGB, Transform, Object };
+
+    Properties() = default;
+    Properties(std::string plugin_type, SourceLocation where)
+        : plugin_type_(std::move(plugin_type)), location_(std::move(where)) {}
+
+    const std::string& plugin_type() const { return plugin_type_; }
+    const SourceLocation& location() const { return location_; }
+    std::string id;
+
+    // Filled by the loader (and by tests). Setting a name twice is an error.
+    void set(const std::string& name, Type type, Value value, const SourceLocation& where);
+    void set_int(const std::string& name, int64_t v) { set(name, Type::Integer, v, location_); }
+    void set_float(const std::string& name, double v) { set(name, Type::Float, v, location_); }
+    void set_bool(const std::string& name, bool v) { set(name, Type::Boolean, v, location_); }
+    void set_string(const std::string& name, const std::string& v) { set(name, Type::String, v, location_); }
+    void set_point(const std::string& name, const Vec3& v) { set(name, Type::Point, v, location_); }
+    void set_vector(const std::string& name, const Vec3& v) { set(name, Type::Vector, v, location_); }
+    void set_rgb(const std::string& name, const Spectrum& v) { set(name, Type::RGB, v, location_); }
+    void set_transform(const std::string& name, const Transform& v) { set(name, Type::Transform, v, location_); }
+    void set_object(const std::string& name, Ref<Object> v, const SourceLocation& where) {
+        set(name, Type::Object, std::move(v), where);
+    }
+
+    bool has(const std::string& name) const { return entries_.count(name) != 0; }
+
+    // Typed reads. Without a default, a missing property is an error. Integers are accepted
+    // where floats are asked for, and a single float where an rgb is.
+    int get_int(const std::string& name) const;
+    int get_int(const std::string& name, int def) const;
+    float get_float(const std::string& name) const;
+    float get_float(const std::string& name, float def) const;
+    bool get_bool(const std::string& name, bool def) const;
+    std::string get_string(const std::string& name) const;
+    std::string get_string(const std::string& name, const std::string& def) const;
+    Vec3 get_point(const std::string& name) const;
+    Vec3 get_point(const std::string& name, const Vec3& def) const;
+    Vec3 get_vector(const std::string& name) const;
+    Vec3 get_vector(const std::string& name, const Vec3& def) const;
+    Spectrum get_rgb(const std::string& name) const;
+    Spectrum get_rgb(const std::string& name, const Spectrum& def) const;
+    Transform get_transform(const std::string& name, const Transform& def = Transform()) const;
+
+    // A file name, resolved relative to the directory of the scene file that names it; a missing
+    // file is an error at the property's line.
+    std::string get_file_path(const std::string& name) const;
+
+    // A texture-valued parameter: a nested/referenced texture, or an rgb/float constant.
+    Ref<Texture> get_texture(const std::string& name, const Spectrum& def) const;
+    Ref<Texture> get_texture(const std::string& name) const;  // required
+
+    // A named nested object, or null when absent.
+    Ref<Object> get_object(const std::string& name) const;
+    // All nested objects of a kind, in document order, named or not; each is marked as used.
+    std::vector<Ref<Object>> get_objects(ObjectKind kind) const;
+
+    // Throws a SceneError at the first property (in document order) that nothing read.
+    void check_all_used() const;
+    // Throws a SceneError at the location of a property (or of the plugin when absent).
+    [[noreturn]] void fail(const std::string& name, const std::string& message) const;
+    [[noreturn]] void fail(const std::string& message) const;
+    SourceLocation location_of(const std::string& name) const;
+
+    // Names in document order (for the loader and for tests).
+    std::vector<std::string> names() const;
+
+private:
+    struct Entry {
+        Type type;
+        Value value;
+        SourceLocation where;
+        size_t order;
+        mutable bool used = false;
+    };
+    const Entry* find(const std::string& name, Type expected) const;
+    const Entry& require(const std::string& name, Type expected) const;
+
+    std::string plugin_type_;
+    SourceLocation location_;
+    std::map<std::string, Entry> entries_;
+};
+
+const char* type_name(Properties::Type t);
+
+}  // namespace candela

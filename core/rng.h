@@ -1,0 +1,63 @@
+#pragma once
+// PCG32 (O'Neill 2014, "PCG: A Family of Simple Fast Space-Efficient Statistically Good
+// Algorithms for Random Number Generation") and the integer hashes that seed it per sample.
+
+#include <cstdint>
+
+namespace candela {
+
+// 64-bit finaliser of MurmurHash3: spreads structured inputs (pixel indices) over all bits.
+inline uint64_t mix64(uint64_t x) {
+    x ^= x >> 33;
+    x *= 0xff51afd7ed558ccdULL;
+    x ^= x >> 33;
+    x *= 0xc4ceb9fe1a85ec53ULL;
+    x ^= x >> 33;
+    return x;
+}
+
+inline uint64_t hash_combine(uint64_t a, uint64_t b) { return mix64(a ^ (mix64(b) + 0x9e3779b97f4a7c15ULL + (a << 6) + (a >> 2))); }
+
+class PCG32 {
+public:
+    PCG32() { seed(0x853c49e6748fea9bULL, 0xda3e39cb94b95bdbULL); }
+    PCG32(uint64_t initstate, uint64_t initseq) { seed(initstate, initseq); }
+
+    // Selects the stream `initseq` and the starting point `initstate` within it.
+    void seed(uint64_t initstate, uint64_t initseq) {
+        state_ = 0;
+        inc_ = (initseq << 1u) | 1u;
+        next_uint();
+        state_ += initstate;
+        next_uint();
+    }
+
+    uint32_t next_uint() {
+        uint64_t old = state_;
+        state_ = old * 6364136223846793005ULL + inc_;
+        uint32_t xorshifted = static_cast<uint32_t>(((old >> 18u) ^ old) >> 27u);
+        uint32_t rot = static_cast<uint32_t>(old >> 59u);
+        return (xorshifted >> rot) | (xorshifted << ((~rot + 1u) & 31));
+    }
+
+    // Uniform in [0, 1): the top 24 bits, so the result is exactly representable and never 1.
+    float next_float() { return static_cast<float>(next_uint() >> 8) * 0x1p-24f; }
+    double next_double() {
+        uint64_t hi = next_uint(), lo = next_uint();
+        return static_cast<double>(((hi << 32) | lo) >> 11) * 0x1p-53;
+    }
+    // Uniform integer in [0, bound), unbiased (Lemire's rejection is overkill here; use modulo
+    // rejection as in the PCG reference).
+    uint32_t next_bounded(uint32_t bound) {
+        uint32_t threshold = (~bound + 1u) % bound;
+        for (;;) {
+            uint32_t r = next_uint();
+            if (r >= threshold) return r % bound;
+        }
+    }
+
+private:
+    uint64_t state_ = 0, inc_ = 1;
+};
+
+}  // namespace candela

@@ -1,0 +1,49 @@
+#pragma once
+// The scene: shapes in one Embree BVH, their BSDFs, the emitters, the sensor and the integrator.
+// Built by the loader from a scene file; read-only while rendering.
+
+#include "core/accel.h"
+#include "core/emitter.h"
+#include "core/integrator.h"
+#include "core/sensor.h"
+
+#include <string>
+#include <vector>
+
+namespace candela {
+
+class Scene : public Object {
+public:
+    explicit Scene(const Properties& props);
+    ObjectKind kind() const override { return ObjectKind::Scene; }
+
+    // Closest surface along the ray; si.is_valid() is false for a miss.
+    bool intersect(const Ray& ray, SurfaceInteraction& si) const;
+    bool occluded(const Ray& ray) const { return accel_.occluded(ray); }
+
+    const std::vector<Ref<Shape>>& shapes() const { return shapes_; }
+    // All emitters: area emitters of shapes, then the others in document order.
+    const std::vector<Ref<Emitter>>& emitters() const { return emitters_; }
+    const std::vector<const Emitter*>& infinite_emitters() const { return infinite_emitters_; }
+    // Radiance from all infinite emitters along an escaped ray.
+    Spectrum eval_environment(const Vec3& d) const;
+
+    Sensor& sensor() const { return *sensor_; }
+    Integrator& integrator() const { return *integrator_; }
+    void set_integrator(Ref<Integrator> integrator) { integrator_ = std::move(integrator); }
+    const BoundingBox& bbox() const { return bbox_; }
+    const Accel& accel() const { return accel_; }
+
+    std::string source_file;  // the scene file it was loaded from
+
+private:
+    std::vector<Ref<Shape>> shapes_;
+    std::vector<Ref<Emitter>> emitters_;
+    std::vector<const Emitter*> infinite_emitters_;
+    Ref<Sensor> sensor_;
+    Ref<Integrator> integrator_;
+    BoundingBox bbox_;
+    Accel accel_;
+};
+
+}  // namespace candela

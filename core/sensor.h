@@ -1,0 +1,28 @@
+#pragma once
+// Sensors turn film positions into camera rays; each holds its film and sampler, as in Mitsuba.
+
+#include "core/film.h"
+#include "core/ray.h"
+#include "core/sampler.h"
+#include "core/transform.h"
+
+namespace candela {
+
+class Sensor : public Object {
+public:
+    ObjectKind kind() const override { return ObjectKind::Sensor; }
+    // A primary ray through continuous film position `film_pos` (pixels of the full film, origin
+    // at the top-left corner); `aperture_u` is for cameras with a lens.
+    virtual Ray sample_ray(const Vec2& film_pos, const Vec2& aperture_u) const = 0;
+
+    Film& film() const { return *film_; }
+    Sampler& sampler() const { return *sampler_; }
+    const Transform& to_world() const { return to_world_; }
+
+protected:
+    Ref<Film> film_;
+    Ref<Sampler> sampler_;
+    Transform to_world_;
+};
+
+}  // namespace candela

@@ -1,0 +1,48 @@
+#include "core/shape.h"
+
+#include "core/bsdf.h"
+#include "core/emitter.h"
+#include "core/registry.h"
+
+namespace candela {
+
+Shape::Shape(const Properties& props) {
+    to_world_ = props.get_transform("to_world", Transform());
+    flip_normals_ = props.get_bool("flip_normals", false);
+    auto bsdfs = props.get_objects(ObjectKind::BSDF);
+    if (bsdfs.size() > 1) props.fail("a shape can have only one bsdf");
+    if (bsdfs.empty()) {
+        // Mitsuba's default material: a diffuse BSDF with reflectance 0.5.
+        bsdf_ = create_plugin_as<BSDF>(ObjectKind::BSDF, Properties("diffuse", props.location()));
+    } else {
+        bsdf_ = std::static_pointer_cast<BSDF>(bsdfs[0]);
+    }
+    auto emitters = props.get_objects(ObjectKind::Emitter);
+    if (emitters.size() > 1) props.fail("a shape can have only one emitter");
+    if (!emitters.empty()) {
+        emitter_ = std::static_pointer_cast<Emitter>(emitters[0]);
+        if (emitter_->type() != EmitterType::Area) props.fail("only an area emitter can be nested in a shape");
+        if (emitter_->shape()) props.fail("this emitter is already attached to another shape");
+        emitter_->set_shape(this);
+    }
+}
+
+DirectionSample Shape::sample_direction(const SurfaceInteraction& ref, const Vec2& u) const {
+    DirectionSample ds;
+    static_cast<PositionSample&>(ds) = sample_position(u);
+    Vec3 to = ds.p - ref.p;
+    float dist2 = squared_length(to);
+    ds.dist = std::sqrt(dist2);
+    ds.d = to / ds.dist;
+    float cos_light = std::abs(glm::dot(ds.n, ds.d));
+    ds.pdf = (cos_light > 0.0f && dist2 > 0.0f) ? ds.pdf * dist2 / cos_light : 0.0f;
+    return ds;
+}
+
+float Shape::pdf_direction(const SurfaceInteraction& ref, const DirectionSample& ds) const {
+    float cos_light = std::abs(glm::dot(ds.n, ds.d));
+    if (cos_light == 0.0f) return 0.0f;
+    return ds.dist * ds.dist / (cos_light * surface_area());
+}
+
+}  // namespace candela

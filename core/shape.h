@@ -1,0 +1,72 @@
+#pragma once
+// Shapes: geometry that Embree intersects, and that area lights sample. Every shape reads
+// `to_world` and `flip_normals` and may hold one BSDF and one area emitter (nested or by ref).
+
+#include "core/object.h"
+#include "core/properties.h"
+#include "core/ray.h"
+
+#include <embree3/rtcore.h>
+
+namespace candela {
+
+class BSDF;
+class Emitter;
+
+// A point sampled on a surface; `pdf` is per unit area.
+struct PositionSample {
+    Vec3 p{0.0f}, n{0.0f, 0.0f, 1.0f};
+    Vec2 uv{0.0f};
+    float pdf = 0.0f;
+    bool delta = false;
+};
+
+// A point sampled as seen from a reference point: `d` is the unit direction from the reference
+// to `p`, `dist` the distance, and `pdf` per unit solid angle (or the probability of a delta).
+struct DirectionSample : PositionSample {
+    Vec3 d{0.0f, 0.0f, 1.0f};
+    float dist = 0.0f;
+    const Emitter* emitter = nullptr;
+};
+
+// What Embree reports for a closest hit; shapes turn it into a SurfaceInteraction.
+struct RayHit {
+    float t = Infinity;
+    float u = 0.0f, v = 0.0f;  // barycentrics for triangles, shape-defined otherwise
+    unsigned prim_index = 0;
+};
+
+class Shape : public Object {
+public:
+    explicit Shape(const Properties& props);
+    ObjectKind kind() const override { return ObjectKind::Shape; }
+
+    // Builds the Embree geometry for this shape (the caller commits, attaches and releases it).
+    virtual RTCGeometry create_embree_geometry(RTCDevice device) const = 0;
+    // Fills position, normals, shading frame and uv for a hit on this shape.
+    virtual void fill_interaction(const Ray& ray, const RayHit& hit, SurfaceInteraction& si) const = 0;
+
+    virtual BoundingBox bbox() const = 0;
+    virtual float surface_area() const = 0;
+    // A point uniform by area.
+    virtual PositionSample sample_position(const Vec2& u) const = 0;
+    // A point as seen from `ref`, with pdf per unit solid angle. By default: uniform by area,
+    // converted; shapes that can do better (sphere: the visible cone) override both functions.
+    virtual DirectionSample sample_direction(const SurfaceInteraction& ref, const Vec2& u) const;
+    virtual float pdf_direction(const SurfaceInteraction& ref, const DirectionSample& ds) const;
+
+    const BSDF* bsdf() const { return bsdf_.get(); }
+    const Emitter* emitter() const { return emitter_.get(); }
+    const Ref<Emitter>& emitter_ref() const { return emitter_; }
+    bool flip_normals() const { return flip_normals_; }
+
+protected:
+    Transform to_world_;
+    bool flip_normals_ = false;
+
+private:
+    Ref<BSDF> bsdf_;
+    Ref<Emitter> emitter_;
+};
+
+}  // namespace candela

@@ -1,0 +1,91 @@
+// disk: the unit disk in the z = 0 plane with normal +z, placed by to_world (an ellipse under a
+// non-uniform scale). Intersected exactly.
+//
+// Parameters:
+//   to_world       transform   object to world (default identity)
+//   flip_normals   boolean     make -z the front side (default false)
+// uv = (r, phi / 2pi) with r the object-space radius and phi measured from +x (Mitsuba 3).
+
+#include "core/analytic_shape.h"
+#include "core/registry.h"
+#include "core/warp.h"
+
+namespace candela {
+
+class Disk final : public AnalyticShape {
+public:
+    explicit Disk(const Properties& props) : AnalyticShape(props) {
+        if (!to_world_.all_finite()) props.fail("to_world", "disk transform is not finite");
+        world_to_object_ = to_world_.inverse();
+        Vec3 n = to_world_.apply_normal(Vec3(0, 0, 1));
+        if (!(squared_length(n) > 0.0f)) props.fail("to_world", "disk transform is degenerate");
+        normal_ = glm::normalize(n);
+        if (flip_normals_) normal_ = -normal_;
+        Vec3 ex = to_world_.apply_vector(Vec3(1, 0, 0)), ey = to_world_.apply_vector(Vec3(0, 1, 0));
+        area_ = Pi * glm::length(glm::cross(ex, ey));
+        if (!(area_ > 0.0f)) props.fail("to_world", "disk transform is degenerate");
+        // The ellipse's bounding box: centre +- the per-axis extent of the two semi-axes.
+        Vec3 c = to_world_.apply_point(Vec3(0.0f));
+        Vec3 ext = glm::sqrt(ex * ex + ey * ey);
+        bbox_.expand(c - ext);
+        bbox_.expand(c + ext);
+    }
+
+    BoundingBox bbox() const override { return bbox_; }
+    float surface_area() const override { return area_; }
+
+    bool intersect_t(const Vec3& of, const Vec3& df, float tmin, float tmax, float& t) const override {
+        // An affine map keeps the ray parameter, so intersect in object space.
+        Vec3d o(world_to_object_.apply_point(of)), d(world_to_object_.apply_vector(df));
+        if (d.z == 0.0) return false;
+        double th = -o.z / d.z;
+        if (!(th >= tmin && th <= tmax)) return false;
+        double x = o.x + th * d.x, y = o.y + th * d.y;
+        if (x * x + y * y > 1.0) return false;
+        t = float(th);
+        return true;
+    }
+
+    void fill_interaction(const Ray& ray, const RayHit& hit, SurfaceInteraction& si) const override {
+        Vec3 local = world_to_object_.apply_point(ray(hit.t));
+        local.z = 0.0f;
+        fill_at(local, si);
+    }
+
+    PositionSample sample_position(const Vec2& u) const override {
+        Vec2 d = warp::square_to_uniform_disk_concentric(u);
+        SurfaceInteraction si;
+        fill_at(Vec3(d, 0.0f), si);
+        PositionSample ps;
+        ps.p = si.p;
+        ps.n = normal_;
+        ps.uv = si.uv;
+        ps.pdf = 1.0f / area_;
+        return ps;
+    }
+
+    std::string to_string() const override { return "disk"; }
+
+private:
+    void fill_at(const Vec3& local, SurfaceInteraction& si) const {
+        si.p = to_world_.apply_point(local);
+        float r = std::sqrt(local.x * local.x + local.y * local.y);
+        float phi = std::atan2(local.y, local.x);
+        if (phi < 0.0f) phi += TwoPi;
+        si.uv = Vec2(r, phi * InvTwoPi);
+        float c = r > 0.0f ? local.x / r : 1.0f, s = r > 0.0f ? local.y / r : 0.0f;
+        si.dpdu = to_world_.apply_vector(Vec3(c, s, 0.0f));
+        si.dpdv = to_world_.apply_vector(Vec3(-s, c, 0.0f));
+        si.n = normal_;
+        si.shading = Frame::from_normal_tangent(normal_, si.dpdu);
+    }
+
+    Transform world_to_object_;
+    Vec3 normal_;
+    float area_ = 0.0f;
+    BoundingBox bbox_;
+};
+
+CANDELA_REGISTER(Disk, ObjectKind::Shape, "disk");
+
+}  // namespace candela

@@ -1,0 +1,35 @@
+#pragma once
+// Warps from the unit square to common domains, each with its density. Formulas follow
+// pbrt-v4 (chapter A.5) and Shirley & Chiu's concentric disk mapping.
+
+#include "core/math.h"
+
+namespace candela::warp {
+
+Vec2 square_to_uniform_disk_concentric(const Vec2& u);
+inline float square_to_uniform_disk_concentric_pdf() { return InvPi; }
+
+Vec3 square_to_uniform_sphere(const Vec2& u);
+inline float square_to_uniform_sphere_pdf() { return InvFourPi; }
+
+Vec3 square_to_uniform_hemisphere(const Vec2& u);
+inline float square_to_uniform_hemisphere_pdf(const Vec3& v) { return v.z >= 0.0f ? InvTwoPi : 0.0f; }
+
+// Density cos(theta) / pi over the upper hemisphere (Malley's method).
+Vec3 square_to_cosine_hemisphere(const Vec2& u);
+inline float square_to_cosine_hemisphere_pdf(const Vec3& v) { return v.z > 0.0f ? v.z * InvPi : 0.0f; }
+
+// Uniform over the cone of directions within acos(cos_cutoff) of +z.
+Vec3 square_to_uniform_cone(const Vec2& u, float cos_cutoff);
+inline float square_to_uniform_cone_pdf(const Vec3& v, float cos_cutoff) {
+    return v.z >= cos_cutoff ? 1.0f / (TwoPi * (1.0f - cos_cutoff)) : 0.0f;
+}
+
+// Barycentric coordinates (b1, b2) uniform over a triangle (Heitz 2019, low-distortion map).
+Vec2 square_to_uniform_triangle(const Vec2& u);
+
+// Uniform on the unit disk by polar mapping (radius sqrt(u.x)); used where the mapping's
+// continuity does not matter.
+Vec2 square_to_uniform_disk(const Vec2& u);
+
+}  // namespace candela::warp

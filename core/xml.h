@@ -1,0 +1,22 @@
+#pragma once
+// Loads Mitsuba 3 XML scene files (pugixml): <default> and $name substitution in any attribute,
+// -D overrides, <include>, <ref> with and without name, ids, the property tags (integer, float,
+// boolean, string, point, vector, rgb, spectrum with one value, transform) and the transform
+// operations (translate, rotate, scale, matrix with 16 or 9 values, lookat) composed in document
+// order. Every error is a SceneError naming the file and line.
+
+#include "core/scene.h"
+
+#include <map>
+#include <string>
+
+namespace candela {
+
+using SceneParameters = std::map<std::string, std::string>;
+
+Ref<Scene> load_scene(const std::string& path, const SceneParameters& defines = {});
+// Parses XML text as if it were the file `virtual_path` (relative paths resolve beside it).
+Ref<Scene> load_scene_from_string(const std::string& xml, const std::string& virtual_path,
+                                  const SceneParameters& defines = {});
+
+}  // namespace candela

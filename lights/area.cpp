@@ -1,0 +1,59 @@
+// area: turns the shape it is nested in into a light that emits on its front side.
+//
+// Parameters:
+//   radiance   rgb or texture   emitted radiance in W m^-2 sr^-1 (default 1); a texture is looked
+//                               up by the shape's uv
+// Sampling is delegated to the shape: uniform solid angle for spheres seen from outside,
+// uniform area (converted to solid angle) otherwise.
+
+#include "core/emitter.h"
+#include "core/properties.h"
+#include "core/registry.h"
+#include "core/texture.h"
+
+namespace candela {
+
+class AreaEmitter final : public Emitter {
+public:
+    explicit AreaEmitter(const Properties& props) {
+        type_ = EmitterType::Area;
+        radiance_ = props.get_texture("radiance", Spectrum(1.0f));
+        if (props.has("to_world")) props.fail("to_world", "an area emitter takes its placement from its shape");
+    }
+
+    void set_shape(const Shape* shape) override { shape_ = shape; }
+
+    Spectrum eval(const SurfaceInteraction& si) const override {
+        if (Frame::cos_theta(si.wi) <= 0.0f) return Spectrum(0.0f);  // back side
+        return radiance_->eval(si.uv);
+    }
+
+    DirectionSample sample_direction(const SurfaceInteraction& ref, const Vec2& u, Spectrum& weight) const override {
+        DirectionSample ds = shape_->sample_direction(ref, u);
+        ds.emitter = this;
+        // Only the front side emits: the light's normal must face the receiver.
+        if (!(ds.pdf > 0.0f) || glm::dot(ds.d, ds.n) >= 0.0f || !std::isfinite(ds.pdf)) {
+            ds.pdf = 0.0f;
+            weight = Spectrum(0.0f);
+            return ds;
+        }
+        weight = radiance_->eval(ds.uv) / ds.pdf;
+        return ds;
+    }
+
+    float pdf_direction(const SurfaceInteraction& ref, const DirectionSample& ds) const override {
+        if (glm::dot(ds.d, ds.n) >= 0.0f) return 0.0f;
+        return shape_->pdf_direction(ref, ds);
+    }
+
+    // Flux of a one-sided Lambertian emitter: pi * area * mean radiance.
+    Spectrum power() const override { return Pi * shape_->surface_area() * radiance_->mean(); }
+    std::string to_string() const override { return "area"; }
+
+private:
+    Ref<Texture> radiance_;
+};
+
+CANDELA_REGISTER(AreaEmitter, ObjectKind::Emitter, "area");
+
+}  // namespace candela

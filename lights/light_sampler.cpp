@@ -1,0 +1,66 @@
+#include "lights/light_sampler.h"
+
+#include "core/distribution.h"
+#include "core/error.h"
+#include "core/scene.h"
+
+namespace candela {
+
+namespace {
+
+// Picks emitters with fixed probabilities, independent of the shading point.
+class FixedLightSampler final : public LightSampler {
+public:
+    FixedLightSampler(const Scene& scene, bool by_power) {
+        std::vector<float> weights;
+        for (const auto& e : scene.emitters()) {
+            index_[e.get()] = emitters_.size();
+            emitters_.push_back(e.get());
+            weights.push_back(by_power ? std::max(luminance(e->power()), 0.0f) : 1.0f);
+        }
+        // Lights with zero power (or a scene where all have zero) keep a fair share, so that
+        // sampling never misses an emitter that does contribute.
+        if (by_power) {
+            float total = 0.0f;
+            for (float w : weights) total += w;
+            for (float& w : weights)
+                if (!(w > 0.0f)) w = total > 0.0f ? total * 1e-3f : 1.0f;
+        }
+        if (!weights.empty()) distribution_ = Distribution1D(std::move(weights));
+    }
+
+    const Emitter* sample(const SurfaceInteraction&, float u, float& prob) const override {
+        if (emitters_.empty()) {
+            prob = 0.0f;
+            return nullptr;
+        }
+        size_t i = distribution_.sample_discrete(u);
+        prob = distribution_.pmf(i);
+        return emitters_[i];
+    }
+
+    float pmf(const SurfaceInteraction&, const Emitter* emitter) const override {
+        auto it = index_.find(emitter);
+        return it == index_.end() ? 0.0f : distribution_.pmf(it->second);
+    }
+
+private:
+    std::vector<const Emitter*> emitters_;
+    std::unordered_map<const Emitter*, size_t> index_;
+    Distribution1D distribution_;
+};
+
+}  // namespace
+
+const std::vector<std::string>& light_sampler_names() {
+    static const std::vector<std::string> names = {"uniform", "power"};
+    return names;
+}
+
+std::unique_ptr<LightSampler> create_light_sampler(const std::string& strategy, const Scene& scene) {
+    if (strategy == "uniform") return std::make_unique<FixedLightSampler>(scene, false);
+    if (strategy == "power") return std::make_unique<FixedLightSampler>(scene, true);
+    throw InputError("unknown light sampler \"" + strategy + "\" (known: uniform, power)");
+}
+
+}  // namespace candela

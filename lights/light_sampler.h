@@ -1,0 +1,30 @@
+#pragma once
+// Light selection: which emitter to sample for next-event estimation at a shading point.
+// Strategies: "uniform" (each emitter equally likely) and "power" (proportional to emitted flux).
+
+#include "core/emitter.h"
+
+#include <memory>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+namespace candela {
+
+class Scene;
+
+class LightSampler {
+public:
+    virtual ~LightSampler() = default;
+    // Picks an emitter for the shading point `ref` (null when the scene has none) and its
+    // selection probability.
+    virtual const Emitter* sample(const SurfaceInteraction& ref, float u, float& prob) const = 0;
+    // Probability that sample() picks `emitter` at `ref`.
+    virtual float pmf(const SurfaceInteraction& ref, const Emitter* emitter) const = 0;
+};
+
+// Builds the named strategy for a scene; throws InputError for an unknown name.
+std::unique_ptr<LightSampler> create_light_sampler(const std::string& strategy, const Scene& scene);
+const std::vector<std::string>& light_sampler_names();
+
+}  // namespace candela

@@ -1,0 +1,53 @@
+// diffuse: the ideal diffuse (Lambertian) reflector, f = reflectance / pi. One-sided: black when
+// seen from the back (wrap it in `twosided` for both sides).
+//
+// Parameters:
+//   reflectance   rgb or texture   diffuse albedo in [0, 1] (default 0.5)
+// Sampling: cosine-weighted hemisphere, so the sample weight is the reflectance itself.
+
+#include "core/bsdf.h"
+#include "core/properties.h"
+#include "core/registry.h"
+#include "core/texture.h"
+#include "core/warp.h"
+
+namespace candela {
+
+class DiffuseBSDF final : public BSDF {
+public:
+    explicit DiffuseBSDF(const Properties& props) {
+        reflectance_ = props.get_texture("reflectance", Spectrum(0.5f));
+        flags_ = DiffuseReflection;
+    }
+
+    BSDFSample sample(const BSDFContext& ctx, const SurfaceInteraction& si, float, const Vec2& u) const override {
+        BSDFSample bs;
+        if (!ctx.allows(DiffuseReflection) || Frame::cos_theta(si.wi) <= 0.0f) return bs;
+        bs.wo = warp::square_to_cosine_hemisphere(u);
+        bs.pdf = warp::square_to_cosine_hemisphere_pdf(bs.wo);
+        if (bs.pdf <= 0.0f) return BSDFSample();
+        bs.lobe = DiffuseReflection;
+        bs.weight = reflectance_->eval(si.uv);
+        return bs;
+    }
+
+    Spectrum eval(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
+        if (!ctx.allows(DiffuseReflection) || Frame::cos_theta(si.wi) <= 0.0f || Frame::cos_theta(wo) <= 0.0f) return Spectrum(0.0f);
+        return reflectance_->eval(si.uv) * (InvPi * Frame::cos_theta(wo));
+    }
+
+    float pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
+        if (!ctx.allows(DiffuseReflection) || Frame::cos_theta(si.wi) <= 0.0f) return 0.0f;
+        return warp::square_to_cosine_hemisphere_pdf(wo);
+    }
+
+    Spectrum albedo(const SurfaceInteraction& si) const override { return reflectance_->eval(si.uv); }
+    std::string to_string() const override { return "diffuse"; }
+
+private:
+    Ref<Texture> reflectance_;
+};
+
+CANDELA_REGISTER(DiffuseBSDF, ObjectKind::BSDF, "diffuse");
+
+}  // namespace candela

@@ -1,0 +1,62 @@
+// twosided: makes a one-sided BSDF reflect on both sides. With one nested BSDF both sides use
+// it; with two, the second is the back side's. Seen from the back, the directions are mirrored
+// through the surface (z -> -z) before the nested BSDF is asked.
+//
+// Parameters:
+//   (nested bsdf)   one or two reflective BSDFs (transmissive ones are two-sided already)
+
+#include "core/bsdf.h"
+#include "core/properties.h"
+#include "core/registry.h"
+
+namespace candela {
+
+class TwoSidedBSDF final : public BSDF {
+public:
+    explicit TwoSidedBSDF(const Properties& props) {
+        auto nested = props.get_objects(ObjectKind::BSDF);
+        if (nested.empty() || nested.size() > 2) props.fail("twosided needs one or two nested BSDFs");
+        front_ = std::static_pointer_cast<BSDF>(nested[0]);
+        back_ = nested.size() == 2 ? std::static_pointer_cast<BSDF>(nested[1]) : front_;
+        if ((front_->flags() | back_->flags()) & Transmission)
+            props.fail("twosided cannot wrap a transmissive BSDF (it is two-sided already)");
+        flags_ = front_->flags() | back_->flags();
+    }
+
+    BSDFSample sample(const BSDFContext& ctx, const SurfaceInteraction& si, float u_lobe, const Vec2& u) const override {
+        if (Frame::cos_theta(si.wi) >= 0.0f) return front_->sample(ctx, si, u_lobe, u);
+        SurfaceInteraction flipped = mirrored(si);
+        BSDFSample bs = back_->sample(ctx, flipped, u_lobe, u);
+        bs.wo.z = -bs.wo.z;
+        return bs;
+    }
+
+    Spectrum eval(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
+        if (Frame::cos_theta(si.wi) >= 0.0f) return front_->eval(ctx, si, wo);
+        return back_->eval(ctx, mirrored(si), Vec3(wo.x, wo.y, -wo.z));
+    }
+
+    float pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
+        if (Frame::cos_theta(si.wi) >= 0.0f) return front_->pdf(ctx, si, wo);
+        return back_->pdf(ctx, mirrored(si), Vec3(wo.x, wo.y, -wo.z));
+    }
+
+    Spectrum albedo(const SurfaceInteraction& si) const override {
+        return Frame::cos_theta(si.wi) >= 0.0f ? front_->albedo(si) : back_->albedo(mirrored(si));
+    }
+
+    void adjust_shading_frame(SurfaceInteraction& si) const override { front_->adjust_shading_frame(si); }
+    std::string to_string() const override { return "twosided"; }
+
+private:
+    static SurfaceInteraction mirrored(const SurfaceInteraction& si) {
+        SurfaceInteraction m = si;
+        m.wi.z = -m.wi.z;
+        return m;
+    }
+    Ref<BSDF> front_, back_;
+};
+
+CANDELA_REGISTER(TwoSidedBSDF, ObjectKind::BSDF, "twosided");
+
+}  // namespace candela
