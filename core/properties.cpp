@@ -198,6 +198,14 @@ void Properties::check_all_used() const {
     throw SceneError(first->where, "unused property \"" + first_name + "\" in " + plugin_type_ + ": no such parameter");
 }
 
+const Properties::Value& Properties::get_raw(const std::string& name, Type* type) const {
+    auto it = entries_.find(name);
+    if (it == entries_.end()) throw SceneError(location_, plugin_type_ + ": missing property \"" + name + "\"");
+    it->second.used = true;
+    if (type) *type = it->second.type;
+    return it->second.value;
+}
+
 std::vector<std::string> Properties::names() const {
     std::vector<std::pair<size_t, std::string>> v;
     for (auto& [name, e] : entries_) v.emplace_back(e.order, name);

@@ -85,6 +85,9 @@ public:
     [[noreturn]] void fail(const std::string& message) const;
     SourceLocation location_of(const std::string& name) const;
 
+    // The stored value and its tag, marked as used (for generic consumers such as dumps).
+    const Value& get_raw(const std::string& name, Type* type = nullptr) const;
+
     // Names in document order (for the loader and for tests).
     std::vector<std::string> names() const;
 

@@ -9,14 +9,6 @@ namespace candela {
 Shape::Shape(const Properties& props) {
     to_world_ = props.get_transform("to_world", Transform());
     flip_normals_ = props.get_bool("flip_normals", false);
-    auto bsdfs = props.get_objects(ObjectKind::BSDF);
-    if (bsdfs.size() > 1) props.fail("a shape can have only one bsdf");
-    if (bsdfs.empty()) {
-        // Mitsuba's default material: a diffuse BSDF with reflectance 0.5.
-        bsdf_ = create_plugin_as<BSDF>(ObjectKind::BSDF, Properties("diffuse", props.location()));
-    } else {
-        bsdf_ = std::static_pointer_cast<BSDF>(bsdfs[0]);
-    }
     auto emitters = props.get_objects(ObjectKind::Emitter);
     if (emitters.size() > 1) props.fail("a shape can have only one emitter");
     if (!emitters.empty()) {
@@ -24,6 +16,16 @@ Shape::Shape(const Properties& props) {
         if (emitter_->type() != EmitterType::Area) props.fail("only an area emitter can be nested in a shape");
         if (emitter_->shape()) props.fail("this emitter is already attached to another shape");
         emitter_->set_shape(this);
+    }
+    auto bsdfs = props.get_objects(ObjectKind::BSDF);
+    if (bsdfs.size() > 1) props.fail("a shape can have only one bsdf");
+    if (bsdfs.empty()) {
+        // Mitsuba's default material: diffuse with reflectance 0.5, or 0 on an emitter.
+        Properties diffuse("diffuse", props.location());
+        if (emitter_) diffuse.set_rgb("reflectance", Spectrum(0.0f));
+        bsdf_ = create_plugin_as<BSDF>(ObjectKind::BSDF, diffuse);
+    } else {
+        bsdf_ = std::static_pointer_cast<BSDF>(bsdfs[0]);
     }
 }
 

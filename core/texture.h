@@ -4,6 +4,7 @@
 
 #include "core/object.h"
 #include "core/spectrum.h"
+#include "core/transform.h"
 
 namespace candela {
 
@@ -12,13 +13,28 @@ public:
     ObjectKind kind() const override { return ObjectKind::Texture; }
     // The colour at uv, unfiltered beyond the texture's own reconstruction (bilinear or nearest).
     virtual Spectrum eval(const Vec2& uv) const = 0;
-    // A scalar view (roughness, heights): the mean of the channels.
-    float eval_1(const Vec2& uv) const { return average(eval(uv)); }
+    // A scalar view (roughness, heights): the luminance, as in Mitsuba 3.
+    virtual float eval_1(const Vec2& uv) const { return luminance(eval(uv)); }
     // The average over the whole texture (for albedo and power estimates).
     virtual Spectrum mean() const = 0;
     virtual bool is_constant() const { return false; }
     // The largest value any channel reaches (for energy bounds).
     virtual float max_value() const = 0;
+};
+
+// A 2D affine map of texture coordinates (Mitsuba's `to_uv`): a 4x4 transform from the scene
+// file with its third row and column dropped, applied to (u, v, 1).
+struct UVTransform {
+    float m[2][3] = {{1, 0, 0}, {0, 1, 0}};
+    UVTransform() = default;
+    explicit UVTransform(const Transform& t) {
+        const Mat4& a = t.matrix();  // column-major: a[col][row]
+        m[0][0] = a[0][0], m[0][1] = a[1][0], m[0][2] = a[3][0];
+        m[1][0] = a[0][1], m[1][1] = a[1][1], m[1][2] = a[3][1];
+    }
+    Vec2 apply(const Vec2& uv) const {
+        return Vec2(m[0][0] * uv.x + m[0][1] * uv.y + m[0][2], m[1][0] * uv.x + m[1][1] * uv.y + m[1][2]);
+    }
 };
 
 class ConstantTexture final : public Texture {

@@ -1,0 +1,10 @@
+#!/usr/bin/env bash
+# One-command set-up on Debian 12: installs missing packages, builds Candela in Release, and
+# renders the example Cornell box to cbox.exr (and a PNG preview) in the repository root.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+./scripts/install-deps.sh
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
+cmake --build build -j"$(nproc)"
+./build/candela render scenes/cbox.xml -o cbox.exr --png
+echo "setup: rendered cbox.exr and cbox.png"

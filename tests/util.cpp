@@ -1,0 +1,41 @@
+#include "tests/util.h"
+
+#include <fstream>
+#include <sstream>
+#include <sys/wait.h>
+
+namespace candela::test {
+
+std::filesystem::path scratch_dir(const std::string& name) {
+    std::filesystem::path p = std::filesystem::path(CANDELA_BINARY_DIR) / "test-scratch" / name;
+    std::filesystem::remove_all(p);
+    std::filesystem::create_directories(p);
+    return p;
+}
+
+void write_text(const std::filesystem::path& path, const std::string& text) {
+    std::ofstream out(path, std::ios::binary);
+    out << text;
+}
+
+std::string read_text(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+std::string source_path(const std::string& relative) { return std::string(CANDELA_SOURCE_DIR) + "/" + relative; }
+
+std::string candela_binary() { return std::string(CANDELA_BINARY_DIR) + "/candela"; }
+
+int run_command(const std::string& command, const std::filesystem::path& log) {
+    std::string full = command + " > '" + log.string() + "' 2>&1";
+    int status = std::system(full.c_str());
+    if (status == -1) return -1;
+    return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+std::string scene_xml(const std::string& body) { return "<scene version=\"3.0.0\">\n" + body + "\n</scene>\n"; }
+
+}  // namespace candela::test

@@ -1,0 +1,22 @@
+#pragma once
+// Helpers shared by the tests: scratch directories, small files, and scene snippets.
+
+#include <filesystem>
+#include <string>
+
+namespace candela::test {
+
+// A fresh directory under the build tree for this test's files.
+std::filesystem::path scratch_dir(const std::string& name);
+void write_text(const std::filesystem::path& path, const std::string& text);
+std::string source_path(const std::string& relative);  // inside the repository
+std::string candela_binary();
+
+// Runs a shell command; returns its exit code (not the raw wait status). Output goes to `log`.
+int run_command(const std::string& command, const std::filesystem::path& log);
+std::string read_text(const std::filesystem::path& path);
+
+// A minimal scene document around `body` (sensor, film and integrator given by the caller).
+std::string scene_xml(const std::string& body);
+
+}  // namespace candela::test
