@@ -27,11 +27,12 @@ constexpr float InvPi = 1.0f / Pi;
 constexpr float InvTwoPi = 1.0f / TwoPi;
 constexpr float InvFourPi = 1.0f / FourPi;
 constexpr float Infinity = std::numeric_limits<float>::infinity();
-// Relative offset for spawning rays off surfaces (times 1 + the largest coordinate of the point),
-// the same scale-aware rule Mitsuba 3 uses; a fixed world-space epsilon breaks for big scenes.
-constexpr float RayEpsilon = 1500.0f * std::numeric_limits<float>::epsilon() / 2.0f;
-// Shadow rays stop this fraction short of their target.
-constexpr float ShadowEpsilon = 10.0f * RayEpsilon;
+// Bound on the relative error of n floating-point operations: n u / (1 - n u) with u = 2^-24
+// (Higham, "Accuracy and Stability of Numerical Algorithms", 3.1; pbrt-v4 section 6.8).
+constexpr float gamma_bound(int n) {
+    constexpr float u = 0x1p-24f;
+    return float(n) * u / (1.0f - float(n) * u);
+}
 
 inline float sqr(float x) { return x * x; }
 inline float safe_sqrt(float x) { return std::sqrt(std::max(x, 0.0f)); }

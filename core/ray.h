@@ -19,17 +19,32 @@ struct Ray {
     Vec3 operator()(float t) const { return o + t * d; }
 };
 
+// Shadow rays stop this fraction short of their target.
+constexpr float ShadowEpsilon = 1e-4f;
+// Factor over the computed error bounds: Embree's own intersection arithmetic is not part of them.
+constexpr float OffsetSafety = 4.0f;
+
 // Moves p off its surface along the geometric normal n, to the side that direction d leaves
-// toward. The offset scales with the point's magnitude (floating-point error grows with it),
-// so scaling a scene by 1000 keeps rays from re-hitting their own surface.
-inline Vec3 offset_ray_origin(const Vec3& p, const Vec3& n, const Vec3& d) {
-    float mag = (1.0f + max_abs_component(p)) * RayEpsilon;
-    return p + (glm::dot(n, d) >= 0.0f ? mag : -mag) * n;
+// toward, by the bound `p_error` on p's floating-point error (pbrt-v4, section 6.8.6). The offset
+// scales with the coordinates that produced p, so scenes scaled by 1000 or by 1/1000 behave the
+// same; a fixed epsilon would cause self-hits in one case and visible bias in the other.
+inline Vec3 offset_ray_origin(const Vec3& p, const Vec3& p_error, const Vec3& n, const Vec3& d) {
+    float dist = glm::dot(glm::abs(n), p_error) * OffsetSafety;
+    Vec3 offset = dist * n;
+    if (glm::dot(d, n) < 0.0f) offset = -offset;
+    Vec3 po = p + offset;
+    // Round away from p so that the rounding of the addition cannot undo the offset.
+    for (int i = 0; i < 3; ++i) {
+        if (offset[i] > 0.0f) po[i] = std::nextafter(po[i], Infinity);
+        else if (offset[i] < 0.0f) po[i] = std::nextafter(po[i], -Infinity);
+    }
+    return po;
 }
 
 // A point on a surface, as found by a ray or produced by sampling.
 struct SurfaceInteraction {
     Vec3 p{0.0f};
+    Vec3 p_error{0.0f};  // bound on the absolute error of p, per component
     float t = Infinity;
     Vec3 n{0.0f, 0.0f, 1.0f};  // geometric normal (unit), on the shape's front side
     Frame shading;             // shading frame around the (interpolated) shading normal
@@ -44,13 +59,12 @@ struct SurfaceInteraction {
     Vec3 to_local(const Vec3& v) const { return shading.to_local(v); }
     Vec3 wi_world() const { return shading.to_world(wi); }
 
-    Ray spawn_ray(const Vec3& d) const { return Ray(offset_ray_origin(p, n, d), d); }
-    // A shadow ray toward `target`, stopping just short of it. `target_normal` (zero if none)
-    // offsets the far end off its own surface too.
-    Ray spawn_ray_to(const Vec3& target, const Vec3& target_normal = Vec3(0.0f)) const {
-        Vec3 d = target - p;
-        Vec3 o = offset_ray_origin(p, n, d);
-        Vec3 t = target_normal == Vec3(0.0f) ? target : offset_ray_origin(target, target_normal, -d);
+    Ray spawn_ray(const Vec3& d) const { return Ray(offset_ray_origin(p, p_error, n, d), d); }
+    // A shadow ray toward `target`, stopping just short of it. A target on a surface (normal not
+    // zero) is offset off that surface by its own error bound.
+    Ray spawn_ray_to(const Vec3& target, const Vec3& target_normal = Vec3(0.0f), const Vec3& target_error = Vec3(0.0f)) const {
+        Vec3 o = offset_ray_origin(p, p_error, n, target - p);
+        Vec3 t = target_normal == Vec3(0.0f) ? target : offset_ray_origin(target, target_error, target_normal, o - target);
         Vec3 dir = t - o;
         float dist = glm::length(dir);
         return Ray(o, dir / dist, dist * (1.0f - ShadowEpsilon));

@@ -64,11 +64,14 @@ public:
                 if (!is_black(Le)) {
                     float w = 1.0f;
                     if (!prev_delta) {
+                        // Measured from the previous vertex itself (not the offset ray origin),
+                        // exactly as light sampling measures it, so the MIS weights sum to one.
                         DirectionSample ds;
                         ds.p = si.p;
                         ds.n = si.n;
-                        ds.d = ray.d;
-                        ds.dist = si.t;
+                        Vec3 to = si.p - prev_si.p;
+                        ds.dist = glm::length(to);
+                        ds.d = to / ds.dist;
                         float light_pdf = lights_->pmf(prev_si, emitter) * emitter->pdf_direction(prev_si, ds);
                         w = power_heuristic(prev_pdf, light_pdf);
                     }
@@ -120,7 +123,7 @@ private:
         Vec3 wo = si.to_local(ds.d);
         Spectrum f = bsdf.eval(ctx, si, wo);
         if (is_black(f)) return Spectrum(0.0f);
-        Ray shadow = std::isinf(ds.dist) ? si.spawn_ray(ds.d) : si.spawn_ray_to(ds.p, ds.delta ? Vec3(0.0f) : ds.n);
+        Ray shadow = std::isinf(ds.dist) ? si.spawn_ray(ds.d) : si.spawn_ray_to(ds.p, ds.delta ? Vec3(0.0f) : ds.n, ds.p_error);
         if (scene.occluded(shadow)) return Spectrum(0.0f);
         float w = ds.delta ? 1.0f : power_heuristic(ds.pdf * pick_prob, bsdf.pdf(ctx, si, wo));
         return f * weight * (w / pick_prob);

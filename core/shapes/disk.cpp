@@ -58,6 +58,7 @@ public:
         fill_at(Vec3(d, 0.0f), si);
         PositionSample ps;
         ps.p = si.p;
+        ps.p_error = si.p_error;
         ps.n = normal_;
         ps.uv = si.uv;
         ps.pdf = 1.0f / area_;
@@ -69,6 +70,10 @@ public:
 private:
     void fill_at(const Vec3& local, SurfaceInteraction& si) const {
         si.p = to_world_.apply_point(local);
+        // Error of the affine map: a few roundings of sum_j |M_ij local_j| + |t_i|.
+        const Mat4& m = to_world_.matrix();
+        Vec3 magnitude = glm::abs(Vec3(m[0]) * local.x) + glm::abs(Vec3(m[1]) * local.y) + glm::abs(Vec3(m[3]));
+        si.p_error = gamma_bound(6) * magnitude;
         float r = std::sqrt(local.x * local.x + local.y * local.y);
         float phi = std::atan2(local.y, local.x);
         if (phi < 0.0f) phi += TwoPi;

@@ -78,6 +78,7 @@ public:
         Vec3 n = warp::square_to_uniform_sphere(u);
         PositionSample ps;
         ps.p = center_ + radius_ * n;
+        ps.p_error = error_bound();
         ps.n = flip_normals_ ? -n : n;
         ps.uv = uv_of(ps.p);
         ps.pdf = 1.0f / surface_area();
@@ -109,6 +110,7 @@ public:
         Vec3 n = frame.to_world(Vec3(sin_alpha * std::cos(phi), sin_alpha * std::sin(phi), cos_alpha));
         DirectionSample ds;
         ds.p = center_ + radius_ * n;
+        ds.p_error = error_bound();
         ds.n = flip_normals_ ? -n : n;
         ds.uv = uv_of(ds.p);
         Vec3 to = ds.p - ref.p;
@@ -136,8 +138,12 @@ private:
         return Vec2(phi * InvTwoPi, safe_acos(local.z) * InvPi);
     }
 
+    // A point computed as centre + radius * (unit normal): a few roundings of |centre| + radius.
+    Vec3 error_bound() const { return gamma_bound(6) * (glm::abs(center_) + Vec3(radius_)); }
+
     void fill_at(const Vec3& p, const Vec3& n_out, SurfaceInteraction& si) const {
         si.p = p;
+        si.p_error = error_bound();
         Vec3 local = world_to_object_.apply_point(p);
         float phi = std::atan2(local.y, local.x);
         if (phi < 0.0f) phi += TwoPi;
