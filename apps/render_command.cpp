@@ -67,6 +67,9 @@ void add_render_command(CLI::App& app, std::function<int()>& run) {
             check_output_path(output);
             if (args->png) check_output_path(png);
 
+            // From here on Ctrl-C stops the render and writes what there is.
+            g_interrupted = false;
+            auto previous = std::signal(SIGINT, on_sigint);
             Ref<Scene> scene = load_scene(args->scene, params);
             RenderOptions options;
             options.spp = args->spp;
@@ -76,8 +79,6 @@ void add_render_command(CLI::App& app, std::function<int()>& run) {
             options.interrupt = &g_interrupted;
             options.aovs = args->aovs;
 
-            g_interrupted = false;
-            auto previous = std::signal(SIGINT, on_sigint);
             RenderResult result = scene->integrator().render(*scene, options);
             std::signal(SIGINT, previous);
 

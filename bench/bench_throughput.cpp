@@ -1,1 +1,82 @@
-int main() { return 0; }
+// bench_throughput: how close the path tracer comes to Embree's raw ray throughput.
+//
+//   bench_throughput [SCENE.xml] [--threads N] [--spp N] [--rays N]
+//
+// On one scene and one thread count it reports (1) raw Embree closest-hit throughput on
+// incoherent rays (random points inside the scene's bounds, uniformly random directions),
+// (2) the path tracer's rays per second and samples per second on the same scene, and (3) the
+// ratio of the two. It prints figures and asserts nothing.
+
+#include "core/rng.h"
+#include "core/warp.h"
+#include "core/xml.h"
+
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <string>
+
+using namespace candela;
+
+int main(int argc, char** argv) {
+    std::string scene_path = std::string(CANDELA_SOURCE_DIR) + "/scenes/cbox.xml";
+    int threads = 0, spp = 64;
+    long long ray_count = 20000000;
+    for (int i = 1; i < argc; ++i) {
+        std::string a = argv[i];
+        if (a == "--threads" && i + 1 < argc) threads = std::atoi(argv[++i]);
+        else if (a == "--spp" && i + 1 < argc) spp = std::atoi(argv[++i]);
+        else if (a == "--rays" && i + 1 < argc) ray_count = std::atoll(argv[++i]);
+        else scene_path = a;
+    }
+    Ref<Scene> scene = load_scene(scene_path);
+    tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+    int used_threads = arena.max_concurrency();
+
+    // Incoherent closest-hit rays, generated up front so that only tracing is timed.
+    BoundingBox b = scene->bbox();
+    std::vector<Ray> rays(static_cast<size_t>(ray_count));
+    tbb::parallel_for(size_t(0), rays.size(), size_t(65536), [&](size_t start) {
+        size_t end = std::min(rays.size(), start + 65536);
+        PCG32 rng(start, 3);
+        for (size_t i = start; i < end; ++i) {
+            Vec3 u(rng.next_float(), rng.next_float(), rng.next_float());
+            Vec3 o = b.min + u * (b.max - b.min);
+            float a = rng.next_float();
+            rays[i] = Ray(o, warp::square_to_uniform_sphere(Vec2(a, rng.next_float())));
+        }
+    });
+    std::atomic<long long> hits{0};
+    auto t0 = std::chrono::steady_clock::now();
+    arena.execute([&] {
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
+            long long local = 0;
+            RayHit hit;
+            for (size_t i = r.begin(); i != r.end(); ++i) local += scene->accel().intersect(rays[i], hit) != nullptr;
+            hits += local;
+        });
+    });
+    double embree_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    double embree_mrays = double(ray_count) / embree_s * 1e-6;
+
+    RenderOptions options;
+    options.spp = spp;
+    options.threads = threads;
+    RenderResult result = scene->integrator().render(*scene, options);
+    double path_mrays = double(result.stats.rays) / result.stats.seconds * 1e-6;
+    double samples_per_s = double(result.stats.samples) / result.stats.seconds;
+
+    std::printf("scene                     %s\n", scene_path.c_str());
+    std::printf("threads                   %d\n", used_threads);
+    std::printf("embree closest-hit rays   %lld incoherent, %.1f%% hit, %.3f s\n", ray_count, 100.0 * double(hits) / double(ray_count), embree_s);
+    std::printf("embree Mrays/s            %.2f\n", embree_mrays);
+    std::printf("path tracer               %d spp, %.3f s, %llu rays (%.2f per sample)\n", result.stats.spp, result.stats.seconds,
+                (unsigned long long)result.stats.rays, double(result.stats.rays) / double(result.stats.samples));
+    std::printf("path tracer Mrays/s       %.2f\n", path_mrays);
+    std::printf("path tracer samples/s     %.0f\n", samples_per_s);
+    std::printf("ratio path/embree Mrays   %.3f\n", path_mrays / embree_mrays);
+    return 0;
+}

@@ -109,7 +109,10 @@ void write_exr(const Image& image, const std::string& path, bool float32) {
     try {
         Imf::Header header(image.width(), image.height());
         header.compression() = Imf::ZIP_COMPRESSION;
-        for (auto& [key, value] : image.metadata) header.insert(key, Imf::StringAttribute(value));
+        // Metadata read from another file may repeat standard attributes (compression, ...):
+        // those belong to this header.
+        for (auto& [key, value] : image.metadata)
+            if (header.find(key) == header.end()) header.insert(key, Imf::StringAttribute(value));
         Imf::FrameBuffer fb;
         size_t nch = size_t(image.channel_count());
         for (size_t c = 0; c < nch; ++c) {

@@ -3,11 +3,13 @@
 #include <fstream>
 #include <sstream>
 #include <sys/wait.h>
+#include <unistd.h>
 
 namespace candela::test {
 
 std::filesystem::path scratch_dir(const std::string& name) {
-    std::filesystem::path p = std::filesystem::path(CANDELA_BINARY_DIR) / "test-scratch" / name;
+    // Per process: ctest runs test cases in parallel processes.
+    std::filesystem::path p = std::filesystem::path(CANDELA_BINARY_DIR) / "test-scratch" / (name + "-" + std::to_string(::getpid()));
     std::filesystem::remove_all(p);
     std::filesystem::create_directories(p);
     return p;
@@ -30,7 +32,7 @@ std::string source_path(const std::string& relative) { return std::string(CANDEL
 std::string candela_binary() { return std::string(CANDELA_BINARY_DIR) + "/candela"; }
 
 int run_command(const std::string& command, const std::filesystem::path& log) {
-    std::string full = command + " > '" + log.string() + "' 2>&1";
+    std::string full = "{ " + command + " ; } > '" + log.string() + "' 2>&1";
     int status = std::system(full.c_str());
     if (status == -1) return -1;
     return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);

@@ -6,7 +6,7 @@
 
 namespace candela::test {
 
-// A fresh directory under the build tree for this test's files.
+// A fresh directory under the build tree for this test's files (one per process).
 std::filesystem::path scratch_dir(const std::string& name);
 void write_text(const std::filesystem::path& path, const std::string& text);
 std::string source_path(const std::string& relative);  // inside the repository

@@ -1,0 +1,126 @@
+// The candela command line: render and compare, exit codes, metadata, and bad input that must
+// stop with file:line, exit code 2 and no output file created or clobbered.
+
+#include "core/image.h"
+#include "tests/util.h"
+
+#include <catch2/catch.hpp>
+
+using namespace candela;
+using namespace candela::test;
+
+namespace {
+const std::string Cbox = source_path("scenes/validation/cbox.xml");
+
+std::string render_cmd(const std::string& args) { return "'" + candela_binary() + "' render " + args; }
+}  // namespace
+
+TEST_CASE("cli: render writes an EXR with metadata, -D and --spp apply, --png writes a preview", "[cli]") {
+    auto dir = scratch_dir("cli-render");
+    auto out = dir / "box.exr";
+    int code = run_command(render_cmd("'" + Cbox + "' -o '" + out.string() + "' -D res=24 --spp 3 --seed 7 --png"), dir / "log.txt");
+    INFO(read_text(dir / "log.txt"));
+    REQUIRE(code == 0);
+    Image img = read_image(out.string());
+    CHECK(img.width() == 24);
+    CHECK(img.metadata["candela.spp"] == "3");
+    CHECK(img.metadata["candela.seed"] == "7");
+    CHECK(img.metadata["candela.partial"] == "false");
+    CHECK(img.metadata["candela.scene"] == Cbox);
+    CHECK(img.metadata.count("candela.renderTime") == 1);
+    CHECK(img.metadata["candela.version"].size() > 0);
+    CHECK(std::filesystem::exists(dir / "box.png"));
+    // Not a terminal: no progress bar, but the one-line summary.
+    std::string log = read_text(dir / "log.txt");
+    CHECK_THAT(log, Catch::Contains("3 spp") && Catch::Contains("samples/s") && Catch::Contains("Mrays/s"));
+    CHECK(log.find('\r') == std::string::npos);
+    // --quiet silences it.
+    REQUIRE(run_command(render_cmd("'" + Cbox + "' -o '" + out.string() + "' -D res=8 --spp 1 --quiet"), dir / "quiet.txt") == 0);
+    CHECK(read_text(dir / "quiet.txt").empty());
+}
+
+TEST_CASE("cli: bad input exits with code 2, names file:line, and leaves outputs alone", "[cli][errors]") {
+    auto dir = scratch_dir("cli-errors");
+    write_text(dir / "unused.xml", "<scene version=\"3.0.0\">\n<shape type=\"sphere\">\n<float name=\"radios\" value=\"1\"/>\n</shape>\n</scene>\n");
+    write_text(dir / "malformed.xml", "<scene version=\"3.0.0\">\n<shape type=\"sphere\">\n</scene>\n");
+    write_text(dir / "unknown.xml", "<scene version=\"3.0.0\">\n\n<bsdf type=\"velvet\"/>\n</scene>\n");
+    write_text(dir / "nan.xml", "<scene version=\"3.0.0\">\n<shape type=\"sphere\"><transform name=\"to_world\">\n\n<translate x=\"nan\"/>\n</transform></shape>\n</scene>\n");
+    write_text(dir / "nomesh.xml", "<scene version=\"3.0.0\">\n<shape type=\"ply\"><string name=\"filename\" value=\"missing.ply\"/></shape>\n</scene>\n");
+    write_text(dir / "notexture.xml",
+               "<scene version=\"3.0.0\">\n<shape type=\"sphere\"><bsdf type=\"diffuse\">\n<texture type=\"bitmap\" name=\"reflectance\">\n"
+               "<string name=\"filename\" value=\"nope.png\"/>\n</texture></bsdf></shape>\n</scene>\n");
+    struct Case {
+        const char* scene;
+        std::string where;
+    };
+    const Case cases[] = {{"unused.xml", "unused.xml:3: "},       {"malformed.xml", "malformed.xml:3: "}, {"unknown.xml", "unknown.xml:3: "},
+                          {"nan.xml", "nan.xml:4: "},             {"nomesh.xml", "nomesh.xml:2: "},       {"notexture.xml", "notexture.xml:4: "},
+                          {"does-not-exist.xml", "does-not-exist.xml"}};
+    for (const Case& c : cases) {
+        INFO(c.scene);
+        auto fresh = dir / (std::string(c.scene) + ".exr");
+        auto existing = dir / "existing.exr";
+        write_text(existing, "precious");
+        int code = run_command(render_cmd("'" + (dir / c.scene).string() + "' -o '" + fresh.string() + "'"), dir / "log.txt");
+        std::string log = read_text(dir / "log.txt");
+        INFO(log);
+        CHECK(code == 2);
+        CHECK_THAT(log, Catch::Contains(c.where));
+        CHECK(!std::filesystem::exists(fresh));
+        code = run_command(render_cmd("'" + (dir / c.scene).string() + "' -o '" + existing.string() + "'"), dir / "log.txt");
+        CHECK(code == 2);
+        CHECK(read_text(existing) == "precious");  // not clobbered
+    }
+    // No stray temporaries either.
+    for (auto& entry : std::filesystem::directory_iterator(dir)) CHECK(entry.path().filename().string().find(".tmp") == std::string::npos);
+}
+
+TEST_CASE("cli: an unwritable output path or a bad option exits with code 2 before rendering", "[cli][errors]") {
+    auto dir = scratch_dir("cli-output");
+    CHECK(run_command(render_cmd("'" + Cbox + "' -o '" + (dir / "no/such/dir/out.exr").string() + "'"), dir / "log.txt") == 2);
+    CHECK_THAT(read_text(dir / "log.txt"), Catch::Contains("does not exist"));
+    CHECK(run_command(render_cmd("'" + Cbox + "' -o '" + dir.string() + "'"), dir / "log.txt") == 2);
+    CHECK(run_command(render_cmd("'" + Cbox + "' -o '" + (dir / "x.exr").string() + "' -D novalue"), dir / "log.txt") == 2);
+    CHECK_THAT(read_text(dir / "log.txt"), Catch::Contains("name=value"));
+    CHECK(run_command(render_cmd("'" + Cbox + "' --spp -3"), dir / "log.txt") == 2);
+    CHECK(run_command("'" + candela_binary() + "' frobnicate", dir / "log.txt") == 2);
+    CHECK(!std::filesystem::exists(dir / "x.exr"));
+}
+
+TEST_CASE("cli: Ctrl-C writes the image so far, marked partial, and exits non-zero", "[cli][interrupt]") {
+    auto dir = scratch_dir("cli-interrupt");
+    auto out = dir / "partial.exr";
+    // A render far too long to finish; SIGINT after a second.
+    std::string cmd = render_cmd("'" + Cbox + "' -o '" + out.string() + "' --spp 100000") + " & pid=$!; sleep 1; kill -INT $pid; wait $pid";
+    int code = run_command(cmd, dir / "log.txt");
+    INFO(read_text(dir / "log.txt"));
+    CHECK(code == 130);
+    REQUIRE(std::filesystem::exists(out));
+    Image img = read_image(out.string());
+    CHECK(img.metadata["candela.partial"] == "true");
+    CHECK(std::stoll(img.metadata["candela.samples"]) < 100000LL * 256 * 256);
+    CHECK_THAT(read_text(dir / "log.txt"), Catch::Contains("interrupted"));
+}
+
+TEST_CASE("cli: compare reports metrics and its exit code says whether images agree", "[cli][compare]") {
+    auto dir = scratch_dir("cli-compare");
+    auto a = dir / "a.exr", b = dir / "b.exr", scaled = dir / "scaled.exr";
+    REQUIRE(run_command(render_cmd("'" + Cbox + "' -o '" + a.string() + "' -D res=32 --spp 16 --seed 1 -q"), dir / "log.txt") == 0);
+    REQUIRE(run_command(render_cmd("'" + Cbox + "' -o '" + b.string() + "' -D res=32 --spp 16 --seed 2 -q"), dir / "log.txt") == 0);
+    Image img = read_image(a.string());
+    for (float& v : img.data()) v *= 1.05f;
+    write_exr(img, scaled.string(), true);
+    std::string compare = "'" + candela_binary() + "' compare ";
+    CHECK(run_command(compare + "'" + a.string() + "' '" + a.string() + "' --tolerance 0.01", dir / "same.txt") == 0);
+    CHECK_THAT(read_text(dir / "same.txt"), Catch::Contains("RMSE            0\n"));
+    CHECK(run_command(compare + "'" + scaled.string() + "' '" + a.string() + "' --tolerance 0.01 --heatmap '" + (dir / "heat.png").string() + "'",
+                      dir / "scaled.txt") == 1);
+    std::string log = read_text(dir / "scaled.txt");
+    CHECK_THAT(log, Catch::Contains("+5.000%") && Catch::Contains("agree           no"));
+    CHECK(std::filesystem::exists(dir / "heat.png"));
+    // Without --tolerance it only reports.
+    CHECK(run_command(compare + "'" + scaled.string() + "' '" + a.string() + "'", dir / "report.txt") == 0);
+    // Images of different sizes are bad input.
+    REQUIRE(run_command(render_cmd("'" + Cbox + "' -o '" + b.string() + "' -D res=16 --spp 1 -q"), dir / "log.txt") == 0);
+    CHECK(run_command(compare + "'" + a.string() + "' '" + b.string() + "'", dir / "size.txt") == 2);
+}
