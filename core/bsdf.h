@@ -60,8 +60,6 @@ public:
 
     // Directional albedo estimate for AOVs and light-path heuristics (not used for rendering).
     virtual Spectrum albedo(const SurfaceInteraction& si) const = 0;
-    // BSDFs that perturb the shading frame (bump and normal maps) override this.
-    virtual void adjust_shading_frame(SurfaceInteraction& si) const {}
 
     uint32_t flags() const { return flags_; }
     bool has_smooth_lobe() const { return (flags_ & Smooth) != 0; }

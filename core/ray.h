@@ -28,8 +28,11 @@ constexpr float OffsetSafety = 4.0f;
 // toward, by the bound `p_error` on p's floating-point error (pbrt-v4, section 6.8.6). The offset
 // scales with the coordinates that produced p, so scenes scaled by 1000 or by 1/1000 behave the
 // same; a fixed epsilon would cause self-hits in one case and visible bias in the other.
-inline Vec3 offset_ray_origin(const Vec3& p, const Vec3& p_error, const Vec3& n, const Vec3& d) {
-    float dist = glm::dot(glm::abs(n), p_error) * OffsetSafety;
+// `p_error` bounds the error of every coordinate (a max-norm bound, not per component): Embree's
+// own arithmetic errs with the magnitude of all coordinates, so a plane lying exactly in y = 0
+// still needs an offset in y.
+inline Vec3 offset_ray_origin(const Vec3& p, float p_error, const Vec3& n, const Vec3& d) {
+    float dist = (std::abs(n.x) + std::abs(n.y) + std::abs(n.z)) * p_error * OffsetSafety;
     Vec3 offset = dist * n;
     if (glm::dot(d, n) < 0.0f) offset = -offset;
     Vec3 po = p + offset;
@@ -44,7 +47,7 @@ inline Vec3 offset_ray_origin(const Vec3& p, const Vec3& p_error, const Vec3& n,
 // A point on a surface, as found by a ray or produced by sampling.
 struct SurfaceInteraction {
     Vec3 p{0.0f};
-    Vec3 p_error{0.0f};  // bound on the absolute error of p, per component
+    float p_error = 0.0f;  // bound on the absolute error of each coordinate of p
     float t = Infinity;
     Vec3 n{0.0f, 0.0f, 1.0f};  // geometric normal (unit), on the shape's front side
     Frame shading;             // shading frame around the (interpolated) shading normal
@@ -62,7 +65,7 @@ struct SurfaceInteraction {
     Ray spawn_ray(const Vec3& d) const { return Ray(offset_ray_origin(p, p_error, n, d), d); }
     // A shadow ray toward `target`, stopping just short of it. A target on a surface (normal not
     // zero) is offset off that surface by its own error bound.
-    Ray spawn_ray_to(const Vec3& target, const Vec3& target_normal = Vec3(0.0f), const Vec3& target_error = Vec3(0.0f)) const {
+    Ray spawn_ray_to(const Vec3& target, const Vec3& target_normal = Vec3(0.0f), float target_error = 0.0f) const {
         Vec3 o = offset_ray_origin(p, p_error, n, target - p);
         Vec3 t = target_normal == Vec3(0.0f) ? target : offset_ray_origin(target, target_error, target_normal, o - target);
         Vec3 dir = t - o;

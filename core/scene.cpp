@@ -50,7 +50,6 @@ bool Scene::intersect(const Ray& ray, SurfaceInteraction& si) const {
     si.shape = shape;
     si.prim_index = hit.prim_index;
     si.t = hit.t;
-    if (const BSDF* bsdf = shape->bsdf()) bsdf->adjust_shading_frame(si);
     si.wi = si.to_local(-ray.d);
     return true;
 }

@@ -16,7 +16,7 @@ class Emitter;
 // A point sampled on a surface; `pdf` is per unit area.
 struct PositionSample {
     Vec3 p{0.0f}, n{0.0f, 0.0f, 1.0f};
-    Vec3 p_error{0.0f};  // bound on the absolute error of p
+    float p_error = 0.0f;  // bound on the absolute error of each coordinate of p
     Vec2 uv{0.0f};
     float pdf = 0.0f;
     bool delta = false;

@@ -15,6 +15,13 @@ public:
     virtual Spectrum eval(const Vec2& uv) const = 0;
     // A scalar view (roughness, heights): the luminance, as in Mitsuba 3.
     virtual float eval_1(const Vec2& uv) const { return luminance(eval(uv)); }
+    // d eval_1 / d(u, v), for bump mapping. By default central differences; textures with an
+    // analytic derivative override it.
+    virtual Vec2 eval_1_gradient(const Vec2& uv) const {
+        const float h = 1e-4f;
+        return Vec2(eval_1(uv + Vec2(h, 0.0f)) - eval_1(uv - Vec2(h, 0.0f)), eval_1(uv + Vec2(0.0f, h)) - eval_1(uv - Vec2(0.0f, h))) /
+               (2.0f * h);
+    }
     // The average over the whole texture (for albedo and power estimates).
     virtual Spectrum mean() const = 0;
     virtual bool is_constant() const { return false; }

@@ -45,7 +45,6 @@ public:
         return Frame::cos_theta(si.wi) >= 0.0f ? front_->albedo(si) : back_->albedo(mirrored(si));
     }
 
-    void adjust_shading_frame(SurfaceInteraction& si) const override { front_->adjust_shading_frame(si); }
     std::string to_string() const override { return "twosided"; }
 
 private:

@@ -73,7 +73,7 @@ private:
         // Error of the affine map: a few roundings of sum_j |M_ij local_j| + |t_i|.
         const Mat4& m = to_world_.matrix();
         Vec3 magnitude = glm::abs(Vec3(m[0]) * local.x) + glm::abs(Vec3(m[1]) * local.y) + glm::abs(Vec3(m[3]));
-        si.p_error = gamma_bound(6) * magnitude;
+        si.p_error = gamma_bound(6) * max_component(magnitude);
         float r = std::sqrt(local.x * local.x + local.y * local.y);
         float phi = std::atan2(local.y, local.x);
         if (phi < 0.0f) phi += TwoPi;

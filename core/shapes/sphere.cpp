@@ -139,7 +139,7 @@ private:
     }
 
     // A point computed as centre + radius * (unit normal): a few roundings of |centre| + radius.
-    Vec3 error_bound() const { return gamma_bound(6) * (glm::abs(center_) + Vec3(radius_)); }
+    float error_bound() const { return gamma_bound(6) * (max_abs_component(center_) + radius_); }
 
     void fill_at(const Vec3& p, const Vec3& n_out, SurfaceInteraction& si) const {
         si.p = p;

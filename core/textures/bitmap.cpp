@@ -60,6 +60,14 @@ public:
         Vec2 uv = to_uv_.apply(uv_in);
         return filter_ == TextureFilter::Nearest ? mip_.nearest(0, uv) : mip_.bilinear(0, uv);
     }
+    Vec2 eval_1_gradient(const Vec2& uv_in) const override {
+        if (filter_ == TextureFilter::Nearest) return Vec2(0.0f);  // piecewise constant
+        Spectrum d_du, d_dv;
+        mip_.bilinear_gradient(to_uv_.apply(uv_in), d_du, d_dv);
+        // Chain rule through to_uv: dh/du = dh/du' du'/du + dh/dv' dv'/du.
+        float gu = luminance(d_du), gv = luminance(d_dv);
+        return Vec2(gu * to_uv_.m[0][0] + gv * to_uv_.m[1][0], gu * to_uv_.m[0][1] + gv * to_uv_.m[1][1]);
+    }
     Spectrum mean() const override { return mip_.mean(); }
     float max_value() const override { return mip_.max_value(); }
     std::string to_string() const override { return "bitmap"; }

@@ -1,0 +1,50 @@
+// conductor: a smooth metal, a perfect mirror weighted by the conductor Fresnel reflectance.
+// One-sided.
+//
+// Parameters (Mitsuba 3):
+//   material               string           Au, Ag, Cu, Al, Cr or none (default none: a perfect
+//                                           mirror, F = 1)
+//   eta, k                 rgb or texture   real and imaginary index of refraction (instead of
+//                                           material)
+//   specular_reflectance   rgb or texture   extra factor (default 1)
+
+#include "core/bsdf.h"
+#include "core/registry.h"
+#include "materials/fresnel.h"
+#include "materials/ior.h"
+
+namespace candela {
+
+class ConductorBSDF final : public BSDF {
+public:
+    explicit ConductorBSDF(const Properties& props) {
+        read_conductor_ior(props, eta_, k_);
+        specular_ = props.get_texture("specular_reflectance", Spectrum(1.0f));
+        flags_ = DeltaReflection;
+    }
+
+    BSDFSample sample(const BSDFContext& ctx, const SurfaceInteraction& si, float, const Vec2&) const override {
+        BSDFSample bs;
+        float cos_i = Frame::cos_theta(si.wi);
+        if (!ctx.allows(DeltaReflection) || cos_i <= 0.0f) return bs;
+        bs.wo = reflect(si.wi);
+        bs.pdf = 1.0f;
+        bs.lobe = DeltaReflection;
+        bs.weight = reflectance(si, cos_i);
+        return bs;
+    }
+    Spectrum eval(const BSDFContext&, const SurfaceInteraction&, const Vec3&) const override { return Spectrum(0.0f); }
+    float pdf(const BSDFContext&, const SurfaceInteraction&, const Vec3&) const override { return 0.0f; }
+    Spectrum albedo(const SurfaceInteraction& si) const override { return reflectance(si, std::max(Frame::cos_theta(si.wi), 0.0f)); }
+    std::string to_string() const override { return "conductor"; }
+
+private:
+    Spectrum reflectance(const SurfaceInteraction& si, float cos_i) const {
+        return specular_->eval(si.uv) * fresnel_conductor(cos_i, eta_->eval(si.uv), k_->eval(si.uv));
+    }
+    Ref<Texture> eta_, k_, specular_;
+};
+
+CANDELA_REGISTER(ConductorBSDF, ObjectKind::BSDF, "conductor");
+
+}  // namespace candela

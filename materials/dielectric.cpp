@@ -1,0 +1,75 @@
+// dielectric: a smooth interface between two dielectrics (glass, water): Fresnel-weighted mirror
+// reflection and Snell refraction. Two-sided by nature; the side of wi says which medium the
+// path is in.
+//
+// Parameters (Mitsuba 3):
+//   int_ior                  float or name   interior index (default bk7 = 1.5046)
+//   ext_ior                  float or name   exterior index (default air = 1.000277)
+//   specular_reflectance     rgb or texture  factor on reflection (default 1)
+//   specular_transmittance   rgb or texture  factor on transmission (default 1)
+//
+// Reflection is sampled with probability F and refraction with 1 - F. In radiance mode the
+// refracted radiance is scaled by (n_incident / n_transmitted)^2 (the eta^2 law); not for
+// importance transport.
+
+#include "core/bsdf.h"
+#include "core/registry.h"
+#include "core/texture.h"
+#include "materials/fresnel.h"
+#include "materials/ior.h"
+
+namespace candela {
+
+class DielectricBSDF final : public BSDF {
+public:
+    explicit DielectricBSDF(const Properties& props) {
+        float int_ior = read_ior(props, "int_ior", "bk7"), ext_ior = read_ior(props, "ext_ior", "air");
+        if (int_ior == ext_ior) props.fail("int_ior", "int_ior and ext_ior must differ");
+        eta_ = int_ior / ext_ior;
+        reflectance_ = props.get_texture("specular_reflectance", Spectrum(1.0f));
+        transmittance_ = props.get_texture("specular_transmittance", Spectrum(1.0f));
+        flags_ = DeltaReflection | DeltaTransmission;
+    }
+
+    BSDFSample sample(const BSDFContext& ctx, const SurfaceInteraction& si, float u_lobe, const Vec2&) const override {
+        BSDFSample bs;
+        float cos_i = Frame::cos_theta(si.wi);
+        DielectricFresnel fr = fresnel_dielectric(cos_i, eta_);
+        bool has_r = ctx.allows(DeltaReflection), has_t = ctx.allows(DeltaTransmission);
+        if (!has_r && !has_t) return bs;
+        // With both lobes, pick by Fresnel (the weight is then exactly 1); with one, weight by F.
+        bool choose_r = has_r && (!has_t || u_lobe < fr.F);
+        if (choose_r) {
+            bs.wo = reflect(si.wi);
+            bs.pdf = has_t ? fr.F : 1.0f;
+            bs.lobe = DeltaReflection;
+            bs.weight = reflectance_->eval(si.uv) * (has_t ? 1.0f : fr.F);
+        } else {
+            if (fr.F >= 1.0f) return bs;  // total internal reflection: no refraction
+            bs.wo = refract(si.wi, fr.cos_theta_t, fr.eta_ti);
+            bs.pdf = has_r ? 1.0f - fr.F : 1.0f;
+            bs.lobe = DeltaTransmission;
+            bs.eta = fr.eta_it;
+            float scale = ctx.mode == TransportMode::Radiance ? fr.eta_ti * fr.eta_ti : 1.0f;
+            bs.weight = transmittance_->eval(si.uv) * (scale * (has_r ? 1.0f : 1.0f - fr.F));
+        }
+        if (!(bs.pdf > 0.0f)) return BSDFSample();
+        return bs;
+    }
+
+    Spectrum eval(const BSDFContext&, const SurfaceInteraction&, const Vec3&) const override { return Spectrum(0.0f); }
+    float pdf(const BSDFContext&, const SurfaceInteraction&, const Vec3&) const override { return 0.0f; }
+    Spectrum albedo(const SurfaceInteraction& si) const override {
+        float F = fresnel_dielectric(Frame::cos_theta(si.wi), eta_).F;
+        return reflectance_->eval(si.uv) * F + transmittance_->eval(si.uv) * (1.0f - F);
+    }
+    std::string to_string() const override { return "dielectric"; }
+
+private:
+    float eta_;
+    Ref<Texture> reflectance_, transmittance_;
+};
+
+CANDELA_REGISTER(DielectricBSDF, ObjectKind::BSDF, "dielectric");
+
+}  // namespace candela

@@ -1,0 +1,39 @@
+#pragma once
+// Fresnel equations and Snell's law, the one place every BSDF gets them from. Directions are in
+// the local shading frame (normal +z). eta is the relative index of refraction n_inside /
+// n_outside, "inside" being the -z side.
+
+#include "core/spectrum.h"
+
+namespace candela {
+
+struct DielectricFresnel {
+    float F = 1.0f;            // unpolarised reflectance (1 under total internal reflection)
+    float cos_theta_t = 0.0f;  // cosine of the refracted direction, signed: opposite side to wi
+    float eta_it = 1.0f;       // n_transmitted / n_incident
+    float eta_ti = 1.0f;       // n_incident / n_transmitted
+};
+
+// Exact Fresnel reflectance of a smooth dielectric interface, averaged over s and p
+// polarisation. cos_theta_i > 0 means the incident direction is outside (+z side).
+DielectricFresnel fresnel_dielectric(float cos_theta_i, float eta);
+// The s- and p-polarised reflectances separately (for tests against Brewster's angle).
+void fresnel_dielectric_polarized(float cos_theta_i, float eta, float& r_s, float& r_p);
+// Unpolarised reflectance of a conductor with complex index eta + i k, per channel (exact form,
+// e.g. Born & Wolf; cos_theta_i >= 0).
+Spectrum fresnel_conductor(float cos_theta_i, const Spectrum& eta, const Spectrum& k);
+// Hemispherical average of the dielectric Fresnel reflectance, 2 int F(mu) mu dmu, by the
+// polynomial fits of Egan & Hilgeman (eta < 1) and d'Eon & Irving (eta >= 1), as Mitsuba uses.
+float fresnel_diffuse_reflectance(float eta);
+
+// Mirror reflection about the normal (+z) and about a microfacet normal m.
+inline Vec3 reflect(const Vec3& wi) { return Vec3(-wi.x, -wi.y, wi.z); }
+inline Vec3 reflect(const Vec3& wi, const Vec3& m) { return 2.0f * glm::dot(wi, m) * m - wi; }
+// Refraction by Snell's law about the normal, given fresnel_dielectric's cos_theta_t, eta_ti.
+inline Vec3 refract(const Vec3& wi, float cos_theta_t, float eta_ti) { return Vec3(-eta_ti * wi.x, -eta_ti * wi.y, cos_theta_t); }
+// Refraction about a microfacet normal m (m on the same side as wi).
+inline Vec3 refract(const Vec3& wi, const Vec3& m, float cos_theta_t, float eta_ti) {
+    return m * (glm::dot(wi, m) * eta_ti + cos_theta_t) - wi * eta_ti;
+}
+
+}  // namespace candela

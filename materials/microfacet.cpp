@@ -1,0 +1,183 @@
+#include "materials/microfacet.h"
+
+#include "core/frame.h"
+#include "core/warp.h"
+
+namespace candela {
+
+float erf_inv(float x) {
+    x = std::clamp(x, -0.99999994f, 0.99999994f);
+    // Giles, "Approximating the erfinv function" (GPU Computing Gems Jade, 2011), single precision.
+    float w = -std::log((1.0f - x) * (1.0f + x)), p;
+    if (w < 5.0f) {
+        w -= 2.5f;
+        p = 2.81022636e-08f;
+        p = 3.43273939e-07f + p * w;
+        p = -3.5233877e-06f + p * w;
+        p = -4.39150654e-06f + p * w;
+        p = 0.00021858087f + p * w;
+        p = -0.00125372503f + p * w;
+        p = -0.00417768164f + p * w;
+        p = 0.246640727f + p * w;
+        p = 1.50140941f + p * w;
+    } else {
+        w = std::sqrt(w) - 3.0f;
+        p = -0.000200214257f;
+        p = 0.000100950558f + p * w;
+        p = 0.00134934322f + p * w;
+        p = -0.00367342844f + p * w;
+        p = 0.00573950773f + p * w;
+        p = -0.0076224613f + p * w;
+        p = 0.00943887047f + p * w;
+        p = 1.00167406f + p * w;
+        p = 2.83297682f + p * w;
+    }
+    double y = double(p) * x;
+    // Two Newton steps on erf(y) = x in double precision.
+    for (int i = 0; i < 2; ++i) y -= (std::erf(y) - x) / (2.0 / std::sqrt(3.14159265358979323846) * std::exp(-y * y));
+    return float(y);
+}
+
+MicrofacetDistribution::MicrofacetDistribution(MicrofacetType type, float au, float av, bool sample_visible)
+    : type_(type), alpha_u_(std::max(au, 1e-4f)), alpha_v_(std::max(av, 1e-4f)), sample_visible_(sample_visible) {}
+
+MicrofacetDistribution MicrofacetDistribution::from_properties(const Properties& props, bool allow_anisotropic) {
+    std::string name = props.get_string("distribution", "beckmann");
+    MicrofacetType type;
+    if (name == "beckmann") type = MicrofacetType::Beckmann;
+    else if (name == "ggx") type = MicrofacetType::GGX;
+    else props.fail("distribution", "distribution must be beckmann or ggx, not \"" + name + "\"");
+    float au, av;
+    if (props.has("alpha_u") || props.has("alpha_v")) {
+        if (!allow_anisotropic) props.fail("alpha_u", props.plugin_type() + " is isotropic: use alpha");
+        if (props.has("alpha")) props.fail("alpha", "give either alpha or alpha_u and alpha_v");
+        au = props.get_float("alpha_u");
+        av = props.get_float("alpha_v");
+    } else {
+        au = av = props.get_float("alpha", 0.1f);
+    }
+    if (!(au > 0.0f && av > 0.0f)) props.fail("alpha", "roughness alpha must be positive");
+    return MicrofacetDistribution(type, au, av, props.get_bool("sample_visible", true));
+}
+
+float MicrofacetDistribution::D(const Vec3& m) const {
+    float cos_theta = m.z;
+    if (cos_theta <= 0.0f) return 0.0f;
+    float cos2 = cos_theta * cos_theta;
+    float xu = m.x / alpha_u_, yv = m.y / alpha_v_;
+    float result;
+    if (type_ == MicrofacetType::Beckmann) {
+        result = std::exp(-(xu * xu + yv * yv) / cos2) / (Pi * alpha_u_ * alpha_v_ * cos2 * cos2);
+    } else {
+        float d = xu * xu + yv * yv + cos2;
+        result = 1.0f / (Pi * alpha_u_ * alpha_v_ * d * d);
+    }
+    return result * cos_theta > 1e-20f ? result : 0.0f;
+}
+
+float MicrofacetDistribution::lambda(const Vec3& v) const {
+    // Projected roughness along v: alpha^2 tan^2(theta) = ((au vx)^2 + (av vy)^2) / vz^2.
+    float a2_tan2 = (sqr(alpha_u_ * v.x) + sqr(alpha_v_ * v.y)) / (v.z * v.z);
+    if (!(a2_tan2 > 0.0f)) return 0.0f;
+    if (!std::isfinite(a2_tan2)) return Infinity;
+    if (type_ == MicrofacetType::GGX) return 0.5f * (-1.0f + std::sqrt(1.0f + a2_tan2));
+    // Beckmann, exact: Lambda = (erf(a) - 1) / 2 + exp(-a^2) / (2 a sqrt(pi)), a = 1 / (alpha tan).
+    float a = 1.0f / std::sqrt(a2_tan2);
+    return 0.5f * (std::erf(a) - 1.0f) + std::exp(-a * a) / (2.0f * a * std::sqrt(Pi));
+}
+
+float MicrofacetDistribution::G1(const Vec3& v, const Vec3& m) const {
+    // A facet is never seen from behind, nor from below the macro-surface on its side.
+    if (glm::dot(v, m) * v.z <= 0.0f) return 0.0f;
+    float l = lambda(v);
+    return std::isinf(l) ? 0.0f : 1.0f / (1.0f + l);
+}
+
+Vec2 MicrofacetDistribution::sample_visible_slope(float cos_theta_i, const Vec2& u) const {
+    if (type_ == MicrofacetType::GGX) {
+        // Heitz 2018 ("Sampling the GGX distribution of visible normals"), written for a view
+        // direction in the x-z plane: sample the projected hemisphere, then read off slopes.
+        float sin_theta_i = safe_sqrt(1.0f - cos_theta_i * cos_theta_i);
+        Vec2 p = warp::square_to_uniform_disk_concentric(u);
+        float s = 0.5f * (1.0f + cos_theta_i);
+        p.y = lerp(s, safe_sqrt(1.0f - p.x * p.x), p.y);
+        float z = safe_sqrt(1.0f - p.x * p.x - p.y * p.y);
+        // Basis around wi = (sin, 0, cos): T1 = (0, 1, 0), T2 = wi x T1 = (-cos, 0, sin); the
+        // visible normal is p.x T1 + p.y T2 + z wi.
+        float nx = -p.y * cos_theta_i + z * sin_theta_i;
+        float ny = p.x;
+        float nz = p.y * sin_theta_i + z * cos_theta_i;
+        nz = std::max(nz, 1e-7f);
+        return Vec2(-nx / nz, -ny / nz);
+    }
+    // Beckmann (alpha = 1): slopes are N(0, 1/2) per axis; visibility from wi weights the slope
+    // x along wi by (cot(theta_i) - x). The x marginal has CDF
+    //   F(x) = (1 + erf(x) + tan(theta_i) exp(-x^2) / sqrt(pi)) / (1 + erf(cot) + tan exp(-cot^2) / sqrt(pi))
+    // on x < cot(theta_i) (Heitz & d'Eon 2014; Jakob 2014); invert it by safeguarded Newton.
+    float ux = std::clamp(u.x, 1e-6f, 1.0f - 1e-6f), uy = std::clamp(u.y, 1e-6f, 1.0f - 1e-6f);
+    float slope_y = erf_inv(2.0f * uy - 1.0f);
+    if (cos_theta_i > 0.9999f) {
+        // Normal incidence: every facet is equally visible up to cos(theta_m); plain Gaussian.
+        float r = std::sqrt(-std::log(1.0f - ux)), phi = TwoPi * uy;
+        return Vec2(r * std::cos(phi), r * std::sin(phi));
+    }
+    double sin_theta = std::sqrt(std::max(0.0, 1.0 - double(cos_theta_i) * cos_theta_i));
+    double tan_theta = sin_theta / cos_theta_i, cot = cos_theta_i / sin_theta;
+    const double inv_sqrt_pi = 1.0 / std::sqrt(3.14159265358979323846);
+    double norm = 1.0 + std::erf(cot) + tan_theta * std::exp(-cot * cot) * inv_sqrt_pi;
+    auto cdf = [&](double x) { return (1.0 + std::erf(x) + tan_theta * std::exp(-x * x) * inv_sqrt_pi) / norm; };
+    double lo = -8.0, hi = cot, x = std::min(0.0, cot - 1.0);
+    for (int i = 0; i < 64; ++i) {
+        double f = cdf(x) - ux;
+        if (std::abs(f) < 1e-9) break;
+        if (f > 0.0) hi = x;
+        else lo = x;
+        double deriv = 2.0 * inv_sqrt_pi * std::exp(-x * x) * (1.0 - x * tan_theta) / norm;
+        double next = x - f / deriv;
+        x = (deriv > 0.0 && next > lo && next < hi) ? next : 0.5 * (lo + hi);
+        if (hi - lo < 1e-12) break;
+    }
+    return Vec2(float(x), slope_y);
+}
+
+Vec3 MicrofacetDistribution::sample_visible_normal(const Vec3& wi, const Vec2& u) const {
+    // Stretch to the alpha = 1 configuration, sample slopes there, rotate back and unstretch.
+    Vec3 w = glm::normalize(Vec3(alpha_u_ * wi.x, alpha_v_ * wi.y, wi.z));
+    float sin_theta = Frame::sin_theta(w);
+    float cos_phi = sin_theta > 0.0f ? std::clamp(w.x / sin_theta, -1.0f, 1.0f) : 1.0f;
+    float sin_phi = sin_theta > 0.0f ? std::clamp(w.y / sin_theta, -1.0f, 1.0f) : 0.0f;
+    Vec2 slope = sample_visible_slope(w.z, u);
+    Vec2 rotated(cos_phi * slope.x - sin_phi * slope.y, sin_phi * slope.x + cos_phi * slope.y);
+    rotated.x *= alpha_u_;
+    rotated.y *= alpha_v_;
+    return glm::normalize(Vec3(-rotated.x, -rotated.y, 1.0f));
+}
+
+Vec3 MicrofacetDistribution::sample_all_normals(const Vec2& u) const {
+    // pdf D(m) cos(theta_m): the azimuth from the anisotropic ellipse, then theta by inversion.
+    float phi = TwoPi * u.y;
+    float alpha2 = alpha_u_ * alpha_v_;
+    if (is_anisotropic()) {
+        phi = std::atan2(alpha_v_ * std::sin(phi), alpha_u_ * std::cos(phi));
+        float c = std::cos(phi), s = std::sin(phi);
+        alpha2 = 1.0f / (c * c / (alpha_u_ * alpha_u_) + s * s / (alpha_v_ * alpha_v_));
+    }
+    float ux = std::min(u.x, 1.0f - 1e-7f);
+    float tan2 = type_ == MicrofacetType::Beckmann ? -alpha2 * std::log(1.0f - ux) : alpha2 * ux / (1.0f - ux);
+    float cos_theta = 1.0f / std::sqrt(1.0f + tan2), sin_theta = safe_sqrt(1.0f - cos_theta * cos_theta);
+    return Vec3(sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta);
+}
+
+Vec3 MicrofacetDistribution::sample(const Vec3& wi, const Vec2& u, float& pdf_out) const {
+    Vec3 m = sample_visible_ ? sample_visible_normal(wi, u) : sample_all_normals(u);
+    pdf_out = pdf(wi, m);
+    return m;
+}
+
+float MicrofacetDistribution::pdf(const Vec3& wi, const Vec3& m) const {
+    if (!sample_visible_) return D(m) * m.z;
+    if (wi.z <= 0.0f) return 0.0f;
+    return D(m) * G1(wi, m) * std::max(0.0f, glm::dot(wi, m)) / wi.z;
+}
+
+}  // namespace candela

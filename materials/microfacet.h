@@ -1,0 +1,54 @@
+#pragma once
+// Microfacet normal distributions (Beckmann and GGX, isotropic or anisotropic) with Smith's
+// masking, and sampling of either the full distribution or the distribution of normals visible
+// from the incident direction (Heitz & d'Eon 2014). Local frame: macro-normal +z.
+//
+//   D(m)        normal distribution; integrates to one as D(m) cos(theta_m) over the hemisphere
+//   G1(v, m)    Smith masking, 2 / (1 + Lambda(v)) for the exact Beckmann and GGX Lambda
+//   pdf(wi, m)  D(m) G1(wi, m) |wi . m| / cos(theta_i) when sampling visible normals,
+//               D(m) cos(theta_m) otherwise
+
+#include "core/properties.h"
+
+namespace candela {
+
+enum class MicrofacetType { Beckmann, GGX };
+
+class MicrofacetDistribution {
+public:
+    MicrofacetDistribution(MicrofacetType type, float alpha_u, float alpha_v, bool sample_visible = true);
+    // Reads distribution (beckmann | ggx, default beckmann), alpha or alpha_u and alpha_v
+    // (default 0.1) and sample_visible (default true), Mitsuba's parameters.
+    static MicrofacetDistribution from_properties(const Properties& props, bool allow_anisotropic = true);
+
+    float D(const Vec3& m) const;
+    float lambda(const Vec3& v) const;
+    float G1(const Vec3& v, const Vec3& m) const;
+    float G(const Vec3& wi, const Vec3& wo, const Vec3& m) const { return G1(wi, m) * G1(wo, m); }
+
+    // A microfacet normal for incident direction wi (wi.z > 0), and its density.
+    Vec3 sample(const Vec3& wi, const Vec2& u, float& pdf) const;
+    float pdf(const Vec3& wi, const Vec3& m) const;
+
+    MicrofacetType type() const { return type_; }
+    float alpha_u() const { return alpha_u_; }
+    float alpha_v() const { return alpha_v_; }
+    bool sample_visible() const { return sample_visible_; }
+    bool is_anisotropic() const { return alpha_u_ != alpha_v_; }
+
+private:
+    // Slopes of visible normals for alpha = 1, for an incident direction at cos_theta_i in the
+    // x-z plane.
+    Vec2 sample_visible_slope(float cos_theta_i, const Vec2& u) const;
+    Vec3 sample_visible_normal(const Vec3& wi, const Vec2& u) const;
+    Vec3 sample_all_normals(const Vec2& u) const;
+
+    MicrofacetType type_;
+    float alpha_u_, alpha_v_;
+    bool sample_visible_;
+};
+
+// Inverse error function (Giles 2010 approximation refined by Newton's method).
+float erf_inv(float x);
+
+}  // namespace candela

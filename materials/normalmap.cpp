@@ -1,0 +1,38 @@
+// normalmap: replaces the shading normal of a nested BSDF by one read from a texture.
+//
+// Parameters (Mitsuba 3):
+//   normalmap      texture   tangent-space normals encoded as rgb = (n + 1) / 2, in the shading
+//                            frame (x along dp/du); use a bitmap with raw=true
+//   (nested bsdf)  the BSDF to perturb
+
+#include "core/registry.h"
+#include "core/texture.h"
+#include "materials/perturbed_frame.h"
+
+namespace candela {
+
+class NormalMapBSDF final : public PerturbedFrameBSDF {
+public:
+    explicit NormalMapBSDF(const Properties& props) : PerturbedFrameBSDF(props) {
+        auto map = std::dynamic_pointer_cast<Texture>(props.get_object("normalmap"));
+        if (!map) props.fail("normalmap needs a texture named \"normalmap\"");
+        map_ = map;
+    }
+    std::string to_string() const override { return "normalmap"; }
+
+protected:
+    Frame perturbed_frame(const SurfaceInteraction& si) const override {
+        Vec3 local = 2.0f * map_->eval(si.uv) - Vec3(1.0f);
+        float len = glm::length(local);
+        if (!(len > 0.0f) || !std::isfinite(len)) return si.shading;
+        Vec3 n = glm::normalize(si.shading.to_world(local / len));
+        return Frame::from_normal_tangent(n, si.dpdu);
+    }
+
+private:
+    Ref<Texture> map_;
+};
+
+CANDELA_REGISTER(NormalMapBSDF, ObjectKind::BSDF, "normalmap");
+
+}  // namespace candela

@@ -1,0 +1,105 @@
+// plastic: a diffuse base under a smooth dielectric coating (Mitsuba 3's model). The coating
+// reflects F(cos wi) as a mirror; light that enters scatters diffusely in the base, with the
+// internal reflections at the coating summed in closed form. One-sided.
+//
+// Parameters (Mitsuba 3):
+//   int_ior, ext_ior       float or name    coating indices (defaults polypropylene 1.49, air)
+//   diffuse_reflectance    rgb or texture   base albedo rho (default 0.5)
+//   specular_reflectance   rgb or texture   factor on the mirror term (default 1)
+//   nonlinear              boolean          account for colour shifts from repeated bounces in
+//                                           the base (default false)
+//
+//   f_diffuse cos(wo) = rho' (1 - F(cos wi)) (1 - F(cos wo)) cos(wo) / (pi eta^2),
+//   rho' = rho / (1 - Fdr_int) (linear) or rho / (1 - rho Fdr_int) (nonlinear),
+// with Fdr_int the hemispherical internal reflectance of the coating.
+
+#include "core/bsdf.h"
+#include "core/registry.h"
+#include "core/texture.h"
+#include "core/warp.h"
+#include "materials/fresnel.h"
+#include "materials/ior.h"
+
+namespace candela {
+
+class PlasticBSDF final : public BSDF {
+public:
+    explicit PlasticBSDF(const Properties& props) {
+        float int_ior = read_ior(props, "int_ior", "polypropylene"), ext_ior = read_ior(props, "ext_ior", "air");
+        if (int_ior == ext_ior) props.fail("int_ior", "int_ior and ext_ior must differ");
+        eta_ = int_ior / ext_ior;
+        diffuse_ = props.get_texture("diffuse_reflectance", Spectrum(0.5f));
+        specular_ = props.get_texture("specular_reflectance", Spectrum(1.0f));
+        nonlinear_ = props.get_bool("nonlinear", false);
+        fdr_int_ = fresnel_diffuse_reflectance(1.0f / eta_);
+        // Lobe selection favours the brighter component (Mitsuba's specular_sampling_weight).
+        float d = average(diffuse_->mean()), s = average(specular_->mean());
+        specular_weight_ = s / (d + s);
+        flags_ = DeltaReflection | DiffuseReflection;
+    }
+
+    BSDFSample sample(const BSDFContext& ctx, const SurfaceInteraction& si, float u_lobe, const Vec2& u) const override {
+        BSDFSample bs;
+        float cos_i = Frame::cos_theta(si.wi);
+        if (cos_i <= 0.0f) return bs;
+        float Fi = fresnel_dielectric(cos_i, eta_).F;
+        float p_spec = specular_probability(ctx, Fi);
+        if (u_lobe < p_spec) {
+            bs.wo = reflect(si.wi);
+            bs.pdf = p_spec;
+            bs.lobe = DeltaReflection;
+            bs.weight = specular_->eval(si.uv) * (Fi / p_spec);
+            return bs;
+        }
+        if (!ctx.allows(DiffuseReflection)) return bs;
+        bs.wo = warp::square_to_cosine_hemisphere(u);
+        bs.pdf = (1.0f - p_spec) * warp::square_to_cosine_hemisphere_pdf(bs.wo);
+        if (!(bs.pdf > 0.0f)) return BSDFSample();
+        bs.lobe = DiffuseReflection;
+        bs.weight = diffuse_term(si, Fi, bs.wo) / bs.pdf;
+        return bs;
+    }
+
+    Spectrum eval(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
+        float cos_i = Frame::cos_theta(si.wi);
+        if (!ctx.allows(DiffuseReflection) || cos_i <= 0.0f || Frame::cos_theta(wo) <= 0.0f) return Spectrum(0.0f);
+        return diffuse_term(si, fresnel_dielectric(cos_i, eta_).F, wo);
+    }
+
+    float pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
+        float cos_i = Frame::cos_theta(si.wi);
+        if (!ctx.allows(DiffuseReflection) || cos_i <= 0.0f || Frame::cos_theta(wo) <= 0.0f) return 0.0f;
+        float p_spec = specular_probability(ctx, fresnel_dielectric(cos_i, eta_).F);
+        return (1.0f - p_spec) * warp::square_to_cosine_hemisphere_pdf(wo);
+    }
+
+    Spectrum albedo(const SurfaceInteraction& si) const override {
+        float Fi = fresnel_dielectric(std::max(Frame::cos_theta(si.wi), 0.0f), eta_).F;
+        return specular_->eval(si.uv) * Fi + diffuse_->eval(si.uv) * (1.0f - Fi);
+    }
+    std::string to_string() const override { return "plastic"; }
+
+private:
+    float specular_probability(const BSDFContext& ctx, float Fi) const {
+        bool has_s = ctx.allows(DeltaReflection), has_d = ctx.allows(DiffuseReflection);
+        if (!has_s) return 0.0f;
+        if (!has_d) return 1.0f;
+        float ps = Fi * specular_weight_, pd = (1.0f - Fi) * (1.0f - specular_weight_);
+        return ps / (ps + pd);
+    }
+
+    Spectrum diffuse_term(const SurfaceInteraction& si, float Fi, const Vec3& wo) const {
+        float Fo = fresnel_dielectric(Frame::cos_theta(wo), eta_).F;
+        Spectrum rho = diffuse_->eval(si.uv);
+        Spectrum rho_p = nonlinear_ ? rho / (Spectrum(1.0f) - rho * fdr_int_) : rho / (1.0f - fdr_int_);
+        return rho_p * ((1.0f - Fi) * (1.0f - Fo) * Frame::cos_theta(wo) * InvPi / (eta_ * eta_));
+    }
+
+    float eta_, fdr_int_, specular_weight_;
+    bool nonlinear_;
+    Ref<Texture> diffuse_, specular_;
+};
+
+CANDELA_REGISTER(PlasticBSDF, ObjectKind::BSDF, "plastic");
+
+}  // namespace candela

@@ -1,0 +1,74 @@
+// roughconductor: a rough metal (microfacet model of Walter et al. 2007 with conductor Fresnel).
+// One-sided.
+//
+// Parameters (Mitsuba 3):
+//   distribution           string           beckmann (default) or ggx
+//   alpha                  float            roughness (default 0.1); or alpha_u and alpha_v for
+//                                           an anisotropic surface
+//   sample_visible         boolean          sample visible normals (default true)
+//   material, eta, k       as `conductor`
+//   specular_reflectance   rgb or texture   extra factor (default 1)
+//
+// f(wi, wo) cos(wo) = F(wi . h) D(h) G1(wi) G1(wo) / (4 cos(wi)), h = normalize(wi + wo).
+
+#include "core/bsdf.h"
+#include "core/registry.h"
+#include "materials/fresnel.h"
+#include "materials/ior.h"
+#include "materials/microfacet.h"
+
+namespace candela {
+
+class RoughConductorBSDF final : public BSDF {
+public:
+    explicit RoughConductorBSDF(const Properties& props) : distribution_(MicrofacetDistribution::from_properties(props)) {
+        read_conductor_ior(props, eta_, k_);
+        specular_ = props.get_texture("specular_reflectance", Spectrum(1.0f));
+        flags_ = GlossyReflection;
+    }
+
+    BSDFSample sample(const BSDFContext& ctx, const SurfaceInteraction& si, float, const Vec2& u) const override {
+        BSDFSample bs;
+        if (!ctx.allows(GlossyReflection) || Frame::cos_theta(si.wi) <= 0.0f) return bs;
+        float pdf_m;
+        Vec3 m = distribution_.sample(si.wi, u, pdf_m);
+        Vec3 wo = reflect(si.wi, m);
+        if (wo.z <= 0.0f || !(pdf_m > 0.0f)) return bs;
+        bs.wo = wo;
+        bs.pdf = pdf_m / (4.0f * glm::dot(wo, m));
+        bs.lobe = GlossyReflection;
+        bs.weight = eval(ctx, si, wo) / bs.pdf;
+        if (!all_finite(bs.weight)) return BSDFSample();
+        return bs;
+    }
+
+    Spectrum eval(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
+        float cos_i = Frame::cos_theta(si.wi), cos_o = Frame::cos_theta(wo);
+        if (!ctx.allows(GlossyReflection) || cos_i <= 0.0f || cos_o <= 0.0f) return Spectrum(0.0f);
+        Vec3 h = glm::normalize(si.wi + wo);
+        float D = distribution_.D(h);
+        if (D == 0.0f) return Spectrum(0.0f);
+        float G = distribution_.G(si.wi, wo, h);
+        Spectrum F = fresnel_conductor(glm::dot(si.wi, h), eta_->eval(si.uv), k_->eval(si.uv));
+        return specular_->eval(si.uv) * F * (D * G / (4.0f * cos_i));
+    }
+
+    float pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
+        if (!ctx.allows(GlossyReflection) || Frame::cos_theta(si.wi) <= 0.0f || Frame::cos_theta(wo) <= 0.0f) return 0.0f;
+        Vec3 h = glm::normalize(si.wi + wo);
+        return distribution_.pdf(si.wi, h) / (4.0f * glm::dot(wo, h));
+    }
+
+    Spectrum albedo(const SurfaceInteraction& si) const override {
+        return specular_->eval(si.uv) * fresnel_conductor(std::max(Frame::cos_theta(si.wi), 0.0f), eta_->eval(si.uv), k_->eval(si.uv));
+    }
+    std::string to_string() const override { return "roughconductor"; }
+
+private:
+    MicrofacetDistribution distribution_;
+    Ref<Texture> eta_, k_, specular_;
+};
+
+CANDELA_REGISTER(RoughConductorBSDF, ObjectKind::BSDF, "roughconductor");
+
+}  // namespace candela

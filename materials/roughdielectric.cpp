@@ -1,0 +1,134 @@
+// roughdielectric: a rough interface between two dielectrics (frosted glass), the microfacet
+// BTDF of Walter et al. 2007 ("Microfacet Models for Refraction through Rough Surfaces").
+//
+// Parameters (Mitsuba 3):
+//   distribution, alpha (or alpha_u, alpha_v), sample_visible   as `roughconductor`
+//   int_ior, ext_ior, specular_reflectance, specular_transmittance   as `dielectric`
+//
+// With eta' = n_other_side / n_wi_side and the half vector m of the pair (m.z > 0):
+//   reflection:    f cos(wo) = F D G / (4 |cos wi|)
+//   transmission:  f cos(wo) = (1 - F) D G |wi.m| |wo.m| / (|cos wi| (wi.m + eta' wo.m)^2)
+// in radiance mode; importance transport multiplies transmission by eta'^2. Reflection is
+// sampled with probability F(wi . m), refraction with 1 - F.
+
+#include "core/bsdf.h"
+#include "core/registry.h"
+#include "core/texture.h"
+#include "materials/fresnel.h"
+#include "materials/ior.h"
+#include "materials/microfacet.h"
+
+namespace candela {
+
+class RoughDielectricBSDF final : public BSDF {
+public:
+    explicit RoughDielectricBSDF(const Properties& props) : distribution_(MicrofacetDistribution::from_properties(props)) {
+        float int_ior = read_ior(props, "int_ior", "bk7"), ext_ior = read_ior(props, "ext_ior", "air");
+        if (int_ior == ext_ior) props.fail("int_ior", "int_ior and ext_ior must differ");
+        eta_ = int_ior / ext_ior;
+        reflectance_ = props.get_texture("specular_reflectance", Spectrum(1.0f));
+        transmittance_ = props.get_texture("specular_transmittance", Spectrum(1.0f));
+        flags_ = GlossyReflection | GlossyTransmission;
+    }
+
+    BSDFSample sample(const BSDFContext& ctx, const SurfaceInteraction& si, float u_lobe, const Vec2& u) const override {
+        BSDFSample bs;
+        float cos_i = Frame::cos_theta(si.wi);
+        bool has_r = ctx.allows(GlossyReflection), has_t = ctx.allows(GlossyTransmission);
+        if (cos_i == 0.0f || (!has_r && !has_t)) return bs;
+        // Sample a normal visible from wi mirrored into the upper hemisphere.
+        Vec3 wi_up = cos_i > 0.0f ? si.wi : -si.wi;
+        float pdf_m;
+        Vec3 m = distribution_.sample(wi_up, u, pdf_m);
+        if (!(pdf_m > 0.0f)) return bs;
+        DielectricFresnel fr = fresnel_dielectric(glm::dot(si.wi, m), eta_);
+        bool choose_r = has_r && (!has_t || u_lobe < fr.F);
+        if (choose_r) {
+            bs.wo = reflect(si.wi, m);
+            bs.lobe = GlossyReflection;
+            if (bs.wo.z * cos_i <= 0.0f) return BSDFSample();
+        } else {
+            if (fr.F >= 1.0f) return bs;
+            bs.wo = refract(si.wi, m, fr.cos_theta_t, fr.eta_ti);
+            bs.lobe = GlossyTransmission;
+            bs.eta = fr.eta_it;
+            if (bs.wo.z * cos_i >= 0.0f) return BSDFSample();
+        }
+        bs.pdf = pdf(ctx, si, bs.wo);
+        if (!(bs.pdf > 0.0f)) return BSDFSample();
+        bs.weight = eval(ctx, si, bs.wo) / bs.pdf;
+        if (!all_finite(bs.weight)) return BSDFSample();
+        return bs;
+    }
+
+    Spectrum eval(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
+        Geometry g;
+        if (!half_vector(si.wi, wo, g)) return Spectrum(0.0f);
+        if (g.reflect ? !ctx.allows(GlossyReflection) : !ctx.allows(GlossyTransmission)) return Spectrum(0.0f);
+        float D = distribution_.D(g.m);
+        if (D == 0.0f) return Spectrum(0.0f);
+        float G = distribution_.G(si.wi, wo, g.m);
+        float F = fresnel_dielectric(g.wi_m, eta_).F;
+        float cos_i = std::abs(Frame::cos_theta(si.wi));
+        if (g.reflect) return reflectance_->eval(si.uv) * (F * D * G / (4.0f * cos_i));
+        float denom = g.wi_m + g.eta_p * g.wo_m;
+        float value = (1.0f - F) * D * G * std::abs(g.wi_m * g.wo_m) / (cos_i * denom * denom);
+        if (ctx.mode == TransportMode::Importance) value *= g.eta_p * g.eta_p;
+        return transmittance_->eval(si.uv) * value;
+    }
+
+    float pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
+        Geometry g;
+        if (!half_vector(si.wi, wo, g)) return 0.0f;
+        bool has_r = ctx.allows(GlossyReflection), has_t = ctx.allows(GlossyTransmission);
+        if (g.reflect ? !has_r : !has_t) return 0.0f;
+        Vec3 wi_up = Frame::cos_theta(si.wi) > 0.0f ? si.wi : -si.wi;
+        float pdf_m = distribution_.pdf(wi_up, g.m);
+        float F = fresnel_dielectric(g.wi_m, eta_).F;
+        float lobe = (has_r && has_t) ? (g.reflect ? F : 1.0f - F) : 1.0f;
+        if (g.reflect) return pdf_m * lobe / (4.0f * std::abs(g.wo_m));
+        float denom = g.wi_m + g.eta_p * g.wo_m;
+        // Jacobian of the refraction half vector: eta'^2 |wo.m| / (wi.m + eta' wo.m)^2.
+        return pdf_m * lobe * g.eta_p * g.eta_p * std::abs(g.wo_m) / (denom * denom);
+    }
+
+    Spectrum albedo(const SurfaceInteraction& si) const override {
+        float F = fresnel_dielectric(Frame::cos_theta(si.wi), eta_).F;
+        return reflectance_->eval(si.uv) * F + transmittance_->eval(si.uv) * (1.0f - F);
+    }
+    std::string to_string() const override { return "roughdielectric"; }
+
+private:
+    struct Geometry {
+        bool reflect;
+        float eta_p;  // n of the wo medium / n of the wi medium
+        Vec3 m;       // half vector, m.z > 0
+        float wi_m, wo_m;
+    };
+
+    // The generalised half vector of (wi, wo) and the side checks of Walter et al.
+    bool half_vector(const Vec3& wi, const Vec3& wo, Geometry& g) const {
+        float cos_i = wi.z, cos_o = wo.z;
+        if (cos_i == 0.0f || cos_o == 0.0f) return false;
+        g.reflect = cos_i * cos_o > 0.0f;
+        g.eta_p = g.reflect ? 1.0f : (cos_i > 0.0f ? eta_ : 1.0f / eta_);
+        Vec3 m = wi + wo * g.eta_p;
+        float len2 = squared_length(m);
+        if (!(len2 > 0.0f)) return false;
+        m /= std::sqrt(len2);
+        if (m.z < 0.0f) m = -m;
+        g.m = m;
+        g.wi_m = glm::dot(wi, m);
+        g.wo_m = glm::dot(wo, m);
+        // Both directions must lie on the same side of the microfacet as of the macro-surface.
+        return g.wi_m * cos_i > 0.0f && g.wo_m * cos_o > 0.0f;
+    }
+
+    MicrofacetDistribution distribution_;
+    float eta_;
+    Ref<Texture> reflectance_, transmittance_;
+};
+
+CANDELA_REGISTER(RoughDielectricBSDF, ObjectKind::BSDF, "roughdielectric");
+
+}  // namespace candela

@@ -1,0 +1,174 @@
+// roughplastic: a diffuse base under a rough dielectric coating (Mitsuba 3's model).
+// One-sided, isotropic.
+//
+// Parameters (Mitsuba 3):
+//   distribution, alpha, sample_visible   as `roughconductor` (isotropic only)
+//   int_ior, ext_ior, diffuse_reflectance, specular_reflectance, nonlinear   as `plastic`
+//
+//   specular:  F(wi . h) D(h) G(wi, wo) / (4 cos wi)
+//   diffuse:   rho' T(cos wi) T(cos wo) cos(wo) / (pi eta^2),
+//              rho' = rho / (1 - R_int) (or rho / (1 - rho R_int) when nonlinear)
+// T(mu) is the total transmittance of the rough coating at incidence mu and R_int its
+// hemispherically averaged internal reflectance. Both are tabulated once, as Mitsuba does: T at
+// 64 cosines j/63 (interpolated linearly), R_int as 2 * mean_j(R(mu_j) mu_j) over the same 64
+// cosines; the integrals over visible normals are evaluated with Gauss-Legendre quadrature.
+
+#include "core/bsdf.h"
+#include "core/quadrature.h"
+#include "core/registry.h"
+#include "core/texture.h"
+#include "core/warp.h"
+#include "materials/fresnel.h"
+#include "materials/ior.h"
+#include "materials/microfacet.h"
+
+#include <array>
+
+namespace candela {
+
+class RoughPlasticBSDF final : public BSDF {
+public:
+    explicit RoughPlasticBSDF(const Properties& props) : distribution_(MicrofacetDistribution::from_properties(props, false)) {
+        float int_ior = read_ior(props, "int_ior", "polypropylene"), ext_ior = read_ior(props, "ext_ior", "air");
+        if (int_ior == ext_ior) props.fail("int_ior", "int_ior and ext_ior must differ");
+        eta_ = int_ior / ext_ior;
+        diffuse_ = props.get_texture("diffuse_reflectance", Spectrum(0.5f));
+        specular_ = props.get_texture("specular_reflectance", Spectrum(1.0f));
+        nonlinear_ = props.get_bool("nonlinear", false);
+        float d = average(diffuse_->mean()), s = average(specular_->mean());
+        specular_weight_ = s / (d + s);
+        build_tables();
+        flags_ = GlossyReflection | DiffuseReflection;
+    }
+
+    BSDFSample sample(const BSDFContext& ctx, const SurfaceInteraction& si, float u_lobe, const Vec2& u) const override {
+        BSDFSample bs;
+        float cos_i = Frame::cos_theta(si.wi);
+        if (cos_i <= 0.0f) return bs;
+        float p_spec = specular_probability(ctx, cos_i);
+        if (u_lobe < p_spec) {
+            float pdf_m;
+            Vec3 m = distribution_.sample(si.wi, u, pdf_m);
+            bs.wo = reflect(si.wi, m);
+            bs.lobe = GlossyReflection;
+        } else {
+            bs.wo = warp::square_to_cosine_hemisphere(u);
+            bs.lobe = DiffuseReflection;
+        }
+        if (bs.wo.z <= 0.0f) return BSDFSample();
+        bs.pdf = pdf(ctx, si, bs.wo);
+        if (!(bs.pdf > 0.0f)) return BSDFSample();
+        bs.weight = eval(ctx, si, bs.wo) / bs.pdf;
+        if (!all_finite(bs.weight)) return BSDFSample();
+        return bs;
+    }
+
+    Spectrum eval(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
+        float cos_i = Frame::cos_theta(si.wi), cos_o = Frame::cos_theta(wo);
+        if (cos_i <= 0.0f || cos_o <= 0.0f) return Spectrum(0.0f);
+        Spectrum result(0.0f);
+        if (ctx.allows(GlossyReflection)) {
+            Vec3 h = glm::normalize(si.wi + wo);
+            float D = distribution_.D(h);
+            if (D > 0.0f) {
+                float F = fresnel_dielectric(glm::dot(si.wi, h), eta_).F;
+                result += specular_->eval(si.uv) * (F * D * distribution_.G(si.wi, wo, h) / (4.0f * cos_i));
+            }
+        }
+        if (ctx.allows(DiffuseReflection)) {
+            Spectrum rho = diffuse_->eval(si.uv);
+            Spectrum rho_p = nonlinear_ ? rho / (Spectrum(1.0f) - rho * internal_reflectance_) : rho / (1.0f - internal_reflectance_);
+            result += rho_p * (transmittance(cos_i) * transmittance(cos_o) * cos_o * InvPi / (eta_ * eta_));
+        }
+        return result;
+    }
+
+    float pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
+        float cos_i = Frame::cos_theta(si.wi), cos_o = Frame::cos_theta(wo);
+        if (cos_i <= 0.0f || cos_o <= 0.0f) return 0.0f;
+        float p_spec = specular_probability(ctx, cos_i), result = 0.0f;
+        if (p_spec > 0.0f) {
+            Vec3 h = glm::normalize(si.wi + wo);
+            result += p_spec * distribution_.pdf(si.wi, h) / (4.0f * glm::dot(wo, h));
+        }
+        if (p_spec < 1.0f) result += (1.0f - p_spec) * warp::square_to_cosine_hemisphere_pdf(wo);
+        return result;
+    }
+
+    Spectrum albedo(const SurfaceInteraction& si) const override {
+        float T = transmittance(std::max(Frame::cos_theta(si.wi), 0.0f));
+        return specular_->eval(si.uv) * (1.0f - T) + diffuse_->eval(si.uv) * T;
+    }
+    std::string to_string() const override { return "roughplastic"; }
+
+    float transmittance(float cos_theta) const {
+        float x = std::clamp(cos_theta, 0.0f, 1.0f) * float(TableSize - 1);
+        int i = std::min(int(x), TableSize - 2);
+        float t = x - float(i);
+        return transmittance_[i] * (1.0f - t) + transmittance_[i + 1] * t;
+    }
+    float internal_reflectance() const { return internal_reflectance_; }
+
+private:
+    static constexpr int TableSize = 64;
+
+    float specular_probability(const BSDFContext& ctx, float cos_i) const {
+        bool has_s = ctx.allows(GlossyReflection), has_d = ctx.allows(DiffuseReflection);
+        if (!has_s) return 0.0f;
+        if (!has_d) return 1.0f;
+        float T = transmittance(cos_i);
+        float ps = (1.0f - T) * specular_weight_, pd = T * (1.0f - specular_weight_);
+        return ps / (ps + pd);
+    }
+
+    // Expected value over normals visible from wi of g(m): an integral over [0, 1]^2 through the
+    // visible-normal sampling map, by n x n Gauss-Legendre quadrature.
+    template <typename G> double over_visible_normals(const Vec3& wi, int n, G g) const {
+        std::vector<double> x, w;
+        gauss_legendre(n, x, w);
+        double sum = 0.0;
+        for (int i = 0; i < n; ++i)
+            for (int j = 0; j < n; ++j) {
+                float pdf_m;
+                Vec3 m = visible_.sample(wi, Vec2(float(0.5 * (x[i] + 1.0)), float(0.5 * (x[j] + 1.0))), pdf_m);
+                sum += 0.25 * w[i] * w[j] * g(m);
+            }
+        return sum;
+    }
+
+    void build_tables() {
+        visible_ = MicrofacetDistribution(distribution_.type(), distribution_.alpha_u(), distribution_.alpha_v(), true);
+        double r_sum = 0.0;
+        for (int j = 0; j < TableSize; ++j) {
+            float mu = std::max(1e-6f, float(j) / float(TableSize - 1));
+            Vec3 wi(safe_sqrt(1.0f - mu * mu), 0.0f, mu);
+            // Transmission into the coating: refract about m; unmasked fraction G1(wo).
+            double T = over_visible_normals(wi, eta_ > 1.0f ? 32 : 128, [&](const Vec3& m) {
+                DielectricFresnel fr = fresnel_dielectric(glm::dot(wi, m), eta_);
+                if (fr.F >= 1.0f) return 0.0;
+                Vec3 wo = refract(wi, m, fr.cos_theta_t, fr.eta_ti);
+                if (wo.z * wi.z >= 0.0f) return 0.0;
+                return double(visible_.G1(wo, m) * (1.0f - fr.F));
+            });
+            transmittance_[j] = float(T);
+            // Reflection from inside the coating (relative index 1 / eta), for R_int.
+            double R = over_visible_normals(wi, 128, [&](const Vec3& m) {
+                Vec3 wo = reflect(wi, m);
+                if (wo.z <= 0.0f) return 0.0;
+                return double(visible_.G1(wo, m) * fresnel_dielectric(glm::dot(wi, m), 1.0f / eta_).F);
+            });
+            r_sum += R * mu;
+        }
+        internal_reflectance_ = float(2.0 * r_sum / TableSize);
+    }
+
+    MicrofacetDistribution distribution_, visible_{MicrofacetType::GGX, 0.1f, 0.1f, true};
+    float eta_, specular_weight_, internal_reflectance_ = 0.0f;
+    bool nonlinear_;
+    std::array<float, TableSize> transmittance_{};
+    Ref<Texture> diffuse_, specular_;
+};
+
+CANDELA_REGISTER(RoughPlasticBSDF, ObjectKind::BSDF, "roughplastic");
+
+}  // namespace candela

@@ -1,0 +1,69 @@
+// thindielectric: a thin sheet of dielectric (a window pane). Light is reflected or passes
+// straight through without refraction; the interreflections inside the sheet are summed:
+// R = R1 + T1^2 R1 / (1 - R1^2) = 2 R1 / (1 + R1), T = 1 - R, with R1 the Fresnel reflectance.
+//
+// Parameters (Mitsuba 3):
+//   int_ior, ext_ior, specular_reflectance, specular_transmittance   as `dielectric`
+
+#include "core/bsdf.h"
+#include "core/registry.h"
+#include "core/texture.h"
+#include "materials/fresnel.h"
+#include "materials/ior.h"
+
+namespace candela {
+
+class ThinDielectricBSDF final : public BSDF {
+public:
+    explicit ThinDielectricBSDF(const Properties& props) {
+        float int_ior = read_ior(props, "int_ior", "bk7"), ext_ior = read_ior(props, "ext_ior", "air");
+        if (int_ior == ext_ior) props.fail("int_ior", "int_ior and ext_ior must differ");
+        eta_ = int_ior / ext_ior;
+        reflectance_ = props.get_texture("specular_reflectance", Spectrum(1.0f));
+        transmittance_ = props.get_texture("specular_transmittance", Spectrum(1.0f));
+        flags_ = DeltaReflection | DeltaTransmission;
+    }
+
+    // Total reflectance of the sheet at incidence cos_i.
+    float sheet_reflectance(float cos_i) const {
+        float r1 = fresnel_dielectric(std::abs(cos_i), eta_).F;
+        return r1 < 1.0f ? 2.0f * r1 / (1.0f + r1) : 1.0f;
+    }
+
+    BSDFSample sample(const BSDFContext& ctx, const SurfaceInteraction& si, float u_lobe, const Vec2&) const override {
+        BSDFSample bs;
+        float R = sheet_reflectance(Frame::cos_theta(si.wi));
+        bool has_r = ctx.allows(DeltaReflection), has_t = ctx.allows(DeltaTransmission);
+        if (!has_r && !has_t) return bs;
+        bool choose_r = has_r && (!has_t || u_lobe < R);
+        if (choose_r) {
+            bs.wo = reflect(si.wi);
+            bs.pdf = has_t ? R : 1.0f;
+            bs.lobe = DeltaReflection;
+            bs.weight = reflectance_->eval(si.uv) * (has_t ? 1.0f : R);
+        } else {
+            bs.wo = -si.wi;
+            bs.pdf = has_r ? 1.0f - R : 1.0f;
+            bs.lobe = DeltaTransmission;
+            bs.weight = transmittance_->eval(si.uv) * (has_r ? 1.0f : 1.0f - R);
+        }
+        if (!(bs.pdf > 0.0f)) return BSDFSample();
+        return bs;
+    }
+
+    Spectrum eval(const BSDFContext&, const SurfaceInteraction&, const Vec3&) const override { return Spectrum(0.0f); }
+    float pdf(const BSDFContext&, const SurfaceInteraction&, const Vec3&) const override { return 0.0f; }
+    Spectrum albedo(const SurfaceInteraction& si) const override {
+        float R = sheet_reflectance(Frame::cos_theta(si.wi));
+        return reflectance_->eval(si.uv) * R + transmittance_->eval(si.uv) * (1.0f - R);
+    }
+    std::string to_string() const override { return "thindielectric"; }
+
+private:
+    float eta_;
+    Ref<Texture> reflectance_, transmittance_;
+};
+
+CANDELA_REGISTER(ThinDielectricBSDF, ObjectKind::BSDF, "thindielectric");
+
+}  // namespace candela

@@ -1,0 +1,184 @@
+// Every BSDF samples what it evaluates: chi-square goodness of fit of sample() against pdf() at
+// several incident directions (grazing ones and, for dielectrics, from inside), delta lobes by
+// their discrete probabilities, weight = eval / pdf, pdf integrating to at most one, directional
+// albedo at most one (exactly one where lossless), and reciprocity of the reflection lobes.
+// All statistical tests in this file together keep a family-wise significance of 1% (Sidak).
+
+#include "materials/fresnel.h"
+#include "tests/bsdf_harness.h"
+
+#include <catch2/catch.hpp>
+
+#include <functional>
+
+using namespace candela;
+using namespace candela::test;
+
+namespace {
+
+using DeltaFn = std::function<std::vector<DeltaExpectation>(const Vec3& wi)>;
+
+struct Config {
+    std::string name, xml;
+    std::vector<float> cos_thetas;  // incident directions; negative = from the inside
+    DeltaFn deltas;                 // discrete lobe probabilities (none when empty)
+    bool lossless = false;          // directional albedo exactly one
+    bool reciprocal = true;         // check reciprocity of reflection
+};
+
+const std::vector<float> Outside = {0.9f, 0.5f, 0.07f};
+const std::vector<float> BothSides = {0.9f, 0.5f, 0.07f, -0.6f, -0.15f};
+
+std::vector<DeltaExpectation> fresnel_split(const Vec3& wi, float eta) {
+    float F = fresnel_dielectric(wi.z, eta).F;
+    return {{DeltaReflection, F}, {DeltaTransmission, 1.0 - F}};
+}
+
+const std::vector<Config>& configs() {
+    static const std::vector<Config> list = {
+        {"diffuse", R"(<bsdf type="diffuse"><rgb name="reflectance" value="0.8, 0.5, 0.2"/></bsdf>)", Outside, {}},
+        {"twosided diffuse from the back", R"(<bsdf type="twosided"><bsdf type="diffuse"/></bsdf>)", {-0.8f, -0.2f}, {}, false, false},
+        {"conductor", R"(<bsdf type="conductor"><rgb name="eta" value="0.2, 0.9, 1.1"/><rgb name="k" value="3.9, 2.4, 2.1"/></bsdf>)", Outside,
+         [](const Vec3&) { return std::vector<DeltaExpectation>{{DeltaReflection, 1.0}}; }, false, false},
+        {"conductor none", R"(<bsdf type="conductor"/>)", Outside,
+         [](const Vec3&) { return std::vector<DeltaExpectation>{{DeltaReflection, 1.0}}; }, true, false},
+        {"conductor eta 0 k 0", R"(<bsdf type="conductor"><rgb name="eta" value="0"/><rgb name="k" value="0"/></bsdf>)", Outside,
+         [](const Vec3&) { return std::vector<DeltaExpectation>{{DeltaReflection, 1.0}}; }, true, false},
+        {"roughconductor beckmann", R"(<bsdf type="roughconductor"><float name="alpha" value="0.3"/><string name="material" value="Au"/></bsdf>)", Outside, {}},
+        {"roughconductor ggx", R"(<bsdf type="roughconductor"><string name="distribution" value="ggx"/><float name="alpha" value="0.3"/></bsdf>)", Outside, {}},
+        {"roughconductor ggx anisotropic",
+         R"(<bsdf type="roughconductor"><string name="distribution" value="ggx"/><float name="alpha_u" value="0.1"/><float name="alpha_v" value="0.4"/></bsdf>)", Outside, {}},
+        {"roughconductor beckmann all normals",
+         R"(<bsdf type="roughconductor"><float name="alpha" value="0.2"/><boolean name="sample_visible" value="false"/></bsdf>)", Outside, {}},
+        {"roughconductor ggx all normals anisotropic",
+         R"(<bsdf type="roughconductor"><string name="distribution" value="ggx"/><float name="alpha_u" value="0.3"/><float name="alpha_v" value="0.15"/><boolean name="sample_visible" value="false"/></bsdf>)",
+         Outside, {}},
+        {"dielectric", R"(<bsdf type="dielectric"><float name="int_ior" value="1.5"/><float name="ext_ior" value="1"/></bsdf>)", BothSides,
+         [](const Vec3& wi) { return fresnel_split(wi, 1.5f); }, true, false},
+        {"thindielectric", R"(<bsdf type="thindielectric"><float name="int_ior" value="1.5"/><float name="ext_ior" value="1"/></bsdf>)", BothSides,
+         [](const Vec3& wi) {
+             float r1 = fresnel_dielectric(std::abs(wi.z), 1.5f).F, R = 2 * r1 / (1 + r1);
+             return std::vector<DeltaExpectation>{{DeltaReflection, R}, {DeltaTransmission, 1.0 - R}};
+         },
+         true, false},
+        {"roughdielectric ggx", R"(<bsdf type="roughdielectric"><string name="distribution" value="ggx"/><float name="alpha" value="0.3"/><float name="int_ior" value="1.5"/><float name="ext_ior" value="1"/></bsdf>)",
+         BothSides, {}, false, false},
+        {"roughdielectric beckmann", R"(<bsdf type="roughdielectric"><float name="alpha" value="0.2"/><string name="int_ior" value="water"/></bsdf>)",
+         BothSides, {}, false, false},
+        {"plastic", R"(<bsdf type="plastic"><rgb name="diffuse_reflectance" value="0.5"/><float name="int_ior" value="1.5"/><float name="ext_ior" value="1"/></bsdf>)",
+         Outside,
+         [](const Vec3& wi) {
+             float Fi = fresnel_dielectric(wi.z, 1.5f).F, w = 1.0f / 1.5f;
+             double ps = Fi * w / (Fi * w + (1 - Fi) * (1 - w));
+             return std::vector<DeltaExpectation>{{DeltaReflection, ps}};
+         },
+         false, true},
+        {"plastic nonlinear", R"(<bsdf type="plastic"><rgb name="diffuse_reflectance" value="0.9, 0.3, 0.1"/><boolean name="nonlinear" value="true"/></bsdf>)",
+         Outside,
+         [](const Vec3& wi) {
+             float eta = 1.49f / 1.000277f;
+             float Fi = fresnel_dielectric(wi.z, eta).F, w = 1.0f / (1.0f + (0.9f + 0.3f + 0.1f) / 3.0f);
+             double ps = Fi * w / (Fi * w + (1 - Fi) * (1 - w));
+             return std::vector<DeltaExpectation>{{DeltaReflection, ps}};
+         },
+         false, true},
+        {"roughplastic ggx", R"(<bsdf type="roughplastic"><string name="distribution" value="ggx"/><float name="alpha" value="0.2"/><rgb name="diffuse_reflectance" value="0.6, 0.2, 0.1"/></bsdf>)",
+         Outside, {}},
+        {"roughplastic beckmann nonlinear", R"(<bsdf type="roughplastic"><float name="alpha" value="0.3"/><boolean name="nonlinear" value="true"/></bsdf>)", Outside, {}},
+        {"phong", R"(<bsdf type="phong"><rgb name="kd" value="0.4"/><rgb name="ks" value="0.5"/><float name="exponent" value="20"/></bsdf>)", Outside, {}},
+        {"blinnphong", R"(<bsdf type="blinnphong"><rgb name="kd" value="0.3"/><rgb name="ks" value="0.6"/><float name="exponent" value="40"/></bsdf>)", Outside, {}},
+        {"bumpmap over roughconductor",
+         R"(<bsdf type="bumpmap"><texture type="checkerboard"><transform name="to_uv"><rotate z="1" angle="30"/></transform></texture><float name="scale" value="0.2"/>
+            <bsdf type="roughconductor"><string name="distribution" value="ggx"/><float name="alpha" value="0.25"/></bsdf></bsdf>)",
+         {0.9f, 0.5f}, {}, false, false},
+    };
+    return list;
+}
+
+int statistical_tests() {
+    int n = 0;
+    for (const Config& c : configs()) n += 3 * int(c.cos_thetas.size());  // chi-square, pdf integral, albedo
+    return n;
+}
+
+constexpr int Samples = 1000000;
+
+void check_config(const Config& c) {
+    BSDFUnderTest t = make_bsdf(c.xml);
+    const double alpha = sidak(0.01, statistical_tests());
+    const double z = normal_quantile(1.0 - alpha);  // one-sided bounds
+    // Importance mode: the same sampling, without the eta^2 radiance scaling, so that albedos of
+    // lossless interfaces are exactly one.
+    BSDFContext ctx;
+    ctx.mode = TransportMode::Importance;
+    uint64_t seed = 1;
+    for (float cos_theta : c.cos_thetas) {
+        Vec3 wi = direction(cos_theta, 0.7f);
+        SurfaceInteraction si = local_interaction(wi);
+        INFO(c.name << ", cos theta_i = " << cos_theta);
+        SamplingCheck check = check_sampling(*t.bsdf, si, ctx, Samples, c.deltas ? c.deltas(wi) : std::vector<DeltaExpectation>{}, seed++);
+        for (const std::string& f : check.failures) FAIL_CHECK(f);
+        INFO(check.chi2.details << " (per-test alpha " << alpha << ")");
+        CHECK(check.chi2.p_value > alpha);
+        MeanAndError integral = pdf_integral(*t.bsdf, si, ctx, 200000, seed++);
+        INFO("pdf integral " << integral.mean << " +- " << integral.std_error);
+        CHECK(integral.mean - z * integral.std_error <= 1.0);
+        INFO("albedo " << check.albedo.mean << " +- " << check.albedo.std_error);
+        if (c.lossless) CHECK(std::abs(check.albedo.mean - 1.0) < 1e-6);
+        else CHECK(check.albedo.mean - z * check.albedo.std_error <= 1.0);
+    }
+    if (c.reciprocal) CHECK(reciprocity_error(*t.bsdf, 2000, 99) < 1e-4);  // float32 evaluation
+}
+
+}  // namespace
+
+TEST_CASE("bsdf: diffuse and twosided", "[bsdf]") {
+    check_config(configs()[0]);
+    check_config(configs()[1]);
+}
+TEST_CASE("bsdf: smooth conductors", "[bsdf]") {
+    for (int i = 2; i <= 4; ++i) check_config(configs()[i]);
+}
+TEST_CASE("bsdf: rough conductors", "[bsdf]") {
+    for (int i = 5; i <= 9; ++i) check_config(configs()[i]);
+}
+TEST_CASE("bsdf: smooth and thin dielectrics", "[bsdf]") {
+    for (int i = 10; i <= 11; ++i) check_config(configs()[i]);
+}
+TEST_CASE("bsdf: rough dielectrics", "[bsdf]") {
+    for (int i = 12; i <= 13; ++i) check_config(configs()[i]);
+}
+TEST_CASE("bsdf: plastics", "[bsdf]") {
+    for (int i = 14; i <= 17; ++i) check_config(configs()[i]);
+}
+TEST_CASE("bsdf: phong, blinnphong and bump mapping", "[bsdf]") {
+    for (int i = 18; i <= 20; ++i) check_config(configs()[i]);
+}
+TEST_CASE("bsdf: the configuration table is covered exactly", "[bsdf]") { CHECK(configs().size() == 21); }
+
+TEST_CASE("bsdf: one-sided BSDFs are black from behind, transmissive ones are not", "[bsdf]") {
+    BSDFContext ctx;
+    SurfaceInteraction back = local_interaction(direction(-0.5f, 0.3f));
+    for (const char* xml : {R"(<bsdf type="diffuse"/>)", R"(<bsdf type="roughconductor"/>)", R"(<bsdf type="plastic"/>)",
+                            R"(<bsdf type="roughplastic"/>)", R"(<bsdf type="conductor"/>)", R"(<bsdf type="phong"/>)"}) {
+        BSDFUnderTest t = make_bsdf(xml);
+        INFO(xml);
+        CHECK(!t.bsdf->sample(ctx, back, 0.5f, Vec2(0.3f, 0.6f)).valid());
+        CHECK(t.bsdf->eval(ctx, back, direction(-0.7f, 1.0f)) == Spectrum(0.0f));
+    }
+    BSDFUnderTest glass = make_bsdf(R"(<bsdf type="roughdielectric"/>)");
+    CHECK(glass.bsdf->sample(ctx, back, 0.9f, Vec2(0.3f, 0.6f)).valid());
+}
+
+TEST_CASE("bsdf: bad parameters are errors", "[bsdf][errors]") {
+    CHECK_THROWS_WITH(make_bsdf(R"(<bsdf type="dielectric"><string name="int_ior" value="unobtainium"/></bsdf>)"),
+                      Catch::Contains("unknown index of refraction"));
+    CHECK_THROWS_WITH(make_bsdf(R"(<bsdf type="conductor"><string name="material" value="Xx"/></bsdf>)"), Catch::Contains("unknown conductor"));
+    CHECK_THROWS_WITH(make_bsdf(R"(<bsdf type="roughconductor"><string name="distribution" value="phong"/></bsdf>)"),
+                      Catch::Contains("beckmann or ggx"));
+    CHECK_THROWS_WITH(make_bsdf(R"(<bsdf type="phong"><rgb name="kd" value="0.8"/><rgb name="ks" value="0.5"/></bsdf>)"),
+                      Catch::Contains("exceeds 1"));
+    CHECK_THROWS_WITH(make_bsdf(R"(<bsdf type="roughplastic"><float name="alpha_u" value="0.1"/><float name="alpha_v" value="0.2"/></bsdf>)"),
+                      Catch::Contains("isotropic"));
+    CHECK_THROWS_WITH(make_bsdf(R"(<bsdf type="twosided"><bsdf type="dielectric"/></bsdf>)"), Catch::Contains("transmissive"));
+}
