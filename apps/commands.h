@@ -3,6 +3,9 @@
 // returns the process exit code: 0 success, 1 a check that failed (compare, validate, converge),
 // 2 bad input (scene errors name file:line), 130 interrupted.
 
+#include "core/math.h"
+#include "core/xml.h"
+
 #include <CLI/CLI.hpp>
 
 #include <functional>
@@ -17,6 +20,11 @@ constexpr int ExitInterrupted = 130;
 // Adds a subcommand to `app`; `run` is set to the function that executes it after parsing.
 void add_render_command(CLI::App& app, std::function<int()>& run);
 void add_compare_command(CLI::App& app, std::function<int()>& run);
+void add_estimate_command(CLI::App& app, std::function<int()>& run);
+
+// Shared by the commands: -D name=value pairs, and "x,y,z" triples (InputError when malformed).
+SceneParameters parse_defines(const std::vector<std::string>& defines);
+Vec3 parse_triple(const std::string& text, const std::string& option);
 
 // Runs `body`, turning scene and input errors into a message on stderr and exit code 2.
 int run_guarded(const std::function<int()>& body);

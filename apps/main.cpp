@@ -11,6 +11,7 @@ int main(int argc, char** argv) {
     std::function<int()> run;
     candela::app::add_render_command(app, run);
     candela::app::add_compare_command(app, run);
+    candela::app::add_estimate_command(app, run);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

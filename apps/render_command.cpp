@@ -9,6 +9,7 @@
 #include "core/xml.h"
 
 #include <csignal>
+#include <cstdio>
 #include <filesystem>
 #include <iostream>
 
@@ -32,6 +33,14 @@ struct RenderArgs {
 };
 
 }  // namespace
+
+Vec3 parse_triple(const std::string& text, const std::string& option) {
+    Vec3 v;
+    char extra;
+    if (std::sscanf(text.c_str(), " %f , %f , %f %c", &v.x, &v.y, &v.z, &extra) != 3 || !all_finite(v))
+        throw InputError(option + " expects three numbers x,y,z, got \"" + text + "\"");
+    return v;
+}
 
 SceneParameters parse_defines(const std::vector<std::string>& defines) {
     SceneParameters params;
@@ -84,7 +93,7 @@ void add_render_command(CLI::App& app, std::function<int()>& run) {
 
             annotate_render(result, *scene, args->scene);
             write_exr(result.image, output, scene->sensor().film().float32());
-            if (args->png) write_png(result.image, png);
+            if (args->png) write_png_display(scene->integrator().preview(result.image), png);
             if (!args->quiet) std::cerr << render_summary(result.stats, output) << "\n";
             if (result.stats.nonfinite > 0)
                 std::cerr << "warning: " << result.stats.nonfinite << " samples were NaN or infinite and were dropped\n";

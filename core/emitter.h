@@ -7,11 +7,25 @@
 #include "core/shape.h"
 #include "core/spectrum.h"
 
+#include <optional>
+
 namespace candela {
 
 class Scene;
 
 enum class EmitterType { DeltaPosition, DeltaDirection, Area, Infinite };
+
+// Where and in which directions an emitter sends its power, for many-light sampling (Conty &
+// Kulla 2018; pbrt-v4's LightBounds): it emits `phi` (luminance of its flux) from inside `box`,
+// along directions within theta_o of `axis`, falling off to zero over a further theta_e.
+struct LightBounds {
+    BoundingBox box;
+    Vec3 axis{0.0f, 0.0f, 1.0f};
+    float cos_theta_o = -1.0f;  // -1: all directions
+    float cos_theta_e = 0.0f;   // cos(pi / 2): a cosine falloff
+    float phi = 0.0f;
+    bool two_sided = false;
+};
 
 class Emitter : public Object {
 public:
@@ -29,6 +43,8 @@ public:
     virtual Spectrum eval_environment(const Vec3& d) const { return Spectrum(0.0f); }
     // Emitted flux in W (approximate where exact is costly); used to pick lights.
     virtual Spectrum power() const = 0;
+    // Spatial and directional bounds of the emission; infinite emitters have none.
+    virtual std::optional<LightBounds> bounds() const { return std::nullopt; }
 
     EmitterType type() const { return type_; }
     bool is_delta() const { return type_ == EmitterType::DeltaPosition || type_ == EmitterType::DeltaDirection; }

@@ -153,7 +153,7 @@ void write_png_display(const Image& image, const std::string& path) {
     commit_temporary(tmp, path);
 }
 
-void write_png(const Image& image, const std::string& path, float exposure) {
+Image tonemap_srgb(const Image& image, float exposure) {
     float scale = std::exp2(exposure);
     Image display = Image::rgb(image.width(), image.height());
     for (int y = 0; y < image.height(); ++y)
@@ -162,7 +162,7 @@ void write_png(const Image& image, const std::string& path, float exposure) {
                 float v = image.at(x, y, std::min(c, image.channel_count() - 1)) * scale;
                 display.at(x, y, c) = linear_to_srgb(std::clamp(std::isfinite(v) ? v : 0.0f, 0.0f, 1.0f));
             }
-    write_png_display(display, path);
+    return display;
 }
 
 }  // namespace candela

@@ -55,9 +55,9 @@ bool image_is_integer_format(const std::string& path);
 void check_output_path(const std::string& path);
 
 void write_exr(const Image& image, const std::string& path, bool float32);
-// Tonemaps linear RGB (times 2^exposure) with the sRGB curve, clamped, to an 8-bit PNG.
-void write_png(const Image& image, const std::string& path, float exposure = 0.0f);
-// Writes an 8-bit image whose values are already display-referred in [0, 1].
+// Linear RGB (times 2^exposure) clamped to [0, 1] and encoded with the sRGB curve, for display.
+Image tonemap_srgb(const Image& linear, float exposure = 0.0f);
+// Writes an 8-bit PNG of an image whose values are already display-referred in [0, 1].
 void write_png_display(const Image& image, const std::string& path);
 
 }  // namespace candela

@@ -38,6 +38,8 @@ bool wants(const std::vector<std::string>& aovs, const char* name) {
 
 }  // namespace
 
+Image Integrator::preview(const Image& rendered) const { return tonemap_srgb(rendered); }
+
 RenderResult SamplingIntegrator::render(const Scene& scene, const RenderOptions& options) {
     auto t_start = std::chrono::steady_clock::now();
     const Sensor& sensor = scene.sensor();

@@ -53,6 +53,9 @@ class Integrator : public Object {
 public:
     ObjectKind kind() const override { return ObjectKind::Integrator; }
     virtual RenderResult render(const Scene& scene, const RenderOptions& options) = 0;
+    // A display image (values in [0, 1]) for --png: by default the sRGB tonemap of the render;
+    // integrators that render other quantities (irradiance) draw false colour with a legend.
+    virtual Image preview(const Image& rendered) const;
 };
 
 class SamplingIntegrator : public Integrator {

@@ -39,6 +39,19 @@ void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
     double total = 0.0;
     for (float a : areas) total += a;
     area_ = float(total);
+    // Normal cone: the area-weighted mean normal and the widest deviation from it.
+    Vec3 sum(0.0f);
+    for (const auto& t : triangles_) sum += glm::cross(positions_[t.y] - positions_[t.x], positions_[t.z] - positions_[t.x]);
+    if (squared_length(sum) > 0.0f) {
+        cone_axis_ = glm::normalize(flip_normals_ ? -sum : sum);
+        cone_cos_ = 1.0f;
+        for (const auto& t : triangles_) {
+            Vec3 n = glm::normalize(glm::cross(positions_[t.y] - positions_[t.x], positions_[t.z] - positions_[t.x]));
+            cone_cos_ = std::min(cone_cos_, glm::dot(flip_normals_ ? -n : n, cone_axis_));
+        }
+        if (cone_cos_ < 1e-4f) cone_cos_ = -1.0f;  // beyond a hemisphere: treat as all directions
+        else cone_cos_ = std::max(-1.0f, cone_cos_ - 1e-5f);
+    }
     area_distribution_ = Distribution1D(std::move(areas));
     if (normals_.empty() && smooth_if_missing) recompute_vertex_normals();
 }

@@ -18,6 +18,10 @@ public:
     BoundingBox bbox() const override { return bbox_; }
     float surface_area() const override { return area_; }
     PositionSample sample_position(const Vec2& u) const override;
+    void normal_cone(Vec3& axis, float& cos_theta) const override {
+        axis = cone_axis_;
+        cos_theta = cone_cos_;
+    }
 
     size_t triangle_count() const { return triangles_.size(); }
     const std::vector<Vec3>& positions() const { return positions_; }
@@ -40,6 +44,8 @@ private:
     Distribution1D area_distribution_;
     float area_ = 0.0f;
     BoundingBox bbox_;
+    Vec3 cone_axis_{0.0f, 0.0f, 1.0f};
+    float cone_cos_ = -1.0f;
 };
 
 }  // namespace candela

@@ -56,6 +56,13 @@ public:
     virtual DirectionSample sample_direction(const SurfaceInteraction& ref, const Vec2& u) const;
     virtual float pdf_direction(const SurfaceInteraction& ref, const DirectionSample& ds) const;
 
+    // A cone containing every front-facing normal of the shape: axis and the cosine of its
+    // half-angle (-1 when the normals point everywhere).
+    virtual void normal_cone(Vec3& axis, float& cos_theta) const {
+        axis = Vec3(0.0f, 0.0f, 1.0f);
+        cos_theta = -1.0f;
+    }
+
     const BSDF* bsdf() const { return bsdf_.get(); }
     const Emitter* emitter() const { return emitter_.get(); }
     const Ref<Emitter>& emitter_ref() const { return emitter_; }

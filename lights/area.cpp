@@ -48,6 +48,14 @@ public:
 
     // Flux of a one-sided Lambertian emitter: pi * area * mean radiance.
     Spectrum power() const override { return Pi * shape_->surface_area() * radiance_->mean(); }
+    std::optional<LightBounds> bounds() const override {
+        LightBounds b;
+        b.box = shape_->bbox();
+        shape_->normal_cone(b.axis, b.cos_theta_o);
+        b.cos_theta_e = 0.0f;  // Lambertian: a cosine falloff over a further 90 degrees
+        b.phi = luminance(power());
+        return b;
+    }
     std::string to_string() const override { return "area"; }
 
 private:

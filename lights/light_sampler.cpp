@@ -3,6 +3,7 @@
 #include "core/distribution.h"
 #include "core/error.h"
 #include "core/scene.h"
+#include "lights/light_tree.h"
 
 namespace candela {
 
@@ -53,14 +54,15 @@ private:
 }  // namespace
 
 const std::vector<std::string>& light_sampler_names() {
-    static const std::vector<std::string> names = {"uniform", "power"};
+    static const std::vector<std::string> names = {"uniform", "power", "tree"};
     return names;
 }
 
 std::unique_ptr<LightSampler> create_light_sampler(const std::string& strategy, const Scene& scene) {
     if (strategy == "uniform") return std::make_unique<FixedLightSampler>(scene, false);
     if (strategy == "power") return std::make_unique<FixedLightSampler>(scene, true);
-    throw InputError("unknown light sampler \"" + strategy + "\" (known: uniform, power)");
+    if (strategy == "tree") return std::make_unique<LightTree>(scene);
+    throw InputError("unknown light sampler \"" + strategy + "\" (known: uniform, power, tree)");
 }
 
 }  // namespace candela

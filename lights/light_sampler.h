@@ -1,6 +1,7 @@
 #pragma once
 // Light selection: which emitter to sample for next-event estimation at a shading point.
-// Strategies: "uniform" (each emitter equally likely) and "power" (proportional to emitted flux).
+// Strategies: "uniform" (each emitter equally likely), "power" (proportional to emitted flux) and
+// "tree" (a light BVH that weighs each light's bounded contribution at the shading point).
 
 #include "core/emitter.h"
 

@@ -124,3 +124,31 @@ TEST_CASE("cli: compare reports metrics and its exit code says whether images ag
     REQUIRE(run_command(render_cmd("'" + Cbox + "' -o '" + b.string() + "' -D res=16 --spp 1 -q"), dir / "log.txt") == 0);
     CHECK(run_command(compare + "'" + a.string() + "' '" + b.string() + "'", dir / "size.txt") == 2);
 }
+
+TEST_CASE("cli: estimate prints irradiance and radiance with error bars", "[cli][estimate]") {
+    auto dir = scratch_dir("cli-estimate");
+    std::string lights = source_path("scenes/validation/lights.xml");
+    REQUIRE(run_command("'" + candela_binary() + "' estimate irradiance '" + lights + "' --at 0,0,0 --normal 0,1,0 --samples 20000", dir / "irr.txt") == 0);
+    std::string irr = read_text(dir / "irr.txt");
+    CHECK_THAT(irr, Catch::Contains("standard error") && Catch::Contains("95% interval") && Catch::Contains("luminance") && Catch::Contains("W/m^2"));
+    REQUIRE(run_command("'" + candela_binary() + "' estimate radiance '" + lights + "' --origin 0,1,3 --direction 0,-0.3,-1 -n 5000", dir / "rad.txt") == 0);
+    CHECK_THAT(read_text(dir / "rad.txt"), Catch::Contains("W/m^2/sr"));
+    CHECK(run_command("'" + candela_binary() + "' estimate irradiance '" + lights + "' --at 0,0 --normal 0,1,0", dir / "bad.txt") == 2);
+    CHECK_THAT(read_text(dir / "bad.txt"), Catch::Contains("three numbers"));
+}
+
+TEST_CASE("cli: the irradiance integrator renders a false-colour map with a legend", "[cli][estimate]") {
+    auto dir = scratch_dir("cli-irradiance-map");
+    std::string scene = read_text(source_path("scenes/validation/lights.xml"));
+    std::string from = "<integrator type=\"path\"><integer name=\"max_depth\" value=\"-1\"/></integrator>";
+    REQUIRE(scene.find(from) != std::string::npos);
+    scene.replace(scene.find(from), from.size(), "<integrator type=\"irradiance\"/>");
+    write_text(dir / "map.xml", scene);
+    // Paths in the scene are relative: none here besides the scene itself.
+    REQUIRE(run_command(render_cmd("'" + (dir / "map.xml").string() + "' -o '" + (dir / "map.exr").string() + "' -D res=64 --spp 8 --png -q"),
+                        dir / "log.txt") == 0);
+    Image png = read_image((dir / "map.png").string());
+    CHECK(png.width() > 64);  // the legend is added on the right
+    Image exr = read_image((dir / "map.exr").string());
+    CHECK(exr.width() == 64);
+}

@@ -33,3 +33,6 @@ TEST_CASE("validation: glass agrees with Mitsuba 3", "[validation]") { validate(
 TEST_CASE("validation: plastics agrees with Mitsuba 3", "[validation]") { validate("plastics"); }
 TEST_CASE("validation: roughglass agrees with Mitsuba 3", "[validation]") { validate("roughglass"); }
 TEST_CASE("validation: textured agrees with Mitsuba 3", "[validation]") { validate("textured"); }
+TEST_CASE("validation: lights agrees with Mitsuba 3", "[validation]") { validate("lights"); }
+TEST_CASE("validation: envmap agrees with Mitsuba 3", "[validation]") { validate("envmap"); }
+TEST_CASE("validation: conductors agrees with Mitsuba 3", "[validation]") { validate("conductors"); }

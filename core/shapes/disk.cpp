@@ -32,6 +32,10 @@ public:
     }
 
     BoundingBox bbox() const override { return bbox_; }
+    void normal_cone(Vec3& axis, float& cos_theta) const override {
+        axis = normal_;
+        cos_theta = 1.0f;
+    }
     float surface_area() const override { return area_; }
 
     bool intersect_t(const Vec3& of, const Vec3& df, float tmin, float tmax, float& t) const override {

@@ -4,6 +4,10 @@
 //   to_world       transform   object to world (default identity)
 //   flip_normals   boolean     make -z the front side (default false)
 // uv = ((x + 1) / 2, (y + 1) / 2) in object space, as in Mitsuba 3.
+//
+// As an area light it is sampled uniformly in the solid angle it subtends (Urena, Fajardo & King
+// 2013, "An Area-Preserving Parametrization for Spherical Rectangles"), unless to_world shears it
+// or it subtends too small an angle for that to be accurate; then by area.
 
 #include "core/mesh.h"
 #include "core/registry.h"
@@ -17,8 +21,93 @@ public:
         uvs_ = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
         triangles_ = {{0, 1, 2}, {0, 2, 3}};
         finalize(props, false);
+        corner_ = to_world_.apply_point(Vec3(-1, -1, 0));
+        Vec3 ex = to_world_.apply_vector(Vec3(2, 0, 0)), ey = to_world_.apply_vector(Vec3(0, 2, 0));
+        len_x_ = glm::length(ex);
+        len_y_ = glm::length(ey);
+        x_ = ex / len_x_;
+        y_ = ey / len_y_;
+        z_ = glm::cross(x_, y_);
+        normal_ = glm::normalize(to_world_.apply_normal(Vec3(0, 0, 1)));
+        if (flip_normals_) normal_ = -normal_;
+        orthogonal_ = std::abs(glm::dot(x_, y_)) < 1e-4f;
     }
     std::string to_string() const override { return "rectangle"; }
+
+    DirectionSample sample_direction(const SurfaceInteraction& ref, const Vec2& u) const override {
+        SphericalRectangle sr;
+        if (!spherical(ref.p, sr)) return Shape::sample_direction(ref, u);
+        // Invert the solid-angle CDF along x (u.x), then along y within the column (u.y).
+        float au = u.x * sr.solid_angle + sr.k;
+        float fu = (std::cos(au) * sr.b0 - sr.b1) / std::sin(au);
+        float cu = std::clamp(std::copysign(1.0f, fu) / std::sqrt(fu * fu + sr.b0 * sr.b0), -1.0f, 1.0f);
+        float xu = std::clamp(-(cu * sr.z0) / safe_sqrt(1.0f - cu * cu), sr.x0, sr.x1);
+        float d = std::sqrt(xu * xu + sr.z0 * sr.z0);
+        float h0 = sr.y0 / std::sqrt(d * d + sr.y0 * sr.y0), h1 = sr.y1 / std::sqrt(d * d + sr.y1 * sr.y1);
+        float hv = h0 + u.y * (h1 - h0), hv2 = hv * hv;
+        float yv = hv2 < 1.0f - 1e-6f ? (hv * d) / std::sqrt(1.0f - hv2) : sr.y1;
+        yv = std::clamp(yv, sr.y0, sr.y1);
+        DirectionSample ds;
+        ds.p = ref.p + xu * sr.x + yv * y_ + sr.z0 * sr.z;
+        ds.n = normal_;
+        ds.p_error = gamma_bound(8) * (max_abs_component(ref.p) + max_abs_component(corner_) + len_x_ + len_y_);
+        Vec3 local = ds.p - corner_;
+        ds.uv = Vec2(glm::dot(local, x_) / len_x_, glm::dot(local, y_) / len_y_);
+        Vec3 to = ds.p - ref.p;
+        ds.dist = glm::length(to);
+        ds.d = to / ds.dist;
+        ds.pdf = 1.0f / sr.solid_angle;
+        return ds;
+    }
+
+    float pdf_direction(const SurfaceInteraction& ref, const DirectionSample& ds) const override {
+        SphericalRectangle sr;
+        if (!spherical(ref.p, sr)) return Shape::pdf_direction(ref, ds);
+        return 1.0f / sr.solid_angle;
+    }
+
+private:
+    // The rectangle as seen from a point: its local frame (x along an edge, z away from the
+    // point), corner coordinates, and the quantities the sampling needs.
+    struct SphericalRectangle {
+        Vec3 x, z;
+        float x0, x1, y0, y1, z0;
+        float b0, b1, k, solid_angle;
+    };
+
+    bool spherical(const Vec3& o, SphericalRectangle& sr) const {
+        if (!orthogonal_) return false;
+        Vec3 d = corner_ - o;
+        sr.x = x_;
+        sr.z = z_;
+        sr.z0 = glm::dot(d, z_);
+        if (sr.z0 > 0.0f) {  // the rectangle must lie at negative z (only the coordinates matter)
+            sr.z = -z_;
+            sr.z0 = -sr.z0;
+        }
+        sr.x0 = glm::dot(d, x_);
+        sr.y0 = glm::dot(d, y_);
+        sr.x1 = sr.x0 + len_x_;
+        sr.y1 = sr.y0 + len_y_;
+        // Too close to the plane: the spherical rectangle degenerates.
+        float scale = std::max(len_x_, len_y_);
+        if (std::abs(sr.z0) < 1e-4f * scale) return false;
+        Vec3 v00(sr.x0, sr.y0, sr.z0), v01(sr.x0, sr.y1, sr.z0), v10(sr.x1, sr.y0, sr.z0), v11(sr.x1, sr.y1, sr.z0);
+        Vec3 n0 = glm::normalize(glm::cross(v00, v10)), n1 = glm::normalize(glm::cross(v10, v11));
+        Vec3 n2 = glm::normalize(glm::cross(v11, v01)), n3 = glm::normalize(glm::cross(v01, v00));
+        float g0 = safe_acos(-glm::dot(n0, n1)), g1 = safe_acos(-glm::dot(n1, n2));
+        float g2 = safe_acos(-glm::dot(n2, n3)), g3 = safe_acos(-glm::dot(n3, n0));
+        sr.b0 = n0.z;
+        sr.b1 = n2.z;
+        sr.k = TwoPi - g2 - g3;
+        sr.solid_angle = g0 + g1 - sr.k;
+        // Tiny solid angles lose all precision in the angle sums; area sampling is exact enough.
+        return std::isfinite(sr.solid_angle) && sr.solid_angle > 1e-3f;
+    }
+
+    Vec3 corner_, x_, y_, z_, normal_;
+    float len_x_ = 0.0f, len_y_ = 0.0f;
+    bool orthogonal_ = false;
 };
 
 CANDELA_REGISTER(Rectangle, ObjectKind::Shape, "rectangle");

@@ -1,0 +1,142 @@
+#include "integrators/estimators.h"
+
+#include "core/bsdf.h"
+#include "core/registry.h"
+#include "core/rng.h"
+#include "core/scene.h"
+
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+namespace candela {
+
+namespace {
+
+// Random numbers for estimator sample i: the same (seed, index) scheme as pixels.
+class StreamSampler final : public Sampler {
+public:
+    Ref<Sampler> clone() const override { return std::make_shared<StreamSampler>(*this); }
+    void start(const Vec2i& pixel, uint32_t index) override { seed_for_sample(rng_, seed_, pixel, index); }
+    float next_1d() override { return rng_.next_float(); }
+    Vec2 next_2d() override {
+        float a = rng_.next_float();
+        return Vec2(a, rng_.next_float());
+    }
+
+private:
+    PCG32 rng_;
+};
+
+struct Sums {
+    double s[3] = {0, 0, 0}, s2[3] = {0, 0, 0}, y = 0, y2 = 0, y3 = 0, y4 = 0;
+    uint64_t n = 0, nonfinite = 0;
+    void add(const Spectrum& v) {
+        if (!all_finite(v)) {
+            ++nonfinite;
+            return;
+        }
+        for (int c = 0; c < 3; ++c) {
+            s[c] += v[c];
+            s2[c] += double(v[c]) * v[c];
+        }
+        double l = luminance(v);
+        y += l;
+        y2 += l * l;
+        y3 += l * l * l;
+        y4 += l * l * l * l;
+        ++n;
+    }
+    void merge(const Sums& o) {
+        for (int c = 0; c < 3; ++c) {
+            s[c] += o.s[c];
+            s2[c] += o.s2[c];
+        }
+        y += o.y;
+        y2 += o.y2;
+        y3 += o.y3;
+        y4 += o.y4;
+        n += o.n;
+        nonfinite += o.nonfinite;
+    }
+};
+
+// Runs `one(sampler)` for every sample in fixed chunks and combines the chunks in order, so the
+// result does not depend on the thread count.
+template <typename F> Estimate run(const EstimatorOptions& options, F one) {
+    const uint64_t chunk = 4096, chunks = (options.samples + chunk - 1) / chunk;
+    std::vector<Sums> partial(chunks);
+    tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+    arena.execute([&] {
+        tbb::parallel_for(uint64_t(0), chunks, [&](uint64_t c) {
+            StreamSampler sampler;
+            sampler.set_seed(options.seed);
+            for (uint64_t i = c * chunk; i < std::min(options.samples, (c + 1) * chunk); ++i) {
+                sampler.start(Vec2i(int(i & 0x7fffffff), int(i >> 31)), 0);
+                partial[c].add(one(sampler));
+            }
+        });
+    });
+    Sums total;
+    for (const Sums& s : partial) total.merge(s);
+    Estimate e;
+    e.samples = total.n;
+    e.nonfinite = total.nonfinite;
+    double n = double(total.n);
+    if (total.n == 0) return e;
+    for (int c = 0; c < 3; ++c) {
+        double mean = total.s[c] / n;
+        double var = total.n > 1 ? std::max(0.0, (total.s2[c] - n * mean * mean) / (n - 1)) : 0.0;
+        e.mean[c] = float(mean);
+        e.std_error[c] = float(std::sqrt(var / n));
+    }
+    double ym = total.y / n;
+    e.luminance = ym;
+    e.luminance_std_error = total.n > 1 ? std::sqrt(std::max(0.0, (total.y2 - n * ym * ym) / (n - 1)) / n) : 0.0;
+    // Central moments from raw sums: m2 = E[Y^2] - m^2, m4 = E[Y^4] - 4 m E[Y^3] + 6 m^2 E[Y^2] - 3 m^4.
+    double e2 = total.y2 / n, e3 = total.y3 / n, e4 = total.y4 / n;
+    double m2 = e2 - ym * ym, m4 = e4 - 4 * ym * e3 + 6 * ym * ym * e2 - 3 * ym * ym * ym * ym;
+    e.luminance_kurtosis = m2 > 0.0 ? m4 / (m2 * m2) : 0.0;
+    return e;
+}
+
+}  // namespace
+
+SurfaceInteraction virtual_vertex(const Scene& scene, const Vec3& p, const Vec3& n_in) {
+    SurfaceInteraction si;
+    si.p = p;
+    Vec3 n = glm::normalize(n_in);
+    si.n = n;
+    si.shading = Frame(n);
+    si.wi = Vec3(0.0f, 0.0f, 1.0f);
+    float scale = max_abs_component(p);
+    if (scene.bbox().valid()) scale = std::max(scale, std::max(max_abs_component(scene.bbox().min), max_abs_component(scene.bbox().max)));
+    si.p_error = gamma_bound(16) * scale;
+    return si;
+}
+
+const BSDF& white_lambertian() {
+    static Ref<BSDF> white = [] {
+        Properties props("diffuse", SourceLocation{"<estimator>", 0});
+        props.set_rgb("reflectance", Spectrum(1.0f));
+        return create_plugin_as<BSDF>(ObjectKind::BSDF, props);
+    }();
+    return *white;
+}
+
+Estimate estimate_irradiance(const Scene& scene, const Vec3& p, const Vec3& n, const EstimatorOptions& options) {
+    PathIntegrator path(options.path);
+    path.prepare(scene);
+    SurfaceInteraction vertex = virtual_vertex(scene, p, n);
+    const BSDF& white = white_lambertian();
+    // E = pi * L_o for a white Lambertian surface; its path has made no segment yet.
+    return run(options, [&](Sampler& sampler) { return Pi * path.continue_path(scene, sampler, vertex, white, 0); });
+}
+
+Estimate estimate_radiance(const Scene& scene, const Vec3& origin, const Vec3& direction, const EstimatorOptions& options) {
+    PathIntegrator path(options.path);
+    path.prepare(scene);
+    Ray ray(origin, glm::normalize(direction));
+    return run(options, [&](Sampler& sampler) { return path.sample_radiance(scene, sampler, ray, nullptr); });
+}
+
+}  // namespace candela

@@ -1,0 +1,44 @@
+#pragma once
+// The path tracer (see path.cpp for its parameters). Exposed so that the irradiance integrator
+// and the estimators reuse its light transport from any surface vertex.
+
+#include "core/integrator.h"
+#include "lights/light_sampler.h"
+
+namespace candela {
+
+class BSDF;
+class Properties;
+
+struct PathSettings {
+    int max_depth = -1;  // segments; -1 unbounded
+    int rr_depth = 5;
+    bool hide_emitters = false;
+    std::string light_sampler = "tree";
+};
+
+class PathIntegrator : public SamplingIntegrator {
+public:
+    explicit PathIntegrator(const Properties& props);
+    explicit PathIntegrator(const PathSettings& settings);
+
+    void prepare(const Scene& scene) override;
+    Spectrum sample_radiance(const Scene& scene, Sampler& sampler, const Ray& ray, FirstHitAovs* aovs) const override;
+    // Radiance that `bsdf` at vertex `si` (si.wi set) scatters toward si.wi, by next-event
+    // estimation and BSDF sampling with MIS, following the path onward; `depth` is the number of
+    // segments that led to si. Emission at si itself is not included. prepare() must have run.
+    Spectrum continue_path(const Scene& scene, Sampler& sampler, const SurfaceInteraction& si, const BSDF& bsdf, uint32_t depth) const;
+
+    std::string to_string() const override { return "path"; }
+
+private:
+    Spectrum sample_light(const Scene& scene, Sampler& sampler, const SurfaceInteraction& si, const BSDF& bsdf) const;
+    Spectrum environment_radiance(const Scene& scene, const SurfaceInteraction& prev_si, const Vec3& d, float prev_pdf, bool prev_delta) const;
+
+    uint32_t max_depth_ = UINT32_MAX, rr_depth_ = 5;
+    bool hide_emitters_ = false;
+    std::string light_strategy_;
+    std::unique_ptr<LightSampler> lights_;
+};
+
+}  // namespace candela

@@ -1,0 +1,59 @@
+// directional: a distant light arriving from one direction (the sun, idealised).
+//
+// Parameters (Mitsuba 3):
+//   irradiance   rgb         irradiance in W m^-2 on a surface facing the light (default 1)
+//   direction    vector      direction the light travels
+//   to_world     transform   alternative: the light travels along to_world's +z
+
+#include "core/emitter.h"
+#include "core/registry.h"
+#include "core/scene.h"
+
+namespace candela {
+
+class DirectionalEmitter final : public Emitter {
+public:
+    explicit DirectionalEmitter(const Properties& props) {
+        type_ = EmitterType::DeltaDirection;
+        irradiance_ = props.get_rgb("irradiance", Spectrum(1.0f));
+        if (props.has("direction") && props.has("to_world")) props.fail("direction", "give either direction or to_world, not both");
+        Vec3 d = props.has("direction") ? props.get_vector("direction") : props.get_transform("to_world").apply_vector(Vec3(0, 0, 1));
+        if (!(squared_length(d) > 0.0f)) props.fail("direction", "the light's direction must not be zero");
+        direction_ = glm::normalize(d);
+    }
+
+    void set_scene(const Scene& scene) override {
+        scene_center_ = scene.bbox().valid() ? scene.bbox().center() : Vec3(0.0f);
+        scene_radius_ = std::max(scene.bbox().bounding_radius(), 1e-3f);
+    }
+
+    DirectionSample sample_direction(const SurfaceInteraction& ref, const Vec2&, Spectrum& weight) const override {
+        DirectionSample ds;
+        ds.d = -direction_;
+        ds.dist = Infinity;
+        ds.p = ref.p - direction_ * (2.0f * scene_radius_);
+        ds.n = direction_;
+        ds.pdf = 1.0f;
+        ds.delta = true;
+        ds.emitter = this;
+        weight = irradiance_;
+        return ds;
+    }
+    float pdf_direction(const SurfaceInteraction&, const DirectionSample&) const override { return 0.0f; }
+    Spectrum eval(const SurfaceInteraction&) const override { return Spectrum(0.0f); }
+    // Flux through the disk the scene presents to the light.
+    Spectrum power() const override { return irradiance_ * (Pi * scene_radius_ * scene_radius_); }
+    std::string to_string() const override { return "directional"; }
+
+    const Vec3& direction() const { return direction_; }
+    const Spectrum& irradiance() const { return irradiance_; }
+
+private:
+    Spectrum irradiance_;
+    Vec3 direction_, scene_center_{0.0f};
+    float scene_radius_ = 1.0f;
+};
+
+CANDELA_REGISTER(DirectionalEmitter, ObjectKind::Emitter, "directional");
+
+}  // namespace candela

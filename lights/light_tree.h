@@ -1,0 +1,39 @@
+#pragma once
+// A bounding volume hierarchy over lights for many-light sampling (Conty Estevez & Kulla 2018,
+// "Importance Sampling of Many Lights with Adaptive Tree Splitting"; the orientation-aware
+// build and importance of pbrt-v4, section 12.6.3). Lights without bounds (infinite and
+// directional ones) are picked separately, uniformly, with probability n_unbounded / (n + 1).
+
+#include "lights/light_sampler.h"
+
+namespace candela {
+
+// An upper bound on the contribution of lights within `b` to point p with normal n (n may be
+// zero for points without a surface).
+float light_importance(const LightBounds& b, const Vec3& p, const Vec3& n);
+// The bounds of the union of two light sets.
+LightBounds light_bounds_union(const LightBounds& a, const LightBounds& b);
+
+class LightTree final : public LightSampler {
+public:
+    explicit LightTree(const Scene& scene);
+    const Emitter* sample(const SurfaceInteraction& ref, float u, float& prob) const override;
+    float pmf(const SurfaceInteraction& ref, const Emitter* emitter) const override;
+    size_t node_count() const { return nodes_.size(); }
+
+private:
+    struct Node {
+        LightBounds bounds;
+        int child1 = -1;     // interior: second child (the first is the next node)
+        int light = -1;      // leaf: index into bounded_
+    };
+    int build(std::vector<int>& ids, size_t begin, size_t end, const std::vector<LightBounds>& all);
+
+    std::vector<Node> nodes_;
+    std::vector<const Emitter*> bounded_, unbounded_;
+    std::unordered_map<const Emitter*, uint64_t> trail_;  // leaf path: bit k = 1 means "second child" at depth k
+    std::unordered_map<const Emitter*, int> depth_;
+    std::unordered_map<const Emitter*, size_t> unbounded_index_;
+};
+
+}  // namespace candela

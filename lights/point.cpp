@@ -1,0 +1,64 @@
+// point: an isotropic point light.
+//
+// Parameters (Mitsuba 3, plus the raster mode's attenuation):
+//   intensity                rgb         radiant intensity in W sr^-1 (default 1)
+//   position                 point       location (or the translation of to_world)
+//   to_world                 transform   alternative to position
+//   attenuation_constant,    float       the received radiance is intensity / (a0 + a1 d + a2 d^2);
+//   attenuation_linear,                  defaults 0, 0, 1: the physical inverse-square law
+//   attenuation_quadratic
+
+#include "core/emitter.h"
+#include "core/registry.h"
+#include "core/scene.h"
+#include "lights/attenuation.h"
+
+namespace candela {
+
+class PointEmitter final : public Emitter {
+public:
+    explicit PointEmitter(const Properties& props) {
+        type_ = EmitterType::DeltaPosition;
+        intensity_ = props.get_rgb("intensity", Spectrum(1.0f));
+        if (props.has("position") && props.has("to_world")) props.fail("position", "give either position or to_world, not both");
+        position_ = props.has("position") ? props.get_point("position") : props.get_transform("to_world").apply_point(Vec3(0.0f));
+        attenuation_ = Attenuation::read(props);
+    }
+
+    DirectionSample sample_direction(const SurfaceInteraction& ref, const Vec2&, Spectrum& weight) const override {
+        DirectionSample ds;
+        ds.p = position_;
+        ds.n = Vec3(0.0f);
+        Vec3 to = position_ - ref.p;
+        ds.dist = glm::length(to);
+        ds.d = to / ds.dist;
+        ds.pdf = 1.0f;
+        ds.delta = true;
+        ds.emitter = this;
+        weight = ds.dist > 0.0f ? intensity_ * attenuation_(ds.dist) : Spectrum(0.0f);
+        return ds;
+    }
+    float pdf_direction(const SurfaceInteraction&, const DirectionSample&) const override { return 0.0f; }
+    Spectrum eval(const SurfaceInteraction&) const override { return Spectrum(0.0f); }
+    Spectrum power() const override { return FourPi * intensity_; }
+    std::optional<LightBounds> bounds() const override {
+        LightBounds b;
+        b.box.expand(position_);
+        b.phi = luminance(power());
+        return b;
+    }
+    std::string to_string() const override { return "point"; }
+
+    const Vec3& position() const { return position_; }
+    const Spectrum& intensity() const { return intensity_; }
+    const Attenuation& attenuation() const { return attenuation_; }
+
+private:
+    Spectrum intensity_;
+    Vec3 position_;
+    Attenuation attenuation_;
+};
+
+CANDELA_REGISTER(PointEmitter, ObjectKind::Emitter, "point");
+
+}  // namespace candela

@@ -1,0 +1,121 @@
+// spot: a point light emitting into a cone.
+//
+// Parameters (Mitsuba 3, plus the raster mode's extras):
+//   intensity          rgb         radiant intensity on the axis in W sr^-1 (default 1)
+//   to_world           transform   apex at the origin, beam along +z (use a lookat)
+//   cutoff_angle       float       degrees from the axis where emission ends (default 20)
+//   beam_width         float       degrees of full intensity; in between it falls off linearly
+//                                  in the angle, as in Mitsuba (default 3/4 of cutoff_angle)
+//   falloff_exponent   float       optional: OpenGL's falloff cos^e(angle) inside the cutoff
+//                                  instead of Mitsuba's linear ramp (beam_width is then unused)
+//   texture            texture     optional projected texture, looked up at
+//                                  (0.5 + 0.5 x / (z tan cutoff), 0.5 + 0.5 y / (z tan cutoff))
+//   attenuation_*      float       as `point` (default: inverse square)
+
+#include "core/emitter.h"
+#include "core/registry.h"
+#include "core/texture.h"
+#include "lights/attenuation.h"
+
+namespace candela {
+
+class SpotEmitter final : public Emitter {
+public:
+    explicit SpotEmitter(const Properties& props) {
+        type_ = EmitterType::DeltaPosition;
+        intensity_ = props.get_rgb("intensity", Spectrum(1.0f));
+        to_world_ = props.get_transform("to_world");
+        cutoff_ = radians(props.get_float("cutoff_angle", 20.0f));
+        if (!(cutoff_ > 0.0f && cutoff_ < Pi)) props.fail("cutoff_angle", "cutoff_angle must be in (0, 180) degrees");
+        if (props.has("falloff_exponent")) {
+            if (props.has("beam_width")) props.fail("falloff_exponent", "give either beam_width or falloff_exponent");
+            exponent_ = props.get_float("falloff_exponent");
+            if (!(exponent_ >= 0.0f)) props.fail("falloff_exponent", "falloff_exponent must be non-negative");
+        }
+        beam_ = radians(props.get_float("beam_width", degrees(cutoff_) * 0.75f));
+        if (!(beam_ >= 0.0f && beam_ <= cutoff_)) props.fail("beam_width", "beam_width must lie between 0 and cutoff_angle");
+        cos_cutoff_ = std::cos(cutoff_);
+        cos_beam_ = std::cos(beam_);
+        auto textures = props.get_objects(ObjectKind::Texture);
+        if (textures.size() > 1) props.fail("a spot light takes at most one texture");
+        if (!textures.empty()) texture_ = std::static_pointer_cast<Texture>(textures[0]);
+        attenuation_ = Attenuation::read(props);
+        position_ = to_world_.apply_point(Vec3(0.0f));
+        axis_ = glm::normalize(to_world_.apply_vector(Vec3(0, 0, 1)));
+        world_to_local_ = to_world_.inverse();
+        // Power: intensity times the falloff integrated over solid angle (midpoint rule in theta).
+        double integral = 0.0;
+        const int n = 4096;
+        for (int i = 0; i < n; ++i) {
+            double theta = cutoff_ * (i + 0.5) / n;
+            integral += falloff_angle(float(theta)) * std::sin(theta) * cutoff_ / n;
+        }
+        power_ = intensity_ * float(TwoPi * integral) * (texture_ ? average(texture_->mean()) : 1.0f);
+    }
+
+    // The falloff for a local direction (unit, beam along +z).
+    float falloff(const Vec3& d) const {
+        if (d.z <= cos_cutoff_) return 0.0f;
+        return falloff_angle(safe_acos(d.z));
+    }
+
+    DirectionSample sample_direction(const SurfaceInteraction& ref, const Vec2&, Spectrum& weight) const override {
+        DirectionSample ds;
+        ds.p = position_;
+        ds.n = Vec3(0.0f);
+        Vec3 to = position_ - ref.p;
+        ds.dist = glm::length(to);
+        ds.d = to / ds.dist;
+        ds.pdf = 1.0f;
+        ds.delta = true;
+        ds.emitter = this;
+        Vec3 local = glm::normalize(world_to_local_.apply_vector(-ds.d));
+        float f = ds.dist > 0.0f ? falloff(local) : 0.0f;
+        weight = f > 0.0f ? intensity_ * (f * attenuation_(ds.dist)) : Spectrum(0.0f);
+        if (texture_ && f > 0.0f) {
+            float t = std::tan(cutoff_);
+            weight *= texture_->eval(Vec2(0.5f + 0.5f * local.x / (local.z * t), 0.5f + 0.5f * local.y / (local.z * t)));
+        }
+        return ds;
+    }
+    float pdf_direction(const SurfaceInteraction&, const DirectionSample&) const override { return 0.0f; }
+    Spectrum eval(const SurfaceInteraction&) const override { return Spectrum(0.0f); }
+    Spectrum power() const override { return power_; }
+    std::optional<LightBounds> bounds() const override {
+        LightBounds b;
+        b.box.expand(position_);
+        b.axis = axis_;
+        b.cos_theta_o = cos_cutoff_;
+        b.cos_theta_e = 1.0f;  // nothing beyond the cutoff
+        b.phi = luminance(power_);
+        return b;
+    }
+    std::string to_string() const override { return "spot"; }
+
+    const Vec3& position() const { return position_; }
+    const Vec3& axis() const { return axis_; }
+    const Spectrum& intensity() const { return intensity_; }
+    float cutoff() const { return cutoff_; }
+    float beam_width() const { return beam_; }
+    float exponent() const { return exponent_; }  // < 0: Mitsuba's linear falloff
+    const Attenuation& attenuation() const { return attenuation_; }
+
+private:
+    float falloff_angle(float theta) const {
+        if (theta >= cutoff_) return 0.0f;
+        if (exponent_ >= 0.0f) return std::pow(std::cos(theta), exponent_);
+        if (theta <= beam_) return 1.0f;
+        return (cutoff_ - theta) / (cutoff_ - beam_);  // linear in the angle, Mitsuba's ramp
+    }
+
+    Spectrum intensity_, power_;
+    Transform to_world_, world_to_local_;
+    float cutoff_, beam_, cos_cutoff_, cos_beam_, exponent_ = -1.0f;
+    Ref<Texture> texture_;
+    Attenuation attenuation_;
+    Vec3 position_, axis_;
+};
+
+CANDELA_REGISTER(SpotEmitter, ObjectKind::Emitter, "spot");
+
+}  // namespace candela
