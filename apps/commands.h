@@ -21,6 +21,7 @@ constexpr int ExitInterrupted = 130;
 void add_render_command(CLI::App& app, std::function<int()>& run);
 void add_compare_command(CLI::App& app, std::function<int()>& run);
 void add_estimate_command(CLI::App& app, std::function<int()>& run);
+void add_converge_command(CLI::App& app, std::function<int()>& run);
 
 // Shared by the commands: -D name=value pairs, and "x,y,z" triples (InputError when malformed).
 SceneParameters parse_defines(const std::vector<std::string>& defines);

@@ -1,6 +1,7 @@
 #include "core/image.h"
 
 #include "core/error.h"
+#include "core/file_output.h"
 
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
@@ -81,32 +82,12 @@ void check_output_path(const std::string& path) {
     }
 }
 
-namespace {
-// A temporary file name beside the target that keeps its extension (format detection).
-std::string temporary_for(const std::string& path) {
-    fs::path p(path);
-    std::string name = "." + p.stem().string() + ".tmp" + std::to_string(::getpid()) + p.extension().string();
-    return (p.has_parent_path() ? p.parent_path() / name : fs::path(name)).string();
-}
-
-void commit_temporary(const std::string& tmp, const std::string& path) {
-    std::error_code ec;
-    fs::rename(tmp, path, ec);
-    if (ec) {
-        fs::remove(tmp, ec);
-        throw InputError(path + ": cannot write: " + ec.message());
-    }
-}
-}  // namespace
-
 void write_exr(const Image& image, const std::string& path, bool float32) {
-    check_output_path(path);
-    std::string tmp = temporary_for(path);
     // Sanitise: never write NaN or infinity; half floats saturate at their largest value.
     std::vector<float> data = image.data();
     const float limit = float32 ? std::numeric_limits<float>::max() : 65504.0f;
     for (float& v : data) v = std::isnan(v) ? 0.0f : std::clamp(v, -limit, limit);
-    try {
+    write_atomically(path, [&](const std::string& tmp) {
         Imf::Header header(image.width(), image.height());
         header.compression() = Imf::ZIP_COMPRESSION;
         // Metadata read from another file may repeat standard attributes (compression, ...):
@@ -117,23 +98,16 @@ void write_exr(const Image& image, const std::string& path, bool float32) {
         size_t nch = size_t(image.channel_count());
         for (size_t c = 0; c < nch; ++c) {
             header.channels().insert(image.channels()[c], Imf::Channel(float32 ? Imf::FLOAT : Imf::HALF));
-            fb.insert(image.channels()[c], Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(data.data() + c),
-                                                      sizeof(float) * nch, sizeof(float) * nch * size_t(image.width())));
+            fb.insert(image.channels()[c], Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(data.data() + c), sizeof(float) * nch,
+                                                      sizeof(float) * nch * size_t(image.width())));
         }
         Imf::OutputFile file(tmp.c_str(), header);
         file.setFrameBuffer(fb);
         file.writePixels(image.height());
-    } catch (const std::exception& e) {
-        std::error_code ec;
-        fs::remove(tmp, ec);
-        throw InputError(path + ": cannot write EXR: " + e.what());
-    }
-    commit_temporary(tmp, path);
+    });
 }
 
 void write_png_display(const Image& image, const std::string& path) {
-    check_output_path(path);
-    std::string tmp = temporary_for(path);
     int nch = std::min(image.channel_count(), 4);
     std::vector<unsigned char> bytes(size_t(image.width()) * image.height() * nch);
     for (int y = 0; y < image.height(); ++y)
@@ -143,14 +117,12 @@ void write_png_display(const Image& image, const std::string& path) {
                 v = std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : 0.0f;
                 bytes[(size_t(y) * image.width() + x) * nch + c] = static_cast<unsigned char>(std::lround(v * 255.0f));
             }
-    auto out = OIIO::ImageOutput::create(tmp);
-    OIIO::ImageSpec spec(image.width(), image.height(), nch, OIIO::TypeDesc::UINT8);
-    if (!out || !out->open(tmp, spec) || !out->write_image(OIIO::TypeDesc::UINT8, bytes.data()) || !out->close()) {
-        std::error_code ec;
-        fs::remove(tmp, ec);
-        throw InputError(path + ": cannot write PNG: " + OIIO::geterror());
-    }
-    commit_temporary(tmp, path);
+    write_atomically(path, [&](const std::string& tmp) {
+        auto out = OIIO::ImageOutput::create(tmp);
+        OIIO::ImageSpec spec(image.width(), image.height(), nch, OIIO::TypeDesc::UINT8);
+        if (!out || !out->open(tmp, spec) || !out->write_image(OIIO::TypeDesc::UINT8, bytes.data()) || !out->close())
+            throw InputError("cannot write PNG: " + OIIO::geterror());
+    });
 }
 
 Image tonemap_srgb(const Image& image, float exposure) {

@@ -7,6 +7,7 @@
 #include "core/integrator.h"
 #include "core/sensor.h"
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -35,6 +36,9 @@ public:
     const Accel& accel() const { return accel_; }
 
     std::string source_file;  // the scene file it was loaded from
+    // The scene file's parameters after <default>s and -D overrides, substituted ($name) as
+    // everywhere else; analytic scenes state their exact answer as the parameter "expected".
+    std::map<std::string, std::string> parameters;
 
 private:
     std::vector<Ref<Shape>> shapes_;

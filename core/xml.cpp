@@ -45,6 +45,7 @@ public:
         read_scene_element(doc, root, scene_props, 0);
         auto scene = std::make_shared<Scene>(scene_props);
         scene_props.check_all_used();
+        scene->parameters = params_;
         return scene;
     }
 

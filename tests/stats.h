@@ -1,40 +1,16 @@
 #pragma once
-// Statistics for honest tests: chi-square goodness of fit with p-values, Sidak-corrected
-// significance levels and normal quantiles. Thresholds come from the estimator's own variance
-// and a stated significance, never from tuned constants.
+// Test-only statistics: a histogram of sampled directions on the sphere with expected counts
+// integrated from a pdf. The general tools (chi-square, Sidak, quantiles, mean and standard
+// error) are in core/statistics.h.
 
-#include "core/math.h"
+#include "core/statistics.h"
 
 #include <functional>
-#include <string>
 #include <vector>
 
 namespace candela::test {
 
-// Regularised upper incomplete gamma function Q(a, x) (series for x < a + 1, else Lentz's
-// continued fraction; Press et al., Numerical Recipes, section 6.2).
-double gamma_q(double a, double x);
-// P(X >= chi2) for a chi-square variable with `dof` degrees of freedom.
-double chi2_survival(double chi2, int dof);
-// The per-test significance that keeps the family-wise error rate at `alpha` over `tests`
-// independent tests (Sidak): 1 - (1 - alpha)^(1 / tests).
-double sidak(double alpha, int tests);
-// Standard normal quantile (inverse CDF), Acklam's rational approximation refined by one
-// Newton step on erfc.
-double normal_quantile(double p);
-// |z| above which a two-sided test at per-test level `alpha_per_test` rejects.
-inline double two_sided_z(double alpha_per_test) { return normal_quantile(1.0 - alpha_per_test / 2.0); }
-
-struct ChiSquareResult {
-    double chi2 = 0.0;
-    int dof = 0;
-    double p_value = 1.0;
-    int pooled_cells = 0;
-    std::string details;
-};
-// Pearson's test of observed counts against expected counts; cells with expected count below
-// `min_expected` are pooled into one (as the protocol asks).
-ChiSquareResult chi_square(const std::vector<double>& observed, const std::vector<double>& expected, double min_expected = 5.0);
+using namespace candela;
 
 // Histogram of sampled unit vectors over (cos theta, phi) cells, and the expected counts obtained
 // by integrating a solid-angle pdf over each cell (nested adaptive Simpson quadrature).
@@ -45,11 +21,5 @@ struct SphericalHistogram {
     void add(const Vec3& w);
     std::vector<double> expected(const std::function<double(const Vec3&)>& pdf, double samples) const;
 };
-
-// Mean and standard error of the mean of a list of values.
-struct MeanAndError {
-    double mean = 0.0, std_error = 0.0;
-};
-MeanAndError mean_and_error(const std::vector<double>& values);
 
 }  // namespace candela::test
