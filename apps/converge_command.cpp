@@ -5,9 +5,11 @@
 // error against the exact value (from --expect, or the scene's own `expected` parameter) or a
 // reference image: RMSE with its standard error, relMSE, and the bias (mean error) with a
 // confidence interval. It fits the log-log slope of RMSE against spp (-1/2 for an unbiased Monte
-// Carlo estimator) and exits with 1 when the bias is significant at any count (Sidak-corrected
+// Carlo estimator; a fit weighted by each count's own uncertainty) and exits with 1 when the
+// bias is significant at any count (Sidak-corrected
 // two-sided z-test at --alpha, beyond a float32 allowance of 1e-5 relative) or the slope lies
-// outside the accepted range.
+// outside the accepted range by more than z times its standard error. Estimators without variance (errors at float32 rounding level,
+// below 1e-4 relative, at every count) are exempt from the slope test.
 
 #include "apps/commands.h"
 
@@ -163,35 +165,46 @@ void add_converge_command(CLI::App& app, std::function<int()>& run) {
                 }
             }
             // Least-squares slope of log RMSE against log spp (with the reference's noise taken out).
+            // Below 1e-4 relative the error is float32 rounding (accumulating thousands of samples),
+            // not Monte Carlo noise, and has no reason to fall as N^-1/2.
+            const double rounding_floor = 1e-4 * scale;
             bool exact_everywhere = true;
-            std::vector<double> lx, ly;
+            // Weighted least squares of ln RMSE against ln spp: each point weighted by the inverse
+            // variance of its ln RMSE, (RMSE / SE)^2 by the delta method (the reference's own
+            // noise, when known, taken out of the MSE first).
+            std::vector<double> lx, ly, w;
             for (const auto& c : results) {
-                if (c.rmse > float_allowance) exact_everywhere = false;
+                if (c.rmse > rounding_floor) exact_everywhere = false;
                 double mse = c.rmse * c.rmse - ref_noise;
-                if (mse > 0) {
-                    lx.push_back(std::log10(double(c.spp)));
-                    ly.push_back(0.5 * std::log10(mse));
-                }
+                if (mse <= 0.0 || c.rmse_se <= 0.0) continue;
+                double mse_se = 2.0 * c.rmse * c.rmse_se;
+                lx.push_back(std::log(double(c.spp)));
+                ly.push_back(0.5 * std::log(mse));
+                double sigma = 0.5 * mse_se / mse;
+                w.push_back(1.0 / (sigma * sigma));
             }
             std::printf("\n");
             if (exact_everywhere) {
-                std::printf("slope            not applicable: the estimator is exact (no variance) at every sample count\n");
+                std::printf("slope            not applicable: the error is at float32 rounding level (below %.3g) at every sample count; "
+                            "the estimator has no Monte Carlo variance here\n", rounding_floor);
             } else if (lx.size() < 2) {
                 failures.push_back("too few sample counts with a measurable error to fit a slope");
             } else {
-                double mx = 0, my = 0;
-                for (size_t i = 0; i < lx.size(); ++i) mx += lx[i], my += ly[i];
-                mx /= lx.size();
-                my /= ly.size();
+                double sw = 0, mx = 0, my = 0;
+                for (size_t i = 0; i < lx.size(); ++i) sw += w[i], mx += w[i] * lx[i], my += w[i] * ly[i];
+                mx /= sw;
+                my /= sw;
                 double sxx = 0, sxy = 0;
-                for (size_t i = 0; i < lx.size(); ++i) sxx += (lx[i] - mx) * (lx[i] - mx), sxy += (lx[i] - mx) * (ly[i] - my);
-                double slope = sxy / sxx, res = 0;
-                for (size_t i = 0; i < lx.size(); ++i) res += std::pow(ly[i] - (my + slope * (lx[i] - mx)), 2);
-                double slope_se = lx.size() > 2 ? std::sqrt(res / double(lx.size() - 2) / sxx) : 0.0;
-                std::printf("slope            %.4f +- %.4f (log RMSE vs log spp; expected -0.5, accepted [%g, %g])\n", slope, slope_se, slope_lo, slope_hi);
-                if (slope < slope_lo || slope > slope_hi) {
+                for (size_t i = 0; i < lx.size(); ++i) sxx += w[i] * (lx[i] - mx) * (lx[i] - mx), sxy += w[i] * (lx[i] - mx) * (ly[i] - my);
+                double slope = sxy / sxx, slope_se = std::sqrt(1.0 / sxx);
+                // The slope must be shown to lie outside the accepted range before it fails: by
+                // more than the z-threshold times its standard error.
+                double z_slope = two_sided_z(a->alpha);
+                std::printf("slope            %.4f +- %.4f (weighted fit of log RMSE vs log spp; expected -0.5, accepted [%g, %g] within %.2f standard errors)\n",
+                            slope, slope_se, slope_lo, slope_hi, z_slope);
+                if (slope < slope_lo - z_slope * slope_se || slope > slope_hi + z_slope * slope_se) {
                     char buf[256];
-                    std::snprintf(buf, sizeof buf, "slope %.4f lies outside [%g, %g]", slope, slope_lo, slope_hi);
+                    std::snprintf(buf, sizeof buf, "slope %.4f +- %.4f lies outside [%g, %g]", slope, slope_se, slope_lo, slope_hi);
                     failures.push_back(buf);
                 }
             }

@@ -10,8 +10,10 @@
 #include <OpenEXR/ImfStringAttribute.h>
 #include <OpenImageIO/imageio.h>
 
+#include <atomic>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <unistd.h>
 
 namespace fs = std::filesystem;
@@ -123,6 +125,17 @@ void write_png_display(const Image& image, const std::string& path) {
         if (!out || !out->open(tmp, spec) || !out->write_image(OIIO::TypeDesc::UINT8, bytes.data()) || !out->close())
             throw InputError("cannot write PNG: " + OIIO::geterror());
     });
+}
+
+std::string encode_png(const Image& display) {
+    static std::atomic<int> counter{0};
+    fs::path tmp = fs::temp_directory_path() / ("candela-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + ".png");
+    write_png_display(display, tmp.string());
+    std::ifstream in(tmp, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    return bytes;
 }
 
 Image tonemap_srgb(const Image& image, float exposure) {

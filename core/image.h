@@ -57,6 +57,8 @@ void check_output_path(const std::string& path);
 void write_exr(const Image& image, const std::string& path, bool float32);
 // Linear RGB (times 2^exposure) clamped to [0, 1] and encoded with the sRGB curve, for display.
 Image tonemap_srgb(const Image& linear, float exposure = 0.0f);
+// The bytes of an 8-bit PNG of a display-referred image (for embedding in HTML reports).
+std::string encode_png(const Image& display);
 // Writes an 8-bit PNG of an image whose values are already display-referred in [0, 1].
 void write_png_display(const Image& image, const std::string& path);
 

@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 #include "core/image_draw.h"
+#include "core/statistics.h"
 
 #include <cstdio>
 
@@ -82,6 +83,43 @@ bool images_agree(const ImageComparison& c, const AgreementThresholds& t, std::s
         return false;
     }
     return true;
+}
+
+PixelZTest pixel_z_test(const Image& test, const Image& ref, int test_spp, int reference_spp, double alpha, Image* z_map) {
+    int v0 = test.channel_index("variance.R");
+    if (v0 < 0) throw InputError("the z-test needs the render's variance layers (--aov variance)");
+    PixelZTest r;
+    long long n = 3LL * test.width() * test.height();
+    r.threshold = two_sided_z(sidak(alpha, int(std::min<long long>(n, INT32_MAX))));
+    double ratio = double(test_spp) / double(std::max(reference_spp, 1));
+    long long beyond3 = 0;
+    Image map = Image::rgb(test.width(), test.height());
+    for (int y = 0; y < test.height(); ++y)
+        for (int x = 0; x < test.width(); ++x) {
+            double worst = 0.0;
+            for (int c = 0; c < 3; ++c) {
+                double t = test.at(x, y, c), rv = ref.at(x, y, c), var = test.at(x, y, v0 + c);
+                double rounding = 1e-4 * std::max(std::abs(t), std::abs(rv));
+                double sd = std::sqrt(var * (1.0 + ratio) + rounding * rounding);
+                double z = sd > 0.0 ? std::abs(t - rv) / sd : 0.0;
+                ++r.tested;
+                worst = std::max(worst, z);
+                if (z > 3.0) ++beyond3;
+                if (z > r.threshold) ++r.rejected;
+            }
+            r.max_abs_z = std::max(r.max_abs_z, worst);
+            // Colour: grey where consistent, yellow to red as |z| grows, white when rejected.
+            Spectrum c = worst > r.threshold ? Spectrum(1.0f) : draw::colormap_sequential(float(worst / r.threshold));
+            map.set_rgb(x, y, c);
+        }
+    r.fraction_beyond_3 = r.tested ? double(beyond3) / double(r.tested) : 0.0;
+    if (z_map) {
+        char hi[32], mid[32];
+        std::snprintf(hi, sizeof hi, "%.1f", r.threshold);
+        std::snprintf(mid, sizeof mid, "%.1f", 0.5 * r.threshold);
+        *z_map = draw::with_legend(map, draw::colormap_sequential, false, {hi, mid, "0"}, "ABS Z (WHITE: REJECTED)");
+    }
+    return r;
 }
 
 Image relative_difference_heatmap(const Image& test, const Image& ref, float range) {

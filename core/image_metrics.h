@@ -30,6 +30,25 @@ struct AgreementThresholds {
 // True when both criteria hold; `reason` explains the first failure.
 bool images_agree(const ImageComparison& c, const AgreementThresholds& t, std::string* reason = nullptr);
 
+// A per-pixel z-test of a render against a reference: z = (t - r) / sd per channel with
+// sd^2 = var_t + var_r + (1e-4 max(|t|, |r|))^2: var_t from the render's "variance" layers (the
+// variance of the pixel mean), var_r estimated as var_t * test_spp / reference_spp (both estimate
+// the same pixel), and a floor for float32 accumulation over thousands of samples (about 1e-4
+// relative), without which zero-variance pixels (a constant sky) could never agree. Rejections
+// are counted at a Sidak-corrected significance over all pixels and channels.
+//
+// Caveat: Monte Carlo pixel estimates are heavy-tailed (rare bright paths), and a sample variance
+// cannot see paths its samples missed; the test therefore rejects more often than its nominal
+// level even between two correct renderers. Treat it as a map of where to look.
+struct PixelZTest {
+    double threshold = 0.0;   // |z| beyond which a pixel is rejected
+    long long tested = 0, rejected = 0;
+    double max_abs_z = 0.0;
+    double fraction_beyond_3 = 0.0;  // share of |z| > 3 (0.27% for Gaussian noise)
+};
+PixelZTest pixel_z_test(const Image& test, const Image& reference, int test_spp, int reference_spp, double alpha = 0.01,
+                        Image* z_map = nullptr);
+
 // Per-pixel relative luminance difference (t - r) / (r + eps) as a colour image with a legend
 // bar; values beyond +-range saturate.
 Image relative_difference_heatmap(const Image& test, const Image& reference, float range = 0.1f);

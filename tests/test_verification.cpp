@@ -1,0 +1,106 @@
+// Verification as a user feature: the furnace suite through `candela converge` (every analytic
+// scene within its error bars, log-log slopes in [-0.55, -0.45]), the validation set through
+// `candela validate`, and proof that both can fail, for the right reason.
+
+#include "core/image.h"
+#include "tests/util.h"
+
+#include <catch2/catch.hpp>
+
+using namespace candela;
+using namespace candela::test;
+
+namespace {
+
+int converge(const std::string& scene, const std::string& extra, const std::filesystem::path& log, const std::string& spp = "4,16,64,256") {
+    return run_command("'" + candela_binary() + "' converge '" + source_path("scenes/furnace/" + scene) + "' --spp " + spp + " " + extra, log);
+}
+
+}  // namespace
+
+TEST_CASE("converge: every analytic furnace scene converges to its stated answer", "[verification][furnace]") {
+    auto dir = scratch_dir("converge");
+    struct Case {
+        const char* scene;
+        std::string extra;
+        std::string spp = "4,16,64,256";
+    };
+    const Case cases[] = {
+        {"closed_sphere.xml", "-D rho=0.5"},
+        {"closed_sphere.xml", "-D rho=0.8"},
+        {"closed_sphere.xml", "-D rho=0.95", "16,64,256,1024"},  // deep paths, Russian roulette
+        {"closed_sphere_truncated.xml", "-D max_depth=2"},
+        {"closed_sphere_truncated.xml", "-D max_depth=3"},
+        {"closed_sphere_truncated.xml", "-D max_depth=5"},
+        {"white_diffuse.xml", ""},
+        {"white_dielectric.xml", ""},
+        {"white_conductor.xml", ""},
+        {"convex_diffuse.xml", ""},
+        {"sky_irradiance.xml", ""},
+        {"point_irradiance.xml", ""},
+    };
+    for (const Case& c : cases) {
+        int code = converge(c.scene, c.extra, dir / "log.txt", c.spp);
+        std::string log = read_text(dir / "log.txt");
+        INFO(c.scene << " " << c.extra << "\n" << log);
+        CHECK(code == 0);
+        CHECK_THAT(log, Catch::Contains("result           PASS"));
+    }
+}
+
+TEST_CASE("converge: a wrong expected value fails as a significant bias", "[verification]") {
+    auto dir = scratch_dir("converge-wrong");
+    // 2% off: closed sphere rho 0.5 is 2, claim 2.04.
+    int code = converge("closed_sphere.xml", "--expect 2.04 --plot '" + (dir / "plot.svg").string() + "'", dir / "log.txt");
+    std::string log = read_text(dir / "log.txt");
+    INFO(log);
+    CHECK(code == 1);
+    CHECK_THAT(log, Catch::Contains("FAIL: bias") && Catch::Contains("is significant"));
+    CHECK_THAT(read_text(dir / "plot.svg"), Catch::StartsWith("<svg") && Catch::Contains("ideal N^-1/2"));
+    // A biased answer also bends the log-log slope away from -1/2.
+    CHECK_THAT(log, Catch::Contains("FAIL: slope"));
+    // Bad input: an expression that is not one.
+    CHECK(converge("closed_sphere.xml", "", dir / "bad.txt", "4") == 2);
+    CHECK_THAT(read_text(dir / "bad.txt"), Catch::Contains("at least two"));
+}
+
+TEST_CASE("validate: the validation scenes agree with Mitsuba 3 and the report shows every image", "[verification][validation]") {
+    auto dir = scratch_dir("validate");
+    auto report = dir / "report.html";
+    int code = run_command("'" + candela_binary() + "' validate '" + source_path("scenes/validation") + "' --spp 256 -o '" + report.string() + "'", dir / "log.txt");
+    std::string log = read_text(dir / "log.txt");
+    INFO(log);
+    CHECK(code == 0);
+    CHECK_THAT(log, Catch::Contains("8 of 8 scenes pass"));
+    std::string html = read_text(report);
+    CHECK_THAT(html, Catch::StartsWith("<!DOCTYPE html>"));
+    // Four embedded images per scene (render, reference, difference, z map), none linked.
+    size_t images = 0;
+    for (size_t pos = 0; (pos = html.find("src=\"data:image/png;base64,", pos)) != std::string::npos; ++pos) ++images;
+    CHECK(images == 4 * 8);
+    CHECK(html.find("src=\"http") == std::string::npos);
+}
+
+TEST_CASE("validate: a reference scaled by 1.02 or mirrored left-right is a failure with its reason", "[verification]") {
+    auto dir = scratch_dir("validate-broken");
+    std::filesystem::create_directories(dir / "refs");
+    std::filesystem::copy_file(source_path("scenes/validation/cbox.xml"), dir / "cbox.xml");
+    std::filesystem::copy_file(source_path("scenes/validation/cbox.xml"), dir / "cbox_mirrored.xml");
+    Image ref = read_image(source_path("scenes/validation/refs/cbox.exr"));
+    Image scaled = ref, mirrored = ref;
+    for (float& v : scaled.data()) v *= 1.02f;
+    for (int y = 0; y < ref.height(); ++y)
+        for (int x = 0; x < ref.width(); ++x) mirrored.set_rgb(x, y, ref.rgb_at(ref.width() - 1 - x, y));
+    write_exr(scaled, (dir / "refs" / "cbox.exr").string(), true);
+    write_exr(mirrored, (dir / "refs" / "cbox_mirrored.exr").string(), true);
+    int code = run_command("'" + candela_binary() + "' validate '" + dir.string() + "' --spp 64 -o '" + (dir / "report.html").string() + "'", dir / "log.txt");
+    std::string log = read_text(dir / "log.txt");
+    INFO(log);
+    CHECK(code == 1);
+    CHECK_THAT(log, Catch::Contains("0 of 2 scenes pass"));
+    // Scaled: every channel mean is 2% off. Mirrored: the means are unchanged (a mirror keeps
+    // every pixel), but the red and green walls swap, which the block metric sees.
+    CHECK_THAT(log, Catch::Matches("(.|\n)*cbox +FAIL.*channel R mean differs by -1\\.9.%(.|\n)*"));
+    CHECK_THAT(log, Catch::Matches("(.|\n)*cbox_mirrored +FAIL.*block luminance differs(.|\n)*"));
+    CHECK_THAT(read_text(dir / "report.html"), Catch::Contains("class=\"fail\">FAIL"));
+}
