@@ -7,11 +7,14 @@
 #include "core/progress.h"
 #include "core/render_output.h"
 #include "core/xml.h"
+#include "integrators/path.h"
+#include "integrators/raster/raster.h"
 
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <map>
 
 namespace candela::app {
 
@@ -25,12 +28,38 @@ void on_sigint(int) {
 }
 
 struct RenderArgs {
-    std::string scene, output;
+    std::string scene, output, mode;
+    // Raster-mode options by name (as RasterSettings::set takes them); empty = not given.
+    std::map<std::string, std::string> raster;
+    bool wireframe = false, gizmos = false, affine = false, culling = false;
     int spp = 0, threads = 0;
     int64_t seed = -1;
     std::vector<std::string> defines, aovs;
     bool png = false, quiet = false;
 };
+
+// --mode and the raster options replace or adjust the scene's integrator.
+void apply_mode(Scene& scene, const RenderArgs& a) {
+    std::map<std::string, std::string> given;
+    for (const auto& [k, v] : a.raster)
+        if (!v.empty()) given[k] = v;
+    if (a.wireframe) given["wireframe"] = "true";
+    if (a.gizmos) given["light_gizmos"] = "true";
+    if (a.affine) given["affine"] = "true";
+    if (a.culling) given["backface_culling"] = "true";
+    auto* existing = dynamic_cast<RasterIntegrator*>(&scene.integrator());
+    bool raster = a.mode == "raster" || (a.mode.empty() && existing);
+    if (!raster) {
+        if (!given.empty()) throw InputError("raster options (--shading, --aa, ...) need --mode raster");
+        if (a.mode == "path" && scene.integrator().to_string() != "path") scene.set_integrator(std::make_shared<PathIntegrator>(PathSettings{}));
+        return;
+    }
+    RasterSettings settings = existing ? existing->settings() : RasterSettings{};
+    std::string error;
+    for (const auto& [k, v] : given)
+        if (!settings.set(k, v, error)) throw InputError(error);
+    scene.set_integrator(std::make_shared<RasterIntegrator>(settings));
+}
 
 }  // namespace
 
@@ -68,6 +97,17 @@ void add_render_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_flag("--png", args->png, "Also write a tonemapped sRGB PNG beside the EXR");
     cmd->add_flag("--quiet,-q", args->quiet, "No progress bar and no summary line");
     cmd->add_option("--aov", args->aovs, "Extra EXR layers: albedo, normal, depth, variance")->delimiter(',');
+    cmd->add_option("--mode", args->mode, "path (Monte Carlo global illumination) or raster (local illumination); default: the scene's integrator")
+        ->check(CLI::IsMember({"path", "raster"}));
+    for (const char* name : {"shading", "reflection", "shadows", "aa", "aa-filter", "texture-filter", "environment-mapping"}) {
+        std::string option = std::string("--") + name, key = name;
+        std::replace(key.begin(), key.end(), '-', '_');
+        cmd->add_option(option, args->raster[key], "Raster mode: " + key + " (see integrators/raster/raster.cpp)");
+    }
+    cmd->add_flag("--wireframe", args->wireframe, "Raster mode: draw visible triangle edges");
+    cmd->add_flag("--light-gizmos", args->gizmos, "Raster mode: draw the lights");
+    cmd->add_flag("--affine", args->affine, "Raster mode: affine (not perspective-correct) interpolation");
+    cmd->add_flag("--backface-culling", args->culling, "Raster mode: cull back faces");
     cmd->callback([args, &run] {
         run = [args] {
             SceneParameters params = parse_defines(args->defines);
@@ -80,6 +120,7 @@ void add_render_command(CLI::App& app, std::function<int()>& run) {
             g_interrupted = false;
             auto previous = std::signal(SIGINT, on_sigint);
             Ref<Scene> scene = load_scene(args->scene, params);
+            apply_mode(*scene, *args);
             RenderOptions options;
             options.spp = args->spp;
             if (args->seed >= 0) options.seed = uint64_t(args->seed);

@@ -8,6 +8,7 @@
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfOutputFile.h>
 #include <OpenEXR/ImfStringAttribute.h>
+#include <Imath/half.h>
 #include <OpenImageIO/imageio.h>
 
 #include <atomic>
@@ -98,10 +99,14 @@ void write_exr(const Image& image, const std::string& path, bool float32) {
             if (header.find(key) == header.end()) header.insert(key, Imf::StringAttribute(value));
         Imf::FrameBuffer fb;
         size_t nch = size_t(image.channel_count());
+        // The writer does not convert between pixel types: half output needs half slices.
+        std::vector<Imath::half> halves;
+        if (!float32) halves.assign(data.begin(), data.end());
         for (size_t c = 0; c < nch; ++c) {
             header.channels().insert(image.channels()[c], Imf::Channel(float32 ? Imf::FLOAT : Imf::HALF));
-            fb.insert(image.channels()[c], Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(data.data() + c), sizeof(float) * nch,
-                                                      sizeof(float) * nch * size_t(image.width())));
+            char* base = float32 ? reinterpret_cast<char*>(data.data() + c) : reinterpret_cast<char*>(halves.data() + c);
+            size_t size = float32 ? sizeof(float) : sizeof(Imath::half);
+            fb.insert(image.channels()[c], Imf::Slice(float32 ? Imf::FLOAT : Imf::HALF, base, size * nch, size * nch * size_t(image.width())));
         }
         Imf::OutputFile file(tmp.c_str(), header);
         file.setFrameBuffer(fb);

@@ -2,6 +2,9 @@
 
 #include "core/warp.h"
 
+#include <map>
+#include <tuple>
+
 namespace candela {
 
 void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
@@ -79,6 +82,20 @@ void Mesh::recompute_vertex_normals() {
     }
 }
 
+void triangle_tangents(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec2& uv0, const Vec2& uv1, const Vec2& uv2, const Vec3& n,
+                       Vec3& dpdu, Vec3& dpdv) {
+    Vec2 duv1 = uv1 - uv0, duv2 = uv2 - uv0;
+    Vec3 dp1 = p1 - p0, dp2 = p2 - p0;
+    float det = duv1.x * duv2.y - duv1.y * duv2.x;
+    if (std::abs(det) > 1e-12f) {
+        float inv = 1.0f / det;
+        dpdu = (duv2.y * dp1 - duv1.y * dp2) * inv;
+        dpdv = (-duv2.x * dp1 + duv1.x * dp2) * inv;
+    } else {
+        coordinate_system(n, dpdu, dpdv);
+    }
+}
+
 RTCGeometry Mesh::create_embree_geometry(RTCDevice device) const {
     RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
     // Embree reads vertices with 16-byte loads: the buffer gets one float of padding at the end.
@@ -112,16 +129,7 @@ void Mesh::fill_interaction(const Ray& ray, const RayHit& hit, SurfaceInteractio
     if (!uvs_.empty()) {
         const Vec2 &uv0 = uvs_[t.x], &uv1 = uvs_[t.y], &uv2 = uvs_[t.z];
         si.uv = b0 * uv0 + b1 * uv1 + b2 * uv2;
-        Vec2 duv1 = uv1 - uv0, duv2 = uv2 - uv0;
-        Vec3 dp1 = p1 - p0, dp2 = p2 - p0;
-        float det = duv1.x * duv2.y - duv1.y * duv2.x;
-        if (std::abs(det) > 1e-12f) {
-            float inv = 1.0f / det;
-            dpdu = (duv2.y * dp1 - duv1.y * dp2) * inv;
-            dpdv = (-duv2.x * dp1 + duv1.x * dp2) * inv;
-        } else {
-            coordinate_system(n, dpdu, dpdv);
-        }
+        triangle_tangents(p0, p1, p2, uv0, uv1, uv2, n, dpdu, dpdv);
     } else {
         si.uv = Vec2(b1, b2);
         coordinate_system(n, dpdu, dpdv);
@@ -140,6 +148,52 @@ void Mesh::fill_interaction(const Ray& ray, const RayHit& hit, SurfaceInteractio
     si.dpdu = dpdu;
     si.dpdv = dpdv;
     si.shading = Frame::from_normal_tangent(ns, dpdu);
+}
+
+void Mesh::tessellate(TriangleSoup& out, int) const {
+    unsigned base = unsigned(out.positions.size());
+    for (size_t i = 0; i < positions_.size(); ++i) {
+        out.positions.push_back(positions_[i]);
+        out.uvs.push_back(uvs_.empty() ? Vec2(0.0f) : uvs_[i]);
+    }
+    // Vertex normals: the file's (or smoothed) ones, else each vertex takes the normal of the
+    // faces around it only if they agree; flat meshes (rectangle, cube faces) keep face normals
+    // because their vertices are not shared between faces.
+    std::vector<Vec3> normals = normals_;
+    if (normals.empty()) {
+        normals.assign(positions_.size(), Vec3(0.0f));
+        for (const auto& t : triangles_) {
+            Vec3 n = glm::cross(positions_[t.y] - positions_[t.x], positions_[t.z] - positions_[t.x]);
+            normals[t.x] += n;
+            normals[t.y] += n;
+            normals[t.z] += n;
+        }
+        for (auto& n : normals) n = squared_length(n) > 0.0f ? glm::normalize(n) : Vec3(0, 0, 1);
+    }
+    for (const Vec3& n : normals) out.normals.push_back(flip_normals_ ? -n : n);
+    for (const auto& t : triangles_) out.triangles.push_back(flip_normals_ ? glm::uvec3(base + t.x, base + t.z, base + t.y) : t + glm::uvec3(base));
+    // Closed when, with coincident vertices welded, every edge has exactly one opposite twin.
+    std::map<std::tuple<float, float, float>, unsigned> weld;
+    auto id = [&](unsigned v) {
+        const Vec3& p = positions_[v];
+        return weld.emplace(std::make_tuple(p.x, p.y, p.z), unsigned(weld.size())).first->second;
+    };
+    std::map<std::pair<unsigned, unsigned>, int> edges;
+    for (const auto& t : triangles_) {
+        unsigned a = id(t.x), b = id(t.y), c = id(t.z);
+        ++edges[{a, b}];
+        ++edges[{b, c}];
+        ++edges[{c, a}];
+    }
+    bool closed = !edges.empty();
+    for (const auto& [e, n] : edges) {
+        auto twin = edges.find({e.second, e.first});
+        if (n != 1 || twin == edges.end() || twin->second != 1) {
+            closed = false;
+            break;
+        }
+    }
+    out.closed = closed;
 }
 
 PositionSample Mesh::sample_position(const Vec2& u) const {

@@ -9,6 +9,11 @@
 
 namespace candela {
 
+// dp/du and dp/dv of a triangle from its uv parametrisation (any tangents around n when the uvs
+// are degenerate).
+void triangle_tangents(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec2& uv0, const Vec2& uv1, const Vec2& uv2, const Vec3& n,
+                       Vec3& dpdu, Vec3& dpdv);
+
 class Mesh : public Shape {
 public:
     explicit Mesh(const Properties& props) : Shape(props) {}
@@ -18,6 +23,8 @@ public:
     BoundingBox bbox() const override { return bbox_; }
     float surface_area() const override { return area_; }
     PositionSample sample_position(const Vec2& u) const override;
+    // Appends the mesh to `out` (expected empty: `closed` describes this mesh alone).
+    void tessellate(TriangleSoup& out, int detail) const override;
     void normal_cone(Vec3& axis, float& cos_theta) const override {
         axis = cone_axis_;
         cos_theta = cone_cos_;

@@ -8,6 +8,8 @@
 
 #include <embree3/rtcore.h>
 
+#include <vector>
+
 namespace candela {
 
 class BSDF;
@@ -28,6 +30,14 @@ struct DirectionSample : PositionSample {
     Vec3 d{0.0f, 0.0f, 1.0f};
     float dist = 0.0f;
     const Emitter* emitter = nullptr;
+};
+
+// Triangles in world space with per-vertex normals and uvs (for the rasterizer).
+struct TriangleSoup {
+    std::vector<Vec3> positions, normals;  // normals: shading normals, front side
+    std::vector<Vec2> uvs;
+    std::vector<glm::uvec3> triangles;
+    bool closed = false;  // every edge shared by exactly two triangles (a watertight surface)
 };
 
 // What Embree reports for a closest hit; shapes turn it into a SurfaceInteraction.
@@ -55,6 +65,10 @@ public:
     // converted; shapes that can do better (sphere: the visible cone) override both functions.
     virtual DirectionSample sample_direction(const SurfaceInteraction& ref, const Vec2& u) const;
     virtual float pdf_direction(const SurfaceInteraction& ref, const DirectionSample& ds) const;
+
+    // Appends this shape as triangles; analytic shapes are tessellated finely enough that their
+    // silhouettes stay within about a pixel at `detail` segments per full turn.
+    virtual void tessellate(TriangleSoup& out, int detail = 64) const = 0;
 
     // A cone containing every front-facing normal of the shape: axis and the cosine of its
     // half-angle (-1 when the normals point everywhere).

@@ -13,6 +13,11 @@ public:
     ObjectKind kind() const override { return ObjectKind::Texture; }
     // The colour at uv, unfiltered beyond the texture's own reconstruction (bilinear or nearest).
     virtual Spectrum eval(const Vec2& uv) const = 0;
+    // A lookup over the footprint given by the screen-space derivatives of uv (the rasterizer's
+    // texture filtering): nearest or bilinear reconstruction at full resolution, or trilinear
+    // filtering in the MIP pyramid. Textures without a pyramid ignore the footprint.
+    virtual Spectrum eval_filtered(const Vec2& uv, const Vec2& duv_dx, const Vec2& duv_dy, int filter) const { return eval(uv); }
+
     // A scalar view (roughness, heights): the luminance, as in Mitsuba 3.
     virtual float eval_1(const Vec2& uv) const { return luminance(eval(uv)); }
     // d eval_1 / d(u, v), for bump mapping. By default central differences; textures with an

@@ -48,6 +48,18 @@ public:
 
     // Flux of a one-sided Lambertian emitter: pi * area * mean radiance.
     Spectrum power() const override { return Pi * shape_->surface_area() * radiance_->mean(); }
+    // Local model: a point light at the shape's centre. A planar shape (rectangle, disk) sends
+    // L A cos(theta) along its normal (a Lambertian emitter's intensity); other shapes L A / 4 in
+    // every direction (a sphere's projected area is a quarter of its surface).
+    std::optional<LocalApproximation> local_approximation() const override {
+        LocalApproximation a;
+        a.position = shape_->bbox().center();
+        float cos_cone;
+        shape_->normal_cone(a.normal, cos_cone);
+        a.planar = cos_cone >= 1.0f - 1e-6f;
+        a.intensity = radiance_->mean() * shape_->surface_area() * (a.planar ? 1.0f : 0.25f);
+        return a;
+    }
     std::optional<LightBounds> bounds() const override {
         LightBounds b;
         b.box = shape_->bbox();

@@ -40,6 +40,13 @@ public:
 
     // Flux through the scene's bounding sphere: L * 4pi * (pi r^2).
     Spectrum power() const override { return radiance_ * (FourPi * Pi * scene_radius_ * scene_radius_); }
+    // Local model: uniform ambient radiance.
+    std::optional<LocalApproximation> local_approximation() const override {
+        LocalApproximation a;
+        a.ambient = true;
+        a.radiance = radiance_;
+        return a;
+    }
     std::string to_string() const override { return "constant"; }
 
 private:

@@ -91,6 +91,14 @@ public:
 
     // Flux through the scene's bounding disk: pi r^2 times the radiance integrated over the sphere.
     Spectrum power() const override { return integral_ * (Pi * scene_radius_ * scene_radius_); }
+    // Local model: ambient radiance equal to the map's average over the sphere (reflections and
+    // refractions still look the map up through eval_environment).
+    std::optional<LocalApproximation> local_approximation() const override {
+        LocalApproximation a;
+        a.ambient = true;
+        a.radiance = integral_ / FourPi;
+        return a;
+    }
     std::string to_string() const override { return "envmap"; }
 
 private:

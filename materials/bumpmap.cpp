@@ -23,6 +23,13 @@ public:
         height_ = std::static_pointer_cast<Texture>(textures[0]);
         scale_ = props.get_float("scale", 1.0f);
     }
+    // Local model: the nested BSDF's, with this height field for displacement mapping.
+    LocalShading local_shading() const override {
+        LocalShading s = PerturbedFrameBSDF::local_shading();
+        s.height = height_;
+        s.height_scale = scale_;
+        return s;
+    }
     std::string to_string() const override { return "bumpmap"; }
 
 protected:

@@ -36,6 +36,14 @@ public:
     Spectrum eval(const BSDFContext&, const SurfaceInteraction&, const Vec3&) const override { return Spectrum(0.0f); }
     float pdf(const BSDFContext&, const SurfaceInteraction&, const Vec3&) const override { return 0.0f; }
     Spectrum albedo(const SurfaceInteraction& si) const override { return reflectance(si, std::max(Frame::cos_theta(si.wi), 0.0f)); }
+    // Local model: a mirror reflecting the environment with weight F0, the conductor Fresnel
+    // reflectance at normal incidence (times specular_reflectance); no highlight (a perfect
+    // mirror reflects a point light only in one direction).
+    LocalShading local_shading() const override {
+        LocalShading s;
+        s.mirror = specular_->mean() * fresnel_conductor(1.0f, eta_->mean(), k_->mean());
+        return s;
+    }
     std::string to_string() const override { return "conductor"; }
 
 private:

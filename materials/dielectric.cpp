@@ -63,6 +63,17 @@ public:
         float F = fresnel_dielectric(Frame::cos_theta(si.wi), eta_).F;
         return reflectance_->eval(si.uv) * F + transmittance_->eval(si.uv) * (1.0f - F);
     }
+    // Local model: environment reflection with weight F0 = ((eta - 1) / (eta + 1))^2 and
+    // environment refraction (Snell, relative IOR eta) with weight 1 - F0.
+    LocalShading local_shading() const override {
+        LocalShading s;
+        float F0 = fresnel_dielectric(1.0f, eta_).F;
+        s.mirror = reflectance_->mean() * F0;
+        s.transmission = transmittance_->mean() * (1.0f - F0);
+        s.eta = eta_;
+        s.two_sided = true;
+        return s;
+    }
     std::string to_string() const override { return "dielectric"; }
 
 private:

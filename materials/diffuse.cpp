@@ -42,6 +42,12 @@ public:
     }
 
     Spectrum albedo(const SurfaceInteraction& si) const override { return reflectance_->eval(si.uv); }
+    // Local model: kd = reflectance; no highlight, no reflection.
+    LocalShading local_shading() const override {
+        LocalShading s;
+        s.diffuse = reflectance_;
+        return s;
+    }
     std::string to_string() const override { return "diffuse"; }
 
 private:

@@ -17,6 +17,9 @@ public:
     Spectrum eval(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override;
     float pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override;
     Spectrum albedo(const SurfaceInteraction& si) const override { return nested_->albedo(perturbed(si)); }
+    // Local model: the nested BSDF's, shaded in the perturbed frame (bump / normal mapping).
+    LocalShading local_shading() const override { return nested_->local_shading(); }
+    Frame shading_frame(const SurfaceInteraction& si) const override { return perturbed_frame(si); }
 
     // The interaction as the nested BSDF sees it: perturbed frame, wi expressed in it.
     SurfaceInteraction perturbed(const SurfaceInteraction& si) const;

@@ -19,6 +19,16 @@ public:
     float pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override;
     Spectrum albedo(const SurfaceInteraction& si) const override { return kd_->eval(si.uv) + ks_->eval(si.uv); }
 
+    // Local model: kd, ks and the exponent carry over directly (the rasterizer draws the lobe of
+    // its chosen reflection model, Phong or Blinn-Phong, with the same normalisation).
+    LocalShading local_shading() const override {
+        LocalShading s;
+        s.diffuse = kd_;
+        s.specular = ks_->mean();
+        s.shininess = exponent_;
+        return s;
+    }
+
     const Texture& kd() const { return *kd_; }
     const Texture& ks() const { return *ks_; }
     float exponent() const { return exponent_; }

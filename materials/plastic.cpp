@@ -77,6 +77,14 @@ public:
         float Fi = fresnel_dielectric(std::max(Frame::cos_theta(si.wi), 0.0f), eta_).F;
         return specular_->eval(si.uv) * Fi + diffuse_->eval(si.uv) * (1.0f - Fi);
     }
+    // Local model: kd = diffuse_reflectance (the base under the coating), and the coating as a
+    // mirror reflecting the environment with F0 = ((eta - 1) / (eta + 1))^2.
+    LocalShading local_shading() const override {
+        LocalShading s;
+        s.diffuse = diffuse_;
+        s.mirror = specular_->mean() * fresnel_dielectric(1.0f, eta_).F;
+        return s;
+    }
     std::string to_string() const override { return "plastic"; }
 
 private:

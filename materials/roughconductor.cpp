@@ -62,6 +62,20 @@ public:
     Spectrum albedo(const SurfaceInteraction& si) const override {
         return specular_->eval(si.uv) * fresnel_conductor(std::max(Frame::cos_theta(si.wi), 0.0f), eta_->eval(si.uv), k_->eval(si.uv));
     }
+    // Local model: highlight ks = F0 (conductor Fresnel at normal incidence) with shininess
+    // 2 / alpha^2 - 2 (the Phong exponent whose lobe matches a Beckmann distribution of
+    // roughness alpha, Walter et al. 2007), and the environment reflected with the same F0,
+    // blurred by alpha.
+    LocalShading local_shading() const override {
+        LocalShading s;
+        Spectrum F0 = specular_->mean() * fresnel_conductor(1.0f, eta_->mean(), k_->mean());
+        float alpha = 0.5f * (distribution_.alpha_u() + distribution_.alpha_v());
+        s.specular = F0;
+        s.shininess = std::max(2.0f / (alpha * alpha) - 2.0f, 1.0f);
+        s.mirror = F0;
+        s.roughness = alpha;
+        return s;
+    }
     std::string to_string() const override { return "roughconductor"; }
 
 private:

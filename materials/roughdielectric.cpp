@@ -96,6 +96,21 @@ public:
         float F = fresnel_dielectric(Frame::cos_theta(si.wi), eta_).F;
         return reflectance_->eval(si.uv) * F + transmittance_->eval(si.uv) * (1.0f - F);
     }
+    // Local model: as `dielectric`, plus a highlight ks = F0 with shininess 2 / alpha^2 - 2, and
+    // both environment lookups blurred by alpha.
+    LocalShading local_shading() const override {
+        LocalShading s;
+        float F0 = fresnel_dielectric(1.0f, eta_).F;
+        float alpha = 0.5f * (distribution_.alpha_u() + distribution_.alpha_v());
+        s.specular = reflectance_->mean() * F0;
+        s.shininess = std::max(2.0f / (alpha * alpha) - 2.0f, 1.0f);
+        s.mirror = reflectance_->mean() * F0;
+        s.transmission = transmittance_->mean() * (1.0f - F0);
+        s.eta = eta_;
+        s.roughness = alpha;
+        s.two_sided = true;
+        return s;
+    }
     std::string to_string() const override { return "roughdielectric"; }
 
 private:

@@ -99,6 +99,19 @@ public:
         float T = transmittance(std::max(Frame::cos_theta(si.wi), 0.0f));
         return specular_->eval(si.uv) * (1.0f - T) + diffuse_->eval(si.uv) * T;
     }
+    // Local model: kd = diffuse_reflectance, a highlight ks = F0 with shininess 2 / alpha^2 - 2,
+    // and the environment reflected with F0, blurred by alpha.
+    LocalShading local_shading() const override {
+        LocalShading s;
+        float F0 = fresnel_dielectric(1.0f, eta_).F;
+        float alpha = distribution_.alpha_u();
+        s.diffuse = diffuse_;
+        s.specular = specular_->mean() * F0;
+        s.shininess = std::max(2.0f / (alpha * alpha) - 2.0f, 1.0f);
+        s.mirror = specular_->mean() * F0;
+        s.roughness = alpha;
+        return s;
+    }
     std::string to_string() const override { return "roughplastic"; }
 
     float transmittance(float cos_theta) const {

@@ -57,6 +57,16 @@ public:
         float R = sheet_reflectance(Frame::cos_theta(si.wi));
         return reflectance_->eval(si.uv) * R + transmittance_->eval(si.uv) * (1.0f - R);
     }
+    // Local model: environment reflection with the sheet's reflectance R at normal incidence and
+    // the environment seen straight through with 1 - R.
+    LocalShading local_shading() const override {
+        LocalShading s;
+        float R = sheet_reflectance(1.0f);
+        s.mirror = reflectance_->mean() * R;
+        s.transmission = transmittance_->mean() * (1.0f - R);
+        s.two_sided = true;
+        return s;
+    }
     std::string to_string() const override { return "thindielectric"; }
 
 private:

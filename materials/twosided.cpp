@@ -45,6 +45,12 @@ public:
         return Frame::cos_theta(si.wi) >= 0.0f ? front_->albedo(si) : back_->albedo(mirrored(si));
     }
 
+    // Local model: the front BSDF's, lit from both sides.
+    LocalShading local_shading() const override {
+        LocalShading s = front_->local_shading();
+        s.two_sided = true;
+        return s;
+    }
     std::string to_string() const override { return "twosided"; }
 
 private:

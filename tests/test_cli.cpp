@@ -152,3 +152,18 @@ TEST_CASE("cli: the irradiance integrator renders a false-colour map with a lege
     Image exr = read_image((dir / "map.exr").string());
     CHECK(exr.width() == 64);
 }
+
+TEST_CASE("cli: float16 and float32 films write EXRs of that pixel type", "[cli]") {
+    auto dir = scratch_dir("cli-half");
+    std::string scene = read_text(Cbox);
+    std::string f32 = "<string name=\"component_format\" value=\"float32\"/>";
+    REQUIRE(scene.find(f32) != std::string::npos);
+    scene.replace(scene.find(f32), f32.size(), "");  // the default: float16
+    write_text(dir / "half.xml", scene);
+    REQUIRE(run_command(render_cmd("'" + (dir / "half.xml").string() + "' -o '" + (dir / "half.exr").string() + "' -D res=16 --spp 2 -q"), dir / "log.txt") == 0);
+    CHECK_THAT(read_text(dir / "log.txt"), !Catch::Contains("error"));
+    Image img = read_image((dir / "half.exr").string());
+    CHECK(img.width() == 16);
+    CHECK(img.rgb_at(8, 8).x > 0.0f);
+    CHECK(run_command("oiiotool --info -v '" + (dir / "half.exr").string() + "' | grep -q half", dir / "info.txt") == 0);
+}

@@ -88,6 +88,16 @@ public:
         return ray;
     }
 
+    std::optional<PinholeProjection> pinhole() const override {
+        PinholeProjection p;
+        p.to_world = to_world_;
+        p.tan_half_x = tan_half_x_;
+        p.aspect = aspect_;
+        p.near_clip = near_clip_;
+        p.far_clip = far_clip_;
+        return p;
+    }
+
     std::string to_string() const override { return "perspective"; }
 
 private:

@@ -69,6 +69,31 @@ public:
         return ps;
     }
 
+    // A fan of `detail` triangles around the centre.
+    void tessellate(TriangleSoup& out, int detail) const override {
+        int n = std::max(detail, 8);
+        unsigned base = unsigned(out.positions.size());
+        SurfaceInteraction si;
+        fill_at(Vec3(0.0f), si);
+        out.positions.push_back(si.p);
+        out.normals.push_back(normal_);
+        out.uvs.push_back(Vec2(0.0f));
+        for (int j = 0; j <= n; ++j) {
+            float phi = TwoPi * float(j % n) / float(n);
+            fill_at(Vec3(std::cos(phi), std::sin(phi), 0.0f), si);
+            out.positions.push_back(si.p);
+            out.normals.push_back(normal_);
+            out.uvs.emplace_back(1.0f, float(j) / float(n));
+        }
+        for (int j = 0; j < n; ++j) {
+            unsigned a = base + 1 + unsigned(j), b = a + 1;
+            // Counter-clockwise around the front normal.
+            Vec3 face = glm::cross(out.positions[a] - out.positions[base], out.positions[b] - out.positions[base]);
+            out.triangles.push_back(glm::dot(face, normal_) >= 0.0f ? glm::uvec3(base, a, b) : glm::uvec3(base, b, a));
+        }
+        out.closed = false;
+    }
+
     std::string to_string() const override { return "disk"; }
 
 private:

@@ -128,6 +128,35 @@ public:
         return 1.0f / (TwoPi * one_minus_cos_max);
     }
 
+    // A latitude-longitude grid; the seam repeats the first column exactly, the poles are rings
+    // of coincident vertices (so that uvs stay continuous).
+    void tessellate(TriangleSoup& out, int detail) const override {
+        int nphi = std::max(detail, 8), ntheta = std::max(detail / 2, 4);
+        unsigned base = unsigned(out.positions.size());
+        for (int i = 0; i <= ntheta; ++i) {
+            float theta = Pi * float(i) / float(ntheta);
+            for (int j = 0; j <= nphi; ++j) {
+                float phi = TwoPi * float(j % nphi) / float(nphi);
+                Vec3 local(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
+                Vec3 p = object_to_world_.apply_point(local);
+                Vec3 n = glm::normalize(p - center_);
+                out.positions.push_back(p);
+                out.normals.push_back(flip_normals_ ? -n : n);
+                out.uvs.emplace_back(float(j) / float(nphi), float(i) / float(ntheta));
+            }
+        }
+        for (int i = 0; i < ntheta; ++i)
+            for (int j = 0; j < nphi; ++j) {
+                unsigned a = base + unsigned(i * (nphi + 1) + j), b = a + 1, c = a + unsigned(nphi + 1), d = c + 1;
+                // Counter-clockwise seen from outside (theta grows toward -z, phi toward +y).
+                glm::uvec3 t0(a, c, d), t1(a, d, b);
+                // At the poles one of the two collapses (two corners on the pole): skip it.
+                if (i + 1 < ntheta) out.triangles.push_back(flip_normals_ ? glm::uvec3(t0.x, t0.z, t0.y) : t0);
+                if (i > 0) out.triangles.push_back(flip_normals_ ? glm::uvec3(t1.x, t1.z, t1.y) : t1);
+            }
+        out.closed = true;
+    }
+
     std::string to_string() const override { return "sphere"; }
 
 private:

@@ -60,6 +60,22 @@ public:
         Vec2 uv = to_uv_.apply(uv_in);
         return filter_ == TextureFilter::Nearest ? mip_.nearest(0, uv) : mip_.bilinear(0, uv);
     }
+    // `filter` is a TextureFilter. The footprint is the longer of the two derivative vectors,
+    // mapped through to_uv.
+    Spectrum eval_filtered(const Vec2& uv_in, const Vec2& dx, const Vec2& dy, int filter) const override {
+        Vec2 uv = to_uv_.apply(uv_in);
+        switch (TextureFilter(filter)) {
+        case TextureFilter::Nearest: return mip_.nearest(0, uv);
+        case TextureFilter::Bilinear: return mip_.bilinear(0, uv);
+        case TextureFilter::Trilinear: {
+            auto linear = [&](const Vec2& d) { return Vec2(to_uv_.m[0][0] * d.x + to_uv_.m[0][1] * d.y, to_uv_.m[1][0] * d.x + to_uv_.m[1][1] * d.y); };
+            float footprint = std::max(glm::length(linear(dx)), glm::length(linear(dy)));
+            return mip_.trilinear(uv, footprint);
+        }
+        }
+        return eval(uv_in);
+    }
+
     Vec2 eval_1_gradient(const Vec2& uv_in) const override {
         if (filter_ == TextureFilter::Nearest) return Vec2(0.0f);  // piecewise constant
         Spectrum d_du, d_dv;

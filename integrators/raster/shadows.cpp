@@ -1,0 +1,244 @@
+#include "integrators/raster/shadows.h"
+
+#include <map>
+
+namespace candela::raster {
+
+int light_shape(const LocalLight& light, const RasterGeometry& g) {
+    for (size_t i = 0; i < g.shapes.size(); ++i) {
+        const Emitter* e = g.shapes[i].shape->emitter();
+        if (!e) continue;
+        if (light.kind == LocalLight::Kind::AreaPoint && e->local_approximation() && light.position == e->local_approximation()->position) return int(i);
+    }
+    return -1;
+}
+
+namespace {
+
+// Builds a view looking from `origin` along `dir` with any up vector.
+Transform view_along(const Vec3& origin, const Vec3& dir) {
+    Vec3 up = std::abs(dir.y) < 0.9f ? Vec3(0, 1, 0) : Vec3(1, 0, 0);
+    return Transform::look_at(origin, origin + dir, up);
+}
+
+float linear_depth(const RasterCamera& c, float z_ndc) {
+    if (c.orthographic) return c.near_clip + z_ndc * (c.far_clip - c.near_clip);
+    return c.far_clip * c.near_clip / (c.far_clip - z_ndc * (c.far_clip - c.near_clip));
+}
+
+}  // namespace
+
+ShadowMap::ShadowMap(const LocalLight& light, const RasterGeometry& g, int resolution) : light_(light), resolution_(resolution) {
+    float radius = std::max(g.bbox.bounding_radius(), 1e-3f);
+    Vec3 center = g.bbox.center();
+    float far_clip = 4.0f * radius + glm::length(light.position - center);
+    float near_clip = far_clip * 1e-5f;
+    switch (light.kind) {
+    case LocalLight::Kind::Directional: {
+        Face f;
+        f.camera = RasterCamera::orthographic_box(view_along(center - light.direction * (2.0f * radius), light.direction), radius, radius, 0.0f,
+                                                  4.0f * radius);
+        f.texel_scale = 2.0f * radius / float(resolution);
+        faces_.push_back(std::move(f));
+        break;
+    }
+    case LocalLight::Kind::Spot: {
+        Face f;
+        float t = std::tan(std::min(light.cutoff, radians(85.0f)));
+        f.camera = RasterCamera::perspective(view_along(light.position, light.direction), t, t, near_clip, far_clip);
+        f.texel_scale = 2.0f * t / float(resolution);
+        faces_.push_back(std::move(f));
+        break;
+    }
+    default: {
+        const Vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+        for (const Vec3& axis : axes) {
+            Face f;
+            f.camera = RasterCamera::perspective(view_along(light.position, axis), 1.0f, 1.0f, near_clip, far_clip);
+            f.texel_scale = 2.0f / float(resolution);
+            faces_.push_back(std::move(f));
+        }
+    }
+    }
+    int skip = light_shape(light, g);
+    for (Face& f : faces_) {
+        std::vector<std::array<Vec4, 3>> clip;
+        std::vector<uint32_t> ids;
+        for (size_t i = 0; i < g.triangles.size(); ++i) {
+            if (int(g.triangle_shape[i]) == skip) continue;
+            const glm::uvec3& t = g.triangles[i];
+            clip.push_back({f.camera.clip(g.positions[t.x]), f.camera.clip(g.positions[t.y]), f.camera.clip(g.positions[t.z])});
+        }
+        Rasterizer r(resolution, resolution, sample_pattern(1), Vec2i(resolution));
+        r.setup(clip, true);
+        f.depth.assign(size_t(resolution) * resolution, Infinity);
+        bool ortho = f.camera.orthographic;
+        r.run([&](const Fragment& frag) {
+            float& d = f.depth[size_t(frag.y) * resolution + frag.x];
+            float view = float(ortho ? linear_depth(f.camera, float(frag.depth)) : frag.w);
+            if (view < d) d = view;
+        });
+    }
+}
+
+float ShadowMap::face_visibility(const Face& f, const Vec3& p_surface, const Vec3& n, float cos_theta, int pcf) const {
+    // Normal offset: look the map up a texel's width off the surface, which keeps grazing
+    // surfaces (where the depth slope is steep) out of their own shadow.
+    float texel_world = f.camera.orthographic ? f.texel_scale : f.texel_scale * std::max(f.camera.view_depth(p_surface), 0.0f);
+    Vec3 p = p_surface + n * texel_world;
+    Vec4 c = f.camera.clip(p);
+    if (!(c.w > 0.0f)) return 1.0f;
+    float px = (c.x / c.w + 1.0f) * 0.5f * float(resolution_), py = (c.y / c.w + 1.0f) * 0.5f * float(resolution_);
+    float depth = f.camera.view_depth(p);
+    // Slope-scaled bias: a texel spans texel_scale * depth in the world (perspective); a surface
+    // tilted by theta against the light changes depth by that much times tan(theta) across it.
+    float texel = f.camera.orthographic ? f.texel_scale : f.texel_scale * depth;
+    float tan_theta = std::min(safe_sqrt(1.0f - cos_theta * cos_theta) / std::max(cos_theta, 1e-3f), 10.0f);
+    float bias = texel * (1.5f + 2.0f * tan_theta);
+    int k = std::max(pcf, 1), half = k / 2;
+    int cx = int(std::floor(px)), cy = int(std::floor(py));
+    int lit = 0, total = 0;
+    for (int dy = -half; dy < k - half; ++dy)
+        for (int dx = -half; dx < k - half; ++dx) {
+            int x = std::clamp(cx + dx, 0, resolution_ - 1), y = std::clamp(cy + dy, 0, resolution_ - 1);
+            ++total;
+            if (depth - bias <= f.depth[size_t(y) * resolution_ + x]) ++lit;
+        }
+    return float(lit) / float(total);
+}
+
+float ShadowMap::visibility(const Vec3& p, const Vec3& n, int pcf) const {
+    Vec3 to_light;
+    float dist;
+    Spectrum e;
+    light_.illuminate(p, to_light, dist, e);
+    float cos_theta = std::abs(glm::dot(n, to_light));
+    Vec3 n_lit = glm::dot(n, to_light) >= 0.0f ? n : -n;
+    if (faces_.size() == 1) return face_visibility(faces_[0], p, n_lit, cos_theta, pcf);
+    // Cube map: the face of the dominant axis of the direction from the light.
+    Vec3 d = p - light_.position, a = glm::abs(d);
+    int face = a.x >= a.y && a.x >= a.z ? (d.x > 0 ? 0 : 1) : (a.y >= a.z ? (d.y > 0 ? 2 : 3) : (d.z > 0 ? 4 : 5));
+    return face_visibility(faces_[size_t(face)], p, n_lit, cos_theta, pcf);
+}
+
+// ---- shadow volumes ------------------------------------------------------------------------
+
+namespace {
+
+// Builds shadow volumes as closed, consistently oriented polyhedra in homogeneous coordinates:
+// every volume is a near cap facing the light, its copy at infinity reversed (the far cap), and
+// one quad per boundary edge traversing that edge opposite to the cap. The orientation is thus
+// exact even for faces at infinity (w = 0), where finite stand-in points would mislead.
+struct VolumeBuilder {
+    const LocalLight& light;
+    std::vector<std::array<Vec4, 3>> world;
+    float push;  // relative offset of the near cap away from the light (avoids self-shadowing)
+
+    bool directional() const { return light.kind == LocalLight::Kind::Directional; }
+    Vec3 away(const Vec3& p) const { return directional() ? light.direction : glm::normalize(p - light.position); }
+    Vec4 near_point(const Vec3& p) const {
+        float scale = directional() ? push : push * glm::length(p - light.position);
+        return Vec4(p + away(p) * scale, 1.0f);
+    }
+    Vec4 far_point(const Vec3& p) const { return Vec4(away(p), 0.0f); }
+    // True when (a, b, c), counter-clockwise, faces the light.
+    bool faces_light(const Vec3& a, const Vec3& b, const Vec3& c) const {
+        Vec3 n = glm::cross(b - a, c - a);
+        return glm::dot(n, away((a + b + c) / 3.0f)) < 0.0f;
+    }
+    // The caps of a near-cap triangle (u, v, w), which must face the light.
+    void caps(const Vec3& u, const Vec3& v, const Vec3& w) {
+        world.push_back({near_point(u), near_point(v), near_point(w)});
+        if (!directional()) world.push_back({far_point(u), far_point(w), far_point(v)});
+    }
+    // The side quad of near-cap edge u -> v: traversed v -> u, then out to infinity.
+    void side(const Vec3& u, const Vec3& v) {
+        world.push_back({near_point(v), near_point(u), far_point(u)});
+        if (!directional()) world.push_back({near_point(v), far_point(u), far_point(v)});
+    }
+    // A whole prism: the triangle (either winding) extruded away from the light.
+    void prism(Vec3 a, Vec3 b, Vec3 c) {
+        if (!faces_light(a, b, c)) std::swap(b, c);
+        caps(a, b, c);
+        side(a, b);
+        side(b, c);
+        side(c, a);
+    }
+};
+
+}  // namespace
+
+void shadow_volume_mask(const LocalLight& light, const RasterGeometry& g, const RasterCamera& camera, const Rasterizer& layout,
+                        const std::vector<float>& view_depths, std::vector<uint8_t>& lit) {
+    float reach = 4.0f * std::max(g.bbox.bounding_radius(), 1e-3f);
+    VolumeBuilder vb{light, {}, 1e-3f * (light.kind == LocalLight::Kind::Directional ? reach : 1.0f)};
+    int skip = light_shape(light, g);
+    for (size_t s = 0; s < g.shapes.size(); ++s) {
+        if (int(s) == skip) continue;
+        const RasterShape& rs = g.shapes[s];
+        auto pos = [&](unsigned v) { return g.positions[v]; };
+        if (!rs.closed) {
+            for (uint32_t i = rs.first_triangle; i < rs.first_triangle + rs.triangle_count; ++i) {
+                const glm::uvec3& t = g.triangles[i];
+                vb.prism(pos(t.x), pos(t.y), pos(t.z));
+            }
+            continue;
+        }
+        // Closed mesh: the near caps are the triangles facing away from the light, reversed (so
+        // that they face it); the sides stand on the silhouette edges between those and the lit
+        // triangles (vertices welded by position to find neighbours).
+        std::map<std::tuple<float, float, float>, unsigned> weld;
+        auto id = [&](unsigned v) {
+            const Vec3& p = g.positions[v];
+            return weld.emplace(std::make_tuple(p.x, p.y, p.z), unsigned(weld.size())).first->second;
+        };
+        struct Edge {
+            bool dark;
+            Vec3 from, to;
+        };
+        std::map<std::pair<unsigned, unsigned>, Edge> edges;  // directed, as wound in the mesh
+        for (uint32_t i = rs.first_triangle; i < rs.first_triangle + rs.triangle_count; ++i) {
+            const glm::uvec3& t = g.triangles[i];
+            Vec3 a = pos(t.x), b = pos(t.y), c = pos(t.z);
+            bool dark = !vb.faces_light(a, b, c);
+            unsigned ia = id(t.x), ib = id(t.y), ic = id(t.z);
+            edges[{ia, ib}] = {dark, a, b};
+            edges[{ib, ic}] = {dark, b, c};
+            edges[{ic, ia}] = {dark, c, a};
+            if (dark) vb.caps(a, c, b);
+        }
+        for (const auto& [key, e] : edges) {
+            if (!e.dark) continue;
+            auto twin = edges.find({key.second, key.first});
+            if (twin != edges.end() && twin->second.dark) continue;  // interior to the dark side
+            // In the reversed cap this edge runs to -> from.
+            vb.side(e.to, e.from);
+        }
+    }
+    // Rasterize the volumes with an infinitely far projection (z_ndc = 1 - n / z), so that the
+    // caps at infinity are not clipped away, and count them against the camera samples.
+    Mat4 infinite = camera.projection;
+    if (!camera.orthographic) {
+        infinite[2][2] = 1.0f;
+        infinite[3][2] = -camera.near_clip;
+    }
+    Mat4 vp = infinite * camera.view;
+    std::vector<std::array<Vec4, 3>> clip;
+    clip.reserve(vb.world.size());
+    for (const auto& t : vb.world) clip.push_back({vp * t[0], vp * t[1], vp * t[2]});
+    Rasterizer r(layout.width(), layout.height(), layout.sample_offsets(), layout.full_size(), layout.offset());
+    r.setup(clip, true);
+    std::vector<int16_t> count(view_depths.size(), 0);
+    const int ns = layout.samples_per_pixel(), w = layout.width();
+    float n = camera.near_clip;
+    r.run([&](const Fragment& f) {
+        size_t i = (size_t(f.y) * w + f.x) * ns + f.sample;
+        // Infinitely far projection: z / w = 1 - n / z, so z = n / (1 - z / w); 1 at infinity.
+        double depth = f.depth >= 1.0 ? double(Infinity) : double(n) / (1.0 - f.depth);
+        if (depth >= view_depths[i]) count[i] += f.triangle->front ? -1 : 1;  // z-fail
+    });
+    lit.resize(view_depths.size());
+    for (size_t i = 0; i < count.size(); ++i) lit[i] = count[i] == 0;
+}
+
+}  // namespace candela::raster
