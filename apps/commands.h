@@ -23,6 +23,7 @@ void add_compare_command(CLI::App& app, std::function<int()>& run);
 void add_estimate_command(CLI::App& app, std::function<int()>& run);
 void add_converge_command(CLI::App& app, std::function<int()>& run);
 void add_validate_command(CLI::App& app, std::function<int()>& run);
+void add_compare_modes_command(CLI::App& app, std::function<int()>& run);
 
 // Shared by the commands: -D name=value pairs, and "x,y,z" triples (InputError when malformed).
 SceneParameters parse_defines(const std::vector<std::string>& defines);
