@@ -167,3 +167,33 @@ TEST_CASE("cli: float16 and float32 films write EXRs of that pixel type", "[cli]
     CHECK(img.rgb_at(8, 8).x > 0.0f);
     CHECK(run_command("oiiotool --info -v '" + (dir / "half.exr").string() + "' | grep -q half", dir / "info.txt") == 0);
 }
+
+TEST_CASE("cli: --mode raster with its options, and compare-modes", "[cli][raster]") {
+    auto dir = scratch_dir("cli-raster");
+    auto out = dir / "raster.exr";
+    REQUIRE(run_command(render_cmd("'" + Cbox + "' -o '" + out.string() + "' --mode raster --shading gouraud --reflection phong --shadows volume --aa 4 "
+                                   "--aa-filter tent --texture-filter bilinear --wireframe --light-gizmos --png -q"),
+                        dir / "log.txt") == 0);
+    Image img = read_image(out.string());
+    CHECK(img.width() == 256);
+    CHECK(std::filesystem::exists(dir / "raster.png"));
+    // Raster options without raster mode, and bad values, are bad input.
+    CHECK(run_command(render_cmd("'" + Cbox + "' -o '" + out.string() + "' --shading phong"), dir / "log.txt") == 2);
+    CHECK_THAT(read_text(dir / "log.txt"), Catch::Contains("need --mode raster"));
+    CHECK(run_command(render_cmd("'" + Cbox + "' -o '" + out.string() + "' --mode raster --shadows fuzzy"), dir / "log.txt") == 2);
+    CHECK_THAT(read_text(dir / "log.txt"), Catch::Contains("shadows must be one of none map volume"));
+    // The integrator can also be chosen in the scene, with the same options as properties.
+    std::string scene = read_text(Cbox);
+    size_t begin = scene.find("<integrator type=\"path\">"), end = scene.find("</integrator>", begin) + 13;
+    REQUIRE(begin != std::string::npos);
+    scene.replace(begin, end - begin, "<integrator type=\"raster\"><string name=\"shading\" value=\"flat\"/><integer name=\"aa\" value=\"4\"/></integrator>");
+    write_text(dir / "raster.xml", scene);
+    REQUIRE(run_command(render_cmd("'" + (dir / "raster.xml").string() + "' -o '" + out.string() + "' -q"), dir / "log2.txt") == 0);
+    CHECK(read_image(out.string()).metadata["candela.integrator"] == "raster");
+    // compare-modes: one picture, timings and metrics on stdout.
+    REQUIRE(run_command("'" + candela_binary() + "' compare-modes '" + Cbox + "' -o '" + (dir / "cmp.png").string() + "' --spp 4 -D res=48", dir / "cmp.txt") == 0);
+    std::string log = read_text(dir / "cmp.txt");
+    CHECK_THAT(log, Catch::Contains("local illumination (raster)") && Catch::Contains("global illumination (path)") && Catch::Contains("RMSE"));
+    Image sheet = read_image((dir / "cmp.png").string());
+    CHECK(sheet.width() > 3 * 48);
+}

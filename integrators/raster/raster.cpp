@@ -252,6 +252,8 @@ HomogeneousSetup homogeneous_setup(const Vec4 c[3], Vec2i full, Vec2i offset) {
 }  // namespace
 }  // namespace raster
 
+RasterIntegrator::~RasterIntegrator() = default;
+
 RenderResult RasterIntegrator::render(const Scene& scene, const RenderOptions& options) {
     using namespace raster;
     auto t_start = std::chrono::steady_clock::now();
@@ -266,8 +268,13 @@ RenderResult RasterIntegrator::render(const Scene& scene, const RenderOptions& o
     tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
     RenderResult result;
     arena.execute([&] {
-        RasterGeometry geometry = build_geometry(scene, S.tessellation, S.displacement, S.subdivisions);
-        const RasterGeometry& g = geometry;
+        int key[3] = {S.tessellation, S.displacement ? 1 : 0, S.subdivisions};
+        if (!geometry_ || geometry_scene_ != &scene || !std::equal(key, key + 3, geometry_key_)) {
+            geometry_ = std::make_shared<RasterGeometry>(build_geometry(scene, S.tessellation, S.displacement, S.subdivisions));
+            geometry_scene_ = &scene;
+            std::copy(key, key + 3, geometry_key_);
+        }
+        const RasterGeometry& g = *geometry_;
         LocalLights lights = collect_lights(scene);
         const Spectrum ambient = lights.ambient + S.ambient;
         RasterCamera camera = RasterCamera::from_pinhole(*pinhole);

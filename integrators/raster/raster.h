@@ -4,9 +4,14 @@
 #include "core/integrator.h"
 #include "core/mipmap.h"
 
+#include <memory>
 #include <string>
 
 namespace candela {
+
+namespace raster {
+struct RasterGeometry;
+}
 
 struct RasterSettings {
     enum class Shading { Flat, Gouraud, Phong };
@@ -36,6 +41,7 @@ class RasterIntegrator : public Integrator {
 public:
     explicit RasterIntegrator(const class Properties& props);
     explicit RasterIntegrator(const RasterSettings& settings) : settings_(settings) {}
+    ~RasterIntegrator() override;
     RenderResult render(const Scene& scene, const RenderOptions& options) override;
     std::string to_string() const override { return "raster"; }
 
@@ -43,6 +49,10 @@ public:
 
 private:
     RasterSettings settings_;
+    // The tessellated scene, kept between frames of the same scene and geometry settings.
+    std::shared_ptr<raster::RasterGeometry> geometry_;
+    const Scene* geometry_scene_ = nullptr;
+    int geometry_key_[3] = {0, 0, 0};
 };
 
 }  // namespace candela

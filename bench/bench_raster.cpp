@@ -1,0 +1,117 @@
+// bench_raster: frame times of the rasterized local-illumination mode.
+//
+//   bench_raster [--res N] [--frames N] [--threads N]
+//
+// Reports frames per second at 1024 x 1024 (by default) for the Cornell box and for a mesh of
+// about a million triangles; the time against the number of lights (1, 10, 100) for each
+// shading mode; and shadow maps against shadow volumes. Geometry is tessellated once per scene;
+// everything else (shadow maps, shadow volumes, shading) is redone every frame. It prints
+// figures and asserts nothing.
+
+#include "core/rng.h"
+#include "core/xml.h"
+#include "integrators/raster/raster.h"
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+using namespace candela;
+
+namespace {
+
+int g_res = 1024, g_frames = 5, g_threads = 0;
+
+double seconds_per_frame(const Ref<Scene>& scene, RasterSettings s) {
+    RasterIntegrator raster(s);
+    RenderOptions o;
+    o.threads = g_threads;
+    raster.render(*scene, o);  // tessellate and warm up
+    auto t0 = std::chrono::steady_clock::now();
+    for (int i = 0; i < g_frames; ++i) raster.render(*scene, o);
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() / g_frames;
+}
+
+std::string film() {
+    return "<film type=\"hdrfilm\"><integer name=\"width\" value=\"" + std::to_string(g_res) + "\"/><integer name=\"height\" value=\"" + std::to_string(g_res) +
+           "\"/></film>";
+}
+
+Ref<Scene> load_text(const std::string& name, const std::string& xml) {
+    auto path = std::filesystem::temp_directory_path() / ("candela-bench-raster-" + name + ".xml");
+    std::ofstream(path) << xml;
+    return load_scene(path.string());
+}
+
+// A sphere of about a million triangles (tessellation 1000 gives 1000 x 500 quads) on a floor,
+// with `lights` point lights.
+Ref<Scene> big_mesh_scene(int lights) {
+    std::string s = "<scene version=\"3.0.0\"><sensor type=\"perspective\"><float name=\"fov\" value=\"45\"/><transform name=\"to_world\"><lookat origin=\"0, 2, 5\" "
+                    "target=\"0, 0.8, 0\" up=\"0, 1, 0\"/></transform>" +
+                    film() +
+                    "</sensor><shape type=\"sphere\"><point name=\"center\" x=\"0\" y=\"1\" z=\"0\"/><bsdf type=\"roughplastic\"/></shape>"
+                    "<shape type=\"rectangle\"><transform name=\"to_world\"><scale value=\"4\"/><rotate x=\"1\" angle=\"-90\"/></transform></shape>";
+    PCG32 rng(7, 1);
+    for (int i = 0; i < lights; ++i)
+        s += "<emitter type=\"point\"><point name=\"position\" x=\"" + std::to_string(6 * rng.next_float() - 3) + "\" y=\"" + std::to_string(2.5f + rng.next_float()) +
+             "\" z=\"" + std::to_string(6 * rng.next_float() - 3) + "\"/><rgb name=\"intensity\" value=\"" + std::to_string(10.0 / lights) + "\"/></emitter>";
+    return load_text("mesh" + std::to_string(lights), s + "</scene>");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    for (int i = 1; i + 1 < argc; ++i) {
+        std::string a = argv[i];
+        if (a == "--res") g_res = std::atoi(argv[++i]);
+        else if (a == "--frames") g_frames = std::atoi(argv[++i]);
+        else if (a == "--threads") g_threads = std::atoi(argv[++i]);
+    }
+    std::string cbox_xml;
+    {
+        std::ifstream in(std::string(CANDELA_SOURCE_DIR) + "/scenes/cbox.xml");
+        cbox_xml.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    }
+    Ref<Scene> cbox = load_scene(std::string(CANDELA_SOURCE_DIR) + "/scenes/cbox.xml", {{"res", std::to_string(g_res)}});
+    Ref<Scene> mesh = big_mesh_scene(1);
+    RasterSettings base;
+    base.tessellation = 1000;
+
+    std::printf("%d x %d pixels, %d frames each, 1 sample per pixel unless noted\n\n", g_res, g_res, g_frames);
+    std::printf("%-34s %10s %8s\n", "scene / configuration", "ms/frame", "fps");
+    auto row = [](const std::string& what, double s) { std::printf("%-34s %10.1f %8.2f\n", what.c_str(), 1000 * s, 1.0 / s); };
+    row("cbox, phong, shadow maps", seconds_per_frame(cbox, base));
+    row("1M-triangle sphere, phong, maps", seconds_per_frame(mesh, base));
+    RasterSettings none = base;
+    none.shadows = RasterSettings::Shadows::None;
+    row("1M-triangle sphere, phong, none", seconds_per_frame(mesh, none));
+
+    std::printf("\ntime against the number of point lights (1M-triangle sphere, no shadows), ms/frame\n");
+    std::printf("%-10s %10s %10s %10s\n", "lights", "flat", "gouraud", "phong");
+    for (int lights : {1, 10, 100}) {
+        Ref<Scene> s = big_mesh_scene(lights);
+        double t[3];
+        int k = 0;
+        for (auto shading : {RasterSettings::Shading::Flat, RasterSettings::Shading::Gouraud, RasterSettings::Shading::Phong}) {
+            RasterSettings r = none;
+            r.shading = shading;
+            t[k++] = seconds_per_frame(s, r);
+        }
+        std::printf("%-10d %10.1f %10.1f %10.1f\n", lights, 1000 * t[0], 1000 * t[1], 1000 * t[2]);
+    }
+
+    std::printf("\nshadow maps against shadow volumes, ms/frame (phong)\n");
+    std::printf("%-34s %10s %10s %10s\n", "scene", "none", "maps", "volumes");
+    for (auto [name, scene] : {std::pair<const char*, Ref<Scene>>{"cbox", cbox}, {"1M-triangle sphere, 1 light", mesh}, {"1M-triangle sphere, 10 lights", big_mesh_scene(10)}}) {
+        double t[3];
+        int k = 0;
+        for (auto shadows : {RasterSettings::Shadows::None, RasterSettings::Shadows::Map, RasterSettings::Shadows::Volume}) {
+            RasterSettings r = base;
+            r.shadows = shadows;
+            t[k++] = seconds_per_frame(scene, r);
+        }
+        std::printf("%-34s %10.1f %10.1f %10.1f\n", name, 1000 * t[0], 1000 * t[1], 1000 * t[2]);
+    }
+    return 0;
+}
