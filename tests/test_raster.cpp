@@ -5,6 +5,7 @@
 
 #include "core/image_metrics.h"
 #include "core/xml.h"
+#include "integrators/raster/environment.h"
 #include "integrators/raster/raster.h"
 #include "integrators/raster/raster_scene.h"
 #include "integrators/raster/rasterizer.h"
@@ -225,4 +226,31 @@ TEST_CASE("raster: physical settings match the path tracer's direct illumination
                                                                                << " skipped)");
     CHECK(used >= 20);
     CHECK(block_mare < 0.03);
+}
+
+TEST_CASE("raster: cube map faces round-trip directions and load from images", "[raster]") {
+    for (int face = 0; face < 6; ++face)
+        for (float s : {0.1f, 0.5f, 0.93f})
+            for (float t : {0.2f, 0.5f, 0.77f}) {
+                Vec3 d = EnvironmentLookup::face_to_direction(face, s, t);
+                int f2;
+                float s2, t2;
+                EnvironmentLookup::direction_to_face(d, f2, s2, t2);
+                CHECK(f2 == face);
+                CHECK(s2 == Approx(s).margin(1e-5));
+                CHECK(t2 == Approx(t).margin(1e-5));
+            }
+    // Six constant-colour faces loaded from files: a lookup returns the face it points into.
+    auto dir = scratch_dir("cubemap");
+    const char* names[6] = {"px", "nx", "py", "ny", "pz", "nz"};
+    for (int f = 0; f < 6; ++f) {
+        Image img = Image::rgb(4, 4);
+        for (float& v : img.data()) v = 0.1f * float(f + 1);
+        write_exr(img, (dir / (std::string("sky_") + names[f] + ".exr")).string(), true);
+    }
+    Ref<Scene> scene = scene_from(camera("0, 0, 0", "0, 0, 1", 8, 8));
+    EnvironmentLookup cube(*scene, EnvironmentLookup::Mode::Cube, 8, (dir / "sky_{face}.exr").string());
+    CHECK(cube.lookup(Vec3(1, 0.2f, 0.1f), 0.0f).x == Approx(0.1f));
+    CHECK(cube.lookup(Vec3(0.1f, -1, 0.3f), 0.0f).x == Approx(0.4f));
+    CHECK(cube.lookup(Vec3(0.2f, 0.1f, -1), 0.0f).x == Approx(0.6f));
 }
