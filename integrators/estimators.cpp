@@ -2,7 +2,6 @@
 
 #include "core/bsdf.h"
 #include "core/registry.h"
-#include "core/rng.h"
 #include "core/scene.h"
 
 #include <tbb/parallel_for.h>
@@ -11,21 +10,6 @@
 namespace candela {
 
 namespace {
-
-// Random numbers for estimator sample i: the same (seed, index) scheme as pixels.
-class StreamSampler final : public Sampler {
-public:
-    Ref<Sampler> clone() const override { return std::make_shared<StreamSampler>(*this); }
-    void start(const Vec2i& pixel, uint32_t index) override { seed_for_sample(rng_, seed_, pixel, index); }
-    float next_1d() override { return rng_.next_float(); }
-    Vec2 next_2d() override {
-        float a = rng_.next_float();
-        return Vec2(a, rng_.next_float());
-    }
-
-private:
-    PCG32 rng_;
-};
 
 struct Sums {
     double s[3] = {0, 0, 0}, s2[3] = {0, 0, 0}, y = 0, y2 = 0, y3 = 0, y4 = 0;
@@ -67,12 +51,14 @@ template <typename F> Estimate run(const EstimatorOptions& options, F one) {
     std::vector<Sums> partial(chunks);
     tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
     arena.execute([&] {
+        // Random numbers for sample i: the independent sampler, positioned as "pixel" i.
+        Ref<Sampler> prototype = create_plugin_as<Sampler>(ObjectKind::Sampler, Properties("independent", SourceLocation{"<estimator>", 0}));
+        prototype->set_seed(options.seed);
         tbb::parallel_for(uint64_t(0), chunks, [&](uint64_t c) {
-            StreamSampler sampler;
-            sampler.set_seed(options.seed);
+            Ref<Sampler> sampler = prototype->clone();
             for (uint64_t i = c * chunk; i < std::min(options.samples, (c + 1) * chunk); ++i) {
-                sampler.start(Vec2i(int(i & 0x7fffffff), int(i >> 31)), 0);
-                partial[c].add(one(sampler));
+                sampler->start(Vec2i(int(i & 0x7fffffff), int(i >> 31)), 0);
+                partial[c].add(one(*sampler));
             }
         });
     });

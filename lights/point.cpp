@@ -11,7 +11,7 @@
 #include "core/emitter.h"
 #include "core/registry.h"
 #include "core/scene.h"
-#include "lights/attenuation.h"
+#include "lights/point_source.h"
 
 namespace candela {
 
@@ -26,15 +26,7 @@ public:
     }
 
     DirectionSample sample_direction(const SurfaceInteraction& ref, const Vec2&, Spectrum& weight) const override {
-        DirectionSample ds;
-        ds.p = position_;
-        ds.n = Vec3(0.0f);
-        Vec3 to = position_ - ref.p;
-        ds.dist = glm::length(to);
-        ds.d = to / ds.dist;
-        ds.pdf = 1.0f;
-        ds.delta = true;
-        ds.emitter = this;
+        DirectionSample ds = sample_point_source(position_, ref, this);
         weight = ds.dist > 0.0f ? intensity_ * attenuation_(ds.dist) : Spectrum(0.0f);
         return ds;
     }

@@ -23,9 +23,7 @@ namespace candela {
 class DielectricBSDF final : public BSDF {
 public:
     explicit DielectricBSDF(const Properties& props) {
-        float int_ior = read_ior(props, "int_ior", "bk7"), ext_ior = read_ior(props, "ext_ior", "air");
-        if (int_ior == ext_ior) props.fail("int_ior", "int_ior and ext_ior must differ");
-        eta_ = int_ior / ext_ior;
+        eta_ = read_relative_ior(props, "bk7");
         reflectance_ = props.get_texture("specular_reflectance", Spectrum(1.0f));
         transmittance_ = props.get_texture("specular_transmittance", Spectrum(1.0f));
         flags_ = DeltaReflection | DeltaTransmission;
@@ -35,25 +33,20 @@ public:
         BSDFSample bs;
         float cos_i = Frame::cos_theta(si.wi);
         DielectricFresnel fr = fresnel_dielectric(cos_i, eta_);
-        bool has_r = ctx.allows(DeltaReflection), has_t = ctx.allows(DeltaTransmission);
-        if (!has_r && !has_t) return bs;
-        // With both lobes, pick by Fresnel (the weight is then exactly 1); with one, weight by F.
-        bool choose_r = has_r && (!has_t || u_lobe < fr.F);
-        if (choose_r) {
+        FresnelChoice c = choose_fresnel_lobe(ctx.allows(DeltaReflection), ctx.allows(DeltaTransmission), fr.F, u_lobe);
+        if (!(c.pdf > 0.0f)) return bs;
+        bs.pdf = c.pdf;
+        if (c.reflect) {
             bs.wo = reflect(si.wi);
-            bs.pdf = has_t ? fr.F : 1.0f;
             bs.lobe = DeltaReflection;
-            bs.weight = reflectance_->eval(si.uv) * (has_t ? 1.0f : fr.F);
+            bs.weight = reflectance_->eval(si.uv) * c.weight_factor;
         } else {
-            if (fr.F >= 1.0f) return bs;  // total internal reflection: no refraction
             bs.wo = refract(si.wi, fr.cos_theta_t, fr.eta_ti);
-            bs.pdf = has_r ? 1.0f - fr.F : 1.0f;
             bs.lobe = DeltaTransmission;
             bs.eta = fr.eta_it;
             float scale = ctx.mode == TransportMode::Radiance ? fr.eta_ti * fr.eta_ti : 1.0f;
-            bs.weight = transmittance_->eval(si.uv) * (scale * (has_r ? 1.0f : 1.0f - fr.F));
+            bs.weight = transmittance_->eval(si.uv) * (scale * c.weight_factor);
         }
-        if (!(bs.pdf > 0.0f)) return BSDFSample();
         return bs;
     }
 

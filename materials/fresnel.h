@@ -26,6 +26,24 @@ Spectrum fresnel_conductor(float cos_theta_i, const Spectrum& eta, const Spectru
 // polynomial fits of Egan & Hilgeman (eta < 1) and d'Eon & Irving (eta >= 1), as Mitsuba uses.
 float fresnel_diffuse_reflectance(float eta);
 
+// How a delta BSDF splits between reflection (probability R) and transmission: with both lobes
+// allowed, pick by R (the weight then needs no Fresnel factor); with one, take it surely and
+// weight it by R or 1 - R.
+struct FresnelChoice {
+    bool reflect = true;
+    float pdf = 0.0f;           // 0: nothing can be sampled
+    float weight_factor = 1.0f;
+};
+inline FresnelChoice choose_fresnel_lobe(bool allow_reflection, bool allow_transmission, float R, float u) {
+    FresnelChoice c;
+    if (!allow_reflection && !allow_transmission) return c;
+    c.reflect = allow_reflection && (!allow_transmission || u < R);
+    bool both = allow_reflection && allow_transmission;
+    c.pdf = both ? (c.reflect ? R : 1.0f - R) : 1.0f;
+    c.weight_factor = both ? 1.0f : (c.reflect ? R : 1.0f - R);
+    return c;
+}
+
 // Mirror reflection about the normal (+z) and about a microfacet normal m.
 inline Vec3 reflect(const Vec3& wi) { return Vec3(-wi.x, -wi.y, wi.z); }
 inline Vec3 reflect(const Vec3& wi, const Vec3& m) { return 2.0f * glm::dot(wi, m) * m - wi; }

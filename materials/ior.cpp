@@ -42,6 +42,12 @@ float read_ior(const Properties& props, const std::string& param, const std::str
     return v;
 }
 
+float read_relative_ior(const Properties& props, const std::string& default_interior) {
+    float int_ior = read_ior(props, "int_ior", default_interior), ext_ior = read_ior(props, "ext_ior", "air");
+    if (int_ior == ext_ior) props.fail("int_ior", "int_ior and ext_ior must differ");
+    return int_ior / ext_ior;
+}
+
 std::optional<ComplexIOR> named_conductor(const std::string& name) {
     // Measured n and k sampled at 650, 550 and 450 nm (the R, G, B wavelengths), from the
     // refractiveindex.info data sets. Mitsuba integrates full spectra against the sRGB colour

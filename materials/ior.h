@@ -13,6 +13,9 @@ namespace candela {
 std::optional<float> named_ior(const std::string& name);
 // Reads an IOR parameter given as a number or a name; `default_name` when absent.
 float read_ior(const Properties& props, const std::string& param, const std::string& default_name);
+// The relative index eta = int_ior / ext_ior of a dielectric interface (ext_ior defaults to air);
+// equal indices are an error (no interface).
+float read_relative_ior(const Properties& props, const std::string& default_interior);
 
 struct ComplexIOR {
     Spectrum eta, k;

@@ -23,9 +23,7 @@ namespace candela {
 class RoughDielectricBSDF final : public BSDF {
 public:
     explicit RoughDielectricBSDF(const Properties& props) : distribution_(MicrofacetDistribution::from_properties(props)) {
-        float int_ior = read_ior(props, "int_ior", "bk7"), ext_ior = read_ior(props, "ext_ior", "air");
-        if (int_ior == ext_ior) props.fail("int_ior", "int_ior and ext_ior must differ");
-        eta_ = int_ior / ext_ior;
+        eta_ = read_relative_ior(props, "bk7");
         reflectance_ = props.get_texture("specular_reflectance", Spectrum(1.0f));
         transmittance_ = props.get_texture("specular_transmittance", Spectrum(1.0f));
         flags_ = GlossyReflection | GlossyTransmission;
@@ -42,8 +40,7 @@ public:
         Vec3 m = distribution_.sample(wi_up, u, pdf_m);
         if (!(pdf_m > 0.0f)) return bs;
         DielectricFresnel fr = fresnel_dielectric(glm::dot(si.wi, m), eta_);
-        bool choose_r = has_r && (!has_t || u_lobe < fr.F);
-        if (choose_r) {
+        if (choose_fresnel_lobe(has_r, has_t, fr.F, u_lobe).reflect) {
             bs.wo = reflect(si.wi, m);
             bs.lobe = GlossyReflection;
             if (bs.wo.z * cos_i <= 0.0f) return BSDFSample();

@@ -29,9 +29,7 @@ namespace candela {
 class RoughPlasticBSDF final : public BSDF {
 public:
     explicit RoughPlasticBSDF(const Properties& props) : distribution_(MicrofacetDistribution::from_properties(props, false)) {
-        float int_ior = read_ior(props, "int_ior", "polypropylene"), ext_ior = read_ior(props, "ext_ior", "air");
-        if (int_ior == ext_ior) props.fail("int_ior", "int_ior and ext_ior must differ");
-        eta_ = int_ior / ext_ior;
+        eta_ = read_relative_ior(props, "polypropylene");
         diffuse_ = props.get_texture("diffuse_reflectance", Spectrum(0.5f));
         specular_ = props.get_texture("specular_reflectance", Spectrum(1.0f));
         nonlinear_ = props.get_bool("nonlinear", false);

@@ -16,9 +16,7 @@ namespace candela {
 class ThinDielectricBSDF final : public BSDF {
 public:
     explicit ThinDielectricBSDF(const Properties& props) {
-        float int_ior = read_ior(props, "int_ior", "bk7"), ext_ior = read_ior(props, "ext_ior", "air");
-        if (int_ior == ext_ior) props.fail("int_ior", "int_ior and ext_ior must differ");
-        eta_ = int_ior / ext_ior;
+        eta_ = read_relative_ior(props, "bk7");
         reflectance_ = props.get_texture("specular_reflectance", Spectrum(1.0f));
         transmittance_ = props.get_texture("specular_transmittance", Spectrum(1.0f));
         flags_ = DeltaReflection | DeltaTransmission;
@@ -33,21 +31,12 @@ public:
     BSDFSample sample(const BSDFContext& ctx, const SurfaceInteraction& si, float u_lobe, const Vec2&) const override {
         BSDFSample bs;
         float R = sheet_reflectance(Frame::cos_theta(si.wi));
-        bool has_r = ctx.allows(DeltaReflection), has_t = ctx.allows(DeltaTransmission);
-        if (!has_r && !has_t) return bs;
-        bool choose_r = has_r && (!has_t || u_lobe < R);
-        if (choose_r) {
-            bs.wo = reflect(si.wi);
-            bs.pdf = has_t ? R : 1.0f;
-            bs.lobe = DeltaReflection;
-            bs.weight = reflectance_->eval(si.uv) * (has_t ? 1.0f : R);
-        } else {
-            bs.wo = -si.wi;
-            bs.pdf = has_r ? 1.0f - R : 1.0f;
-            bs.lobe = DeltaTransmission;
-            bs.weight = transmittance_->eval(si.uv) * (has_r ? 1.0f : 1.0f - R);
-        }
-        if (!(bs.pdf > 0.0f)) return BSDFSample();
+        FresnelChoice c = choose_fresnel_lobe(ctx.allows(DeltaReflection), ctx.allows(DeltaTransmission), R, u_lobe);
+        if (!(c.pdf > 0.0f)) return bs;
+        bs.pdf = c.pdf;
+        bs.wo = c.reflect ? reflect(si.wi) : -si.wi;
+        bs.lobe = c.reflect ? DeltaReflection : DeltaTransmission;
+        bs.weight = (c.reflect ? reflectance_ : transmittance_)->eval(si.uv) * c.weight_factor;
         return bs;
     }
 

@@ -1,8 +1,10 @@
 #pragma once
-// The lecture's distance attenuation of point and spot lights, 1 / (a0 + a1 d + a2 d^2), kept as
-// optional parameters whose defaults (0, 0, 1) are the physical inverse-square law. Path tracer
-// and rasterizer use the same values, so changing them changes both images alike.
+// What point and spot lights share: the direction sample toward a point source, and the
+// lecture's distance attenuation 1 / (a0 + a1 d + a2 d^2), kept as optional parameters whose
+// defaults (0, 0, 1) are the physical inverse-square law. Path tracer and rasterizer use the
+// same values, so changing them changes both images alike.
 
+#include "core/emitter.h"
 #include "core/properties.h"
 
 namespace candela {
@@ -22,5 +24,19 @@ struct Attenuation {
     bool physical() const { return constant == 0.0f && linear == 0.0f && quadratic == 1.0f; }
     float operator()(float d) const { return 1.0f / (constant + linear * d + quadratic * d * d); }
 };
+
+// The sample toward a point source at `position` (a delta in position: pdf 1, no normal).
+inline DirectionSample sample_point_source(const Vec3& position, const SurfaceInteraction& ref, const Emitter* emitter) {
+    DirectionSample ds;
+    ds.p = position;
+    ds.n = Vec3(0.0f);
+    Vec3 to = position - ref.p;
+    ds.dist = glm::length(to);
+    ds.d = to / ds.dist;
+    ds.pdf = 1.0f;
+    ds.delta = true;
+    ds.emitter = emitter;
+    return ds;
+}
 
 }  // namespace candela
