@@ -5,10 +5,12 @@
 
 #include "core/math.h"
 #include "core/xml.h"
+#include "integrators/raster/raster.h"
 
 #include <CLI/CLI.hpp>
 
 #include <functional>
+#include <map>
 
 namespace candela::app {
 
@@ -24,6 +26,19 @@ void add_estimate_command(CLI::App& app, std::function<int()>& run);
 void add_converge_command(CLI::App& app, std::function<int()>& run);
 void add_validate_command(CLI::App& app, std::function<int()>& run);
 void add_compare_modes_command(CLI::App& app, std::function<int()>& run);
+
+// The raster mode's options on the command line (render --mode raster, compare-modes): each is a
+// RasterSettings option (--aa-filter sets aa_filter, ...).
+struct RasterOptionArgs {
+    std::map<std::string, std::string> values;
+    bool wireframe = false, light_gizmos = false, affine = false, backface_culling = false;
+
+    void add_to(CLI::App* cmd);
+    // The options that were given, by RasterSettings name.
+    std::map<std::string, std::string> given() const;
+    // Applies the given options; InputError for an invalid value.
+    void apply(RasterSettings& settings) const;
+};
 
 // Shared by the commands: -D name=value pairs, and "x,y,z" triples (InputError when malformed).
 SceneParameters parse_defines(const std::vector<std::string>& defines);

@@ -24,8 +24,7 @@ struct CompareModesArgs {
     std::string scene, output = "compare.png";
     std::vector<std::string> defines;
     int spp = 0, threads = 0;
-    std::map<std::string, std::string> raster;
-    bool wireframe = false;
+    RasterOptionArgs raster;
     double range = 0.5;
 };
 }  // namespace
@@ -39,22 +38,14 @@ void add_compare_modes_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("-D", a->defines, "Set a scene parameter: -D name=value (repeatable)")->take_all();
     cmd->add_option("--threads,-t", a->threads, "Worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
     cmd->add_option("--heatmap-range", a->range, "Relative difference at full colour (default 0.5)")->check(CLI::PositiveNumber);
-    for (const char* name : {"shading", "reflection", "shadows", "aa", "aa-filter", "texture-filter", "environment-mapping"}) {
-        std::string key = name;
-        std::replace(key.begin(), key.end(), '-', '_');
-        cmd->add_option(std::string("--") + name, a->raster[key], "Raster mode: " + key);
-    }
-    cmd->add_flag("--wireframe", a->wireframe, "Raster mode: draw visible triangle edges");
+    a->raster.add_to(cmd);
     cmd->callback([a, &run] {
         run = [a] {
             check_output_path(a->output);
             Ref<Scene> scene = load_scene(a->scene, parse_defines(a->defines));
             RasterSettings settings;
             if (auto* r = dynamic_cast<RasterIntegrator*>(&scene->integrator())) settings = r->settings();
-            std::string error;
-            for (const auto& [k, v] : a->raster)
-                if (!v.empty() && !settings.set(k, v, error)) throw InputError(error);
-            if (a->wireframe) settings.wireframe = true;
+            a->raster.apply(settings);
             RenderOptions options;
             options.threads = a->threads;
             RasterIntegrator raster(settings);

@@ -29,9 +29,7 @@ void on_sigint(int) {
 
 struct RenderArgs {
     std::string scene, output, mode;
-    // Raster-mode options by name (as RasterSettings::set takes them); empty = not given.
-    std::map<std::string, std::string> raster;
-    bool wireframe = false, gizmos = false, affine = false, culling = false;
+    RasterOptionArgs raster;
     int spp = 0, threads = 0;
     int64_t seed = -1;
     std::vector<std::string> defines, aovs;
@@ -40,24 +38,16 @@ struct RenderArgs {
 
 // --mode and the raster options replace or adjust the scene's integrator.
 void apply_mode(Scene& scene, const RenderArgs& a) {
-    std::map<std::string, std::string> given;
-    for (const auto& [k, v] : a.raster)
-        if (!v.empty()) given[k] = v;
-    if (a.wireframe) given["wireframe"] = "true";
-    if (a.gizmos) given["light_gizmos"] = "true";
-    if (a.affine) given["affine"] = "true";
-    if (a.culling) given["backface_culling"] = "true";
+    bool options_given = !a.raster.given().empty();
     auto* existing = dynamic_cast<RasterIntegrator*>(&scene.integrator());
     bool raster = a.mode == "raster" || (a.mode.empty() && existing);
     if (!raster) {
-        if (!given.empty()) throw InputError("raster options (--shading, --aa, ...) need --mode raster");
+        if (options_given) throw InputError("raster options (--shading, --aa, ...) need --mode raster");
         if (a.mode == "path" && scene.integrator().to_string() != "path") scene.set_integrator(std::make_shared<PathIntegrator>(PathSettings{}));
         return;
     }
     RasterSettings settings = existing ? existing->settings() : RasterSettings{};
-    std::string error;
-    for (const auto& [k, v] : given)
-        if (!settings.set(k, v, error)) throw InputError(error);
+    a.raster.apply(settings);
     scene.set_integrator(std::make_shared<RasterIntegrator>(settings));
 }
 
@@ -99,15 +89,7 @@ void add_render_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("--aov", args->aovs, "Extra EXR layers: albedo, normal, depth, variance")->delimiter(',');
     cmd->add_option("--mode", args->mode, "path (Monte Carlo global illumination) or raster (local illumination); default: the scene's integrator")
         ->check(CLI::IsMember({"path", "raster"}));
-    for (const char* name : {"shading", "reflection", "shadows", "aa", "aa-filter", "texture-filter", "environment-mapping"}) {
-        std::string option = std::string("--") + name, key = name;
-        std::replace(key.begin(), key.end(), '-', '_');
-        cmd->add_option(option, args->raster[key], "Raster mode: " + key + " (see integrators/raster/raster.cpp)");
-    }
-    cmd->add_flag("--wireframe", args->wireframe, "Raster mode: draw visible triangle edges");
-    cmd->add_flag("--light-gizmos", args->gizmos, "Raster mode: draw the lights");
-    cmd->add_flag("--affine", args->affine, "Raster mode: affine (not perspective-correct) interpolation");
-    cmd->add_flag("--backface-culling", args->culling, "Raster mode: cull back faces");
+    args->raster.add_to(cmd);
     cmd->callback([args, &run] {
         run = [args] {
             SceneParameters params = parse_defines(args->defines);
