@@ -5,7 +5,7 @@
 #include "apps/commands.h"
 
 #include "core/error.h"
-#include "core/image_metrics.h"
+#include "analysis/image_metrics.h"
 
 #include <cstdio>
 

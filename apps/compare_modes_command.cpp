@@ -9,7 +9,7 @@
 
 #include "core/error.h"
 #include "core/image_draw.h"
-#include "core/image_metrics.h"
+#include "analysis/image_metrics.h"
 #include "core/scene.h"
 #include "integrators/path.h"
 #include "integrators/raster/raster.h"

@@ -14,11 +14,11 @@
 #include "apps/commands.h"
 
 #include "core/error.h"
-#include "core/expression.h"
-#include "core/image_metrics.h"
-#include "core/plot.h"
+#include "analysis/expression.h"
+#include "analysis/image_metrics.h"
+#include "analysis/plot.h"
 #include "core/scene.h"
-#include "core/statistics.h"
+#include "analysis/statistics.h"
 
 #include <cstdio>
 #include <sstream>

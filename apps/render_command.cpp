@@ -5,7 +5,7 @@
 
 #include "core/integrator.h"
 #include "core/progress.h"
-#include "core/render_output.h"
+#include "apps/render_output.h"
 #include "core/xml.h"
 #include "integrators/path.h"
 #include "integrators/raster/raster.h"

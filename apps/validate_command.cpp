@@ -11,7 +11,7 @@
 
 #include "core/error.h"
 #include "core/file_output.h"
-#include "core/image_metrics.h"
+#include "analysis/image_metrics.h"
 #include "core/scene.h"
 
 #include <chrono>

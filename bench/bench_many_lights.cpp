@@ -8,7 +8,7 @@
 // prints the time, the relative MSE against the reference, and time x relMSE (lower is better:
 // the cost of reaching a given error). It prints figures and asserts nothing.
 
-#include "core/image_metrics.h"
+#include "analysis/image_metrics.h"
 #include "core/rng.h"
 #include "core/xml.h"
 

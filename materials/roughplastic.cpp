@@ -14,7 +14,7 @@
 // cosines; the integrals over visible normals are evaluated with Gauss-Legendre quadrature.
 
 #include "core/bsdf.h"
-#include "core/quadrature.h"
+#include "materials/quadrature.h"
 #include "core/registry.h"
 #include "core/texture.h"
 #include "core/warp.h"

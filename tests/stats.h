@@ -3,7 +3,7 @@
 // integrated from a pdf. The general tools (chi-square, Sidak, quantiles, mean and standard
 // error) are in core/statistics.h.
 
-#include "core/statistics.h"
+#include "analysis/statistics.h"
 
 #include <functional>
 #include <vector>

@@ -41,3 +41,15 @@ int run_command(const std::string& command, const std::filesystem::path& log) {
 std::string scene_xml(const std::string& body) { return "<scene version=\"3.0.0\">\n" + body + "\n</scene>\n"; }
 
 }  // namespace candela::test
+
+namespace candela::test {
+
+RenderResult render_file(const std::string& scene_path, const SceneParameters& params, int threads, std::vector<std::string> aovs) {
+    Ref<Scene> scene = load_scene(scene_path, params);
+    RenderOptions options;
+    options.threads = threads;
+    options.aovs = std::move(aovs);
+    return scene->integrator().render(*scene, options);
+}
+
+}  // namespace candela::test

@@ -1,8 +1,12 @@
 #pragma once
 // Helpers shared by the tests: scratch directories, small files, and scene snippets.
 
+#include "core/integrator.h"
+#include "core/xml.h"
+
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace candela::test {
 
@@ -15,6 +19,9 @@ std::string candela_binary();
 // Runs a shell command; returns its exit code (not the raw wait status). Output goes to `log`.
 int run_command(const std::string& command, const std::filesystem::path& log);
 std::string read_text(const std::filesystem::path& path);
+
+// Loads a scene file with `params` and renders it with its own integrator.
+RenderResult render_file(const std::string& scene_path, const SceneParameters& params, int threads = 0, std::vector<std::string> aovs = {});
 
 // A minimal scene document around `body` (sensor, film and integrator given by the caller).
 std::string scene_xml(const std::string& body);

@@ -4,7 +4,7 @@
 // a cube map of six faces (OpenGL's face layout) built from that environment or loaded from
 // images. Rough reflections read coarser MIP levels of the cube faces (level ~ alpha * levels).
 
-#include "core/mipmap.h"
+#include "textures/mipmap.h"
 #include "core/scene.h"
 
 #include <array>

@@ -44,7 +44,7 @@
 #include "core/bsdf.h"
 #include "core/error.h"
 #include "core/mesh.h"
-#include "core/raster2d.h"
+#include "geometry2d/raster2d.h"
 #include "core/registry.h"
 #include "core/scene.h"
 #include "core/texture.h"

@@ -1,0 +1,56 @@
+#include "shapes/analytic_shape.h"
+
+namespace candela {
+
+namespace {
+void bounds_callback(const RTCBoundsFunctionArguments* args) {
+    auto* shape = static_cast<const AnalyticShape*>(args->geometryUserPtr);
+    BoundingBox b = shape->bbox();
+    // Pad by a relative epsilon so that hits exactly on the box survive Embree's culling.
+    Vec3 pad = (Vec3(1.0f) + glm::abs(b.min) + glm::abs(b.max)) * 1e-6f;
+    args->bounds_o->lower_x = b.min.x - pad.x;
+    args->bounds_o->lower_y = b.min.y - pad.y;
+    args->bounds_o->lower_z = b.min.z - pad.z;
+    args->bounds_o->upper_x = b.max.x + pad.x;
+    args->bounds_o->upper_y = b.max.y + pad.y;
+    args->bounds_o->upper_z = b.max.z + pad.z;
+}
+
+void intersect_callback(const RTCIntersectFunctionNArguments* args) {
+    if (!args->valid[0]) return;
+    auto* shape = static_cast<const AnalyticShape*>(args->geometryUserPtr);
+    auto* rh = reinterpret_cast<RTCRayHit*>(args->rayhit);  // N == 1 for rtcIntersect1
+    Vec3 o(rh->ray.org_x, rh->ray.org_y, rh->ray.org_z), d(rh->ray.dir_x, rh->ray.dir_y, rh->ray.dir_z);
+    float t;
+    if (!shape->intersect_t(o, d, rh->ray.tnear, rh->ray.tfar, t)) return;
+    rh->ray.tfar = t;
+    rh->hit.u = 0.0f;
+    rh->hit.v = 0.0f;
+    rh->hit.Ng_x = rh->hit.Ng_y = 0.0f;
+    rh->hit.Ng_z = 1.0f;
+    rh->hit.primID = args->primID;
+    rh->hit.geomID = args->geomID;
+    rh->hit.instID[0] = args->context->instID[0];
+}
+
+void occluded_callback(const RTCOccludedFunctionNArguments* args) {
+    if (!args->valid[0]) return;
+    auto* shape = static_cast<const AnalyticShape*>(args->geometryUserPtr);
+    auto* ray = reinterpret_cast<RTCRay*>(args->ray);
+    Vec3 o(ray->org_x, ray->org_y, ray->org_z), d(ray->dir_x, ray->dir_y, ray->dir_z);
+    float t;
+    if (shape->intersect_t(o, d, ray->tnear, ray->tfar, t)) ray->tfar = -Infinity;
+}
+}  // namespace
+
+RTCGeometry AnalyticShape::create_embree_geometry(RTCDevice device) const {
+    RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
+    rtcSetGeometryUserPrimitiveCount(g, 1);
+    rtcSetGeometryUserData(g, const_cast<AnalyticShape*>(this));
+    rtcSetGeometryBoundsFunction(g, bounds_callback, nullptr);
+    rtcSetGeometryIntersectFunction(g, intersect_callback);
+    rtcSetGeometryOccludedFunction(g, occluded_callback);
+    return g;
+}
+
+}  // namespace candela

@@ -1,0 +1,300 @@
+// ply: a Stanford PLY triangle mesh (ascii, binary_little_endian or binary_big_endian).
+// Debian packages no PLY library, so this file holds a small reader.
+//
+// Parameters:
+//   filename       string      the .ply file (relative to the scene file)
+//   to_world       transform   object to world (default identity)
+//   face_normals   boolean     ignore the file's normals and shade flat (default false)
+//   flip_normals   boolean     swap front and back (default false)
+// Vertex properties read: x y z, nx ny nz, and uv as u v, s t, texture_u texture_v or
+// texture_s texture_t (not flipped). Faces: the list vertex_indices (or vertex_index); polygons
+// are triangulated by ear clipping. Other elements and properties are skipped.
+
+#include "core/mesh.h"
+#include "geometry2d/polygon.h"
+#include "core/registry.h"
+
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+namespace candela {
+
+namespace {
+
+enum class PlyType { Int8, UInt8, Int16, UInt16, Int32, UInt32, Float32, Float64, Invalid };
+
+PlyType parse_type(const std::string& s) {
+    if (s == "char" || s == "int8") return PlyType::Int8;
+    if (s == "uchar" || s == "uint8") return PlyType::UInt8;
+    if (s == "short" || s == "int16") return PlyType::Int16;
+    if (s == "ushort" || s == "uint16") return PlyType::UInt16;
+    if (s == "int" || s == "int32") return PlyType::Int32;
+    if (s == "uint" || s == "uint32") return PlyType::UInt32;
+    if (s == "float" || s == "float32") return PlyType::Float32;
+    if (s == "double" || s == "float64") return PlyType::Float64;
+    return PlyType::Invalid;
+}
+
+size_t type_size(PlyType t) {
+    switch (t) {
+    case PlyType::Int8: case PlyType::UInt8: return 1;
+    case PlyType::Int16: case PlyType::UInt16: return 2;
+    case PlyType::Int32: case PlyType::UInt32: case PlyType::Float32: return 4;
+    case PlyType::Float64: return 8;
+    default: return 0;
+    }
+}
+
+struct PlyProperty {
+    std::string name;
+    PlyType type = PlyType::Invalid;
+    bool is_list = false;
+    PlyType count_type = PlyType::Invalid;
+};
+
+struct PlyElement {
+    std::string name;
+    size_t count = 0;
+    std::vector<PlyProperty> properties;
+};
+
+class PlyError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+// Reads scalar values from the body in the file's encoding.
+class PlyBodyReader {
+public:
+    PlyBodyReader(std::istream& in, int format, int first_line) : in_(in), format_(format), line_(first_line) {}
+
+    double read(PlyType type) {
+        if (format_ == 0) return read_ascii();
+        unsigned char buf[8];
+        size_t n = type_size(type);
+        if (!in_.read(reinterpret_cast<char*>(buf), std::streamsize(n))) throw PlyError("unexpected end of file");
+        bool file_big = format_ == 2;
+        const uint16_t probe = 1;
+        bool host_big = *reinterpret_cast<const unsigned char*>(&probe) == 0;
+        if (file_big != host_big) std::reverse(buf, buf + n);
+        switch (type) {
+        case PlyType::Int8: { int8_t v; std::memcpy(&v, buf, 1); return v; }
+        case PlyType::UInt8: return buf[0];
+        case PlyType::Int16: { int16_t v; std::memcpy(&v, buf, 2); return v; }
+        case PlyType::UInt16: { uint16_t v; std::memcpy(&v, buf, 2); return v; }
+        case PlyType::Int32: { int32_t v; std::memcpy(&v, buf, 4); return v; }
+        case PlyType::UInt32: { uint32_t v; std::memcpy(&v, buf, 4); return v; }
+        case PlyType::Float32: { float v; std::memcpy(&v, buf, 4); return v; }
+        case PlyType::Float64: { double v; std::memcpy(&v, buf, 8); return v; }
+        default: throw PlyError("invalid property type");
+        }
+    }
+    // ascii: each element instance sits on its own line.
+    void end_element() {
+        if (format_ == 0) {
+            tokens_.clear();
+            pos_ = 0;
+            have_line_ = false;
+        }
+    }
+    int line() const { return line_; }
+
+private:
+    double read_ascii() {
+        while (!have_line_ || pos_ >= tokens_.size()) {
+            if (have_line_) throw PlyError("too few values on line " + std::to_string(line_));
+            std::string text;
+            if (!std::getline(in_, text)) throw PlyError("unexpected end of file");
+            ++line_;
+            std::istringstream ss(text);
+            tokens_.clear();
+            pos_ = 0;
+            for (std::string t; ss >> t;) tokens_.push_back(t);
+            have_line_ = !tokens_.empty();
+        }
+        const std::string& t = tokens_[pos_++];
+        char* end = nullptr;
+        double v = std::strtod(t.c_str(), &end);
+        if (end == t.c_str() || *end != '\0') throw PlyError("bad number \"" + t + "\" on line " + std::to_string(line_));
+        return v;
+    }
+
+    std::istream& in_;
+    int format_;  // 0 ascii, 1 little endian, 2 big endian
+    int line_;
+    std::vector<std::string> tokens_;
+    size_t pos_ = 0;
+    bool have_line_ = false;
+};
+
+}  // namespace
+
+class PlyMesh final : public Mesh {
+public:
+    explicit PlyMesh(const Properties& props) : Mesh(props) {
+        std::string path = props.get_file_path("filename");
+        bool face_normals = props.get_bool("face_normals", false);
+        try {
+            read(path, face_normals);
+        } catch (const PlyError& e) {
+            props.fail("filename", "cannot read PLY file \"" + path + "\": " + e.what());
+        }
+        if (triangles_.empty()) props.fail("filename", "PLY file \"" + path + "\" has no faces");
+        finalize(props, !face_normals);
+    }
+    std::string to_string() const override { return "ply"; }
+
+private:
+    void read(const std::string& path, bool face_normals) {
+        std::ifstream in(path, std::ios::binary);
+        if (!in) throw PlyError("cannot open file");
+        std::string line;
+        int line_no = 0;
+        auto next_line = [&]() -> bool {
+            if (!std::getline(in, line)) return false;
+            ++line_no;
+            if (!line.empty() && line.back() == '\r') line.pop_back();
+            return true;
+        };
+        if (!next_line() || line != "ply") throw PlyError("not a PLY file (line 1 must be \"ply\")");
+        int format = -1;
+        std::vector<PlyElement> elements;
+        for (;;) {
+            if (!next_line()) throw PlyError("header has no end_header");
+            std::istringstream ss(line);
+            std::string word;
+            ss >> word;
+            auto where = " (line " + std::to_string(line_no) + ")";
+            if (word == "end_header") break;
+            if (word.empty() || word == "comment" || word == "obj_info") continue;
+            if (word == "format") {
+                std::string f, version;
+                ss >> f >> version;
+                if (f == "ascii") format = 0;
+                else if (f == "binary_little_endian") format = 1;
+                else if (f == "binary_big_endian") format = 2;
+                else throw PlyError("unknown format \"" + f + "\"" + where);
+            } else if (word == "element") {
+                PlyElement e;
+                long long count = -1;
+                ss >> e.name >> count;
+                if (e.name.empty() || count < 0) throw PlyError("malformed element line" + where);
+                e.count = size_t(count);
+                elements.push_back(e);
+            } else if (word == "property") {
+                if (elements.empty()) throw PlyError("property before any element" + where);
+                PlyProperty p;
+                std::string t;
+                ss >> t;
+                if (t == "list") {
+                    std::string ct, it;
+                    ss >> ct >> it >> p.name;
+                    p.is_list = true;
+                    p.count_type = parse_type(ct);
+                    p.type = parse_type(it);
+                    if (p.count_type == PlyType::Invalid) throw PlyError("unknown type \"" + ct + "\"" + where);
+                } else {
+                    p.type = parse_type(t);
+                    ss >> p.name;
+                }
+                if (p.type == PlyType::Invalid || p.name.empty()) throw PlyError("malformed property line" + where);
+                elements.back().properties.push_back(p);
+            } else {
+                throw PlyError("unexpected header line \"" + line + "\"" + where);
+            }
+        }
+        if (format < 0) throw PlyError("header has no format line");
+
+        PlyBodyReader body(in, format, line_no);
+        for (const PlyElement& e : elements) {
+            if (e.name == "vertex") read_vertices(e, body, face_normals);
+            else if (e.name == "face") read_faces(e, body);
+            else skip(e, body);
+        }
+    }
+
+    static int find(const PlyElement& e, std::initializer_list<const char*> names) {
+        for (const char* n : names)
+            for (size_t i = 0; i < e.properties.size(); ++i)
+                if (e.properties[i].name == n && !e.properties[i].is_list) return int(i);
+        return -1;
+    }
+
+    void read_vertices(const PlyElement& e, PlyBodyReader& body, bool face_normals) {
+        int ix = find(e, {"x"}), iy = find(e, {"y"}), iz = find(e, {"z"});
+        if (ix < 0 || iy < 0 || iz < 0) throw PlyError("vertex element lacks x, y or z");
+        int inx = find(e, {"nx"}), iny = find(e, {"ny"}), inz = find(e, {"nz"});
+        int iu = find(e, {"u", "s", "texture_u", "texture_s"}), iv = find(e, {"v", "t", "texture_v", "texture_t"});
+        bool normals = inx >= 0 && iny >= 0 && inz >= 0 && !face_normals, uvs = iu >= 0 && iv >= 0;
+        std::vector<double> values(e.properties.size());
+        positions_.reserve(e.count);
+        for (size_t i = 0; i < e.count; ++i) {
+            for (size_t k = 0; k < e.properties.size(); ++k) {
+                const PlyProperty& p = e.properties[k];
+                if (p.is_list) {
+                    size_t n = size_t(body.read(p.count_type));
+                    for (size_t j = 0; j < n; ++j) body.read(p.type);
+                    values[k] = 0.0;
+                } else {
+                    values[k] = body.read(p.type);
+                }
+            }
+            body.end_element();
+            positions_.emplace_back(values[ix], values[iy], values[iz]);
+            if (normals) normals_.emplace_back(values[inx], values[iny], values[inz]);
+            if (uvs) uvs_.emplace_back(values[iu], values[iv]);
+        }
+    }
+
+    void read_faces(const PlyElement& e, PlyBodyReader& body) {
+        int list = -1;
+        for (size_t i = 0; i < e.properties.size(); ++i)
+            if (e.properties[i].is_list && (e.properties[i].name == "vertex_indices" || e.properties[i].name == "vertex_index"))
+                list = int(i);
+        if (list < 0) throw PlyError("face element lacks a vertex_indices list");
+        std::vector<unsigned> corner;
+        for (size_t i = 0; i < e.count; ++i) {
+            for (size_t k = 0; k < e.properties.size(); ++k) {
+                const PlyProperty& p = e.properties[k];
+                if (!p.is_list) {
+                    body.read(p.type);
+                    continue;
+                }
+                double n = body.read(p.count_type);
+                if (n < 0 || n > 1e6) throw PlyError("face with an invalid corner count");
+                corner.resize(size_t(n));
+                for (size_t j = 0; j < corner.size(); ++j) {
+                    double idx = body.read(p.type);
+                    if (idx < 0 || idx >= double(positions_.size()))
+                        throw PlyError("face " + std::to_string(i) + " refers to vertex " + std::to_string(long(idx)) +
+                                       ", which does not exist (vertices must come before faces)");
+                    corner[j] = unsigned(idx);
+                }
+                if (int(k) != list) continue;
+                if (corner.size() == 3) {
+                    triangles_.push_back({corner[0], corner[1], corner[2]});
+                } else if (corner.size() > 3) {
+                    std::vector<Vec3> pts(corner.size());
+                    for (size_t j = 0; j < corner.size(); ++j) pts[j] = positions_[corner[j]];
+                    for (auto& t : triangulate_polygon_3d(pts)) triangles_.push_back({corner[t[0]], corner[t[1]], corner[t[2]]});
+                }
+            }
+            body.end_element();
+        }
+    }
+
+    static void skip(const PlyElement& e, PlyBodyReader& body) {
+        for (size_t i = 0; i < e.count; ++i) {
+            for (const PlyProperty& p : e.properties) {
+                size_t n = p.is_list ? size_t(body.read(p.count_type)) : 1;
+                for (size_t j = 0; j < n; ++j) body.read(p.type);
+            }
+            body.end_element();
+        }
+    }
+};
+
+CANDELA_REGISTER(PlyMesh, ObjectKind::Shape, "ply");
+
+}  // namespace candela

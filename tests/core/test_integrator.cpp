@@ -1,0 +1,68 @@
+// The pixel loop: bit-identical results for any thread count, crop windows, and AOVs with the
+// variance of the pixel mean.
+
+#include "core/xml.h"
+#include "tests/util.h"
+
+#include <catch2/catch.hpp>
+
+#include <cstring>
+
+using namespace candela;
+using namespace candela::test;
+
+TEST_CASE("determinism: one command gives a bit-identical image with 1 or 2 threads", "[render][determinism]") {
+    auto dir = scratch_dir("determinism");
+    // A gaussian filter (samples splat across tile borders) and a size that is not a multiple of
+    // the tile size: the hardest case for order-independent accumulation.
+    std::string scene = read_text(source_path("scenes/validation/cbox.xml"));
+    std::string box = "<rfilter type=\"box\"/>";
+    scene.replace(scene.find(box), box.size(), "<rfilter type=\"gaussian\"/>");
+    write_text(dir / "cbox_gauss.xml", scene);
+    SceneParameters p = {{"res", "70"}, {"spp", "6"}};
+    RenderResult one = render_file((dir / "cbox_gauss.xml").string(), p, 1, {"variance", "albedo"});
+    RenderResult two = render_file((dir / "cbox_gauss.xml").string(), p, 2, {"variance", "albedo"});
+    RenderResult again = render_file((dir / "cbox_gauss.xml").string(), p, 2, {"variance", "albedo"});
+    REQUIRE(one.image.data().size() == two.image.data().size());
+    CHECK(std::memcmp(one.image.data().data(), two.image.data().data(), one.image.data().size() * sizeof(float)) == 0);
+    CHECK(std::memcmp(two.image.data().data(), again.image.data().data(), two.image.data().size() * sizeof(float)) == 0);
+    // A different seed gives a different image.
+    Ref<Scene> s = load_scene((dir / "cbox_gauss.xml").string(), p);
+    RenderOptions o;
+    o.seed = 99;
+    RenderResult other = s->integrator().render(*s, o);
+    CHECK(std::memcmp(one.image.data().data(), other.image.data().data(), 3 * sizeof(float) * 70 * 70) != 0);
+}
+
+TEST_CASE("film: a crop window renders exactly the same pixels as the full film", "[render][film]") {
+    auto dir = scratch_dir("crop");
+    std::string scene = read_text(source_path("scenes/validation/cbox.xml"));
+    std::string anchor = "<rfilter type=\"box\"/>";
+    scene.replace(scene.find(anchor), anchor.size(),
+                  anchor + "<integer name=\"crop_offset_x\" value=\"10\"/><integer name=\"crop_offset_y\" value=\"20\"/>"
+                           "<integer name=\"crop_width\" value=\"30\"/><integer name=\"crop_height\" value=\"17\"/>");
+    write_text(dir / "crop.xml", scene);
+    SceneParameters p = {{"res", "64"}, {"spp", "4"}};
+    RenderResult full = render_file(source_path("scenes/validation/cbox.xml"), p);
+    RenderResult crop = render_file((dir / "crop.xml").string(), p);
+    REQUIRE(crop.image.width() == 30);
+    REQUIRE(crop.image.height() == 17);
+    for (int y = 0; y < 17; ++y)
+        for (int x = 0; x < 30; ++x) REQUIRE(crop.image.rgb_at(x, y) == full.image.rgb_at(x + 10, y + 20));
+}
+
+TEST_CASE("render: AOVs and the variance of the pixel mean", "[render][aov]") {
+    RenderResult r = render_file(source_path("scenes/furnace/closed_sphere.xml"), {{"rho", "0.5"}, {"res", "8"}}, 0,
+                            {"albedo", "normal", "depth", "variance"});
+    const Image& img = r.image;
+    REQUIRE(img.channel_index("albedo.R") == 3);
+    REQUIRE(img.channel_index("variance.B") == img.channel_count() - 1);
+    int depth = img.channel_index("depth.Z"), nz = img.channel_index("normal.Z"), var = img.channel_index("variance.R");
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 8; ++x) {
+            CHECK(img.at(x, y, 3) == Approx(0.5f));         // albedo of the sphere
+            CHECK(img.at(x, y, depth) == Approx(1.0f));     // distance to the unit sphere
+            CHECK(img.at(x, y, nz) < 0.0f);                 // inward normals face the camera
+            CHECK(img.at(x, y, var) > 0.0f);
+        }
+}

@@ -1,0 +1,76 @@
+// The path tracer end to end: the analytic furnace (with error bars from the render itself) and
+// scale robustness of ray offsets.
+
+#include "core/ray.h"
+#include "core/xml.h"
+#include "tests/stats.h"
+#include "tests/util.h"
+
+#include <catch2/catch.hpp>
+
+
+using namespace candela;
+using namespace candela::test;
+
+namespace {
+
+// Every pixel of a furnace has the same expectation and (box filter) independent samples: the
+// pixel values are i.i.d., so their mean has a standard error computed from their spread.
+MeanAndError pixel_mean(const Image& img, int channel) {
+    std::vector<double> v;
+    for (int y = 0; y < img.height(); ++y)
+        for (int x = 0; x < img.width(); ++x) v.push_back(img.at(x, y, channel));
+    return mean_and_error(v);
+}
+
+constexpr int FurnaceTests = 10;  // the z-tests below share a 1% family-wise level (Sidak)
+
+void check_furnace(double rho, int max_depth, double expected, const SceneParameters& extra = {}) {
+    SceneParameters p = {{"rho", std::to_string(rho)}, {"max_depth", std::to_string(max_depth)}, {"Le", "1"}};
+    for (auto& [k, v] : extra) p[k] = v;
+    RenderResult r = render_file(source_path("scenes/furnace/closed_sphere.xml"), p);
+    MeanAndError m = pixel_mean(r.image, 0);
+    double z = two_sided_z(sidak(0.01, FurnaceTests));
+    INFO("rho " << rho << " max_depth " << max_depth << ": mean " << m.mean << " +- " << m.std_error << " expected " << expected
+                << " (z threshold " << z << ")");
+    // Beyond the noise, two systematic effects of float32 arithmetic: ray offsets move path
+    // vertices by up to OffsetSafety * sqrt(3) * gamma_7 of their magnitude at each end of a
+    // segment, and accumulation rounds at about 1e-6. They matter only where the estimator has
+    // (next to) no variance, as at max_depth 1 and 2 here.
+    const double systematic = 2.0 * OffsetSafety * std::sqrt(3.0) * gamma_bound(7) + 1e-6;
+    CHECK(std::abs(m.mean - expected) <= z * m.std_error + systematic * expected);
+    CHECK(m.std_error < 0.01 * expected);  // the test has power: errors of 1% and more would show
+    CHECK(r.stats.nonfinite == 0);
+}
+
+}  // namespace
+
+TEST_CASE("furnace: a closed emitting diffuse sphere renders Le / (1 - rho)", "[render][furnace]") {
+    check_furnace(0.5, -1, 2.0);
+    check_furnace(0.9, -1, 10.0, {{"spp", "256"}});
+}
+
+TEST_CASE("furnace: max_depth truncates the path sum (Mitsuba semantics)", "[render][furnace]") {
+    check_furnace(0.5, 3, 1.0 + 0.5 + 0.25);  // emitters seen directly, one and two bounces
+    check_furnace(0.8, 1, 1.0);               // only emitters seen directly
+    check_furnace(0.8, 2, 1.8);               // direct illumination
+}
+
+TEST_CASE("furnace: ray offsets hold when the scene is scaled by 1000 or by 1/1000", "[render][furnace]") {
+    check_furnace(0.5, -1, 2.0, {{"radius", "1000"}});
+    check_furnace(0.5, -1, 2.0, {{"radius", "0.001"}, {"near_clip", "1e-5"}});
+}
+
+TEST_CASE("furnace: lossless BSDFs under a uniform environment render exactly 1", "[render][furnace]") {
+    for (const char* name : {"white_diffuse", "white_dielectric", "white_conductor"}) {
+        RenderResult r = render_file(source_path(std::string("scenes/furnace/") + name + ".xml"), {});
+        MeanAndError m = pixel_mean(r.image, 1);
+        double z = two_sided_z(sidak(0.01, FurnaceTests));
+        INFO(name << ": mean " << m.mean << " +- " << m.std_error);
+        const double systematic = 2.0 * OffsetSafety * std::sqrt(3.0) * gamma_bound(7) + 1e-6;
+        CHECK(std::abs(m.mean - 1.0) <= z * m.std_error + systematic);
+        CHECK(m.std_error < 0.01);
+        CHECK(r.stats.nonfinite == 0);
+    }
+}
+

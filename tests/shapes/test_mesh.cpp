@@ -1,0 +1,178 @@
+// Meshes: OBJ (tinyobjloader) and PLY (ascii, binary little and big endian) loading, concave
+// n-gons triangulated by ear clipping, uv flipping, normals.
+
+#include "core/mesh.h"
+#include "core/xml.h"
+#include "geometry2d/polygon.h"
+#include "tests/util.h"
+
+#include <catch2/catch.hpp>
+
+#include <cstring>
+#include <fstream>
+
+using namespace candela;
+using namespace candela::test;
+
+namespace {
+
+const Mesh& load_mesh(const std::filesystem::path& dir, const std::string& shape_xml, Ref<Scene>& keep) {
+    write_text(dir / "scene.xml", scene_xml(shape_xml));
+    keep = load_scene((dir / "scene.xml").string());
+    REQUIRE(keep->shapes().size() == 1);
+    auto* mesh = dynamic_cast<const Mesh*>(keep->shapes()[0].get());
+    REQUIRE(mesh != nullptr);
+    return *mesh;
+}
+
+double total_area(const Mesh& m) {
+    double a = 0.0;
+    for (auto& t : m.triangles())
+        a += 0.5 * glm::length(glm::cross(m.positions()[t.y] - m.positions()[t.x], m.positions()[t.z] - m.positions()[t.x]));
+    return a;
+}
+
+// An arrow-shaped concave hexagon in the z = 0 plane, counter-clockwise seen from +z; a fan from
+// vertex 0 would cover area outside it.
+const std::vector<Vec3> Arrow = {{0, 0, 0}, {4, 2, 0}, {0, 4, 0}, {1, 2.5f, 0}, {1, 1.5f, 0}, {0.5f, 1, 0}};
+
+double arrow_area() {
+    std::vector<glm::dvec2> p;
+    for (auto& v : Arrow) p.emplace_back(v.x, v.y);
+    return 0.5 * polygon_signed_area2(p);
+}
+
+void check_arrow_triangulation(const Mesh& m) {
+    CHECK(m.triangle_count() == Arrow.size() - 2);
+    CHECK(total_area(m) == Approx(arrow_area()).epsilon(1e-6));
+    std::vector<glm::dvec2> poly;
+    for (auto& v : Arrow) poly.emplace_back(v.x, v.y);
+    for (auto& t : m.triangles()) {
+        Vec3 a = m.positions()[t.x], b = m.positions()[t.y], c = m.positions()[t.z];
+        Vec3 centroid = (a + b + c) / 3.0f;
+        CHECK(point_in_polygon(poly, glm::dvec2(centroid.x, centroid.y)));
+        CHECK(glm::cross(b - a, c - a).z > 0.0f);  // same winding as the polygon
+    }
+}
+
+}  // namespace
+
+TEST_CASE("obj: concave n-gons, uv flip, de-duplication and smooth normals", "[mesh]") {
+    auto dir = scratch_dir("obj");
+    std::string obj;
+    for (auto& v : Arrow) obj += "v " + std::to_string(v.x) + " " + std::to_string(v.y) + " 0\n";
+    obj += "vt 0 0\nvt 1 0.25\nvt 0 1\nvt 0.25 0.6\nvt 0.25 0.4\nvt 0.1 0.25\n";
+    obj += "f 1/1 2/2 3/3 4/4 5/5 6/6\n";
+    write_text(dir / "arrow.obj", obj);
+    Ref<Scene> keep;
+    const Mesh& m = load_mesh(dir, R"(<shape type="obj"><string name="filename" value="arrow.obj"/></shape>)", keep);
+    check_arrow_triangulation(m);
+    REQUIRE(m.uvs().size() == 6);
+    CHECK(m.uvs()[1] == Vec2(1.0f, 0.75f));  // flip_tex_coords defaults to true
+    // No normals in the file: smooth normals are computed (here all +z).
+    REQUIRE(m.normals().size() == 6);
+    for (auto& n : m.normals()) CHECK(glm::length(n - Vec3(0, 0, 1)) < 1e-5f);
+    Ref<Scene> keep2;
+    const Mesh& unflipped =
+        load_mesh(dir, R"(<shape type="obj"><string name="filename" value="arrow.obj"/><boolean name="flip_tex_coords" value="false"/></shape>)", keep2);
+    CHECK(unflipped.uvs()[1] == Vec2(1.0f, 0.25f));
+}
+
+TEST_CASE("obj: normals from the file, face_normals, and corners split by uv seams", "[mesh]") {
+    auto dir = scratch_dir("obj-normals");
+    // Two triangles sharing an edge; the shared vertices use different uvs on each side.
+    write_text(dir / "two.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvt 0.5 0.5\n"
+                                "vn 0 0 1\nvn 0 0.6 0.8\n"
+                                "f 1/1/1 2/2/1 3/3/2\nf 1/5/1 3/3/2 4/4/1\n");
+    Ref<Scene> keep;
+    const Mesh& m = load_mesh(dir, R"(<shape type="obj"><string name="filename" value="two.obj"/></shape>)", keep);
+    CHECK(m.positions().size() == 5);  // vertex 1 appears with two different uvs
+    CHECK(m.normals().size() == 5);
+    Ref<Scene> keep2;
+    const Mesh& flat = load_mesh(dir, R"(<shape type="obj"><string name="filename" value="two.obj"/><boolean name="face_normals" value="true"/></shape>)", keep2);
+    CHECK(flat.normals().empty());
+}
+
+TEST_CASE("obj: a broken file is an error at the filename's line", "[mesh][errors]") {
+    auto dir = scratch_dir("obj-bad");
+    write_text(dir / "bad.obj", "v 0 0 0\nv 1 0 0\nf 1 2 7\n");
+    write_text(dir / "scene.xml", scene_xml("<shape type=\"obj\">\n<string name=\"filename\" value=\"bad.obj\"/>\n</shape>"));
+    try {
+        load_scene((dir / "scene.xml").string());
+        FAIL("expected an error");
+    } catch (const SceneError& e) {
+        CHECK(e.location.line == 3);
+    }
+}
+
+namespace {
+// Writes the arrow as a PLY file in the given format, with a comment, an extra per-vertex
+// property and an extra element to skip.
+void write_ply(const std::filesystem::path& path, const std::string& format) {
+    std::ofstream out(path, std::ios::binary);
+    out << "ply\nformat " << format << " 1.0\ncomment test arrow\nelement vertex 6\nproperty float x\nproperty float y\n"
+        << "property float z\nproperty uchar red\nproperty float u\nproperty float v\nelement face 1\n"
+        << "property list uchar int vertex_indices\nelement extra 2\nproperty short dummy\nend_header\n";
+    bool big = format == "binary_big_endian";
+    auto put = [&](const void* data, size_t n) {
+        std::string bytes(static_cast<const char*>(data), n);
+        if (big) std::reverse(bytes.begin(), bytes.end());
+        out.write(bytes.data(), std::streamsize(n));
+    };
+    for (size_t i = 0; i < Arrow.size(); ++i) {
+        float vals[3] = {Arrow[i].x, Arrow[i].y, 0.0f}, uv[2] = {0.1f * i, 0.2f * i};
+        unsigned char red = 200;
+        if (format == "ascii") {
+            out << vals[0] << " " << vals[1] << " " << vals[2] << " " << int(red) << " " << uv[0] << " " << uv[1] << "\n";
+        } else {
+            for (float f : vals) put(&f, 4);
+            put(&red, 1);
+            for (float f : uv) put(&f, 4);
+        }
+    }
+    if (format == "ascii") {
+        out << "6 0 1 2 3 4 5\n1\n2\n";
+    } else {
+        unsigned char n = 6;
+        put(&n, 1);
+        for (int i = 0; i < 6; ++i) put(&i, 4);
+        for (short s : {short(1), short(2)}) put(&s, 2);
+    }
+}
+}  // namespace
+
+TEST_CASE("ply: ascii and binary files of both endiannesses give the same mesh", "[mesh]") {
+    auto dir = scratch_dir("ply");
+    std::vector<std::vector<Vec3>> positions;
+    std::vector<std::vector<Vec2>> uvs;
+    for (const char* format : {"ascii", "binary_little_endian", "binary_big_endian"}) {
+        INFO(format);
+        std::string name = std::string(format) + ".ply";
+        write_ply(dir / name, format);
+        Ref<Scene> keep;
+        const Mesh& m = load_mesh(dir, "<shape type=\"ply\"><string name=\"filename\" value=\"" + name + "\"/></shape>", keep);
+        check_arrow_triangulation(m);
+        positions.push_back(m.positions());
+        uvs.push_back(m.uvs());
+        REQUIRE(m.uvs().size() == 6);
+        CHECK(m.uvs()[2].y == Approx(0.4f));  // not flipped
+    }
+    CHECK(positions[0] == positions[1]);
+    CHECK(positions[1] == positions[2]);
+    CHECK(uvs[1] == uvs[2]);
+}
+
+TEST_CASE("ply: truncated and malformed files are errors", "[mesh][errors]") {
+    auto dir = scratch_dir("ply-bad");
+    write_ply(dir / "full.ply", "binary_little_endian");
+    std::string bytes = read_text(dir / "full.ply");
+    write_text(dir / "truncated.ply", bytes.substr(0, bytes.size() - 20));
+    write_text(dir / "header.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_header\n0\n1\n2\n");
+    write_text(dir / "notply.ply", "hello\n");
+    for (const char* name : {"truncated.ply", "header.ply", "notply.ply"}) {
+        INFO(name);
+        write_text(dir / "scene.xml", scene_xml(std::string("<shape type=\"ply\">\n<string name=\"filename\" value=\"") + name + "\"/>\n</shape>"));
+        CHECK_THROWS_AS(load_scene((dir / "scene.xml").string()), SceneError);
+    }
+}
+

@@ -1,0 +1,123 @@
+// Textures: Mitsuba's bitmap conventions (v = 0 is the top row, texel centres at half-integers),
+// wrap modes, sRGB decoding, nearest and bilinear filtering, to_uv, the checkerboard's parity,
+// and the MIP pyramid.
+
+#include "core/image.h"
+#include "textures/mipmap.h"
+#include "core/registry.h"
+#include "core/texture.h"
+#include "core/xml.h"
+#include "tests/util.h"
+
+#include <catch2/catch.hpp>
+
+using namespace candela;
+using namespace candela::test;
+
+namespace {
+// A 4x2 image: row 0 (top) red ramps, row 1 (bottom) green ramps.
+void write_test_image(const std::filesystem::path& path, bool png) {
+    Image img = Image::rgb(4, 2);
+    for (int x = 0; x < 4; ++x) {
+        img.set_rgb(x, 0, Spectrum(0.25f * x, 0, 0));
+        img.set_rgb(x, 1, Spectrum(0, 0.25f * x, 0));
+    }
+    if (png) write_png_display(img, path.string());
+    else write_exr(img, path.string(), true);
+}
+
+Ref<Texture> load_bitmap(const std::filesystem::path& dir, const std::string& file, const std::string& extra = "") {
+    Properties props("bitmap", SourceLocation{(dir / "virtual.xml").string(), 1});
+    props.set_string("filename", file);
+    if (extra.find("nearest") != std::string::npos) props.set_string("filter_type", "nearest");
+    if (extra.find("clamp") != std::string::npos) props.set_string("wrap_mode", "clamp");
+    if (extra.find("mirror") != std::string::npos) props.set_string("wrap_mode", "mirror");
+    if (extra.find("raw") != std::string::npos) props.set_bool("raw", true);
+    return create_plugin_as<Texture>(ObjectKind::Texture, props);
+}
+}  // namespace
+
+TEST_CASE("bitmap: v = 0 is the top row and texel centres sit at half-integers", "[texture]") {
+    auto dir = scratch_dir("bitmap");
+    write_test_image(dir / "ramp.exr", false);
+    auto tex = load_bitmap(dir, "ramp.exr", "nearest");
+    // Texel (x, y) covers u in [x / 4, (x + 1) / 4), v in [y / 2, (y + 1) / 2).
+    CHECK(tex->eval(Vec2(0.3f, 0.25f)) == Spectrum(0.25f, 0, 0));  // texel (1, 0): top row
+    CHECK(tex->eval(Vec2(0.8f, 0.75f)) == Spectrum(0, 0.75f, 0));  // texel (3, 1): bottom row
+    auto bilinear = load_bitmap(dir, "ramp.exr");
+    // At a texel centre bilinear equals the texel; halfway between two centres, their mean.
+    CHECK(bilinear->eval(Vec2(0.375f, 0.25f)).x == Approx(0.25f));
+    CHECK(bilinear->eval(Vec2(0.5f, 0.25f)).x == Approx(0.375f));
+    CHECK(bilinear->eval(Vec2(0.5f, 0.5f)).x == Approx(0.1875f));  // between the rows
+}
+
+TEST_CASE("bitmap: wrap modes repeat, mirror and clamp", "[texture]") {
+    auto dir = scratch_dir("bitmap-wrap");
+    write_test_image(dir / "ramp.exr", false);
+    auto repeat = load_bitmap(dir, "ramp.exr", "nearest"), mirror = load_bitmap(dir, "ramp.exr", "nearest mirror"),
+         clamp = load_bitmap(dir, "ramp.exr", "nearest clamp");
+    CHECK(repeat->eval(Vec2(1.3f, 0.25f)) == repeat->eval(Vec2(0.3f, 0.25f)));
+    CHECK(repeat->eval(Vec2(-0.2f, 0.25f)) == Spectrum(0.75f, 0, 0));   // wraps to texel 3
+    CHECK(mirror->eval(Vec2(-0.2f, 0.25f)) == Spectrum(0.0f, 0, 0));    // reflects to texel 0
+    CHECK(mirror->eval(Vec2(1.1f, 0.25f)) == Spectrum(0.75f, 0, 0));    // reflects to texel 3
+    CHECK(clamp->eval(Vec2(3.0f, 0.25f)) == Spectrum(0.75f, 0, 0));
+    CHECK(clamp->eval(Vec2(-3.0f, 0.75f)) == Spectrum(0, 0, 0));
+}
+
+TEST_CASE("bitmap: 8-bit images are decoded from sRGB unless raw", "[texture]") {
+    auto dir = scratch_dir("bitmap-srgb");
+    Image img = Image::rgb(2, 2);
+    for (int y = 0; y < 2; ++y)
+        for (int x = 0; x < 2; ++x) img.set_rgb(x, y, Spectrum(128.0f / 255.0f));
+    write_png_display(img, (dir / "grey.png").string());
+    CHECK(load_bitmap(dir, "grey.png")->eval(Vec2(0.5f)).x == Approx(srgb_to_linear(128.0f / 255.0f)).epsilon(1e-5));
+    CHECK(load_bitmap(dir, "grey.png", "raw")->eval(Vec2(0.5f)).x == Approx(128.0f / 255.0f).epsilon(1e-5));
+    CHECK(srgb_to_linear(128.0f / 255.0f) == Approx(0.2158605f).epsilon(1e-5));  // the IEC 61966-2-1 curve
+}
+
+TEST_CASE("checkerboard: parity, defaults and to_uv", "[texture]") {
+    Properties props("checkerboard", SourceLocation{"t", 1});
+    props.set_transform("to_uv", Transform::scale(Vec3(2, 2, 1)));
+    auto tex = create_plugin_as<Texture>(ObjectKind::Texture, props);
+    // After scaling by 2: (0.1, 0.1) -> (0.2, 0.2): both fractions <= 0.5 -> color0 (0.4).
+    CHECK(tex->eval(Vec2(0.1f, 0.1f)) == Spectrum(0.4f));
+    CHECK(tex->eval(Vec2(0.3f, 0.1f)) == Spectrum(0.2f));   // (0.6, 0.2): differ -> color1
+    CHECK(tex->eval(Vec2(0.3f, 0.3f)) == Spectrum(0.4f));   // (0.6, 0.6): both > 0.5 -> color0
+    CHECK(tex->eval_1(Vec2(0.1f, 0.1f)) == Approx(0.2f));   // scalar lookups use the other parity
+    CHECK(tex->mean() == Spectrum(0.3f));
+}
+
+TEST_CASE("mipmap: levels average their footprint, trilinear blends levels", "[texture]") {
+    // 8x8 checkerboard of single texels: every level above 0 is uniformly grey 0.5.
+    std::vector<Spectrum> texels(64);
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 8; ++x) texels[size_t(y) * 8 + x] = Spectrum(float((x + y) % 2));
+    MipMap mip(texels, 8, 8, WrapMode::Repeat);
+    REQUIRE(mip.levels() == 4);
+    CHECK(mip.width(3) == 1);
+    CHECK(mip.texel(1, 2, 1).x == Approx(0.5f));
+    CHECK(mip.texel(3, 0, 0).x == Approx(0.5f));
+    CHECK(mip.mean().x == Approx(0.5f));
+    // A footprint of one texel reads level 0; a footprint of the whole texture the top level.
+    CHECK(mip.trilinear(Vec2(1.5f / 8, 0.5f / 8), 1.0f / 8).x == Approx(1.0f));
+    CHECK(mip.trilinear(Vec2(0.3f, 0.7f), 1.0f).x == Approx(0.5f));
+    // Odd sizes: a 3x1 image pyramid keeps the average.
+    MipMap odd({Spectrum(0.0f), Spectrum(3.0f), Spectrum(6.0f)}, 3, 1, WrapMode::Clamp);
+    CHECK(odd.levels() == 3);
+    CHECK(odd.texel(1, 0, 0).x == Approx(1.5f));
+    CHECK(odd.texel(1, 1, 0).x == Approx(6.0f));
+}
+
+TEST_CASE("bitmap: a missing or unreadable image is an error at the filename's line", "[texture][errors]") {
+    auto dir = scratch_dir("bitmap-bad");
+    write_text(dir / "broken.png", "not an image");
+    write_text(dir / "scene.xml", scene_xml("<shape type=\"sphere\"><bsdf type=\"diffuse\"><texture type=\"bitmap\" name=\"reflectance\">\n"
+                                            "<string name=\"filename\" value=\"broken.png\"/>\n</texture></bsdf></shape>"));
+    try {
+        load_scene((dir / "scene.xml").string());
+        FAIL("expected an error");
+    } catch (const SceneError& e) {
+        CHECK(e.location.line == 3);
+        CHECK_THAT(std::string(e.what()), Catch::Contains("broken.png"));
+    }
+}

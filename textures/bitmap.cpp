@@ -1,0 +1,100 @@
+// bitmap: an image texture (PNG, JPEG, EXR, HDR, ... through OpenImageIO).
+//
+// Parameters:
+//   filename      string      the image (relative to the scene file)
+//   filter_type   string      bilinear (default) or nearest; the rasterizer may also ask for
+//                             trilinear lookups in the MIP pyramid
+//   wrap_mode     string      repeat (default), mirror or clamp
+//   raw           boolean     keep stored values; by default 8/16-bit images are decoded from
+//                             sRGB to linear, float images are used as they are (default false)
+//   to_uv         transform   uv transform (default identity)
+// v = 0 is the top row of the image (no flip), as in Mitsuba 3; texel centres sit at
+// half-integers. Alpha is ignored; one-channel images are grey.
+
+#include "core/error.h"
+#include "core/image.h"
+#include "textures/mipmap.h"
+#include "core/properties.h"
+#include "core/registry.h"
+#include "core/texture.h"
+
+namespace candela {
+
+class BitmapTexture final : public Texture {
+public:
+    explicit BitmapTexture(const Properties& props) {
+        std::string path = props.get_file_path("filename");
+        std::string filter = props.get_string("filter_type", "bilinear");
+        if (!parse_texture_filter(filter, filter_) || filter_ == TextureFilter::Trilinear)
+            props.fail("filter_type", "filter_type must be bilinear or nearest, not \"" + filter + "\"");
+        std::string wrap = props.get_string("wrap_mode", "repeat");
+        WrapMode wrap_mode;
+        if (!parse_wrap_mode(wrap, wrap_mode)) props.fail("wrap_mode", "wrap_mode must be repeat, mirror or clamp, not \"" + wrap + "\"");
+        bool raw = props.get_bool("raw", false);
+        to_uv_ = UVTransform(props.get_transform("to_uv"));
+
+        Image img;
+        bool srgb = false;
+        try {
+            img = read_image(path);
+            srgb = !raw && image_is_integer_format(path);
+        } catch (const InputError& e) {
+            props.fail("filename", e.what());
+        }
+        int nch = img.channel_count();
+        if (img.width() <= 0 || img.height() <= 0 || nch <= 0) props.fail("filename", "image \"" + path + "\" is empty");
+        std::vector<Spectrum> texels(size_t(img.width()) * img.height());
+        for (int y = 0; y < img.height(); ++y)
+            for (int x = 0; x < img.width(); ++x) {
+                Spectrum s = nch >= 3 ? Spectrum(img.at(x, y, 0), img.at(x, y, 1), img.at(x, y, 2)) : Spectrum(img.at(x, y, 0));
+                if (srgb)
+                    for (int c = 0; c < 3; ++c) s[c] = srgb_to_linear(s[c]);
+                for (int c = 0; c < 3; ++c)
+                    if (!std::isfinite(s[c])) s[c] = 0.0f;
+                texels[size_t(y) * img.width() + x] = s;
+            }
+        mip_ = MipMap(std::move(texels), img.width(), img.height(), wrap_mode);
+    }
+
+    Spectrum eval(const Vec2& uv_in) const override {
+        Vec2 uv = to_uv_.apply(uv_in);
+        return filter_ == TextureFilter::Nearest ? mip_.nearest(0, uv) : mip_.bilinear(0, uv);
+    }
+    // `filter` is a TextureFilter. The footprint is the longer of the two derivative vectors,
+    // mapped through to_uv.
+    Spectrum eval_filtered(const Vec2& uv_in, const Vec2& dx, const Vec2& dy, int filter) const override {
+        Vec2 uv = to_uv_.apply(uv_in);
+        switch (TextureFilter(filter)) {
+        case TextureFilter::Nearest: return mip_.nearest(0, uv);
+        case TextureFilter::Bilinear: return mip_.bilinear(0, uv);
+        case TextureFilter::Trilinear: {
+            auto linear = [&](const Vec2& d) { return Vec2(to_uv_.m[0][0] * d.x + to_uv_.m[0][1] * d.y, to_uv_.m[1][0] * d.x + to_uv_.m[1][1] * d.y); };
+            float footprint = std::max(glm::length(linear(dx)), glm::length(linear(dy)));
+            return mip_.trilinear(uv, footprint);
+        }
+        }
+        return eval(uv_in);
+    }
+
+    Vec2 eval_1_gradient(const Vec2& uv_in) const override {
+        if (filter_ == TextureFilter::Nearest) return Vec2(0.0f);  // piecewise constant
+        Spectrum d_du, d_dv;
+        mip_.bilinear_gradient(to_uv_.apply(uv_in), d_du, d_dv);
+        // Chain rule through to_uv: dh/du = dh/du' du'/du + dh/dv' dv'/du.
+        float gu = luminance(d_du), gv = luminance(d_dv);
+        return Vec2(gu * to_uv_.m[0][0] + gv * to_uv_.m[1][0], gu * to_uv_.m[0][1] + gv * to_uv_.m[1][1]);
+    }
+    Spectrum mean() const override { return mip_.mean(); }
+    float max_value() const override { return mip_.max_value(); }
+    std::string to_string() const override { return "bitmap"; }
+    const MipMap& mipmap() const { return mip_; }
+
+private:
+    MipMap mip_;
+    TextureFilter filter_ = TextureFilter::Bilinear;
+    UVTransform to_uv_;
+};
+
+CANDELA_REGISTER(BitmapTexture, ObjectKind::Texture, "bitmap");
+
+}  // namespace candela
