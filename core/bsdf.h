@@ -50,22 +50,7 @@ struct BSDFSample {
     bool valid() const { return pdf > 0.0f; }
 };
 
-class Texture;
-
-// How the rasterizer's local illumination model (Phong / Blinn-Phong with environment mapping)
-// approximates a BSDF. Each BSDF documents its own mapping in local_shading().
-struct LocalShading {
-    Ref<Texture> diffuse;          // Lambertian albedo kd (the model uses kd / pi); null: none
-    Spectrum specular{0.0f};       // weight ks of the glossy highlight (normalised by the model)
-    float shininess = 0.0f;        // exponent n of the highlight; 0: no highlight
-    Spectrum mirror{0.0f};         // weight of the environment seen in the mirror direction
-    Spectrum transmission{0.0f};   // weight of the environment seen through by refraction
-    float eta = 1.0f;              // relative IOR for that refraction (1: straight through)
-    float roughness = 0.0f;        // microfacet alpha: blurs the environment reflections
-    bool two_sided = false;        // lit from both sides
-    Ref<Texture> height;           // bump height field (bumpmap): displacement mapping uses it
-    float height_scale = 1.0f;
-};
+struct LocalShading;
 
 class BSDF : public Object {
 public:
@@ -78,7 +63,9 @@ public:
     // Directional albedo estimate for AOVs and light-path heuristics (not used for rendering).
     virtual Spectrum albedo(const SurfaceInteraction& si) const = 0;
 
-    virtual LocalShading local_shading() const = 0;
+    // The rasterizer's local-model view (core/local_model.h). By default a Lambertian of the
+    // albedo at normal incidence, two-sided when the BSDF transmits.
+    virtual LocalShading local_shading() const;
     // The frame the BSDF evaluates in at si: the shading frame, unless a bump or normal map
     // perturbs it (the rasterizer shades with this frame too).
     virtual Frame shading_frame(const SurfaceInteraction& si) const { return si.shading; }

@@ -12,6 +12,7 @@
 namespace candela {
 
 class Scene;
+struct LocalApproximation;
 
 enum class EmitterType { DeltaPosition, DeltaDirection, Area, Infinite };
 
@@ -43,18 +44,9 @@ public:
     virtual Spectrum eval_environment(const Vec3& d) const { return Spectrum(0.0f); }
     // Emitted flux in W (approximate where exact is costly); used to pick lights.
     virtual Spectrum power() const = 0;
-    // How the rasterizer's local model approximates an emitter that is not a delta light (delta
-    // lights it evaluates exactly, through sample_direction).
-    struct LocalApproximation {
-        bool ambient = false;   // an environment: uniform ambient radiance
-        Spectrum radiance{0.0f};
-        // An area light: a point light at `position` with radiant intensity `intensity` along
-        // `normal` times max(0, cos) when `planar`, and the same in every direction otherwise.
-        Vec3 position{0.0f}, normal{0.0f, 0.0f, 1.0f};
-        bool planar = false;
-        Spectrum intensity{0.0f};
-    };
-    virtual std::optional<LocalApproximation> local_approximation() const { return std::nullopt; }
+    // The rasterizer's local-model view (core/local_model.h); delta lights have none (the
+    // rasterizer evaluates them exactly through sample_direction), nor do emitters it ignores.
+    virtual std::optional<LocalApproximation> local_approximation() const;
 
     // Spatial and directional bounds of the emission; infinite emitters have none.
     virtual std::optional<LightBounds> bounds() const { return std::nullopt; }

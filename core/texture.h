@@ -8,6 +8,10 @@
 
 namespace candela {
 
+// How the rasterizer reconstructs a texture over a pixel's footprint: the nearest texel or
+// bilinear at full resolution, or trilinear in the MIP pyramid.
+enum class TextureFilter { Nearest, Bilinear, Trilinear };
+
 class Texture : public Object {
 public:
     ObjectKind kind() const override { return ObjectKind::Texture; }
@@ -16,7 +20,7 @@ public:
     // A lookup over the footprint given by the screen-space derivatives of uv (the rasterizer's
     // texture filtering): nearest or bilinear reconstruction at full resolution, or trilinear
     // filtering in the MIP pyramid. Textures without a pyramid ignore the footprint.
-    virtual Spectrum eval_filtered(const Vec2& uv, const Vec2& duv_dx, const Vec2& duv_dy, int filter) const { return eval(uv); }
+    virtual Spectrum eval_filtered(const Vec2& uv, const Vec2& duv_dx, const Vec2& duv_dy, TextureFilter filter) const { return eval(uv); }
 
     // A scalar view (roughness, heights): the luminance, as in Mitsuba 3.
     virtual float eval_1(const Vec2& uv) const { return luminance(eval(uv)); }

@@ -7,6 +7,7 @@
 // uniform area (converted to solid angle) otherwise.
 
 #include "core/emitter.h"
+#include "core/local_model.h"
 #include "core/properties.h"
 #include "core/registry.h"
 #include "core/texture.h"
@@ -53,6 +54,9 @@ public:
     // every direction (a sphere's projected area is a quarter of its surface).
     std::optional<LocalApproximation> local_approximation() const override {
         LocalApproximation a;
+        a.kind = LocalApproximation::Kind::AreaPoint;
+        a.radiance = radiance_->mean();
+        a.shape = shape_;
         a.position = shape_->bbox().center();
         float cos_cone;
         shape_->normal_cone(a.normal, cos_cone);

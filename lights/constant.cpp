@@ -5,6 +5,7 @@
 // Sampled uniformly over the sphere (pdf 1 / 4pi), as in Mitsuba 3.
 
 #include "core/emitter.h"
+#include "core/local_model.h"
 #include "core/properties.h"
 #include "core/registry.h"
 #include "core/scene.h"
@@ -43,7 +44,7 @@ public:
     // Local model: uniform ambient radiance.
     std::optional<LocalApproximation> local_approximation() const override {
         LocalApproximation a;
-        a.ambient = true;
+        a.kind = LocalApproximation::Kind::Ambient;
         a.radiance = radiance_;
         return a;
     }

@@ -14,6 +14,7 @@
 
 #include "core/distribution.h"
 #include "core/emitter.h"
+#include "core/local_model.h"
 #include "core/error.h"
 #include "core/image.h"
 #include "core/registry.h"
@@ -95,7 +96,7 @@ public:
     // refractions still look the map up through eval_environment).
     std::optional<LocalApproximation> local_approximation() const override {
         LocalApproximation a;
-        a.ambient = true;
+        a.kind = LocalApproximation::Kind::Ambient;
         a.radiance = integral_ / FourPi;
         return a;
     }

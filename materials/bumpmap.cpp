@@ -9,6 +9,7 @@
 // dp/du' = dp/du + n (g_u - n . dp/du) and dp/dv' = dp/dv + n (g_v - n . dp/dv), and the new
 // normal is their cross product (flipped to the geometric normal's side).
 
+#include "core/local_model.h"
 #include "core/registry.h"
 #include "core/texture.h"
 #include "materials/perturbed_frame.h"

@@ -9,6 +9,7 @@
 //   specular_reflectance   rgb or texture   extra factor (default 1)
 
 #include "core/bsdf.h"
+#include "core/local_model.h"
 #include "core/registry.h"
 #include "materials/fresnel.h"
 #include "materials/ior.h"

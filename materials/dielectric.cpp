@@ -13,6 +13,7 @@
 // importance transport.
 
 #include "core/bsdf.h"
+#include "core/local_model.h"
 #include "core/registry.h"
 #include "core/texture.h"
 #include "materials/fresnel.h"

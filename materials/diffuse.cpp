@@ -6,6 +6,7 @@
 // Sampling: cosine-weighted hemisphere, so the sample weight is the reflectance itself.
 
 #include "core/bsdf.h"
+#include "core/local_model.h"
 #include "core/properties.h"
 #include "core/registry.h"
 #include "core/texture.h"

@@ -4,6 +4,7 @@
 // when wo lies on different sides of the original and the perturbed surface (no light leaks).
 
 #include "core/bsdf.h"
+#include "core/local_model.h"
 #include "core/properties.h"
 
 namespace candela {

@@ -3,6 +3,7 @@
 // mixture chosen by the average of kd and ks. The lobes differ only in their shape.
 
 #include "core/bsdf.h"
+#include "core/local_model.h"
 #include "core/properties.h"
 #include "core/texture.h"
 

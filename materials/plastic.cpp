@@ -14,6 +14,7 @@
 // with Fdr_int the hemispherical internal reflectance of the coating.
 
 #include "core/bsdf.h"
+#include "core/local_model.h"
 #include "core/registry.h"
 #include "core/texture.h"
 #include "core/warp.h"

@@ -12,6 +12,7 @@
 // f(wi, wo) cos(wo) = F(wi . h) D(h) G1(wi) G1(wo) / (4 cos(wi)), h = normalize(wi + wo).
 
 #include "core/bsdf.h"
+#include "core/local_model.h"
 #include "core/registry.h"
 #include "materials/fresnel.h"
 #include "materials/ior.h"

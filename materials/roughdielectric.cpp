@@ -12,6 +12,7 @@
 // sampled with probability F(wi . m), refraction with 1 - F.
 
 #include "core/bsdf.h"
+#include "core/local_model.h"
 #include "core/registry.h"
 #include "core/texture.h"
 #include "materials/fresnel.h"

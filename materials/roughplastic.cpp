@@ -15,6 +15,7 @@
 
 #include "core/bsdf.h"
 #include "materials/quadrature.h"
+#include "core/local_model.h"
 #include "core/registry.h"
 #include "core/texture.h"
 #include "core/warp.h"

@@ -6,6 +6,7 @@
 //   int_ior, ext_ior, specular_reflectance, specular_transmittance   as `dielectric`
 
 #include "core/bsdf.h"
+#include "core/local_model.h"
 #include "core/registry.h"
 #include "core/texture.h"
 #include "materials/fresnel.h"

@@ -6,6 +6,7 @@
 //   (nested bsdf)   one or two reflective BSDFs (transmissive ones are two-sided already)
 
 #include "core/bsdf.h"
+#include "core/local_model.h"
 #include "core/properties.h"
 #include "core/registry.h"
 

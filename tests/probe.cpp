@@ -22,7 +22,6 @@ public:
     Spectrum eval(const BSDFContext&, const SurfaceInteraction&, const Vec3&) const override { return Spectrum(0.0f); }
     float pdf(const BSDFContext&, const SurfaceInteraction&, const Vec3&) const override { return 0.0f; }
     Spectrum albedo(const SurfaceInteraction&) const override { return Spectrum(0.0f); }
-    LocalShading local_shading() const override { return {}; }
 };
 CANDELA_REGISTER(ProbeBSDF, ObjectKind::BSDF, "test_probe");
 }  // namespace

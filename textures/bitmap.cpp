@@ -60,11 +60,11 @@ public:
         Vec2 uv = to_uv_.apply(uv_in);
         return filter_ == TextureFilter::Nearest ? mip_.nearest(0, uv) : mip_.bilinear(0, uv);
     }
-    // `filter` is a TextureFilter. The footprint is the longer of the two derivative vectors,
+    // The footprint is the longer of the two derivative vectors,
     // mapped through to_uv.
-    Spectrum eval_filtered(const Vec2& uv_in, const Vec2& dx, const Vec2& dy, int filter) const override {
+    Spectrum eval_filtered(const Vec2& uv_in, const Vec2& dx, const Vec2& dy, TextureFilter filter) const override {
         Vec2 uv = to_uv_.apply(uv_in);
-        switch (TextureFilter(filter)) {
+        switch (filter) {
         case TextureFilter::Nearest: return mip_.nearest(0, uv);
         case TextureFilter::Bilinear: return mip_.bilinear(0, uv);
         case TextureFilter::Trilinear: {

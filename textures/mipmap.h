@@ -4,6 +4,7 @@
 // reads level 0, the rasterizer picks a level from screen-space uv derivatives.
 
 #include "core/spectrum.h"
+#include "core/texture.h"
 
 #include <string>
 #include <vector>
@@ -11,7 +12,6 @@
 namespace candela {
 
 enum class WrapMode { Repeat, Mirror, Clamp };
-enum class TextureFilter { Nearest, Bilinear, Trilinear };
 
 // Parses "repeat", "mirror", "clamp" / "nearest", "bilinear", "trilinear"; false when unknown.
 bool parse_wrap_mode(const std::string& s, WrapMode& mode);

@@ -366,7 +366,7 @@ RenderResult RasterIntegrator::render(const Scene& scene, const RenderOptions& o
                             du = uv_at(bx) - uv_at(b0);
                             dv = uv_at(by) - uv_at(b0);
                         }
-                        ss.kd = rs.material.diffuse->eval_filtered(ss.uv, du, dv, int(S.texture_filter));
+                        ss.kd = rs.material.diffuse->eval_filtered(ss.uv, du, dv, S.texture_filter);
                     }
                     Spectrum L(0.0f);
                     if (front) L += rs.emission;

@@ -45,7 +45,7 @@ RasterGeometry build_geometry(const Scene& scene, int detail, bool displacement,
         rs.material = rs.bsdf->local_shading();
         rs.closed = soup.closed;
         if (const Emitter* e = shape->emitter()) {
-            if (auto a = e->local_approximation()) rs.emission = a->intensity / std::max(shape->surface_area() * (a->planar ? 1.0f : 0.25f), 1e-20f);
+            if (auto a = e->local_approximation()) rs.emission = a->radiance;
         }
         unsigned base = unsigned(g.positions.size());
         g.positions.insert(g.positions.end(), soup.positions.begin(), soup.positions.end());
@@ -176,7 +176,7 @@ LocalLights collect_lights(const Scene& scene) {
         }
         auto a = e->local_approximation();
         if (!a) continue;
-        if (a->ambient) {
+        if (a->kind == LocalApproximation::Kind::Ambient) {
             out.ambient += a->radiance;
             continue;
         }

@@ -5,6 +5,7 @@
 
 #include "core/bsdf.h"
 #include "core/emitter.h"
+#include "core/local_model.h"
 #include "core/scene.h"
 
 #include <vector>
@@ -64,7 +65,7 @@ struct LocalLight {
     Vec3 direction{0.0f, 0.0f, 1.0f};  // spot axis, directional travel direction, area normal
     float cos_cutoff = -1.0f;          // spot
     float cutoff = Pi;                 // spot, radians
-    Emitter::LocalApproximation area;  // AreaPoint
+    LocalApproximation area;           // AreaPoint
 
     // Direction toward the light from p (unit), distance (inf for directional) and the
     // irradiance on a surface facing the light.

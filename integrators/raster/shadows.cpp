@@ -5,11 +5,9 @@
 namespace candela::raster {
 
 int light_shape(const LocalLight& light, const RasterGeometry& g) {
-    for (size_t i = 0; i < g.shapes.size(); ++i) {
-        const Emitter* e = g.shapes[i].shape->emitter();
-        if (!e) continue;
-        if (light.kind == LocalLight::Kind::AreaPoint && e->local_approximation() && light.position == e->local_approximation()->position) return int(i);
-    }
+    if (light.kind != LocalLight::Kind::AreaPoint) return -1;
+    for (size_t i = 0; i < g.shapes.size(); ++i)
+        if (g.shapes[i].shape == light.area.shape) return int(i);
     return -1;
 }
 
