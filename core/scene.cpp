@@ -25,9 +25,10 @@ Scene::Scene(const Properties& props) {
     if (integrators.size() > 1) props.fail("only one integrator per scene is supported");
     integrator_ = integrators.empty() ? create_plugin_as<Integrator>(ObjectKind::Integrator, Properties("path", props.location()))
                                       : std::static_pointer_cast<Integrator>(integrators[0]);
-    // Top-level BSDFs and textures exist to be referenced by id; they need no further use here.
-    props.get_objects(ObjectKind::BSDF);
-    props.get_objects(ObjectKind::Texture);
+    // Top-level BSDFs, textures, samplers, films and filters exist to be referenced by id (Mitsuba's
+    // documentation scenes declare their sampler at the top and refer to it from the sensor).
+    for (ObjectKind kind : {ObjectKind::BSDF, ObjectKind::Texture, ObjectKind::Sampler, ObjectKind::Film, ObjectKind::Filter})
+        props.get_objects(kind);
 
     for (auto& shape : shapes_) bbox_.expand(shape->bbox());
     accel_.build(shapes_);

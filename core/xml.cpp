@@ -495,7 +495,7 @@ private:
                 throw SceneError(loc, std::string("<spectrum>: ") + e.what());
             }
         }
-        std::vector<double> v = parse_list(doc, node, text);
+        std::vector<double> v = tag == "srgb" && trim(text).rfind('#', 0) == 0 ? std::vector<double>() : parse_list(doc, node, text);
         Spectrum rgb;
         if (tag == "srgb") {
             if (!parse_srgb(trim(text), v, rgb)) throw SceneError(loc, "<srgb> value needs \"#rrggbb\" or 1 or 3 numbers");
