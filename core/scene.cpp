@@ -3,6 +3,8 @@
 #include "core/bsdf.h"
 #include "core/registry.h"
 
+#include <algorithm>
+
 namespace candela {
 
 Scene::Scene(const Properties& props) {
@@ -13,8 +15,13 @@ Scene::Scene(const Properties& props) {
         if (shape->emitter()) emitters_.push_back(shape->emitter_ref());
     for (auto& obj : props.get_objects(ObjectKind::Emitter)) {
         auto emitter = std::static_pointer_cast<Emitter>(obj);
-        if (emitter->type() == EmitterType::Area)
-            throw SceneError(props.location_of(emitter->id), "an area emitter must be nested inside a shape");
+        if (emitter->type() == EmitterType::Area) {
+            // An area emitter declared at the top with an id and referenced from its shape (as
+            // Mitsuba allows) is already in the list; one that no shape names is an error.
+            bool attached = std::any_of(shapes_.begin(), shapes_.end(), [&](const Ref<Shape>& s) { return s->emitter() == emitter.get(); });
+            if (!attached) throw SceneError(props.location_of(emitter->id), "an area emitter must be nested inside a shape");
+            continue;
+        }
         emitters_.push_back(emitter);
     }
     auto sensors = props.get_objects(ObjectKind::Sensor);

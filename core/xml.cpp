@@ -234,6 +234,7 @@ private:
         if (std::sscanf(version.c_str(), "%d.%d.%d", &major, &minor, &patch) != 3)
             throw SceneError(where(doc, root), "version \"" + version + "\" is not of the form major.minor.patch");
         doc.upgrade = major < 2;
+        scan_declarations(doc, root);
         for (pugi::xml_node child : root.children()) read_child(doc, child, scene_props, /*in_scene=*/true, depth);
     }
 
@@ -255,10 +256,9 @@ private:
         } else if (tag == "ref") {
             check_attributes(doc, child, {"id", "name"});
             std::string id = attr(doc, child, "id");
-            auto it = ids_.find(id);
-            if (it == ids_.end()) throw SceneError(where(doc, child), "reference to unknown id \"" + id + "\" (ids must be defined before use)");
+            Ref<Object> target = find_id(doc, child, id);
             std::string name = has_attr(child, "name") ? property_name(doc, child) : next_arg_name();
-            props.set_object(name, it->second, where(doc, child));
+            props.set_object(name, target, where(doc, child));
         } else if (tag == "default") {
             if (!in_scene) throw SceneError(where(doc, child), "<default> may only appear directly inside <scene>");
             check_attributes(doc, child, {"name", "value"});
@@ -276,9 +276,13 @@ private:
         } else if (tag == "alias") {
             check_attributes(doc, child, {"id", "as"});
             std::string id = attr(doc, child, "id"), as = attr(doc, child, "as");
-            if (!ids_.count(id)) throw SceneError(where(doc, child), "<alias> of unknown id \"" + id + "\" (ids must be defined before use)");
+            if (!ids_.count(id) && !declared_.count(id)) throw SceneError(where(doc, child), "<alias> of unknown id \"" + id + "\"");
             if (ids_.count(as)) throw SceneError(where(doc, child), "duplicate id \"" + as + "\"");
-            ids_[as] = ids_[id];
+            ids_[as] = find_id(doc, child, id);
+        } else if (tag == "animation") {
+            throw SceneError(where(doc, child), "unsupported element <animation>: animated transforms (motion blur) are not supported");
+        } else if (tag == "resource_path") {
+            throw SceneError(where(doc, child), "unknown element <resource_path> (Mitsuba 3 calls it <path value=\"...\"/>)");
         } else if (tag == "medium" || tag == "phase" || tag == "volume") {
             throw SceneError(where(doc, child), "unsupported element <" + tag +
                                                     ">: participating media are not supported (Candela renders surfaces in vacuum)");
@@ -334,7 +338,37 @@ private:
         read_scene_element(inc, inc.xml.document_element(), scene_props, depth + 1);
     }
 
+    // The object an id names. Mitsuba resolves references after reading the whole file, so an
+    // object may be declared after the <ref> that uses it: such a declaration (found by the scan
+    // in read_scene_element) is built on first use and reused when the reading gets to it.
+    Ref<Object> find_id(Document& doc, const pugi::xml_node& ref, const std::string& id) {
+        auto it = ids_.find(id);
+        if (it != ids_.end()) return it->second;
+        auto later = declared_.find(id);
+        if (later == declared_.end())
+            throw SceneError(where(doc, ref), "reference to unknown id \"" + id + "\"");
+        auto& [decl_doc, decl_node] = later->second;
+        if (building_.count(decl_node.internal_object()))
+            throw SceneError(where(doc, ref), "circular reference to id \"" + id + "\"");
+        return read_object(*decl_doc, decl_node, object_tags().at(decl_node.name()));
+    }
+
+    // Remembers every object with an id in this file, for references that come before it.
+    void scan_declarations(Document& doc, const pugi::xml_node& node) {
+        for (pugi::xml_node child : node.children()) {
+            if (child.type() != pugi::node_element) continue;
+            if (object_tags().count(child.name()) && has_attr(child, "id")) {
+                std::string id = attr_or(doc, child, "id", "");
+                if (!declared_.count(id)) declared_[id] = {&doc, child};
+            }
+            scan_declarations(doc, child);
+        }
+    }
+
     Ref<Object> read_object(Document& doc, const pugi::xml_node& node, ObjectKind kind) {
+        auto built = built_.find(node.internal_object());
+        if (built != built_.end()) return built->second;
+        building_.insert(node.internal_object());
         check_attributes(doc, node, {"type", "id", "name"});
         std::string type = attr(doc, node, "type");
         Properties props(type, where(doc, node));
@@ -345,6 +379,8 @@ private:
         read_children(doc, node, props);
         Ref<Object> obj = create_plugin(kind, props);
         if (!id.empty()) ids_[id] = obj;
+        building_.erase(node.internal_object());
+        built_[node.internal_object()] = obj;
         return obj;
     }
 
@@ -582,6 +618,9 @@ private:
     std::vector<std::unique_ptr<Document>> docs_;
     SceneParameters params_;
     std::map<std::string, Ref<Object>> ids_;
+    std::map<std::string, std::pair<Document*, pugi::xml_node>> declared_;  // ids declared anywhere in the files read
+    std::map<const void*, Ref<Object>> built_;                                // object elements built so far
+    std::set<const void*> building_;                                          // object elements being built
     int arg_counter_ = 0;
 };
 

@@ -308,6 +308,8 @@ TEST_CASE("unsupported: unknown plugins name the nearest supported one; media an
         {"<shape type=\"sphere\">\n<medium type=\"homogeneous\" name=\"interior\"/>\n</shape>", 3, "unsupported element <medium>"},
         {"<phase type=\"hg\"/>", 2, "unsupported element <phase>"},
         {"<volume type=\"gridvolume\"/>", 2, "unsupported element <volume>"},
+        {"<shape type=\"sphere\">\n<animation name=\"to_world\"/>\n</shape>", 3, "unsupported element <animation>: animated transforms"},
+        {"<resource_path value=\".\"/>", 2, "Mitsuba 3 calls it <path"},
     };
     for (const Case& c : cases) {
         INFO(c.body);
@@ -315,6 +317,27 @@ TEST_CASE("unsupported: unknown plugins name the nearest supported one; media an
         CHECK_THAT(e.message(), Catch::Contains(c.message));
         CHECK(e.location.line == c.line);
     }
+}
+
+TEST_CASE("references: an object may be declared after the <ref> that uses it", "[xml]") {
+    // As in Mitsuba's Cornell box scenes: the luminaire refers to an area emitter declared at the
+    // end of the file, and a BSDF refers to a texture declared after it.
+    auto dir = scratch_dir("forward-ref");
+    write_text(dir / "scene.xml", scene_xml(R"(<bsdf type="diffuse" id="early"><ref name="reflectance" id="late_texture"/></bsdf>
+<shape type="sphere"><ref id="early"/><ref id="light"/></shape>
+<texture type="checkerboard" id="late_texture"/>
+<emitter type="area" id="light"><rgb name="radiance" value="2"/></emitter>)"));
+    Ref<Scene> scene = load_scene((dir / "scene.xml").string());
+    REQUIRE(scene->shapes().size() == 1);
+    CHECK(scene->shapes()[0]->emitter() != nullptr);
+    CHECK(scene->emitters().size() == 1);  // the top-level declaration is the shape's emitter, not a second one
+    CHECK(scene->shapes()[0]->bsdf()->id == "early");
+    // A cycle is an error, and so is an id declared nowhere.
+    CHECK_THAT(error_of(scene_xml(R"(<bsdf type="twosided" id="a"><ref id="b"/></bsdf>
+<bsdf type="twosided" id="b"><ref id="a"/></bsdf>)")).message(), Catch::Contains("circular reference to id \"a\""));
+    CHECK_THAT(error_of(scene_xml("<shape type=\"sphere\"><ref id=\"nowhere\"/></shape>")).message(), Catch::Contains("unknown id \"nowhere\""));
+    // An area emitter that no shape uses is still an error.
+    CHECK_THAT(error_of(scene_xml("<emitter type=\"area\" id=\"lonely\"/>")).message(), Catch::Contains("must be nested inside a shape"));
 }
 
 TEST_CASE("alias: <alias id as> gives an object a second id", "[xml]") {
