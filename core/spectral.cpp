@@ -1,5 +1,7 @@
 #include "core/spectral.h"
 
+#include "core/text.h"
+
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -137,21 +139,13 @@ void check_spectrum(const SampledSpectrum& s) {
 
 SampledSpectrum parse_spectrum_pairs(const std::string& text) {
     SampledSpectrum s;
-    std::string token;
-    auto flush = [&] {
-        if (token.empty()) return;
-        size_t colon = token.find(':');
-        if (colon == std::string::npos || token.find(':', colon + 1) != std::string::npos)
-            throw SpectrumFormatError("\"" + token + "\" is not a wavelength:value pair");
-        s.wavelengths.push_back(parse_number(token.substr(0, colon), "wavelength"));
-        s.values.push_back(parse_number(token.substr(colon + 1), "value"));
-        token.clear();
-    };
-    for (char c : text) {
-        if (c == ',' || std::isspace(static_cast<unsigned char>(c))) flush();
-        else token += c;
+    for (const std::string& item : split_list(text)) {
+        size_t colon = item.find(':');
+        if (colon == std::string::npos || item.find(':', colon + 1) != std::string::npos)
+            throw SpectrumFormatError("\"" + item + "\" is not a wavelength:value pair");
+        s.wavelengths.push_back(parse_number(item.substr(0, colon), "wavelength"));
+        s.values.push_back(parse_number(item.substr(colon + 1), "value"));
     }
-    flush();
     check_spectrum(s);
     return s;
 }

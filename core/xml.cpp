@@ -2,6 +2,7 @@
 
 #include "core/file_resolver.h"
 #include "core/registry.h"
+#include "core/text.h"
 #include "core/texture.h"
 #include "core/warning.h"
 #include "core/xml_spectrum.h"
@@ -187,16 +188,7 @@ private:
 
     std::vector<double> parse_list(const Document& doc, const pugi::xml_node& node, const std::string& text) const {
         std::vector<double> out;
-        std::string token;
-        auto flush = [&] {
-            if (!token.empty()) out.push_back(parse_double(doc, node, token));
-            token.clear();
-        };
-        for (char c : text) {
-            if (c == ',' || std::isspace(static_cast<unsigned char>(c))) flush();
-            else token += c;
-        }
-        flush();
+        for (const std::string& item : split_list(text)) out.push_back(parse_double(doc, node, item));
         return out;
     }
 

@@ -14,6 +14,7 @@
 #include "core/xml_spectrum.h"
 
 #include "core/registry.h"
+#include "core/text.h"
 #include "core/texture.h"
 #include "core/warning.h"
 
@@ -47,20 +48,12 @@ namespace {
 
 std::vector<double> parse_numbers(const Properties& props, const std::string& name) {
     std::vector<double> out;
-    std::string token, text = props.get_string(name);
-    auto flush = [&] {
-        if (token.empty()) return;
+    for (const std::string& item : split_list(props.get_string(name))) {
         char* end = nullptr;
-        double v = std::strtod(token.c_str(), &end);
-        if (end != token.c_str() + token.size() || !std::isfinite(v)) props.fail(name, "\"" + token + "\" is not a number");
+        double v = std::strtod(item.c_str(), &end);
+        if (end != item.c_str() + item.size() || !std::isfinite(v)) props.fail(name, "\"" + item + "\" is not a number");
         out.push_back(v);
-        token.clear();
-    };
-    for (char c : text) {
-        if (c == ',' || std::isspace(static_cast<unsigned char>(c))) flush();
-        else token += c;
     }
-    flush();
     return out;
 }
 
