@@ -3,6 +3,8 @@
 #include "core/bsdf.h"
 #include "core/registry.h"
 
+#include <algorithm>
+
 namespace candela {
 
 Scene::Scene(const Properties& props) {
@@ -13,8 +15,13 @@ Scene::Scene(const Properties& props) {
         if (shape->emitter()) emitters_.push_back(shape->emitter_ref());
     for (auto& obj : props.get_objects(ObjectKind::Emitter)) {
         auto emitter = std::static_pointer_cast<Emitter>(obj);
-        if (emitter->type() == EmitterType::Area)
-            throw SceneError(props.location_of(emitter->id), "an area emitter must be nested inside a shape");
+        if (emitter->type() == EmitterType::Area) {
+            // An area emitter declared at the top with an id and referenced from its shape (as
+            // Mitsuba allows) is already in the list; one that no shape names is an error.
+            bool attached = std::any_of(shapes_.begin(), shapes_.end(), [&](const Ref<Shape>& s) { return s->emitter() == emitter.get(); });
+            if (!attached) throw SceneError(props.location_of(emitter->id), "an area emitter must be nested inside a shape");
+            continue;
+        }
         emitters_.push_back(emitter);
     }
     auto sensors = props.get_objects(ObjectKind::Sensor);
@@ -25,9 +32,10 @@ Scene::Scene(const Properties& props) {
     if (integrators.size() > 1) props.fail("only one integrator per scene is supported");
     integrator_ = integrators.empty() ? create_plugin_as<Integrator>(ObjectKind::Integrator, Properties("path", props.location()))
                                       : std::static_pointer_cast<Integrator>(integrators[0]);
-    // Top-level BSDFs and textures exist to be referenced by id; they need no further use here.
-    props.get_objects(ObjectKind::BSDF);
-    props.get_objects(ObjectKind::Texture);
+    // Top-level BSDFs, textures, samplers, films and filters exist to be referenced by id (Mitsuba's
+    // documentation scenes declare their sampler at the top and refer to it from the sensor).
+    for (ObjectKind kind : {ObjectKind::BSDF, ObjectKind::Texture, ObjectKind::Sampler, ObjectKind::Film, ObjectKind::Filter})
+        props.get_objects(kind);
 
     for (auto& shape : shapes_) bbox_.expand(shape->bbox());
     accel_.build(shapes_);
