@@ -58,9 +58,7 @@ public:
         a.radiance = radiance_->mean();
         a.shape = shape_;
         a.position = shape_->bbox().center();
-        float cos_cone;
-        shape_->normal_cone(a.normal, cos_cone);
-        a.planar = cos_cone >= 1.0f - 1e-6f;
+        a.planar = shape_->is_planar(a.normal);
         a.intensity = radiance_->mean() * shape_->surface_area() * (a.planar ? 1.0f : 0.25f);
         return a;
     }
