@@ -31,13 +31,14 @@ public:
         if (props.has("to_world")) props.fail("to_world", "a directionalarea emitter takes its placement from its shape");
     }
 
-    void set_shape(const Shape* shape) override {
-        shape_ = shape;
-        if (!shape->is_planar(normal_))
+    void set_shape(const Shape* shape) override { shape_ = shape; }
+    // The shape is complete only now (set_shape runs inside its constructor).
+    void set_scene(const Scene& scene) override {
+        scene_ = &scene;
+        if (!shape_->is_planar(normal_))
             throw SceneError(location_, "directionalarea needs a planar shape (rectangle, disk or a flat mesh): the beams of a curved "
                                         "shape cross, and only a particle tracer could render them");
     }
-    void set_scene(const Scene& scene) override { scene_ = &scene; }
 
     // The point that lights `ref`: trace from ref against the emission direction; it must hit
     // this shape's front side first (which also settles visibility).
