@@ -70,7 +70,7 @@ Spectrum flux_through_image_plane(const Emitter& e, const Transform& to_world, f
             SurfaceInteraction ref;
             ref.p = to_world.apply_point(local);
             Spectrum w;
-            DirectionSample ds = e.sample_direction(ref, Vec2(0.5f), w);
+            e.sample_direction(ref, Vec2(0.5f), w);
             for (int c = 0; c < 3; ++c) sum[c] += w[c] * dA / glm::length(local);  // cos(theta) = 1 / |local|
         }
     return Spectrum(float(sum[0]), float(sum[1]), float(sum[2]));
