@@ -34,6 +34,9 @@ public:
     // The average over the whole texture (for albedo and power estimates).
     virtual Spectrum mean() const = 0;
     virtual bool is_constant() const { return false; }
+    // The size in texels, 1 x 1 for textures without a grid (Mitsuba's Texture::resolution; the
+    // projector light takes its aspect ratio from it).
+    virtual Vec2i resolution() const { return Vec2i(1); }
     // The largest value any channel reaches (for energy bounds).
     virtual float max_value() const = 0;
 };
