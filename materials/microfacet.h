@@ -9,6 +9,9 @@
 //               D(m) cos(theta_m) otherwise
 
 #include "core/properties.h"
+#include "core/texture.h"
+
+#include <optional>
 
 namespace candela {
 
@@ -46,6 +49,24 @@ private:
     MicrofacetType type_;
     float alpha_u_, alpha_v_;
     bool sample_visible_;
+};
+
+// Roughness as Mitsuba's rough BSDFs read it: distribution (beckmann | ggx, default beckmann),
+// alpha or alpha_u and alpha_v (default 0.1), each a float or a texture (looked up as a scalar,
+// eval_1), and sample_visible (default true). The distribution is built per shading point;
+// constant roughness builds it once.
+class MicrofacetRoughness {
+public:
+    static MicrofacetRoughness from_properties(const Properties& props);
+    MicrofacetDistribution at(const Vec2& uv) const;
+    // The mean of (alpha_u + alpha_v) / 2 over the textures (for the local model).
+    float mean_alpha() const;
+
+private:
+    MicrofacetType type_ = MicrofacetType::Beckmann;
+    bool sample_visible_ = true;
+    Ref<Texture> alpha_u_, alpha_v_;
+    std::optional<MicrofacetDistribution> constant_;
 };
 
 // Inverse error function (Giles 2010 approximation refined by Newton's method).

@@ -2,7 +2,8 @@
 // One-sided, isotropic.
 //
 // Parameters (Mitsuba 3):
-//   distribution, alpha, sample_visible   as `roughconductor` (isotropic only)
+//   distribution, alpha, sample_visible   as `roughconductor`, but isotropic and alpha a float (as
+//                                         in Mitsuba 3: the coating's tables depend on it)
 //   int_ior, ext_ior, diffuse_reflectance, specular_reflectance, nonlinear   as `plastic`
 //
 //   specular:  F(wi . h) D(h) G(wi, wo) / (4 cos wi)
