@@ -146,6 +146,17 @@ TEST_CASE("null transport: shadow rays keep each blocker's transmission, sample 
         CHECK(r.at_one > 3 * 32 * 32 / 20);  // ... not all of it
         CHECK(r.between < 3 * 32 * 3);      // only a column or so of pixels straddles the edge
     }
+    // The floor seen through a null plane or a clear mask just in front of the camera: with
+    // max_depth 2 (direct light only) the crossing must not count as a bounce, or the floor's
+    // light would be cut off. The crossing moves ray origins by rounding, so 1e-5 (at_one).
+    for (const char* bsdf : {R"(<bsdf type="null"/>)", R"(<bsdf type="mask"><float name="opacity" value="0"/><bsdf type="diffuse"/></bsdf>)"}) {
+        std::string screen = std::string(R"(<shape type="rectangle"><transform name="to_world"><scale value="2"/>
+            <lookat origin="0, -1.53, 0.64" target="0, 0.3, 0" up="0, 0, 1"/></transform>)") + bsdf + "</shape>";
+        RenderResult through = render_string(floor_scene(PointLight, Diffuse, screen, 4), "null_screen");
+        RatioCounts r = ratios(through.image, open.image, 1.0f);
+        INFO(bsdf << ": " << r.at_one << " equal, " << r.outside << " different");
+        CHECK(r.at_one == 3 * 32 * 32);
+    }
     // Nothing but null surfaces between: the very same image.
     RenderResult null_only = render_string(floor_scene(PointLight, Diffuse, cases[1].blockers, 4), "null_blocked");
     CHECK(std::memcmp(null_only.image.data().data(), open.image.data().data(), open.image.data().size() * sizeof(float)) == 0);

@@ -80,6 +80,22 @@ TEST_CASE("principled: metallic 1 with a white base is roughconductor (ggx, alph
     // Their samplers are the same visible-normal sampler: the same numbers give the same samples.
     BSDFUnderTest a = make_bsdf(metal), b = make_bsdf(rough);
     check_same_samples(*a.bsdf, *b.bsdf, 20000, false);
+    // A coloured metal is the mirror times Schlick's Fresnel with F0 = base_color.
+    const Spectrum base(0.9f, 0.6f, 0.2f);
+    BSDFUnderTest gold = make_bsdf(R"(<bsdf type="principled"><rgb name="base_color" value="0.9, 0.6, 0.2"/><float name="metallic" value="1"/><float name="roughness" value="0.5"/></bsdf>)");
+    BSDFContext ctx;
+    PCG32 rng(67, 71);
+    double worst = 0.0;
+    for (int i = 0; i < Pairs; ++i) {
+        float u1 = rng.next_float(), u2 = rng.next_float(), u3 = rng.next_float(), u4 = rng.next_float();
+        Vec3 wi = warp::square_to_uniform_hemisphere(Vec2(u1, u2)), wo = warp::square_to_uniform_hemisphere(Vec2(u3, u4));
+        SurfaceInteraction si = local_interaction(wi);
+        float c = glm::dot(wi, glm::normalize(wi + wo));
+        Spectrum expect = (base + (Spectrum(1.0f) - base) * std::pow(1.0f - c, 5.0f)) * b.bsdf->eval(ctx, si, wo);
+        Spectrum f = gold.bsdf->eval(ctx, si, wo);
+        worst = std::max(worst, double(max_component(glm::abs(f - expect)) / std::max(max_component(expect), 1e-3f)));
+    }
+    CHECK(worst < Tolerance);
 }
 
 TEST_CASE("principled: spec_trans 1 with a white base is roughdielectric (ggx, alpha = roughness^2), both sides, both transport modes", "[bsdf][principled]") {
