@@ -85,9 +85,30 @@ public:
     bool has_null_lobe() const { return (flags_ & Null) != 0; }
 
 protected:
+    // Completes a sample whose direction, lobe and eta a smooth lobe has drawn: its pdf is pdf()
+    // (the density of the whole BSDF, as MIS needs) and its weight eval / pdf; invalid when the pdf
+    // is not positive or the weight not finite.
+    BSDFSample weighted_by_pdf(const BSDFContext& ctx, const SurfaceInteraction& si, BSDFSample bs) const {
+        bs.pdf = pdf(ctx, si, bs.wo);
+        if (!(bs.pdf > 0.0f)) return BSDFSample();
+        bs.weight = eval(ctx, si, bs.wo) / bs.pdf;
+        if (!all_finite(bs.weight)) return BSDFSample();
+        return bs;
+    }
+
     uint32_t flags_ = BSDFNone;
 };
 
 inline bool is_delta(uint32_t lobe) { return (lobe & Delta) != 0; }
+
+// A sample of the Null lobe: straight on (wo = -wi), chosen with probability `pdf`.
+inline BSDFSample null_lobe_sample(const SurfaceInteraction& si, float pdf, const Spectrum& weight) {
+    BSDFSample bs;
+    bs.wo = -si.wi;
+    bs.pdf = pdf;
+    bs.lobe = Null;
+    bs.weight = weight;
+    return bs;
+}
 
 }  // namespace candela

@@ -45,11 +45,7 @@ public:
             bs.weight *= w[k] / p[k];
             return bs;
         }
-        bs.pdf = pdf(ctx, si, bs.wo);
-        if (!(bs.pdf > 0.0f)) return BSDFSample();
-        bs.weight = eval(ctx, si, bs.wo) / bs.pdf;
-        if (!all_finite(bs.weight)) return BSDFSample();
-        return bs;
+        return weighted_by_pdf(ctx, si, bs);
     }
     Spectrum eval(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
         float w = weight(si);

@@ -146,11 +146,7 @@ public:
         float phi_o = in.phi + dphi;
         bs.wo = glm::normalize(Vec3(cos_o * std::cos(phi_o), sin_o, cos_o * std::sin(phi_o)));
         bs.lobe = bs.wo.z * si.wi.z > 0.0f ? GlossyReflection : GlossyTransmission;
-        bs.pdf = pdf(ctx, si, bs.wo);
-        if (!(bs.pdf > 0.0f)) return BSDFSample();
-        bs.weight = eval(ctx, si, bs.wo) / bs.pdf;
-        if (!all_finite(bs.weight)) return BSDFSample();
-        return bs;
+        return weighted_by_pdf(ctx, si, bs);
     }
 
     Spectrum eval(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {

@@ -33,14 +33,7 @@ public:
 
     BSDFSample sample(const BSDFContext& ctx, const SurfaceInteraction& si, float u_lobe, const Vec2& u) const override {
         float a = opacity(si), p_pass = pass_probability(ctx, a);
-        if (u_lobe < p_pass) {
-            BSDFSample bs;
-            bs.wo = -si.wi;
-            bs.pdf = p_pass;
-            bs.lobe = Null;
-            bs.weight = Spectrum((1.0f - a) / p_pass);
-            return bs;
-        }
+        if (u_lobe < p_pass) return null_lobe_sample(si, p_pass, Spectrum((1.0f - a) / p_pass));
         if (p_pass >= 1.0f) return BSDFSample();
         BSDFSample bs = nested_->sample(ctx, si, (u_lobe - p_pass) / (1.0f - p_pass), u);
         if (!bs.valid()) return bs;

@@ -69,6 +69,10 @@ private:
     std::optional<MicrofacetDistribution> constant_;
 };
 
+// The Phong exponent whose lobe matches a Beckmann distribution of roughness alpha, 2 / alpha^2 - 2
+// (Walter et al. 2007), at least 1: the local model's highlight for a microfacet lobe.
+inline float phong_exponent(float alpha) { return std::max(2.0f / (alpha * alpha) - 2.0f, 1.0f); }
+
 // Inverse error function (Giles 2010 approximation refined by Newton's method).
 float erf_inv(float x);
 

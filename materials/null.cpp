@@ -16,13 +16,7 @@ public:
     explicit NullBSDF(const Properties&) { flags_ = Null; }
 
     BSDFSample sample(const BSDFContext& ctx, const SurfaceInteraction& si, float, const Vec2&) const override {
-        BSDFSample bs;
-        if (!ctx.allows(Null)) return bs;
-        bs.wo = -si.wi;
-        bs.pdf = 1.0f;
-        bs.lobe = Null;
-        bs.weight = Spectrum(1.0f);
-        return bs;
+        return ctx.allows(Null) ? null_lobe_sample(si, 1.0f, Spectrum(1.0f)) : BSDFSample();
     }
     Spectrum eval(const BSDFContext&, const SurfaceInteraction&, const Vec3&) const override { return Spectrum(0.0f); }
     float pdf(const BSDFContext&, const SurfaceInteraction&, const Vec3&) const override { return 0.0f; }

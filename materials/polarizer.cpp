@@ -31,13 +31,7 @@ public:
     }
 
     BSDFSample sample(const BSDFContext& ctx, const SurfaceInteraction& si, float, const Vec2&) const override {
-        BSDFSample bs;
-        if (!ctx.allows(Null)) return bs;
-        bs.wo = -si.wi;
-        bs.pdf = 1.0f;
-        bs.lobe = Null;
-        bs.weight = null_transmission(si);
-        return bs;
+        return ctx.allows(Null) ? null_lobe_sample(si, 1.0f, null_transmission(si)) : BSDFSample();
     }
     Spectrum eval(const BSDFContext&, const SurfaceInteraction&, const Vec3&) const override { return Spectrum(0.0f); }
     float pdf(const BSDFContext&, const SurfaceInteraction&, const Vec3&) const override { return 0.0f; }

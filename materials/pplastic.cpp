@@ -51,11 +51,7 @@ public:
             bs.lobe = DiffuseReflection;
         }
         if (bs.wo.z <= 0.0f) return BSDFSample();
-        bs.pdf = pdf(ctx, si, bs.wo);
-        if (!(bs.pdf > 0.0f)) return BSDFSample();
-        bs.weight = eval(ctx, si, bs.wo) / bs.pdf;
-        if (!all_finite(bs.weight)) return BSDFSample();
-        return bs;
+        return weighted_by_pdf(ctx, si, bs);
     }
 
     Spectrum eval(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
@@ -97,7 +93,7 @@ public:
         float alpha = 0.5f * (distribution_.alpha_u() + distribution_.alpha_v());
         s.diffuse = diffuse_;
         s.specular = specular_->mean() * F0;
-        s.shininess = std::max(2.0f / (alpha * alpha) - 2.0f, 1.0f);
+        s.shininess = phong_exponent(alpha);
         s.mirror = s.specular;
         s.roughness = alpha;
         return s;

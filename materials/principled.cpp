@@ -47,17 +47,8 @@ namespace candela {
 
 class PrincipledBSDF final : public BSDF {
 public:
-    explicit PrincipledBSDF(const Properties& props) {
-        base_color_ = props.get_texture("base_color", Spectrum(0.5f));
-        roughness_ = props.get_texture("roughness", Spectrum(0.5f));
-        anisotropic_ = props.get_texture("anisotropic", Spectrum(0.0f));
+    explicit PrincipledBSDF(const Properties& props) : common_(props), has_spec_trans_(common_.has_spec_trans) {
         metallic_ = props.get_texture("metallic", Spectrum(0.0f));
-        has_spec_trans_ = principled_lobe_present(props, "spec_trans");
-        spec_trans_ = props.get_texture("spec_trans", Spectrum(0.0f));
-        spec_tint_ = props.get_texture("spec_tint", Spectrum(0.0f));
-        sheen_ = props.get_texture("sheen", Spectrum(0.0f));
-        sheen_tint_ = props.get_texture("sheen_tint", Spectrum(0.0f));
-        flatness_ = props.get_texture("flatness", Spectrum(0.0f));
         has_clearcoat_ = principled_lobe_present(props, "clearcoat");
         clearcoat_ = props.get_texture("clearcoat", Spectrum(0.0f));
         clearcoat_gloss_ = props.get_texture("clearcoat_gloss", Spectrum(0.0f));
@@ -110,11 +101,7 @@ public:
         }
         bool same_side = bs.wo.z * cos_i > 0.0f;
         if (same_side != ((bs.lobe & Reflection) != 0)) return BSDFSample();
-        bs.pdf = pdf(ctx, si, bs.wo);
-        if (!(bs.pdf > 0.0f)) return BSDFSample();
-        bs.weight = eval(ctx, si, bs.wo) / bs.pdf;
-        if (!all_finite(bs.weight)) return BSDFSample();
-        return bs;
+        return weighted_by_pdf(ctx, si, bs);
     }
 
     Spectrum eval(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
@@ -185,7 +172,7 @@ public:
     }
 
     // As Mitsuba's diffuse-reflectance view: the base colour.
-    Spectrum albedo(const SurfaceInteraction& si) const override { return base_color_->eval(si.uv); }
+    Spectrum albedo(const SurfaceInteraction& si) const override { return common_.base_color->eval(si.uv); }
 
     // Local model: kd = base_color (1 - metallic)(1 - spec_trans); a highlight and environment
     // reflection with F0 = (1 - metallic) R0(eta) + metallic base_color, shininess 2 / alpha^2 - 2
@@ -193,12 +180,12 @@ public:
     // (means of textured parameters).
     LocalShading local_shading() const override {
         LocalShading s;
-        float m = luminance(metallic_->mean()), st = luminance(spec_trans_->mean()), r = luminance(roughness_->mean());
+        float m = luminance(metallic_->mean()), st = luminance(common_.spec_trans->mean()), r = luminance(common_.roughness->mean());
         float alpha = std::max(0.001f, r * r), r0 = schlick_r0(eta_);
-        Spectrum base = base_color_->mean();
-        s.diffuse = scaled_texture(base_color_, (1.0f - m) * (1.0f - st));
+        Spectrum base = common_.base_color->mean();
+        s.diffuse = scaled_texture(common_.base_color, (1.0f - m) * (1.0f - st));
         s.specular = (1.0f - m) * Spectrum(r0) + m * base;
-        s.shininess = std::max(2.0f / (alpha * alpha) - 2.0f, 1.0f);
+        s.shininess = phong_exponent(alpha);
         s.mirror = s.specular;
         s.roughness = alpha;
         if (has_spec_trans_) {
@@ -211,9 +198,8 @@ public:
     std::string to_string() const override { return "principled"; }
 
 private:
-    struct Params {
-        Spectrum base;
-        float roughness, anisotropic, metallic, spec_trans, spec_tint, sheen, sheen_tint, flatness, clearcoat, clearcoat_gloss;
+    struct Params : PrincipledCommon::Values {
+        float metallic, clearcoat, clearcoat_gloss;
     };
     // Probabilities of the diffuse lobe, the clearcoat and the specular pair; they sum to one.
     struct Lobes {
@@ -225,15 +211,8 @@ private:
     Params params(const SurfaceInteraction& si) const {
         const Vec2& uv = si.uv;
         Params p;
-        p.base = base_color_->eval(uv);
-        p.roughness = roughness_->eval_1(uv);
-        p.anisotropic = anisotropic_->eval_1(uv);
+        common_.eval(uv, p);
         p.metallic = metallic_->eval_1(uv);
-        p.spec_trans = has_spec_trans_ ? spec_trans_->eval_1(uv) : 0.0f;
-        p.spec_tint = spec_tint_->eval_1(uv);
-        p.sheen = sheen_->eval_1(uv);
-        p.sheen_tint = sheen_tint_->eval_1(uv);
-        p.flatness = flatness_->eval_1(uv);
         p.clearcoat = has_clearcoat_ ? clearcoat_->eval_1(uv) : 0.0f;
         p.clearcoat_gloss = clearcoat_gloss_->eval_1(uv);
         return p;
@@ -289,9 +268,10 @@ private:
         return Spectrum((1.0f - p.metallic) * (1.0f - p.spec_tint) * F) + metal + tinted;
     }
 
-    Ref<Texture> base_color_, roughness_, anisotropic_, metallic_, spec_trans_, spec_tint_, sheen_, sheen_tint_, flatness_, clearcoat_,
-        clearcoat_gloss_;
-    bool has_spec_trans_ = false, has_clearcoat_ = false;
+    PrincipledCommon common_;
+    bool has_spec_trans_;
+    Ref<Texture> metallic_, clearcoat_, clearcoat_gloss_;
+    bool has_clearcoat_ = false;
     float eta_ = 1.5f, specular_rate_ = 1.0f, clearcoat_rate_ = 1.0f, diffuse_rate_ = 1.0f;
 };
 

@@ -11,6 +11,29 @@ bool principled_lobe_present(const Properties& props, const std::string& name) {
     return true;
 }
 
+PrincipledCommon::PrincipledCommon(const Properties& props) {
+    base_color = props.get_texture("base_color", Spectrum(0.5f));
+    roughness = props.get_texture("roughness", Spectrum(0.5f));
+    anisotropic = props.get_texture("anisotropic", Spectrum(0.0f));
+    has_spec_trans = principled_lobe_present(props, "spec_trans");
+    spec_trans = props.get_texture("spec_trans", Spectrum(0.0f));
+    spec_tint = props.get_texture("spec_tint", Spectrum(0.0f));
+    sheen = props.get_texture("sheen", Spectrum(0.0f));
+    sheen_tint = props.get_texture("sheen_tint", Spectrum(0.0f));
+    flatness = props.get_texture("flatness", Spectrum(0.0f));
+}
+
+void PrincipledCommon::eval(const Vec2& uv, Values& v) const {
+    v.base = base_color->eval(uv);
+    v.roughness = roughness->eval_1(uv);
+    v.anisotropic = anisotropic->eval_1(uv);
+    v.spec_trans = has_spec_trans ? spec_trans->eval_1(uv) : 0.0f;
+    v.spec_tint = spec_tint->eval_1(uv);
+    v.sheen = sheen->eval_1(uv);
+    v.sheen_tint = sheen_tint->eval_1(uv);
+    v.flatness = flatness->eval_1(uv);
+}
+
 Spectrum schlick_fresnel(const Spectrum& r0, float cos_theta_i, float eta) {
     bool outside = cos_theta_i >= 0.0f;
     float eta_it = outside ? eta : 1.0f / eta, eta_ti = 1.0f / eta_it;

@@ -11,6 +11,21 @@ namespace candela {
 // Mitsuba's test for an optional lobe: the parameter is given, and is not the float 0.
 bool principled_lobe_present(const Properties& props, const std::string& name);
 
+// The parameters both BSDFs have (Mitsuba's names and defaults: base_color 0.5, roughness 0.5, the
+// rest 0), and their values at a point; scalar ones are looked up as scalars (eval_1).
+struct PrincipledCommon {
+    struct Values {
+        Spectrum base{0.5f};
+        float roughness = 0.5f, anisotropic = 0.0f, spec_trans = 0.0f, spec_tint = 0.0f, sheen = 0.0f, sheen_tint = 0.0f, flatness = 0.0f;
+    };
+    explicit PrincipledCommon(const Properties& props);
+    // The values at uv; spec_trans is 0 unless the parameter was given (and not the float 0).
+    void eval(const Vec2& uv, Values& v) const;
+
+    Ref<Texture> base_color, roughness, anisotropic, spec_trans, spec_tint, sheen, sheen_tint, flatness;
+    bool has_spec_trans = false;
+};
+
 // Schlick's weight (1 - cos)^5, cos clamped to [0, 1].
 inline float schlick_weight(float cos_theta) {
     float m = std::clamp(1.0f - cos_theta, 0.0f, 1.0f);

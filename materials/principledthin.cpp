@@ -36,16 +36,7 @@ namespace candela {
 
 class PrincipledThinBSDF final : public BSDF {
 public:
-    explicit PrincipledThinBSDF(const Properties& props) {
-        base_color_ = props.get_texture("base_color", Spectrum(0.5f));
-        roughness_ = props.get_texture("roughness", Spectrum(0.5f));
-        anisotropic_ = props.get_texture("anisotropic", Spectrum(0.0f));
-        has_spec_trans_ = principled_lobe_present(props, "spec_trans");
-        spec_trans_ = props.get_texture("spec_trans", Spectrum(0.0f));
-        spec_tint_ = props.get_texture("spec_tint", Spectrum(0.0f));
-        sheen_ = props.get_texture("sheen", Spectrum(0.0f));
-        sheen_tint_ = props.get_texture("sheen_tint", Spectrum(0.0f));
-        flatness_ = props.get_texture("flatness", Spectrum(0.0f));
+    explicit PrincipledThinBSDF(const Properties& props) : common_(props), has_spec_trans_(common_.has_spec_trans) {
         eta_ = props.get_texture("eta", Spectrum(1.5f));
         has_diff_trans_ = principled_lobe_present(props, "diff_trans");
         diff_trans_ = props.get_texture("diff_trans", Spectrum(0.0f));
@@ -86,11 +77,7 @@ public:
             bs.lobe = lobe == DiffuseTransmit ? DiffuseTransmission : DiffuseReflection;
         }
         bs.wo = wo * sign;
-        bs.pdf = pdf(ctx, si, bs.wo);
-        if (!(bs.pdf > 0.0f)) return BSDFSample();
-        bs.weight = eval(ctx, si, bs.wo) / bs.pdf;
-        if (!all_finite(bs.weight)) return BSDFSample();
-        return bs;
+        return weighted_by_pdf(ctx, si, bs);
     }
 
     Spectrum eval(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo_in) const override {
@@ -144,7 +131,7 @@ public:
     }
 
     // As Mitsuba's diffuse-reflectance view: the base colour.
-    Spectrum albedo(const SurfaceInteraction& si) const override { return base_color_->eval(si.uv); }
+    Spectrum albedo(const SurfaceInteraction& si) const override { return common_.base_color->eval(si.uv); }
 
     // Local model: kd = base_color (1 - spec_trans)(1 - diff_trans / 2), lit from both sides; a
     // highlight and mirror with F0 = R0(eta) spec_trans, shininess 2 / alpha^2 - 2; the
@@ -152,12 +139,12 @@ public:
     // transmission (means of textured parameters).
     LocalShading local_shading() const override {
         LocalShading s;
-        float st = luminance(spec_trans_->mean()), t = 0.5f * luminance(diff_trans_->mean()), r = luminance(roughness_->mean());
+        float st = luminance(common_.spec_trans->mean()), t = 0.5f * luminance(diff_trans_->mean()), r = luminance(common_.roughness->mean());
         float alpha = std::max(0.001f, r * r), r0 = schlick_r0(luminance(eta_->mean()));
-        Spectrum base = base_color_->mean();
-        s.diffuse = scaled_texture(base_color_, (1.0f - st) * (1.0f - t));
+        Spectrum base = common_.base_color->mean();
+        s.diffuse = scaled_texture(common_.base_color, (1.0f - st) * (1.0f - t));
         s.specular = Spectrum(st * r0);
-        s.shininess = std::max(2.0f / (alpha * alpha) - 2.0f, 1.0f);
+        s.shininess = phong_exponent(alpha);
         s.mirror = s.specular;
         s.roughness = alpha;
         s.transmission = base * (st * (1.0f - r0) + (1.0f - st) * t);
@@ -168,22 +155,14 @@ public:
 
 private:
     enum Lobe { SpecularReflection = 0, SpecularTransmission = 1, DiffuseReflect = 2, DiffuseTransmit = 3 };
-    struct Params {
-        Spectrum base;
-        float roughness, anisotropic, spec_trans, spec_tint, sheen, sheen_tint, flatness, eta, diff_trans;
+    struct Params : PrincipledCommon::Values {
+        float eta, diff_trans;
     };
 
     Params params(const SurfaceInteraction& si) const {
         const Vec2& uv = si.uv;
         Params p;
-        p.base = base_color_->eval(uv);
-        p.roughness = roughness_->eval_1(uv);
-        p.anisotropic = anisotropic_->eval_1(uv);
-        p.spec_trans = has_spec_trans_ ? spec_trans_->eval_1(uv) : 0.0f;
-        p.spec_tint = spec_tint_->eval_1(uv);
-        p.sheen = sheen_->eval_1(uv);
-        p.sheen_tint = sheen_tint_->eval_1(uv);
-        p.flatness = flatness_->eval_1(uv);
+        common_.eval(uv, p);
         p.eta = eta_->eval_1(uv);
         p.diff_trans = has_diff_trans_ ? 0.5f * diff_trans_->eval_1(uv) : 0.0f;  // 0..2 -> 0..1
         return p;
@@ -211,8 +190,10 @@ private:
         return MicrofacetDistribution(MicrofacetType::GGX, au, av, true);
     }
 
-    Ref<Texture> base_color_, roughness_, anisotropic_, spec_trans_, spec_tint_, sheen_, sheen_tint_, flatness_, eta_, diff_trans_;
-    bool has_spec_trans_ = false, has_diff_trans_ = false;
+    PrincipledCommon common_;
+    bool has_spec_trans_;
+    Ref<Texture> eta_, diff_trans_;
+    bool has_diff_trans_ = false;
     std::array<float, 4> rates_{};
 };
 

@@ -73,7 +73,7 @@ public:
         Spectrum F0 = specular_->mean() * fresnel_conductor(1.0f, eta_->mean(), k_->mean());
         float alpha = roughness_.mean_alpha();
         s.specular = F0;
-        s.shininess = std::max(2.0f / (alpha * alpha) - 2.0f, 1.0f);
+        s.shininess = phong_exponent(alpha);
         s.mirror = F0;
         s.roughness = alpha;
         return s;

@@ -53,11 +53,7 @@ public:
             bs.eta = fr.eta_it;
             if (bs.wo.z * cos_i >= 0.0f) return BSDFSample();
         }
-        bs.pdf = pdf(ctx, si, bs.wo);
-        if (!(bs.pdf > 0.0f)) return BSDFSample();
-        bs.weight = eval(ctx, si, bs.wo) / bs.pdf;
-        if (!all_finite(bs.weight)) return BSDFSample();
-        return bs;
+        return weighted_by_pdf(ctx, si, bs);
     }
 
     Spectrum eval(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
@@ -103,7 +99,7 @@ public:
         float F0 = fresnel_dielectric(1.0f, eta_).F;
         float alpha = roughness_.mean_alpha();
         s.specular = reflectance_->mean() * F0;
-        s.shininess = std::max(2.0f / (alpha * alpha) - 2.0f, 1.0f);
+        s.shininess = phong_exponent(alpha);
         s.mirror = reflectance_->mean() * F0;
         s.transmission = transmittance_->mean() * (1.0f - F0);
         s.eta = eta_;
