@@ -37,7 +37,10 @@ Scene::Scene(const Properties& props) {
     for (ObjectKind kind : {ObjectKind::BSDF, ObjectKind::Texture, ObjectKind::Sampler, ObjectKind::Film, ObjectKind::Filter})
         props.get_objects(kind);
 
-    for (auto& shape : shapes_) bbox_.expand(shape->bbox());
+    for (auto& shape : shapes_) {
+        bbox_.expand(shape->bbox());
+        if (shape->bsdf()->has_null_lobe()) has_null_surfaces_ = true;
+    }
     accel_.build(shapes_);
     for (auto& emitter : emitters_) {
         emitter->set_scene(*this);
@@ -60,6 +63,26 @@ bool Scene::intersect(const Ray& ray, SurfaceInteraction& si) const {
     si.t = hit.t;
     si.wi = si.to_local(-ray.d);
     return true;
+}
+
+Spectrum Scene::transmittance(const Ray& shadow_ray) const {
+    if (!has_null_surfaces_) return occluded(shadow_ray) ? Spectrum(0.0f) : Spectrum(1.0f);
+    // Cross the surfaces one by one; a ray that keeps meeting surfaces after this many crossings
+    // (coplanar layers that the offsets cannot separate) is taken as blocked rather than looping.
+    const int MaxCrossings = 256;
+    Spectrum T(1.0f);
+    Ray ray = shadow_ray;
+    for (int crossed = 0; crossed < MaxCrossings; ++crossed) {
+        SurfaceInteraction si;
+        if (!intersect(ray, si)) return T;
+        T *= si.shape->bsdf()->null_transmission(si);
+        if (is_black(T)) return T;
+        Vec3 origin = offset_ray_origin(si.p, si.p_error, si.n, ray.d);
+        float remaining = ray.tmax - glm::dot(origin - ray.o, ray.d);  // inf stays inf
+        if (!(remaining > 0.0f)) return T;
+        ray = Ray(origin, ray.d, remaining);
+    }
+    return Spectrum(0.0f);
 }
 
 Spectrum Scene::eval_environment(const Vec3& d) const {

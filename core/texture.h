@@ -60,6 +60,8 @@ class ConstantTexture final : public Texture {
 public:
     explicit ConstantTexture(const Spectrum& value) : value_(value) {}
     Spectrum eval(const Vec2&) const override { return value_; }
+    // A grey value (a float parameter) is returned exactly, not through the luminance weights.
+    float eval_1(const Vec2&) const override { return value_.x == value_.y && value_.y == value_.z ? value_.x : luminance(value_); }
     Spectrum mean() const override { return value_; }
     bool is_constant() const override { return true; }
     float max_value() const override { return max_component(value_); }
