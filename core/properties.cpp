@@ -128,16 +128,20 @@ Transform Properties::get_transform(const std::string& name, const Transform& de
     return e ? std::get<Transform>(e->value) : def;
 }
 
-std::string Properties::get_file_path(const std::string& name) const {
+std::string Properties::get_path(const std::string& name) const {
     namespace fs = std::filesystem;
-    std::string value = get_string(name);
+    fs::path p(get_string(name));
     SourceLocation where = location_of(name);
-    fs::path p(value);
     if (p.is_relative() && !where.file.empty()) p = fs::path(where.file).parent_path() / p;
-    std::error_code ec;
-    if (!fs::is_regular_file(p, ec))
-        throw SceneError(where, "file not found: \"" + value + "\"" + (p.string() != value ? " (looked for " + p.string() + ")" : ""));
     return p.string();
+}
+
+std::string Properties::get_file_path(const std::string& name) const {
+    std::string value = get_string(name), path = get_path(name);
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec))
+        throw SceneError(location_of(name), "file not found: \"" + value + "\"" + (path != value ? " (looked for " + path + ")" : ""));
+    return path;
 }
 
 Ref<Texture> Properties::get_texture(const std::string& name, const Spectrum& def) const {

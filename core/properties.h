@@ -68,6 +68,8 @@ public:
     // A file name, resolved relative to the directory of the scene file that names it; a missing
     // file is an error at the property's line.
     std::string get_file_path(const std::string& name) const;
+    // The same resolution for a name that need not be one existing file (a pattern of several).
+    std::string get_path(const std::string& name) const;
 
     // A texture-valued parameter: a nested/referenced texture, or an rgb/float constant.
     Ref<Texture> get_texture(const std::string& name, const Spectrum& def) const;

@@ -254,3 +254,27 @@ TEST_CASE("raster: cube map faces round-trip directions and load from images", "
     CHECK(cube.lookup(Vec3(0.1f, -1, 0.3f), 0.0f).x == Approx(0.4f));
     CHECK(cube.lookup(Vec3(0.2f, 0.1f, -1), 0.0f).x == Approx(0.6f));
 }
+
+TEST_CASE("raster: the cube_map property names six face images relative to the scene file", "[raster]") {
+    // A perfect mirror facing the camera reflects the +z face; a pattern whose faces are missing,
+    // or that has no {face}, is an error at the property's line.
+    auto dir = scratch_dir("cubemap-property");
+    const char* names[6] = {"px", "nx", "py", "ny", "pz", "nz"};
+    std::filesystem::create_directories(dir / "sky");
+    for (int f = 0; f < 6; ++f) {
+        Image img = Image::rgb(4, 4);
+        for (float& v : img.data()) v = 0.1f * float(f + 1);
+        write_exr(img, (dir / "sky" / (std::string(names[f]) + ".exr")).string(), true);
+    }
+    auto scene_with = [&](const std::string& pattern) {
+        write_text(dir / "scene.xml", scene_xml("<integrator type=\"raster\">\n<string name=\"cube_map\" value=\"" + pattern +
+                                                "\"/>\n</integrator><shape type=\"rectangle\"><bsdf type=\"conductor\"/></shape>" +
+                                                camera("0, 0, 3", "0, 0, 0", 8, 8, 20)));
+        return load_scene((dir / "scene.xml").string());
+    };
+    Ref<Scene> scene = scene_with("sky/{face}.exr");
+    RenderResult r = scene->integrator().render(*scene, RenderOptions{});
+    for (int k = 0; k < 3; ++k) CHECK(r.image.rgb_at(4, 4)[k] == Approx(0.5f));
+    CHECK_THROWS_WITH(scene_with("sky/{face}.png"), Catch::Contains("scene.xml:") && Catch::Contains("file not found"));
+    CHECK_THROWS_WITH(scene_with("sky/pz.exr"), Catch::Contains("scene.xml:") && Catch::Contains("must contain {face}"));
+}
