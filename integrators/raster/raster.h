@@ -2,7 +2,7 @@
 // The rasterized local-illumination mode (see raster.cpp for the parameters).
 
 #include "core/integrator.h"
-#include "textures/mipmap.h"
+#include "core/texture.h"
 
 #include <memory>
 #include <string>

@@ -71,7 +71,8 @@ RasterGeometry build_geometry(const Scene& scene, int detail, bool displacement,
         rs.material = rs.bsdf->local_shading();
         rs.closed = soup.closed;
         if (const Emitter* e = shape->emitter()) {
-            if (auto a = e->local_approximation()) rs.emission = a->radiance;
+            auto a = e->local_approximation();
+            if (a && a->kind == LocalApproximation::Kind::AreaPoint) rs.emission = a->radiance;
         }
         unsigned base = unsigned(g.positions.size());
         g.positions.insert(g.positions.end(), soup.positions.begin(), soup.positions.end());

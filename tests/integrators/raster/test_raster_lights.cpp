@@ -23,17 +23,7 @@ using namespace candela::test;
 
 namespace {
 
-Ref<Scene> scene_from(const std::string& body) {
-    auto dir = scratch_dir("raster-lights");
-    write_text(dir / "scene.xml", scene_xml(body));
-    return load_scene((dir / "scene.xml").string());
-}
-
-std::string camera(const std::string& origin, const std::string& target, int w, int h, float fov = 60) {
-    return "<sensor type=\"perspective\"><float name=\"fov\" value=\"" + std::to_string(fov) + "\"/><transform name=\"to_world\"><lookat origin=\"" + origin +
-           "\" target=\"" + target + "\" up=\"0, 1, 0\"/></transform><film type=\"hdrfilm\"><integer name=\"width\" value=\"" + std::to_string(w) +
-           "\"/><integer name=\"height\" value=\"" + std::to_string(h) + "\"/><rfilter type=\"box\"/></film></sensor>";
-}
+Ref<Scene> scene_from(const std::string& body) { return load_scene_xml("raster-lights", body); }
 
 // A point light that records the reference point of every sample_direction call: the local
 // model evaluates a delta light through sample_direction once per lighting evaluation.
@@ -83,7 +73,7 @@ TEST_CASE("raster: an area light's surface shows exactly its radiance", "[raster
         "<shape type=\"sphere\"><point name=\"center\" x=\"9\" y=\"0\" z=\"0\"/><float name=\"radius\" value=\"0.37\"/>" + emit + "</shape>" +
         "<shape type=\"disk\"><transform name=\"to_world\"><scale value=\"0.13\"/><translate x=\"-9\"/></transform>" + emit + "</shape>" +
         "<shape type=\"cube\"><transform name=\"to_world\"><scale x=\"0.7\" y=\"3\" z=\"0.21\"/><translate y=\"9\"/></transform>" + emit + "</shape>" +
-        camera("0, 0, 2", "0, 0, 0", 16, 12, 30));
+        pinhole_camera("0, 0, 2", "0, 0, 0", 16, 12, 30));
     RasterGeometry g = build_geometry(*scene, 32, false, 0);
     REQUIRE(g.shapes.size() == 4);
     for (const RasterShape& rs : g.shapes) {
@@ -110,7 +100,7 @@ TEST_CASE("raster: shadows leave out exactly the light's own shape, also when li
         "<shape type=\"sphere\"><point name=\"center\" x=\"0\" y=\"2\" z=\"0\"/><float name=\"radius\" value=\"0.5\"/>" + emit + "</shape>" +
         "<shape type=\"rectangle\"><transform name=\"to_world\"><rotate x=\"1\" angle=\"90\"/><translate y=\"-3\"/></transform>" + emit + "</shape>" +
         "<shape type=\"rectangle\"><transform name=\"to_world\"><rotate x=\"1\" angle=\"-90\"/><translate y=\"-3\"/></transform>" + emit + "</shape>" +
-        camera("0, 0, 8", "0, 0, 0", 16, 12));
+        pinhole_camera("0, 0, 8", "0, 0, 0", 16, 12));
     RasterGeometry g = build_geometry(*scene, 32, false, 0);
     LocalLights lights = collect_lights(*scene);
     REQUIRE(lights.lights.size() == 4);
@@ -135,7 +125,7 @@ TEST_CASE("raster: Gouraud shading lights every vertex exactly once per light", 
         <shape type="sphere"><point name="center" x="0" y="0.5" z="0"/><float name="radius" value="0.5"/></shape>
         <shape type="rectangle"><transform name="to_world"><scale value="2"/><rotate x="1" angle="-90"/></transform></shape>
         <emitter type="test_recording_point"><point name="position" x="0.3" y="2" z="0.4"/><rgb name="intensity" value="3"/></emitter>)" +
-                                  camera("0, 1.5, 3", "0, 0.3, 0", 40, 30));
+                                  pinhole_camera("0, 1.5, 3", "0, 0.3, 0", 40, 30));
     RasterSettings s;
     s.shading = RasterSettings::Shading::Gouraud;
     s.shadows = RasterSettings::Shadows::None;
