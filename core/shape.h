@@ -5,9 +5,11 @@
 #include "core/object.h"
 #include "core/properties.h"
 #include "core/ray.h"
+#include "core/spectrum.h"
 
 #include <embree3/rtcore.h>
 
+#include <string>
 #include <vector>
 
 namespace candela {
@@ -45,6 +47,7 @@ struct RayHit {
     float t = Infinity;
     float u = 0.0f, v = 0.0f;  // barycentrics for triangles, shape-defined otherwise
     unsigned prim_index = 0;
+    unsigned instance_geometry = ~0u;  // for a hit on an instance: the geometry hit inside its group
 };
 
 class Shape : public Object {
@@ -76,6 +79,16 @@ public:
         axis = Vec3(0.0f, 0.0f, 1.0f);
         cos_theta = -1.0f;
     }
+
+    // A shape group only holds shapes for instances to reference; it is not part of the scene's
+    // BVH itself.
+    virtual bool is_shape_group() const { return false; }
+
+    // A per-vertex or per-face attribute of a mesh ("vertex_color", "face_id", ...) at a hit
+    // point (si.prim_index, si.prim_uv), as the mesh_attribute texture reads it: vertex
+    // attributes interpolated barycentrically, face attributes constant per face. One channel
+    // comes back as grey. False when the shape has no attribute of that name.
+    virtual bool eval_attribute(const std::string& name, const SurfaceInteraction& si, Spectrum& value) const { return false; }
 
     const BSDF* bsdf() const { return bsdf_.get(); }
     const Emitter* emitter() const { return emitter_.get(); }
