@@ -42,6 +42,14 @@ struct TriangleSoup {
     bool closed = false;  // every edge shared by exactly two triangles (a watertight surface)
 };
 
+class Shape;
+
+// Triangles of one shape, for the rasterizer, with the shape whose BSDF and emitter they have.
+struct TessellatedPart {
+    const Shape* shape = nullptr;
+    TriangleSoup triangles;
+};
+
 // What Embree reports for a closest hit; shapes turn it into a SurfaceInteraction.
 struct RayHit {
     float t = Infinity;
@@ -72,6 +80,9 @@ public:
     // Appends this shape as triangles; analytic shapes are tessellated finely enough that their
     // silhouettes stay within about a pixel at `detail` segments per full turn.
     virtual void tessellate(TriangleSoup& out, int detail = 64) const = 0;
+    // What the rasterizer draws for this shape: by default one part, this shape's tessellation;
+    // an instance gives one part per shape of its group (each with its own BSDF).
+    virtual void tessellate_parts(std::vector<TessellatedPart>& parts, int detail = 64) const;
 
     // A cone containing every front-facing normal of the shape: axis and the cosine of its
     // half-angle (-1 when the normals point everywhere).
