@@ -18,6 +18,18 @@ void curve_frame(const Vec3& tangent, Vec3& v_rot, Vec3& v_rad) {
     v_rad = glm::cross(v_rot, tangent);
 }
 
+// Mitsuba's curves are not hit from inside: its Embree is built with back-face culling for
+// curves, Debian's is not, so a filter rejects hits whose geometric normal faces along the ray.
+void cull_back_faces(const RTCFilterFunctionNArguments* args) {
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] == 0) continue;
+        float cos_d = RTCRayN_dir_x(args->ray, args->N, i) * RTCHitN_Ng_x(args->hit, args->N, i) +
+                      RTCRayN_dir_y(args->ray, args->N, i) * RTCHitN_Ng_y(args->hit, args->N, i) +
+                      RTCRayN_dir_z(args->ray, args->N, i) * RTCHitN_Ng_z(args->hit, args->N, i);
+        if (cos_d > 0.0f) args->valid[i] = 0;
+    }
+}
+
 }  // namespace
 
 CurveShape::CurveShape(const Properties& props, int points_per_segment, const char* type_name)
@@ -79,14 +91,16 @@ RTCGeometry CurveShape::create_embree_geometry(RTCDevice device) const {
     std::copy(points_.begin(), points_.end(), v);
     auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, sizeof(unsigned), first_point_.size()));
     std::copy(first_point_.begin(), first_point_.end(), idx);
+    rtcSetGeometryIntersectFilterFunction(g, cull_back_faces);
+    rtcSetGeometryOccludedFilterFunction(g, cull_back_faces);
     return g;
 }
 
 void CurveShape::fill_interaction(const Ray& ray, const RayHit& hit, SurfaceInteraction& si) const {
     CurvePoint cp = evaluate(hit.prim_index, hit.u);
     si.p = ray(hit.t);
-    // o + t d: a few roundings of |o| + |t d|. Embree culls round curves from inside, so a
-    // point that lands slightly inside cannot hit its own curve again.
+    // o + t d: a few roundings of |o| + |t d|. Curves are not hit from inside, so a point that
+    // lands slightly inside cannot hit its own curve again.
     si.p_error = gamma_bound(8) * max_component(glm::abs(ray.o) + glm::abs(hit.t * ray.d));
     Vec3 n = surface_normal(si.p, cp);
     // uv as Mitsuba: u the angle around the curve, v the position along all segments.
