@@ -40,6 +40,16 @@ struct TriangleSoup {
     std::vector<Vec2> uvs;
     std::vector<glm::uvec3> triangles;
     bool closed = false;  // every edge shared by exactly two triangles (a watertight surface)
+
+    // Adds another soup's triangles (the result is not known to be closed).
+    void append(const TriangleSoup& other) {
+        unsigned base = unsigned(positions.size());
+        positions.insert(positions.end(), other.positions.begin(), other.positions.end());
+        normals.insert(normals.end(), other.normals.begin(), other.normals.end());
+        uvs.insert(uvs.end(), other.uvs.begin(), other.uvs.end());
+        for (const auto& t : other.triangles) triangles.push_back(t + glm::uvec3(base));
+        closed = false;
+    }
 };
 
 class Shape;

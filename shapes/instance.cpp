@@ -84,12 +84,7 @@ void Instance::tessellate(TriangleSoup& out, int detail) const {
     TriangleSoup soup;
     group_->tessellate(soup, detail);
     transform_soup(soup);
-    unsigned base = unsigned(out.positions.size());
-    out.positions.insert(out.positions.end(), soup.positions.begin(), soup.positions.end());
-    out.normals.insert(out.normals.end(), soup.normals.begin(), soup.normals.end());
-    out.uvs.insert(out.uvs.end(), soup.uvs.begin(), soup.uvs.end());
-    for (const auto& t : soup.triangles) out.triangles.push_back(t + glm::uvec3(base));
-    out.closed = false;
+    out.append(soup);
 }
 
 void Instance::tessellate_parts(std::vector<TessellatedPart>& parts, int detail) const {

@@ -54,13 +54,8 @@ void ShapeGroup::tessellate(TriangleSoup& out, int detail) const {
     for (const Ref<Shape>& shape : members_) {
         TriangleSoup soup;
         shape->tessellate(soup, detail);
-        unsigned base = unsigned(out.positions.size());
-        out.positions.insert(out.positions.end(), soup.positions.begin(), soup.positions.end());
-        out.normals.insert(out.normals.end(), soup.normals.begin(), soup.normals.end());
-        out.uvs.insert(out.uvs.end(), soup.uvs.begin(), soup.uvs.end());
-        for (const auto& t : soup.triangles) out.triangles.push_back(t + glm::uvec3(base));
+        out.append(soup);
     }
-    out.closed = false;
 }
 
 RTCGeometry ShapeGroup::create_embree_geometry(RTCDevice) const { throw std::logic_error("a shapegroup is drawn only through instances"); }
