@@ -17,8 +17,9 @@
 //   float or double; then the triangles as uint32 index triples (uint64 above 2^32 vertices).
 // Meshes are concatenated; the file ends with the byte offset of every mesh (uint64 in version
 // 4, uint32 in version 3) and the uint32 mesh count. Vertex colours become the mesh attribute
-// "vertex_color"; the face-normals flag acts as face_normals = true. Without normals (or with
-// face normals) vertex normals are computed as for OBJ and PLY files, unless face normals.
+// "vertex_color". The face-normals flag is read but, as in Mitsuba 3's loader (its format
+// description says otherwise), does not change the shading: the face_normals parameter does.
+// Without normals in the file, smooth vertex normals are computed as for OBJ and PLY files.
 
 #include "core/mesh.h"
 #include "core/registry.h"
@@ -43,7 +44,6 @@ enum SerializedFlags : uint32_t {
     HasNormals = 0x0001,
     HasTexcoords = 0x0002,
     HasColors = 0x0008,
-    FaceNormals = 0x0010,
     SinglePrecision = 0x1000,
     DoublePrecision = 0x2000,
 };
@@ -137,18 +137,17 @@ public:
         if (shape_index < 0) props.fail("shape_index", "shape_index must not be negative");
         bool face_normals = props.get_bool("face_normals", false);
         try {
-            face_normals = read(path, size_t(shape_index), face_normals) || face_normals;
+            read(path, size_t(shape_index), face_normals);
         } catch (const SerializedError& e) {
             props.fail("filename", "cannot read serialized mesh \"" + path + "\" (shape_index " + std::to_string(shape_index) + "): " + e.what());
         }
-        if (face_normals) normals_.clear();
         finalize(props, !face_normals);
     }
     std::string to_string() const override { return "serialized"; }
 
 private:
-    // Loads mesh `index`; returns whether the file asks for face normals.
-    bool read(const std::string& path, size_t index, bool skip_normals) {
+    // Loads mesh `index`.
+    void read(const std::string& path, size_t index, bool skip_normals) {
         std::ifstream in(path, std::ios::binary);
         if (!in) throw SerializedError("cannot open the file");
         std::stringstream ss;
@@ -211,7 +210,6 @@ private:
             t = glm::uvec3(unsigned(a), unsigned(b), unsigned(c));
         }
         if (triangles_.empty()) throw SerializedError("the mesh has no triangles");
-        return (flags & FaceNormals) != 0;
     }
 };
 

@@ -79,10 +79,12 @@ TEST_CASE("curves: a thick straight linear curve renders like the cylinder", "[c
             <sampler type="independent"><integer name="sample_count" value="4"/></sampler>
             <film type="hdrfilm"><integer name="width" value="48"/><integer name="height" value="48"/><rfilter type="box"/></film></sensor>)";
     const char* material = R"(<bsdf type="roughplastic"><rgb name="diffuse_reflectance" value="0.6, 0.3, 0.2"/></bsdf>)";
-    Image a = (write_text(dir / "scene.xml", scene_xml(curve_shape("linearcurve", "line.txt", material) + rest)),
-               render_file((dir / "scene.xml").string(), {}).image);
-    Image b = (write_text(dir / "scene.xml", scene_xml(std::string("<shape type=\"cylinder\"><float name=\"radius\" value=\"0.3\"/>") + material + "</shape>" + rest)),
-               render_file((dir / "scene.xml").string(), {}).image);
+    auto render = [&](const std::string& shape) {
+        write_text(dir / "scene.xml", scene_xml(shape + rest));
+        return render_file((dir / "scene.xml").string(), {}).image;
+    };
+    Image a = render(curve_shape("linearcurve", "line.txt", material));
+    Image b = render(std::string("<shape type=\"cylinder\"><float name=\"radius\" value=\"0.3\"/>") + material + "</shape>");
     // The view holds only the tube's side (heights 0.13 to 0.87), where the two surfaces agree to
     // float precision, and both build their shading frames from a tangent around the axis
     // turning the same way: with the same random numbers, pixels agree to rounding.
