@@ -22,6 +22,7 @@
 #include "core/mesh.h"
 #include "geometry2d/polygon.h"
 #include "core/registry.h"
+#include "core/warning.h"
 
 #include <cstring>
 #include <fstream>
@@ -82,7 +83,9 @@ int find_property(const PlyElement& e, const std::string& name) {
 
 // Mitsuba 3's grouping of the properties that are not geometry into attributes named
 // "<kind>_<prefix>" (see the comment at the top of this file).
-std::vector<PlyAttribute> group_attributes(const PlyElement& e, const std::string& kind, std::vector<std::string> reserved) {
+// Properties that fit no attribute are added to `ignored`.
+std::vector<PlyAttribute> group_attributes(const PlyElement& e, const std::string& kind, std::vector<std::string> reserved,
+                                           std::vector<std::string>& ignored) {
     std::vector<PlyAttribute> out;
     for (const char* names : {"r g b a", "red green blue alpha"}) {
         std::istringstream ss(names);
@@ -106,6 +109,8 @@ std::vector<PlyAttribute> group_attributes(const PlyElement& e, const std::strin
         if ((n == 1 || n == 3) && !broken) {
             current.name = kind + prefix + (sequence == 1 ? "_color" : "");
             out.push_back(current);
+        } else {
+            for (int k : current.properties) ignored.push_back(e.properties[size_t(k)].name);
         }
         if (n > 0) seen.push_back(prefix);
         current = PlyAttribute();
@@ -122,11 +127,17 @@ std::vector<PlyAttribute> group_attributes(const PlyElement& e, const std::strin
         if (sequence >= 0 && suffixed && pre == prefix && (current.properties.size() >= 4 || c != sequences[sequence][current.properties.size()]))
             broken = true;
         if (sequence >= 0 && (!suffixed || pre != prefix || broken)) flush();
-        if (!suffixed || std::find(seen.begin(), seen.end(), pre) != seen.end()) continue;
+        if (!suffixed || std::find(seen.begin(), seen.end(), pre) != seen.end()) {
+            ignored.push_back(p.name);
+            continue;
+        }
         if (sequence < 0) {
             for (int k = 0; k < 4; ++k)
                 if (c == sequences[k][0]) sequence = k;
-            if (sequence < 0) continue;
+            if (sequence < 0) {
+                ignored.push_back(p.name);
+                continue;
+            }
             prefix = pre;
         }
         current.properties.push_back(int(i));
@@ -232,11 +243,18 @@ public:
             props.fail("filename", "cannot read PLY file \"" + path + "\": " + e.what());
         }
         if (triangles_.empty()) props.fail("filename", "PLY file \"" + path + "\" has no faces");
+        if (!ignored_.empty()) {  // as Mitsuba warns
+            std::string names;
+            for (const std::string& n : ignored_) names += (names.empty() ? "" : ", ") + n;
+            warn(props.location_of("filename"), "PLY properties that form no mesh attribute (<prefix>_<x y z | r g b | 0 1 2 | 1 2 3>, 1 or 3 of them) are ignored: " + names);
+        }
         finalize(props, !face_normals);
     }
     std::string to_string() const override { return "ply"; }
 
 private:
+    std::vector<std::string> ignored_;  // properties that are neither geometry nor attributes
+
     void read(const std::string& path, bool face_normals) {
         std::ifstream in(path, std::ios::binary);
         if (!in) throw PlyError("cannot open file");
@@ -320,7 +338,7 @@ private:
         bool normals = inx >= 0 && iny >= 0 && inz >= 0 && !face_normals, uvs = iu >= 0 && iv >= 0;
         std::vector<std::string> reserved = {"x", "y", "z", "nx", "ny", "nz"};
         if (uvs) reserved.insert(reserved.end(), {e.properties[size_t(iu)].name, e.properties[size_t(iv)].name});
-        std::vector<PlyAttribute> attributes = group_attributes(e, "vertex_", reserved);
+        std::vector<PlyAttribute> attributes = group_attributes(e, "vertex_", reserved, ignored_);
         size_t first_attribute = attributes_.size();
         for (const PlyAttribute& a : attributes) attributes_.push_back(MeshAttribute{a.name, false, int(a.properties.size()), {}});
         std::vector<double> values(e.properties.size());
@@ -357,7 +375,7 @@ private:
             if (e.properties[i].is_list && (e.properties[i].name == "vertex_indices" || e.properties[i].name == "vertex_index"))
                 list = int(i);
         if (list < 0) throw PlyError("face element lacks a vertex_indices list");
-        std::vector<PlyAttribute> attributes = group_attributes(e, "face_", {});
+        std::vector<PlyAttribute> attributes = group_attributes(e, "face_", {}, ignored_);
         size_t first_attribute = attributes_.size();
         for (const PlyAttribute& a : attributes) attributes_.push_back(MeshAttribute{a.name, true, int(a.properties.size()), {}});
         std::vector<double> values(e.properties.size(), 0.0);

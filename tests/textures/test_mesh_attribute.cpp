@@ -5,6 +5,7 @@
 #include "core/bsdf.h"
 #include "core/mesh.h"
 #include "core/texture.h"
+#include "core/warning.h"
 #include "core/xml.h"
 #include "tests/util.h"
 
@@ -81,7 +82,12 @@ std::string textured(const std::string& name, const std::string& extra = "") {
 TEST_CASE("ply: extra properties become vertex_ and face_ attributes named as in Mitsuba", "[mesh][attributes]") {
     auto dir = scratch_dir("ply-attributes");
     write_text(dir / "attr.ply", AttributePly);
+    std::vector<std::string> warnings;
+    WarningSink previous = set_warning_sink([&](const std::string& line) { warnings.push_back(line); });
     Ref<Scene> s = scene_from(dir, "<shape type=\"ply\"><string name=\"filename\" value=\"attr.ply\"/></shape>");
+    set_warning_sink(previous);
+    REQUIRE(warnings.size() == 1);  // the properties left out, named, as Mitsuba warns
+    CHECK_THAT(warnings[0], Catch::EndsWith("ignored: lonely, pair_0, pair_1"));
     const Mesh& m = dynamic_cast<const Mesh&>(*s->shapes()[0]);
     std::vector<std::string> names;
     for (const MeshAttribute& a : m.attributes()) names.push_back(a.name + "/" + std::to_string(a.channels) + (a.per_face ? "f" : "v"));
