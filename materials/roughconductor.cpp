@@ -50,8 +50,8 @@ public:
         float D = distribution_.D(h);
         if (D == 0.0f) return Spectrum(0.0f);
         float G = distribution_.G(si.wi, wo, h);
-        Spectrum F = fresnel_conductor(glm::dot(si.wi, h), eta_->eval(si.uv), k_->eval(si.uv));
-        return specular_->eval(si.uv) * F * (D * G / (4.0f * cos_i));
+        Spectrum F = fresnel_conductor(glm::dot(si.wi, h), eta_->eval(si), k_->eval(si));
+        return specular_->eval(si) * F * (D * G / (4.0f * cos_i));
     }
 
     float pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
@@ -61,7 +61,7 @@ public:
     }
 
     Spectrum albedo(const SurfaceInteraction& si) const override {
-        return specular_->eval(si.uv) * fresnel_conductor(std::max(Frame::cos_theta(si.wi), 0.0f), eta_->eval(si.uv), k_->eval(si.uv));
+        return specular_->eval(si) * fresnel_conductor(std::max(Frame::cos_theta(si.wi), 0.0f), eta_->eval(si), k_->eval(si));
     }
     // Local model: highlight ks = F0 (conductor Fresnel at normal incidence) with shininess
     // 2 / alpha^2 - 2 (the Phong exponent whose lobe matches a Beckmann distribution of

@@ -68,11 +68,11 @@ public:
         float G = distribution_.G(si.wi, wo, g.m);
         float F = fresnel_dielectric(g.wi_m, eta_).F;
         float cos_i = std::abs(Frame::cos_theta(si.wi));
-        if (g.reflect) return reflectance_->eval(si.uv) * (F * D * G / (4.0f * cos_i));
+        if (g.reflect) return reflectance_->eval(si) * (F * D * G / (4.0f * cos_i));
         float denom = g.wi_m + g.eta_p * g.wo_m;
         float value = (1.0f - F) * D * G * std::abs(g.wi_m * g.wo_m) / (cos_i * denom * denom);
         if (ctx.mode == TransportMode::Importance) value *= g.eta_p * g.eta_p;
-        return transmittance_->eval(si.uv) * value;
+        return transmittance_->eval(si) * value;
     }
 
     float pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
@@ -92,7 +92,7 @@ public:
 
     Spectrum albedo(const SurfaceInteraction& si) const override {
         float F = fresnel_dielectric(Frame::cos_theta(si.wi), eta_).F;
-        return reflectance_->eval(si.uv) * F + transmittance_->eval(si.uv) * (1.0f - F);
+        return reflectance_->eval(si) * F + transmittance_->eval(si) * (1.0f - F);
     }
     // Local model: as `dielectric`, plus a highlight ks = F0 with shininess 2 / alpha^2 - 2, and
     // both environment lookups blurred by alpha.

@@ -7,7 +7,9 @@
 //   wrap_mode     string      repeat (default), mirror or clamp
 //   raw           boolean     keep stored values; by default 8/16-bit images are decoded from
 //                             sRGB to linear, float images are used as they are (default false)
-//   to_uv         transform   uv transform (default identity)
+//   to_uv         transform   uv transform (default identity), applied after the mapping
+//   mapping, mapping_to_world  how surface points find their uv (core/texture.h): uv (default),
+//                 planar, cylindrical or spherical, with the mapping's frame
 // v = 0 is the top row of the image (no flip), as in Mitsuba 3; texel centres sit at
 // half-integers. Alpha is ignored; one-channel images are grey.
 
@@ -22,7 +24,7 @@ namespace candela {
 
 class BitmapTexture final : public Texture {
 public:
-    explicit BitmapTexture(const Properties& props) {
+    explicit BitmapTexture(const Properties& props) : Texture(props) {
         std::string path = props.get_file_path("filename");
         std::string filter = props.get_string("filter_type", "bilinear");
         if (!parse_texture_filter(filter, filter_) || filter_ == TextureFilter::Trilinear)

@@ -359,14 +359,18 @@ RenderResult RasterIntegrator::render(const Scene& scene, const RenderOptions& o
                     if (!ss.lit_side) continue;  // one-sided materials are black from behind
                     // Texture lookups over the sample's footprint (uv derivatives from the setup).
                     if (rs.material.diffuse) {
-                        Vec2 du(0.0f), dv(0.0f);
+                        // Texture coordinates through the texture's mapping (uv or projected from the position).
+                        const TextureMapping& mapping = rs.material.diffuse->mapping();
+                        auto uv_at = [&](const Vec3& bb) {
+                            return mapping.map(bb.x * g.uvs[v.x] + bb.y * g.uvs[v.y] + bb.z * g.uvs[v.z], bb.x * p0 + bb.y * p1 + bb.z * p2);
+                        };
+                        Vec2 uv = mapping.map(ss.uv, ss.p), du(0.0f), dv(0.0f);
                         if (setups[t].valid) {
                             Vec3 b0 = setups[t].at(px, py), bx = setups[t].at(px + 1.0f, py), by = setups[t].at(px, py + 1.0f);
-                            auto uv_at = [&](const Vec3& bb) { return bb.x * g.uvs[v.x] + bb.y * g.uvs[v.y] + bb.z * g.uvs[v.z]; };
-                            du = uv_at(bx) - uv_at(b0);
-                            dv = uv_at(by) - uv_at(b0);
+                            du = mapping.difference(uv_at(b0), uv_at(bx));
+                            dv = mapping.difference(uv_at(b0), uv_at(by));
                         }
-                        ss.kd = rs.material.diffuse->eval_filtered(ss.uv, du, dv, S.texture_filter);
+                        ss.kd = rs.material.diffuse->eval_filtered(uv, du, dv, S.texture_filter);
                     }
                     Spectrum L(0.0f);
                     if (front) L += rs.emission;
@@ -399,7 +403,7 @@ RenderResult RasterIntegrator::render(const Scene& scene, const RenderOptions& o
                         unsigned vi = g.triangles[t][k];
                         Vec3 n = g.normals[vi], v = glm::normalize(camera.eye - g.positions[vi]);
                         if (rs.material.two_sided && glm::dot(n, v) < 0.0f) n = -n;
-                        Spectrum kd = rs.material.diffuse ? rs.material.diffuse->eval(g.uvs[vi]) : Spectrum(0.0f);
+                        Spectrum kd = rs.material.diffuse ? rs.material.diffuse->eval(rs.material.diffuse->mapping().map(g.uvs[vi], g.positions[vi])) : Spectrum(0.0f);
                         vertex_light[vi] = direct_light(light, rs.material, kd, g.positions[vi], n, v, S.reflection);
                     }
                 });
@@ -420,7 +424,7 @@ RenderResult RasterIntegrator::render(const Scene& scene, const RenderOptions& o
                     const glm::uvec3& v = g.triangles[ss.triangle];
                     Vec3 c = (g.positions[v.x] + g.positions[v.y] + g.positions[v.z]) / 3.0f;
                     Vec2 uvc = (g.uvs[v.x] + g.uvs[v.y] + g.uvs[v.z]) / 3.0f;
-                    Spectrum kd = rs.material.diffuse ? rs.material.diffuse->eval(uvc) : Spectrum(0.0f);
+                    Spectrum kd = rs.material.diffuse ? rs.material.diffuse->eval(rs.material.diffuse->mapping().map(uvc, c)) : Spectrum(0.0f);
                     d = direct_light(light, rs.material, kd, c, ss.n_geo, glm::normalize(camera.eye - c), S.reflection);
                 } else {
                     d = direct_light(light, rs.material, ss.kd, ss.p, ss.n, ss.v, S.reflection);
