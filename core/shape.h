@@ -77,6 +77,14 @@ public:
         cos_theta = -1.0f;
     }
 
+    // Whether all front-facing normals agree (rectangle, disk, a flat mesh), within the margin
+    // that meshes add to their cone; `normal` receives the common normal.
+    bool is_planar(Vec3& normal) const {
+        float cos_theta;
+        normal_cone(normal, cos_theta);
+        return cos_theta >= 1.0f - 1e-4f;
+    }
+
     const BSDF* bsdf() const { return bsdf_.get(); }
     const Emitter* emitter() const { return emitter_.get(); }
     const Ref<Emitter>& emitter_ref() const { return emitter_; }

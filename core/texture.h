@@ -77,6 +77,9 @@ public:
     // The average over the whole texture (for albedo and power estimates).
     virtual Spectrum mean() const = 0;
     virtual bool is_constant() const { return false; }
+    // The size in texels, 1 x 1 for textures without a grid (Mitsuba's Texture::resolution; the
+    // projector light takes its aspect ratio from it).
+    virtual Vec2i resolution() const { return Vec2i(1); }
     // The largest value any channel reaches (for energy bounds).
     virtual float max_value() const = 0;
 
@@ -103,6 +106,8 @@ class ConstantTexture final : public Texture {
 public:
     explicit ConstantTexture(const Spectrum& value) : value_(value) {}
     Spectrum eval(const Vec2&) const override { return value_; }
+    // A grey value (a float parameter) is returned exactly, not through the luminance weights.
+    float eval_1(const Vec2&) const override { return value_.x == value_.y && value_.y == value_.z ? value_.x : luminance(value_); }
     Spectrum mean() const override { return value_; }
     bool is_constant() const override { return true; }
     float max_value() const override { return max_component(value_); }

@@ -24,8 +24,8 @@
 //
 // Light: area emitters shoot; point, spot, directional and environment emitters light the
 // patches once before the first shot (their reflected light is then shot on). Materials: a
-// non-diffuse BSDF is treated by its albedo (the run names those BSDFs on stderr); a two-sided
-// one gets patches on both sides. The final gather evaluates the real BSDF where the camera
+// non-diffuse BSDF is treated by its albedo (the run names those BSDFs in a warning); a two-sided
+// one gets patches on both sides; a surface with only a null lobe (`null`) is left out. The final gather evaluates the real BSDF where the camera
 // looks, so mirrors and glass show the solution in reflection. Radiosity renders the patches it
 // solves on: analytic shapes appear as their tessellation. Ctrl-C during the solve stops it and
 // shows the partial solution at one sample per pixel, marked partial.
@@ -44,7 +44,6 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <iostream>
 
 namespace candela {
 
@@ -72,20 +71,13 @@ VertexSolution vertex_solution(const RadiosityPatches& patches, const std::vecto
     return v;
 }
 
-void warn_approximated(const RadiosityStats& stats) {
-    if (stats.approximated_bsdfs.empty()) return;
-    std::string names;
-    for (const auto& n : stats.approximated_bsdfs) names += (names.empty() ? "" : ", ") + n;
-    std::cerr << "warning: radiosity treats non-diffuse BSDFs by their diffuse albedo: " << names << "\n";
-}
-
 }  // namespace
 
 std::vector<RadiosityMesh> bake_radiosity(const Scene& scene, const RadiositySettings& settings, const RenderOptions& options, RadiosityStats* stats) {
     RadiosityPatches patches(scene, settings);
     RadiosityStats local;
     RadiosityStats& st = stats ? *stats : local;
-    std::vector<Spectrum> irradiance = solve_radiosity(patches, scene, settings, options, "", st);
+    std::vector<Spectrum> irradiance = solve_radiosity(patches, scene, settings, options, "", SourceLocation{scene.source_file, 0}, st);
     VertexSolution v = vertex_solution(patches, irradiance);
     return patches.meshes(v.irradiance[0], v.irradiance[1], v.radiosity[0]);
 }
@@ -106,6 +98,7 @@ public:
         if (settings_.visibility_rays <= 0) props.fail("visibility_rays", "visibility_rays must be positive");
         settings_.seed = uint64_t(int64_t(props.get_int("seed", 0)));
         final_gather_ = props.get_bool("final_gather", true);
+        location_ = props.location();
         std::string file = props.get_string("solution", "");
         if (!file.empty()) {
             std::filesystem::path p(file);
@@ -119,8 +112,7 @@ public:
         auto start = std::chrono::steady_clock::now();
         patches_ = std::make_unique<RadiosityPatches>(scene, settings_);
         RadiosityStats stats;
-        std::vector<Spectrum> irradiance = solve_radiosity(*patches_, scene, settings_, options, solution_file_, stats);
-        warn_approximated(stats);
+        std::vector<Spectrum> irradiance = solve_radiosity(*patches_, scene, settings_, options, solution_file_, location_, stats);
         solution_ = vertex_solution(*patches_, irradiance);
         RenderResult result;
         if (stats.interrupted) {
@@ -212,6 +204,7 @@ private:
     RadiositySettings settings_;
     bool final_gather_ = true;
     std::string solution_file_;
+    SourceLocation location_;  // of the integrator, for warnings
     std::unique_ptr<RadiosityPatches> patches_;
     VertexSolution solution_;
     std::unique_ptr<LightSampler> lights_;

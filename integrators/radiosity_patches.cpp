@@ -23,6 +23,8 @@ int subdivision_for(float area, const RadiositySettings& settings, float default
     return std::max(1, int(std::ceil(std::sqrt(area / max_area))));
 }
 
+bool is_invisible(const Shape& shape) { return shape.bsdf()->flags() == Null; }
+
 float triangle_area(const Vec3& a, const Vec3& b, const Vec3& c) { return 0.5f * glm::length(glm::cross(b - a, c - a)); }
 
 // Splits every triangle of `in` into n x n triangles on the barycentric grid (i, j) with weights
@@ -126,7 +128,12 @@ RadiosityPatches::RadiosityPatches(const Scene& scene, const RadiositySettings& 
         patch_count_ += mesh->triangle_count();
         meshes_.push_back(mesh);
     }
-    accel_.build(meshes_);
+    // Surfaces that only let light through (the `null` BSDF) are invisible: not in the BVH, no
+    // elements.
+    std::vector<Ref<Shape>> visible;
+    for (const auto& mesh : meshes_)
+        if (!is_invisible(*static_cast<const PatchMesh&>(*mesh).source())) visible.push_back(mesh);
+    accel_.build(visible);
     build_elements(scene);
     build_welds();
 }
@@ -139,6 +146,7 @@ void RadiosityPatches::build_elements(const Scene& scene) {
     for (size_t m = 0; m < meshes_.size(); ++m) {
         const auto& mesh = static_cast<const PatchMesh&>(*meshes_[m]);
         const Shape* shape = mesh.source();
+        if (is_invisible(*shape)) continue;
         const BSDF& bsdf = *shape->bsdf();
         bool two_sided = bsdf.local_shading().two_sided;
         if (bsdf.flags() != DiffuseReflection && std::find(approximated_.begin(), approximated_.end(), bsdf.to_string()) == approximated_.end())

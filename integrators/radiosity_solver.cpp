@@ -12,6 +12,7 @@
 #include "core/progress.h"
 #include "core/rng.h"
 #include "core/scene.h"
+#include "core/warning.h"
 #include "core/warp.h"
 #include "integrators/form_factor.h"
 #include "integrators/radiosity_solver.h"
@@ -24,7 +25,6 @@
 #include <chrono>
 #include <cstring>
 #include <filesystem>
-#include <iostream>
 
 namespace candela {
 
@@ -218,10 +218,16 @@ uint64_t solution_key(const RadiosityPatches& patches, const RadiositySettings& 
 }  // namespace
 
 std::vector<Spectrum> solve_radiosity(const RadiosityPatches& patches, const Scene& scene, const RadiositySettings& settings,
-                                      const RenderOptions& options, const std::string& solution_file, RadiosityStats& stats) {
+                                      const RenderOptions& options, const std::string& solution_file, const SourceLocation& where,
+                                      RadiosityStats& stats) {
     stats.patches = patches.patch_count();
     stats.elements = patches.elements().size();
     stats.approximated_bsdfs = patches.approximated_bsdfs();
+    if (!stats.approximated_bsdfs.empty()) {
+        std::string names;
+        for (const auto& n : stats.approximated_bsdfs) names += (names.empty() ? "" : ", ") + n;
+        warn(where, "radiosity treats non-diffuse BSDFs by their diffuse albedo: " + names);
+    }
     std::vector<Spectrum> initial = direct_irradiance(patches, scene, settings, options);
     uint64_t key = solution_key(patches, settings, initial);
     if (!solution_file.empty() && std::filesystem::exists(solution_file)) {
@@ -232,7 +238,7 @@ std::vector<Spectrum> solve_radiosity(const RadiosityPatches& patches, const Sce
             stats.converged = stats.unshot_fraction <= settings.tolerance;
             return irradiance;
         }
-        std::cerr << "warning: radiosity solution " << solution_file << " refused (" << reason << "); solving again and replacing it\n";
+        warn(where, "radiosity solution " + solution_file + " refused (" + reason + "); solving again and replacing it");
     }
     std::vector<Spectrum> irradiance = shoot_radiosity(patches, settings, initial, options, stats);
     if (!solution_file.empty() && !stats.interrupted) write_radiosity_file(solution_file, key, irradiance, stats);

@@ -102,9 +102,11 @@ std::vector<Spectrum> shoot_radiosity(const RadiosityPatches& patches, const Rad
 
 // The whole solve: initial light, then the solution file when `solution_file` names one that
 // matches (same patches, reflectances, emission, light and settings), else shooting, saving the
-// result there when it was not interrupted. A stale or damaged file is refused with a warning.
+// result there when it was not interrupted. A stale or damaged file is refused with a warning
+// at `where`, as are non-diffuse BSDFs.
 std::vector<Spectrum> solve_radiosity(const RadiosityPatches& patches, const Scene& scene, const RadiositySettings& settings,
-                                      const RenderOptions& options, const std::string& solution_file, RadiosityStats& stats);
+                                      const RenderOptions& options, const std::string& solution_file, const SourceLocation& where,
+                                      RadiosityStats& stats);
 
 // The solution file (little-endian): "CANDELA-RADIOSITY\0" (18 bytes), uint32 version 1,
 // uint64 key (hash of the patches and the settings), uint64 element count, uint32 shots,

@@ -2,7 +2,9 @@
 // One-sided.
 //
 // Parameters (Mitsuba 3):
-//   material               string           Au, Ag, Cu, Al, Cr or none (default none: a perfect
+//   material               string           a name of Mitsuba 3's conductor table (Au, Ag, Al, Cu,
+//                                           Cr, Cu_palik, TiN, ...: see named_conductors() in
+//                                           materials/ior.h) or none (default none: a perfect
 //                                           mirror, F = 1)
 //   eta, k                 rgb or texture   real and imaginary index of refraction (instead of
 //                                           material)

@@ -2,7 +2,8 @@
 // One-sided, isotropic.
 //
 // Parameters (Mitsuba 3):
-//   distribution, alpha, sample_visible   as `roughconductor` (isotropic only)
+//   distribution, alpha, sample_visible   as `roughconductor`, but isotropic and alpha a float (as
+//                                         in Mitsuba 3: the coating's tables depend on it)
 //   int_ior, ext_ior, diffuse_reflectance, specular_reflectance, nonlinear   as `plastic`
 //
 //   specular:  F(wi . h) D(h) G(wi, wo) / (4 cos wi)
@@ -55,11 +56,7 @@ public:
             bs.lobe = DiffuseReflection;
         }
         if (bs.wo.z <= 0.0f) return BSDFSample();
-        bs.pdf = pdf(ctx, si, bs.wo);
-        if (!(bs.pdf > 0.0f)) return BSDFSample();
-        bs.weight = eval(ctx, si, bs.wo) / bs.pdf;
-        if (!all_finite(bs.weight)) return BSDFSample();
-        return bs;
+        return weighted_by_pdf(ctx, si, bs);
     }
 
     Spectrum eval(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
@@ -106,7 +103,7 @@ public:
         float alpha = distribution_.alpha_u();
         s.diffuse = diffuse_;
         s.specular = specular_->mean() * F0;
-        s.shininess = std::max(2.0f / (alpha * alpha) - 2.0f, 1.0f);
+        s.shininess = phong_exponent(alpha);
         s.mirror = specular_->mean() * F0;
         s.roughness = alpha;
         return s;

@@ -88,6 +88,7 @@ public:
     }
     Spectrum mean() const override { return mip_.mean(); }
     float max_value() const override { return mip_.max_value(); }
+    Vec2i resolution() const override { return Vec2i(mip_.width(), mip_.height()); }
     std::string to_string() const override { return "bitmap"; }
     const MipMap& mipmap() const { return mip_; }
 

@@ -124,7 +124,13 @@ RasterCamera RasterCamera::orthographic_box(const Transform& to_world, float hx,
 }
 
 RasterCamera RasterCamera::from_pinhole(const PinholeProjection& p) {
-    return perspective(p.to_world, p.tan_half_x, p.tan_half_x / p.aspect, p.near_clip, p.far_clip);
+    RasterCamera c = perspective(p.to_world, p.tan_half_x, p.tan_half_x / p.aspect, p.near_clip, p.far_clip);
+    // A principal point offset o shifts the image: x_ndc = 2 s - 1 becomes 2 (s + o) - 1 - 2 o,
+    // i.e. x_clip -= 2 o w with w = z (Mitsuba's principal_point_offset, see PinholeProjection).
+    c.projection[2][0] -= 2.0f * p.principal_point_offset.x;
+    c.projection[2][1] -= 2.0f * p.principal_point_offset.y;
+    c.view_projection = c.projection * c.view;
+    return c;
 }
 
 void LocalLight::illuminate(const Vec3& p, Vec3& to_light, float& distance, Spectrum& irradiance) const {

@@ -90,8 +90,8 @@ TEST_CASE("cli: an unwritable output path or a bad option exits with code 2 befo
 TEST_CASE("cli: Ctrl-C writes the image so far, marked partial, and exits non-zero", "[cli][interrupt]") {
     auto dir = scratch_dir("cli-interrupt");
     auto out = dir / "partial.exr";
-    // A render far too long to finish; SIGINT after a second.
-    std::string cmd = render_cmd("'" + Cbox + "' -o '" + out.string() + "' --spp 100000") + " & pid=$!; sleep 1; kill -INT $pid; wait $pid";
+    // A render far too long to finish; SIGINT once its handler is installed.
+    std::string cmd = interrupt_after_start(render_cmd("'" + Cbox + "' -o '" + out.string() + "' --spp 100000"));
     int code = run_command(cmd, dir / "log.txt");
     INFO(read_text(dir / "log.txt"));
     CHECK(code == 130);

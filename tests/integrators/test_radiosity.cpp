@@ -6,6 +6,7 @@
 
 #include "analysis/image_metrics.h"
 #include "core/image.h"
+#include "core/warning.h"
 #include "core/xml.h"
 #include "integrators/form_factor.h"
 #include "integrators/radiosity.h"
@@ -15,8 +16,6 @@
 #include <catch2/catch.hpp>
 
 #include <cstring>
-#include <iostream>
-#include <sstream>
 
 using namespace candela;
 using namespace candela::test;
@@ -82,11 +81,11 @@ double worst_mean_difference(const ImageComparison& c) {
     return std::max({std::abs(c.mean_relative_difference.x), std::abs(c.mean_relative_difference.y), std::abs(c.mean_relative_difference.z)});
 }
 
-// Captures what is written to std::cerr while alive.
-struct CaptureStderr {
-    std::stringstream text;
-    std::streambuf* old = std::cerr.rdbuf(text.rdbuf());
-    ~CaptureStderr() { std::cerr.rdbuf(old); }
+// Collects the warnings given while alive.
+struct CaptureWarnings {
+    std::string text;
+    WarningSink previous = set_warning_sink([this](const std::string& line) { text += line + "\n"; });
+    ~CaptureWarnings() { set_warning_sink(previous); }
 };
 
 }  // namespace
@@ -230,16 +229,16 @@ TEST_CASE("radiosity: a solution file is reused, and refused when stale or damag
     REQUIRE(moved.find(at) != std::string::npos);
     moved.replace(moved.find(at), at.size(), R"(<translate x="0.2" y="-0.7" z="0.3"/>)");
     {
-        CaptureStderr err;
+        CaptureWarnings err;
         render_string(moved, dir / "cbox.xml", p, 0, &stats);
-        CHECK_THAT(err.text.str(), Catch::Contains("refused") && Catch::Contains("other geometry"));
+        CHECK_THAT(err.text, Catch::Contains("refused") && Catch::Contains("other geometry"));
     }
     CHECK_FALSE(stats->loaded);
     render_string(moved, dir / "cbox.xml", p, 0, &stats);
     CHECK(stats->loaded);
     // Other settings count as stale too.
     {
-        CaptureStderr err;
+        CaptureWarnings err;
         render_string(moved, dir / "cbox.xml", {{"area", "0.2"}, {"gather", "false"}, {"res", "32"}, {"spp", "2"}}, 0, &stats);
         CHECK_FALSE(stats->loaded);
     }
@@ -247,10 +246,10 @@ TEST_CASE("radiosity: a solution file is reused, and refused when stale or damag
     // A damaged (truncated) file is refused.
     std::string bytes = read_text(dir / "cbox.radiosity");
     write_text(dir / "cbox.radiosity", bytes.substr(0, bytes.size() - 5));
-    CaptureStderr err;
+    CaptureWarnings err;
     render_string(moved, dir / "cbox.xml", {{"area", "0.2"}, {"gather", "false"}, {"res", "32"}, {"spp", "2"}}, 0, &stats);
     CHECK_FALSE(stats->loaded);
-    CHECK_THAT(err.text.str(), Catch::Contains("damaged"));
+    CHECK_THAT(err.text, Catch::Contains("damaged"));
 }
 
 TEST_CASE("radiosity: non-diffuse BSDFs are named as approximated; bad parameters fail", "[radiosity]") {
@@ -261,15 +260,15 @@ TEST_CASE("radiosity: non-diffuse BSDFs are named as approximated; bad parameter
     scene.replace(scene.find(white), white.size(), R"(<bsdf type="plastic" id="white"/>)");
     const RadiosityStats* stats = nullptr;
     {
-        CaptureStderr err;
+        CaptureWarnings err;
         render_string(scene, dir / "cbox.xml", {{"area", "0.32"}, {"gather", "true"}, {"res", "16"}, {"spp", "1"}}, 0, &stats);
-        CHECK_THAT(err.text.str(), Catch::Contains("warning: radiosity treats non-diffuse BSDFs by their diffuse albedo: plastic"));
+        CHECK_THAT(err.text, Catch::Contains("cbox.xml:") && Catch::Contains("warning: radiosity treats non-diffuse BSDFs by their diffuse albedo: plastic"));
     }
     CHECK(stats->approximated_bsdfs == std::vector<std::string>{"plastic"});
     {
-        CaptureStderr err;
+        CaptureWarnings err;
         render_string(radiosity_cbox(), dir / "cbox.xml", {{"area", "0.32"}, {"gather", "true"}, {"res", "16"}, {"spp", "1"}});
-        CHECK(err.text.str().find("warning") == std::string::npos);
+        CHECK(err.text.find("warning") == std::string::npos);
     }
     for (const char* bad : {R"(<float name="max_patch_area" value="-1"/>)", R"(<integer name="subdivisions" value="0"/>)",
                             R"(<float name="tolerance" value="2"/>)", R"(<integer name="visibility_rays" value="0"/>)",
@@ -291,8 +290,8 @@ TEST_CASE("radiosity and ao: Ctrl-C writes the image so far, marked partial", "[
     write_text(dir / "ao.xml", ao);
     for (const char* name : {"radiosity", "ao"}) {
         auto out = dir / (std::string(name) + ".exr");
-        std::string cmd = "'" + candela_binary() + "' render '" + (dir / (std::string(name) + ".xml")).string() + "' -o '" + out.string() +
-                          "' -D area=0.0005 -D gather=true --spp 100000 & pid=$!; sleep 1; kill -INT $pid; wait $pid";
+        std::string cmd = interrupt_after_start("'" + candela_binary() + "' render '" + (dir / (std::string(name) + ".xml")).string() + "' -o '" +
+                                                out.string() + "' -D area=0.0005 -D gather=true --spp 100000");
         int code = run_command(cmd, dir / "log.txt");
         INFO(name << ": " << read_text(dir / "log.txt"));
         CHECK(code == 130);
