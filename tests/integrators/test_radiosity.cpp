@@ -164,7 +164,7 @@ TEST_CASE("radiosity: per-vertex irradiance for baked lighting", "[radiosity]") 
     }
     // A two-sided BSDF has patches lit on both sides.
     write_text(dir / "panel.xml", scene_xml(R"(<shape type="rectangle"><bsdf type="twosided"><bsdf type="diffuse"/></bsdf></shape>
-        <shape type="sphere"><point name="center" x="0" y="0" z="3"/><emitter type="area"/></shape>)"));
+        <shape type="rectangle"><transform name="to_world"><rotate x="1" angle="180"/><translate z="3"/></transform><emitter type="area"/></shape>)"));
     Ref<Scene> panel = load_scene((dir / "panel.xml").string());
     std::vector<RadiosityMesh> two = bake_radiosity(*panel, settings, RenderOptions());
     REQUIRE(two.size() == 2);
