@@ -2,7 +2,7 @@
 //
 // Parameters:
 //   radiance   rgb or texture   emitted radiance in W m^-2 sr^-1 (default 1); a texture is looked
-//                               up by the shape's uv
+//                               up at the surface point (by the shape's uv or the texture's mapping)
 // Sampling is delegated to the shape: uniform solid angle for spheres seen from outside,
 // uniform area (converted to solid angle) otherwise. A textured radiance is evaluated at the
 // sampled point's uv, which keeps the estimate unbiased; unlike Mitsuba, the texture is not
@@ -41,7 +41,11 @@ public:
             weight = Spectrum(0.0f);
             return ds;
         }
-        weight = radiance_->eval(ds.uv) / ds.pdf;
+        SurfaceInteraction on_light;  // where the radiance texture is looked up
+        on_light.p = ds.p;
+        on_light.n = ds.n;
+        on_light.uv = ds.uv;
+        weight = radiance_->eval(on_light) / ds.pdf;
         return ds;
     }
 

@@ -38,6 +38,14 @@ int run_command(const std::string& command, const std::filesystem::path& log) {
     return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }
 
+std::string interrupt_after_start(const std::string& command) {
+    return command +
+           " & pid=$!; for i in $(seq 600); do"
+           " mask=$(awk '/^SigCgt/ {print $2}' /proc/$pid/status 2>/dev/null);"
+           " [ -n \"$mask\" ] && [ $(( 0x$mask & 2 )) -ne 0 ] && break; sleep 0.1; done;"
+           " sleep 1; kill -INT $pid; wait $pid";
+}
+
 std::string scene_xml(const std::string& body) { return "<scene version=\"3.0.0\">\n" + body + "\n</scene>\n"; }
 
 Ref<Scene> load_scene_xml(const std::string& name, const std::string& body) {

@@ -18,6 +18,11 @@ std::string candela_binary();
 
 // Runs a shell command; returns its exit code (not the raw wait status). Output goes to `log`.
 int run_command(const std::string& command, const std::filesystem::path& log);
+// A shell line that starts `command` in the background and, once its SIGINT handler is
+// installed (SigCgt in /proc/PID/status has SIGINT's bit) and a second later, sends it SIGINT
+// and waits. A background job of a non-interactive shell starts with SIGINT ignored, so a signal
+// sent before the handler is installed would be lost and the command would run to its end.
+std::string interrupt_after_start(const std::string& command);
 std::string read_text(const std::filesystem::path& path);
 
 // Loads a scene file with `params` and renders it with its own integrator.

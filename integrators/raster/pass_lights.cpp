@@ -42,7 +42,7 @@ Spectrum direct_light(const LocalLight& light, const LocalShading& m, const Spec
 }
 
 // Gouraud: the light at every vertex, with the material of the one shape the vertex belongs
-// to and its texture at the vertex uv. One evaluation per vertex, each written by one task.
+// to and its texture at the vertex (through the texture's mapping). One evaluation per vertex, each written by one task.
 void light_vertices(const FrameSetup& f, const LocalLight& light, std::vector<Spectrum>& vertex_light) {
     const RasterGeometry& g = f.geometry;
     vertex_light.resize(g.positions.size());
@@ -50,7 +50,7 @@ void light_vertices(const FrameSetup& f, const LocalLight& light, std::vector<Sp
         const LocalShading& m = g.shapes[g.vertex_shape[i]].material;
         Vec3 n = g.normals[i], v = glm::normalize(f.camera.eye - g.positions[i]);
         if (m.two_sided && glm::dot(n, v) < 0.0f) n = -n;
-        Spectrum kd = m.diffuse ? m.diffuse->eval(g.uvs[i]) : Spectrum(0.0f);
+        Spectrum kd = m.diffuse ? m.diffuse->eval(m.diffuse->mapping().map(g.uvs[i], g.positions[i])) : Spectrum(0.0f);
         vertex_light[i] = direct_light(light, m, kd, g.positions[i], n, v, f.settings.reflection);
     });
 }
@@ -70,7 +70,7 @@ Spectrum sample_light(const FrameSetup& f, const FrameBuffers& b, size_t i, cons
     case RasterSettings::Shading::Flat: {
         Vec3 c = (g.positions[v.x] + g.positions[v.y] + g.positions[v.z]) / 3.0f;
         Vec2 uvc = (g.uvs[v.x] + g.uvs[v.y] + g.uvs[v.z]) / 3.0f;
-        Spectrum kd = m.diffuse ? m.diffuse->eval(uvc) : Spectrum(0.0f);
+        Spectrum kd = m.diffuse ? m.diffuse->eval(m.diffuse->mapping().map(uvc, c)) : Spectrum(0.0f);
         return direct_light(light, m, kd, c, ss.n_geo, glm::normalize(f.camera.eye - c), f.settings.reflection);
     }
     case RasterSettings::Shading::Phong: break;

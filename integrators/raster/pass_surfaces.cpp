@@ -84,17 +84,23 @@ SurfaceSample reconstruct(const FrameSetup& f, uint32_t t, const Vec3& b) {
     return ss;
 }
 
-// The diffuse texture at uv, filtered over the footprint of the sample at `pos`: the uv
+// The diffuse texture at the surface point (uv, p), through the texture's mapping (uv or
+// projected from the position), filtered over the footprint of the sample at `pos`: the
 // derivatives per pixel come from the triangle's homogeneous setup.
-Spectrum filtered_albedo(const FrameSetup& f, const Texture& texture, const HomogeneousSetup& h, uint32_t t, const Vec2& uv, const Vec2& pos) {
+Spectrum filtered_albedo(const FrameSetup& f, const Texture& texture, const HomogeneousSetup& h, uint32_t t, const Vec2& surface_uv, const Vec3& p, const Vec2& pos) {
     const RasterGeometry& g = f.geometry;
     const glm::uvec3& v = g.triangles[t];
+    const TextureMapping& mapping = texture.mapping();
+    const Vec2 uv = mapping.map(surface_uv, p);
     Vec2 du(0.0f), dv(0.0f);
     if (h.valid) {
         Vec3 b0 = h.at(pos.x, pos.y), bx = h.at(pos.x + 1.0f, pos.y), by = h.at(pos.x, pos.y + 1.0f);
-        auto uv_at = [&](const Vec3& bb) { return bb.x * g.uvs[v.x] + bb.y * g.uvs[v.y] + bb.z * g.uvs[v.z]; };
-        du = uv_at(bx) - uv_at(b0);
-        dv = uv_at(by) - uv_at(b0);
+        auto uv_at = [&](const Vec3& bb) {
+            return mapping.map(bb.x * g.uvs[v.x] + bb.y * g.uvs[v.y] + bb.z * g.uvs[v.z],
+                               bb.x * g.positions[v.x] + bb.y * g.positions[v.y] + bb.z * g.positions[v.z]);
+        };
+        du = mapping.difference(uv_at(b0), uv_at(bx));
+        dv = mapping.difference(uv_at(b0), uv_at(by));
     }
     return texture.eval_filtered(uv, du, dv, f.settings.texture_filter);
 }
@@ -140,7 +146,7 @@ void surface_pass(const FrameSetup& f, FrameBuffers& b) {
                 SurfaceSample& ss = b.surface[i] = reconstruct(f, t, b.bary[i]);
                 if (!ss.lit_side) continue;  // one-sided materials are black from behind
                 const RasterShape& rs = g.shapes[g.triangle_shape[t]];
-                if (rs.material.diffuse) ss.kd = filtered_albedo(f, *rs.material.diffuse, setups[t], t, ss.uv, pos);
+                if (rs.material.diffuse) ss.kd = filtered_albedo(f, *rs.material.diffuse, setups[t], t, ss.uv, ss.p, pos);
                 b.color[i] = unlit_radiance(f, environment, rs, ss);
             }
     });

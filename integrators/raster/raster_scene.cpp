@@ -44,7 +44,7 @@ void displace(RasterGeometry& g, RasterShape& rs, unsigned first_vertex, int sub
         rs.triangle_count = uint32_t(refined.size());
     }
     for (unsigned v = first_vertex; v < g.positions.size(); ++v)
-        g.positions[v] += g.normals[v] * (rs.material.height->eval_1(g.uvs[v]) * rs.material.height_scale);
+        g.positions[v] += g.normals[v] * (rs.material.height->eval_1(rs.material.height->mapping().map(g.uvs[v], g.positions[v])) * rs.material.height_scale);
     std::vector<Vec3> n(g.positions.size() - first_vertex, Vec3(0.0f));
     for (uint32_t i = rs.first_triangle; i < rs.first_triangle + rs.triangle_count; ++i) {
         const glm::uvec3& t = g.triangles[i];

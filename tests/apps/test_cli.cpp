@@ -90,15 +90,8 @@ TEST_CASE("cli: an unwritable output path or a bad option exits with code 2 befo
 TEST_CASE("cli: Ctrl-C writes the image so far, marked partial, and exits non-zero", "[cli][interrupt]") {
     auto dir = scratch_dir("cli-interrupt");
     auto out = dir / "partial.exr";
-    // A render far too long to finish; SIGINT once its handler is installed (SigCgt in
-    // /proc/PID/status has SIGINT's bit), then a moment later. A background job of a
-    // non-interactive shell starts with SIGINT ignored, so a signal sent before the handler is
-    // installed would be lost and the render would run to its end.
-    std::string cmd = render_cmd("'" + Cbox + "' -o '" + out.string() + "' --spp 100000") +
-                      " & pid=$!; for i in $(seq 600); do"
-                      " mask=$(awk '/^SigCgt/ {print $2}' /proc/$pid/status 2>/dev/null);"
-                      " [ -n \"$mask\" ] && [ $(( 0x$mask & 2 )) -ne 0 ] && break; sleep 0.1; done;"
-                      " sleep 1; kill -INT $pid; wait $pid";
+    // A render far too long to finish; SIGINT once its handler is installed.
+    std::string cmd = interrupt_after_start(render_cmd("'" + Cbox + "' -o '" + out.string() + "' --spp 100000"));
     int code = run_command(cmd, dir / "log.txt");
     INFO(read_text(dir / "log.txt"));
     CHECK(code == 130);
