@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 #include "core/file_output.h"
+#include "core/spectral.h"
 
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
@@ -144,6 +145,27 @@ std::string encode_png(const Image& display) {
     std::error_code ec;
     fs::remove(tmp, ec);
     return bytes;
+}
+
+Image linear_rgb(const Image& rendered) {
+    auto has = [&](const char* a, const char* b, const char* c) {
+        return rendered.channel_index(a) >= 0 && rendered.channel_index(b) >= 0 && rendered.channel_index(c) >= 0;
+    };
+    if (has("R", "G", "B")) return rendered.select_channels({"R", "G", "B"});
+    Image rgb = Image::rgb(rendered.width(), rendered.height());
+    rgb.metadata = rendered.metadata;
+    if (has("X", "Y", "Z")) {
+        int cx = rendered.channel_index("X"), cy = rendered.channel_index("Y"), cz = rendered.channel_index("Z");
+        for (int y = 0; y < rendered.height(); ++y)
+            for (int x = 0; x < rendered.width(); ++x)
+                rgb.set_rgb(x, y, Spectrum(xyz_to_linear_srgb(Vec3d(rendered.at(x, y, cx), rendered.at(x, y, cy), rendered.at(x, y, cz)))));
+        return rgb;
+    }
+    int cy = rendered.channel_index("Y");
+    if (cy < 0) throw InputError("the image has neither R, G, B nor X, Y, Z nor Y channels");
+    for (int y = 0; y < rendered.height(); ++y)
+        for (int x = 0; x < rendered.width(); ++x) rgb.set_rgb(x, y, Spectrum(rendered.at(x, y, cy)));
+    return rgb;
 }
 
 Image tonemap_srgb(const Image& image, float exposure) {

@@ -57,6 +57,9 @@ int image_integer_bits(const std::string& path);
 void check_output_path(const std::string& path);
 
 void write_exr(const Image& image, const std::string& path, bool float32);
+// The linear sRGB colour of a render, whatever the film's pixel format: its R, G, B channels;
+// X, Y, Z converted (Rec. 709, D65); or Y alone as grey. InputError when it has none of these.
+Image linear_rgb(const Image& rendered);
 // Linear RGB (times 2^exposure) clamped to [0, 1] and encoded with the sRGB curve, for display.
 Image tonemap_srgb(const Image& linear, float exposure = 0.0f);
 // The bytes of an 8-bit PNG of a display-referred image (for embedding in HTML reports).

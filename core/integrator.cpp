@@ -11,11 +11,16 @@
 #include <chrono>
 
 // The pixel loop, in the order a render runs it:
-//   AovLayout      which extra layers were asked for, and their channels after R, G, B
-//   make_tiles     the film cut into tiles, each with its own ImageBlock (and pixel statistics)
+//   SampleLayout   the values each sample splats: R, G, B, the alpha when the film has one, and
+//                  the integrator's own channels (aov, moment, ...)
+//   AovLayout      which --aov layers were asked for, and their channels after all of those
+//   make_tiles     the film cut into tiles, each with its own ImageBlock (and pixel statistics);
+//                  with sample_border the tiles on the crop's edges also sample the ring of
+//                  pixels outside it that the filter reaches
 //   sample_passes  the sample indices [begin, end) cut into passes of growing width
 //   TileSampler    takes the samples of one pass for every pixel of one tile
-//   develop        merges the tiles in a fixed order and writes RGB and the AOV layers
+//   develop        merges the tiles in a fixed order, writes the film's pixel format, the
+//                  integrator's channels and the --aov layers
 // A pixel's samples depend only on (seed, pixel, sample index), so the schedule (threads, tile
 // order) never changes the image. Rendering a sub-range of sample indices, or another sampler,
 // only changes what sample_passes and the sampler hand out.
@@ -55,8 +60,12 @@ struct PixelStats {
 
 struct Tile {
     Vec2i offset, size;  // in crop pixels
+    // The pixels this tile samples, relative to `offset`: its own, and with sample_border the
+    // ring outside the crop next to it. The block receives them all; only its own are developed.
+    Vec2i sample_min{0}, sample_max{0};
     ImageBlock block;
-    std::vector<PixelStats> stats;  // empty unless an AOV needs them
+    std::vector<PixelStats> stats;  // own pixels only; empty unless an --aov layer needs them
+    int sampled_pixels() const { return (sample_max.x - sample_min.x) * (sample_max.y - sample_min.y); }
 };
 
 // A half-open range of sample indices [begin, end).
@@ -64,8 +73,53 @@ struct SampleRange {
     int begin = 0, end = 0;
 };
 
-// The extra layers of a render and their channel layout: R, G, B, then albedo.RGB, normal.XYZ,
-// depth.Z and variance.RGB, each only when asked for.
+// What each sample splats into the image blocks, filtered like the radiance (as Mitsuba films
+// its alpha and AOVs): R, G, B, then alpha (1 for a valid sample, 0 otherwise) when the film's
+// pixel format has one, then the integrator's channels.
+class SampleLayout {
+public:
+    SampleLayout(const Film& film, const SamplingIntegrator& integrator)
+        : format_(film.pixel_format()), alpha_(pixel_format_has_alpha(film.pixel_format())), extra_names_(integrator.channel_names()) {
+        if (extra_names_.size() > size_t(MaxSampleChannels))
+            throw InputError("the integrator reports " + std::to_string(extra_names_.size()) + " channels per sample, more than the " +
+                             std::to_string(MaxSampleChannels) + " Candela supports");
+    }
+    int values() const { return 3 + (alpha_ ? 1 : 0) + extras(); }
+    int extras() const { return int(extra_names_.size()); }
+
+    // The splatted values of one sample; false when any is NaN or infinite.
+    bool fill(const Spectrum& L, const SampleRecord& record, float* out) const {
+        int c = 0;
+        for (int k = 0; k < 3; ++k) out[c++] = L[k];
+        if (alpha_) out[c++] = record.valid ? 1.0f : 0.0f;
+        for (int k = 0; k < extras(); ++k) out[c++] = record.channels[k];
+        for (int k = 0; k < c; ++k)
+            if (!std::isfinite(out[k])) return false;
+        return true;
+    }
+
+    // The image's first channels: the film's pixel format, then the integrator's channels.
+    std::vector<std::string> channels() const {
+        std::vector<std::string> names = pixel_format_channels(format_);
+        names.insert(names.end(), extra_names_.begin(), extra_names_.end());
+        return names;
+    }
+    // Writes those channels of one pixel from its normalised values.
+    void write(const double* v, float* out) const {
+        const Spectrum rgb{float(v[0]), float(v[1]), float(v[2])};
+        write_pixel_format(format_, rgb, alpha_ ? float(v[3]) : 1.0f, out);
+        out += pixel_format_channels(format_).size();
+        for (int k = 0, first = alpha_ ? 4 : 3; k < extras(); ++k) out[k] = float(v[first + k]);
+    }
+
+private:
+    PixelFormat format_;
+    bool alpha_;
+    std::vector<std::string> extra_names_;
+};
+
+// The --aov layers of a render and their channel layout: albedo.RGB, normal.XYZ, depth.Z and
+// variance.RGB, each only when asked for, after the film's and the integrator's channels.
 class AovLayout {
 public:
     explicit AovLayout(const std::vector<std::string>& names) {
@@ -82,7 +136,7 @@ public:
     bool pixel_stats() const { return first_hit() || variance_; }
 
     std::vector<std::string> channels() const {
-        std::vector<std::string> channels = {"R", "G", "B"};
+        std::vector<std::string> channels;
         const char* rgb[3] = {"R", "G", "B"};
         if (albedo_)
             for (auto c : rgb) channels.push_back(std::string("albedo.") + c);
@@ -94,9 +148,8 @@ public:
         return channels;
     }
 
-    // Writes the AOV channels of pixel (x, y) from its statistics.
-    void write(const PixelStats& ps, Image& img, int x, int y) const {
-        int c = 3;
+    // Writes the AOV channels of pixel (x, y), from channel c on, from its statistics.
+    void write(const PixelStats& ps, Image& img, int x, int y, int c) const {
         float inv_n = ps.n ? 1.0f / float(ps.n) : 0.0f;
         if (albedo_)
             for (int k = 0; k < 3; ++k) img.at(x, y, c++) = ps.albedo[k] * inv_n;
@@ -111,16 +164,26 @@ private:
     bool albedo_ = false, normal_ = false, depth_ = false, variance_ = false;
 };
 
-// Tiles covering the film's crop window in row-major order (the order develop() merges them).
-std::vector<Tile> make_tiles(const Film& film, bool with_stats) {
+// Tiles covering the film's crop window in row-major order (the order develop() merges them),
+// each with a block of `values` channels. With sample_border, the tiles on the crop's edges also
+// sample the pixels outside it within the filter's reach (Mitsuba samples a crop grown by the
+// filter's border size); pixels inside the crop receive the same samples in the same order as
+// without it, so only those within that reach of an edge change.
+std::vector<Tile> make_tiles(const Film& film, int values, bool with_stats) {
     const Vec2i crop = film.crop_size();
+    const int border = film.sample_border() ? std::max(0, int(std::ceil(film.filter().radius() - 0.5f))) : 0;
     std::vector<Tile> tiles;
     for (int y = 0; y < crop.y; y += TileSize)
         for (int x = 0; x < crop.x; x += TileSize) {
             Tile t;
             t.offset = Vec2i(x, y);
             t.size = glm::min(Vec2i(TileSize), crop - t.offset);
-            t.block = ImageBlock(t.offset, t.size, &film.filter());
+            t.sample_max = t.size;
+            for (int axis = 0; axis < 2; ++axis) {
+                if (t.offset[axis] == 0) t.sample_min[axis] = -border;
+                if (t.offset[axis] + t.size[axis] == crop[axis]) t.sample_max[axis] += border;
+            }
+            t.block = ImageBlock(t.offset, t.size, &film.filter(), values);
             if (with_stats) t.stats.resize(size_t(t.size.x) * t.size.y);
             tiles.push_back(std::move(t));
         }
@@ -160,17 +223,17 @@ struct RenderCounters {
 // Takes samples for the pixels of tiles with the calling thread's sampler.
 class TileSampler {
 public:
-    TileSampler(const SamplingIntegrator& integrator, const Scene& scene, const AovLayout& layout)
-        : integrator_(integrator), scene_(scene), sensor_(scene.sensor()), crop_offset_(scene.sensor().film().crop_offset()),
-          first_hit_(layout.first_hit()) {}
+    TileSampler(const SamplingIntegrator& integrator, const Scene& scene, const SampleLayout& values, const AovLayout& layers, int spp)
+        : integrator_(integrator), scene_(scene), sensor_(scene.sensor()), crop_offset_(scene.sensor().film().crop_offset()), values_(values),
+          first_hit_(layers.first_hit()), differential_scale_(1.0f / std::sqrt(float(std::max(spp, 1)))) {}
 
-    // Samples `samples` of every pixel of `tile`, pixel by pixel, until done or interrupted.
+    // Samples `samples` of every pixel the tile samples, pixel by pixel, until done or interrupted.
     void sample_tile(Tile& tile, const SampleRange& samples, Sampler& sampler, Interruption& interruption, RenderCounters& counters,
                      ProgressReporter& progress) const {
         uint64_t rays_before = thread_ray_count();
         uint64_t taken = 0, nonfinite = 0;
-        for (int y = 0; y < tile.size.y && !interruption.check(); ++y)
-            for (int x = 0; x < tile.size.x && !interruption.check(); ++x)
+        for (int y = tile.sample_min.y; y < tile.sample_max.y && !interruption.check(); ++y)
+            for (int x = tile.sample_min.x; x < tile.sample_max.x && !interruption.check(); ++x)
                 sample_pixel(tile, Vec2i(x, y), samples, sampler, taken, nonfinite);
         counters.rays += thread_ray_count() - rays_before;
         counters.samples += taken;
@@ -180,23 +243,29 @@ public:
 
 private:
     // The samples of one pixel (tile coordinates): each positions the sampler at (pixel, index),
-    // so its random numbers depend on nothing else. Non-finite radiance is counted and dropped.
+    // so its random numbers depend on nothing else. Samples with a non-finite value are counted
+    // and dropped.
     void sample_pixel(Tile& tile, const Vec2i& local, const SampleRange& samples, Sampler& sampler, uint64_t& taken, uint64_t& nonfinite) const {
         const Vec2i pixel = crop_offset_ + tile.offset + local;
-        PixelStats* ps = tile.stats.empty() ? nullptr : &tile.stats[size_t(local.y) * tile.size.x + local.x];
+        const bool own = local.x >= 0 && local.y >= 0 && local.x < tile.size.x && local.y < tile.size.y;
+        PixelStats* ps = tile.stats.empty() || !own ? nullptr : &tile.stats[size_t(local.y) * tile.size.x + local.x];
+        float values[3 + 1 + MaxSampleChannels];
         for (int s = samples.begin; s < samples.end; ++s) {
             sampler.start(pixel, uint32_t(s));
-            Vec2 pos = Vec2(pixel) + sampler.next_2d();
-            Vec2 aperture = sampler.next_2d();
-            Ray ray = sensor_.sample_ray(pos, aperture);
+            SampleRecord record;
+            record.film_pos = Vec2(pixel) + sampler.next_2d();
+            record.aperture = sampler.next_2d();
+            record.differential_scale = differential_scale_;
             FirstHitAovs aov;
-            Spectrum L = integrator_.sample_radiance(scene_, sampler, ray, first_hit_ ? &aov : nullptr);
+            record.first_hit = first_hit_ ? &aov : nullptr;
+            Ray ray = sensor_.sample_ray(record.film_pos, record.aperture);
+            Spectrum L = integrator_.sample_radiance(scene_, sampler, ray, record);
             ++taken;
-            if (!all_finite(L)) {
+            if (!values_.fill(L, record, values)) {
                 ++nonfinite;
                 continue;
             }
-            tile.block.put(pos - Vec2(crop_offset_), L);
+            tile.block.put(record.film_pos - Vec2(crop_offset_), values);
             if (ps) ps->add(L, aov);
         }
     }
@@ -205,25 +274,44 @@ private:
     const Scene& scene_;
     const Sensor& sensor_;
     const Vec2i crop_offset_;
+    const SampleLayout& values_;
     const bool first_hit_;
+    const float differential_scale_;
 };
 
-// Merges the tiles in a fixed order, normalises by the filter weights, and writes the AOVs.
-Image develop(const std::vector<Tile>& tiles, const Vec2i& crop, const AovLayout& layout) {
-    std::vector<double> accum(size_t(crop.x) * crop.y * 4, 0.0);
+// Merges the tiles in a fixed order, normalises by the filter weights, and writes the film's
+// pixel format, the integrator's channels and the --aov layers.
+Image develop(const std::vector<Tile>& tiles, const Vec2i& crop, const SampleLayout& values, const AovLayout& layers) {
+    const int stride = values.values() + 1;
+    std::vector<double> accum(size_t(crop.x) * crop.y * size_t(stride), 0.0);
     for (const Tile& t : tiles) t.block.accumulate_into(accum, crop);
-    Image img(crop.x, crop.y, layout.channels());
+    std::vector<std::string> channels = values.channels();
+    const int first_layer = int(channels.size());
+    std::vector<std::string> layer_channels = layers.channels();
+    channels.insert(channels.end(), layer_channels.begin(), layer_channels.end());
+    Image img(crop.x, crop.y, channels);
+    std::vector<double> normalised(size_t(stride - 1));
     for (int y = 0; y < crop.y; ++y)
         for (int x = 0; x < crop.x; ++x) {
-            const double* a = &accum[(size_t(y) * crop.x + x) * 4];
-            for (int c = 0; c < 3; ++c) img.at(x, y, c) = a[3] > 0.0 ? float(a[c] / a[3]) : 0.0f;
+            const double* a = &accum[(size_t(y) * crop.x + x) * stride];
+            const double w = a[stride - 1];
+            for (int c = 0; c + 1 < stride; ++c) normalised[c] = w > 0.0 ? a[c] / w : 0.0;
+            values.write(normalised.data(), &img.at(x, y, 0));
         }
     for (const Tile& t : tiles) {
         if (t.stats.empty()) continue;
         for (int y = 0; y < t.size.y; ++y)
-            for (int x = 0; x < t.size.x; ++x) layout.write(t.stats[size_t(y) * t.size.x + x], img, t.offset.x + x, t.offset.y + y);
+            for (int x = 0; x < t.size.x; ++x)
+                layers.write(t.stats[size_t(y) * t.size.x + x], img, t.offset.x + x, t.offset.y + y, first_layer);
     }
     return img;
+}
+
+// An image's channel names must be distinct (an EXR cannot hold two channels of one name).
+void check_distinct_channels(const std::vector<std::string>& channels) {
+    for (size_t i = 0; i < channels.size(); ++i)
+        for (size_t j = 0; j < i; ++j)
+            if (channels[i] == channels[j]) throw InputError("two image channels are named \"" + channels[i] + "\" (rename an AOV)");
 }
 
 // The scene's sampler with the render's sample count and seed.
@@ -236,21 +324,27 @@ Ref<Sampler> configured_sampler(const Scene& scene, const RenderOptions& options
 
 }  // namespace
 
-Image Integrator::preview(const Image& rendered) const { return tonemap_srgb(rendered); }
+Image Integrator::preview(const Image& rendered) const { return tonemap_srgb(linear_rgb(rendered)); }
 
 RenderResult SamplingIntegrator::render(const Scene& scene, const RenderOptions& options) {
     auto t_start = std::chrono::steady_clock::now();
-    const AovLayout layout(options.aovs);
+    const Film& film = scene.sensor().film();
+    const SampleLayout values(film, *this);
+    const AovLayout layers(options.aovs);
+    std::vector<std::string> channels = values.channels(), layer_channels = layers.channels();
+    channels.insert(channels.end(), layer_channels.begin(), layer_channels.end());
+    check_distinct_channels(channels);
     Ref<Sampler> prototype = configured_sampler(scene, options);
     const SampleRange samples{0, prototype->sample_count()};
     prepare(scene);
 
-    const Vec2i crop = scene.sensor().film().crop_size();
-    std::vector<Tile> tiles = make_tiles(scene.sensor().film(), layout.pixel_stats());
-    ProgressReporter progress("Rendering", uint64_t(samples.end - samples.begin) * uint64_t(crop.x) * uint64_t(crop.y), options.progress);
+    std::vector<Tile> tiles = make_tiles(film, values.values(), layers.pixel_stats());
+    uint64_t sampled_pixels = 0;
+    for (const Tile& t : tiles) sampled_pixels += uint64_t(t.sampled_pixels());
+    ProgressReporter progress("Rendering", uint64_t(samples.end - samples.begin) * sampled_pixels, options.progress);
     RenderCounters counters;
     Interruption interruption(options.interrupt);
-    const TileSampler tile_sampler(*this, scene, layout);
+    const TileSampler tile_sampler(*this, scene, values, layers, prototype->sample_count());
     tbb::enumerable_thread_specific<Ref<Sampler>> samplers([&] { return prototype->clone(); });
     tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
     for (const SampleRange& pass : sample_passes(samples)) {
@@ -264,7 +358,7 @@ RenderResult SamplingIntegrator::render(const Scene& scene, const RenderOptions&
     progress.finish();
 
     RenderResult result;
-    result.image = develop(tiles, crop, layout);
+    result.image = develop(tiles, film.crop_size(), values, layers);
     RenderStats& st = result.stats;
     st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
     st.samples = counters.samples;

@@ -41,15 +41,36 @@ struct RenderStats {
 };
 
 struct RenderResult {
-    Image image;  // R, G, B then any AOV layers
+    // The film's channels (R, G, B, or as its pixel_format says), the integrator's channels, then
+    // the --aov layers.
+    Image image;
     RenderStats stats;
 };
 
-// What a sample reports about its first hit, for AOVs.
+// What a sample reports about its first hit, for the --aov layers.
 struct FirstHitAovs {
     Spectrum albedo{0.0f};
     Vec3 normal{0.0f};
     float depth = 0.0f;
+};
+
+// The most extra values one sample may report (SamplingIntegrator::channel_names()).
+constexpr int MaxSampleChannels = 64;
+
+// One camera sample besides its radiance: where it lies on the film (in), what the integrator
+// reports about it (out). Lives on the stack of the pixel loop: nothing is allocated per sample.
+struct SampleRecord {
+    // In: the film position (pixels of the full film) and aperture sample the camera ray came
+    // from, and the scale of ray differentials (Mitsuba's: one pixel times 1 / sqrt(spp)).
+    Vec2 film_pos{0.0f}, aperture{0.5f};
+    float differential_scale = 1.0f;
+    // In: the --aov first-hit layers to fill, or null.
+    FirstHitAovs* first_hit = nullptr;
+    // Out: the sample saw something (Mitsuba's `valid`: the film's alpha). Each integrator
+    // documents its rule; by default a sample sees nothing.
+    bool valid = false;
+    // Out: the values of the integrator's channel_names(), in order.
+    float channels[MaxSampleChannels];
 };
 
 class Integrator : public Object {
@@ -66,8 +87,11 @@ public:
     RenderResult render(const Scene& scene, const RenderOptions& options) override;
     // Called once per render before any sample (build light samplers, caches).
     virtual void prepare(const Scene& scene) {}
-    // Radiance arriving along `ray`. Fills `aovs` when not null.
-    virtual Spectrum sample_radiance(const Scene& scene, Sampler& sampler, const Ray& ray, FirstHitAovs* aovs) const = 0;
+    // Radiance arriving along `ray`; fills `record` (valid, channels, first_hit when asked).
+    virtual Spectrum sample_radiance(const Scene& scene, Sampler& sampler, const Ray& ray, SampleRecord& record) const = 0;
+    // The extra channels every sample fills, written after the film's own (Mitsuba's
+    // aov_names(): "dd.T", "nn.X", ...); at most MaxSampleChannels.
+    virtual std::vector<std::string> channel_names() const { return {}; }
 };
 
 // Number of rays traced by the calling thread so far (the accelerator counts them).

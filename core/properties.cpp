@@ -186,18 +186,24 @@ Ref<Object> Properties::get_object(const std::string& name) const {
     return e ? std::get<Ref<Object>>(e->value) : nullptr;
 }
 
-std::vector<Ref<Object>> Properties::get_objects(ObjectKind kind) const {
-    std::vector<const Entry*> found;
+std::vector<std::pair<std::string, Ref<Object>>> Properties::get_named_objects(ObjectKind kind) const {
+    std::vector<std::pair<const std::string*, const Entry*>> found;
     for (auto& [name, e] : entries_) {
         if (e.type != Type::Object) continue;
-        if (std::get<Ref<Object>>(e.value)->kind() == kind) found.push_back(&e);
+        if (std::get<Ref<Object>>(e.value)->kind() == kind) found.emplace_back(&name, &e);
     }
-    std::sort(found.begin(), found.end(), [](const Entry* a, const Entry* b) { return a->order < b->order; });
-    std::vector<Ref<Object>> out;
-    for (const Entry* e : found) {
+    std::sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.second->order < b.second->order; });
+    std::vector<std::pair<std::string, Ref<Object>>> out;
+    for (const auto& [name, e] : found) {
         e->used = true;
-        out.push_back(std::get<Ref<Object>>(e->value));
+        out.emplace_back(*name, std::get<Ref<Object>>(e->value));
     }
+    return out;
+}
+
+std::vector<Ref<Object>> Properties::get_objects(ObjectKind kind) const {
+    std::vector<Ref<Object>> out;
+    for (auto& named : get_named_objects(kind)) out.push_back(std::move(named.second));
     return out;
 }
 

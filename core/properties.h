@@ -88,6 +88,8 @@ public:
     Ref<Object> get_object(const std::string& name) const;
     // All nested objects of a kind, in document order, named or not; each is marked as used.
     std::vector<Ref<Object>> get_objects(ObjectKind kind) const;
+    // The same with their names: the name attribute, or "_argN" the loader gives unnamed ones.
+    std::vector<std::pair<std::string, Ref<Object>>> get_named_objects(ObjectKind kind) const;
 
     // Throws a SceneError at the first property (in document order) that nothing read.
     void check_all_used() const;

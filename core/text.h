@@ -1,6 +1,8 @@
 #pragma once
-// Splitting attribute text into its items, as Mitsuba's string::tokenize does for number lists.
+// Small text helpers: splitting attribute text into its items, as Mitsuba's string::tokenize
+// does for number lists, and case folding for names Mitsuba reads case-insensitively.
 
+#include <algorithm>
 #include <cctype>
 #include <string>
 #include <vector>
@@ -21,6 +23,12 @@ inline std::vector<std::string> split_list(const std::string& text) {
     }
     if (!item.empty()) items.push_back(item);
     return items;
+}
+
+// ASCII lower case (Mitsuba's string::to_lower).
+inline std::string to_lower(std::string s) {
+    std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return s;
 }
 
 }  // namespace candela

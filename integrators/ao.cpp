@@ -34,10 +34,11 @@ public:
         ray_length_ = requested_length_ > 0.0f ? requested_length_ : 0.5f * scene.bbox().bounding_radius();
     }
 
-    Spectrum sample_radiance(const Scene& scene, Sampler& sampler, const Ray& ray, FirstHitAovs* aovs) const override {
+    Spectrum sample_radiance(const Scene& scene, Sampler& sampler, const Ray& ray, SampleRecord& record) const override {
         SurfaceInteraction si;
         if (!scene.intersect(ray, si)) return Spectrum(1.0f);
-        if (aovs) {
+        record.valid = true;
+        if (FirstHitAovs* aovs = record.first_hit) {
             aovs->albedo = si.shape->bsdf()->albedo(si);
             aovs->normal = si.shading.n;
             aovs->depth = si.t;

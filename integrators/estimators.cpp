@@ -122,7 +122,10 @@ Estimate estimate_radiance(const Scene& scene, const Vec3& origin, const Vec3& d
     PathIntegrator path(options.path);
     path.prepare(scene);
     Ray ray(origin, glm::normalize(direction));
-    return run(options, [&](Sampler& sampler) { return path.sample_radiance(scene, sampler, ray, nullptr); });
+    return run(options, [&](Sampler& sampler) {
+        SampleRecord record;
+        return path.sample_radiance(scene, sampler, ray, record);
+    });
 }
 
 }  // namespace candela

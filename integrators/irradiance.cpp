@@ -28,10 +28,12 @@ public:
 
     void prepare(const Scene& scene) override { path_.prepare(scene); }
 
-    Spectrum sample_radiance(const Scene& scene, Sampler& sampler, const Ray& ray, FirstHitAovs* aovs) const override {
+    // A sample is valid (the film's alpha) when it finds a surface.
+    Spectrum sample_radiance(const Scene& scene, Sampler& sampler, const Ray& ray, SampleRecord& record) const override {
         SurfaceInteraction si;
         if (!scene.intersect(ray, si)) return Spectrum(0.0f);
-        if (aovs) {
+        record.valid = true;
+        if (FirstHitAovs* aovs = record.first_hit) {
             aovs->albedo = si.shape->bsdf()->albedo(si);
             aovs->normal = si.shading.n;
             aovs->depth = si.t;
@@ -46,7 +48,8 @@ public:
     }
 
     // False colour on a linear scale with a legend in W/m^2.
-    Image preview(const Image& img) const override {
+    Image preview(const Image& rendered) const override {
+        const Image img = linear_rgb(rendered);
         std::vector<float> lum;
         for (int y = 0; y < img.height(); ++y)
             for (int x = 0; x < img.width(); ++x) {

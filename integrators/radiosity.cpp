@@ -141,11 +141,15 @@ public:
 
     void prepare(const Scene& scene) override { lights_ = create_light_sampler("tree", scene); }
 
-    Spectrum sample_radiance(const Scene& scene, Sampler& sampler, const Ray& ray, FirstHitAovs* aovs) const override {
+    Spectrum sample_radiance(const Scene& scene, Sampler& sampler, const Ray& ray, SampleRecord& record) const override {
         SurfaceInteraction si;
         PatchHit hit;
-        if (!patches_->intersect(ray, si, hit)) return scene.eval_environment(ray.d);
-        if (aovs) {
+        if (!patches_->intersect(ray, si, hit)) {
+            record.valid = !scene.infinite_emitters().empty();
+            return scene.eval_environment(ray.d);
+        }
+        record.valid = true;
+        if (FirstHitAovs* aovs = record.first_hit) {
             aovs->albedo = si.shape->bsdf()->albedo(si);
             aovs->normal = si.shading.n;
             aovs->depth = si.t;

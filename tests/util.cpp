@@ -1,5 +1,7 @@
 #include "tests/util.h"
 
+#include "core/scene.h"
+
 #include <fstream>
 #include <sstream>
 #include <sys/wait.h>
@@ -70,6 +72,21 @@ RenderResult render_file(const std::string& scene_path, const SceneParameters& p
     options.threads = threads;
     options.aovs = std::move(aovs);
     return scene->integrator().render(*scene, options);
+}
+
+PixelView pixel_view(const Scene& scene, int x, int y) {
+    const Vec2 origin = Vec2(scene.sensor().film().crop_offset()) + Vec2(float(x), float(y));
+    PixelView view;
+    bool first = true;
+    for (Vec2 corner : {Vec2(1e-3f, 1e-3f), Vec2(0.999f, 1e-3f), Vec2(1e-3f, 0.999f), Vec2(0.999f, 0.999f)}) {
+        SurfaceInteraction si;
+        const Shape* hit = scene.intersect(scene.sensor().sample_ray(origin + corner, Vec2(0.5f)), si) ? si.shape : nullptr;
+        if (first) view.shape = hit;
+        else if (hit != view.shape) view.mixed = true;
+        first = false;
+    }
+    if (view.mixed) view.shape = nullptr;
+    return view;
 }
 
 }  // namespace candela::test

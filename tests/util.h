@@ -36,4 +36,14 @@ Ref<Scene> load_scene_xml(const std::string& name, const std::string& body);
 // box-filtered w x h film, as XML.
 std::string pinhole_camera(const std::string& origin, const std::string& target, int w, int h, float fov = 60);
 
+// What the camera sees over the whole of pixel (x, y) of the crop window, judged by the camera
+// rays through its four corners (right for convex shapes with nothing in front): the shape all
+// four hit first, or nothing when all four miss; `mixed` when they disagree.
+struct PixelView {
+    const Shape* shape = nullptr;
+    bool mixed = false;
+    bool nothing() const { return !shape && !mixed; }
+};
+PixelView pixel_view(const Scene& scene, int x, int y);
+
 }  // namespace candela::test

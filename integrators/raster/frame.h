@@ -71,6 +71,8 @@ struct FrameBuffers {
     std::vector<Spectrum> color;  // the radiance so far
     // Per pixel (resolve, then overlays).
     Image image;
+    std::vector<float> coverage;  // the filtered fraction of samples that found a surface
+
 };
 
 void geometry_pass(const FrameSetup& frame, FrameBuffers& buffers);

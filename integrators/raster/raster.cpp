@@ -225,6 +225,20 @@ const raster::RasterGeometry& RasterIntegrator::geometry_for(const Scene& scene)
     return *geometry_;
 }
 
+namespace {
+
+// The resolved frame in the film's pixel format, its coverage as the alpha.
+Image in_pixel_format(const Image& rgb, const std::vector<float>& coverage, PixelFormat format) {
+    if (format == PixelFormat::RGB) return rgb;
+    Image out(rgb.width(), rgb.height(), pixel_format_channels(format));
+    for (int y = 0; y < rgb.height(); ++y)
+        for (int x = 0; x < rgb.width(); ++x)
+            write_pixel_format(format, rgb.rgb_at(x, y), coverage[size_t(y) * rgb.width() + x], &out.at(x, y, 0));
+    return out;
+}
+
+}  // namespace
+
 RenderResult RasterIntegrator::render(const Scene& scene, const RenderOptions& options) {
     using namespace raster;
     auto t_start = std::chrono::steady_clock::now();
@@ -241,7 +255,7 @@ RenderResult RasterIntegrator::render(const Scene& scene, const RenderOptions& o
         lights_pass(frame, buffers);
         resolve_pass(frame, buffers);
         overlay_pass(frame, buffers);
-        result.image = std::move(buffers.image);
+        result.image = in_pixel_format(buffers.image, buffers.coverage, scene.sensor().film().pixel_format());
         result.stats.samples = frame.sample_count();
     });
     result.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
