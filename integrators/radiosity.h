@@ -54,6 +54,12 @@ struct RadiosityMesh {
 std::vector<RadiosityMesh> bake_radiosity(const Scene& scene, const RadiositySettings& settings, const RenderOptions& options,
                                           RadiosityStats* stats = nullptr);
 
+// The same patches and vertex values, with the irradiance at each element's centre estimated by
+// the path tracer instead (`samples` paths each, every bounce: estimate_irradiance_at), seeded by
+// settings.seed. Each centre moves off its patch along the side's normal by the patch's
+// tessellation_gap (core/mesh.h), so that the exact surface of a curved shape cannot hide it.
+std::vector<RadiosityMesh> bake_path_irradiance(const Scene& scene, const RadiositySettings& settings, int samples, const RenderOptions& options);
+
 // The statistics of the last solve of a `radiosity` integrator (null for other integrators).
 const RadiosityStats* radiosity_stats(const Integrator& integrator);
 
