@@ -24,7 +24,9 @@
 //   cube_map               string    six face images instead, "{face}" = px, nx, py, ny, pz, nz,
 //                                    relative to the scene file (implies cube)
 //   cube_resolution        integer   faces built from the environment, >= 1 (default 256)
-//   shadow_map_resolution  integer   texels per side, >= 16 (default 1024)
+//   shadow_map_resolution  integer   texels per side, >= 16 (default: chosen from the view per
+//                                    map face, a texel no larger than the camera's sample
+//                                    spacing on what the face shadows, at most 1024)
 //   pcf                    integer   percentage-closer filter width in texels, >= 1 (default 3)
 //   displacement           boolean   move bump-mapped surfaces by their height field (default false)
 //   subdivisions           integer   4^n refinement of displaced shapes, >= 0 (default 3)
@@ -210,6 +212,12 @@ FrameSetup::FrameSetup(const Scene& scene, const RasterSettings& settings, const
       ambient(lights.ambient + settings.ambient), full(scene.sensor().film().full_size()), offset(scene.sensor().film().crop_offset()),
       width(scene.sensor().film().crop_size().x), height(scene.sensor().film().crop_size().y), pattern(sample_pattern(settings.aa)) {}
 
+float FrameSetup::sample_spacing(float view_depth) const {
+    // A pixel spans 2 / (|P00| W) by 2 / (|P11| H) per unit of view depth (projection rows 0, 1).
+    float per_depth = std::min(2.0f / (std::abs(camera.projection[0][0]) * float(full.x)), 2.0f / (std::abs(camera.projection[1][1]) * float(full.y)));
+    return per_depth * view_depth / std::sqrt(float(samples_per_pixel()));
+}
+
 }  // namespace raster
 
 RasterIntegrator::~RasterIntegrator() = default;
@@ -249,7 +257,8 @@ RenderResult RasterIntegrator::render(const Scene& scene, const RenderOptions& o
     RenderResult result;
     arena.execute([&] {
         FrameSetup frame(scene, settings_, geometry_for(scene), *pinhole);
-        FrameBuffers buffers;
+        if (!buffers_) buffers_ = std::make_shared<FrameBuffers>();
+        FrameBuffers& buffers = *buffers_;
         geometry_pass(frame, buffers);
         surface_pass(frame, buffers);
         lights_pass(frame, buffers);

@@ -12,6 +12,7 @@ namespace candela {
 
 namespace raster {
 struct RasterGeometry;
+struct FrameBuffers;
 }
 
 struct RasterSettings {
@@ -30,7 +31,7 @@ struct RasterSettings {
     bool cube_mapping = false;
     int cube_resolution = 256;
     std::string cube_map;  // six images, "{face}" replaced by px, nx, py, ny, pz, nz
-    int shadow_map_resolution = 1024, pcf = 3;
+    int shadow_map_resolution = 0, pcf = 3;  // resolution 0: chosen from the view
     bool displacement = false;
     int subdivisions = 3, tessellation = 96;
 
@@ -80,6 +81,9 @@ private:
     std::shared_ptr<raster::RasterGeometry> geometry_;
     const Scene* geometry_scene_ = nullptr;
     int geometry_key_[3] = {0, 0, 0};
+    // The frame buffers and shadow maps, kept from frame to frame so that a frame of the same
+    // size reuses their storage instead of allocating it.
+    std::shared_ptr<raster::FrameBuffers> buffers_;
 };
 
 }  // namespace candela
