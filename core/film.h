@@ -1,6 +1,7 @@
 #pragma once
 // The film (Mitsuba's `hdrfilm`) and the image blocks that accumulate filtered samples.
 
+#include "core/error.h"
 #include "core/filter.h"
 #include "core/object.h"
 #include "core/spectrum.h"
@@ -17,7 +18,13 @@ public:
     virtual Vec2i crop_size() const = 0;   // the size of the image that is written
     virtual const ReconstructionFilter& filter() const = 0;
     virtual bool float32() const = 0;      // component_format: float32 or float16
+    // Where the scene declares the film (for errors about its size).
+    virtual SourceLocation location() const { return {}; }
 };
+
+// "film 1920 x 1080", or "film crop window 640 x 480" when a crop window is rendered: how the
+// memory checks name the image they size.
+std::string film_description(const Film& film);
 
 // A rectangle of the film that accumulates sum(w * L) and sum(w) per pixel, with a border of the
 // filter's radius so that samples near the edge can reach neighbouring pixels. Blocks are merged

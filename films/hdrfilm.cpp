@@ -18,7 +18,7 @@ namespace candela {
 
 class HDRFilm final : public Film {
 public:
-    explicit HDRFilm(const Properties& props) {
+    explicit HDRFilm(const Properties& props) : location_(props.location()) {
         size_ = Vec2i(props.get_int("width", 768), props.get_int("height", 576));
         if (size_.x <= 0 || size_.y <= 0) props.fail("width", "film width and height must be positive");
         crop_offset_ = Vec2i(props.get_int("crop_offset_x", 0), props.get_int("crop_offset_y", 0));
@@ -48,8 +48,10 @@ public:
     Vec2i crop_size() const override { return crop_size_; }
     const ReconstructionFilter& filter() const override { return *filter_; }
     bool float32() const override { return float32_; }
+    SourceLocation location() const override { return location_; }
 
 private:
+    SourceLocation location_;
     Vec2i size_, crop_offset_, crop_size_;
     bool float32_ = false;
     Ref<ReconstructionFilter> filter_;

@@ -26,8 +26,8 @@ class RoughDielectricBSDF final : public BSDF {
 public:
     explicit RoughDielectricBSDF(const Properties& props) : roughness_(MicrofacetRoughness::from_properties(props)) {
         eta_ = read_relative_ior(props, "bk7");
-        reflectance_ = props.get_texture("specular_reflectance", Spectrum(1.0f));
-        transmittance_ = props.get_texture("specular_transmittance", Spectrum(1.0f));
+        reflectance_ = props.get_reflectance("specular_reflectance", Spectrum(1.0f));
+        transmittance_ = props.get_reflectance("specular_transmittance", Spectrum(1.0f));
         flags_ = GlossyReflection | GlossyTransmission;
     }
 
