@@ -46,6 +46,8 @@ std::string xyz(double x, double y, double z, double s) { return num(x * s) + ",
 std::string box_scene(double s, const std::string& object_bsdf, double radiance = 5.0, bool with_object = true, const std::string& floor = "") {
     std::string x = "<integrator type=\"path\"><integer name=\"max_depth\" value=\"6\"/></integrator>\n"
                     "<sensor type=\"perspective\"><float name=\"fov\" value=\"45\"/>\n"
+                    // The clipping distances are lengths too (Mitsuba's defaults: 0.01 and 1e4).
+                    "<float name=\"near_clip\" value=\"" + num(0.01 * s) + "\"/><float name=\"far_clip\" value=\"" + num(1e4 * s) + "\"/>\n"
                     "<transform name=\"to_world\"><lookat origin=\"" + xyz(0, 1, 3.5, s) + "\" target=\"" + xyz(0, 0.7, 0, s) + "\" up=\"0, 1, 0\"/></transform>\n"
                     "<sampler type=\"independent\"><integer name=\"sample_count\" value=\"" + std::to_string(Spp) + "\"/></sampler>\n"
                     "<film type=\"hdrfilm\"><integer name=\"width\" value=\"" + std::to_string(Res) + "\"/><integer name=\"height\" value=\"" +
@@ -187,9 +189,11 @@ TEST_CASE("robustness: degenerate triangles are dropped; a mesh of nothing else 
     const std::string quad = "v -1 0 -1\nv 1 0 -1\nv 1 0 1\nv -1 0 1\n";
     const std::string faces = "f 1 3 2\nf 1 4 3\n";
     // Repeated corners, collinear corners, and a sliver whose area underflows.
-    const std::string degenerate = "v 0 0 0\nv 0.5 0 0\nv 1e-30 0 1e-30\nf 1 1 2\nf 5 6 2\nf 5 7 6\nf 3 3 3\n";
-    write_file(dir / "clean.obj", quad + "v 0 0 0\nv 0.5 0 0\nv 1e-30 0 1e-30\n" + faces);
-    write_file(dir / "dirty.obj", quad + degenerate + faces);
+    // Repeated corners, collinear corners, and a sliver whose area underflows to 0 in float.
+    const std::string extra = "v 0 0 0\nv 1e-30 0 0\nv 0 0 1e-30\nv 0 0 -1\n";
+    const std::string degenerate = "f 1 1 2\nf 1 8 2\nf 5 6 7\nf 3 3 3\n";
+    write_file(dir / "clean.obj", quad + extra + faces);
+    write_file(dir / "dirty.obj", quad + extra + degenerate + faces);
     write_file(dir / "nothing.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\nf 1 1 2\n");
     auto floor = [&](const std::string& file) {
         return "<shape type=\"obj\"><string name=\"filename\" value=\"" + (dir / file).string() +
