@@ -44,7 +44,9 @@ std::string xyz(double x, double y, double z, double s) { return num(x * s) + ",
 // A small box: floor and back wall (diffuse), an area light above, and `object` (a shape's
 // inner XML: its bsdf) on a sphere of radius 0.5 standing on the floor; every length times `s`.
 std::string box_scene(double s, const std::string& object_bsdf, double radiance = 5.0, bool with_object = true, const std::string& floor = "") {
-    std::string x = "<integrator type=\"path\"><integer name=\"max_depth\" value=\"6\"/></integrator>\n"
+    // Unbounded paths (Russian roulette ends them): crossing an invisible interface still counts
+    // as a bounce, so a depth limit would cut paths from one scene that it keeps in the other.
+    std::string x = "<integrator type=\"path\"><integer name=\"max_depth\" value=\"-1\"/></integrator>\n"
                     "<sensor type=\"perspective\"><float name=\"fov\" value=\"45\"/>\n"
                     // The clipping distances are lengths too (Mitsuba's defaults: 0.01 and 1e4).
                     "<float name=\"near_clip\" value=\"" + num(0.01 * s) + "\"/><float name=\"far_clip\" value=\"" + num(1e4 * s) + "\"/>\n"
