@@ -186,7 +186,7 @@ TEST_CASE("robustness: dielectrics of index 1 are invisible", "[robustness][ior]
     check_agrees("ior1-thin", box_scene(1, "<bsdf type=\"thindielectric\">" + matched + "</bsdf>"), without, brighter);
 }
 
-TEST_CASE("robustness: degenerate triangles are dropped; a mesh of nothing else is an error", "[robustness][mesh]") {
+TEST_CASE("robustness: degenerate triangles are dropped, and a mesh of nothing else is an error", "[robustness][mesh]") {
     auto dir = scratch_dir("robust-degenerate");
     const std::string quad = "v -1 0 -1\nv 1 0 -1\nv 1 0 1\nv -1 0 1\n";
     const std::string faces = "f 1 3 2\nf 1 4 3\n";
