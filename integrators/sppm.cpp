@@ -24,8 +24,8 @@
 //
 // Each pass: (1) a camera ray per pixel (its position drawn from the film's reconstruction filter,
 // so the pixel estimates the filtered image) follows delta and glossy-only surfaces, adding the
-// emission it meets, to the first surface with a diffuse lobe and no delta lobe: the visible
-// point, where direct light is estimated by next-event estimation with MIS (the `path`
+// emission it meets, to the first surface with a diffuse lobe and no delta lobe (plastic's
+// coating is a delta lobe: such surfaces are passed through by sampling): the visible point, where direct light is estimated by next-event estimation with MIS (the `path`
 // integrator's, one bounce); (2) photon_count light paths deposit photons on such surfaces from
 // their second hit on (the first is direct light); (3) every visible point gathers the photons
 // within its radius from a hash grid and updates its statistics. Pixel value: the mean direct
@@ -44,7 +44,7 @@
 #include "core/scene.h"
 #include "integrators/light_paths.h"
 #include "integrators/path.h"
-#include "integrators/photon_grid.h"
+#include "integrators/photons.h"
 
 #include <tbb/enumerable_thread_specific.h>
 
@@ -77,16 +77,6 @@ private:
     const ReconstructionFilter& filter_;
     float radius_;
     Distribution1D distribution_;
-};
-
-// Where photons are gathered: surfaces with a diffuse lobe and no delta lobe.
-bool gathers(const BSDF& bsdf) { return (bsdf.flags() & Diffuse) != 0 && (bsdf.flags() & Delta) == 0; }
-
-struct VisiblePoint {
-    SurfaceInteraction si;
-    const BSDF* bsdf = nullptr;
-    Spectrum beta{0.0f};  // camera path throughput (filter weight included)
-    uint32_t depth = 0;   // segments from the camera
 };
 
 // A pixel's progressive statistics (Hachisuka and Jensen 2009, section 4).
@@ -136,11 +126,11 @@ private:
     bool within_depth(uint32_t segments) const { return max_depth_ < 0 || segments <= uint32_t(max_depth_); }
     // The camera pass for one pixel: the emission and direct light found (returned) and the
     // visible point (vp.bsdf null when there is none).
-    Spectrum trace_camera(const Scene& scene, Sampler& sampler, const FilterSampler& filter, const Vec2i& pixel, VisiblePoint& vp) const;
+    Spectrum trace_camera(const Scene& scene, Sampler& sampler, const FilterSampler& filter, const Vec2i& pixel, GatherPoint& vp) const;
     // The photons of light paths [begin, end) of pass `pass`.
     void trace_photons(const LightPathTracer& tracer, uint64_t seed, uint64_t first, uint64_t count, PassPhotons& out) const;
     // Radiance from the photons near a visible point (sum of f beta, and their number).
-    Spectrum gather(const PhotonGrid& grid, const VisiblePoint& vp, float radius, uint64_t& found) const;
+    Spectrum gather(const PhotonGrid& grid, const GatherPoint& vp, float radius, uint64_t& found) const;
 
     int photon_count_ = 250000, granularity_ = 0, max_passes_ = -1, max_depth_ = -1, rr_depth_ = 5;
     float initial_radius_ = 0.0f, alpha_ = 0.7f;
@@ -149,42 +139,17 @@ private:
 };
 
 Spectrum SPPMIntegrator::trace_camera(const Scene& scene, Sampler& sampler, const FilterSampler& filter, const Vec2i& pixel,
-                                      VisiblePoint& vp) const {
+                                      GatherPoint& vp) const {
     float filter_weight;
     Vec2 pos = Vec2(pixel) + Vec2(0.5f) + filter.sample(sampler.next_2d(), filter_weight);
     Ray ray = scene.sensor().sample_ray(pos, sampler.next_2d());
-    Spectrum beta(filter_weight), L(0.0f);
-    float eta = 1.0f;
-    vp.bsdf = nullptr;
-    SurfaceInteraction si;
-    for (uint32_t depth = 1; within_depth(depth); ++depth) {
-        bool seen_directly = depth == 1;
-        if (!scene.intersect(ray, si)) {
-            if (!(hide_emitters_ && seen_directly)) L += beta * scene.eval_environment(ray.d);
-            break;
-        }
-        if (const Emitter* e = si.shape->emitter(); e && !(hide_emitters_ && seen_directly)) L += beta * e->eval(si);
-        const BSDF& bsdf = *si.shape->bsdf();
-        if (gathers(bsdf)) {
-            if (within_depth(depth + 1)) L += beta * direct_.continue_path(scene, sampler, si, bsdf, 0);
-            vp.si = si;
-            vp.bsdf = &bsdf;
-            vp.beta = beta;
-            vp.depth = depth;
-            break;
-        }
-        // Specular and glossy-only surfaces: follow a BSDF sample (emission met later counts in full).
-        BSDFSample bs = bsdf.sample(BSDFContext(), si, sampler.next_1d(), sampler.next_2d());
-        if (!bs.valid() || is_black(bs.weight)) break;
-        beta *= bs.weight;
-        eta *= bs.eta;
-        if (depth >= uint32_t(rr_depth_)) {
-            float q = std::min(max_component(beta) * eta * eta, 0.95f);
-            if (!(sampler.next_1d() < q)) break;
-            beta /= q;
-        }
-        ray = si.spawn_ray(si.to_world(bs.wo));
-    }
+    WalkSettings walk;
+    walk.max_depth = max_depth_;
+    walk.rr_depth = rr_depth_;
+    walk.hide_first = hide_emitters_;
+    vp = walk_to_gather_point(scene, sampler, ray, Spectrum(filter_weight), 0, walk);
+    Spectrum L = vp.emission_after_delta + vp.emission_after_other;
+    if (vp.bsdf && within_depth(vp.depth + 1)) L += vp.beta * direct_.continue_path(scene, sampler, vp.si, *vp.bsdf, 0);
     return L;
 }
 
@@ -198,13 +163,13 @@ void SPPMIntegrator::trace_photons(const LightPathTracer& tracer, uint64_t seed,
         tracer.follow(rng, start, [&](const LightVertex& v) {
             // Direct light (depth 1) is next-event estimation's; the shortest camera path is one segment.
             if (!within_depth(v.depth + 1)) return false;
-            if (v.depth >= 2 && gathers(*v.bsdf) && all_finite(v.beta)) out.photons.push_back({v.si->p, v.si->wi_world(), v.beta, v.depth});
+            if (v.depth >= 2 && gathers_photons(*v.bsdf) && all_finite(v.beta)) out.photons.push_back(make_photon(*v.si, v.beta, v.depth));
             return true;
         });
     }
 }
 
-Spectrum SPPMIntegrator::gather(const PhotonGrid& grid, const VisiblePoint& vp, float radius, uint64_t& found) const {
+Spectrum SPPMIntegrator::gather(const PhotonGrid& grid, const GatherPoint& vp, float radius, uint64_t& found) const {
     Spectrum phi(0.0f);
     found = 0;
     const BSDFContext ctx;
@@ -242,7 +207,7 @@ RenderResult SPPMIntegrator::render(const Scene& scene, const RenderOptions& opt
     const std::atomic<bool>* interrupt = options.interrupt;
     auto interrupted = [&] { return interrupt && interrupt->load(std::memory_order_relaxed); };
     std::atomic<uint64_t> rays{0};
-    std::vector<VisiblePoint> vps(pixels);
+    std::vector<GatherPoint> vps(pixels);
     std::vector<Spectrum> direct(pixels);
     std::vector<PassPhotons> chunks;
     std::vector<Photon> photons;
