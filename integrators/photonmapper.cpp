@@ -7,9 +7,11 @@
 //   global_photons          integer   photons to store in the global map (default 250000)
 //   caustic_photons         integer   photons to store in the caustic map (default 250000; no
 //                                     caustic map when no surface has a delta lobe)
-//   global_lookup_radius    float     largest lookup radius in the global map, relative to the
-//                                     scene's bounding radius (default 0.05)
-//   caustic_lookup_radius   float     the same for the caustic map (default 0.0125)
+//   lookup_radius           float     largest lookup radius, relative to the scene's bounding
+//                                     radius (default 0.05): the global map's, and a quarter of it
+//                                     the caustic map's
+//   global_lookup_radius    float     Mitsuba 0.6's separate radii, overriding lookup_radius
+//   caustic_lookup_radius   float     (defaults: lookup_radius and lookup_radius / 4)
 //   lookup_size             integer   photons per lookup: the radius shrinks to the distance of the
 //                                     lookup_size-th nearest photon (default 120)
 //   direct_samples          integer   next-event estimation samples (light sampling with MIS, the
@@ -63,8 +65,9 @@ public:
     explicit PhotonMapIntegrator(const Properties& props) : direct_(direct_settings()) {
         global_.target = read_count(props, "global_photons");
         caustic_.target = read_count(props, "caustic_photons");
-        global_.relative_radius = read_radius(props, "global_lookup_radius", 0.05f);
-        caustic_.relative_radius = read_radius(props, "caustic_lookup_radius", 0.0125f);
+        const float lookup_radius = read_radius(props, "lookup_radius", 0.05f);
+        global_.relative_radius = read_radius(props, "global_lookup_radius", lookup_radius);
+        caustic_.relative_radius = read_radius(props, "caustic_lookup_radius", 0.25f * lookup_radius);
         lookup_size_ = props.get_int("lookup_size", 120);
         if (lookup_size_ <= 0) props.fail("lookup_size", "lookup_size must be positive");
         direct_samples_ = props.get_int("direct_samples", 16);
