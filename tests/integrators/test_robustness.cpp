@@ -268,7 +268,7 @@ namespace {
 // Returns NaN for a quarter of the samples and +inf for another quarter, 1 otherwise.
 class PoisonedIntegrator final : public SamplingIntegrator {
 public:
-    Spectrum sample_radiance(const Scene&, Sampler& sampler, const Ray&, FirstHitAovs*) const override {
+    Spectrum sample_radiance(const Scene&, Sampler& sampler, const Ray&, SampleRecord&) const override {
         float u = sampler.next_1d();
         if (u < 0.25f) return Spectrum(NAN);
         if (u < 0.5f) return Spectrum(0.0f, INFINITY, 0.0f);
