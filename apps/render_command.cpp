@@ -1,9 +1,10 @@
 // candela render SCENE.xml -o OUT.exr [--spp N] [-D k=v]... [--threads N] [--seed S] [--png]
-//                [--quiet] [--aov albedo,normal,depth,variance]
+//                [--quiet] [--aov albedo,normal,depth,variance] [--max-memory SIZE]
 
 #include "apps/commands.h"
 
 #include "core/integrator.h"
+#include "core/memory_budget.h"
 #include "core/progress.h"
 #include "apps/render_output.h"
 #include "core/xml.h"
@@ -28,7 +29,7 @@ void on_sigint(int) {
 }
 
 struct RenderArgs {
-    std::string scene, output, mode;
+    std::string scene, output, mode, max_memory;
     RasterOptionArgs raster;
     int spp = 0, threads = 0;
     int64_t seed = -1;
@@ -87,12 +88,16 @@ void add_render_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_flag("--png", args->png, "Also write a tonemapped sRGB PNG beside the EXR");
     cmd->add_flag("--quiet,-q", args->quiet, "No progress bar and no summary line");
     cmd->add_option("--aov", args->aovs, "Extra EXR layers: albedo, normal, depth, variance")->delimiter(',');
+    cmd->add_option("--max-memory", args->max_memory,
+                    "Stop at once (exit code 2) when the film, meshes or other buffers would need more than SIZE (e.g. 4G, 512M); "
+                    "the machine's available memory is always a limit");
     cmd->add_option("--mode", args->mode, "path (Monte Carlo global illumination) or raster (local illumination); default: the scene's integrator")
         ->check(CLI::IsMember({"path", "raster"}));
     args->raster.add_to(cmd);
     cmd->callback([args, &run] {
         run = [args] {
             SceneParameters params = parse_defines(args->defines);
+            if (!args->max_memory.empty()) set_memory_limit(parse_memory_size(args->max_memory));
             std::string output = args->output.empty() ? default_output_for(args->scene, ".exr") : args->output;
             std::string png = std::filesystem::path(output).replace_extension(".png").string();
             check_output_path(output);

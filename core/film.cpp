@@ -33,6 +33,12 @@ void write_pixel_format(PixelFormat format, const Spectrum& rgb, float alpha, fl
     if (pixel_format_has_alpha(format)) out[c] = alpha;
 }
 
+std::string film_description(const Film& film) {
+    Vec2i crop = film.crop_size();
+    std::string size = std::to_string(crop.x) + " x " + std::to_string(crop.y);
+    return crop == film.full_size() ? "film " + size : "film crop window " + size;
+}
+
 ImageBlock::ImageBlock(const Vec2i& offset, const Vec2i& size, const ReconstructionFilter* filter, int channels)
     : offset_(offset), size_(size), channels_(channels), filter_(filter) {
     // A sample inside pixel p reaches pixels within the filter radius of its position; the

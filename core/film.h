@@ -1,6 +1,7 @@
 #pragma once
 // The film (Mitsuba's `hdrfilm`) and the image blocks that accumulate filtered samples.
 
+#include "core/error.h"
 #include "core/filter.h"
 #include "core/object.h"
 #include "core/spectrum.h"
@@ -34,7 +35,13 @@ public:
     // Mitsuba's sample_border: pixels within the filter's reach outside the crop window are
     // sampled too, so that edge pixels get their full filter support.
     virtual bool sample_border() const = 0;
+    // Where the scene declares the film (for errors about its size).
+    virtual SourceLocation location() const { return {}; }
 };
+
+// "film 1920 x 1080", or "film crop window 640 x 480" when a crop window is rendered: how the
+// memory checks name the image they size.
+std::string film_description(const Film& film);
 
 // A rectangle of the film that accumulates sum(w * v) for each of `channels` values per sample
 // and sum(w) per pixel, with a border of the filter's radius so that samples near the edge can

@@ -1,5 +1,6 @@
 #include "core/integrator.h"
 
+#include "core/memory_budget.h"
 #include "core/progress.h"
 #include "core/scene.h"
 
@@ -134,6 +135,7 @@ public:
     // Whether samples must report their first hit, and whether pixels keep running sums.
     bool first_hit() const { return albedo_ || normal_ || depth_; }
     bool pixel_stats() const { return first_hit() || variance_; }
+    int layer_count() const { return int(albedo_) + int(normal_) + int(depth_) + int(variance_); }
 
     std::vector<std::string> channels() const {
         std::vector<std::string> channels;
@@ -188,6 +190,26 @@ std::vector<Tile> make_tiles(const Film& film, int values, bool with_stats) {
             tiles.push_back(std::move(t));
         }
     return tiles;
+}
+
+// Stops the render before any allocation when the film's buffers cannot fit in memory: the
+// tiles' blocks (with their filter borders) and pixel statistics, then develop's
+// double-precision sum and the image, or at the end the image and write_exr's copies.
+void check_film_memory(const Film& film, const SampleLayout& values, const AovLayout& layout) {
+    const Vec2i crop = film.crop_size();
+    const uint64_t w = uint64_t(crop.x), h = uint64_t(crop.y), pixels = w * h;
+    const uint64_t border = uint64_t(std::max(0, int(std::ceil(film.filter().radius() - 0.5f))));
+    const uint64_t tiles_x = (w + TileSize - 1) / TileSize, tiles_y = (h + TileSize - 1) / TileSize;
+    // A block holds each splatted value and the filter weight per pixel.
+    uint64_t blocks = saturating_mul(saturating_mul(w + 2 * border * tiles_x, h + 2 * border * tiles_y), uint64_t(values.values() + 1) * sizeof(float));
+    blocks = saturating_add(blocks, saturating_mul(tiles_x * tiles_y, sizeof(Tile)));
+    uint64_t stats = layout.pixel_stats() ? saturating_mul(pixels, sizeof(PixelStats)) : 0;
+    uint64_t image = saturating_mul(pixels, (values.channels().size() + layout.channels().size()) * sizeof(float));
+    uint64_t develop = saturating_add(saturating_add(blocks, stats), saturating_add(saturating_mul(pixels, 4 * sizeof(double)), image));
+    uint64_t write = saturating_add(saturating_mul(image, 2), image / 2);  // the image, a sanitised copy, half floats
+    std::string what = film_description(film);
+    if (int n = layout.layer_count()) what += " with " + std::to_string(n) + (n == 1 ? " AOV" : " AOVs");
+    check_memory(std::max(develop, write), what, film.location());
 }
 
 // Passes over the whole image with growing sample counts (1, 2, 4, ... 32 samples per pixel):
@@ -334,6 +356,7 @@ RenderResult SamplingIntegrator::render(const Scene& scene, const RenderOptions&
     std::vector<std::string> channels = values.channels(), layer_channels = layers.channels();
     channels.insert(channels.end(), layer_channels.begin(), layer_channels.end());
     check_distinct_channels(channels);
+    check_film_memory(film, values, layers);
     Ref<Sampler> prototype = configured_sampler(scene, options);
     const SampleRange samples{0, prototype->sample_count()};
     prepare(scene);

@@ -1,11 +1,21 @@
 #include "core/mesh.h"
 
+#include "core/memory_budget.h"
 #include "core/warp.h"
 
 #include <map>
 #include <tuple>
 
 namespace candela {
+
+void Mesh::check_mesh_memory(uint64_t vertices, uint64_t triangles, uint64_t file_bytes, const SourceLocation& where) {
+    // Per vertex: position, normal and uv here, positions again in Embree's buffer (64 bytes,
+    // rounded up). Per triangle: indices here, in finalize()'s copy and in Embree's buffer, the
+    // area and its table entry, and Embree's BVH, about 100 bytes per triangle at high quality.
+    const uint64_t per_vertex = 64, per_triangle = 160;
+    uint64_t bytes = saturating_add(saturating_add(saturating_mul(vertices, per_vertex), saturating_mul(triangles, per_triangle)), file_bytes);
+    check_memory(bytes, "mesh of " + std::to_string(vertices) + " vertices and " + std::to_string(triangles) + " triangles", where);
+}
 
 void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
     for (const auto& t : triangles_)

@@ -66,6 +66,10 @@ public:
     const std::vector<glm::uvec3>& triangles() const { return triangles_; }
 
 protected:
+    // Stops the load (memory_budget.h) before a reader allocates a mesh of `vertices` and
+    // `triangles`, with `file_bytes` more for the reader's own buffers: an estimate of the
+    // arrays here with finalize()'s temporaries, the area table and Embree's buffers and BVH.
+    static void check_mesh_memory(uint64_t vertices, uint64_t triangles, uint64_t file_bytes, const SourceLocation& where);
     // Moves the object-space data to world space, drops degenerate triangles, and builds the
     // area table. With `smooth_if_missing`, a mesh without vertex normals gets angle-weighted
     // smooth normals (Thürmer & Wüthrich 1998), as Mitsuba does for OBJ and PLY files.

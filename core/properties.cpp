@@ -2,8 +2,10 @@
 
 #include "core/file_resolver.h"
 #include "core/texture.h"
+#include "core/warning.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 
 namespace candela {
@@ -174,6 +176,18 @@ Ref<Texture> Properties::get_texture(const std::string& name, const Spectrum& de
         return tex;
     }
     return std::make_shared<ConstantTexture>(get_rgb(name));
+}
+
+Ref<Texture> Properties::get_reflectance(const std::string& name, const Spectrum& def) const {
+    Ref<Texture> texture = get_texture(name, def);
+    if (!has(name) || !texture->is_constant()) return texture;
+    const Spectrum v = texture->mean();
+    char value[96];
+    std::snprintf(value, sizeof value, "(%g, %g, %g)", v.x, v.y, v.z);
+    if (!all_finite(v) || min_component(v) < 0.0f) fail(name, name + " " + value + " is not a reflectance: it must lie between 0 and 1");
+    if (max_component(v) > 1.0f)
+        warn(location_of(name), name + " " + value + " exceeds 1, which is physically impossible (more light out than in); rendered as given");
+    return texture;
 }
 
 Ref<Texture> Properties::get_texture(const std::string& name) const {

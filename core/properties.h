@@ -83,6 +83,10 @@ public:
     // A texture-valued parameter: a nested/referenced texture, or an rgb/float constant.
     Ref<Texture> get_texture(const std::string& name, const Spectrum& def) const;
     Ref<Texture> get_texture(const std::string& name) const;  // required
+    // A reflectance or transmittance (the fraction of light a surface passes on), read as
+    // get_texture. A constant below 0 is an error at its line; one above 1 is accepted with a
+    // warning there, as a physically impossible value (more light out than in).
+    Ref<Texture> get_reflectance(const std::string& name, const Spectrum& def) const;
 
     // A named nested object, or null when absent.
     Ref<Object> get_object(const std::string& name) const;

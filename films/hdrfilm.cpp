@@ -44,7 +44,7 @@ PixelFormat read_pixel_format(const Properties& props) {
 
 class HDRFilm final : public Film {
 public:
-    explicit HDRFilm(const Properties& props) {
+    explicit HDRFilm(const Properties& props) : location_(props.location()) {
         size_ = Vec2i(props.get_int("width", 768), props.get_int("height", 576));
         if (size_.x <= 0 || size_.y <= 0) props.fail("width", "film width and height must be positive");
         crop_offset_ = Vec2i(props.get_int("crop_offset_x", 0), props.get_int("crop_offset_y", 0));
@@ -79,8 +79,10 @@ public:
     bool float32() const override { return float32_; }
     PixelFormat pixel_format() const override { return pixel_format_; }
     bool sample_border() const override { return sample_border_; }
+    SourceLocation location() const override { return location_; }
 
 private:
+    SourceLocation location_;
     Vec2i size_, crop_offset_, crop_size_;
     bool float32_ = false, sample_border_ = false;
     PixelFormat pixel_format_ = PixelFormat::RGB;

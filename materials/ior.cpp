@@ -42,7 +42,6 @@ float read_ior(const Properties& props, const std::string& param, const std::str
 
 float read_relative_ior(const Properties& props, const std::string& default_interior) {
     float int_ior = read_ior(props, "int_ior", default_interior), ext_ior = read_ior(props, "ext_ior", "air");
-    if (int_ior == ext_ior) props.fail("int_ior", "int_ior and ext_ior must differ");
     return int_ior / ext_ior;
 }
 

@@ -12,7 +12,7 @@ bool principled_lobe_present(const Properties& props, const std::string& name) {
 }
 
 PrincipledCommon::PrincipledCommon(const Properties& props) {
-    base_color = props.get_texture("base_color", Spectrum(0.5f));
+    base_color = props.get_reflectance("base_color", Spectrum(0.5f));
     roughness = props.get_texture("roughness", Spectrum(0.5f));
     anisotropic = props.get_texture("anisotropic", Spectrum(0.0f));
     has_spec_trans = principled_lobe_present(props, "spec_trans");

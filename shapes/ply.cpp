@@ -19,6 +19,7 @@
 // Integer-typed attribute values are normalised by their type's maximum and decoded from sRGB
 // to linear, as Mitsuba's loader does (8-bit colours 0..255 become linear 0..1).
 
+#include "core/memory_budget.h"
 #include "core/mesh.h"
 #include "geometry2d/polygon.h"
 #include "core/registry.h"
@@ -238,7 +239,7 @@ public:
         std::string path = props.get_file_path("filename");
         bool face_normals = props.get_bool("face_normals", false);
         try {
-            read(path, face_normals);
+            read(path, face_normals, props.location_of("filename"));
         } catch (const PlyError& e) {
             props.fail("filename", "cannot read PLY file \"" + path + "\": " + e.what());
         }
@@ -255,7 +256,7 @@ public:
 private:
     std::vector<std::string> ignored_;  // properties that are neither geometry nor attributes
 
-    void read(const std::string& path, bool face_normals) {
+    void read(const std::string& path, bool face_normals, const SourceLocation& location) {
         std::ifstream in(path, std::ios::binary);
         if (!in) throw PlyError("cannot open file");
         std::string line;
@@ -314,6 +315,13 @@ private:
             }
         }
         if (format < 0) throw PlyError("header has no format line");
+        check_body_size(elements, format, in);
+        uint64_t vertices = 0, faces = 0;
+        for (const PlyElement& e : elements) {
+            if (e.name == "vertex") vertices = saturating_add(vertices, e.count);
+            if (e.name == "face") faces = saturating_add(faces, e.count);
+        }
+        check_mesh_memory(vertices, faces, 0, location);
 
         PlyBodyReader body(in, format, line_no);
         for (const PlyElement& e : elements) {
@@ -321,6 +329,31 @@ private:
             else if (e.name == "face") read_faces(e, body);
             else skip(e, body);
         }
+    }
+
+    // Refuses a header that promises more elements than the rest of the file can hold, before
+    // anything is allocated for them: in binary, every scalar takes its type's size and every
+    // list at least its count; in ascii, every value at least one character and a separator.
+    static void check_body_size(const std::vector<PlyElement>& elements, int format, std::istream& in) {
+        const std::streamoff body_start = in.tellg();
+        in.seekg(0, std::ios::end);
+        const std::streamoff file_end = in.tellg();
+        in.seekg(body_start);
+        if (body_start < 0 || file_end < body_start) throw PlyError("cannot determine the file size");
+        const uint64_t available = uint64_t(file_end - body_start);
+        uint64_t needed = 0;
+        std::string promised;
+        for (const PlyElement& e : elements) {
+            uint64_t per_element = 0;
+            for (const PlyProperty& p : e.properties)
+                per_element += format == 0 ? 2 : type_size(p.is_list ? p.count_type : p.type);
+            needed = saturating_add(needed, saturating_mul(e.count, per_element));
+            promised += (promised.empty() ? "" : ", ") + std::to_string(e.count) + " " + e.name + (e.count == 1 ? "" : "s");
+        }
+        if (format == 0 && needed > 0) --needed;  // the last value needs no separator
+        if (needed > available)
+            throw PlyError("the header promises " + promised + ", at least " + std::to_string(needed) + " bytes, but the file holds only " +
+                           std::to_string(available) + " bytes after its header");
     }
 
     // The first of `names` that the element has as a scalar property.

@@ -19,6 +19,7 @@
 #include "integrators/raster/raster.h"
 #include "integrators/raster/raster_scene.h"
 #include "integrators/raster/rasterizer.h"
+#include "integrators/raster/shadows.h"
 
 #include <array>
 #include <vector>
@@ -51,6 +52,9 @@ struct FrameSetup {
     size_t sample_index(int x, int y, int s) const { return (size_t(y) * size_t(width) + size_t(x)) * pattern.size() + size_t(s); }
     // Where sample s of pixel (x, y) lies in the crop window, in pixels.
     Vec2 sample_position(int x, int y, int s) const { return Vec2(float(x) + pattern[size_t(s)].x, float(y) + pattern[size_t(s)].y); }
+    // The spacing of the camera's samples (world units) on a surface facing the camera at this
+    // view depth.
+    float sample_spacing(float view_depth) const;
     // A rasterizer of the camera's samples (triangles not yet set up).
     Rasterizer camera_rasterizer() const { return Rasterizer(width, height, pattern, full, offset); }
 };
@@ -67,6 +71,8 @@ struct SurfaceSample {
     bool lit_side = false;  // seen from a side the material reflects on
 };
 
+// Kept by the integrator from frame to frame: the passes resize them, so a frame like the last
+// one reuses their storage.
 struct FrameBuffers {
     // Per triangle (geometry): clip-space vertices; culled back faces lie behind the eye.
     std::vector<std::array<Vec4, 3>> clip;
@@ -77,6 +83,8 @@ struct FrameBuffers {
     // Per camera sample (surfaces, then lights).
     std::vector<SurfaceSample> surface;
     std::vector<Spectrum> color;  // the radiance so far
+    // Per light (lights): its shadow map, when shadows are mapped.
+    std::vector<ShadowMap> shadow_maps;
     // Per pixel (resolve, then overlays).
     Image image;
     std::vector<float> coverage;  // the filtered fraction of samples that found a surface

@@ -24,7 +24,9 @@
 //   cube_map               string    six face images instead, "{face}" = px, nx, py, ny, pz, nz,
 //                                    relative to the scene file (implies cube)
 //   cube_resolution        integer   faces built from the environment, >= 1 (default 256)
-//   shadow_map_resolution  integer   texels per side, >= 16 (default 1024)
+//   shadow_map_resolution  integer   texels per side, >= 16 (default: chosen from the view per
+//                                    map face, a texel no larger than the camera's sample
+//                                    spacing on what the face shadows, at most 1024)
 //   pcf                    integer   percentage-closer filter width in texels, >= 1 (default 3)
 //   displacement           boolean   move bump-mapped surfaces by their height field (default false)
 //   subdivisions           integer   4^n refinement of displaced shapes, >= 0 (default 3)
@@ -72,6 +74,7 @@
 #include "integrators/raster/raster.h"
 
 #include "core/error.h"
+#include "core/memory_budget.h"
 #include "core/registry.h"
 #include "core/scene.h"
 #include "integrators/raster/environment.h"
@@ -230,6 +233,29 @@ std::string property_text(const Properties& props, const RasterOption& o) {
     return pattern;
 }
 
+// Stops the frame before any buffer is allocated when its buffers cannot fit in memory: the
+// per-sample G-buffer, surfaces and colours (FrameBuffers, and the lights pass's depths and
+// stencil), the pixels with the overlay depth and write_exr's copies, one shadow map (six faces
+// for a point light) and the environment's cube faces with their MIP levels.
+void check_frame_memory(const Film& film, const RasterSettings& s) {
+    const Vec2i crop = film.crop_size();
+    const uint64_t pixels = uint64_t(crop.x) * uint64_t(crop.y);
+    const uint64_t per_sample = sizeof(float) + sizeof(uint32_t) + sizeof(Vec3) + sizeof(raster::SurfaceSample) + sizeof(Spectrum) +
+                                sizeof(float) + sizeof(uint8_t);
+    const uint64_t per_pixel = 2 * sizeof(Spectrum) + 3 * sizeof(uint16_t) + sizeof(float);  // image, its copy and halves, overlay depth
+    uint64_t bytes = saturating_add(saturating_mul(saturating_mul(pixels, uint64_t(std::max(s.aa, 1))), per_sample), saturating_mul(pixels, per_pixel));
+    if (s.shadows == RasterSettings::Shadows::Map) {
+        uint64_t texels = saturating_mul(uint64_t(s.shadow_map_resolution), uint64_t(s.shadow_map_resolution));
+        bytes = saturating_add(bytes, saturating_mul(texels, 6 * sizeof(float)));
+    }
+    if (s.cube_mapping) {
+        uint64_t texels = saturating_mul(uint64_t(s.cube_resolution), uint64_t(s.cube_resolution));
+        bytes = saturating_add(bytes, saturating_mul(texels, 6 * sizeof(Spectrum) * 4 / 3 + 1));
+    }
+    std::string what = film_description(film) + " rasterized with " + std::to_string(s.aa) + (s.aa == 1 ? " sample" : " samples") + " per pixel";
+    check_memory(bytes, what, film.location());
+}
+
 }  // namespace
 
 bool RasterSettings::set(const std::string& name, const std::string& value, std::string& error) {
@@ -260,6 +286,12 @@ FrameSetup::FrameSetup(const Scene& scene, const RasterSettings& settings, const
     : scene(scene), settings(settings), geometry(geometry), camera(RasterCamera::from_pinhole(pinhole)), lights(collect_lights(scene)),
       ambient(lights.ambient + settings.ambient), image_lighting(image_lighting), full(scene.sensor().film().full_size()), offset(scene.sensor().film().crop_offset()),
       width(scene.sensor().film().crop_size().x), height(scene.sensor().film().crop_size().y), pattern(sample_pattern(settings.aa)) {}
+
+float FrameSetup::sample_spacing(float view_depth) const {
+    // A pixel spans 2 / (|P00| W) by 2 / (|P11| H) per unit of view depth (projection rows 0, 1).
+    float per_depth = std::min(2.0f / (std::abs(camera.projection[0][0]) * float(full.x)), 2.0f / (std::abs(camera.projection[1][1]) * float(full.y)));
+    return per_depth * view_depth / std::sqrt(float(samples_per_pixel()));
+}
 
 }  // namespace raster
 
@@ -318,11 +350,13 @@ RenderResult RasterIntegrator::render(const Scene& scene, const RenderOptions& o
     if (!options.aovs.empty()) throw InputError("the raster mode renders no AOVs (albedo, normal, depth, variance come from sampling integrators)");
     auto pinhole = scene.sensor().pinhole();
     if (!pinhole) throw InputError("the raster mode needs a perspective (pinhole) camera");
+    check_frame_memory(scene.sensor().film(), settings_);
     tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
     RenderResult result;
     arena.execute([&] {
         FrameSetup frame(scene, settings_, geometry_for(scene, options), *pinhole, image_lighting_for(scene));
-        FrameBuffers buffers;
+        if (!buffers_) buffers_ = std::make_shared<FrameBuffers>();
+        FrameBuffers& buffers = *buffers_;
         geometry_pass(frame, buffers);
         surface_pass(frame, buffers);
         ambient_pass(frame, buffers);

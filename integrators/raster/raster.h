@@ -12,6 +12,8 @@ namespace candela {
 
 namespace raster {
 struct RasterGeometry;
+struct FrameBuffers;
+class ImageBasedLighting;
 }
 
 struct RasterSettings {
@@ -33,7 +35,7 @@ struct RasterSettings {
     bool cube_mapping = false;
     int cube_resolution = 256;
     std::string cube_map;  // six images, "{face}" replaced by px, nx, py, ny, pz, nz
-    int shadow_map_resolution = 1024, pcf = 3;
+    int shadow_map_resolution = 0, pcf = 3;  // resolution 0: chosen from the view
     bool displacement = false;
     int subdivisions = 3, tessellation = 96;
     // Approximations of global illumination (pass_ambient.cpp): ambient occlusion rays per
@@ -103,6 +105,9 @@ private:
     std::shared_ptr<raster::ImageBasedLighting> image_lighting_;
     const Scene* image_lighting_scene_ = nullptr;
     double bake_seconds_ = 0.0;
+    // The frame buffers and shadow maps, kept from frame to frame so that a frame of the same
+    // size reuses their storage instead of allocating it.
+    std::shared_ptr<raster::FrameBuffers> buffers_;
 };
 
 }  // namespace candela
