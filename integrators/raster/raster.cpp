@@ -46,8 +46,8 @@
 //   bake *                 string    radiosity (bake_radiosity) or path (the path tracer's
 //                                    irradiance estimate at each patch) (default radiosity)
 //   bake_samples *         integer   paths per patch when baking with path, >= 1 (default 256)
-//   bake_patch_area        float     largest patch in m^2 (default: radiosity's, 1/2000 of the
-//                                    scene's surface area)
+//   bake_patch_area        float     largest patch in m^2 (default: 1/500 of the scene's
+//                                    surface area)
 //
 // The lighting equation, per light with irradiance E (on a surface facing it), direction L,
 // view V and normal N, is OpenGL's with physically scaled coefficients:
@@ -309,6 +309,7 @@ const raster::RasterGeometry& RasterIntegrator::geometry_for(const Scene& scene,
         auto start = std::chrono::steady_clock::now();
         RadiositySettings bake;
         bake.max_patch_area = s.bake_patch_area;
+        bake.default_area_fraction = 1.0f / 500.0f;  // coarser than radiosity's own: a bake is meant to be quick
         std::vector<RadiosityMesh> meshes =
             s.bake == RasterSettings::BakeSource::Radiosity ? bake_radiosity(scene, bake, options) : bake_path_irradiance(scene, bake, s.bake_samples, options);
         geometry_ = std::make_shared<raster::RasterGeometry>(raster::build_baked_geometry(meshes));

@@ -48,7 +48,7 @@ struct RasterSettings {
     Lighting lighting = Lighting::Local;
     BakeSource bake = BakeSource::Radiosity;
     int bake_samples = 256;
-    float bake_patch_area = 0.0f;  // 0: radiosity's default (1/2000 of the surface area)
+    float bake_patch_area = 0.0f;  // 0: 1/500 of the scene's surface area
 
     // Parses one named option ("shading", "aa", ...) from text; false, with a message in
     // `error`, for an unknown option or an invalid value.
