@@ -95,10 +95,31 @@ void columns_in_reach(float theta_row, float theta_r, float phi_r, float cos_rea
     first = int(std::floor(phi_r * float(width) / TwoPi)) - count / 2;
 }
 
+// A source grid of a prefiltered level: its energy per texel, and per row and column what the
+// lobe sums need (solid angle, sines and cosines), computed once.
+struct SourceGrid {
+    int w = 0, h = 0;
+    std::vector<Spectrum> energy;
+    std::vector<float> solid_angle, sin_theta, cos_theta, cos_phi, sin_phi;
+    SourceGrid(std::vector<Spectrum> e, int width, int height) : w(width), h(height), energy(std::move(e)) {
+        for (int j = 0; j < h; ++j) {
+            solid_angle.push_back(texel_solid_angle(j, w, h));
+            sin_theta.push_back(std::sin(theta_of_row(j, h)));
+            cos_theta.push_back(std::cos(theta_of_row(j, h)));
+        }
+        for (int i = 0; i < w; ++i) {
+            cos_phi.push_back(std::cos(phi_of_column(i, w)));
+            sin_phi.push_back(std::sin(phi_of_column(i, w)));
+        }
+    }
+};
+
 // One texel of a prefiltered level: the energy under the lobe max(w.r, 0)^n over the lobe's
 // integral on the same texels.
-Spectrum prefiltered_texel(const std::vector<Spectrum>& energy, const std::vector<float>& solid_angle, int w, int h, float theta_r, float phi_r,
-                           float exponent) {
+Spectrum prefiltered_texel(const SourceGrid& src, float theta_r, float phi_r, float exponent) {
+    const int w = src.w, h = src.h;
+    const std::vector<Spectrum>& energy = src.energy;
+    const std::vector<float>& solid_angle = src.solid_angle;
     const Vec3 r = latlong_direction(theta_r, phi_r);
     const float cos_reach = std::max(std::exp(std::log(LobeCutoff) / exponent), 0.0f);
     const float reach = std::acos(cos_reach) + Pi / float(h);
@@ -111,7 +132,7 @@ Spectrum prefiltered_texel(const std::vector<Spectrum>& energy, const std::vecto
         columns_in_reach(theta, theta_r, phi_r, std::cos(reach), w, first, count);
         for (int k = 0; k < count; ++k) {
             int i = ((first + k) % w + w) % w;
-            float c = glm::dot(latlong_direction(theta, phi_of_column(i, w)), r);
+            float c = src.sin_theta[size_t(j)] * (src.cos_phi[size_t(i)] * r.x + src.sin_phi[size_t(i)] * r.z) + src.cos_theta[size_t(j)] * r.y;
             if (c <= 0.0f) continue;
             float lobe = std::pow(c, exponent);
             sum += lobe * energy[size_t(j) * size_t(w) + size_t(i)];
@@ -161,9 +182,7 @@ ImageBasedLighting::ImageBasedLighting(const Scene& scene) : scene_(scene) {
 
     for (int level = 0; level < LevelCount; ++level) {
         const int out_w = LevelWidths[level], out_h = out_w / 2, src_w = std::min(BaseWidth, 2 * out_w), src_h = src_w / 2;
-        const std::vector<Spectrum> source = downsample_energy(energy, BaseWidth / src_w);
-        std::vector<float> solid_angle(static_cast<size_t>(src_h));
-        for (int j = 0; j < src_h; ++j) solid_angle[size_t(j)] = texel_solid_angle(j, src_w, src_h);
+        const SourceGrid source(downsample_energy(energy, BaseWidth / src_w), src_w, src_h);
         const float exponent = phong_exponent(LevelAlphas[level]);
         LatLong& map = levels_[size_t(level)];
         map.width = out_w;
@@ -172,7 +191,7 @@ ImageBasedLighting::ImageBasedLighting(const Scene& scene) : scene_(scene) {
         tbb::parallel_for(0, out_h, [&](int j) {
             for (int i = 0; i < out_w; ++i)
                 map.texels[size_t(j) * size_t(out_w) + size_t(i)] =
-                    prefiltered_texel(source, solid_angle, src_w, src_h, theta_of_row(j, out_h), phi_of_column(i, out_w), exponent);
+                    prefiltered_texel(source, theta_of_row(j, out_h), phi_of_column(i, out_w), exponent);
         });
     }
 }
