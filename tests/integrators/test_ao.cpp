@@ -41,7 +41,8 @@ MeanAndError ao_at(Scene& scene, const Vec3& origin, const Vec3& target, int n) 
     std::vector<double> values;
     for (int i = 0; i < n; ++i) {
         sampler->start(Vec2i(3, 5), uint32_t(i));
-        values.push_back(integrator.sample_radiance(scene, *sampler, ray, nullptr).x);
+        SampleRecord record;
+        values.push_back(integrator.sample_radiance(scene, *sampler, ray, record).x);
     }
     return mean_and_error(values);
 }
