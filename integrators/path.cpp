@@ -24,28 +24,32 @@
 
 namespace candela {
 
-namespace {
-PathSettings read_settings(const Properties& props) {
-    PathSettings s;
-    s.max_depth = props.get_int("max_depth", -1);
-    if (s.max_depth < -1) props.fail("max_depth", "max_depth must be -1 (unbounded) or >= 0");
-    s.rr_depth = props.get_int("rr_depth", 5);
-    if (s.rr_depth <= 0) props.fail("rr_depth", "rr_depth must be positive");
-    s.hide_emitters = props.get_bool("hide_emitters", false);
-    s.light_sampler = props.get_string("light_sampler", "tree");
+std::optional<PathSettingProblem> check_path_settings(const PathSettings& s) {
+    if (s.max_depth < -1) return PathSettingProblem{"max_depth", "max_depth must be -1 (unbounded) or >= 0"};
+    if (s.rr_depth <= 0) return PathSettingProblem{"rr_depth", "rr_depth must be positive"};
     const auto& names = light_sampler_names();
     if (std::find(names.begin(), names.end(), s.light_sampler) == names.end())
-        props.fail("light_sampler", "unknown light_sampler \"" + s.light_sampler + "\" (uniform, power or tree)");
+        return PathSettingProblem{"light_sampler", "unknown light_sampler \"" + s.light_sampler + "\" (uniform, power or tree)"};
+    return std::nullopt;
+}
+
+PathSettings read_path_settings(const Properties& props, bool hide_emitters) {
+    PathSettings s;
+    s.max_depth = props.get_int("max_depth", -1);
+    s.rr_depth = props.get_int("rr_depth", 5);
+    if (hide_emitters) s.hide_emitters = props.get_bool("hide_emitters", false);
+    s.light_sampler = props.get_string("light_sampler", "tree");
+    if (auto problem = check_path_settings(s)) props.fail(problem->parameter, problem->message);
     return s;
 }
-}  // namespace
 
-PathIntegrator::PathIntegrator(const Properties& props) : PathIntegrator(read_settings(props)) {}
+PathIntegrator::PathIntegrator(const Properties& props) : PathIntegrator(read_path_settings(props, true)) {}
 
 PathIntegrator::PathIntegrator(const PathSettings& s)
     : max_depth_(s.max_depth < 0 ? UINT32_MAX : uint32_t(s.max_depth)), rr_depth_(uint32_t(s.rr_depth)), hide_emitters_(s.hide_emitters),
-      light_strategy_(s.light_sampler) {}
-
+      light_strategy_(s.light_sampler) {
+    if (auto problem = check_path_settings(s)) throw InputError(problem->message);
+}
 void PathIntegrator::prepare(const Scene& scene) { lights_ = create_light_sampler(light_strategy_, scene); }
 
 Spectrum PathIntegrator::sample_radiance(const Scene& scene, Sampler& sampler, const Ray& ray, FirstHitAovs* aovs) const {

@@ -11,6 +11,9 @@
 
 #include <catch2/catch.hpp>
 
+#include <functional>
+#include <unordered_map>
+
 using namespace candela;
 using namespace candela::test;
 
@@ -274,6 +277,78 @@ TEST_CASE("light tree: selection probabilities sum to one, match sampling, and m
         ChiSquareResult r = chi_square(counts, expected);
         INFO(r.details);
         CHECK(r.p_value > Alpha);
+    }
+}
+
+namespace {
+// `count` point lights of intensities 1..7 at positions from `position(i)`.
+std::string point_lights(int count, const std::function<Vec3(int)>& position) {
+    std::string body;
+    for (int i = 0; i < count; ++i) {
+        Vec3 p = position(i);
+        body += "<emitter type=\"point\"><point name=\"position\" x=\"" + std::to_string(p.x) + "\" y=\"" + std::to_string(p.y) + "\" z=\"" +
+                std::to_string(p.z) + "\"/><rgb name=\"intensity\" value=\"" + std::to_string(1 + i % 7) + "\"/></emitter>";
+    }
+    return body;
+}
+}  // namespace
+
+TEST_CASE("light tree: thousands of lights on a line or at one point are all pickable with their pmf", "[lights][tree]") {
+    // Collinear point lights have bounds of zero area, so every split ties at cost zero and cuts off
+    // a single bucket: the tree grows far deeper than 64 levels. Coincident lights split in halves.
+    struct Config {
+        const char* what;
+        std::function<Vec3(int)> position;
+    };
+    const Config configs[] = {{"2000 lights on a line", [](int i) { return Vec3(0.01f * float(i) - 10.0f, 1.0f, 0.0f); }},
+                              {"2000 lights at one point", [](int) { return Vec3(0.3f, 2.0f, -0.2f); }}};
+    for (const Config& config : configs) {
+        Ref<Scene> scene = scene_from(point_lights(2000, config.position));
+        LightTree tree(*scene);
+        const auto& emitters = scene->emitters();
+        std::unordered_map<const Emitter*, size_t> index;
+        for (size_t i = 0; i < emitters.size(); ++i) index[emitters[i].get()] = i;
+        const Vec3 receivers[] = {{0.0f, 0.0f, 0.0f}, {7.0f, -0.5f, 1.0f}};
+        for (const Vec3& p : receivers) {
+            if (config.what[5] == 'a' && p.x != 0.0f) continue;  // one receiver suffices for coincident lights
+            SurfaceInteraction ref;
+            ref.p = p;
+            ref.shading = Frame(Vec3(0, 1, 0));
+            // Every light is above the receiver and lights it: each must have a positive pmf, and
+            // the pmfs must sum to one.
+            std::vector<double> pmf(emitters.size());
+            double sum = 0.0;
+            int unpickable = 0;
+            for (size_t i = 0; i < emitters.size(); ++i) {
+                sum += pmf[i] = tree.pmf(ref, emitters[i].get());
+                unpickable += pmf[i] <= 0.0;
+            }
+            INFO(config.what << ", receiver " << p.x << "," << p.y << "," << p.z << ": " << unpickable << " lights with pmf 0, pmf sum " << sum);
+            CHECK(unpickable == 0);
+            CHECK(sum == Approx(1.0).epsilon(1e-4));
+            // Sampling picks each light as often as its pmf says, and reports that pmf.
+            const int n = 200000;
+            std::vector<double> counts(emitters.size(), 0.0), expected(emitters.size());
+            int disagreements = 0, missing = 0;
+            PCG32 rng(91, 7);
+            for (int s = 0; s < n; ++s) {
+                float prob;
+                const Emitter* e = tree.sample(ref, rng.next_float(), prob);
+                if (!e) {
+                    ++missing;
+                    continue;
+                }
+                size_t i = index.at(e);
+                counts[i] += 1.0;
+                disagreements += std::abs(prob - pmf[i]) > 1e-4 * pmf[i];
+            }
+            for (size_t i = 0; i < emitters.size(); ++i) expected[i] = pmf[i] / sum * n;
+            ChiSquareResult r = chi_square(counts, expected);
+            INFO(r.details << "; sample() and pmf() disagreed " << disagreements << " times");
+            CHECK(missing == 0);
+            CHECK(disagreements == 0);
+            CHECK(r.p_value > Alpha);
+        }
     }
 }
 

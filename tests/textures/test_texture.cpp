@@ -5,6 +5,7 @@
 #include "core/image.h"
 #include "textures/mipmap.h"
 #include "core/registry.h"
+#include "core/rng.h"
 #include "core/texture.h"
 #include "core/xml.h"
 #include "tests/util.h"
@@ -101,11 +102,37 @@ TEST_CASE("mipmap: levels average their footprint, trilinear blends levels", "[t
     // A footprint of one texel reads level 0; a footprint of the whole texture the top level.
     CHECK(mip.trilinear(Vec2(1.5f / 8, 0.5f / 8), 1.0f / 8).x == Approx(1.0f));
     CHECK(mip.trilinear(Vec2(0.3f, 0.7f), 1.0f).x == Approx(0.5f));
-    // Odd sizes: a 3x1 image pyramid keeps the average.
+    // Odd sizes: a 3x1 image [0, 3, 6] halves to 2 texels covering 1.5 source texels each,
+    // [(0 + 3 / 2) / 1.5, (3 / 2 + 6) / 1.5] = [1, 5], and then to their mean 3.
     MipMap odd({Spectrum(0.0f), Spectrum(3.0f), Spectrum(6.0f)}, 3, 1, WrapMode::Clamp);
     CHECK(odd.levels() == 3);
-    CHECK(odd.texel(1, 0, 0).x == Approx(1.5f));
-    CHECK(odd.texel(1, 1, 0).x == Approx(6.0f));
+    CHECK(odd.texel(1, 0, 0).x == Approx(1.0f));
+    CHECK(odd.texel(1, 1, 0).x == Approx(5.0f));
+    CHECK(odd.texel(2, 0, 0).x == Approx(3.0f));
+}
+
+TEST_CASE("mipmap: every level keeps the image's mean, for odd and even sizes", "[texture]") {
+    PCG32 rng(12, 5);
+    for (int height = 1; height <= 13; ++height)
+        for (int width = 1; width <= 19; ++width) {
+            std::vector<Spectrum> texels(size_t(width) * height);
+            for (Spectrum& t : texels) t = Spectrum(rng.next_float(), 4.0f * rng.next_float(), rng.next_float() * rng.next_float());
+            MipMap mip(texels, width, height, WrapMode::Repeat);
+            const Spectrum mean = mip.mean();
+            for (int level = 1; level < mip.levels(); ++level) {
+                // Texels of a level cover equal areas, so the level's plain mean is the image's.
+                double sum[3] = {0, 0, 0};
+                for (int y = 0; y < mip.height(level); ++y)
+                    for (int x = 0; x < mip.width(level); ++x)
+                        for (int c = 0; c < 3; ++c) sum[c] += mip.texel(level, x, y)[c];
+                double count = double(mip.width(level)) * mip.height(level);
+                INFO(width << "x" << height << " level " << level << " (" << mip.width(level) << "x" << mip.height(level) << ")");
+                // float32 rounding over a few levels of weighted sums: well below 1e-5 relative.
+                for (int c = 0; c < 3; ++c) CHECK(sum[c] / count == Approx(mean[c]).epsilon(1e-5));
+            }
+            CHECK(mip.width(mip.levels() - 1) == 1);
+            CHECK(mip.height(mip.levels() - 1) == 1);
+        }
 }
 
 TEST_CASE("bitmap: a missing or unreadable image is an error at the filename's line", "[texture][errors]") {
