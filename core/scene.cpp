@@ -9,7 +9,11 @@ namespace candela {
 
 Scene::Scene(const Properties& props) {
     source_file = props.location().file;
-    for (auto& obj : props.get_objects(ObjectKind::Shape)) shapes_.push_back(std::static_pointer_cast<Shape>(obj));
+    // Shape groups are not drawn themselves, only through the instances that reference them.
+    for (auto& obj : props.get_objects(ObjectKind::Shape)) {
+        auto shape = std::static_pointer_cast<Shape>(obj);
+        if (!shape->is_shape_group()) shapes_.push_back(shape);
+    }
     // Area emitters first (in shape order), then the scene's own emitters.
     for (auto& shape : shapes_)
         if (shape->emitter()) emitters_.push_back(shape->emitter_ref());
@@ -57,9 +61,11 @@ bool Scene::intersect(const Ray& ray, SurfaceInteraction& si) const {
         si.wi = -ray.d;
         return false;
     }
-    shape->fill_interaction(ray, hit, si);
+    // An instance replaces si.shape by the shape of its group that was hit (for its BSDF).
     si.shape = shape;
+    shape->fill_interaction(ray, hit, si);
     si.prim_index = hit.prim_index;
+    si.prim_uv = Vec2(hit.u, hit.v);
     si.t = hit.t;
     si.wi = si.to_local(-ray.d);
     return true;

@@ -75,7 +75,7 @@ public:
     std::string to_string() const override { return "blendbsdf"; }
 
 private:
-    float weight(const SurfaceInteraction& si) const { return std::clamp(weight_->eval_1(si.uv), 0.0f, 1.0f); }
+    float weight(const SurfaceInteraction& si) const { return std::clamp(weight_->eval_1(si), 0.0f, 1.0f); }
     // The blend weights w_k and the selection probabilities p_k (w_k renormalised over the nested
     // BSDFs that have a lobe the context allows).
     void weights(const BSDFContext& ctx, const SurfaceInteraction& si, float w[2], float p[2]) const {

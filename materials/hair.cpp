@@ -269,7 +269,7 @@ private:
         return phi;
     }
 
-    Spectrum sigma_a(const SurfaceInteraction& si) const { return scale_ * sigma_a_->eval(si.uv); }
+    Spectrum sigma_a(const SurfaceInteraction& si) const { return scale_ * sigma_a_->eval(si); }
 
     float eta_ = 1.55f, s_ = 0.0f, scale_ = 1.0f;
     std::array<float, PMax + 1> v_{};

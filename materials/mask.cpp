@@ -67,7 +67,7 @@ public:
     std::string to_string() const override { return "mask"; }
 
 private:
-    float opacity(const SurfaceInteraction& si) const { return std::clamp(opacity_->eval_1(si.uv), 0.0f, 1.0f); }
+    float opacity(const SurfaceInteraction& si) const { return std::clamp(opacity_->eval_1(si), 0.0f, 1.0f); }
     // The probability of the pass: 1 - a, or surely / never when the context allows only one side.
     float pass_probability(const BSDFContext& ctx, float a) const {
         bool pass = ctx.allows(Null), scatter = (nested_->flags() & ctx.lobes) != 0;

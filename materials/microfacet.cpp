@@ -93,10 +93,10 @@ MicrofacetRoughness MicrofacetRoughness::from_properties(const Properties& props
     return r;
 }
 
-MicrofacetDistribution MicrofacetRoughness::at(const Vec2& uv) const {
+MicrofacetDistribution MicrofacetRoughness::at(const SurfaceInteraction& si) const {
     if (constant_) return *constant_;
-    float au = alpha_u_->eval_1(uv);
-    float av = alpha_v_ == alpha_u_ ? au : alpha_v_->eval_1(uv);
+    float au = alpha_u_->eval_1(si);
+    float av = alpha_v_ == alpha_u_ ? au : alpha_v_->eval_1(si);
     return MicrofacetDistribution(type_, au, av, sample_visible_);
 }
 

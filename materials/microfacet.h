@@ -58,7 +58,7 @@ private:
 class MicrofacetRoughness {
 public:
     static MicrofacetRoughness from_properties(const Properties& props);
-    MicrofacetDistribution at(const Vec2& uv) const;
+    MicrofacetDistribution at(const SurfaceInteraction& si) const;
     // The mean of (alpha_u + alpha_v) / 2 over the textures (for the local model).
     float mean_alpha() const;
 

@@ -36,7 +36,7 @@ public:
     Spectrum eval(const BSDFContext&, const SurfaceInteraction&, const Vec3&) const override { return Spectrum(0.0f); }
     float pdf(const BSDFContext&, const SurfaceInteraction&, const Vec3&) const override { return 0.0f; }
     Spectrum albedo(const SurfaceInteraction& si) const override { return null_transmission(si); }
-    Spectrum null_transmission(const SurfaceInteraction& si) const override { return 0.5f * transmittance_->eval(si.uv); }
+    Spectrum null_transmission(const SurfaceInteraction& si) const override { return 0.5f * transmittance_->eval(si); }
     // Local model: the environment seen straight through, at half strength.
     LocalShading local_shading() const override {
         LocalShading s;

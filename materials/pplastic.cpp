@@ -61,11 +61,11 @@ public:
         if (ctx.allows(GlossyReflection)) {
             Vec3 h = glm::normalize(si.wi + wo);
             float F = fresnel_dielectric(glm::dot(si.wi, h), eta_).F;
-            result += specular_->eval(si.uv) * (F * distribution_.D(h) * distribution_.G(si.wi, wo, h) / (4.0f * cos_i));
+            result += specular_->eval(si) * (F * distribution_.D(h) * distribution_.G(si.wi, wo, h) / (4.0f * cos_i));
         }
         if (ctx.allows(DiffuseReflection)) {
             float Fi = fresnel_dielectric(cos_i, eta_).F, Fo = fresnel_dielectric(cos_o, eta_).F;
-            result += diffuse_->eval(si.uv) * ((1.0f - Fi) * (1.0f - Fo) * cos_o * InvPi);
+            result += diffuse_->eval(si) * ((1.0f - Fi) * (1.0f - Fo) * cos_o * InvPi);
         }
         return result;
     }
@@ -83,7 +83,7 @@ public:
 
     Spectrum albedo(const SurfaceInteraction& si) const override {
         float F = fresnel_dielectric(std::max(Frame::cos_theta(si.wi), 0.0f), eta_).F;
-        return specular_->eval(si.uv) * F + diffuse_->eval(si.uv) * (1.0f - F);
+        return specular_->eval(si) * F + diffuse_->eval(si) * (1.0f - F);
     }
     // Local model: kd = diffuse_reflectance, a highlight and environment reflection with
     // F0 = ((eta - 1) / (eta + 1))^2, shininess 2 / alpha^2 - 2, blurred by alpha.

@@ -172,7 +172,7 @@ public:
     }
 
     // As Mitsuba's diffuse-reflectance view: the base colour.
-    Spectrum albedo(const SurfaceInteraction& si) const override { return common_.base_color->eval(si.uv); }
+    Spectrum albedo(const SurfaceInteraction& si) const override { return common_.base_color->eval(si); }
 
     // Local model: kd = base_color (1 - metallic)(1 - spec_trans); a highlight and environment
     // reflection with F0 = (1 - metallic) R0(eta) + metallic base_color, shininess 2 / alpha^2 - 2

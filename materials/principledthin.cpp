@@ -131,7 +131,7 @@ public:
     }
 
     // As Mitsuba's diffuse-reflectance view: the base colour.
-    Spectrum albedo(const SurfaceInteraction& si) const override { return common_.base_color->eval(si.uv); }
+    Spectrum albedo(const SurfaceInteraction& si) const override { return common_.base_color->eval(si); }
 
     // Local model: kd = base_color (1 - spec_trans)(1 - diff_trans / 2), lit from both sides; a
     // highlight and mirror with F0 = R0(eta) spec_trans, shininess 2 / alpha^2 - 2; the

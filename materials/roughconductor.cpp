@@ -32,7 +32,7 @@ public:
         BSDFSample bs;
         if (!ctx.allows(GlossyReflection) || Frame::cos_theta(si.wi) <= 0.0f) return bs;
         float pdf_m;
-        Vec3 m = roughness_.at(si.uv).sample(si.wi, u, pdf_m);
+        Vec3 m = roughness_.at(si).sample(si.wi, u, pdf_m);
         Vec3 wo = reflect(si.wi, m);
         if (wo.z <= 0.0f || !(pdf_m > 0.0f)) return bs;
         bs.wo = wo;
@@ -47,22 +47,22 @@ public:
         float cos_i = Frame::cos_theta(si.wi), cos_o = Frame::cos_theta(wo);
         if (!ctx.allows(GlossyReflection) || cos_i <= 0.0f || cos_o <= 0.0f) return Spectrum(0.0f);
         Vec3 h = glm::normalize(si.wi + wo);
-        MicrofacetDistribution distribution = roughness_.at(si.uv);
+        MicrofacetDistribution distribution = roughness_.at(si);
         float D = distribution.D(h);
         if (D == 0.0f) return Spectrum(0.0f);
         float G = distribution.G(si.wi, wo, h);
-        Spectrum F = fresnel_conductor(glm::dot(si.wi, h), eta_->eval(si.uv), k_->eval(si.uv));
-        return specular_->eval(si.uv) * F * (D * G / (4.0f * cos_i));
+        Spectrum F = fresnel_conductor(glm::dot(si.wi, h), eta_->eval(si), k_->eval(si));
+        return specular_->eval(si) * F * (D * G / (4.0f * cos_i));
     }
 
     float pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
         if (!ctx.allows(GlossyReflection) || Frame::cos_theta(si.wi) <= 0.0f || Frame::cos_theta(wo) <= 0.0f) return 0.0f;
         Vec3 h = glm::normalize(si.wi + wo);
-        return roughness_.at(si.uv).pdf(si.wi, h) / (4.0f * glm::dot(wo, h));
+        return roughness_.at(si).pdf(si.wi, h) / (4.0f * glm::dot(wo, h));
     }
 
     Spectrum albedo(const SurfaceInteraction& si) const override {
-        return specular_->eval(si.uv) * fresnel_conductor(std::max(Frame::cos_theta(si.wi), 0.0f), eta_->eval(si.uv), k_->eval(si.uv));
+        return specular_->eval(si) * fresnel_conductor(std::max(Frame::cos_theta(si.wi), 0.0f), eta_->eval(si), k_->eval(si));
     }
     // Local model: highlight ks = F0 (conductor Fresnel at normal incidence) with shininess
     // 2 / alpha^2 - 2 (the Phong exponent whose lobe matches a Beckmann distribution of

@@ -39,7 +39,7 @@ public:
         // Sample a normal visible from wi mirrored into the upper hemisphere.
         Vec3 wi_up = cos_i > 0.0f ? si.wi : -si.wi;
         float pdf_m;
-        Vec3 m = roughness_.at(si.uv).sample(wi_up, u, pdf_m);
+        Vec3 m = roughness_.at(si).sample(wi_up, u, pdf_m);
         if (!(pdf_m > 0.0f)) return bs;
         DielectricFresnel fr = fresnel_dielectric(glm::dot(si.wi, m), eta_);
         if (choose_fresnel_lobe(has_r, has_t, fr.F, u_lobe).reflect) {
@@ -60,17 +60,17 @@ public:
         Geometry g;
         if (!half_vector(si.wi, wo, g)) return Spectrum(0.0f);
         if (g.reflect ? !ctx.allows(GlossyReflection) : !ctx.allows(GlossyTransmission)) return Spectrum(0.0f);
-        MicrofacetDistribution distribution = roughness_.at(si.uv);
+        MicrofacetDistribution distribution = roughness_.at(si);
         float D = distribution.D(g.m);
         if (D == 0.0f) return Spectrum(0.0f);
         float G = distribution.G(si.wi, wo, g.m);
         float F = fresnel_dielectric(g.wi_m, eta_).F;
         float cos_i = std::abs(Frame::cos_theta(si.wi));
-        if (g.reflect) return reflectance_->eval(si.uv) * (F * D * G / (4.0f * cos_i));
+        if (g.reflect) return reflectance_->eval(si) * (F * D * G / (4.0f * cos_i));
         float denom = g.wi_m + g.eta_p * g.wo_m;
         float value = (1.0f - F) * D * G * std::abs(g.wi_m * g.wo_m) / (cos_i * denom * denom);
         if (ctx.mode == TransportMode::Importance) value *= g.eta_p * g.eta_p;
-        return transmittance_->eval(si.uv) * value;
+        return transmittance_->eval(si) * value;
     }
 
     float pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
@@ -79,7 +79,7 @@ public:
         bool has_r = ctx.allows(GlossyReflection), has_t = ctx.allows(GlossyTransmission);
         if (g.reflect ? !has_r : !has_t) return 0.0f;
         Vec3 wi_up = Frame::cos_theta(si.wi) > 0.0f ? si.wi : -si.wi;
-        float pdf_m = roughness_.at(si.uv).pdf(wi_up, g.m);
+        float pdf_m = roughness_.at(si).pdf(wi_up, g.m);
         float F = fresnel_dielectric(g.wi_m, eta_).F;
         float lobe = (has_r && has_t) ? (g.reflect ? F : 1.0f - F) : 1.0f;
         if (g.reflect) return pdf_m * lobe / (4.0f * std::abs(g.wo_m));
@@ -90,7 +90,7 @@ public:
 
     Spectrum albedo(const SurfaceInteraction& si) const override {
         float F = fresnel_dielectric(Frame::cos_theta(si.wi), eta_).F;
-        return reflectance_->eval(si.uv) * F + transmittance_->eval(si.uv) * (1.0f - F);
+        return reflectance_->eval(si) * F + transmittance_->eval(si) * (1.0f - F);
     }
     // Local model: as `dielectric`, plus a highlight ks = F0 with shininess 2 / alpha^2 - 2, and
     // both environment lookups blurred by alpha.

@@ -68,11 +68,11 @@ public:
             float D = distribution_.D(h);
             if (D > 0.0f) {
                 float F = fresnel_dielectric(glm::dot(si.wi, h), eta_).F;
-                result += specular_->eval(si.uv) * (F * D * distribution_.G(si.wi, wo, h) / (4.0f * cos_i));
+                result += specular_->eval(si) * (F * D * distribution_.G(si.wi, wo, h) / (4.0f * cos_i));
             }
         }
         if (ctx.allows(DiffuseReflection)) {
-            Spectrum rho = diffuse_->eval(si.uv);
+            Spectrum rho = diffuse_->eval(si);
             Spectrum rho_p = nonlinear_ ? rho / (Spectrum(1.0f) - rho * internal_reflectance_) : rho / (1.0f - internal_reflectance_);
             result += rho_p * (transmittance(cos_i) * transmittance(cos_o) * cos_o * InvPi / (eta_ * eta_));
         }
@@ -93,7 +93,7 @@ public:
 
     Spectrum albedo(const SurfaceInteraction& si) const override {
         float T = transmittance(std::max(Frame::cos_theta(si.wi), 0.0f));
-        return specular_->eval(si.uv) * (1.0f - T) + diffuse_->eval(si.uv) * T;
+        return specular_->eval(si) * (1.0f - T) + diffuse_->eval(si) * T;
     }
     // Local model: kd = diffuse_reflectance, a highlight ks = F0 with shininess 2 / alpha^2 - 2,
     // and the environment reflected with F0, blurred by alpha.

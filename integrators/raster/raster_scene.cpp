@@ -58,33 +58,39 @@ void displace(RasterGeometry& g, RasterShape& rs, unsigned first_vertex, int sub
     rs.material.height = nullptr;
 }
 
+// Appends one shape's triangles with its material (displaced when asked).
+void add_shape(RasterGeometry& g, const Shape* shape, const TriangleSoup& soup, bool displacement, int subdivisions) {
+    RasterShape rs;
+    rs.shape = shape;
+    rs.bsdf = shape->bsdf();
+    rs.material = rs.bsdf->local_shading();
+    rs.closed = soup.closed;
+    if (const Emitter* e = shape->emitter()) {
+        auto a = e->local_approximation();
+        if (a && a->kind == LocalApproximation::Kind::AreaPoint) rs.emission = a->radiance;
+    }
+    unsigned base = unsigned(g.positions.size());
+    g.positions.insert(g.positions.end(), soup.positions.begin(), soup.positions.end());
+    g.normals.insert(g.normals.end(), soup.normals.begin(), soup.normals.end());
+    g.uvs.insert(g.uvs.end(), soup.uvs.begin(), soup.uvs.end());
+    rs.first_triangle = uint32_t(g.triangles.size());
+    for (const auto& t : soup.triangles) g.triangles.push_back(t + glm::uvec3(base));
+    rs.triangle_count = uint32_t(soup.triangles.size());
+    if (displacement && rs.material.height) displace(g, rs, base, subdivisions);
+    g.triangle_shape.resize(g.triangles.size(), uint32_t(g.shapes.size()));
+    g.vertex_shape.resize(g.positions.size(), uint32_t(g.shapes.size()));
+    g.shapes.push_back(rs);
+}
+
 }  // namespace
 
 RasterGeometry build_geometry(const Scene& scene, int detail, bool displacement, int subdivisions) {
     RasterGeometry g;
+    std::vector<TessellatedPart> parts;  // one scene shape's parts at a time (an instance has several)
     for (const auto& shape : scene.shapes()) {
-        TriangleSoup soup;
-        shape->tessellate(soup, detail);
-        RasterShape rs;
-        rs.shape = shape.get();
-        rs.bsdf = shape->bsdf();
-        rs.material = rs.bsdf->local_shading();
-        rs.closed = soup.closed;
-        if (const Emitter* e = shape->emitter()) {
-            auto a = e->local_approximation();
-            if (a && a->kind == LocalApproximation::Kind::AreaPoint) rs.emission = a->radiance;
-        }
-        unsigned base = unsigned(g.positions.size());
-        g.positions.insert(g.positions.end(), soup.positions.begin(), soup.positions.end());
-        g.normals.insert(g.normals.end(), soup.normals.begin(), soup.normals.end());
-        g.uvs.insert(g.uvs.end(), soup.uvs.begin(), soup.uvs.end());
-        rs.first_triangle = uint32_t(g.triangles.size());
-        for (const auto& t : soup.triangles) g.triangles.push_back(t + glm::uvec3(base));
-        rs.triangle_count = uint32_t(soup.triangles.size());
-        if (displacement && rs.material.height) displace(g, rs, base, subdivisions);
-        g.triangle_shape.resize(g.triangles.size(), uint32_t(g.shapes.size()));
-        g.vertex_shape.resize(g.positions.size(), uint32_t(g.shapes.size()));
-        g.shapes.push_back(rs);
+        parts.clear();
+        shape->tessellate_parts(parts, detail);
+        for (const TessellatedPart& part : parts) add_shape(g, part.shape, part.triangles, displacement, subdivisions);
     }
     for (const Vec3& p : g.positions) g.bbox.expand(p);
     return g;

@@ -12,6 +12,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <Imath/half.h>
+
 using namespace candela;
 using namespace candela::test;
 
@@ -147,4 +149,52 @@ TEST_CASE("bitmap: a missing or unreadable image is an error at the filename's l
         CHECK(e.location.line == 3);
         CHECK_THAT(std::string(e.what()), Catch::Contains("broken.png"));
     }
+}
+
+namespace {
+Ref<Texture> load_with(const std::filesystem::path& dir, const std::string& file, const std::string& format) {
+    Properties props("bitmap", SourceLocation{(dir / "virtual.xml").string(), 1});
+    props.set_string("filename", file);
+    props.set_string("filter_type", "nearest");
+    if (!format.empty()) props.set_string("format", format);
+    props.set_bool("accel", false);  // Mitsuba's CUDA texture units: accepted, nothing to switch here
+    return create_plugin_as<Texture>(ObjectKind::Texture, props);
+}
+}  // namespace
+
+TEST_CASE("bitmap: format stores texels in float32, float16 or 8 bits as Mitsuba does", "[texture]") {
+    auto dir = scratch_dir("bitmap-format");
+    Image img = Image::rgb(1, 1);
+    const Spectrum value(0.1234567f, 1.0f / 3.0f, 2.5f);
+    img.set_rgb(0, 0, value);
+    write_exr(img, (dir / "values.exr").string(), true);
+    Spectrum half_value(float(half(value.x)), float(half(value.y)), float(half(value.z)));
+    CHECK(load_with(dir, "values.exr", "")->eval(Vec2(0.5f)) == value);  // variant: float32
+    CHECK(load_with(dir, "values.exr", "auto")->eval(Vec2(0.5f)) == value);  // a float file: float32
+    CHECK(load_with(dir, "values.exr", "float16")->eval(Vec2(0.5f)) == half_value);
+    CHECK(load_with(dir, "values.exr", "fp16")->eval(Vec2(0.5f)) == half_value);
+    CHECK(half_value != value);
+    // 8 bits: [0, 1], 256 levels.
+    CHECK(load_with(dir, "values.exr", "uint8")->eval(Vec2(0.5f)) == Spectrum(std::round(0.1234567f * 255) / 255, 85.0f / 255, 1.0f));
+    // An 8-bit sRGB file keeps its encoding in 8 bits and is decoded on lookup: the same values.
+    Image grey = Image::rgb(1, 1);
+    grey.set_rgb(0, 0, Spectrum(100.0f / 255.0f));
+    write_png_display(grey, (dir / "grey.png").string());
+    Spectrum decoded = load_with(dir, "grey.png", "variant")->eval(Vec2(0.5f));
+    CHECK(load_with(dir, "grey.png", "uint8")->eval(Vec2(0.5f)) == decoded);
+    CHECK(load_with(dir, "grey.png", "auto")->eval(Vec2(0.5f)) == decoded);
+}
+
+TEST_CASE("bitmap: filter types without support and unknown formats are errors", "[texture][errors]") {
+    auto dir = scratch_dir("bitmap-options");
+    Image img = Image::rgb(2, 2);
+    write_exr(img, (dir / "black.exr").string(), true);
+    for (const char* filter : {"trilinear", "anisotropic", "cubic"}) {
+        INFO(filter);
+        Properties props("bitmap", SourceLocation{(dir / "virtual.xml").string(), 1});
+        props.set_string("filename", "black.exr");
+        props.set_string("filter_type", filter);
+        CHECK_THROWS_AS(create_plugin(ObjectKind::Texture, props), SceneError);
+    }
+    CHECK_THROWS_AS(load_with(dir, "black.exr", "float64"), SceneError);
 }
