@@ -12,10 +12,12 @@
 //                            construction for t > 2 indexes an array of p^t rows with the
 //                            pixel's p * p samples, which Mitsuba does not recommend either.
 //
-// The rows of the array (the pixel's samples) are shuffled once per pixel, so that all
-// dimensions stay coupled; each dimension (a column) then relabels its symbols with its own
-// permutations. Bose's array has p + 1 distinct columns: dimension j >= 2 uses a0 + (j - 1) a1
-// mod p, so dimensions further apart than p repeat a column, as in Mitsuba.
+// Bose's array has p + 1 distinct columns (a0, a1, then a0 + k a1 mod p for k = 1 .. p - 1): the
+// dimensions come in groups of p + 1, one per column, whose rows (the pixel's samples) share one
+// shuffle, so every pair within a group is stratified; each group has its own row shuffle, which
+// decorrelates the groups (Mitsuba instead reuses the columns, so that dimensions p apart are
+// coupled one to one: a test of the 2D projections showed it). Each dimension then relabels its
+// symbols with its own permutations.
 
 #include "core/properties.h"
 #include "core/registry.h"
@@ -83,18 +85,20 @@ private:
     // which is orthogonal to this one, so each dimension is stratified in p^2 strata too.
     float bose(uint32_t dim) const {
         const uint32_t p = uint32_t(prime_);
-        uint32_t row = permute_index(index_, uint32_t(sample_count_), dimension_seed(0, 0));
+        const uint32_t group = dim / (p + 1), c = dim % (p + 1);
+        uint32_t row = permute_index(index_, uint32_t(sample_count_), dimension_seed(group, 0));
         uint32_t a0 = row / p, a1 = row - a0 * p;
-        auto column = [&](uint32_t j) { return j == 0 ? a0 : j == 1 ? a1 : uint32_t((a0 + uint64_t(j - 1) % p * a1) % p); };
-        uint32_t neighbour = dim == 0 ? 1 : dim == 1 ? 0 : (dim % 2 ? dim - 1 : dim + 1);
-        return place(dim, column(dim), column(neighbour), p);
+        auto column = [&](uint32_t j) { return j == 0 ? a0 : j == 1 ? a1 : uint32_t((a0 + (j - 1) * a1) % p); };
+        uint32_t neighbour = (c ^ 1u) <= p ? (c ^ 1u) : 0;
+        return place(dim, column(c), column(neighbour), p);
     }
 
     // Bush's OA(p^t, p, t): row i has base-p digits c_0 ... c_{t-1}; column j holds the
-    // polynomial sum c_k j^k evaluated mod p. The substratum is the row's remaining digits.
+    // polynomial sum c_k j^k evaluated mod p. The substratum is the row's remaining digits. As
+    // for Bose's array, each group of p dimensions has its own row shuffle.
     float bush(uint32_t dim) const {
         const uint32_t p = uint32_t(prime_);
-        uint32_t row = permute_index(index_, rows_, dimension_seed(0, 0));
+        uint32_t row = permute_index(index_, rows_, dimension_seed(dim / p, 0));
         uint32_t x = dim % p, symbol = 0, rest = row;
         uint32_t digits[32];
         for (int k = 0; k < strength_; ++k, rest /= p) digits[k] = rest % p;

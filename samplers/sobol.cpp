@@ -8,8 +8,10 @@
 // so that each pixel is an elementary interval of dimensions 0 and 1. A pixel's sample i is the
 // i-th point of the sequence that falls into that pixel: its index is (i << 2m) plus low bits
 // found by inverting the 2m x 2m generator matrix of dimensions 0 and 1 over GF(2). Dimensions 0
-// and 1 then give the position inside the pixel (unscrambled: the pixel itself is the
-// scrambling); dimensions 2 to 256 are the sequence's own, randomized per dimension; beyond the
+// and 1 then give the position inside the pixel, randomized per pixel (pbrt-v4 leaves them
+// unscrambled, so that every pixel has the same sub-pixel pattern and the pooled positions fall
+// on a quarter of an 8 x 8 grid: a test of the 2D projections showed it; a scramble per pixel
+// keeps each pixel's (0, m, 2)-net); dimensions 2 to 256 are the sequence's own, randomized per dimension; beyond the
 // table, dimensions are padded with independent numbers hashed from (seed, pixel, sample,
 // dimension).
 
@@ -52,7 +54,7 @@ public:
 private:
     float value(uint32_t dim) const {
         // Dimensions 0 and 1: the digits below the pixel's m leading ones.
-        if (dim < 2) return bits_to_unit(sobol_bits(sobol_index_, int(dim)) << log2_scale_);
+        if (dim < 2) return bits_to_unit(randomize(sobol_bits(sobol_index_, int(dim)) << log2_scale_, hash_bits(sequence_, dim)));
         if (dim < uint32_t(SobolDimensions)) return bits_to_unit(randomize(sobol_bits(sobol_index_, int(dim)), hash_bits(seed_, dim)));
         return jitter(dim, 0);
     }
