@@ -49,7 +49,7 @@ protected:
 
 // The sampler of a sensor that names none: the one that measured best (bench/bench_samplers.cpp;
 // README says why).
-constexpr const char* DefaultSampler = "independent";
+constexpr const char* DefaultSampler = "stratified";
 
 // The dimensions of a camera path: the film position, the aperture, then per bounce (scattering
 // vertex k, counted from 0 at the first surface the camera ray meets) the light pick, the
