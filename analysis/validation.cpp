@@ -130,6 +130,7 @@ SceneValidation validate_scene(const ValidationCase& c, const ValidationSettings
     Image reference = read_image(c.reference_path);
     RenderOptions o;
     o.spp = settings.spp;
+    o.sampler = settings.sampler;
     o.threads = settings.threads;
     o.aovs = {"variance"};
     RenderResult result = scene->integrator().render(*scene, o);

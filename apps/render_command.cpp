@@ -1,11 +1,14 @@
 // candela render SCENE.xml -o OUT.exr [--spp N] [-D k=v]... [--threads N] [--seed S] [--png]
-//                [--quiet] [--aov albedo,normal,depth,variance] [--max-memory SIZE]
+//                [--quiet] [--aov albedo,normal,depth,variance,samples] [--sampler NAME]
+//                [--adaptive-threshold T [--adaptive-min-spp N] [--adaptive-step N]] [--max-memory SIZE]
 
 #include "apps/commands.h"
 
 #include "core/integrator.h"
 #include "core/memory_budget.h"
 #include "core/progress.h"
+#include "core/registry.h"
+#include "core/warning.h"
 #include "apps/render_output.h"
 #include "core/xml.h"
 #include "integrators/path.h"
@@ -29,7 +32,8 @@ void on_sigint(int) {
 }
 
 struct RenderArgs {
-    std::string scene, output, mode, max_memory;
+    std::string scene, output, mode, max_memory, sampler;
+    AdaptiveSampling adaptive;
     RasterOptionArgs raster;
     int spp = 0, threads = 0;
     int64_t seed = -1;
@@ -53,6 +57,21 @@ void apply_mode(Scene& scene, const RenderArgs& a) {
 }
 
 }  // namespace
+
+void add_sampler_option(CLI::App* cmd, std::string& sampler) {
+    cmd->add_option("--sampler", sampler, "Sampler to use instead of the scene's, with its sample count and seed")
+        ->check(CLI::IsMember(plugin_names(ObjectKind::Sampler)));
+}
+
+void add_adaptive_options(CLI::App* cmd, AdaptiveSampling& adaptive) {
+    auto* threshold = cmd->add_option("--adaptive-threshold", adaptive.threshold,
+                                      "Adaptive sampling: stop a pixel once its noise estimate is below this (Cycles' noise threshold, e.g. 0.01; default off)")
+                          ->check(CLI::PositiveNumber);
+    cmd->add_option("--adaptive-min-spp", adaptive.min_spp, "Adaptive sampling: samples before a pixel's first check (default max(16, spp/16), a power of two)")
+        ->check(CLI::PositiveNumber)
+        ->needs(threshold);
+    cmd->add_option("--adaptive-step", adaptive.step, "Adaptive sampling: samples between checks (default: the minimum)")->check(CLI::PositiveNumber)->needs(threshold);
+}
 
 Vec3 parse_triple(const std::string& text, const std::string& option) {
     Vec3 v;
@@ -87,7 +106,9 @@ void add_render_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("--seed", args->seed, "Random seed (default: the sampler's)")->check(CLI::NonNegativeNumber);
     cmd->add_flag("--png", args->png, "Also write a tonemapped sRGB PNG beside the EXR");
     cmd->add_flag("--quiet,-q", args->quiet, "No progress bar and no summary line");
-    cmd->add_option("--aov", args->aovs, "Extra EXR layers: albedo, normal, depth, variance")->delimiter(',');
+    cmd->add_option("--aov", args->aovs, "Extra EXR layers: albedo, normal, depth, variance, samples")->delimiter(',');
+    add_sampler_option(cmd, args->sampler);
+    add_adaptive_options(cmd, args->adaptive);
     cmd->add_option("--max-memory", args->max_memory,
                     "Stop at once (exit code 2) when the film, meshes or other buffers would need more than SIZE (e.g. 4G, 512M); "
                     "the machine's available memory is always a limit");
@@ -115,10 +136,15 @@ void add_render_command(CLI::App& app, std::function<int()>& run) {
             options.progress = !args->quiet && stderr_is_terminal();
             options.interrupt = &g_interrupted;
             options.aovs = args->aovs;
+            options.sampler = args->sampler;
+            options.adaptive = args->adaptive;
 
             RenderResult result = scene->integrator().render(*scene, options);
             std::signal(SIGINT, previous);
 
+            if (args->spp > 0 && result.stats.spp != args->spp && !result.stats.single_frame)
+                warn(SourceLocation{}, "--spp " + std::to_string(args->spp) + " rounded up to " + std::to_string(result.stats.spp) + " by the " +
+                                           result.stats.sampler + " sampler");
             annotate_render(result, *scene, args->scene);
             write_exr(result.image, output, scene->sensor().film().float32());
             if (args->png) write_png_display(scene->integrator().preview(result.image), png);

@@ -18,6 +18,7 @@ void annotate_render(RenderResult& result, const Scene& scene, const std::string
     m["candela.integrator"] = scene.integrator().to_string();
     m["candela.spp"] = std::to_string(s.spp);
     m["candela.seed"] = std::to_string(s.seed);
+    if (!s.sampler.empty()) m["candela.sampler"] = s.sampler;
     char buf[64];
     std::snprintf(buf, sizeof buf, "%.3f", s.seconds);
     m["candela.renderTime"] = buf;

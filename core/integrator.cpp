@@ -2,6 +2,8 @@
 
 #include "core/memory_budget.h"
 #include "core/progress.h"
+#include "core/registry.h"
+#include "core/sampler.h"
 #include "core/scene.h"
 
 #include <tbb/blocked_range.h>
@@ -18,8 +20,10 @@
 //   make_tiles     the film cut into tiles, each with its own ImageBlock (and pixel statistics);
 //                  with sample_border the tiles on the crop's edges also sample the ring of
 //                  pixels outside it that the filter reaches
-//   sample_passes  the sample indices [begin, end) cut into passes of growing width
-//   TileSampler    takes the samples of one pass for every pixel of one tile
+//   sample_passes  the sample indices [begin, end) cut into passes of growing width (and, with
+//                  adaptive sampling, ending at every convergence check)
+//   TileSampler    takes the samples of one pass for every active pixel of one tile
+//   stop_converged adaptive sampling: between passes, stops the pixels whose noise is low enough
 //   develop        merges the tiles in a fixed order, writes the film's pixel format, the
 //                  integrator's channels and the --aov layers
 // A pixel's samples depend only on (seed, pixel, sample index), so the schedule (threads, tile
@@ -33,23 +37,52 @@ namespace {
 constexpr int TileSize = 32;
 
 // Per-pixel running sums of the samples that landed in the pixel (not filtered): these give the
-// variance of the pixel mean and the first-hit AOVs.
+// variance of the pixel mean, the first-hit AOVs and the adaptive error estimate.
 struct PixelStats {
     uint32_t n = 0;
+    uint32_t taken = 0;   // sample indices taken (n plus the non-finite samples dropped)
+    bool active = true;   // adaptive sampling has not stopped the pixel
     double sum[3] = {0, 0, 0}, sum_sq[3] = {0, 0, 0};
+    // Adaptive sampling's half buffer: the samples of class A (see in_class_a).
+    uint32_t n_a = 0;
+    double sum_a[3] = {0, 0, 0};
     Spectrum albedo{0.0f};
     Vec3 normal{0.0f};
     double depth = 0.0;
 
-    void add(const Spectrum& L, const FirstHitAovs& aov) {
+    void add(const Spectrum& L, const FirstHitAovs& aov, uint32_t index) {
         n++;
+        bool a = in_class_a(index);
+        n_a += a;
         for (int c = 0; c < 3; ++c) {
             sum[c] += L[c];
             sum_sq[c] += double(L[c]) * L[c];
+            if (a) sum_a[c] += L[c];
         }
         albedo += aov.albedo;
         normal += aov.normal;
         depth += aov.depth;
+    }
+    // Half of the sample indices, chosen so that both halves of a stratified or (0, 2) pattern stay
+    // well stratified: those with an odd number of ones at the odd bit positions (Christensen,
+    // Kensler and Kilpatrick 2018, "Progressive Multi-Jittered Sample Sequences", section 10.2.1).
+    static bool in_class_a(uint32_t index) {
+        uint32_t v = index & 0xaaaaaaaau;
+        int ones = 0;
+        for (; v; v &= v - 1) ++ones;
+        return ones & 1;
+    }
+    // Cycles' per-pixel error (Dammertz et al. 2010, section 2.1): the L1 difference of the mean of
+    // all samples and the mean of class A, over the square root of the mean's channel sum.
+    double adaptive_error() const {
+        if (n == 0 || n_a == 0) return Infinity;
+        double difference = 0, total = 0;
+        for (int c = 0; c < 3; ++c) {
+            double mean = sum[c] / n;
+            difference += std::abs(mean - sum_a[c] / n_a);
+            total += mean;
+        }
+        return difference / (1e-4 + std::sqrt(std::max(total, 0.0)));
     }
     // Unbiased sample variance divided by n: the variance of the pixel mean.
     double variance_of_mean(int c) const {
@@ -119,8 +152,9 @@ private:
     std::vector<std::string> extra_names_;
 };
 
-// The --aov layers of a render and their channel layout: albedo.RGB, normal.XYZ, depth.Z and
-// variance.RGB, each only when asked for, after the film's and the integrator's channels.
+// The --aov layers of a render and their channel layout: albedo.RGB, normal.XYZ, depth.Z,
+// variance.RGB and samples.N, each only when asked for, after the film's and the integrator's
+// channels.
 class AovLayout {
 public:
     explicit AovLayout(const std::vector<std::string>& names) {
@@ -129,13 +163,14 @@ public:
             else if (a == "normal") normal_ = true;
             else if (a == "depth") depth_ = true;
             else if (a == "variance") variance_ = true;
-            else throw InputError("unknown AOV \"" + a + "\" (known: albedo, normal, depth, variance)");
+            else if (a == "samples") samples_ = true;
+            else throw InputError("unknown AOV \"" + a + "\" (known: albedo, normal, depth, variance, samples)");
         }
     }
     // Whether samples must report their first hit, and whether pixels keep running sums.
     bool first_hit() const { return albedo_ || normal_ || depth_; }
-    bool pixel_stats() const { return first_hit() || variance_; }
-    int layer_count() const { return int(albedo_) + int(normal_) + int(depth_) + int(variance_); }
+    bool pixel_stats() const { return first_hit() || variance_ || samples_; }
+    int layer_count() const { return int(albedo_) + int(normal_) + int(depth_) + int(variance_) + int(samples_); }
 
     std::vector<std::string> channels() const {
         std::vector<std::string> channels;
@@ -147,6 +182,7 @@ public:
         if (depth_) channels.push_back("depth.Z");
         if (variance_)
             for (auto c : rgb) channels.push_back(std::string("variance.") + c);
+        if (samples_) channels.push_back("samples.N");
         return channels;
     }
 
@@ -160,10 +196,11 @@ public:
         if (depth_) img.at(x, y, c++) = float(ps.depth * inv_n);
         if (variance_)
             for (int k = 0; k < 3; ++k) img.at(x, y, c++) = float(ps.variance_of_mean(k));
+        if (samples_) img.at(x, y, c++) = float(ps.taken);
     }
 
 private:
-    bool albedo_ = false, normal_ = false, depth_ = false, variance_ = false;
+    bool albedo_ = false, normal_ = false, depth_ = false, variance_ = false, samples_ = false;
 };
 
 // Tiles covering the film's crop window in row-major order (the order develop() merges them),
@@ -211,13 +248,36 @@ void check_film_memory(const Film& film, const SampleLayout& values, const AovLa
     if (int n = layout.layer_count()) what += " with " + std::to_string(n) + (n == 1 ? " AOV" : " AOVs");
     check_memory(std::max(develop, write), what, film.location());
 }
+// Adaptive sampling's schedule: the sample counts at which pixels are checked.
+struct AdaptiveSchedule {
+    bool enabled = false;
+    float threshold = 0.0f;
+    int min_spp = 0, step = 0;
+
+    AdaptiveSchedule(const AdaptiveSampling& a, int spp) : enabled(a.enabled()), threshold(a.threshold) {
+        if (!enabled) return;
+        if (a.min_spp < 0 || a.step < 0) throw InputError("adaptive sampling: the minimum sample count and the step must not be negative");
+        int automatic = 16;
+        while (automatic < spp / 16) automatic *= 2;
+        min_spp = a.min_spp > 0 ? a.min_spp : automatic;
+        step = a.step > 0 ? a.step : min_spp;
+    }
+    // Whether pixels are checked once `count` samples are taken.
+    bool checks_at(int count) const { return enabled && count >= min_spp && (count - min_spp) % step == 0; }
+};
 
 // Passes over the whole image with growing sample counts (1, 2, 4, ... 32 samples per pixel):
-// an interrupted render still has every pixel sampled about equally often.
-std::vector<SampleRange> sample_passes(const SampleRange& samples) {
+// an interrupted render still has every pixel sampled about equally often. With adaptive
+// sampling a pass also ends at every count where pixels are checked.
+std::vector<SampleRange> sample_passes(const SampleRange& samples, const AdaptiveSchedule& adaptive) {
     std::vector<SampleRange> passes;
-    for (int s0 = samples.begin, step = 1; s0 < samples.end; s0 += step, step = std::min(step * 2, 32))
-        passes.push_back({s0, std::min(samples.end, s0 + step)});
+    for (int s0 = samples.begin, step = 1; s0 < samples.end; step = std::min(step * 2, 32)) {
+        int end = std::min(samples.end, s0 + step);
+        for (int c = s0 + 1; c < end; ++c)
+            if (adaptive.checks_at(c)) end = c;
+        passes.push_back({s0, end});
+        s0 = end;
+    }
     return passes;
 }
 
@@ -271,6 +331,8 @@ private:
         const Vec2i pixel = crop_offset_ + tile.offset + local;
         const bool own = local.x >= 0 && local.y >= 0 && local.x < tile.size.x && local.y < tile.size.y;
         PixelStats* ps = tile.stats.empty() || !own ? nullptr : &tile.stats[size_t(local.y) * tile.size.x + local.x];
+        if (ps && !ps->active) return;
+        if (ps) ps->taken += uint32_t(samples.end - samples.begin);
         float values[3 + 1 + MaxSampleChannels];
         for (int s = samples.begin; s < samples.end; ++s) {
             sampler.start(pixel, uint32_t(s));
@@ -288,7 +350,7 @@ private:
                 continue;
             }
             tile.block.put(record.film_pos - Vec2(crop_offset_), values);
-            if (ps) ps->add(L, aov);
+            if (ps) ps->add(L, aov, uint32_t(s));
         }
     }
 
@@ -300,6 +362,32 @@ private:
     const bool first_hit_;
     const float differential_scale_;
 };
+
+// Adaptive sampling's check, between passes: a pixel is quiet when it has stopped or its error
+// is below the threshold; an active pixel stops when it and its 8 neighbours are quiet (Cycles
+// dilates the unconverged pixels by one the same way), and never starts again, so all active
+// pixels take the same sample indices. Single-threaded over the whole image: deterministic.
+void stop_converged(std::vector<Tile>& tiles, const Vec2i& crop, float threshold) {
+    std::vector<uint8_t> quiet(size_t(crop.x) * crop.y, 0);
+    for (const Tile& t : tiles)
+        for (int y = 0; y < t.size.y; ++y)
+            for (int x = 0; x < t.size.x; ++x) {
+                const PixelStats& ps = t.stats[size_t(y) * t.size.x + x];
+                quiet[size_t(t.offset.y + y) * crop.x + t.offset.x + x] = !ps.active || ps.adaptive_error() < threshold;
+            }
+    auto neighbourhood_quiet = [&](int px, int py) {
+        for (int y = std::max(0, py - 1); y <= std::min(crop.y - 1, py + 1); ++y)
+            for (int x = std::max(0, px - 1); x <= std::min(crop.x - 1, px + 1); ++x)
+                if (!quiet[size_t(y) * crop.x + x]) return false;
+        return true;
+    };
+    for (Tile& t : tiles)
+        for (int y = 0; y < t.size.y; ++y)
+            for (int x = 0; x < t.size.x; ++x) {
+                PixelStats& ps = t.stats[size_t(y) * t.size.x + x];
+                if (ps.active && neighbourhood_quiet(t.offset.x + x, t.offset.y + y)) ps.active = false;
+            }
+}
 
 // Merges the tiles in a fixed order, normalises by the filter weights, and writes the film's
 // pixel format, the integrator's channels and the --aov layers.
@@ -336,9 +424,19 @@ void check_distinct_channels(const std::vector<std::string>& channels) {
             if (channels[i] == channels[j]) throw InputError("two image channels are named \"" + channels[i] + "\" (rename an AOV)");
 }
 
-// The scene's sampler with the render's sample count and seed.
+// The scene's sampler, or the one the options name with the scene's sample count and seed, with
+// the render's sample count and seed.
 Ref<Sampler> configured_sampler(const Scene& scene, const RenderOptions& options) {
-    Ref<Sampler> sampler = scene.sensor().sampler().clone();
+    const Sampler& own = scene.sensor().sampler();
+    Ref<Sampler> sampler;
+    if (options.sampler.empty()) {
+        sampler = own.clone();
+    } else {
+        sampler = create_plugin_as<Sampler>(ObjectKind::Sampler, Properties(options.sampler, SourceLocation{}));
+        sampler->set_sample_count(own.sample_count());
+        sampler->set_seed(own.seed());
+    }
+    sampler->set_film_size(scene.sensor().film().full_size());
     if (options.spp > 0) sampler->set_sample_count(options.spp);
     if (options.seed) sampler->set_seed(*options.seed);
     return sampler;
@@ -359,9 +457,10 @@ RenderResult SamplingIntegrator::render(const Scene& scene, const RenderOptions&
     check_film_memory(film, values, layers);
     Ref<Sampler> prototype = configured_sampler(scene, options);
     const SampleRange samples{0, prototype->sample_count()};
+    const AdaptiveSchedule adaptive(options.adaptive, samples.end);
     prepare(scene);
 
-    std::vector<Tile> tiles = make_tiles(film, values.values(), layers.pixel_stats());
+    std::vector<Tile> tiles = make_tiles(film, values.values(), layers.pixel_stats() || adaptive.enabled);
     uint64_t sampled_pixels = 0;
     for (const Tile& t : tiles) sampled_pixels += uint64_t(t.sampled_pixels());
     ProgressReporter progress("Rendering", uint64_t(samples.end - samples.begin) * sampled_pixels, options.progress);
@@ -370,13 +469,14 @@ RenderResult SamplingIntegrator::render(const Scene& scene, const RenderOptions&
     const TileSampler tile_sampler(*this, scene, values, layers, prototype->sample_count());
     tbb::enumerable_thread_specific<Ref<Sampler>> samplers([&] { return prototype->clone(); });
     tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
-    for (const SampleRange& pass : sample_passes(samples)) {
+    for (const SampleRange& pass : sample_passes(samples, adaptive)) {
         if (interruption.stopped()) break;
         arena.execute([&] {
             tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
                 for (size_t i = r.begin(); i != r.end(); ++i) tile_sampler.sample_tile(tiles[i], pass, *samplers.local(), interruption, counters, progress);
             });
         });
+        if (adaptive.checks_at(pass.end) && !interruption.stopped()) stop_converged(tiles, film.crop_size(), adaptive.threshold);
     }
     progress.finish();
 
@@ -389,6 +489,7 @@ RenderResult SamplingIntegrator::render(const Scene& scene, const RenderOptions&
     st.nonfinite = counters.nonfinite;
     st.spp = prototype->sample_count();
     st.seed = prototype->seed();
+    st.sampler = prototype->to_string();
     st.partial = interruption.stopped();
     return result;
 }

@@ -17,14 +17,29 @@ namespace candela {
 class Scene;
 class Sampler;
 
+// Adaptive sampling (off unless threshold > 0): after `min_spp` samples, and then every `step`
+// samples, a pixel stops once its error estimate and those of its 8 neighbours are below
+// `threshold` (Cycles' noise threshold: the difference between the mean of all samples and the
+// mean of half of them, |I - A|_1 / sqrt(I_r + I_g + I_b), Dammertz et al. 2010). Decisions are
+// made between passes over the whole image, from each pixel's own samples, so the result does
+// not depend on the thread count.
+struct AdaptiveSampling {
+    float threshold = 0.0f;  // 0: off
+    int min_spp = 0;         // 0: automatic, max(16, spp / 16) rounded up to a power of two
+    int step = 0;            // 0: automatic, min_spp
+    bool enabled() const { return threshold > 0.0f; }
+};
+
 struct RenderOptions {
     int spp = 0;                        // 0: the scene's sampler sample_count
     std::optional<uint64_t> seed;       // default: the sampler's seed
+    std::string sampler;                // a sampler plugin to use instead of the scene's ("" keeps it)
     int threads = 0;                    // 0: all hardware threads
     bool progress = false;              // progress bar on stderr
     const std::atomic<bool>* interrupt = nullptr;  // set (e.g. by SIGINT) to stop early
-    // Extra EXR layers: "albedo", "normal", "depth", "variance".
+    // Extra EXR layers: "albedo", "normal", "depth", "variance", "samples" (samples per pixel).
     std::vector<std::string> aovs;
+    AdaptiveSampling adaptive;
 };
 
 struct RenderStats {
@@ -32,8 +47,9 @@ struct RenderStats {
     uint64_t samples = 0;      // camera samples taken
     uint64_t rays = 0;         // closest-hit and shadow rays traced
     uint64_t nonfinite = 0;    // samples dropped because they were NaN or infinite
-    int spp = 0;               // samples per pixel requested
+    int spp = 0;               // samples per pixel requested (after the sampler's rounding)
     uint64_t seed = 0;
+    std::string sampler;       // the sampler's plugin name
     bool partial = false;      // interrupted before all samples were taken
     // `seconds` timed one rasterized frame, not Monte Carlo sampling: a summary reports the
     // frame time rather than sample and ray rates.

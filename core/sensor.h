@@ -74,6 +74,11 @@ public:
 
     Film& film() const { return *film_; }
     Sampler& sampler() const { return *sampler_; }
+    // Replaces the sampler (candela render --sampler) and tells it the film's size.
+    void set_sampler(Ref<Sampler> sampler) {
+        sampler_ = std::move(sampler);
+        sampler_->set_film_size(film_->full_size());
+    }
     const Transform& to_world() const { return to_world_; }
 
 protected:

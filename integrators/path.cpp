@@ -90,15 +90,21 @@ Spectrum PathIntegrator::continue_path(const Scene& scene, Sampler& sampler, con
     SurfaceInteraction from = start;
     float from_pdf = 0.0f;
     bool from_delta = true;
-    for (;;) {
+    // Sample dimensions: every vertex the path meets (a Null crossing included) claims its own
+    // block of SampleDimensions, used or not, so that vertex k always draws the same dimensions.
+    for (uint32_t vertex = depth;; ++vertex) {
+        const uint32_t dims = SampleDimensions::bounce(vertex);
         if (scattered_somewhere && !bsdf->has_null_lobe()) *scattered_somewhere = true;
         // At the last allowed bounce only a Null lobe may still carry the path on.
         bool may_scatter = depth + 1 < max_depth_;
         if (!may_scatter && !bsdf->has_null_lobe()) break;
         BSDFContext ctx;
         if (!may_scatter) ctx.lobes = Null;
+        // sample_emitter_mis draws the light pick, then the light position (LightPick, LightPosition).
+        sampler.set_dimension(dims + SampleDimensions::LightPick);
         if (may_scatter && bsdf->has_smooth_lobe()) L += beta * sample_emitter_mis(scene, *lights_, sampler, si, *bsdf, BSDFContext());
 
+        sampler.set_dimension(dims + SampleDimensions::Lobe);
         float u_lobe = sampler.next_1d();
         Vec2 u_dir = sampler.next_2d();
         BSDFSample bs = bsdf->sample(ctx, si, u_lobe, u_dir);
@@ -130,6 +136,7 @@ Spectrum PathIntegrator::continue_path(const Scene& scene, Sampler& sampler, con
         bsdf = si.shape->bsdf();
 
         if (scattered && depth >= rr_depth_) {
+            sampler.set_dimension(dims + SampleDimensions::Roulette);
             float q = std::min(max_component(beta) * eta * eta, 0.95f);
             if (!(sampler.next_1d() < q)) break;
             beta /= q;

@@ -13,8 +13,8 @@ ProjectiveCamera::ProjectiveCamera(const Properties& props) {
     if (films.size() > 1 || samplers.size() > 1) props.fail("a sensor has at most one film and one sampler");
     film_ = films.empty() ? create_plugin_as<Film>(ObjectKind::Film, Properties("hdrfilm", props.location()))
                           : std::static_pointer_cast<Film>(films[0]);
-    sampler_ = samplers.empty() ? create_plugin_as<Sampler>(ObjectKind::Sampler, Properties("independent", props.location()))
-                                : std::static_pointer_cast<Sampler>(samplers[0]);
+    set_sampler(samplers.empty() ? create_plugin_as<Sampler>(ObjectKind::Sampler, Properties(DefaultSampler, props.location()))
+                                 : std::static_pointer_cast<Sampler>(samplers[0]));
     Vec2i size = film_->full_size();
     aspect_ = float(size.x) / float(size.y);
     inv_size_ = Vec2(1.0f / float(size.x), 1.0f / float(size.y));

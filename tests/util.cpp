@@ -59,7 +59,7 @@ Ref<Scene> load_scene_xml(const std::string& name, const std::string& body) {
 std::string pinhole_camera(const std::string& origin, const std::string& target, int w, int h, float fov) {
     return "<sensor type=\"perspective\"><float name=\"fov\" value=\"" + std::to_string(fov) + "\"/><transform name=\"to_world\"><lookat origin=\"" + origin +
            "\" target=\"" + target + "\" up=\"0, 1, 0\"/></transform><film type=\"hdrfilm\"><integer name=\"width\" value=\"" + std::to_string(w) +
-           "\"/><integer name=\"height\" value=\"" + std::to_string(h) + "\"/><rfilter type=\"box\"/></film></sensor>";
+           "\"/><integer name=\"height\" value=\"" + std::to_string(h) + "\"/><rfilter type=\"box\"/></film><sampler type=\"independent\"/></sensor>";
 }
 
 }  // namespace candela::test
