@@ -18,8 +18,12 @@ namespace {
 
 constexpr int StrataPerSide = 512;
 constexpr int BaseWidth = 256, BaseHeight = 128;
-// Output widths of the roughness levels (heights are half): about two texels per lobe width.
-constexpr int LevelWidths[ImageBasedLighting::LevelCount] = {128, 64, 32, 16, 16};
+// Output widths of the roughness levels (heights are half): at least two texels per lobe width,
+// and never coarser than 64 x 32, whose rows next to the poles lie 2.8 degrees from them (16 x 8
+// put them 11 degrees off, which cost the widest lobe 8% at the zenith of a sky). Source grids:
+// twice as fine for the narrow lobes, as fine for the wide ones.
+constexpr int LevelWidths[ImageBasedLighting::LevelCount] = {128, 64, 64, 64, 64};
+constexpr int SourceWidths[ImageBasedLighting::LevelCount] = {256, 128, 64, 64, 64};
 // The lobe is cut where it falls below this fraction of its peak.
 constexpr float LobeCutoff = 1e-4f;
 
@@ -181,7 +185,7 @@ ImageBasedLighting::ImageBasedLighting(const Scene& scene) : scene_(scene) {
     for (int i = 0; i < 9; ++i) coefficients_[size_t(i)] = Spectrum(float(sh[size_t(3 * i)]), float(sh[size_t(3 * i + 1)]), float(sh[size_t(3 * i + 2)]));
 
     for (int level = 0; level < LevelCount; ++level) {
-        const int out_w = LevelWidths[level], out_h = out_w / 2, src_w = std::min(BaseWidth, 2 * out_w), src_h = src_w / 2;
+        const int out_w = LevelWidths[level], out_h = out_w / 2, src_w = SourceWidths[level], src_h = src_w / 2;
         const SourceGrid source(downsample_energy(energy, BaseWidth / src_w), src_w, src_h);
         const float exponent = phong_exponent(LevelAlphas[level]);
         LatLong& map = levels_[size_t(level)];
@@ -193,6 +197,8 @@ ImageBasedLighting::ImageBasedLighting(const Scene& scene) : scene_(scene) {
                 map.texels[size_t(j) * size_t(out_w) + size_t(i)] =
                     prefiltered_texel(source, theta_of_row(j, out_h), phi_of_column(i, out_w), exponent);
         });
+        map.poles[0] = prefiltered_texel(source, 0.0f, 0.0f, exponent);
+        map.poles[1] = prefiltered_texel(source, Pi, 0.0f, exponent);
     }
 }
 
@@ -217,7 +223,14 @@ Spectrum ImageBasedLighting::LatLong::bilinear(const Vec3& d) const {
         j = std::clamp(j, 0, height - 1);
         return texels[size_t(j) * size_t(width) + size_t(i)];
     };
-    return (1.0f - fy) * ((1.0f - fx) * at(x0, y0) + fx * at(x0 + 1, y0)) + fy * ((1.0f - fx) * at(x0, y0 + 1) + fx * at(x0 + 1, y0 + 1));
+    auto row = [&](int j) { return (1.0f - fx) * at(x0, j) + fx * at(x0 + 1, j); };
+    // Between a pole and the row next to it: toward the pole's own value.
+    if (y < 0.0f) return (1.0f + y * 2.0f) * row(0) - y * 2.0f * poles[0];
+    if (y > float(height - 1)) {
+        float t = (y - float(height - 1)) * 2.0f;
+        return (1.0f - t) * row(height - 1) + t * poles[1];
+    }
+    return (1.0f - fy) * row(y0) + fy * row(y0 + 1);
 }
 
 Spectrum ImageBasedLighting::glossy(const Vec3& r, float alpha) const {

@@ -43,6 +43,8 @@ private:
     struct LatLong {
         int width = 0, height = 0;
         std::vector<Spectrum> texels;
+        Spectrum poles[2];  // the values at +y and -y, between which and the first and last
+                            // rows lookups interpolate
         Spectrum bilinear(const Vec3& d) const;
     };
 

@@ -7,6 +7,7 @@
 #include "core/properties.h"
 #include "core/registry.h"
 #include "core/xml.h"
+#include "integrators/estimators.h"
 #include "integrators/raster/image_lighting.h"
 #include "integrators/raster/raster.h"
 #include "tests/util.h"
@@ -253,4 +254,31 @@ TEST_CASE("raster GI options: parsed from the one table, bad values refused", "[
     CHECK_THAT(error, Catch::Contains("ao_ray_length must be a number > 0"));
     CHECK_FALSE(s.set("lighting", "global", error));
     CHECK_THAT(error, Catch::Contains("lighting must be one of local baked"));
+}
+
+TEST_CASE("raster IBL: the widest prefiltered level is the irradiance over pi, as the path tracer estimates it", "[raster][ibl]") {
+    // At roughness 1 the Phong exponent is 1: the normalised lobe max(w.r, 0) / pi averages the
+    // environment into E(r) / pi, the irradiance of a surface facing r. The path tracer's
+    // irradiance estimator measures E(r) independently (with its standard error); SH irradiance
+    // approximates the same quantity.
+    Ref<Scene> scene = load_scene_xml("raster-ibl-glossy", R"(<emitter type="envmap"><string name="filename" value=")" + Sky +
+                                                               R"("/><float name="scale" value="0.8"/></emitter>)" + pinhole_camera("0, 0, 1", "0, 0, 0", 8, 8));
+    raster::ImageBasedLighting ibl(*scene);
+    EstimatorOptions eo;
+    eo.samples = 1 << 18;
+    double worst_glossy = 0.0, worst_sh = 0.0;
+    for (Vec3 n : {Vec3(1, 0, 0), Vec3(-1, 0, 0), Vec3(0, 1, 0), Vec3(0, -1, 0), Vec3(0, 0, 1), Vec3(0, 0, -1), glm::normalize(Vec3(1, 1, 1))}) {
+        Estimate e = estimate_irradiance(*scene, Vec3(0.0f), n, eo);
+        double exact = luminance(e.mean), glossy = Pi * luminance(ibl.glossy(n, 1.0f)), sh = luminance(ibl.irradiance(n));
+        INFO("normal " << n.x << " " << n.y << " " << n.z << ": estimate " << exact << " +- " << e.luminance_std_error << ", pi x glossy(1) " << glossy << ", SH " << sh);
+        REQUIRE(e.luminance_std_error < 0.002 * exact);
+        worst_glossy = std::max(worst_glossy, std::abs(glossy / exact - 1.0));
+        worst_sh = std::max(worst_sh, std::abs(sh / exact - 1.0));
+    }
+    // Nine SH terms cannot follow the sky's sharp horizon: pointwise they are off by up to ~0.1
+    // W/m^2 (28% where the irradiance is smallest); reported, not checked (the sphere test above
+    // checks what SH irradiance is for: the mean).
+    WARN("largest relative difference from the path-traced irradiance: prefiltered (roughness 1) " << 100 * worst_glossy << "%, SH " << 100 * worst_sh << "%");
+    // The lat-long levels' texels (5.6 degrees) and interpolation, against 0.12% noise.
+    CHECK(worst_glossy < 0.03);
 }
