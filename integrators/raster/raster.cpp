@@ -42,7 +42,8 @@
 //                                    (default ibl)
 //   lighting *             string    local (the lighting equation below) or baked (irradiance
 //                                    baked at the vertices of radiosity patches, which then
-//                                    replace the tessellation) (default local)
+//                                    replace the tessellation: displacement does not apply)
+//                                    (default local)
 //   bake *                 string    radiosity (bake_radiosity) or path (the path tracer's
 //                                    irradiance estimate at each patch) (default radiosity)
 //   bake_samples *         integer   paths per patch when baking with path, >= 1 (default 256)
@@ -83,6 +84,7 @@
 
 #include <tbb/task_arena.h>
 
+#include <array>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -300,8 +302,8 @@ RasterIntegrator::~RasterIntegrator() = default;
 const raster::RasterGeometry& RasterIntegrator::geometry_for(const Scene& scene, const RenderOptions& options) {
     const RasterSettings& s = settings_;
     const bool baked = s.lighting == RasterSettings::Lighting::Baked;
-    std::vector<double> key = {double(s.tessellation), double(s.displacement), double(s.subdivisions), double(baked)};
-    if (baked) key.insert(key.end(), {double(s.bake), double(s.bake_samples), double(s.bake_patch_area)});
+    const std::array<double, 7> key = {double(s.tessellation), double(s.displacement), double(s.subdivisions), double(baked),
+                                       baked ? double(s.bake) : 0.0, baked ? double(s.bake_samples) : 0.0, baked ? double(s.bake_patch_area) : 0.0};
     bake_seconds_ = 0.0;
     if (geometry_ && geometry_scene_ == &scene && key == geometry_key_) return *geometry_;
     if (baked) {

@@ -4,6 +4,7 @@
 #include "core/integrator.h"
 #include "core/texture.h"
 
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -101,7 +102,7 @@ private:
     // The tessellated scene, kept between frames of the same scene and geometry settings.
     std::shared_ptr<raster::RasterGeometry> geometry_;
     const Scene* geometry_scene_ = nullptr;
-    std::vector<double> geometry_key_;
+    std::array<double, 7> geometry_key_{};  // what the geometry was built for (see geometry_for)
     std::shared_ptr<raster::ImageBasedLighting> image_lighting_;
     const Scene* image_lighting_scene_ = nullptr;
     double bake_seconds_ = 0.0;
