@@ -126,8 +126,10 @@ RenderResult SamplingIntegrator::render(const Scene& scene, const RenderOptions&
     };
 
     tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
-    for (auto [s0, s1] : passes) {
+    for (const auto& pass : passes) {
         if (stopped || interrupted()) break;
+        // Named copies: C++17 lambdas cannot capture structured bindings (clang rejects it).
+        int s0 = pass.first, s1 = pass.second;
         arena.execute([&] {
             tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
                 for (size_t i = r.begin(); i != r.end(); ++i) render_tile(tiles[i], s0, s1);
