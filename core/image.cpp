@@ -51,14 +51,33 @@ Image read_image(const std::string& path) {
     auto in = OIIO::ImageInput::open(path);
     if (!in) throw InputError(path + ": cannot read image: " + OIIO::geterror());
     const OIIO::ImageSpec& spec = in->spec();
+    // The size comes from the file: check it before allocating. A volume image (DDS volume
+    // textures, ...) would also fill depth times the buffer of a 2D one.
+    if (spec.depth != 1) throw InputError(path + ": is a volume image (depth " + std::to_string(spec.depth) + "); only 2D images are read");
+    if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) throw InputError(path + ": image has no pixels");
+    const uint64_t values = uint64_t(spec.width) * uint64_t(spec.height) * uint64_t(spec.nchannels);
+    if (values > MaxImageValues)
+        throw InputError(path + ": image of " + std::to_string(spec.width) + " x " + std::to_string(spec.height) + " pixels and " +
+                         std::to_string(spec.nchannels) + " channels is larger than the 2^28 values Candela reads");
     std::vector<std::string> names;
     for (int c = 0; c < spec.nchannels; ++c) {
         std::string n = c < int(spec.channelnames.size()) ? spec.channelnames[c] : "";
         names.push_back(n.empty() ? "C" + std::to_string(c) : n);
     }
     Image image(spec.width, spec.height, names);
-    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.data().data()))
-        throw InputError(path + ": cannot read image: " + in->geterror());
+    bool ok;
+    if (spec.channelformats.empty() && spec.format != OIIO::TypeDesc::FLOAT) {
+        // Read the stored values into a buffer of their exact size and convert here: asked for
+        // floats directly, OpenImageIO 2.4 allocates a 64 MB staging buffer for every image.
+        std::vector<unsigned char> native(size_t(values) * spec.format.size());
+        ok = in->read_image(0, 0, 0, spec.nchannels, spec.format, native.data()) &&
+             OIIO::convert_image(spec.nchannels, spec.width, spec.height, 1, native.data(), spec.format, OIIO::AutoStride,
+                                 OIIO::AutoStride, OIIO::AutoStride, image.data().data(), OIIO::TypeDesc::FLOAT,
+                                 OIIO::AutoStride, OIIO::AutoStride, OIIO::AutoStride);
+    } else {
+        ok = in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.data().data());
+    }
+    if (!ok) throw InputError(path + ": cannot read image: " + in->geterror());
     for (const auto& p : spec.extra_attribs) image.metadata[p.name().string()] = p.get_string();
     in->close();
     return image;

@@ -5,6 +5,7 @@
 
 #include "core/spectrum.h"
 
+#include <cstdint>
 #include <map>
 #include <string>
 #include <vector>
@@ -44,8 +45,11 @@ private:
     std::vector<float> data_;
 };
 
-// Reads any format OpenImageIO knows. Channels come back as the file names them; 8- and 16-bit
-// integer images are returned in [0, 1] without colour conversion. Throws InputError.
+// Reads any 2D image format OpenImageIO knows. Channels come back as the file names them; 8- and
+// 16-bit integer images are returned in [0, 1] without colour conversion. Throws InputError, also
+// for volume images and for images of more than MaxImageValues values (a 16384 x 16384 RGBA
+// image has exactly that many; a corrupt header must not make us allocate without bound).
+constexpr uint64_t MaxImageValues = uint64_t(1) << 28;
 Image read_image(const std::string& path);
 // True when the file stores integer (display-referred, usually sRGB-encoded) values.
 bool image_is_integer_format(const std::string& path);
