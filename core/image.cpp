@@ -65,19 +65,8 @@ Image read_image(const std::string& path) {
         names.push_back(n.empty() ? "C" + std::to_string(c) : n);
     }
     Image image(spec.width, spec.height, names);
-    bool ok;
-    if (spec.channelformats.empty() && spec.format != OIIO::TypeDesc::FLOAT) {
-        // Read the stored values into a buffer of their exact size and convert here: asked for
-        // floats directly, OpenImageIO 2.4 allocates a 64 MB staging buffer for every image.
-        std::vector<unsigned char> native(size_t(values) * spec.format.size());
-        ok = in->read_image(0, 0, 0, spec.nchannels, spec.format, native.data()) &&
-             OIIO::convert_image(spec.nchannels, spec.width, spec.height, 1, native.data(), spec.format, OIIO::AutoStride,
-                                 OIIO::AutoStride, OIIO::AutoStride, image.data().data(), OIIO::TypeDesc::FLOAT,
-                                 OIIO::AutoStride, OIIO::AutoStride, OIIO::AutoStride);
-    } else {
-        ok = in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.data().data());
-    }
-    if (!ok) throw InputError(path + ": cannot read image: " + in->geterror());
+    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.data().data()))
+        throw InputError(path + ": cannot read image: " + in->geterror());
     for (const auto& p : spec.extra_attribs) image.metadata[p.name().string()] = p.get_string();
     in->close();
     return image;
