@@ -95,13 +95,24 @@ TEST_CASE("obj: normals from the file, face_normals, and corners split by uv sea
 
 TEST_CASE("obj: a broken file is an error at the filename's line", "[mesh][errors]") {
     auto dir = scratch_dir("obj-bad");
-    write_text(dir / "bad.obj", "v 0 0 0\nv 1 0 0\nf 1 2 7\n");
-    write_text(dir / "scene.xml", scene_xml("<shape type=\"obj\">\n<string name=\"filename\" value=\"bad.obj\"/>\n</shape>"));
-    try {
-        load_scene((dir / "scene.xml").string());
-        FAIL("expected an error");
-    } catch (const SceneError& e) {
-        CHECK(e.location.line == 3);
+    // Indices past the end, also ones whose byte offset overflows an int (found by fuzz_obj:
+    // 3 * 827408843 overflowed, undefined behaviour, before the range check).
+    const std::vector<std::pair<std::string, std::string>> bad = {
+        {"missing", "v 0 0 0\nv 1 0 0\nf 1 2 7\n"},
+        {"huge_vertex", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 827408844\n"},
+        {"huge_uv_and_normal", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\nf 1/1/1 2/1100000000/1 3/1/900000000\nf 1 2 827408844\n"},
+    };
+    for (const auto& [name, text] : bad) {
+        INFO(name);
+        write_text(dir / (name + ".obj"), text);
+        write_text(dir / "scene.xml", scene_xml("<shape type=\"obj\">\n<string name=\"filename\" value=\"" + name + ".obj\"/>\n</shape>"));
+        try {
+            load_scene((dir / "scene.xml").string());
+            FAIL("expected an error");
+        } catch (const SceneError& e) {
+            CHECK(e.location.line == 3);
+            CHECK_THAT(std::string(e.what()), Catch::Contains(name + ".obj"));
+        }
     }
 }
 
