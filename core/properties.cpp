@@ -1,5 +1,6 @@
 #include "core/properties.h"
 
+#include "core/file_resolver.h"
 #include "core/texture.h"
 
 #include <algorithm>
@@ -116,10 +117,22 @@ Vec3 Properties::get_vector(const std::string& name, const Vec3& def) const {
 
 static Spectrum as_rgb(const Properties::Value& v) {
     if (auto s = std::get_if<Vec3>(&v)) return *s;
+    if (auto o = std::get_if<Ref<Object>>(&v)) return std::static_pointer_cast<ConstantTexture>(*o)->value();
     return Spectrum(float(as_double(v)));
 }
-Spectrum Properties::get_rgb(const std::string& name) const { return as_rgb(require(name, Type::RGB).value); }
+// A referenced constant texture stands for its colour; any other object is the usual type error.
+static bool is_constant_texture(const Properties::Value& v) {
+    auto o = std::get_if<Ref<Object>>(&v);
+    return o && std::dynamic_pointer_cast<ConstantTexture>(*o) != nullptr;
+}
+Spectrum Properties::get_rgb(const std::string& name) const {
+    auto it = entries_.find(name);
+    if (it != entries_.end() && is_constant_texture(it->second.value)) return as_rgb(get_raw(name));
+    return as_rgb(require(name, Type::RGB).value);
+}
 Spectrum Properties::get_rgb(const std::string& name, const Spectrum& def) const {
+    auto it = entries_.find(name);
+    if (it != entries_.end() && is_constant_texture(it->second.value)) return as_rgb(get_raw(name));
     const Entry* e = find(name, Type::RGB);
     return e ? as_rgb(e->value) : def;
 }
@@ -128,16 +141,24 @@ Transform Properties::get_transform(const std::string& name, const Transform& de
     return e ? std::get<Transform>(e->value) : def;
 }
 
+std::string Properties::get_path(const std::string& name) const {
+    namespace fs = std::filesystem;
+    fs::path p(get_string(name));
+    SourceLocation where = location_of(name);
+    if (p.is_relative() && !where.file.empty()) p = fs::path(where.file).parent_path() / p;
+    return p.string();
+}
+
 std::string Properties::get_file_path(const std::string& name) const {
     namespace fs = std::filesystem;
     std::string value = get_string(name);
     SourceLocation where = location_of(name);
-    fs::path p(value);
-    if (p.is_relative() && !where.file.empty()) p = fs::path(where.file).parent_path() / p;
-    std::error_code ec;
-    if (!fs::is_regular_file(p, ec))
-        throw SceneError(where, "file not found: \"" + value + "\"" + (p.string() != value ? " (looked for " + p.string() + ")" : ""));
-    return p.string();
+    FileResolver beside_file;
+    if (!resolver_ && !where.file.empty()) beside_file.append(fs::path(where.file).parent_path());
+    const FileResolver& resolver = resolver_ ? *resolver_ : beside_file;
+    if (auto found = resolver.find_file(value)) return found->string();
+    if (fs::path(value).is_absolute()) throw SceneError(where, "file not found: \"" + value + "\"");
+    throw SceneError(where, "file not found: \"" + value + "\" (looked in: " + resolver.describe() + ")");
 }
 
 Ref<Texture> Properties::get_texture(const std::string& name, const Spectrum& def) const {

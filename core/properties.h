@@ -9,6 +9,7 @@
 #include "core/transform.h"
 
 #include <map>
+#include <memory>
 #include <optional>
 #include <variant>
 #include <vector>
@@ -16,6 +17,7 @@
 namespace candela {
 
 class Texture;
+class FileResolver;
 
 class Properties {
 public:
@@ -49,7 +51,8 @@ public:
     bool has(const std::string& name) const { return entries_.count(name) != 0; }
 
     // Typed reads. Without a default, a missing property is an error. Integers are accepted
-    // where floats are asked for, and a single float where an rgb is.
+    // where floats are asked for, and a single float or a constant texture (a <ref> to a
+    // <spectrum type="...">) where an rgb is.
     int get_int(const std::string& name) const;
     int get_int(const std::string& name, int def) const;
     float get_float(const std::string& name) const;
@@ -65,9 +68,17 @@ public:
     Spectrum get_rgb(const std::string& name, const Spectrum& def) const;
     Transform get_transform(const std::string& name, const Transform& def = Transform()) const;
 
-    // A file name, resolved relative to the directory of the scene file that names it; a missing
-    // file is an error at the property's line.
+    // A file name, looked for in the folders of the scene's file resolver (the scene file's own
+    // folder, <path> folders, the working directory: see core/file_resolver.h); without a resolver,
+    // beside the file that names it. A missing file is an error at the property's line that says
+    // where it looked.
     std::string get_file_path(const std::string& name) const;
+    // Set by the loader for every object it creates.
+    void set_file_resolver(std::shared_ptr<const FileResolver> resolver) { resolver_ = std::move(resolver); }
+    const std::shared_ptr<const FileResolver>& file_resolver() const { return resolver_; }
+    // A name that need not be one existing file (a pattern of several, such as a cube map's
+    // "{face}"), made absolute relative to the file that names it.
+    std::string get_path(const std::string& name) const;
 
     // A texture-valued parameter: a nested/referenced texture, or an rgb/float constant.
     Ref<Texture> get_texture(const std::string& name, const Spectrum& def) const;
@@ -105,6 +116,7 @@ private:
     std::string plugin_type_;
     SourceLocation location_;
     std::map<std::string, Entry> entries_;
+    std::shared_ptr<const FileResolver> resolver_;
 };
 
 const char* type_name(Properties::Type t);

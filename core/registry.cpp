@@ -1,5 +1,7 @@
 #include "core/registry.h"
 
+#include <algorithm>
+#include <cctype>
 #include <map>
 
 namespace candela {
@@ -24,13 +26,66 @@ std::vector<std::string> plugin_names(ObjectKind kind) {
     return out;
 }
 
+namespace {
+
+// Mitsuba 3 plugins that Candela deliberately does not have, with the reason. Candela renders
+// surfaces in vacuum in unpolarised RGB: participating media and polarisation have no place in
+// it, and rendering these plugins as something else would give a silently wrong picture.
+const char* unsupported_reason(ObjectKind kind, const std::string& type) {
+    static const char* media = "participating media are not supported (Candela renders surfaces in vacuum)";
+    static const char* polarisation = "polarisation is not supported (Candela renders unpolarised RGB only)";
+    static const std::map<std::pair<ObjectKind, std::string>, const char*> table = {
+        {{ObjectKind::Integrator, "volpath"}, media},
+        {{ObjectKind::Integrator, "volpathmis"}, media},
+        {{ObjectKind::Integrator, "prbvolpath"}, media},
+        {{ObjectKind::Integrator, "stokes"}, polarisation},
+        {{ObjectKind::BSDF, "measured_polarized"}, polarisation},
+        {{ObjectKind::BSDF, "retarder"}, polarisation},
+    };
+    auto it = table.find({kind, type});
+    return it == table.end() ? nullptr : it->second;
+}
+
+// Levenshtein distance, ignoring case: how many single-letter edits turn `a` into `b`.
+size_t edit_distance(const std::string& a, const std::string& b) {
+    std::vector<size_t> row(b.size() + 1);
+    for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+    for (size_t i = 1; i <= a.size(); ++i) {
+        size_t diagonal = row[0];
+        row[0] = i;
+        for (size_t j = 1; j <= b.size(); ++j) {
+            size_t above = row[j];
+            bool same = std::tolower(static_cast<unsigned char>(a[i - 1])) == std::tolower(static_cast<unsigned char>(b[j - 1]));
+            row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (same ? 0 : 1)});
+            diagonal = above;
+        }
+    }
+    return row[b.size()];
+}
+
+}  // namespace
+
+std::string nearest_name(const std::string& word, const std::vector<std::string>& names) {
+    std::string best;
+    size_t best_distance = 0;
+    for (const std::string& name : names) {
+        size_t d = edit_distance(word, name);
+        if (best.empty() || d < best_distance) best = name, best_distance = d;
+    }
+    return best;
+}
+
 Ref<Object> create_plugin(ObjectKind kind, const Properties& props) {
     auto it = registry().find({kind, props.plugin_type()});
     if (it == registry().end()) {
+        std::string what = std::string(kind_tag(kind)) + " type \"" + props.plugin_type() + "\"";
+        if (const char* reason = unsupported_reason(kind, props.plugin_type()))
+            throw SceneError(props.location(), "unsupported " + what + ": " + reason);
         std::string known;
         for (auto& name : plugin_names(kind)) known += (known.empty() ? "" : ", ") + name;
-        throw SceneError(props.location(), std::string("unknown ") + kind_tag(kind) + " type \"" + props.plugin_type() +
-                                               "\" (known: " + known + ")");
+        std::string nearest = nearest_name(props.plugin_type(), plugin_names(kind));
+        throw SceneError(props.location(), "unknown " + what + (nearest.empty() ? "" : " (nearest supported: \"" + nearest + "\")") +
+                                               " (known: " + known + ")");
     }
     Ref<Object> obj;
     try {

@@ -3,18 +3,29 @@
 #include "core/bsdf.h"
 #include "core/registry.h"
 
+#include <algorithm>
+
 namespace candela {
 
 Scene::Scene(const Properties& props) {
     source_file = props.location().file;
-    for (auto& obj : props.get_objects(ObjectKind::Shape)) shapes_.push_back(std::static_pointer_cast<Shape>(obj));
+    // Shape groups are not drawn themselves, only through the instances that reference them.
+    for (auto& obj : props.get_objects(ObjectKind::Shape)) {
+        auto shape = std::static_pointer_cast<Shape>(obj);
+        if (!shape->is_shape_group()) shapes_.push_back(shape);
+    }
     // Area emitters first (in shape order), then the scene's own emitters.
     for (auto& shape : shapes_)
         if (shape->emitter()) emitters_.push_back(shape->emitter_ref());
     for (auto& obj : props.get_objects(ObjectKind::Emitter)) {
         auto emitter = std::static_pointer_cast<Emitter>(obj);
-        if (emitter->type() == EmitterType::Area)
-            throw SceneError(props.location_of(emitter->id), "an area emitter must be nested inside a shape");
+        if (emitter->type() == EmitterType::Area) {
+            // An area emitter declared at the top with an id and referenced from its shape (as
+            // Mitsuba allows) is already in the list; one that no shape names is an error.
+            bool attached = std::any_of(shapes_.begin(), shapes_.end(), [&](const Ref<Shape>& s) { return s->emitter() == emitter.get(); });
+            if (!attached) throw SceneError(props.location_of(emitter->id), "an area emitter must be nested inside a shape");
+            continue;
+        }
         emitters_.push_back(emitter);
     }
     auto sensors = props.get_objects(ObjectKind::Sensor);
@@ -25,11 +36,15 @@ Scene::Scene(const Properties& props) {
     if (integrators.size() > 1) props.fail("only one integrator per scene is supported");
     integrator_ = integrators.empty() ? create_plugin_as<Integrator>(ObjectKind::Integrator, Properties("path", props.location()))
                                       : std::static_pointer_cast<Integrator>(integrators[0]);
-    // Top-level BSDFs and textures exist to be referenced by id; they need no further use here.
-    props.get_objects(ObjectKind::BSDF);
-    props.get_objects(ObjectKind::Texture);
+    // Top-level BSDFs, textures, samplers, films and filters exist to be referenced by id (Mitsuba's
+    // documentation scenes declare their sampler at the top and refer to it from the sensor).
+    for (ObjectKind kind : {ObjectKind::BSDF, ObjectKind::Texture, ObjectKind::Sampler, ObjectKind::Film, ObjectKind::Filter})
+        props.get_objects(kind);
 
-    for (auto& shape : shapes_) bbox_.expand(shape->bbox());
+    for (auto& shape : shapes_) {
+        bbox_.expand(shape->bbox());
+        if (shape->bsdf()->has_null_lobe()) has_null_surfaces_ = true;
+    }
     accel_.build(shapes_);
     for (auto& emitter : emitters_) {
         emitter->set_scene(*this);
@@ -46,12 +61,34 @@ bool Scene::intersect(const Ray& ray, SurfaceInteraction& si) const {
         si.wi = -ray.d;
         return false;
     }
-    shape->fill_interaction(ray, hit, si);
+    // An instance replaces si.shape by the shape of its group that was hit (for its BSDF).
     si.shape = shape;
+    shape->fill_interaction(ray, hit, si);
     si.prim_index = hit.prim_index;
+    si.prim_uv = Vec2(hit.u, hit.v);
     si.t = hit.t;
     si.wi = si.to_local(-ray.d);
     return true;
+}
+
+Spectrum Scene::transmittance(const Ray& shadow_ray) const {
+    if (!has_null_surfaces_) return occluded(shadow_ray) ? Spectrum(0.0f) : Spectrum(1.0f);
+    // Cross the surfaces one by one; a ray that keeps meeting surfaces after this many crossings
+    // (coplanar layers that the offsets cannot separate) is taken as blocked rather than looping.
+    const int MaxCrossings = 256;
+    Spectrum T(1.0f);
+    Ray ray = shadow_ray;
+    for (int crossed = 0; crossed < MaxCrossings; ++crossed) {
+        SurfaceInteraction si;
+        if (!intersect(ray, si)) return T;
+        T *= si.shape->bsdf()->null_transmission(si);
+        if (is_black(T)) return T;
+        Vec3 origin = offset_ray_origin(si.p, si.p_error, si.n, ray.d);
+        float remaining = ray.tmax - glm::dot(origin - ray.o, ray.d);  // inf stays inf
+        if (!(remaining > 0.0f)) return T;
+        ray = Ray(origin, ray.d, remaining);
+    }
+    return Spectrum(0.0f);
 }
 
 Spectrum Scene::eval_environment(const Vec3& d) const {

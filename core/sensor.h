@@ -10,18 +10,40 @@
 
 namespace candela {
 
-// A pinhole camera's projection, for the rasterizer: camera space has +z forward, +y up and +x
-// toward the image's left (Mitsuba's convention).
+class Properties;
+
+// A pinhole camera's projection (the rasterizer's camera, and the projector light's): camera
+// space has +z forward, +y up and +x toward the image's left (Mitsuba's convention). Film
+// positions s are fractions of the full film in [0,1]^2 with the origin at the top-left corner.
 struct PinholeProjection {
     Transform to_world;
     float tan_half_x = 1.0f;  // tan(fov_x / 2)
     float aspect = 1.0f;      // width / height of the full film
     float near_clip = 0.01f, far_clip = 1e4f;
+    // Mitsuba's principal_point_offset_x/y: film position s looks where s + offset would look
+    // without the shift, so the optical axis meets the film at (0.5, 0.5) - offset.
+    Vec2 principal_point_offset{0.0f};
+
+    // The camera-space direction through film position s, scaled to z = 1.
+    Vec3 direction(const Vec2& s) const {
+        Vec2 t = s + principal_point_offset;
+        return Vec3((1.0f - 2.0f * t.x) * tan_half_x, (1.0f - 2.0f * t.y) * tan_half_x / aspect, 1.0f);
+    }
+    // The film position where a camera-space point in front of the camera (z > 0) appears.
+    Vec2 film_position(const Vec3& p) const {
+        return Vec2(0.5f - 0.5f * p.x / (p.z * tan_half_x), 0.5f - 0.5f * p.y * aspect / (p.z * tan_half_x)) - principal_point_offset;
+    }
 };
+
+// Mitsuba's field of view parameters (fov in degrees along fov_axis x, y, diagonal, smaller or
+// larger; or focal_length as a 35 mm equivalent such as "50mm", which spans the diagonal), read
+// for an image of aspect width / height: returns tan(fov_x / 2).
+float read_tan_half_fov_x(const Properties& props, float aspect);
 
 class Sensor : public Object {
 public:
-    // The projection of a pinhole camera (nullopt for other camera models).
+    // The projection of a pinhole camera (nullopt for other camera models: the rasterizer
+    // renders only through a pinhole).
     virtual std::optional<PinholeProjection> pinhole() const { return std::nullopt; }
     ObjectKind kind() const override { return ObjectKind::Sensor; }
     // A primary ray through continuous film position `film_pos` (pixels of the full film, origin

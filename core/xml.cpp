@@ -1,6 +1,11 @@
 #include "core/xml.h"
 
+#include "core/file_resolver.h"
 #include "core/registry.h"
+#include "core/text.h"
+#include "core/texture.h"
+#include "core/warning.h"
+#include "core/xml_spectrum.h"
 
 #include <pugixml.hpp>
 
@@ -32,7 +37,48 @@ struct Document {
     std::string text;
     std::vector<size_t> line_starts;
     pugi::xml_document xml;
+    // Scene files older than version 2.0 (Mitsuba 0.4 to 0.6) are read through Mitsuba 3's
+    // upgrade: see property_name(), read_object() and the legacy tags in read_property().
+    bool upgrade = false;
+    // Where this file's relative file names are looked for; replaced (never changed in place)
+    // by each <path>, so objects keep the list that held where they were declared.
+    std::shared_ptr<const FileResolver> resolver;
 };
+
+// Mitsuba 3's camelCase to snake_case upgrade of a property name (src/core/parser.cpp,
+// camel_to_underscore_case): an underscore before each capital that follows a lower-case
+// letter, and the run of capitals lower-cased: toWorld -> to_world, intIOR -> int_ior.
+std::string camel_to_snake(const std::string& name) {
+    std::string out;
+    for (size_t i = 0; i < name.size(); ++i) {
+        unsigned char c = static_cast<unsigned char>(name[i]);
+        if (i > 0 && std::islower(static_cast<unsigned char>(name[i - 1])) && std::isupper(c)) {
+            out += '_';
+            out += char(std::tolower(c));
+            while (i + 1 < name.size() && std::isupper(static_cast<unsigned char>(name[i + 1]))) out += char(std::tolower(name[++i]));
+        } else {
+            out += char(c);
+        }
+    }
+    return out;
+}
+
+// Mitsuba 0.6's <srgb> value, "#rrggbb" or one or three gamma-encoded numbers, made linear.
+bool parse_srgb(const std::string& text, const std::vector<double>& numbers, Spectrum& out) {
+    if (!text.empty() && text[0] == '#') {
+        if (text.size() != 7) return false;
+        for (int c = 0; c < 3; ++c) {
+            char* end = nullptr;
+            long v = std::strtol(text.substr(1 + 2 * c, 2).c_str(), &end, 16);
+            if (*end != '\0') return false;
+            out[c] = srgb_to_linear(float(v) / 255.0f);
+        }
+        return true;
+    }
+    if (numbers.size() != 1 && numbers.size() != 3) return false;
+    for (int c = 0; c < 3; ++c) out[c] = srgb_to_linear(float(numbers[numbers.size() == 1 ? 0 : c]));
+    return true;
+}
 
 class XmlLoader {
 public:
@@ -40,6 +86,13 @@ public:
 
     Ref<Scene> load(const std::string& text, const std::string& path) {
         Document& doc = parse_document(text, path, SourceLocation{path, 0});
+        // Mitsuba 3: the scene file's folder, then the working directory; <path>s go in front.
+        auto resolver = std::make_shared<FileResolver>();
+        resolver->append(fs::absolute(fs::path(path)).parent_path());
+        std::error_code ec;
+        fs::path cwd = fs::current_path(ec);
+        if (!ec) resolver->append(cwd);
+        doc.resolver = resolver;
         pugi::xml_node root = doc.xml.document_element();
         Properties scene_props("scene", where(doc, root));
         read_scene_element(doc, root, scene_props, 0);
@@ -135,16 +188,7 @@ private:
 
     std::vector<double> parse_list(const Document& doc, const pugi::xml_node& node, const std::string& text) const {
         std::vector<double> out;
-        std::string token;
-        auto flush = [&] {
-            if (!token.empty()) out.push_back(parse_double(doc, node, token));
-            token.clear();
-        };
-        for (char c : text) {
-            if (c == ',' || std::isspace(static_cast<unsigned char>(c))) flush();
-            else token += c;
-        }
-        flush();
+        for (const std::string& item : split_list(text)) out.push_back(parse_double(doc, node, item));
         return out;
     }
 
@@ -181,8 +225,8 @@ private:
         int major = 0, minor = 0, patch = 0;
         if (std::sscanf(version.c_str(), "%d.%d.%d", &major, &minor, &patch) != 3)
             throw SceneError(where(doc, root), "version \"" + version + "\" is not of the form major.minor.patch");
-        if (major < 2)
-            throw SceneError(where(doc, root), "scene version " + version + " predates Mitsuba 2; only version 2 and 3 scenes are read");
+        doc.upgrade = major < 2;
+        scan_declarations(doc, root);
         for (pugi::xml_node child : root.children()) read_child(doc, child, scene_props, /*in_scene=*/true, depth);
     }
 
@@ -197,15 +241,16 @@ private:
         auto kind = object_tags().find(tag);
         if (kind != object_tags().end()) {
             Ref<Object> obj = read_object(doc, child, kind->second);
-            std::string name = has_attr(child, "name") ? attr(doc, child, "name") : next_arg_name();
+            std::string name = has_attr(child, "name") ? property_name(doc, child) : next_arg_name();
             props.set_object(name, obj, where(doc, child));
+        } else if (tag == "spectrum" && has_attr(child, "type")) {
+            read_spectrum_plugin(doc, child, props);
         } else if (tag == "ref") {
             check_attributes(doc, child, {"id", "name"});
             std::string id = attr(doc, child, "id");
-            auto it = ids_.find(id);
-            if (it == ids_.end()) throw SceneError(where(doc, child), "reference to unknown id \"" + id + "\" (ids must be defined before use)");
-            std::string name = has_attr(child, "name") ? attr(doc, child, "name") : next_arg_name();
-            props.set_object(name, it->second, where(doc, child));
+            Ref<Object> target = find_id(doc, child, id);
+            std::string name = has_attr(child, "name") ? property_name(doc, child) : next_arg_name();
+            props.set_object(name, target, where(doc, child));
         } else if (tag == "default") {
             if (!in_scene) throw SceneError(where(doc, child), "<default> may only appear directly inside <scene>");
             check_attributes(doc, child, {"name", "value"});
@@ -217,9 +262,52 @@ private:
             if (!in_scene) throw SceneError(where(doc, child), "<include> may only appear directly inside <scene>");
             check_attributes(doc, child, {"filename"});
             include(doc, child, props, depth);
+        } else if (tag == "path") {
+            if (!in_scene) throw SceneError(where(doc, child), "<path> may only appear directly inside <scene>");
+            add_search_path(doc, child);
+        } else if (tag == "alias") {
+            check_attributes(doc, child, {"id", "as"});
+            std::string id = attr(doc, child, "id"), as = attr(doc, child, "as");
+            if (!ids_.count(id) && !declared_.count(id)) throw SceneError(where(doc, child), "<alias> of unknown id \"" + id + "\"");
+            if (ids_.count(as)) throw SceneError(where(doc, child), "duplicate id \"" + as + "\"");
+            ids_[as] = find_id(doc, child, id);
+        } else if (tag == "animation") {
+            throw SceneError(where(doc, child), "unsupported element <animation>: animated transforms (motion blur) are not supported");
+        } else if (tag == "resource_path") {
+            throw SceneError(where(doc, child), "unknown element <resource_path> (Mitsuba 3 calls it <path value=\"...\"/>)");
+        } else if (tag == "medium" || tag == "phase" || tag == "volume") {
+            throw SceneError(where(doc, child), "unsupported element <" + tag +
+                                                    ">: participating media are not supported (Candela renders surfaces in vacuum)");
         } else {
             read_property(doc, child, props);
         }
+    }
+
+    // The name attribute of a property or nested object. In a pre-2.0 scene it is upgraded as
+    // Mitsuba 3 does: camelCase to snake_case, and a diffuse BSDF's diffuse_reflectance is its
+    // reflectance.
+    std::string property_name(const Document& doc, const pugi::xml_node& node) const {
+        std::string name = attr(doc, node, "name");
+        if (!doc.upgrade) return name;
+        name = camel_to_snake(name);
+        pugi::xml_node parent = node.parent();
+        if (name == "diffuse_reflectance" && std::strcmp(parent.name(), "bsdf") == 0 && attr_or(doc, parent, "type", "") == "diffuse")
+            return "reflectance";
+        return name;
+    }
+
+    // <path value="folder"/>: the folder, found like any file name (relative to this file's folder
+    // first), goes in front of the search list for everything after it in this file and in the
+    // files it includes (Mitsuba 3's FileResolver::prepend).
+    void add_search_path(Document& doc, const pugi::xml_node& node) {
+        check_attributes(doc, node, {"value"});
+        std::string value = attr(doc, node, "value");
+        auto found = doc.resolver->find_directory(value);
+        if (!found)
+            throw SceneError(where(doc, node), "<path>: folder \"" + value + "\" not found (looked in: " + doc.resolver->describe() + ")");
+        auto resolver = std::make_shared<FileResolver>(*doc.resolver);
+        resolver->prepend(fs::absolute(*found).lexically_normal());
+        doc.resolver = resolver;
     }
 
     std::string next_arg_name() { return "_arg" + std::to_string(arg_counter_++); }
@@ -227,82 +315,246 @@ private:
     void include(Document& doc, const pugi::xml_node& node, Properties& scene_props, int depth) {
         if (depth + 1 > MaxIncludeDepth) throw SceneError(where(doc, node), "includes nest too deeply (a cycle?)");
         std::string name = attr(doc, node, "filename");
-        fs::path p(name);
-        if (p.is_relative()) p = fs::path(doc.path).parent_path() / p;
-        std::ifstream in(p, std::ios::binary);
-        std::error_code ec;
-        if (!in || fs::is_directory(p, ec)) throw SceneError(where(doc, node), "cannot open included file \"" + name + "\"");
+        auto found = doc.resolver->find_file(name);
+        std::ifstream in;
+        if (found) in.open(*found, std::ios::binary);
+        if (!found || !in)
+            throw SceneError(where(doc, node), "cannot open included file \"" + name + "\" (looked in: " + doc.resolver->describe() + ")");
         std::stringstream ss;
         ss << in.rdbuf();
-        Document& inc = parse_document(ss.str(), p.string(), where(doc, node));
+        Document& inc = parse_document(ss.str(), found->string(), where(doc, node));
+        // The included file's own folder first, then everything the including file searches.
+        auto resolver = std::make_shared<FileResolver>(*doc.resolver);
+        resolver->prepend(fs::absolute(*found).parent_path());
+        inc.resolver = resolver;
         read_scene_element(inc, inc.xml.document_element(), scene_props, depth + 1);
     }
 
+    // The object an id names. Mitsuba resolves references after reading the whole file, so an
+    // object may be declared after the <ref> that uses it: such a declaration (found by the scan
+    // in read_scene_element) is built on first use and reused when the reading gets to it.
+    Ref<Object> find_id(Document& doc, const pugi::xml_node& ref, const std::string& id) {
+        auto it = ids_.find(id);
+        if (it != ids_.end()) return it->second;
+        auto later = declared_.find(id);
+        if (later == declared_.end())
+            throw SceneError(where(doc, ref), "reference to unknown id \"" + id + "\"");
+        auto& [decl_doc, decl_node] = later->second;
+        if (building_.count(decl_node.internal_object()))
+            throw SceneError(where(doc, ref), "circular reference to id \"" + id + "\"");
+        return read_object(*decl_doc, decl_node, object_tags().at(decl_node.name()));
+    }
+
+    // Remembers every object with an id in this file, for references that come before it.
+    void scan_declarations(Document& doc, const pugi::xml_node& node) {
+        for (pugi::xml_node child : node.children()) {
+            if (child.type() != pugi::node_element) continue;
+            if (object_tags().count(child.name()) && has_attr(child, "id")) {
+                std::string id = attr_or(doc, child, "id", "");
+                if (!declared_.count(id)) declared_[id] = {&doc, child};
+            }
+            scan_declarations(doc, child);
+        }
+    }
+
     Ref<Object> read_object(Document& doc, const pugi::xml_node& node, ObjectKind kind) {
+        auto built = built_.find(node.internal_object());
+        if (built != built_.end()) return built->second;
+        building_.insert(node.internal_object());
         check_attributes(doc, node, {"type", "id", "name"});
         std::string type = attr(doc, node, "type");
         Properties props(type, where(doc, node));
         std::string id = attr_or(doc, node, "id", "");
         props.id = id;
         if (!id.empty() && ids_.count(id)) throw SceneError(where(doc, node), "duplicate id \"" + id + "\"");
-        for (pugi::xml_node child : node.children()) read_child(doc, child, props, false, 0);
+        props.set_file_resolver(doc.resolver);
+        read_children(doc, node, props);
         Ref<Object> obj = create_plugin(kind, props);
         if (!id.empty()) ids_[id] = obj;
+        building_.erase(node.internal_object());
+        built_[node.internal_object()] = obj;
         return obj;
+    }
+
+    // An object's children. In a pre-2.0 scene the floats uoffset, voffset, uscale and vscale
+    // become the transform to_uv = scale(uscale, vscale) * translate(uoffset, voffset), as in
+    // Mitsuba 3's upgrade.
+    void read_children(Document& doc, const pugi::xml_node& node, Properties& props) {
+        Vec3 offset(0.0f), scale(1.0f);
+        SourceLocation uv_location;
+        for (pugi::xml_node child : node.children()) {
+            if (doc.upgrade && std::strcmp(child.name(), "float") == 0 && has_attr(child, "name")) {
+                std::string name = property_name(doc, child);
+                int axis = (name == "uoffset" || name == "uscale") ? 0 : (name == "voffset" || name == "vscale") ? 1 : -1;
+                if (axis >= 0) {
+                    check_attributes(doc, child, {"name", "value"});
+                    float v = float(parse_double(doc, child, attr(doc, child, "value")));
+                    (name[1] == 'o' ? offset : scale)[axis] = v;
+                    if (uv_location.file.empty()) uv_location = where(doc, child);
+                    continue;
+                }
+            }
+            read_child(doc, child, props, false, 0);
+        }
+        if (!uv_location.file.empty())
+            props.set("to_uv", Properties::Type::Transform, Transform::scale(scale) * Transform::translate(offset), uv_location);
+    }
+
+    // <spectrum type="..." [name] [id]>: a constant colour (see core/xml_spectrum.cpp). Named, it
+    // is a property of the enclosing object; with an id (or at the top level) it is a constant
+    // texture that <ref> can name.
+    void read_spectrum_plugin(Document& doc, const pugi::xml_node& node, Properties& parent) {
+        check_attributes(doc, node, {"type", "id", "name"});
+        SourceLocation loc = where(doc, node);
+        Properties props(attr(doc, node, "type"), loc);
+        props.set_file_resolver(doc.resolver);
+        read_children(doc, node, props);
+        std::string name = has_attr(node, "name") ? property_name(doc, node) : "";
+        SpectrumRole role = spectrum_role(std::strcmp(node.parent().name(), "emitter") == 0, name);
+        Ref<Object> texture;
+        Spectrum rgb = spectrum_plugin_rgb(props, role, &texture);
+        props.check_all_used();
+        if (!texture) texture = std::make_shared<ConstantTexture>(rgb);
+        std::string id = attr_or(doc, node, "id", "");
+        if (!id.empty()) {
+            if (ids_.count(id)) throw SceneError(loc, "duplicate id \"" + id + "\"");
+            texture->id = id;
+            ids_[id] = texture;
+        }
+        if (name.empty()) parent.set_object(next_arg_name(), texture, loc);
+        else if (std::dynamic_pointer_cast<ConstantTexture>(texture)) parent.set(name, Properties::Type::RGB, rgb, loc);
+        else parent.set_object(name, texture, loc);
     }
 
     void read_property(Document& doc, const pugi::xml_node& node, Properties& props) {
         std::string tag = node.name();
         SourceLocation loc = where(doc, node);
-        auto no_children = [&] {
-            for (pugi::xml_node c : node.children())
-                if (c.type() == pugi::node_element) throw SceneError(where(doc, c), "<" + tag + "> cannot contain <" + c.name() + ">");
-        };
+        if (tag == "transform") {
+            check_attributes(doc, node, {"name"});
+            props.set(property_name(doc, node), Properties::Type::Transform, read_transform(doc, node), loc);
+            return;
+        }
+        for (pugi::xml_node c : node.children())
+            if (c.type() == pugi::node_element) throw SceneError(where(doc, c), "<" + tag + "> cannot contain <" + c.name() + ">");
+        if (tag == "translate" || tag == "rotate" || tag == "scale" || tag == "matrix" || tag == "lookat" ||
+                   (doc.upgrade && tag == "lookAt")) {
+            throw SceneError(loc, "<" + tag + "> must be inside a <transform>");
+        } else if (tag == "rgb" || tag == "spectrum" || tag == "srgb" || tag == "blackbody") {
+            read_colour(doc, node, props);
+        } else {
+            read_scalar_property(doc, node, props);
+        }
+    }
+
+    void read_scalar_property(Document& doc, const pugi::xml_node& node, Properties& props) {
+        std::string tag = node.name();
+        SourceLocation loc = where(doc, node);
         if (tag == "integer") {
             check_attributes(doc, node, {"name", "value"});
-            no_children();
             std::string v = trim(attr(doc, node, "value"));
             char* end = nullptr;
             long long i = std::strtoll(v.c_str(), &end, 10);
             if (v.empty() || end != v.c_str() + v.size()) throw SceneError(loc, "\"" + v + "\" is not an integer");
-            props.set(attr(doc, node, "name"), Properties::Type::Integer, int64_t(i), loc);
+            props.set(property_name(doc, node), Properties::Type::Integer, int64_t(i), loc);
         } else if (tag == "float") {
             check_attributes(doc, node, {"name", "value"});
-            no_children();
-            props.set(attr(doc, node, "name"), Properties::Type::Float, parse_double(doc, node, attr(doc, node, "value")), loc);
+            props.set(property_name(doc, node), Properties::Type::Float, parse_double(doc, node, attr(doc, node, "value")), loc);
         } else if (tag == "boolean") {
             check_attributes(doc, node, {"name", "value"});
-            no_children();
             std::string v = trim(attr(doc, node, "value"));
             std::transform(v.begin(), v.end(), v.begin(), [](unsigned char c) { return char(std::tolower(c)); });
             if (v != "true" && v != "false") throw SceneError(loc, "\"" + v + "\" is not a boolean (true or false)");
-            props.set(attr(doc, node, "name"), Properties::Type::Boolean, v == "true", loc);
+            props.set(property_name(doc, node), Properties::Type::Boolean, v == "true", loc);
         } else if (tag == "string") {
             check_attributes(doc, node, {"name", "value"});
-            no_children();
-            props.set(attr(doc, node, "name"), Properties::Type::String, attr(doc, node, "value"), loc);
+            props.set(property_name(doc, node), Properties::Type::String, attr(doc, node, "value"), loc);
         } else if (tag == "point" || tag == "vector") {
             check_attributes(doc, node, {"name", "value", "x", "y", "z"});
-            no_children();
-            props.set(attr(doc, node, "name"), tag == "point" ? Properties::Type::Point : Properties::Type::Vector,
+            props.set(property_name(doc, node), tag == "point" ? Properties::Type::Point : Properties::Type::Vector,
                       parse_vec3(doc, node, 0.0f), loc);
-        } else if (tag == "rgb" || tag == "spectrum") {
-            check_attributes(doc, node, {"name", "value"});
-            no_children();
-            auto v = parse_list(doc, node, attr(doc, node, "value"));
-            Spectrum s;
-            if (v.size() == 1) s = Spectrum(float(v[0]));
-            else if (v.size() == 3 && tag == "rgb") s = Spectrum(float(v[0]), float(v[1]), float(v[2]));
-            else if (tag == "rgb") throw SceneError(loc, "<rgb> value needs 1 or 3 numbers");
-            else throw SceneError(loc, "<spectrum> is supported only with a single constant value (use <rgb> for colours)");
-            props.set(attr(doc, node, "name"), Properties::Type::RGB, s, loc);
-        } else if (tag == "transform") {
-            check_attributes(doc, node, {"name"});
-            props.set(attr(doc, node, "name"), Properties::Type::Transform, read_transform(doc, node), loc);
-        } else if (tag == "translate" || tag == "rotate" || tag == "scale" || tag == "matrix" || tag == "lookat") {
-            throw SceneError(loc, "<" + tag + "> must be inside a <transform>");
         } else {
             throw SceneError(loc, "unknown element <" + tag + ">");
+        }
+    }
+
+    // <rgb>, <spectrum> (one value, wavelength:value pairs, or a .spd file), and in pre-2.0
+    // scenes Mitsuba 0.6's <srgb> and <blackbody> and the intent attribute. Spectra become colours
+    // as in Mitsuba 3's RGB variants: see core/xml_spectrum.h for reflectance versus emission.
+    void read_colour(Document& doc, const pugi::xml_node& node, Properties& props) {
+        std::string tag = node.name();
+        SourceLocation loc = where(doc, node);
+        if (tag == "rgb") check_attributes(doc, node, {"name", "value", "intent"});
+        else if (tag == "spectrum") check_attributes(doc, node, {"name", "value", "filename", "intent"});
+        else if (tag == "srgb") check_attributes(doc, node, {"name", "value", "intent"});
+        else check_attributes(doc, node, {"name", "temperature", "scale"});
+        if (!doc.upgrade && (tag == "srgb" || tag == "blackbody" || has_attr(node, "intent")))
+            throw SceneError(loc, (has_attr(node, "intent") && tag != "srgb" && tag != "blackbody" ? std::string("the intent attribute")
+                                                                                                     : "<" + tag + ">") +
+                                      " is Mitsuba 0.6 syntax, read only in scenes of version below 2.0 (write " +
+                                      (tag == "blackbody" ? "<spectrum type=\"blackbody\">" : "<rgb> with linear values") + ")");
+        std::string name = property_name(doc, node);
+        SpectrumRole role = spectrum_role(std::strcmp(node.parent().name(), "emitter") == 0, name);
+        std::string intent = attr_or(doc, node, "intent", "");
+        if (intent == "illuminant") role = SpectrumRole::Emission;
+        else if (intent == "reflectance") role = role == SpectrumRole::Emission ? SpectrumRole::Reflectance : role;
+        else if (!intent.empty()) throw SceneError(loc, "intent must be reflectance or illuminant, not \"" + intent + "\"");
+        props.set(name, Properties::Type::RGB, colour_value(doc, node, role), loc);
+    }
+
+    Spectrum colour_value(Document& doc, const pugi::xml_node& node, SpectrumRole role) {
+        std::string tag = node.name();
+        SourceLocation loc = where(doc, node);
+        if (tag == "blackbody") {
+            // Mitsuba 0.6: temperature="5000K", scale multiplies (W m^-2 sr^-1 nm^-1).
+            std::string t = trim(attr(doc, node, "temperature"));
+            if (!t.empty() && (t.back() == 'K' || t.back() == 'k')) t.pop_back();
+            double temperature = parse_double(doc, node, t), scale = parse_double(doc, node, attr_or(doc, node, "scale", "1"));
+            if (!(temperature > 0.0)) throw SceneError(loc, "the temperature must be positive (in kelvin)");
+            return blackbody_rgb(temperature) * float(scale);
+        }
+        if (tag == "spectrum" && has_attr(node, "filename") == has_attr(node, "value"))
+            throw SceneError(loc, "<spectrum> takes either value or filename");
+        if (tag == "spectrum" && has_attr(node, "filename")) return spectrum_from_file(doc, node, role);
+        std::string text = attr(doc, node, "value");
+        if (tag == "spectrum" && text.find(':') != std::string::npos) {
+            try {
+                return sampled_spectrum_rgb(parse_spectrum_pairs(text), role, loc);
+            } catch (const SpectrumFormatError& e) {
+                throw SceneError(loc, std::string("<spectrum>: ") + e.what());
+            }
+        }
+        std::vector<double> v = tag == "srgb" && trim(text).rfind('#', 0) == 0 ? std::vector<double>() : parse_list(doc, node, text);
+        Spectrum rgb;
+        if (tag == "srgb") {
+            if (!parse_srgb(trim(text), v, rgb)) throw SceneError(loc, "<srgb> value needs \"#rrggbb\" or 1 or 3 numbers");
+        } else if (v.size() == 1) {
+            rgb = tag == "rgb" ? Spectrum(float(v[0])) : uniform_spectrum_rgb(v[0], role);
+        } else if (v.size() == 3 && (tag == "rgb" || doc.upgrade)) {
+            // <rgb>, or a pre-2.0 <spectrum> of three bins: Mitsuba 0.6's RGB builds read it as rgb.
+            rgb = Spectrum(float(v[0]), float(v[1]), float(v[2]));
+        } else if (tag == "rgb") {
+            throw SceneError(loc, "<rgb> value needs 1 or 3 numbers");
+        } else {
+            throw SceneError(loc, "<spectrum> value needs one number or wavelength:value pairs such as \"400:0.2, 700:0.8\"");
+        }
+        return rgb;
+    }
+
+    // <spectrum filename="x.spd"/>: found through the file resolver, one "wavelength value" pair
+    // per line with '#' comments.
+    Spectrum spectrum_from_file(Document& doc, const pugi::xml_node& node, SpectrumRole role) {
+        SourceLocation loc = where(doc, node);
+        std::string name = attr(doc, node, "filename");
+        auto found = doc.resolver->find_file(name);
+        if (!found) throw SceneError(loc, "file not found: \"" + name + "\" (looked in: " + doc.resolver->describe() + ")");
+        std::ifstream in(*found, std::ios::binary);
+        std::stringstream ss;
+        ss << in.rdbuf();
+        if (!in) throw SceneError(loc, "cannot read spectrum file \"" + found->string() + "\"");
+        try {
+            return sampled_spectrum_rgb(parse_spd(ss.str()), role, loc);
+        } catch (const SpectrumFormatError& e) {
+            throw SceneError(loc, "spectrum file \"" + found->string() + "\": " + e.what());
         }
     }
 
@@ -338,7 +590,7 @@ private:
                     throw SceneError(loc, "<matrix> needs 16 (4x4) or 9 (3x3) numbers, got " + std::to_string(v.size()));
                 }
                 m = Transform(mat);
-            } else if (tag == "lookat") {
+            } else if (tag == "lookat" || (doc.upgrade && tag == "lookAt")) {
                 check_attributes(doc, op, {"origin", "target", "up"});
                 Vec3 origin = parse_point_attr(doc, op, "origin"), target = parse_point_attr(doc, op, "target");
                 Vec3 up = has_attr(op, "up") ? parse_point_attr(doc, op, "up") : Vec3(0.0f);
@@ -358,6 +610,9 @@ private:
     std::vector<std::unique_ptr<Document>> docs_;
     SceneParameters params_;
     std::map<std::string, Ref<Object>> ids_;
+    std::map<std::string, std::pair<Document*, pugi::xml_node>> declared_;  // ids declared anywhere in the files read
+    std::map<const void*, Ref<Object>> built_;                                // object elements built so far
+    std::set<const void*> building_;                                          // object elements being built
     int arg_counter_ = 0;
 };
 

@@ -4,7 +4,10 @@
 //   radiance   rgb or texture   emitted radiance in W m^-2 sr^-1 (default 1); a texture is looked
 //                               up by the shape's uv
 // Sampling is delegated to the shape: uniform solid angle for spheres seen from outside,
-// uniform area (converted to solid angle) otherwise.
+// uniform area (converted to solid angle) otherwise. A textured radiance is evaluated at the
+// sampled point's uv, which keeps the estimate unbiased; unlike Mitsuba, the texture is not
+// importance-sampled (that needs a uv-to-surface map for every shape), so a high-contrast
+// texture costs variance, not correctness.
 
 #include "core/emitter.h"
 #include "core/local_model.h"
@@ -26,7 +29,7 @@ public:
 
     Spectrum eval(const SurfaceInteraction& si) const override {
         if (Frame::cos_theta(si.wi) <= 0.0f) return Spectrum(0.0f);  // back side
-        return radiance_->eval(si.uv);
+        return radiance_->eval(si);
     }
 
     DirectionSample sample_direction(const SurfaceInteraction& ref, const Vec2& u, Spectrum& weight) const override {
@@ -58,9 +61,7 @@ public:
         a.radiance = radiance_->mean();
         a.shape = shape_;
         a.position = shape_->bbox().center();
-        float cos_cone;
-        shape_->normal_cone(a.normal, cos_cone);
-        a.planar = cos_cone >= 1.0f - 1e-6f;
+        a.planar = shape_->is_planar(a.normal);
         a.intensity = radiance_->mean() * shape_->surface_area() * (a.planar ? 1.0f : 0.25f);
         return a;
     }

@@ -120,34 +120,17 @@ LightTree::LightTree(const Scene& scene) {
         }
     }
     if (bounded_.empty()) return;
-    std::vector<int> ids(bounded_.size());
-    std::iota(ids.begin(), ids.end(), 0);
-    build(ids, 0, ids.size(), all);
-    // Record the path from the root to every leaf.
-    std::vector<std::pair<int, std::pair<uint64_t, int>>> stack = {{0, {0, 0}}};
-    while (!stack.empty()) {
-        auto [node, path] = stack.back();
-        stack.pop_back();
-        const Node& nd = nodes_[node];
-        if (nd.light >= 0) {
-            trail_[bounded_[nd.light]] = path.first;
-            depth_[bounded_[nd.light]] = path.second;
-            continue;
-        }
-        if (path.second >= 63) continue;  // deeper than the trail can record: unreachable in practice
-        stack.push_back({node + 1, {path.first, path.second + 1}});
-        stack.push_back({nd.child1, {path.first | (uint64_t(1) << path.second), path.second + 1}});
-    }
+    build(all);
+    for (int node = 0; node < int(nodes_.size()); ++node)
+        if (nodes_[node].light >= 0) leaf_[bounded_[nodes_[node].light]] = node;
 }
 
-int LightTree::build(std::vector<int>& ids, size_t begin, size_t end, const std::vector<LightBounds>& all) {
-    int index = int(nodes_.size());
-    nodes_.emplace_back();
-    if (end - begin == 1) {
-        nodes_[index].bounds = all[ids[begin]];
-        nodes_[index].light = ids[begin];
-        return index;
-    }
+namespace {
+
+// Where to split the lights ids[begin, end) (at least two): the surface-area-orientation
+// heuristic over 12 buckets per axis; in the middle when all centroids coincide or every bucket
+// falls on one side.
+size_t split_lights(std::vector<int>& ids, size_t begin, size_t end, const std::vector<LightBounds>& all) {
     LightBounds total;
     BoundingBox centroids;
     for (size_t i = begin; i < end; ++i) {
@@ -155,7 +138,6 @@ int LightTree::build(std::vector<int>& ids, size_t begin, size_t end, const std:
         centroids.expand(all[ids[i]].box.center());
     }
     if (total.phi == 0.0f) total.box = all[ids[begin]].box;
-    // Split by the surface-area-orientation heuristic over 12 buckets per axis.
     constexpr int Buckets = 12;
     float best_cost = Infinity;
     int best_axis = -1, best_bucket = -1;
@@ -183,23 +165,46 @@ int LightTree::build(std::vector<int>& ids, size_t begin, size_t end, const std:
             }
         }
     }
-    size_t mid;
-    if (best_axis < 0) {
-        mid = (begin + end) / 2;  // all centroids coincide
-    } else {
-        auto it = std::partition(ids.begin() + long(begin), ids.begin() + long(end), [&](int id) {
-            float t = (all[id].box.center()[best_axis] - centroids.min[best_axis]) / ext[best_axis];
-            return std::min(int(t * Buckets), Buckets - 1) <= best_bucket;
-        });
-        mid = size_t(it - ids.begin());
-        if (mid == begin || mid == end) mid = (begin + end) / 2;
+    if (best_axis < 0) return (begin + end) / 2;  // all centroids coincide
+    auto it = std::partition(ids.begin() + long(begin), ids.begin() + long(end), [&](int id) {
+        float t = (all[id].box.center()[best_axis] - centroids.min[best_axis]) / ext[best_axis];
+        return std::min(int(t * Buckets), Buckets - 1) <= best_bucket;
+    });
+    size_t mid = size_t(it - ids.begin());
+    return mid == begin || mid == end ? (begin + end) / 2 : mid;
+}
+
+}  // namespace
+
+// Depth first with an explicit stack (the tree may be as deep as there are lights: collinear
+// lights have bounds of zero area, every split costs zero and cuts off one bucket), so nodes get
+// the order of a recursive build: a node, its first subtree, then its second.
+void LightTree::build(const std::vector<LightBounds>& all) {
+    std::vector<int> ids(all.size());
+    std::iota(ids.begin(), ids.end(), 0);
+    struct Range {
+        size_t begin, end;
+        int parent;  // the node whose second child this range becomes, or -1
+    };
+    std::vector<Range> todo = {{0, ids.size(), -1}};
+    while (!todo.empty()) {
+        Range r = todo.back();
+        todo.pop_back();
+        int index = int(nodes_.size());
+        nodes_.emplace_back();
+        if (r.parent >= 0) nodes_[r.parent].child1 = index;
+        if (r.end - r.begin == 1) {
+            nodes_[index].bounds = all[ids[r.begin]];
+            nodes_[index].light = ids[r.begin];
+            continue;
+        }
+        size_t mid = split_lights(ids, r.begin, r.end, all);
+        todo.push_back({mid, r.end, index});
+        todo.push_back({r.begin, mid, -1});
     }
-    build(ids, begin, mid, all);
-    int second = build(ids, mid, end, all);
-    nodes_[index].child1 = second;
-    LightBounds merged = light_bounds_union(nodes_[index + 1].bounds, nodes_[second].bounds);
-    nodes_[index].bounds = merged;
-    return index;
+    // Children come after their parent: a backward sweep bounds every interior node.
+    for (int i = int(nodes_.size()) - 1; i >= 0; --i)
+        if (nodes_[i].light < 0) nodes_[i].bounds = light_bounds_union(nodes_[i + 1].bounds, nodes_[nodes_[i].child1].bounds);
 }
 
 const Emitter* LightTree::sample(const SurfaceInteraction& ref, float u, float& prob) const {
@@ -240,18 +245,18 @@ float LightTree::pmf(const SurfaceInteraction& ref, const Emitter* emitter) cons
     size_t n_unbounded = unbounded_.size();
     float p_unbounded = nodes_.empty() ? 1.0f : float(n_unbounded) / float(n_unbounded + 1);
     if (unbounded_index_.count(emitter)) return p_unbounded / float(n_unbounded);
-    auto it = trail_.find(emitter);
-    if (it == trail_.end()) return 0.0f;
-    uint64_t bits = it->second;
-    int depth = depth_.at(emitter);
+    auto it = leaf_.find(emitter);
+    if (it == leaf_.end()) return 0.0f;
+    const int leaf = it->second;
     const Vec3& n = ref.shading.n;
     float pmf = 1.0f - p_unbounded;
+    // The same descent as sample(), steered toward the leaf instead of by u.
     int node = 0;
-    for (int k = 0; k < depth; ++k) {
+    while (node != leaf) {
         const Node& nd = nodes_[node];
         float i0 = light_importance(nodes_[node + 1].bounds, ref.p, n), i1 = light_importance(nodes_[nd.child1].bounds, ref.p, n);
         if (i0 == 0.0f && i1 == 0.0f) return 0.0f;
-        bool second = (bits >> k) & 1u;
+        bool second = leaf >= nd.child1;
         pmf *= second ? i1 / (i0 + i1) : i0 / (i0 + i1);
         node = second ? nd.child1 : node + 1;
     }

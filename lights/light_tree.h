@@ -24,15 +24,18 @@ public:
 private:
     struct Node {
         LightBounds bounds;
-        int child1 = -1;     // interior: second child (the first is the next node)
+        int child1 = -1;     // interior: second child (the first is the next node, and its
+                             // subtree is the nodes before child1)
         int light = -1;      // leaf: index into bounded_
     };
-    int build(std::vector<int>& ids, size_t begin, size_t end, const std::vector<LightBounds>& all);
+    void build(const std::vector<LightBounds>& all);
 
     std::vector<Node> nodes_;
     std::vector<const Emitter*> bounded_, unbounded_;
-    std::unordered_map<const Emitter*, uint64_t> trail_;  // leaf path: bit k = 1 means "second child" at depth k
-    std::unordered_map<const Emitter*, int> depth_;
+    // The leaf of each bounded light. Nodes are stored depth first, so a node's subtree is a
+    // contiguous range and the first child's ends where the second child begins: the path to a
+    // leaf follows from the leaf's index alone, at any depth.
+    std::unordered_map<const Emitter*, int> leaf_;
     std::unordered_map<const Emitter*, size_t> unbounded_index_;
 };
 

@@ -8,8 +8,11 @@
 //                                  in the angle, as in Mitsuba (default 3/4 of cutoff_angle)
 //   falloff_exponent   float       optional: OpenGL's falloff cos^e(angle) inside the cutoff
 //                                  instead of Mitsuba's linear ramp (beam_width is then unused)
-//   texture            texture     optional projected texture, looked up at
-//                                  (0.5 + 0.5 x / (z tan cutoff), 0.5 + 0.5 y / (z tan cutoff))
+//   texture            texture     optional image projected along the beam (must vary in
+//                                  space, e.g. a bitmap, as in Mitsuba): the intensity toward
+//                                  local direction (x, y, z) is multiplied by the texture at
+//                                  uv = (0.5 + 0.5 x / (z tan cutoff), 0.5 + 0.5 y / (z tan cutoff)),
+//                                  so the image's square circumscribes the cone
 //   attenuation_*      float       as `point` (default: inverse square)
 
 #include "core/emitter.h"
@@ -36,21 +39,15 @@ public:
         if (!(beam_ >= 0.0f && beam_ <= cutoff_)) props.fail("beam_width", "beam_width must lie between 0 and cutoff_angle");
         cos_cutoff_ = std::cos(cutoff_);
         cos_beam_ = std::cos(beam_);
-        auto textures = props.get_objects(ObjectKind::Texture);
-        if (textures.size() > 1) props.fail("a spot light takes at most one texture");
-        if (!textures.empty()) texture_ = std::static_pointer_cast<Texture>(textures[0]);
+        if (props.has("texture")) {
+            texture_ = props.get_texture("texture");
+            if (texture_->is_constant()) props.fail("texture", "a spot light's texture must vary in space (e.g. a bitmap); use intensity for a colour");
+        }
         attenuation_ = Attenuation::read(props);
         position_ = to_world_.apply_point(Vec3(0.0f));
         axis_ = glm::normalize(to_world_.apply_vector(Vec3(0, 0, 1)));
         world_to_local_ = to_world_.inverse();
-        // Power: intensity times the falloff integrated over solid angle (midpoint rule in theta).
-        double integral = 0.0;
-        const int n = 4096;
-        for (int i = 0; i < n; ++i) {
-            double theta = cutoff_ * (i + 0.5) / n;
-            integral += falloff_angle(float(theta)) * std::sin(theta) * cutoff_ / n;
-        }
-        power_ = intensity_ * float(TwoPi * integral) * (texture_ ? average(texture_->mean()) : 1.0f);
+        power_ = intensity_ * integrated_profile();
     }
 
     // The falloff for a local direction (unit, beam along +z).
@@ -64,10 +61,7 @@ public:
         Vec3 local = glm::normalize(world_to_local_.apply_vector(-ds.d));
         float f = ds.dist > 0.0f ? falloff(local) : 0.0f;
         weight = f > 0.0f ? intensity_ * (f * attenuation_(ds.dist)) : Spectrum(0.0f);
-        if (texture_ && f > 0.0f) {
-            float t = std::tan(cutoff_);
-            weight *= texture_->eval(Vec2(0.5f + 0.5f * local.x / (local.z * t), 0.5f + 0.5f * local.y / (local.z * t)));
-        }
+        if (texture_ && f > 0.0f) weight *= texture_->eval(texture_uv(local));
         return ds;
     }
     float pdf_direction(const SurfaceInteraction&, const DirectionSample&) const override { return 0.0f; }
@@ -93,6 +87,28 @@ public:
     const Attenuation& attenuation() const { return attenuation_; }
 
 private:
+    // The falloff (times the texture) integrated over solid angle, by the midpoint rule in theta
+    // and, with a texture, in phi: the power is the intensity times this.
+    Spectrum integrated_profile() const {
+        const int n_theta = texture_ ? 256 : 4096, n_phi = texture_ ? 256 : 1;
+        const double d_theta = cutoff_ / n_theta, d_phi = TwoPi / n_phi;
+        Spectrum sum(0.0f);
+        for (int i = 0; i < n_theta; ++i) {
+            double theta = (i + 0.5) * d_theta;
+            double ring = falloff_angle(float(theta)) * std::sin(theta) * d_theta * d_phi;
+            for (int j = 0; j < n_phi; ++j) {
+                double phi = (j + 0.5) * d_phi;
+                Vec3 d(float(std::sin(theta) * std::cos(phi)), float(std::sin(theta) * std::sin(phi)), float(std::cos(theta)));
+                sum += (texture_ ? texture_->eval(texture_uv(d)) : Spectrum(1.0f)) * float(ring);
+            }
+        }
+        return sum;
+    }
+    // Where a local direction inside the cone reads the texture (Mitsuba's direction_to_uv).
+    Vec2 texture_uv(const Vec3& local) const {
+        float t = std::tan(cutoff_);
+        return Vec2(0.5f + 0.5f * local.x / (local.z * t), 0.5f + 0.5f * local.y / (local.z * t));
+    }
     float falloff_angle(float theta) const {
         if (theta >= cutoff_) return 0.0f;
         if (exponent_ >= 0.0f) return std::pow(std::cos(theta), exponent_);

@@ -2,7 +2,9 @@
 // One-sided.
 //
 // Parameters (Mitsuba 3):
-//   material               string           Au, Ag, Cu, Al, Cr or none (default none: a perfect
+//   material               string           a name of Mitsuba 3's conductor table (Au, Ag, Al, Cu,
+//                                           Cr, Cu_palik, TiN, ...: see named_conductors() in
+//                                           materials/ior.h) or none (default none: a perfect
 //                                           mirror, F = 1)
 //   eta, k                 rgb or texture   real and imaginary index of refraction (instead of
 //                                           material)
@@ -49,7 +51,7 @@ public:
 
 private:
     Spectrum reflectance(const SurfaceInteraction& si, float cos_i) const {
-        return specular_->eval(si.uv) * fresnel_conductor(cos_i, eta_->eval(si.uv), k_->eval(si.uv));
+        return specular_->eval(si) * fresnel_conductor(cos_i, eta_->eval(si), k_->eval(si));
     }
     Ref<Texture> eta_, k_, specular_;
 };

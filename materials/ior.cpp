@@ -1,5 +1,9 @@
 #include "materials/ior.h"
 
+#include "core/registry.h"
+#include "core/spectral.h"
+#include "materials/ior_data.h"
+
 #include <algorithm>
 #include <map>
 
@@ -48,22 +52,45 @@ float read_relative_ior(const Properties& props, const std::string& default_inte
     return int_ior / ext_ior;
 }
 
+namespace {
+// Every named conductor, computed once from the embedded .spd text (materials/ior_data.h).
+const std::map<std::string, std::pair<std::string, ComplexIOR>>& conductor_table() {
+    static const std::map<std::string, std::pair<std::string, ComplexIOR>> table = [] {
+        std::map<std::string, const char*> eta_text, k_text;
+        for (const EmbeddedFile& f : ior_data_files()) {
+            std::string file = f.name;
+            auto take = [&](const std::string& suffix, std::map<std::string, const char*>& into) {
+                if (file.size() > suffix.size() && file.compare(file.size() - suffix.size(), suffix.size(), suffix) == 0)
+                    into[file.substr(0, file.size() - suffix.size())] = f.text;
+            };
+            take(".eta.spd", eta_text);
+            take(".k.spd", k_text);
+        }
+        std::map<std::string, std::pair<std::string, ComplexIOR>> out;
+        out["none"] = {"none", {Spectrum(0.0f), Spectrum(1.0f)}};
+        for (auto& [name, eta] : eta_text) {
+            auto k = k_text.find(name);
+            if (k == k_text.end()) continue;
+            ComplexIOR ior{spectrum_to_rgb(parse_spd(eta), false, false), spectrum_to_rgb(parse_spd(k->second), false, false)};
+            out[lower(name)] = {name, ior};
+        }
+        return out;
+    }();
+    return table;
+}
+}  // namespace
+
 std::optional<ComplexIOR> named_conductor(const std::string& name) {
-    // Measured n and k sampled at 650, 550 and 450 nm (the R, G, B wavelengths), from the
-    // refractiveindex.info data sets. Mitsuba integrates full spectra against the sRGB colour
-    // matching functions instead, so its named metals can differ by a few percent; give eta and
-    // k explicitly where an exact match matters.
-    static const std::map<std::string, ComplexIOR> table = {
-        {"none", {Spectrum(0.0f), Spectrum(1.0f)}},
-        {"au", {Spectrum(0.18299f, 0.42108f, 1.37340f), Spectrum(3.42420f, 2.34590f, 1.77040f)}},
-        {"ag", {Spectrum(0.15943f, 0.14512f, 0.13547f), Spectrum(3.92910f, 3.19000f, 2.38080f)}},
-        {"cu", {Spectrum(0.27105f, 0.67693f, 1.31640f), Spectrum(3.60920f, 2.62480f, 2.29210f)}},
-        {"al", {Spectrum(1.34560f, 0.96521f, 0.61722f), Spectrum(7.47460f, 6.39950f, 5.30310f)}},
-        {"cr", {Spectrum(3.10710f, 3.18120f, 2.32300f), Spectrum(3.33140f, 3.32910f, 3.13500f)}},
-    };
-    auto it = table.find(lower(name));
-    if (it == table.end()) return std::nullopt;
-    return it->second;
+    auto it = conductor_table().find(lower(name));
+    if (it == conductor_table().end()) return std::nullopt;
+    return it->second.second;
+}
+
+std::vector<std::string> named_conductors() {
+    std::vector<std::string> names;
+    for (auto& [key, entry] : conductor_table()) names.push_back(entry.first);
+    std::sort(names.begin(), names.end());
+    return names;
 }
 
 }  // namespace candela
@@ -80,7 +107,11 @@ void read_conductor_ior(const Properties& props, Ref<Texture>& eta, Ref<Texture>
     }
     std::string name = props.get_string("material", "none");
     auto ior = named_conductor(name);
-    if (!ior) props.fail("material", "unknown conductor \"" + name + "\" (known: none, Au, Ag, Cu, Al, Cr)");
+    if (!ior) {
+        std::string known;
+        for (auto& n : named_conductors()) known += (known.empty() ? "" : ", ") + n;
+        props.fail("material", "unknown conductor \"" + name + "\" (nearest: \"" + nearest_name(name, named_conductors()) + "\") (known: " + known + ")");
+    }
     eta = std::make_shared<ConstantTexture>(ior->eta);
     k = std::make_shared<ConstantTexture>(ior->k);
 }

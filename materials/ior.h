@@ -1,11 +1,13 @@
 #pragma once
-// Named indices of refraction (Mitsuba 3's table) and complex indices of common metals.
+// Named indices of refraction (Mitsuba 3's table) and the complex indices of Mitsuba 3's named
+// conductors (measured spectra in materials/data/ior, turned into RGB as Mitsuba 3 does).
 
 #include "core/properties.h"
 #include "core/texture.h"
 
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace candela {
 
@@ -24,8 +26,13 @@ struct ComplexIOR {
 // perfect mirror); giving both is an error.
 void read_conductor_ior(const Properties& props, Ref<Texture>& eta, Ref<Texture>& k);
 
-// Complex index of refraction of a named conductor: Au, Ag, Cu, Al, Cr, or "none" (a perfect
-// mirror: eta 0, k 1).
+// Complex index of refraction of a named conductor (every material of Mitsuba 3's conductor
+// table: Au, Ag, Cu, Al, Cr, Cu_palik, TiN, ..., matched ignoring case), or "none" (a perfect
+// mirror: eta 0, k 1). As Mitsuba 3's complex_ior_from_file: the measured eta and k spectra are
+// integrated against the CIE 1931 curves without an illuminant (spectrum_to_rgb with
+// weight_by_d65 = false, unbounded).
 std::optional<ComplexIOR> named_conductor(const std::string& name);
+// The names named_conductor knows, "none" included, sorted.
+std::vector<std::string> named_conductors();
 
 }  // namespace candela

@@ -104,3 +104,21 @@ TEST_CASE("validate: a reference scaled by 1.02 or mirrored left-right is a fail
     CHECK_THAT(log, Catch::Matches("(.|\n)*cbox_mirrored +FAIL.*block luminance differs(.|\n)*"));
     CHECK_THAT(read_text(dir / "report.html"), Catch::Contains("class=\"fail\">FAIL"));
 }
+
+TEST_CASE("validate: reads the shared set's layout DIR/scenes/NAME.xml with DIR/refs/NAME.exr", "[verification][validation]") {
+    auto dir = scratch_dir("validate-scenes-layout");
+    std::filesystem::create_directories(dir / "scenes");
+    std::filesystem::create_directories(dir / "refs");
+    std::filesystem::copy_file(source_path("scenes/validation/cbox.xml"), dir / "scenes" / "cbox.xml");
+    std::filesystem::copy_file(source_path("scenes/validation/refs/cbox.exr"), dir / "refs" / "cbox.exr");
+    const std::string command = "'" + candela_binary() + "' validate '" + dir.string() + "' --spp 64 -o '" + (dir / "report.html").string() + "'";
+    int code = run_command(command, dir / "log.txt");
+    std::string log = read_text(dir / "log.txt");
+    INFO(log);
+    CHECK(code == 0);
+    CHECK_THAT(log, Catch::Contains("cbox") && Catch::Contains("1 of 1 scenes pass"));
+    // The same name in both places is ambiguous: bad input, before anything renders.
+    std::filesystem::copy_file(source_path("scenes/validation/cbox.xml"), dir / "cbox.xml");
+    CHECK(run_command(command, dir / "both.txt") == 2);
+    CHECK_THAT(read_text(dir / "both.txt"), Catch::Contains("cbox.xml is both in the directory and in scenes/"));
+}

@@ -90,8 +90,15 @@ TEST_CASE("cli: an unwritable output path or a bad option exits with code 2 befo
 TEST_CASE("cli: Ctrl-C writes the image so far, marked partial, and exits non-zero", "[cli][interrupt]") {
     auto dir = scratch_dir("cli-interrupt");
     auto out = dir / "partial.exr";
-    // A render far too long to finish; SIGINT after a second.
-    std::string cmd = render_cmd("'" + Cbox + "' -o '" + out.string() + "' --spp 100000") + " & pid=$!; sleep 1; kill -INT $pid; wait $pid";
+    // A render far too long to finish; SIGINT once its handler is installed (SigCgt in
+    // /proc/PID/status has SIGINT's bit), then a moment later. A background job of a
+    // non-interactive shell starts with SIGINT ignored, so a signal sent before the handler is
+    // installed would be lost and the render would run to its end.
+    std::string cmd = render_cmd("'" + Cbox + "' -o '" + out.string() + "' --spp 100000") +
+                      " & pid=$!; for i in $(seq 600); do"
+                      " mask=$(awk '/^SigCgt/ {print $2}' /proc/$pid/status 2>/dev/null);"
+                      " [ -n \"$mask\" ] && [ $(( 0x$mask & 2 )) -ne 0 ] && break; sleep 0.1; done;"
+                      " sleep 1; kill -INT $pid; wait $pid";
     int code = run_command(cmd, dir / "log.txt");
     INFO(read_text(dir / "log.txt"));
     CHECK(code == 130);
@@ -177,6 +184,17 @@ TEST_CASE("cli: --mode raster with its options, and compare-modes", "[cli][raste
     Image img = read_image(out.string());
     CHECK(img.width() == 256);
     CHECK(std::filesystem::exists(dir / "raster.png"));
+    // The summary of a rasterized frame is its frame time, not sample and ray rates.
+    REQUIRE(run_command(render_cmd("'" + Cbox + "' -o '" + out.string() + "' --mode raster --aa 4 -D res=32"), dir / "summary.txt") == 0);
+    std::string summary = read_text(dir / "summary.txt");
+    CHECK_THAT(summary, Catch::Contains("ms per frame, 4 samples per pixel") && !Catch::Contains("Mrays/s") && !Catch::Contains("spp"));
+    // --help lists the accepted values of every raster option.
+    REQUIRE(run_command(render_cmd("--help"), dir / "help.txt") == 0);
+    std::string help = read_text(dir / "help.txt");
+    for (const char* option : {"--shading flat|gouraud|phong", "--reflection phong|blinn", "--shadows none|map|volume", "--aa-filter box|tent|gaussian",
+                               "--texture-filter nearest|bilinear|trilinear", "--environment-mapping latlong|cube", "integer >= 1"})
+        CHECK_THAT(help, Catch::Contains(option));
+    CHECK_THAT(help, !Catch::Contains("see integrators/raster"));
     // Raster options without raster mode, and bad values, are bad input.
     CHECK(run_command(render_cmd("'" + Cbox + "' -o '" + out.string() + "' --shading phong"), dir / "log.txt") == 2);
     CHECK_THAT(read_text(dir / "log.txt"), Catch::Contains("need --mode raster"));

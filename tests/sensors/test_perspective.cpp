@@ -1,6 +1,8 @@
-// Camera conventions: a known pixel's ray direction, every fov_axis, and the 35 mm focal length.
+// Camera conventions: a known pixel's ray direction, every fov_axis, the 35 mm focal length, the
+// principal point offset (with the rasterizer's camera), and the parameters accepted as Mitsuba does.
 
 #include "core/xml.h"
+#include "integrators/raster/raster_scene.h"
 #include "tests/util.h"
 
 #include <catch2/catch.hpp>
@@ -65,3 +67,43 @@ TEST_CASE("camera: focal_length sets the fov on the 35 mm diagonal", "[camera]")
     CHECK(angle_to_axis(scene->sensor().sample_ray(Vec2(0, 0), Vec2(0.5f))) == Approx(expected).epsilon(1e-5));
 }
 
+
+TEST_CASE("camera: the principal point offset shifts the image as Mitsuba's does", "[camera]") {
+    Ref<Scene> scene = camera_scene(R"(<float name="fov" value="90"/><float name="principal_point_offset_x" value="0.1"/>
+        <float name="principal_point_offset_y" value="-0.2"/>)",
+                                    200, 100);
+    const Sensor& s = scene->sensor();
+    // Film position s looks where s + offset looks unshifted, so the view axis meets the film at
+    // (0.5, 0.5) - offset = (0.4, 0.7), pixel (80, 70).
+    CHECK(glm::length(s.sample_ray(Vec2(80, 70), Vec2(0.5f)).d - Vec3(0, 0, -1)) < 1e-6f);
+    // The top-left pixel's centre, (0.0025, 0.005) of the film, looks through (0.1025, -0.195):
+    // camera-space (1 - 0.205, (1 + 0.39) / 2, 1); camera +x is world -x here.
+    Vec3 expected = glm::normalize(Vec3(-0.795f, 0.695f, -1.0f));
+    CHECK(glm::length(s.sample_ray(Vec2(0.5f), Vec2(0.5f)).d - expected) < 1e-5f);
+
+    // The rasterizer's camera puts every point where the path tracer's ray through it starts.
+    raster::RasterCamera cam = raster::RasterCamera::from_pinhole(*s.pinhole());
+    for (Vec2 pixel : {Vec2(80.5f, 70.5f), Vec2(3.25f, 91.5f), Vec2(190.0f, 10.0f)}) {
+        Ray r = s.sample_ray(pixel, Vec2(0.5f));
+        Vec4 c = cam.clip(r.o + 3.0f * r.d);
+        Vec2 projected((c.x / c.w + 1.0f) * 0.5f * 200.0f, (c.y / c.w + 1.0f) * 0.5f * 100.0f);
+        INFO("pixel " << pixel.x << ", " << pixel.y << " -> " << projected.x << ", " << projected.y);
+        CHECK(glm::length(projected - pixel) < 1e-3f);
+    }
+}
+
+TEST_CASE("camera: focus_distance and shutter times are accepted, srf is refused in RGB", "[camera]") {
+    Ref<Scene> plain = camera_scene(R"(<float name="fov" value="40"/>)", 64, 48);
+    Ref<Scene> focused = camera_scene(R"(<float name="fov" value="40"/><float name="focus_distance" value="6"/>
+        <float name="shutter_open" value="0"/><float name="shutter_close" value="0.5"/>)",
+                                      64, 48);
+    for (Vec2 p : {Vec2(0.0f), Vec2(13.7f, 40.2f)}) {
+        Ray a = plain->sensor().sample_ray(p, Vec2(0.3f, 0.9f)), b = focused->sensor().sample_ray(p, Vec2(0.3f, 0.9f));
+        CHECK(a.o == b.o);
+        CHECK(a.d == b.d);
+    }
+    CHECK_THROWS_WITH(camera_scene(R"(<float name="fov" value="40"/><spectrum name="srf" value="1"/>)", 64, 48),
+                      Catch::Contains("srf") && Catch::Contains("spectral"));
+    CHECK_THROWS_WITH(camera_scene(R"(<string name="focal_length" value="35mm"/><string name="fov_axis" value="y"/>)", 64, 48),
+                      Catch::Contains("fov_axis"));
+}

@@ -1,0 +1,44 @@
+#include "core/file_resolver.h"
+
+#include <algorithm>
+
+namespace fs = std::filesystem;
+
+namespace candela {
+
+void FileResolver::prepend(const fs::path& folder) {
+    folders_.erase(std::remove(folders_.begin(), folders_.end(), folder), folders_.end());
+    folders_.insert(folders_.begin(), folder);
+}
+
+void FileResolver::append(const fs::path& folder) {
+    folders_.erase(std::remove(folders_.begin(), folders_.end(), folder), folders_.end());
+    folders_.push_back(folder);
+}
+
+template <typename Test> std::optional<fs::path> FileResolver::find(const std::string& name, Test test) const {
+    fs::path p(name);
+    std::error_code ec;
+    if (p.is_absolute()) return test(p, ec) ? std::optional<fs::path>(p) : std::nullopt;
+    for (const fs::path& folder : folders_) {
+        fs::path candidate = folder / p;
+        if (test(candidate, ec)) return candidate.lexically_normal();
+    }
+    return std::nullopt;
+}
+
+std::optional<fs::path> FileResolver::find_file(const std::string& name) const {
+    return find(name, [](const fs::path& p, std::error_code& ec) { return fs::is_regular_file(p, ec); });
+}
+
+std::optional<fs::path> FileResolver::find_directory(const std::string& name) const {
+    return find(name, [](const fs::path& p, std::error_code& ec) { return fs::is_directory(p, ec); });
+}
+
+std::string FileResolver::describe() const {
+    std::string out;
+    for (const fs::path& f : folders_) out += (out.empty() ? "" : ", ") + f.string();
+    return out.empty() ? "nowhere" : out;
+}
+
+}  // namespace candela

@@ -1,0 +1,34 @@
+#pragma once
+// The folders in which a scene's relative file names are looked for, first match wins (Mitsuba 3's
+// FileResolver). A scene file starts with its own folder and then the working directory;
+// each <path value="..."/> puts its folder in front; an included file puts its own folder in
+// front of the including file's list. See core/xml.cpp for the order in full.
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace candela {
+
+class FileResolver {
+public:
+    // Puts a folder first (prepend) or last (append); a folder already in the list moves there.
+    void prepend(const std::filesystem::path& folder);
+    void append(const std::filesystem::path& folder);
+
+    // The first folder/name that is a regular file (or a directory), or nothing. An absolute
+    // name is returned as it is when it exists.
+    std::optional<std::filesystem::path> find_file(const std::string& name) const;
+    std::optional<std::filesystem::path> find_directory(const std::string& name) const;
+
+    const std::vector<std::filesystem::path>& folders() const { return folders_; }
+    // "a, b, c": the folders, for error messages.
+    std::string describe() const;
+
+private:
+    template <typename Test> std::optional<std::filesystem::path> find(const std::string& name, Test test) const;
+    std::vector<std::filesystem::path> folders_;
+};
+
+}  // namespace candela

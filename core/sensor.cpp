@@ -1,0 +1,45 @@
+#include "core/sensor.h"
+
+#include "core/properties.h"
+
+#include <cmath>
+
+namespace candela {
+
+float read_tan_half_fov_x(const Properties& props, float aspect) {
+    float fov;
+    std::string axis = "diagonal";
+    if (props.has("fov")) {
+        if (props.has("focal_length")) props.fail("focal_length", "give either fov or focal_length, not both");
+        fov = props.get_float("fov");
+        if (!(fov > 0.0f && fov < 180.0f)) props.fail("fov", "fov must be in (0, 180) degrees");
+        axis = props.get_string("fov_axis", "x");
+    } else {
+        if (props.has("fov_axis")) props.fail("fov_axis", "fov_axis applies to fov only (a focal_length always spans the diagonal, as in Mitsuba)");
+        std::string f = props.get_string("focal_length", "50mm");
+        float mm = 0.0f;
+        try {
+            size_t used = 0;
+            mm = std::stof(f, &used);
+            std::string unit = f.substr(used);
+            if (!(unit.empty() || unit == "mm")) throw std::invalid_argument(f);
+        } catch (const std::exception&) {
+            props.fail("focal_length", "focal_length must look like \"50mm\", not \"" + f + "\"");
+        }
+        if (!(mm > 0.0f)) props.fail("focal_length", "focal_length must be positive");
+        // The 35 mm frame's diagonal (36 x 24 mm) fixes the diagonal field of view.
+        fov = degrees(2.0f * std::atan(std::sqrt(36.0f * 36.0f + 24.0f * 24.0f) / (2.0f * mm)));
+    }
+    float t = std::tan(radians(fov) * 0.5f);
+    if (axis == "smaller") axis = aspect > 1.0f ? "y" : "x";
+    if (axis == "larger") axis = aspect > 1.0f ? "x" : "y";
+    float tan_half_x = 0.0f;
+    if (axis == "x") tan_half_x = t;
+    else if (axis == "y") tan_half_x = t * aspect;
+    else if (axis == "diagonal") tan_half_x = t * aspect / std::sqrt(1.0f + aspect * aspect);
+    else props.fail("fov_axis", "fov_axis must be x, y, diagonal, smaller or larger, not \"" + axis + "\"");
+    if (!(tan_half_x > 0.0f && std::isfinite(tan_half_x))) props.fail("fov", "the horizontal field of view must be in (0, 180) degrees");
+    return tan_half_x;
+}
+
+}  // namespace candela
