@@ -83,17 +83,32 @@ int image_integer_bits(const std::string& path) {
     return 0;
 }
 
+namespace {
+// No write permission for anyone. Checked on the mode bits as well as with access(), which
+// always grants root write access: a read-only file or folder says "keep this" also to root.
+bool read_only(const fs::path& p) {
+    std::error_code ec;
+    fs::perms perms = fs::status(p, ec).permissions();
+    if (ec) return false;
+    const fs::perms writable = fs::perms::owner_write | fs::perms::group_write | fs::perms::others_write;
+    return (perms & writable) == fs::perms::none || ::access(p.c_str(), W_OK) != 0;
+}
+}  // namespace
+
 void check_output_path(const std::string& path) {
     if (path.empty()) throw InputError("no output file given");
     fs::path p(path);
     fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
     std::error_code ec;
     if (!fs::is_directory(dir, ec)) throw InputError(path + ": cannot write: directory " + dir.string() + " does not exist");
-    if (::access(dir.c_str(), W_OK) != 0) throw InputError(path + ": cannot write: directory " + dir.string() + " is not writable");
-    if (fs::exists(p, ec)) {
-        if (fs::is_directory(p, ec)) throw InputError(path + ": cannot write: it is a directory");
-        if (::access(p.c_str(), W_OK) != 0) throw InputError(path + ": cannot write: file is not writable");
-    }
+    if (read_only(dir)) throw InputError(path + ": cannot write: directory " + dir.string() + " is not writable");
+    if (!fs::exists(fs::symlink_status(p, ec)) && !fs::exists(p, ec)) return;
+    if (fs::is_directory(p, ec)) throw InputError(path + ": cannot write: it is a directory");
+    // Outputs are written beside the target and renamed over it: that would replace a device
+    // (/dev/full, /dev/null), a pipe or a symbolic link by a plain file.
+    if (fs::is_symlink(fs::symlink_status(p, ec)) || !fs::is_regular_file(p, ec))
+        throw InputError(path + ": cannot write: it is not a regular file");
+    if (read_only(p)) throw InputError(path + ": cannot write: the file is read-only");
 }
 
 void write_exr(const Image& image, const std::string& path, bool float32) {

@@ -56,8 +56,9 @@ bool image_is_integer_format(const std::string& path);
 // Bits per channel of an integer-format file (8 or 16), 0 for floating-point files.
 int image_integer_bits(const std::string& path);
 
-// Fails with InputError if `path` cannot be created or replaced (missing directory, no
-// permission, a directory in the way). Creates nothing.
+// Fails with InputError if `path` cannot be created or replaced (missing or read-only directory,
+// a read-only file, a directory, device, pipe or symbolic link in the way). Creates nothing.
+// A full disk shows only when writing: write_atomically then keeps the earlier file.
 void check_output_path(const std::string& path);
 
 void write_exr(const Image& image, const std::string& path, bool float32);

@@ -7,7 +7,8 @@
 //                            with several, the input's first byte chooses one (for the image
 //                            target: which decoder reads it)
 //   CANDELA_FUZZ_ASSETS      the directory relative paths resolve in (fuzz/assets: small meshes
-//                            and textures under the names the project's scenes use)
+//                            and textures under the names the project's scenes use); the file
+//                            resolver is confined to it and the input's private directory
 //
 // The contract under test is the project's rule for bad input: loading either succeeds or throws
 // SceneError / InputError. Any other exception escapes and libFuzzer reports it as a crash, as it
@@ -16,6 +17,7 @@
 // pixel is a crash too.
 
 #include "core/error.h"
+#include "core/file_resolver.h"
 #include "core/integrator.h"
 #include "core/scene.h"
 #include "core/xml.h"
@@ -75,6 +77,9 @@ void make_work_dir() {
     for (const auto& entry : fs::directory_iterator(CANDELA_FUZZ_ASSETS))
         fs::create_symlink(entry.path(), t.work_dir / entry.path().filename());
     std::atexit(remove_work_dir);
+    // A fuzzed scene names files: <include>, meshes, images, spectra. Only the work directory
+    // and the assets are reachable, never /proc, /etc or the files of whoever runs the fuzzer.
+    FileResolver::confine_to({t.work_dir, CANDELA_FUZZ_ASSETS});
 }
 
 void check_finite(const Image& image) {
