@@ -46,10 +46,31 @@ Image Image::select_channels(const std::vector<std::string>& names) const {
     return out;
 }
 
+namespace {
+// The formats Mitsuba 3's Bitmap reads (OpenImageIO's names: "pnm" covers PPM and PFM, "hdr" is
+// RGBE). OpenImageIO also reads DDS, TIFF, raw camera files, DICOM, video frames ... and some of
+// those readers hang or misbehave on malformed files (OpenImageIO 2.4's DDS reader spins for
+// minutes on a 293-byte cube map, found by fuzz_image), so only these are read.
+bool readable_format(const std::string& format) {
+    for (const char* name : {"openexr", "png", "jpeg", "hdr", "pnm", "targa", "bmp"})
+        if (format == name) return true;
+    return false;
+}
+
+[[noreturn]] void refuse_format(const std::string& path, const std::string& format) {
+    throw InputError(path + ": is a " + format + " image; Candela reads the formats Mitsuba 3 does: OpenEXR, PNG, JPEG, RGBE (.hdr), PFM, PPM, TGA, BMP");
+}
+}  // namespace
+
 Image read_image(const std::string& path) {
     if (!fs::exists(path)) throw InputError(path + ": file not found");
+    // By the extension first (without reading the file), then by what OpenImageIO found the
+    // content to be: it tries every reader when the extension's one fails.
+    if (auto by_name = OIIO::ImageInput::create(path, false); by_name && !readable_format(by_name->format_name()))
+        refuse_format(path, by_name->format_name());
     auto in = OIIO::ImageInput::open(path);
     if (!in) throw InputError(path + ": cannot read image: " + OIIO::geterror());
+    if (!readable_format(in->format_name())) refuse_format(path, in->format_name());
     const OIIO::ImageSpec& spec = in->spec();
     // The size comes from the file: check it before allocating. A volume image (DDS volume
     // textures, ...) would also fill depth times the buffer of a 2D one.
