@@ -420,7 +420,7 @@ private:
                 corner.resize(n);
                 for (size_t j = 0; j < corner.size(); ++j) {
                     double idx = body.read(p.type);  // an integer: the type is checked above
-                    if (idx < 0 || idx > double(positions_.size()))
+                    if (idx < 0 || idx >= double(positions_.size()))
                         throw PlyError("face " + std::to_string(i) + " refers to vertex " + std::to_string(int64_t(idx)) +
                                        ", which does not exist (vertices must come before faces)");
                     corner[j] = unsigned(idx);
