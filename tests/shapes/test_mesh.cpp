@@ -188,6 +188,23 @@ TEST_CASE("ply: truncated and malformed files are errors", "[mesh][errors]") {
 }
 
 
+TEST_CASE("ply: a face corner one past the last vertex is an error, also in a polygon", "[mesh][errors]") {
+    // The off-by-one planted in the index check to test the robustness CI (README "Sanitizers and
+    // fuzzing"): fuzz_ply found it in 10 s as a heap overflow in the polygon triangulation; its
+    // input is kept in fuzz/corpus/ply/regression-planted-index-equals-count.ply.
+    auto dir = scratch_dir("ply-index");
+    const std::string header = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+                               "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n";
+    write_text(dir / "triangle.ply", header + "3 0 1 4\n");
+    write_text(dir / "quad.ply", header + "4 0 1 2 4\n");
+    write_text(dir / "found.ply", read_text(source_path("fuzz/corpus/ply/regression-planted-index-equals-count.ply")));
+    for (const char* name : {"triangle.ply", "quad.ply", "found.ply"}) {
+        INFO(name);
+        write_text(dir / "scene.xml", scene_xml(std::string("<shape type=\"ply\">\n<string name=\"filename\" value=\"") + name + "\"/>\n</shape>"));
+        CHECK_THROWS_AS(load_scene((dir / "scene.xml").string()), SceneError);
+    }
+}
+
 TEST_CASE("ply: values outside their declared type, bad list types and huge counts are errors", "[mesh][errors]") {
     // Found by fuzz_ply: an ascii index beyond every integer type reached undefined behaviour
     // (a double converted to an integer it does not fit) instead of an error. Every case names
