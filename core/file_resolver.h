@@ -23,6 +23,12 @@ public:
     std::optional<std::filesystem::path> find_directory(const std::string& name) const;
 
     const std::vector<std::filesystem::path>& folders() const { return folders_; }
+
+    // Confines every FileResolver of the process to files inside `folders` (symbolic links and
+    // ".." resolved first): any other file is "not found". For programs that load untrusted
+    // scenes, such as the fuzzers, so that an <include> or a filename cannot reach /proc, /etc
+    // or the user's files. Call once, before loading; an empty list lifts the confinement.
+    static void confine_to(const std::vector<std::filesystem::path>& folders);
     // "a, b, c": the folders, for error messages.
     std::string describe() const;
 

@@ -2,12 +2,24 @@
 
 #include "core/scene.h"
 
+#include <algorithm>
+#include <cstdlib>
 #include <fstream>
+#include <stdexcept>
 #include <sstream>
 #include <sys/wait.h>
 #include <unistd.h>
 
 namespace candela::test {
+
+int effort_scaled(int samples, int minimum) {
+    const char* text = std::getenv("CANDELA_TEST_EFFORT");
+    if (!text || !*text) return samples;
+    char* end = nullptr;
+    double effort = std::strtod(text, &end);
+    if (*end || !(effort > 0.0 && effort <= 1.0)) throw std::invalid_argument("CANDELA_TEST_EFFORT must be a number in (0, 1]");
+    return std::max(minimum, int(samples * effort));
+}
 
 std::filesystem::path scratch_dir(const std::string& name) {
     // Per process: ctest runs test cases in parallel processes.

@@ -86,6 +86,49 @@ TEST_CASE("validate: the validation scenes agree with Mitsuba 3 and the report s
     CHECK(html.find("src=\"http") == std::string::npos);
 }
 
+TEST_CASE("validate: the HTML report escapes every scene and file name", "[verification][validation][errors]") {
+    // A scene file whose name is markup: in the report it must show as text, never as a tag, an
+    // attribute or an entity. The reference differs (other seed, fewer samples), so the scene
+    // fails and its reason is printed too.
+    auto dir = scratch_dir("validate-escape");
+    const std::string name = "<img src=x onerror=\"alert('&amp;')\">";
+    std::filesystem::create_directories(dir / "refs");
+    write_text(dir / (name + ".xml"), scene_xml(
+        "<integrator type=\"path\"/>\n<sensor type=\"perspective\"><transform name=\"to_world\"><lookat origin=\"0,0,4\" target=\"0,0,0\" up=\"0,1,0\"/></transform>\n"
+        "<film type=\"hdrfilm\"><integer name=\"width\" value=\"16\"/><integer name=\"height\" value=\"16\"/></film></sensor>\n"
+        "<emitter type=\"constant\"/>\n<shape type=\"sphere\"><bsdf type=\"diffuse\"/></shape>"));
+    Image dark = Image::rgb(16, 16);
+    write_exr(dark, (dir / "refs" / (name + ".exr")).string(), true);
+    auto report = dir / "report.html";
+    int code = run_command("'" + candela_binary() + "' validate '" + dir.string() + "' --spp 2 -o '" + report.string() + "'", dir / "log.txt");
+    INFO(read_text(dir / "log.txt"));
+    CHECK(code == 1);  // the black reference disagrees
+    std::string html = read_text(report);
+    CHECK(html.find("<img src=x") == std::string::npos);
+    CHECK(html.find("onerror=\"") == std::string::npos);
+    CHECK(html.find("'&amp;'") == std::string::npos);  // the name's entity text is escaped too
+    CHECK_THAT(html, Catch::Contains("&lt;img src=x onerror=&quot;alert(&#39;&amp;amp;&#39;)&quot;&gt;"));
+    // Every tag in the report is one the report itself writes.
+    for (size_t pos = 0; (pos = html.find('<', pos)) != std::string::npos; ++pos) {
+        size_t end = html.find_first_of(" >", pos);
+        std::string tag = html.substr(pos + 1, end - pos - 1);
+        if (!tag.empty() && tag[0] == '/') tag.erase(0, 1);
+        INFO(tag);
+        CHECK((tag == "!DOCTYPE" || tag == "html" || tag == "head" || tag == "meta" || tag == "title" || tag == "style" || tag == "body" ||
+               tag == "h1" || tag == "h2" || tag == "p" || tag == "table" || tag == "tr" || tag == "th" || tag == "td" || tag == "a" ||
+               tag == "section" || tag == "span" || tag == "figure" || tag == "figcaption" || tag == "img"));
+    }
+    // Exactly the four images the report embeds, each an alt text and a data URL, no other attribute.
+    size_t images = 0;
+    for (size_t pos = 0; (pos = html.find("<img ", pos)) != std::string::npos; ++pos) {
+        ++images;
+        CHECK(html.compare(pos, 10, "<img alt=\"") == 0);
+        const std::string data_url = "\" src=\"data:image/png;base64,";
+        CHECK(html.compare(html.find('"', pos + 10), data_url.size(), data_url) == 0);
+    }
+    CHECK(images == 4);
+}
+
 TEST_CASE("validate: a reference scaled by 1.02 or mirrored left-right is a failure with its reason", "[verification]") {
     auto dir = scratch_dir("validate-broken");
     std::filesystem::create_directories(dir / "refs");

@@ -87,6 +87,57 @@ TEST_CASE("cli: an unwritable output path or a bad option exits with code 2 befo
     CHECK(!std::filesystem::exists(dir / "x.exr"));
 }
 
+TEST_CASE("cli: output paths that are directories, read-only, devices or on a full disk fail with exit code 2 and keep the earlier file", "[cli][errors]") {
+    namespace fs = std::filesystem;
+    auto dir = scratch_dir("cli-output-safety");
+    const std::string scene = "'" + Cbox + "' -D res=32 --spp 2";
+    auto expect_refused = [&](const std::string& command, const std::string& message) {
+        int code = run_command(command, dir / "log.txt");
+        std::string log = read_text(dir / "log.txt");
+        INFO(command << "\n" << log);
+        CHECK(code == 2);
+        CHECK_THAT(log, Catch::Contains(message));
+    };
+    // A directory in the way stays a directory, with its contents.
+    fs::create_directories(dir / "taken.exr");
+    write_text(dir / "taken.exr" / "inside.txt", "kept");
+    expect_refused(render_cmd(scene + " -o '" + (dir / "taken.exr").string() + "'"), "it is a directory");
+    CHECK(read_text(dir / "taken.exr" / "inside.txt") == "kept");
+    // A read-only file, as the image and as the --png preview (checked before rendering).
+    write_text(dir / "locked.exr", "precious");
+    write_text(dir / "open.png", "precious");
+    fs::permissions(dir / "locked.exr", fs::perms::owner_read | fs::perms::group_read | fs::perms::others_read);
+    fs::permissions(dir / "open.png", fs::perms::owner_read | fs::perms::group_read | fs::perms::others_read);
+    expect_refused(render_cmd(scene + " -o '" + (dir / "locked.exr").string() + "'"), "read-only");
+    write_text(dir / "open.exr", "precious too");
+    expect_refused(render_cmd(scene + " -o '" + (dir / "open.exr").string() + "' --png"), "read-only");
+    CHECK(read_text(dir / "locked.exr") == "precious");
+    CHECK(read_text(dir / "open.png") == "precious");
+    CHECK(read_text(dir / "open.exr") == "precious too");
+    // A read-only folder.
+    fs::create_directories(dir / "shelf");
+    fs::permissions(dir / "shelf", fs::perms::owner_read | fs::perms::owner_exec);
+    expect_refused(render_cmd(scene + " -o '" + (dir / "shelf" / "new.exr").string() + "'"), "not writable");
+    CHECK(fs::is_empty(dir / "shelf"));
+    fs::permissions(dir / "shelf", fs::perms::owner_all);
+    // A device: the image is written beside the target and renamed, which would replace
+    // /dev/full by a plain file; refused instead, and the device stays.
+    expect_refused(render_cmd(scene + " -o /dev/full"), "not a regular file");
+    CHECK(fs::is_character_file("/dev/full"));
+    // A full disk, as the render sees it: the file-size limit makes every write past 1 KiB fail
+    // (EFBIG; SIGXFSZ ignored, as a full disk sends no signal) while the render itself runs.
+    write_text(dir / "earlier.exr", "precious");
+    expect_refused("( trap '' XFSZ; ulimit -f 1; exec " + render_cmd(scene + " -o '" + (dir / "earlier.exr").string() + "'") + " )", "cannot write");
+    CHECK(read_text(dir / "earlier.exr") == "precious");
+    // The HTML report of validate: refused before any scene renders.
+    write_text(dir / "report.html", "precious");
+    fs::permissions(dir / "report.html", fs::perms::owner_read);
+    expect_refused("'" + candela_binary() + "' validate '" + source_path("scenes/validation") + "' -o '" + (dir / "report.html").string() + "'", "read-only");
+    expect_refused("'" + candela_binary() + "' validate '" + source_path("scenes/validation") + "' -o /dev/full", "not a regular file");
+    CHECK(read_text(dir / "report.html") == "precious");
+    for (auto& entry : fs::directory_iterator(dir)) CHECK(entry.path().filename().string().find(".tmp") == std::string::npos);
+}
+
 TEST_CASE("cli: Ctrl-C writes the image so far, marked partial, and exits non-zero", "[cli][interrupt]") {
     auto dir = scratch_dir("cli-interrupt");
     auto out = dir / "partial.exr";

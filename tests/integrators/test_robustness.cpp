@@ -219,8 +219,9 @@ TEST_CASE("robustness: degenerate triangles are dropped, and a mesh of nothing e
     int line = 0;
     std::string error = load_error("degenerate-nothing", "<shape type=\"obj\">\n<string name=\"filename\" value=\"" + (dir / "nothing.obj").string() +
                                                              "\"/><emitter type=\"area\"/></shape>", &line);
-    CHECK_THAT(error, Catch::Contains("no triangles with non-zero area"));
-    CHECK(line == 2);
+    // Mesh data errors name the mesh file, at the line of its filename property.
+    CHECK_THAT(error, Catch::Contains("nothing.obj\": no triangle has a non-zero area"));
+    CHECK(line == 3);
 }
 
 TEST_CASE("robustness: shading normals that face away or graze give finite images", "[robustness][normals]") {
