@@ -23,6 +23,7 @@
 
 #include "analysis/image_metrics.h"
 #include "core/error.h"
+#include "core/file_output.h"
 #include "core/image_draw.h"
 #include "core/properties.h"
 #include "core/registry.h"
@@ -31,7 +32,6 @@
 #include "integrators/raster/raster.h"
 
 #include <cstdio>
-#include <fstream>
 #include <map>
 #include <sstream>
 
@@ -222,11 +222,7 @@ int compare_modes(const CompareModesArgs& a) {
     std::string table = results_table(runs, reference, a);
     std::fputs(table.c_str(), stdout);
     write_png_display(contact_sheet(runs, reference, a), a.output);
-    if (!a.table.empty()) {
-        std::ofstream out(a.table);
-        out << table;
-        if (!out) throw InputError("cannot write " + a.table);
-    }
+    if (!a.table.empty()) write_file_atomically(a.table, table);
     std::printf("wrote %s\n", a.output.c_str());
     return ExitOk;
 }
