@@ -9,6 +9,8 @@
 // figures and asserts nothing.
 // --quick (under a minute on two cores): 256 x 256, 20 frames, only the Cornell box with each
 // kind of shadow, and the light counts 1 and 10 on a sphere of about 100 000 triangles.
+// Both end with the approximations of global illumination: ambient occlusion, image-based
+// lighting and baked lighting, each with its one-off cost (the first frame) and frame time.
 
 #include "core/rng.h"
 #include "core/xml.h"
@@ -18,6 +20,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 
 using namespace candela;
 
@@ -60,6 +63,35 @@ Ref<Scene> big_mesh_scene(int lights) {
         s += "<emitter type=\"point\"><point name=\"position\" x=\"" + std::to_string(6 * rng.next_float() - 3) + "\" y=\"" + std::to_string(2.5f + rng.next_float()) +
              "\" z=\"" + std::to_string(6 * rng.next_float() - 3) + "\"/><rgb name=\"intensity\" value=\"" + std::to_string(10.0 / lights) + "\"/></emitter>";
     return load_text("mesh" + std::to_string(lights), s + "</scene>");
+}
+
+// The approximations of global illumination: the one-off cost (image-based lighting built, or
+// lighting baked) and the frame time after it, on the Cornell box and the environment-map
+// validation scene.
+void global_illumination_table() {
+    Ref<Scene> cbox = load_scene(std::string(CANDELA_SOURCE_DIR) + "/scenes/validation/cbox.xml", {{"res", std::to_string(g_res)}});
+    Ref<Scene> env = load_scene(std::string(CANDELA_SOURCE_DIR) + "/scenes/validation/envmap.xml", {{"res", std::to_string(g_res)}});
+    std::printf("\napproximations of global illumination (phong, shadow maps), ms\n");
+    std::printf("%-40s %12s %10s\n", "scene / configuration", "first frame", "ms/frame");
+    auto row = [](const char* what, const Ref<Scene>& scene, const std::map<std::string, std::string>& options) {
+        RasterSettings s;
+        std::string error;
+        for (const auto& [name, value] : options) s.set(name, value, error);
+        RasterIntegrator raster(s);
+        RenderOptions o;
+        o.threads = g_threads;
+        auto t0 = std::chrono::steady_clock::now();
+        raster.render(*scene, o);
+        double first = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        std::printf("%-40s %12.1f %10.1f\n", what, 1000 * first, 1000 * seconds_per_frame(scene, s));
+    };
+    row("envmap, average ambient", env, {{"environment_lighting", "average"}});
+    row("envmap, image-based lighting", env, {});
+    row("envmap, image-based lighting, ao 4", env, {{"ao", "4"}});
+    row("envmap, image-based lighting, ao 16", env, {{"ao", "16"}});
+    row("cbox, local", cbox, {});
+    row("cbox, baked by radiosity", cbox, {{"lighting", "baked"}});
+    row("cbox, baked by path (256 paths/patch)", cbox, {{"lighting", "baked"}, {"bake", "path"}});
 }
 
 }  // namespace
@@ -106,6 +138,7 @@ int main(int argc, char** argv) {
         if (!res_given) g_res = 256;
         if (!frames_given) g_frames = 20;
         quick(load_scene(std::string(CANDELA_SOURCE_DIR) + "/scenes/cbox.xml", {{"res", std::to_string(g_res)}}));
+        global_illumination_table();
         return 0;
     }
     Ref<Scene> cbox = load_scene(std::string(CANDELA_SOURCE_DIR) + "/scenes/cbox.xml", {{"res", std::to_string(g_res)}});
@@ -148,5 +181,6 @@ int main(int argc, char** argv) {
         }
         std::printf("%-34s %10.1f %10.1f %10.1f\n", name, 1000 * t[0], 1000 * t[1], 1000 * t[2]);
     }
+    global_illumination_table();
     return 0;
 }

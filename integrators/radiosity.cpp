@@ -38,6 +38,8 @@
 #include "core/registry.h"
 #include "core/sampler.h"
 #include "core/scene.h"
+#include "core/mesh.h"
+#include "integrators/estimators.h"
 #include "integrators/radiosity_solver.h"
 #include "lights/light_sampler.h"
 
@@ -78,6 +80,29 @@ std::vector<RadiosityMesh> bake_radiosity(const Scene& scene, const RadiositySet
     RadiosityStats local;
     RadiosityStats& st = stats ? *stats : local;
     std::vector<Spectrum> irradiance = solve_radiosity(patches, scene, settings, options, "", SourceLocation{scene.source_file, 0}, st);
+    VertexSolution v = vertex_solution(patches, irradiance);
+    return patches.meshes(v.irradiance[0], v.irradiance[1], v.radiosity[0]);
+}
+
+std::vector<RadiosityMesh> bake_path_irradiance(const Scene& scene, const RadiositySettings& settings, int samples, const RenderOptions& options) {
+    RadiosityPatches patches(scene, settings);
+    const std::vector<Spectrum> none(patches.vertex_count(), Spectrum(0.0f));
+    const std::vector<RadiosityMesh> geometry = patches.meshes(none, none, none);
+    const auto& elements = patches.elements();
+    std::vector<Vec3> points(elements.size()), normals(elements.size());
+    for (size_t i = 0; i < elements.size(); ++i) {
+        const RadiosityElement& e = elements[i];
+        const TriangleSoup& soup = geometry[e.mesh].patches;
+        const glm::uvec3& t = soup.triangles[e.triangle];
+        float gap = tessellation_gap(soup.positions[t.x], soup.positions[t.y], soup.positions[t.z], soup.normals[t.x], soup.normals[t.y], soup.normals[t.z]);
+        points[i] = e.centroid + e.normal * gap;
+        normals[i] = e.normal;
+    }
+    EstimatorOptions eo;
+    eo.samples = uint64_t(std::max(samples, 1));
+    eo.seed = settings.seed;
+    eo.threads = options.threads;
+    std::vector<Spectrum> irradiance = estimate_irradiance_at(scene, points, normals, eo);
     VertexSolution v = vertex_solution(patches, irradiance);
     return patches.meshes(v.irradiance[0], v.irradiance[1], v.radiosity[0]);
 }

@@ -18,9 +18,11 @@ class Scene;
 struct RadiositySettings {
     // Patches: every tessellated triangle is split into n x n equal triangles, with n chosen so
     // that no patch is larger than max_patch_area (m^2), or n = subdivisions when that is set
-    // (> 0). max_patch_area 0 and subdivisions 0: 1/2000 of the scene's surface area.
+    // (> 0). max_patch_area 0 and subdivisions 0: default_area_fraction (1/2000) of the scene's
+    // surface area.
     float max_patch_area = 0.0f;
     int subdivisions = 0;
+    float default_area_fraction = 1.0f / 2000.0f;
     float tolerance = 1e-3f;       // stop when the unshot power is this fraction of the emitted
     int max_iterations = 100000;   // most shots
     int visibility_rays = 16;      // rays per form factor
@@ -53,6 +55,12 @@ struct RadiosityMesh {
 // `options`) and returns one RadiosityMesh per scene shape, in the order of scene.shapes().
 std::vector<RadiosityMesh> bake_radiosity(const Scene& scene, const RadiositySettings& settings, const RenderOptions& options,
                                           RadiosityStats* stats = nullptr);
+
+// The same patches and vertex values, with the irradiance at each element's centre estimated by
+// the path tracer instead (`samples` paths each, every bounce: estimate_irradiance_at), seeded by
+// settings.seed. Each centre moves off its patch along the side's normal by the patch's
+// tessellation_gap (core/mesh.h), so that the exact surface of a curved shape cannot hide it.
+std::vector<RadiosityMesh> bake_path_irradiance(const Scene& scene, const RadiositySettings& settings, int samples, const RenderOptions& options);
 
 // The statistics of the last solve of a `radiosity` integrator (null for other integrators).
 const RadiosityStats* radiosity_stats(const Integrator& integrator);

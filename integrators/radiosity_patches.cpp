@@ -109,7 +109,7 @@ RadiosityPatches::RadiosityPatches(const Scene& scene, const RadiositySettings& 
         for (const auto& t : soups[i].triangles)
             total_area += triangle_area(soups[i].positions[t.x], soups[i].positions[t.y], soups[i].positions[t.z]);
     }
-    const float default_patch_area = float(total_area / 2000.0);
+    const float default_patch_area = float(total_area * double(settings.default_area_fraction));
     // Count first: the solve costs patches^2 form factors.
     double estimate = 0.0;
     for (const auto& soup : soups)

@@ -3,8 +3,11 @@
 //   geometry   clip-space triangles, then at every camera sample the nearest triangle, its view
 //              depth and perspective-correct barycentrics (a G-buffer)     pass_geometry.cpp
 //   surfaces   position, normals, uv and texture lookup at every sample, and the radiance that
-//              needs no light: emission, ambient, mirror and refraction of the environment,
-//              the environment itself where no surface is                  pass_surfaces.cpp
+//              needs no light: emission, mirror and refraction of the environment (glossy
+//              ones prefiltered), the environment itself where no surface is  pass_surfaces.cpp
+//   ambient    the diffuse light that is not from the local lights: the environment's SH
+//              irradiance (or its average) and the `ambient` setting, times ambient occlusion;
+//              or the baked irradiance                                    pass_ambient.cpp
 //   lights     per light, its shadow (map or volume) and its direct lighting added to every
 //              sample (Gouraud: lit at the vertices, interpolated)        pass_lights.cpp
 //   resolve    the supersamples filtered into pixels                       pass_resolve.cpp
@@ -12,6 +15,7 @@
 // The passes share FrameBuffers: each reads what earlier passes wrote and fills its own part.
 
 #include "core/image.h"
+#include "integrators/raster/image_lighting.h"
 #include "integrators/raster/raster.h"
 #include "integrators/raster/raster_scene.h"
 #include "integrators/raster/rasterizer.h"
@@ -26,7 +30,8 @@ constexpr uint32_t NoTriangle = 0xffffffffu;
 
 // What stays the same during a frame: scene, settings, geometry, camera, lights, sample layout.
 struct FrameSetup {
-    FrameSetup(const Scene& scene, const RasterSettings& settings, const RasterGeometry& geometry, const PinholeProjection& pinhole);
+    FrameSetup(const Scene& scene, const RasterSettings& settings, const RasterGeometry& geometry, const PinholeProjection& pinhole,
+               const ImageBasedLighting* image_lighting);
 
     const Scene& scene;
     const RasterSettings& settings;
@@ -34,6 +39,9 @@ struct FrameSetup {
     RasterCamera camera;
     LocalLights lights;
     Spectrum ambient;            // of the environments plus the `ambient` setting
+    // The environment as image-based light, null without an environment or when the settings
+    // ask for its average (`ambient` then holds it).
+    const ImageBasedLighting* image_lighting;
     Vec2i full, offset;          // the film's size and the crop window's corner in it
     int width, height;           // the crop window: the image rendered
     std::vector<Vec2> pattern;   // sample positions within a pixel
@@ -85,6 +93,7 @@ struct FrameBuffers {
 
 void geometry_pass(const FrameSetup& frame, FrameBuffers& buffers);
 void surface_pass(const FrameSetup& frame, FrameBuffers& buffers);
+void ambient_pass(const FrameSetup& frame, FrameBuffers& buffers);
 void lights_pass(const FrameSetup& frame, FrameBuffers& buffers);
 void resolve_pass(const FrameSetup& frame, FrameBuffers& buffers);
 void overlay_pass(const FrameSetup& frame, FrameBuffers& buffers);

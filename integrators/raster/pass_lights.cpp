@@ -1,7 +1,8 @@
 // The lights pass: one light after another, its visibility at every camera sample (a shadow map,
 // a shadow-volume mask, or none) times its direct lighting, added to the sample's radiance.
 // Flat shading lights each triangle at its centroid with the face normal, Gouraud lights each
-// vertex once and interpolates, Phong lights every sample with its own normal.
+// vertex once and interpolates, Phong lights every sample with its own normal. Under baked
+// lighting the lights add their highlights only (the bake holds their diffuse light).
 
 #include "integrators/raster/frame.h"
 #include "integrators/raster/shadows.h"
@@ -42,6 +43,16 @@ Spectrum direct_light(const LocalLight& light, const LocalShading& m, const Spec
     return out * E;
 }
 
+// With baked lighting the bake holds every light's diffuse light: the lights add highlights only.
+bool baked_diffuse(const FrameSetup& f) { return f.settings.lighting == RasterSettings::Lighting::Baked && !f.geometry.baked_front.empty(); }
+
+// Whether any surface has a highlight.
+bool has_highlights(const RasterGeometry& g) {
+    for (const RasterShape& rs : g.shapes)
+        if (rs.material.shininess > 0.0f && !is_black(rs.material.specular)) return true;
+    return false;
+}
+
 // Gouraud: the light at every vertex, with the material of the one shape the vertex belongs
 // to and its texture at the vertex (through the texture's mapping). One evaluation per vertex, each written by one task.
 void light_vertices(const FrameSetup& f, const LocalLight& light, std::vector<Spectrum>& vertex_light) {
@@ -51,7 +62,7 @@ void light_vertices(const FrameSetup& f, const LocalLight& light, std::vector<Sp
         const LocalShading& m = g.shapes[g.vertex_shape[i]].material;
         Vec3 n = g.normals[i], v = glm::normalize(f.camera.eye - g.positions[i]);
         if (m.two_sided && glm::dot(n, v) < 0.0f) n = -n;
-        Spectrum kd = m.diffuse ? m.diffuse->eval(m.diffuse->mapping().map(g.uvs[i], g.positions[i])) : Spectrum(0.0f);
+        Spectrum kd = m.diffuse && !baked_diffuse(f) ? m.diffuse->eval(m.diffuse->mapping().map(g.uvs[i], g.positions[i])) : Spectrum(0.0f);
         vertex_light[i] = direct_light(light, m, kd, g.positions[i], n, v, f.settings.reflection);
     });
 }
@@ -71,12 +82,12 @@ Spectrum sample_light(const FrameSetup& f, const FrameBuffers& b, size_t i, cons
     case RasterSettings::Shading::Flat: {
         Vec3 c = (g.positions[v.x] + g.positions[v.y] + g.positions[v.z]) / 3.0f;
         Vec2 uvc = (g.uvs[v.x] + g.uvs[v.y] + g.uvs[v.z]) / 3.0f;
-        Spectrum kd = m.diffuse ? m.diffuse->eval(m.diffuse->mapping().map(uvc, c)) : Spectrum(0.0f);
+        Spectrum kd = m.diffuse && !baked_diffuse(f) ? m.diffuse->eval(m.diffuse->mapping().map(uvc, c)) : Spectrum(0.0f);
         return direct_light(light, m, kd, c, ss.n_geo, glm::normalize(f.camera.eye - c), f.settings.reflection);
     }
     case RasterSettings::Shading::Phong: break;
     }
-    return direct_light(light, m, ss.kd, ss.p, ss.n, ss.v, f.settings.reflection);
+    return direct_light(light, m, baked_diffuse(f) ? Spectrum(0.0f) : ss.kd, ss.p, ss.n, ss.v, f.settings.reflection);
 }
 
 // Whether camera sample i receives direct light (a surface seen from a side that reflects).
@@ -142,6 +153,7 @@ void add_light(const FrameSetup& f, FrameBuffers& b, size_t light_index, const s
 }  // namespace
 
 void lights_pass(const FrameSetup& f, FrameBuffers& b) {
+    if (baked_diffuse(f) && !has_highlights(f.geometry)) return;  // nothing for the lights to add
     std::vector<float> view_depth;  // of every sample, for shadow volumes
     if (f.settings.shadows == RasterSettings::Shadows::Volume) {
         view_depth.resize(f.sample_count());

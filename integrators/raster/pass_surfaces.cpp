@@ -1,6 +1,6 @@
 // The surfaces pass: from the G-buffer, the visible surface at every camera sample (position,
 // normals, uv, the BSDF's bump- or normal-mapped frame under Phong shading, the texture filtered
-// over the sample's footprint) and the radiance that needs no light: emission, ambient, and the
+// over the sample's footprint) and the radiance that needs no light: emission and the
 // environment seen by reflection and refraction; where no surface is, the environment itself.
 
 #include "core/bsdf.h"
@@ -105,15 +105,22 @@ Spectrum filtered_albedo(const FrameSetup& f, const Texture& texture, const Homo
     return texture.eval_filtered(uv, du, dv, f.settings.texture_filter);
 }
 
-// What a surface shows without any light of the local model: its emission (front side),
-// ambient light, and the environment in the mirror and refraction directions.
+// The environment seen in direction d by a reflection or refraction of this roughness: a glossy
+// one (lat-long mapping, roughness > 0) reads the image-based lighting's prefiltered maps, the
+// others the environment or its cube map.
+Spectrum environment_seen(const FrameSetup& f, const EnvironmentLookup& environment, const Vec3& d, float roughness) {
+    if (f.image_lighting && roughness > 0.0f && !f.settings.cube_mapping) return f.image_lighting->glossy(d, roughness);
+    return environment.lookup(d, roughness);
+}
+
+// What a surface shows without any light of the local model: its emission (front side) and the
+// environment in the mirror and refraction directions. (Ambient light: the ambient pass.)
 Spectrum unlit_radiance(const FrameSetup& f, const EnvironmentLookup& environment, const RasterShape& rs, const SurfaceSample& ss) {
     const LocalShading& m = rs.material;
     Spectrum L(0.0f);
     if (ss.front) L += rs.emission;
-    L += ss.kd * f.ambient;
-    if (!is_black(m.mirror)) L += m.mirror * environment.lookup(2.0f * glm::dot(ss.n, ss.v) * ss.n - ss.v, m.roughness);
-    if (!is_black(m.transmission)) L += m.transmission * environment.lookup(refracted(ss.v, ss.n, ss.front ? m.eta : 1.0f / m.eta), m.roughness);
+    if (!is_black(m.mirror)) L += m.mirror * environment_seen(f, environment, 2.0f * glm::dot(ss.n, ss.v) * ss.n - ss.v, m.roughness);
+    if (!is_black(m.transmission)) L += m.transmission * environment_seen(f, environment, refracted(ss.v, ss.n, ss.front ? m.eta : 1.0f / m.eta), m.roughness);
     return L;
 }
 
