@@ -5,6 +5,8 @@
 #include "core/registry.h"
 #include "core/sampler.h"
 #include "core/scene.h"
+#include "core/bsdf.h"
+#include "core/shape.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
@@ -443,6 +445,13 @@ Ref<Sampler> configured_sampler(const Scene& scene, const RenderOptions& options
 }
 
 }  // namespace
+
+void SampleRecord::record_first_hit(const SurfaceInteraction& si) {
+    if (!first_hit) return;
+    first_hit->albedo = si.shape->bsdf()->albedo(si);
+    first_hit->normal = si.shading.n;
+    first_hit->depth = si.t;
+}
 
 Image Integrator::preview(const Image& rendered) const { return tonemap_srgb(linear_rgb(rendered)); }
 

@@ -87,6 +87,9 @@ struct SampleRecord {
     bool valid = false;
     // Out: the values of the integrator's channel_names(), in order.
     float channels[MaxSampleChannels];
+
+    // Fills the --aov first-hit layers, when asked for, from the camera ray's first surface.
+    void record_first_hit(const SurfaceInteraction& si);
 };
 
 class Integrator : public Object {

@@ -38,11 +38,7 @@ public:
         SurfaceInteraction si;
         if (!scene.intersect(ray, si)) return Spectrum(1.0f);
         record.valid = true;
-        if (FirstHitAovs* aovs = record.first_hit) {
-            aovs->albedo = si.shape->bsdf()->albedo(si);
-            aovs->normal = si.shading.n;
-            aovs->depth = si.t;
-        }
+        record.record_first_hit(si);
         // The hemisphere on the camera's side of the surface.
         bool back = glm::dot(si.n, ray.d) > 0.0f;
         Vec3 n_geo = back ? -si.n : si.n;

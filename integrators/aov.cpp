@@ -133,11 +133,7 @@ public:
         }
         SurfaceInteraction si;
         bool hit = scene.intersect(ray, si);
-        if (FirstHitAovs* aovs = record.first_hit; aovs && hit) {
-            aovs->albedo = si.shape->bsdf()->albedo(si);
-            aovs->normal = si.shading.n;
-            aovs->depth = si.t;
-        }
+        if (hit) record.record_first_hit(si);
         for (AovType type : types_) out = write_aov(type, hit, si, scene, ray, record, out);
         return result;
     }

@@ -65,11 +65,7 @@ public:
                 return L;
             }
             const BSDF& bsdf = *si.shape->bsdf();
-            if (FirstHitAovs* aovs = record.first_hit; aovs && first) {
-                aovs->albedo = bsdf.albedo(si);
-                aovs->normal = si.shading.n;
-                aovs->depth = si.t;
-            }
+            if (first) record.record_first_hit(si);
             if ((bsdf.flags() & ~uint32_t(Null)) != 0) record.valid = true;
             if (const Emitter* emitter = si.shape->emitter(); emitter && !hide_emitters_) L += beta * emitter->eval(si);
             L += beta * scattered_direct(scene, sampler, si, bsdf);

@@ -33,11 +33,7 @@ public:
         SurfaceInteraction si;
         if (!scene.intersect(ray, si)) return Spectrum(0.0f);
         record.valid = true;
-        if (FirstHitAovs* aovs = record.first_hit) {
-            aovs->albedo = si.shape->bsdf()->albedo(si);
-            aovs->normal = si.shading.n;
-            aovs->depth = si.t;
-        }
+        record.record_first_hit(si);
         // A white Lambertian receiver on the camera's side of the surface.
         Vec3 n = glm::dot(si.n, ray.d) < 0.0f ? si.n : -si.n;
         SurfaceInteraction vertex = si;

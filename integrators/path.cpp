@@ -63,11 +63,7 @@ Spectrum PathIntegrator::sample_radiance(const Scene& scene, Sampler& sampler, c
         record.valid = !hide_emitters_ && !scene.infinite_emitters().empty();
         return hide_emitters_ ? Spectrum(0.0f) : scene.eval_environment(ray.d);
     }
-    if (FirstHitAovs* aovs = record.first_hit) {
-        aovs->albedo = si.shape->bsdf()->albedo(si);
-        aovs->normal = si.shading.n;
-        aovs->depth = si.t;
-    }
+    record.record_first_hit(si);
     Spectrum L(0.0f);
     // Seen directly: no MIS (the camera ray is a delta "lobe"). A hidden emitter still scatters
     // what reaches it, as in Mitsuba 3: only its emission on the first segment is left out.

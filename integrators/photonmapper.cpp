@@ -302,13 +302,11 @@ Spectrum PhotonMapIntegrator::final_gather(const Scene& scene, Sampler& sampler,
 
 Spectrum PhotonMapIntegrator::sample_radiance(const Scene& scene, Sampler& sampler, const Ray& ray, SampleRecord& record) const {
     record.valid = !scene.infinite_emitters().empty();
-    if (FirstHitAovs* aovs = record.first_hit) {
+    if (record.first_hit) {
         SurfaceInteraction first;
         if (scene.intersect(ray, first)) {
             record.valid = true;
-            aovs->albedo = first.shape->bsdf()->albedo(first);
-            aovs->normal = first.shading.n;
-            aovs->depth = first.t;
+            record.record_first_hit(first);
         }
     }
     WalkSettings walk;

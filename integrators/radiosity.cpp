@@ -174,11 +174,7 @@ public:
             return scene.eval_environment(ray.d);
         }
         record.valid = true;
-        if (FirstHitAovs* aovs = record.first_hit) {
-            aovs->albedo = si.shape->bsdf()->albedo(si);
-            aovs->normal = si.shading.n;
-            aovs->depth = si.t;
-        }
+        record.record_first_hit(si);
         if (!final_gather_) return hit.element < 0 ? Spectrum(0.0f) : InvPi * radiosity_at(solution_.radiosity, hit);
         return gather(scene, sampler, si);
     }
