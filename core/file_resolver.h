@@ -1,7 +1,8 @@
 #pragma once
 // The folders in which a scene's relative file names are looked for, first match wins (Mitsuba 3's
-// FileResolver). A scene file starts with its own folder and then the working directory;
-// each <path value="..."/> puts its folder in front; an included file puts its own folder in
+// FileResolver). A scene file starts with its own folder, the working directory and the search
+// folders its loader was given (`candela render -a`, as `mitsuba -a`); each <path value="..."/>
+// puts its folder in front; an included file puts its own folder in
 // front of the including file's list. See core/xml.cpp for the order in full.
 
 #include <filesystem>

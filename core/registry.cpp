@@ -48,11 +48,13 @@ const char* unsupported_reason(ObjectKind kind, const std::string& type) {
     return it == table.end() ? nullptr : it->second;
 }
 
-// Names that Mitsuba 3 does not accept but that scenes from its development carry, with the
-// plugin that took their place: a hint in the error, never a silent substitute.
-const char* renamed_to(ObjectKind kind, const std::string& type) {
+// Names that scenes from Mitsuba's development carry but Candela does not have, with the plugin
+// to use instead: a hint in the error, never a silent substitute.
+const char* instead_of(ObjectKind kind, const std::string& type) {
     static const std::map<std::pair<ObjectKind, std::string>, const char*> table = {
-        {{ObjectKind::BSDF, "disney"}, "principled (Mitsuba 3's name for the Disney BSDF; its parameters may differ from the scene's)"},
+        {{ObjectKind::BSDF, "disney"}, "Mitsuba 3 calls the Disney BSDF \"principled\"; its parameters may differ from the scene's"},
+        {{ObjectKind::Sampler, "bose"}, "an orthogonal-array sampler; Candela's is \"orthogonal\" (Bush's construction)"},
+        {{ObjectKind::Sampler, "bush"}, "an orthogonal-array sampler; Candela's is \"orthogonal\" (Bush's construction)"},
     };
     auto it = table.find({kind, type});
     return it == table.end() ? nullptr : it->second;
@@ -111,8 +113,7 @@ Ref<Object> create_plugin(ObjectKind kind, const Properties& props) {
         std::string what = std::string(kind_tag(kind)) + " type \"" + props.plugin_type() + "\"";
         if (const char* reason = unsupported_reason(kind, props.plugin_type()))
             throw SceneError(props.location(), "unsupported " + what + ": " + reason);
-        if (const char* successor = renamed_to(kind, props.plugin_type()))
-            throw SceneError(props.location(), "unknown " + what + ": Mitsuba 3 does not have it; use " + successor);
+        if (const char* hint = instead_of(kind, props.plugin_type())) throw SceneError(props.location(), "unknown " + what + ": " + hint);
         std::string known;
         for (auto& name : plugin_names(kind)) known += (known.empty() ? "" : ", ") + name;
         std::string nearest = nearest_name(props.plugin_type(), plugin_names(kind));

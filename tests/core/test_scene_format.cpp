@@ -175,7 +175,8 @@ TEST_CASE("plugin names: a name that differs only in case is read with a warning
     CHECK(lower.at(2, 2, 0) == Approx(1.0f));
     SceneError disney = error_of(scene_xml("<bsdf type=\"disney\"/>"));
     CHECK(disney.location.line == 2);
-    CHECK_THAT(disney.message(), Catch::Contains("unknown bsdf type \"disney\"") && Catch::Contains("use principled"));
+    CHECK_THAT(disney.message(), Catch::Contains("unknown bsdf type \"disney\"") && Catch::Contains("\"principled\""));
+    CHECK_THAT(error_of(scene_xml("<sampler type=\"bush\"/>")).message(), Catch::Contains("unknown sampler type \"bush\"") && Catch::Contains("\"orthogonal\""));
     // Case-insensitive only: a misspelt name is still an error with the nearest name.
     CHECK_THAT(error_of(scene_xml("<shape type=\"Rectangel\"/>")).message(), Catch::Contains("nearest supported: \"rectangle\""));
 }
