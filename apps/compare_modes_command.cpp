@@ -211,7 +211,8 @@ Image contact_sheet(const std::vector<MethodRun>& runs, const RenderResult& refe
 int compare_modes(const CompareModesArgs& a) {
     check_output_path(a.output);
     if (!a.table.empty()) check_output_path(a.table);
-    Ref<Scene> scene = load_scene(a.scene, parse_defines(a.defines), parse_search_folders(a.search_path));
+    use_search_folders(a.search_path);
+    Ref<Scene> scene = load_scene(a.scene, parse_defines(a.defines));
     std::vector<std::string> specs = split(a.methods, ',');
     if (specs.empty()) throw InputError("--methods: no method given");
     std::vector<Ref<Integrator>> integrators;  // all built first: a bad method stops before any render

@@ -101,7 +101,8 @@ void print_slope(const SlopeFit& s, const ConvergenceCriteria& c, double slope_z
 int converge(const ConvergeArgs& a) {
     std::vector<int> counts = parse_counts(a.spp_list);
     if (!a.plot.empty()) check_output_path(a.plot);
-    Ref<Scene> scene = load_scene(a.scene, parse_defines(a.defines), parse_search_folders(a.search_path));
+    use_search_folders(a.search_path);
+    Ref<Scene> scene = load_scene(a.scene, parse_defines(a.defines));
     ConvergenceCriteria criteria = parse_criteria(a, a.sampler.empty() ? scene->sensor().sampler().to_string() : a.sampler);
     Image reference;
     std::string description;

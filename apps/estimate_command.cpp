@@ -77,7 +77,8 @@ void add_estimate_command(CLI::App& app, std::function<int()>& run) {
             Vec3 p = parse_triple(irr->at, "--at"), n = parse_triple(irr->normal, "--normal");
             if (squared_length(n) == 0.0f) throw InputError("--normal must not be zero");
             EstimatorOptions o = options_from(*irr);
-            Ref<Scene> scene = load_scene(irr->scene, parse_defines(irr->defines), parse_search_folders(irr->search_path));
+            use_search_folders(irr->search_path);
+            Ref<Scene> scene = load_scene(irr->scene, parse_defines(irr->defines));
             Estimate e = estimate_irradiance(*scene, p, n, o);
             n = glm::normalize(n);
             std::printf("irradiance at (%g, %g, %g), normal (%g, %g, %g)\n", p.x, p.y, p.z, n.x, n.y, n.z);
@@ -96,7 +97,8 @@ void add_estimate_command(CLI::App& app, std::function<int()>& run) {
             Vec3 o = parse_triple(rad->origin, "--origin"), d = parse_triple(rad->direction, "--direction");
             if (squared_length(d) == 0.0f) throw InputError("--direction must not be zero");
             EstimatorOptions opt = options_from(*rad);
-            Ref<Scene> scene = load_scene(rad->scene, parse_defines(rad->defines), parse_search_folders(rad->search_path));
+            use_search_folders(rad->search_path);
+            Ref<Scene> scene = load_scene(rad->scene, parse_defines(rad->defines));
             Estimate e = estimate_radiance(*scene, o, d, opt);
             d = glm::normalize(d);
             std::printf("radiance along (%g, %g, %g) + t (%g, %g, %g)\n", o.x, o.y, o.z, d.x, d.y, d.z);

@@ -4,6 +4,7 @@
 
 #include "apps/commands.h"
 
+#include "core/file_resolver.h"
 #include "core/integrator.h"
 #include "core/memory_budget.h"
 #include "core/progress.h"
@@ -97,8 +98,8 @@ void add_search_path_option(CLI::App* cmd, std::vector<std::string>& folders) {
                     "(repeatable; \"a;b\" gives several)");
 }
 
-SearchFolders parse_search_folders(const std::vector<std::string>& folders) {
-    SearchFolders out;
+void use_search_folders(const std::vector<std::string>& folders) {
+    std::vector<std::filesystem::path> out;
     for (const std::string& list : folders) {
         size_t start = 0;
         while (start <= list.size()) {
@@ -108,7 +109,7 @@ SearchFolders parse_search_folders(const std::vector<std::string>& folders) {
             start = end + 1;
         }
     }
-    return out;
+    FileResolver::set_search_folders(out);
 }
 
 std::string default_output_for(const std::string& scene_path, const std::string& extension) {
@@ -148,7 +149,8 @@ void add_render_command(CLI::App& app, std::function<int()>& run) {
             // From here on Ctrl-C stops the render and writes what there is.
             g_interrupted = false;
             auto previous = std::signal(SIGINT, on_sigint);
-            Ref<Scene> scene = load_scene(args->scene, params, parse_search_folders(args->search_path));
+            use_search_folders(args->search_path);
+            Ref<Scene> scene = load_scene(args->scene, params);
             apply_mode(*scene, *args);
             RenderOptions options;
             options.spp = args->spp;

@@ -30,6 +30,12 @@ public:
     // scenes, such as the fuzzers, so that an <include> or a filename cannot reach /proc, /etc
     // or the user's files. Call once, before loading; an empty list lifts the confinement.
     static void confine_to(const std::vector<std::filesystem::path>& folders);
+    // Folders every scene loaded afterwards searches after its own folder and the working
+    // directory: `candela render -a`, as `mitsuba -a` appends them to Mitsuba's (thread-wide)
+    // FileResolver. Each must be a directory (InputError naming it otherwise); an empty list
+    // clears them.
+    static void set_search_folders(const std::vector<std::filesystem::path>& folders);
+    static const std::vector<std::filesystem::path>& search_folders();
     // "a, b, c": the folders, for error messages.
     std::string describe() const;
 

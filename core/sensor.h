@@ -80,16 +80,11 @@ public:
         sampler_->set_film_size(film_->full_size());
     }
     const Transform& to_world() const { return to_world_; }
-    // Where in its pixel a camera sample lies: `u` uniform in [0,1)^2 (jittered, the default)
-    // or the pixel's centre (Mitsuba's jitter = false).
-    Vec2 pixel_offset(const Vec2& u) const { return jitter_ ? u : Vec2(0.5f); }
-    bool jitter() const { return jitter_; }
 
 protected:
     Ref<Film> film_;
     Ref<Sampler> sampler_;
     Transform to_world_;
-    bool jitter_ = true;
 };
 
 }  // namespace candela

@@ -82,22 +82,18 @@ bool parse_srgb(const std::string& text, const std::vector<double>& numbers, Spe
 
 class XmlLoader {
 public:
-    XmlLoader(const SceneParameters& defines, const SearchFolders& search_folders) : params_(defines), search_folders_(search_folders) {}
+    explicit XmlLoader(const SceneParameters& defines) : params_(defines) {}
 
     Ref<Scene> load(const std::string& text, const std::string& path) {
         Document& doc = parse_document(text, path, SourceLocation{path, 0});
         // Mitsuba 3: the scene file's folder, then the working directory, then the folders given
-        // with `mitsuba -a`; <path>s go in front.
+        // with `-a` (FileResolver::set_search_folders); <path>s go in front.
         auto resolver = std::make_shared<FileResolver>();
         resolver->append(fs::absolute(fs::path(path)).parent_path());
         std::error_code ec;
         fs::path cwd = fs::current_path(ec);
         if (!ec) resolver->append(cwd);
-        for (const fs::path& folder : search_folders_) {
-            if (!fs::is_directory(folder, ec))
-                throw SceneError(SourceLocation{path, 0}, "search folder \"" + folder.string() + "\" not found");
-            resolver->append(fs::absolute(folder).lexically_normal());
-        }
+        for (const fs::path& folder : FileResolver::search_folders()) resolver->append(folder);
         doc.resolver = resolver;
         pugi::xml_node root = doc.xml.document_element();
         Properties scene_props("scene", where(doc, root));
@@ -614,7 +610,6 @@ private:
 
     std::vector<std::unique_ptr<Document>> docs_;
     SceneParameters params_;
-    SearchFolders search_folders_;
     std::map<std::string, Ref<Object>> ids_;
     std::map<std::string, std::pair<Document*, pugi::xml_node>> declared_;  // ids declared anywhere in the files read
     std::map<const void*, Ref<Object>> built_;                                // object elements built so far
@@ -624,20 +619,19 @@ private:
 
 }  // namespace
 
-Ref<Scene> load_scene(const std::string& path, const SceneParameters& defines, const SearchFolders& search_folders) {
+Ref<Scene> load_scene(const std::string& path, const SceneParameters& defines) {
     std::ifstream in(path, std::ios::binary);
     std::error_code ec;
     if (!in || fs::is_directory(path, ec)) throw SceneError(SourceLocation{path, 0}, "cannot open scene file");
     std::stringstream ss;
     ss << in.rdbuf();
-    XmlLoader loader(defines, search_folders);
+    XmlLoader loader(defines);
     auto scene = loader.load(ss.str(), path);
     return scene;
 }
 
-Ref<Scene> load_scene_from_string(const std::string& xml, const std::string& virtual_path, const SceneParameters& defines,
-                                  const SearchFolders& search_folders) {
-    XmlLoader loader(defines, search_folders);
+Ref<Scene> load_scene_from_string(const std::string& xml, const std::string& virtual_path, const SceneParameters& defines) {
+    XmlLoader loader(defines);
     return loader.load(xml, virtual_path);
 }
 

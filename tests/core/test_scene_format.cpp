@@ -8,6 +8,7 @@
 #include "core/xml.h"
 #include "materials/ior.h"
 #include "tests/probe.h"
+#include "tests/scoped_search_folders.h"
 #include "tests/util.h"
 
 #include <catch2/catch.hpp>
@@ -133,30 +134,37 @@ TEST_CASE("search folders: -a folders are searched after the scene's folder, the
     write_text(dir / "scenes" / "main.xml", scene_xml(R"(<include filename="include/parts.xml"/>
 <bsdf type="test_probe" id="search_spd"><spectrum name="reflectance" filename="grey.spd"/></bsdf>)"));
     fs::path main = dir / "scenes" / "main.xml";
-    // Without the folder the mesh is not found; with it, the include's mesh and the scene's
+    // Without the folders the mesh is not found; with them, the include's mesh and the scene's
     // spectrum are, from the first search folder that has them.
     CHECK_THAT(load_error(main).message(), Catch::Contains("file not found: \"meshes/tri.obj\""));
-    Ref<Scene> scene = load_scene(main.string(), {}, {dir / "common", dir / "other"});
-    CHECK(scene->shapes().size() == 1);
-    CHECK(probe("search_spd").get_rgb("reflectance").y == Approx(0.25f).epsilon(3e-3));
-    load_scene(main.string(), {}, {dir / "other", dir / "common"});
-    CHECK(probe("search_spd").get_rgb("reflectance").y == Approx(0.5f).epsilon(3e-3));
-    // The scene's own folder comes first, and so does a <path>.
-    write_text(dir / "scenes" / "grey.spd", "400 0.75\n700 0.75\n");
-    load_scene(main.string(), {}, {dir / "common"});
-    CHECK(probe("search_spd").get_rgb("reflectance").y == Approx(0.75f).epsilon(3e-3));
-    fs::remove(dir / "scenes" / "grey.spd");
-    write_text(dir / "scenes" / "with_path.xml", scene_xml(R"(<path value="../other"/>
-<bsdf type="test_probe" id="path_first"><spectrum name="reflectance" filename="grey.spd"/></bsdf>)"));
-    load_scene((dir / "scenes" / "with_path.xml").string(), {}, {dir / "common"});
-    CHECK(probe("path_first").get_rgb("reflectance").y == Approx(0.5f).epsilon(3e-3));
-    // A search folder that does not exist is an error naming it.
-    try {
-        load_scene(main.string(), {}, {dir / "nowhere"});
-        FAIL("expected a SceneError");
-    } catch (const SceneError& e) {
-        CHECK_THAT(e.message(), Catch::Contains("search folder") && Catch::Contains((dir / "nowhere").string()) && Catch::Contains("not found"));
+    {
+        ScopedSearchFolders search({dir / "common", dir / "other"});
+        Ref<Scene> scene = load_scene(main.string());
+        CHECK(scene->shapes().size() == 1);
+        CHECK(probe("search_spd").get_rgb("reflectance").y == Approx(0.25f).epsilon(3e-3));
     }
+    {
+        ScopedSearchFolders search({dir / "other", dir / "common"});
+        load_scene(main.string());
+        CHECK(probe("search_spd").get_rgb("reflectance").y == Approx(0.5f).epsilon(3e-3));
+        // The scene's own folder comes first, and so does a <path>.
+        write_text(dir / "scenes" / "grey.spd", "400 0.75\n700 0.75\n");
+        load_scene(main.string());
+        CHECK(probe("search_spd").get_rgb("reflectance").y == Approx(0.75f).epsilon(3e-3));
+        fs::remove(dir / "scenes" / "grey.spd");
+    }
+    {
+        ScopedSearchFolders search({dir / "common"});
+        write_text(dir / "scenes" / "with_path.xml", scene_xml(R"(<path value="../other"/>
+<bsdf type="test_probe" id="path_first"><spectrum name="reflectance" filename="grey.spd"/></bsdf>)"));
+        load_scene((dir / "scenes" / "with_path.xml").string());
+        CHECK(probe("path_first").get_rgb("reflectance").y == Approx(0.5f).epsilon(3e-3));
+    }
+    // Once cleared, the folders are no longer searched; a folder that does not exist is an error naming it.
+    CHECK_THROWS_AS(load_scene(main.string()), SceneError);
+    CHECK_THROWS_WITH(FileResolver::set_search_folders({dir / "nowhere"}),
+                      Catch::Contains("search folder") && Catch::Contains((dir / "nowhere").string()) && Catch::Contains("not found"));
+    CHECK(FileResolver::search_folders().empty());
 }
 
 TEST_CASE("plugin names: a name that differs only in case is read with a warning, former names point to their successor", "[xml][errors]") {

@@ -10,6 +10,7 @@
 #include "core/image.h"
 #include "core/spectral.h"
 #include "core/xml.h"
+#include "tests/scoped_search_folders.h"
 #include "tests/serialized_writer.h"
 #include "tests/util.h"
 
@@ -65,10 +66,11 @@ fs::path docs_folder() {
     return dir;
 }
 
-Image render(const fs::path& scene_file, const SearchFolders& search = {}, SceneParameters defines = {}) {
+Image render(const fs::path& scene_file, const std::vector<fs::path>& search = {}, SceneParameters defines = {}) {
     INFO(scene_file.string());
     defines["spp"] = "1";
-    Ref<Scene> scene = load_scene(scene_file.string(), defines, search);
+    ScopedSearchFolders folders(search);
+    Ref<Scene> scene = load_scene(scene_file.string(), defines);
     RenderOptions options;
     options.spp = 1;
     options.seed = 3;
