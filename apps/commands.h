@@ -49,6 +49,11 @@ void add_adaptive_options(CLI::App* cmd, AdaptiveSampling& adaptive);
 
 // Shared by the commands: -D name=value pairs, and "x,y,z" triples (InputError when malformed).
 SceneParameters parse_defines(const std::vector<std::string>& defines);
+// -a FOLDER (Mitsuba's `mitsuba -a`): folders searched for the files a scene names, after the
+// scene's own folder and the working directory; repeatable, and "a;b" gives several at once.
+// use_search_folders hands them to FileResolver::set_search_folders (InputError if one is missing).
+void add_search_path_option(CLI::App* cmd, std::vector<std::string>& folders);
+void use_search_folders(const std::vector<std::string>& folders);
 Vec3 parse_triple(const std::string& text, const std::string& option);
 
 // Runs `body`, turning scene and input errors into a message on stderr and exit code 2.

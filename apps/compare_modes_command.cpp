@@ -41,7 +41,7 @@ namespace {
 
 struct CompareModesArgs {
     std::string scene, output = "compare.png", methods = "raster,raster-gi,baked,radiosity,path", reference, table;
-    std::vector<std::string> defines;
+    std::vector<std::string> defines, search_path;
     int spp = 0, reference_spp = 1024, threads = 0;
     RasterOptionArgs raster;
     double range = 0.5;
@@ -211,6 +211,7 @@ Image contact_sheet(const std::vector<MethodRun>& runs, const RenderResult& refe
 int compare_modes(const CompareModesArgs& a) {
     check_output_path(a.output);
     if (!a.table.empty()) check_output_path(a.table);
+    use_search_folders(a.search_path);
     Ref<Scene> scene = load_scene(a.scene, parse_defines(a.defines));
     std::vector<std::string> specs = split(a.methods, ',');
     if (specs.empty()) throw InputError("--methods: no method given");
@@ -242,6 +243,7 @@ void add_compare_modes_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("--reference-spp", a->reference_spp, "Samples per pixel of the path-traced reference (default 1024)")->check(CLI::PositiveNumber);
     cmd->add_option("--table", a->table, "Also write the table (Markdown) to this file");
     cmd->add_option("-D", a->defines, "Set a scene parameter: -D name=value (repeatable)")->take_all();
+    add_search_path_option(cmd, a->search_path);
     cmd->add_option("--threads,-t", a->threads, "Worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
     cmd->add_option("--heatmap-range", a->range, "Relative difference at full colour (default 0.5)")->check(CLI::PositiveNumber);
     a->raster.add_to(cmd);

@@ -30,7 +30,7 @@ namespace {
 struct ConvergeArgs {
     std::string scene, reference, plot, spp_list = "1,4,16,64,256,1024", slope_range, sampler;
     AdaptiveSampling adaptive;
-    std::vector<std::string> defines;
+    std::vector<std::string> defines, search_path;
     double expect = NAN, alpha = 0.01;
     int64_t seed = 0;
     int threads = 0;
@@ -101,6 +101,7 @@ void print_slope(const SlopeFit& s, const ConvergenceCriteria& c, double slope_z
 int converge(const ConvergeArgs& a) {
     std::vector<int> counts = parse_counts(a.spp_list);
     if (!a.plot.empty()) check_output_path(a.plot);
+    use_search_folders(a.search_path);
     Ref<Scene> scene = load_scene(a.scene, parse_defines(a.defines));
     ConvergenceCriteria criteria = parse_criteria(a, a.sampler.empty() ? scene->sensor().sampler().to_string() : a.sampler);
     Image reference;
@@ -151,6 +152,7 @@ void add_converge_command(CLI::App& app, std::function<int()>& run) {
     add_adaptive_options(cmd, a->adaptive);
     cmd->add_option("--seed", a->seed, "Base seed; count i renders with seed + i (default 0)")->check(CLI::NonNegativeNumber);
     cmd->add_option("-D", a->defines, "Set a scene parameter: -D name=value (repeatable)")->take_all();
+    add_search_path_option(cmd, a->search_path);
     cmd->add_option("--threads,-t", a->threads, "Worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
     cmd->callback([a, &run] { run = [a] { return converge(*a); }; });
 }

@@ -16,7 +16,7 @@ namespace {
 
 struct EstimateArgs {
     std::string scene, at, normal, origin, direction, light_sampler = "tree";
-    std::vector<std::string> defines;
+    std::vector<std::string> defines, search_path;
     int64_t samples = 65536, seed = 0;
     int max_depth = -1, threads = 0;
 };
@@ -39,6 +39,7 @@ void add_common(CLI::App* cmd, EstimateArgs& a) {
     cmd->add_option("--max-depth", a.max_depth, "Longest path in segments, -1 unbounded (default)");
     cmd->add_option("--light-sampler", a.light_sampler, "tree (default), power or uniform");
     cmd->add_option("-D", a.defines, "Set a scene parameter: -D name=value (repeatable)")->take_all();
+    add_search_path_option(cmd, a.search_path);
     cmd->add_option("--threads,-t", a.threads, "Worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
 }
 
@@ -76,6 +77,7 @@ void add_estimate_command(CLI::App& app, std::function<int()>& run) {
             Vec3 p = parse_triple(irr->at, "--at"), n = parse_triple(irr->normal, "--normal");
             if (squared_length(n) == 0.0f) throw InputError("--normal must not be zero");
             EstimatorOptions o = options_from(*irr);
+            use_search_folders(irr->search_path);
             Ref<Scene> scene = load_scene(irr->scene, parse_defines(irr->defines));
             Estimate e = estimate_irradiance(*scene, p, n, o);
             n = glm::normalize(n);
@@ -95,6 +97,7 @@ void add_estimate_command(CLI::App& app, std::function<int()>& run) {
             Vec3 o = parse_triple(rad->origin, "--origin"), d = parse_triple(rad->direction, "--direction");
             if (squared_length(d) == 0.0f) throw InputError("--direction must not be zero");
             EstimatorOptions opt = options_from(*rad);
+            use_search_folders(rad->search_path);
             Ref<Scene> scene = load_scene(rad->scene, parse_defines(rad->defines));
             Estimate e = estimate_radiance(*scene, o, d, opt);
             d = glm::normalize(d);

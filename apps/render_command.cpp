@@ -1,9 +1,10 @@
-// candela render SCENE.xml -o OUT.exr [--spp N] [-D k=v]... [--threads N] [--seed S] [--png]
+// candela render SCENE.xml -o OUT.exr [--spp N] [-D k=v]... [-a FOLDER]... [--threads N] [--seed S] [--png]
 //                [--quiet] [--aov albedo,normal,depth,variance,samples] [--sampler NAME]
 //                [--adaptive-threshold T [--adaptive-min-spp N] [--adaptive-step N]] [--max-memory SIZE]
 
 #include "apps/commands.h"
 
+#include "core/file_resolver.h"
 #include "core/integrator.h"
 #include "core/memory_budget.h"
 #include "core/progress.h"
@@ -37,7 +38,7 @@ struct RenderArgs {
     RasterOptionArgs raster;
     int spp = 0, threads = 0;
     int64_t seed = -1;
-    std::vector<std::string> defines, aovs;
+    std::vector<std::string> defines, aovs, search_path;
     bool png = false, quiet = false;
 };
 
@@ -91,6 +92,26 @@ SceneParameters parse_defines(const std::vector<std::string>& defines) {
     return params;
 }
 
+void add_search_path_option(CLI::App* cmd, std::vector<std::string>& folders) {
+    cmd->add_option("-a,--search-path", folders,
+                    "Also look for the scene's files in this folder, after the scene's own folder and the working directory "
+                    "(repeatable; \"a;b\" gives several)");
+}
+
+void use_search_folders(const std::vector<std::string>& folders) {
+    std::vector<std::filesystem::path> out;
+    for (const std::string& list : folders) {
+        size_t start = 0;
+        while (start <= list.size()) {
+            size_t end = list.find(';', start);
+            if (end == std::string::npos) end = list.size();
+            if (end > start) out.emplace_back(list.substr(start, end - start));
+            start = end + 1;
+        }
+    }
+    FileResolver::set_search_folders(out);
+}
+
 std::string default_output_for(const std::string& scene_path, const std::string& extension) {
     return std::filesystem::path(scene_path).stem().string() + extension;
 }
@@ -102,6 +123,7 @@ void add_render_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("-o,--output", args->output, "Output EXR (default: the scene's name in the current directory)");
     cmd->add_option("--spp", args->spp, "Samples per pixel (default: the scene's sampler)")->check(CLI::PositiveNumber);
     cmd->add_option("-D", args->defines, "Set a scene parameter: -D name=value (repeatable)")->take_all();
+    add_search_path_option(cmd, args->search_path);
     cmd->add_option("--threads,-t", args->threads, "Worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
     cmd->add_option("--seed", args->seed, "Random seed (default: the sampler's)")->check(CLI::NonNegativeNumber);
     cmd->add_flag("--png", args->png, "Also write a tonemapped sRGB PNG beside the EXR");
@@ -127,6 +149,7 @@ void add_render_command(CLI::App& app, std::function<int()>& run) {
             // From here on Ctrl-C stops the render and writes what there is.
             g_interrupted = false;
             auto previous = std::signal(SIGINT, on_sigint);
+            use_search_folders(args->search_path);
             Ref<Scene> scene = load_scene(args->scene, params);
             apply_mode(*scene, *args);
             RenderOptions options;

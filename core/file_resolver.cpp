@@ -1,5 +1,7 @@
 #include "core/file_resolver.h"
 
+#include "core/error.h"
+
 #include <algorithm>
 
 namespace fs = std::filesystem;
@@ -8,6 +10,11 @@ namespace candela {
 
 namespace {
 std::vector<fs::path>& confinement() {
+    static std::vector<fs::path> folders;
+    return folders;
+}
+
+std::vector<fs::path>& global_search_folders() {
     static std::vector<fs::path> folders;
     return folders;
 }
@@ -30,6 +37,18 @@ void FileResolver::confine_to(const std::vector<fs::path>& folders) {
     confinement().clear();
     for (const fs::path& folder : folders) confinement().push_back(fs::canonical(folder));
 }
+
+void FileResolver::set_search_folders(const std::vector<fs::path>& folders) {
+    std::vector<fs::path> checked;
+    for (const fs::path& folder : folders) {
+        std::error_code ec;
+        if (!fs::is_directory(folder, ec)) throw InputError("search folder \"" + folder.string() + "\" not found");
+        checked.push_back(fs::absolute(folder).lexically_normal());
+    }
+    global_search_folders() = checked;
+}
+
+const std::vector<fs::path>& FileResolver::search_folders() { return global_search_folders(); }
 
 void FileResolver::prepend(const fs::path& folder) {
     folders_.erase(std::remove(folders_.begin(), folders_.end(), folder), folders_.end());

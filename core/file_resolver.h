@@ -1,7 +1,8 @@
 #pragma once
 // The folders in which a scene's relative file names are looked for, first match wins (Mitsuba 3's
-// FileResolver). A scene file starts with its own folder and then the working directory;
-// each <path value="..."/> puts its folder in front; an included file puts its own folder in
+// FileResolver). A scene file starts with its own folder, the working directory and the search
+// folders its loader was given (`candela render -a`, as `mitsuba -a`); each <path value="..."/>
+// puts its folder in front; an included file puts its own folder in
 // front of the including file's list. See core/xml.cpp for the order in full.
 
 #include <filesystem>
@@ -29,6 +30,12 @@ public:
     // scenes, such as the fuzzers, so that an <include> or a filename cannot reach /proc, /etc
     // or the user's files. Call once, before loading; an empty list lifts the confinement.
     static void confine_to(const std::vector<std::filesystem::path>& folders);
+    // Folders every scene loaded afterwards searches after its own folder and the working
+    // directory: `candela render -a`, as `mitsuba -a` appends them to Mitsuba's (thread-wide)
+    // FileResolver. Each must be a directory (InputError naming it otherwise); an empty list
+    // clears them.
+    static void set_search_folders(const std::vector<std::filesystem::path>& folders);
+    static const std::vector<std::filesystem::path>& search_folders();
     // "a, b, c": the folders, for error messages.
     std::string describe() const;
 

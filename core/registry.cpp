@@ -1,5 +1,7 @@
 #include "core/registry.h"
 
+#include "core/warning.h"
+
 #include <algorithm>
 #include <cctype>
 #include <map>
@@ -46,6 +48,25 @@ const char* unsupported_reason(ObjectKind kind, const std::string& type) {
     return it == table.end() ? nullptr : it->second;
 }
 
+// Names that scenes from Mitsuba's development carry but Candela does not have, with the plugin
+// to use instead: a hint in the error, never a silent substitute.
+const char* instead_of(ObjectKind kind, const std::string& type) {
+    static const std::map<std::pair<ObjectKind, std::string>, const char*> table = {
+        {{ObjectKind::BSDF, "disney"}, "Mitsuba 3 calls the Disney BSDF \"principled\"; its parameters may differ from the scene's"},
+        {{ObjectKind::Sampler, "bose"}, "an orthogonal-array sampler; Candela's is \"orthogonal\" (Bush's construction)"},
+        {{ObjectKind::Sampler, "bush"}, "an orthogonal-array sampler; Candela's is \"orthogonal\" (Bush's construction)"},
+    };
+    auto it = table.find({kind, type});
+    return it == table.end() ? nullptr : it->second;
+}
+
+bool equal_ignoring_case(const std::string& a, const std::string& b) {
+    if (a.size() != b.size()) return false;
+    for (size_t i = 0; i < a.size(); ++i)
+        if (std::tolower(static_cast<unsigned char>(a[i])) != std::tolower(static_cast<unsigned char>(b[i]))) return false;
+    return true;
+}
+
 // Levenshtein distance, ignoring case: how many single-letter edits turn `a` into `b`.
 size_t edit_distance(const std::string& a, const std::string& b) {
     std::vector<size_t> row(b.size() + 1);
@@ -78,9 +99,21 @@ std::string nearest_name(const std::string& word, const std::vector<std::string>
 Ref<Object> create_plugin(ObjectKind kind, const Properties& props) {
     auto it = registry().find({kind, props.plugin_type()});
     if (it == registry().end()) {
+        // A name that differs only in case ("Rectangle"): Mitsuba 3 finds its plugin file on
+        // case-insensitive file systems (macOS, Windows) and some published scenes rely on it.
+        for (auto candidate = registry().begin(); candidate != registry().end(); ++candidate)
+            if (candidate->first.first == kind && equal_ignoring_case(candidate->first.second, props.plugin_type())) {
+                warn(props.location(), std::string(kind_tag(kind)) + " type \"" + props.plugin_type() + "\" read as \"" + candidate->first.second +
+                                           "\" (plugin names are case-sensitive in Mitsuba 3 on Linux)");
+                it = candidate;
+                break;
+            }
+    }
+    if (it == registry().end()) {
         std::string what = std::string(kind_tag(kind)) + " type \"" + props.plugin_type() + "\"";
         if (const char* reason = unsupported_reason(kind, props.plugin_type()))
             throw SceneError(props.location(), "unsupported " + what + ": " + reason);
+        if (const char* hint = instead_of(kind, props.plugin_type())) throw SceneError(props.location(), "unknown " + what + ": " + hint);
         std::string known;
         for (auto& name : plugin_names(kind)) known += (known.empty() ? "" : ", ") + name;
         std::string nearest = nearest_name(props.plugin_type(), plugin_names(kind));

@@ -86,12 +86,14 @@ public:
 
     Ref<Scene> load(const std::string& text, const std::string& path) {
         Document& doc = parse_document(text, path, SourceLocation{path, 0});
-        // Mitsuba 3: the scene file's folder, then the working directory; <path>s go in front.
+        // Mitsuba 3: the scene file's folder, then the working directory, then the folders given
+        // with `-a` (FileResolver::set_search_folders); <path>s go in front.
         auto resolver = std::make_shared<FileResolver>();
         resolver->append(fs::absolute(fs::path(path)).parent_path());
         std::error_code ec;
         fs::path cwd = fs::current_path(ec);
         if (!ec) resolver->append(cwd);
+        for (const fs::path& folder : FileResolver::search_folders()) resolver->append(folder);
         doc.resolver = resolver;
         pugi::xml_node root = doc.xml.document_element();
         Properties scene_props("scene", where(doc, root));

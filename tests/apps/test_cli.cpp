@@ -75,6 +75,28 @@ TEST_CASE("cli: bad input exits with code 2, names file:line, and leaves outputs
     for (auto& entry : std::filesystem::directory_iterator(dir)) CHECK(entry.path().filename().string().find(".tmp") == std::string::npos);
 }
 
+TEST_CASE("cli: -a adds search folders for the scene's files (mitsuba -a)", "[cli][path]") {
+    auto dir = scratch_dir("cli-search-path");
+    std::filesystem::create_directories(dir / "scenes");
+    std::filesystem::create_directories(dir / "common" / "meshes");
+    std::filesystem::create_directories(dir / "empty");
+    write_text(dir / "common" / "meshes" / "quad.obj", "v -1 -1 2\nv -1 1 2\nv 1 1 2\nv 1 -1 2\nf 1 2 3 4\n");
+    write_text(dir / "scenes" / "s.xml", scene_xml(R"(<sensor type="perspective"><float name="fov" value="20"/>
+  <film type="hdrfilm"><integer name="width" value="4"/><integer name="height" value="4"/></film></sensor>
+<shape type="obj"><string name="filename" value="meshes/quad.obj"/><emitter type="area"><rgb name="radiance" value="2"/></emitter></shape>)"));
+    std::string scene = "'" + (dir / "scenes" / "s.xml").string() + "'", out = (dir / "out.exr").string();
+    CHECK(run_command(render_cmd(scene + " -o '" + out + "' --spp 1"), dir / "missing.txt") == 2);
+    CHECK_THAT(read_text(dir / "missing.txt"), Catch::Contains("file not found: \"meshes/quad.obj\""));
+    CHECK_FALSE(std::filesystem::exists(out));
+    int code = run_command(render_cmd(scene + " -o '" + out + "' --spp 1 -q -a '" + (dir / "empty").string() + ";" + (dir / "common").string() + "'"),
+                           dir / "found.txt");
+    INFO(read_text(dir / "found.txt"));
+    REQUIRE(code == 0);
+    CHECK(read_image(out).at(1, 1, 0) == Approx(2.0f));
+    CHECK(run_command(render_cmd(scene + " -o '" + out + "' --spp 1 -a '" + (dir / "nowhere").string() + "'"), dir / "nowhere.txt") == 2);
+    CHECK_THAT(read_text(dir / "nowhere.txt"), Catch::Contains("search folder") && Catch::Contains("nowhere"));
+}
+
 TEST_CASE("cli: an unwritable output path or a bad option exits with code 2 before rendering", "[cli][errors]") {
     auto dir = scratch_dir("cli-output");
     CHECK(run_command(render_cmd("'" + Cbox + "' -o '" + (dir / "no/such/dir/out.exr").string() + "'"), dir / "log.txt") == 2);

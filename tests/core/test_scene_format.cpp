@@ -8,6 +8,7 @@
 #include "core/xml.h"
 #include "materials/ior.h"
 #include "tests/probe.h"
+#include "tests/scoped_search_folders.h"
 #include "tests/util.h"
 
 #include <catch2/catch.hpp>
@@ -117,6 +118,75 @@ TEST_CASE("path: a missing file names the file and line and where it looked", "[
     CHECK_THAT(s.message(), Catch::Contains("file not found: \"none.spd\"") && Catch::Contains("looked in"));
     write_text(dir / "inc.xml", scene_xml("<include filename=\"gone.xml\"/>"));
     CHECK_THAT(load_error(dir / "inc.xml").message(), Catch::Contains("cannot open included file \"gone.xml\" (looked in: "));
+}
+
+TEST_CASE("search folders: -a folders are searched after the scene's folder, the working directory and its <path>s", "[xml][path]") {
+    // As `mitsuba -a common scene.xml`: mitsuba-data's older docs scenes name meshes/... and
+    // textures/... without a <path> and are rendered with the shared folder on the search path.
+    auto dir = scratch_dir("search-folders");
+    fs::create_directories(dir / "scenes" / "include");
+    fs::create_directories(dir / "common" / "meshes");
+    fs::create_directories(dir / "other");
+    write_text(dir / "common" / "meshes" / "tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    write_text(dir / "common" / "grey.spd", "400 0.25\n700 0.25\n");
+    write_text(dir / "other" / "grey.spd", "400 0.5\n700 0.5\n");
+    write_text(dir / "scenes" / "include" / "parts.xml", scene_xml(R"(<shape type="obj"><string name="filename" value="meshes/tri.obj"/></shape>)"));
+    write_text(dir / "scenes" / "main.xml", scene_xml(R"(<include filename="include/parts.xml"/>
+<bsdf type="test_probe" id="search_spd"><spectrum name="reflectance" filename="grey.spd"/></bsdf>)"));
+    fs::path main = dir / "scenes" / "main.xml";
+    // Without the folders the mesh is not found; with them, the include's mesh and the scene's
+    // spectrum are, from the first search folder that has them.
+    CHECK_THAT(load_error(main).message(), Catch::Contains("file not found: \"meshes/tri.obj\""));
+    {
+        ScopedSearchFolders search({dir / "common", dir / "other"});
+        Ref<Scene> scene = load_scene(main.string());
+        CHECK(scene->shapes().size() == 1);
+        CHECK(probe("search_spd").get_rgb("reflectance").y == Approx(0.25f).epsilon(3e-3));
+    }
+    {
+        ScopedSearchFolders search({dir / "other", dir / "common"});
+        load_scene(main.string());
+        CHECK(probe("search_spd").get_rgb("reflectance").y == Approx(0.5f).epsilon(3e-3));
+        // The scene's own folder comes first, and so does a <path>.
+        write_text(dir / "scenes" / "grey.spd", "400 0.75\n700 0.75\n");
+        load_scene(main.string());
+        CHECK(probe("search_spd").get_rgb("reflectance").y == Approx(0.75f).epsilon(3e-3));
+        fs::remove(dir / "scenes" / "grey.spd");
+    }
+    {
+        ScopedSearchFolders search({dir / "common"});
+        write_text(dir / "scenes" / "with_path.xml", scene_xml(R"(<path value="../other"/>
+<bsdf type="test_probe" id="path_first"><spectrum name="reflectance" filename="grey.spd"/></bsdf>)"));
+        load_scene((dir / "scenes" / "with_path.xml").string());
+        CHECK(probe("path_first").get_rgb("reflectance").y == Approx(0.5f).epsilon(3e-3));
+    }
+    // Once cleared, the folders are no longer searched; a folder that does not exist is an error naming it.
+    CHECK_THROWS_AS(load_scene(main.string()), SceneError);
+    CHECK_THROWS_WITH(FileResolver::set_search_folders({dir / "nowhere"}),
+                      Catch::Contains("search folder") && Catch::Contains((dir / "nowhere").string()) && Catch::Contains("not found"));
+    CHECK(FileResolver::search_folders().empty());
+}
+
+TEST_CASE("plugin names: a name that differs only in case is read with a warning, former names point to their successor", "[xml][errors]") {
+    // mitsuba-data's principled_blend_creation scenes say type="Rectangle" and "Sphere", which
+    // Mitsuba 3 finds on case-insensitive file systems; the disney_blend_creation ones say "disney".
+    WarningCapture warnings;
+    Image mixed = render_tiny(R"(<shape type="Rectangle"><transform name="to_world"><rotate y="1" angle="180"/><translate z="2"/></transform>
+  <emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>)");
+    REQUIRE(warnings.lines.size() == 1);
+    CHECK_THAT(warnings.lines[0], Catch::Contains("shape type \"Rectangle\" read as \"rectangle\""));
+    Image lower = render_tiny(R"(<shape type="rectangle"><transform name="to_world"><rotate y="1" angle="180"/><translate z="2"/></transform>
+  <emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>)");
+    CHECK(warnings.lines.size() == 1);
+    REQUIRE(mixed.data().size() == lower.data().size());
+    CHECK(mixed.data() == lower.data());
+    CHECK(lower.at(2, 2, 0) == Approx(1.0f));
+    SceneError disney = error_of(scene_xml("<bsdf type=\"disney\"/>"));
+    CHECK(disney.location.line == 2);
+    CHECK_THAT(disney.message(), Catch::Contains("unknown bsdf type \"disney\"") && Catch::Contains("\"principled\""));
+    CHECK_THAT(error_of(scene_xml("<sampler type=\"bush\"/>")).message(), Catch::Contains("unknown sampler type \"bush\"") && Catch::Contains("\"orthogonal\""));
+    // Case-insensitive only: a misspelt name is still an error with the nearest name.
+    CHECK_THAT(error_of(scene_xml("<shape type=\"Rectangel\"/>")).message(), Catch::Contains("nearest supported: \"rectangle\""));
 }
 
 TEST_CASE("spectrum: every form of <spectrum> as a reflectance", "[xml][spectral]") {
