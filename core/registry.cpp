@@ -29,15 +29,13 @@ std::vector<std::string> plugin_names(ObjectKind kind) {
 namespace {
 
 // Mitsuba 3 plugins that Candela deliberately does not have, with the reason. Candela renders
-// surfaces in vacuum in unpolarised RGB: participating media and polarisation have no place in
-// it, and rendering these plugins as something else would give a silently wrong picture.
+// unpolarised RGB without derivatives: polarisation and differentiable integrators have no place
+// in it, and rendering these plugins as something else would give a silently wrong picture.
 const char* unsupported_reason(ObjectKind kind, const std::string& type) {
-    static const char* media = "participating media are not supported (Candela renders surfaces in vacuum)";
+    static const char* differentiable = "differentiable rendering is not supported (render media with volpath or volpathmis)";
     static const char* polarisation = "polarisation is not supported (Candela renders unpolarised RGB only)";
     static const std::map<std::pair<ObjectKind, std::string>, const char*> table = {
-        {{ObjectKind::Integrator, "volpath"}, media},
-        {{ObjectKind::Integrator, "volpathmis"}, media},
-        {{ObjectKind::Integrator, "prbvolpath"}, media},
+        {{ObjectKind::Integrator, "prbvolpath"}, differentiable},
         {{ObjectKind::Integrator, "stokes"}, polarisation},
         {{ObjectKind::BSDF, "measured_polarized"}, polarisation},
         {{ObjectKind::BSDF, "retarder"}, polarisation},

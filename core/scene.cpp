@@ -38,13 +38,16 @@ Scene::Scene(const Properties& props) {
                                       : std::static_pointer_cast<Integrator>(integrators[0]);
     // Top-level BSDFs, textures, samplers, films and filters exist to be referenced by id (Mitsuba's
     // documentation scenes declare their sampler at the top and refer to it from the sensor).
-    for (ObjectKind kind : {ObjectKind::BSDF, ObjectKind::Texture, ObjectKind::Sampler, ObjectKind::Film, ObjectKind::Filter})
+    for (ObjectKind kind : {ObjectKind::BSDF, ObjectKind::Texture, ObjectKind::Sampler, ObjectKind::Film, ObjectKind::Filter,
+                            ObjectKind::Medium, ObjectKind::Phase, ObjectKind::Volume})
         props.get_objects(kind);
 
     for (auto& shape : shapes_) {
         bbox_.expand(shape->bbox());
         if (shape->bsdf()->has_null_lobe()) has_null_surfaces_ = true;
+        if (shape->is_medium_transition()) has_media_ = true;
     }
+    if (sensor_->medium()) has_media_ = true;
     accel_.build(shapes_);
     for (auto& emitter : emitters_) {
         emitter->set_scene(*this);

@@ -27,6 +27,8 @@ public:
     Spectrum transmittance(const Ray& ray) const;
     // Whether any shape's BSDF lets light pass straight through (a Null lobe).
     bool has_null_surfaces() const { return has_null_surfaces_; }
+    // Whether any shape or the sensor carries a participating medium.
+    bool has_media() const { return has_media_; }
 
     const std::vector<Ref<Shape>>& shapes() const { return shapes_; }
     // All emitters: area emitters of shapes, then the others in document order.
@@ -55,6 +57,7 @@ private:
     BoundingBox bbox_;
     Accel accel_;
     bool has_null_surfaces_ = false;
+    bool has_media_ = false;
 };
 
 }  // namespace candela

@@ -348,6 +348,7 @@ Image in_pixel_format(const Image& rgb, const std::vector<float>& coverage, Pixe
 }  // namespace
 
 RenderResult RasterIntegrator::render(const Scene& scene, const RenderOptions& options) {
+    refuse_unrendered_media(scene);
     using namespace raster;
     auto t_start = std::chrono::steady_clock::now();
     if (!options.aovs.empty()) throw InputError("the raster mode renders no AOVs (albedo, normal, depth, variance come from sampling integrators)");
