@@ -14,7 +14,7 @@
 #include "core/medium.h"
 #include "core/scene.h"
 #include "core/volume.h"
-#include "tests/media/vol_writer.h"
+#include "analysis/vol_writer.h"
 #include "tests/stats.h"
 #include "tests/util.h"
 

@@ -1,10 +1,10 @@
-#include "tests/media/vol_writer.h"
+#include "analysis/vol_writer.h"
 
 #include <cstring>
 #include <fstream>
 #include <stdexcept>
 
-namespace candela::test {
+namespace candela {
 
 void write_vol(const std::filesystem::path& path, const glm::ivec3& resolution, int channels, const std::vector<float>& values,
                const BoundingBox& bbox) {
@@ -20,4 +20,4 @@ void write_vol(const std::filesystem::path& path, const glm::ivec3& resolution, 
     out.write(reinterpret_cast<const char*>(values.data()), std::streamsize(values.size() * sizeof(float)));
 }
 
-}  // namespace candela::test
+}  // namespace candela
