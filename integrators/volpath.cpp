@@ -65,27 +65,6 @@ uint32_t float_bits(float f) {
 
 }  // namespace
 
-// The transmittance along a shadow ray that starts in `medium`: through media (ratio tracking)
-// and null surfaces, changing medium where they say; 0 at any other surface.
-Spectrum transmittance_through_media(const Scene& scene, Ray ray, const Medium* medium, PCG32& rng) {
-    const int MaxCrossings = 256;
-    Spectrum T(1.0f);
-    for (int crossed = 0; crossed < MaxCrossings; ++crossed) {
-        SurfaceInteraction si;
-        bool found = scene.intersect(ray, si);
-        if (medium) T *= medium->transmittance(ray, found ? si.t : ray.tmax, rng);
-        if (!found || is_black(T)) return T;
-        T *= si.shape->bsdf()->null_transmission(si);
-        if (is_black(T)) return T;
-        if (si.shape->is_medium_transition()) medium = si.shape->target_medium(si, ray.d);
-        Vec3 origin = offset_ray_origin(si.p, si.p_error, si.n, ray.d);
-        float remaining = ray.tmax - glm::dot(origin - ray.o, ray.d);
-        if (!(remaining > 0.0f)) return T;
-        ray = Ray(origin, ray.d, remaining);
-    }
-    return Spectrum(0.0f);
-}
-
 class VolPathIntegrator : public SamplingIntegrator {
 public:
     VolPathIntegrator(const Properties& props, bool spectral_mis) : spectral_mis_(spectral_mis) {
@@ -242,7 +221,7 @@ Spectrum VolPathIntegrator::sample_light(const Scene& scene, Sampler& sampler, c
     }
     if (is_black(f)) return Spectrum(0.0f);
     Ray shadow = std::isinf(ds.dist) ? at.spawn_ray(ds.d) : at.spawn_ray_to(ds.p, ds.delta ? Vec3(0.0f) : ds.n, ds.p_error);
-    Spectrum T = transmittance_through_media(scene, shadow, medium, rng);
+    Spectrum T = scene.transmittance(shadow, medium, rng);  // through media and null surfaces
     if (is_black(T)) return Spectrum(0.0f);
     float mis = ds.delta ? 1.0f : power_heuristic(ds.pdf * pick_prob, scatter_pdf);
     return T * f * weight * (mis / pick_prob);
