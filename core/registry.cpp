@@ -95,6 +95,11 @@ Ref<Object> create_plugin(ObjectKind kind, const Properties& props) {
         throw SceneError(props.location(), e.what());
     }
     obj->id = props.id;
+    // Mitsuba lets an emitter name the medium it stands in (an Endpoint's medium). Nothing needs
+    // it here: volumetric integrators follow shadow rays from the scattering point through
+    // whatever media lie on the way. It is accepted, one at most.
+    if (kind == ObjectKind::Emitter && props.get_objects(ObjectKind::Medium).size() > 1)
+        props.fail("an emitter stands in at most one medium");
     props.check_all_used();
     return obj;
 }
