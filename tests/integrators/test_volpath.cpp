@@ -3,9 +3,9 @@
 //     thickness d of an absorbing medium (chromatic sigma_t), bounded by null surfaces or by
 //     index-matched dielectrics, and through a sphere along its diameter: the image is
 //     L exp(-sigma_t d).
-//   - Furnace: a camera inside a closed sphere that emits 1 and reflects 0.5 diffusely, filled
-//     with a medium of albedo 1 (chromatic sigma_t, HG phase function): every pixel is
-//     1 / (1 - 0.5) = 2. Next-event estimation, phase sampling and MIS through the medium all
+//   - Furnace (scenes/furnace/medium_sphere.xml): a camera inside a closed sphere that emits 1
+//     and reflects 0.5 diffusely, filled with a medium of albedo 1 (chromatic sigma_t, HG phase
+//     function): every pixel is 1 / (1 - 0.5) = 2. Next-event estimation, phase sampling and MIS through the medium all
 //     contribute; volpathmis's per-channel majorants are exercised by the chromatic sigma_t.
 //   - A medium with sigma_t = 0 changes nothing: volpath renders what path renders without it.
 //   - volpath and volpathmis agree on a heterogeneous, chromatic, scattering scene.
@@ -101,16 +101,7 @@ TEST_CASE("volpath: Beer-Lambert through slabs and a sphere", "[volpath][stats]"
 TEST_CASE("volpath: furnace, a closed emitting sphere filled with a medium of albedo 1", "[volpath][stats]") {
     for (const char* integrator : {"volpath", "volpathmis"}) {
         INFO(integrator);
-        std::string xml = scene_xml(R"(<integrator type=")" + std::string(integrator) + R"("/>
-            <medium type="homogeneous" id="fog"><rgb name="sigma_t" value="0.5, 1.5, 3"/><float name="albedo" value="1"/>
-                <phase type="hg"><float name="g" value="0.3"/></phase></medium>
-            <sensor type="perspective"><float name="fov" value="60"/><ref id="fog"/>
-                <transform name="to_world"><lookat origin="0.2, 0.1, 0" target="1, 0.3, 0.2" up="0, 1, 0"/></transform>)" +
-                                    film(16, 16) + R"(</sensor>
-            <shape type="sphere"><float name="radius" value="1"/><boolean name="flip_normals" value="true"/>
-                <bsdf type="diffuse"><rgb name="reflectance" value="0.5"/></bsdf>
-                <emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>)");
-        RenderResult r = render_xml(xml, "furnace-medium");
+        RenderResult r = render_file(source_path("scenes/furnace/medium_sphere.xml"), {{"integrator", integrator}, {"res", "16"}, {"spp", "16"}});
         for (int ch = 0; ch < 3; ++ch) {
             MeanAndError m = channel_mean(r.image, ch);
             INFO("channel " << ch << ": " << m.mean << " +- " << m.std_error);
