@@ -118,10 +118,14 @@ TEST_CASE("majorant grid: segments cover the ray inside the volume and bound sig
     MediumInScene m = load_medium("majorant-cover", grid_medium(R"(<integer name="majorant_resolution_factor" value="4"/>)", R"(
         <transform name="to_world"><scale x="2" y="1" z="0.5"/><rotate x="1" y="1" z="0" angle="30"/><translate x="-0.5"/></transform>)"),
                                   [&](const std::filesystem::path& dir) { write_vol(dir / "grid.vol", res, 1, values); });
+    // The volume's to_world above: scale, then rotate, then translate.
+    const Transform to_world = Transform::translate(Vec3(-0.5f, 0.0f, 0.0f)) * Transform::rotate(Vec3(1.0f, 1.0f, 0.0f), 30.0f) *
+                               Transform::scale(Vec3(2.0f, 1.0f, 0.5f));
     int violations = 0, gaps = 0, rays_inside = 0;
     for (int r = 0; r < 2000; ++r) {
         Vec3 o = Vec3(rng.next_float(), rng.next_float(), rng.next_float()) * 6.0f - Vec3(3.0f);
-        Vec3 target = Vec3(rng.next_float(), rng.next_float(), rng.next_float()) * 2.0f - Vec3(1.0f);
+        // Toward a point inside the volume, so that every ray crosses it.
+        Vec3 target = to_world.apply_point(Vec3(rng.next_float(), rng.next_float(), rng.next_float()));
         Ray ray(o, glm::normalize(target - o));
         MajorantIterator it = m.medium->majorants(ray, 20.0f);
         MajorantSegment seg;
@@ -138,7 +142,7 @@ TEST_CASE("majorant grid: segments cover the ray inside the volume and bound sig
         }
         rays_inside += any;
     }
-    CHECK(rays_inside > 500);  // the check has content
+    CHECK(rays_inside == 2000);  // every ray crosses the volume: the check has content
     CHECK(gaps == 0);
     CHECK(violations == 0);
 }
