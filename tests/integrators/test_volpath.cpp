@@ -101,12 +101,12 @@ TEST_CASE("volpath: Beer-Lambert through slabs and a sphere", "[volpath][stats]"
 TEST_CASE("volpath: furnace, a closed emitting sphere filled with a medium of albedo 1", "[volpath][stats]") {
     for (const char* integrator : {"volpath", "volpathmis"}) {
         INFO(integrator);
-        RenderResult r = render_file(source_path("scenes/furnace/medium_sphere.xml"), {{"integrator", integrator}, {"res", "16"}, {"spp", "16"}});
+        RenderResult r = render_file(source_path("scenes/furnace/medium_sphere.xml"), {{"integrator", integrator}, {"res", "16"}, {"spp", "64"}});
         for (int ch = 0; ch < 3; ++ch) {
             MeanAndError m = channel_mean(r.image, ch);
             INFO("channel " << ch << ": " << m.mean << " +- " << m.std_error);
             CHECK(std::abs(m.mean - 2.0) < Z * m.std_error);
-            CHECK(m.std_error < 0.04);  // power: a 6% error would be seen
+            CHECK(m.std_error < 0.035);  // power: a 5% error would be seen
         }
     }
 }

@@ -1,8 +1,9 @@
 // Phase functions (isotropic, hg, rayleigh): each is sampled exactly with its pdf.
 //   - Chi-square: directions drawn by sample() against pdf() integrated over the cells of a
-//     10 x 20 spherical grid, for an oblique incident direction (so the frame around it is
-//     exercised). Six cases at a 1% family-wise level (Sidak).
-//   - Deterministic: each sample's pdf equals pdf(wi, wo), its weight eval / pdf = 1, eval = pdf.
+//     10 x 20 spherical grid around the incident direction. Six cases at a 1% family-wise level
+//     (Sidak), together with the tests below.
+//   - Deterministic: each sample's pdf equals pdf(wi, wo), its weight eval / pdf = 1, eval = pdf,
+//     also for an oblique incident direction (the frame around it).
 //   - Normalisation: the Monte Carlo integral of pdf over the sphere (uniform directions) is 1,
 //     within a z-test at the same family-wise level.
 //   - Known values: HG's mean cosine is g (estimated from the samples, z-test), Rayleigh's
@@ -37,7 +38,10 @@ const double Alpha = sidak(0.01, 3 * int(Cases.size()));
 }  // namespace
 
 TEST_CASE("phase functions: sampling matches pdf (chi-square) and is exact", "[phase][stats]") {
-    const Vec3 wi = glm::normalize(Vec3(0.3f, -0.5f, 0.8f));
+    // The histogram looks from the pole (a phase function depends only on the angle to wi, so its
+    // cells' integrals converge quickly); an oblique wi checks the frame around it: every sample's
+    // pdf is pdf(wi, wo) and the mean cosine is right.
+    const Vec3 pole(0.0f, 0.0f, 1.0f), oblique = glm::normalize(Vec3(0.3f, -0.5f, 0.8f));
     const int n = 200000;
     for (const PhaseCase& c : Cases) {
         INFO(c.type << " g = " << c.g);
@@ -46,19 +50,23 @@ TEST_CASE("phase functions: sampling matches pdf (chi-square) and is exact", "[p
         SphericalHistogram hist(10, 20);
         int inconsistent = 0;
         double sum_mu = 0.0, sum_mu2 = 0.0;
-        for (int i = 0; i < n; ++i) {
+        for (int i = 0; i < 2 * n; ++i) {
+            const Vec3& wi = i < n ? pole : oblique;
             PhaseSample ps = phase->sample(wi, Vec2(rng.next_float(), rng.next_float()));
             REQUIRE(ps.valid());
             float pdf = phase->pdf(wi, ps.wo), f = phase->eval(wi, ps.wo);
             if (std::abs(ps.pdf - pdf) > 1e-3f * pdf || std::abs(ps.weight - f / pdf) > 1e-4f || std::abs(glm::length(ps.wo) - 1.0f) > 1e-4f)
                 ++inconsistent;
-            hist.add(ps.wo);
+            if (i < n) {
+                hist.add(ps.wo);
+                continue;
+            }
             double mu = glm::dot(-wi, ps.wo);
             sum_mu += mu;
             sum_mu2 += mu * mu;
         }
         CHECK(inconsistent == 0);
-        ChiSquareResult chi2 = chi_square(hist.counts, hist.expected([&](const Vec3& wo) { return double(phase->pdf(wi, wo)); }, n));
+        ChiSquareResult chi2 = chi_square(hist.counts, hist.expected([&](const Vec3& wo) { return double(phase->pdf(pole, wo)); }, n));
         INFO(chi2.details);
         CHECK(chi2.p_value > Alpha);
         // The mean cosine: g for HG, 0 for the symmetric ones.
@@ -82,7 +90,8 @@ TEST_CASE("phase functions: pdf integrates to one over the sphere", "[phase][sta
             CHECK(phase->eval(wi, wo) == phase->pdf(wi, wo));
         }
         MeanAndError m = mean_and_error(values);
-        CHECK(std::abs(m.mean - 1.0) < two_sided_z(Alpha) * m.std_error);
+        // A constant pdf (isotropic) has no spread: then only float rounding separates it from 1.
+        CHECK(std::abs(m.mean - 1.0) < two_sided_z(Alpha) * m.std_error + 1e-6);
     }
 }
 
