@@ -455,7 +455,14 @@ void SampleRecord::record_first_hit(const SurfaceInteraction& si) {
 
 Image Integrator::preview(const Image& rendered) const { return tonemap_srgb(linear_rgb(rendered)); }
 
+void Integrator::refuse_unrendered_media(const Scene& scene) const {
+    if (!scene.has_media() || renders_media()) return;
+    throw SceneError(SourceLocation{scene.source_file, 0}, "the scene has participating media, which the " + to_string() +
+                                                               " integrator would ignore: render it with volpath (or volpathmis)");
+}
+
 RenderResult SamplingIntegrator::render(const Scene& scene, const RenderOptions& options) {
+    refuse_unrendered_media(scene);
     auto t_start = std::chrono::steady_clock::now();
     const Film& film = scene.sensor().film();
     const SampleLayout values(film, *this);

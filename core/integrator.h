@@ -99,6 +99,11 @@ public:
     // A display image (values in [0, 1]) for --png: by default the sRGB tonemap of the render;
     // integrators that render other quantities (irradiance) draw false colour with a legend.
     virtual Image preview(const Image& rendered) const;
+    // Whether this integrator renders participating media (volpath, volpathmis, raster's fog).
+    virtual bool renders_media() const { return false; }
+    // Stops with a SceneError naming volpath when the scene has media this integrator would
+    // ignore (Mitsuba's path ignores them silently; a silently wrong picture is worse).
+    void refuse_unrendered_media(const Scene& scene) const;
 };
 
 class SamplingIntegrator : public Integrator {

@@ -6,7 +6,7 @@
 
 namespace candela {
 
-enum class ObjectKind { Scene, Shape, BSDF, Emitter, Texture, Sensor, Film, Filter, Sampler, Integrator };
+enum class ObjectKind { Scene, Shape, BSDF, Emitter, Texture, Sensor, Film, Filter, Sampler, Integrator, Medium, Phase, Volume };
 
 // The XML tag of each kind ("bsdf", "rfilter", ...).
 const char* kind_tag(ObjectKind kind);

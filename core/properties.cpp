@@ -22,6 +22,9 @@ const char* kind_tag(ObjectKind kind) {
     case ObjectKind::Filter: return "rfilter";
     case ObjectKind::Sampler: return "sampler";
     case ObjectKind::Integrator: return "integrator";
+    case ObjectKind::Medium: return "medium";
+    case ObjectKind::Phase: return "phase";
+    case ObjectKind::Volume: return "volume";
     }
     return "object";
 }

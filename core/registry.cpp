@@ -31,15 +31,13 @@ std::vector<std::string> plugin_names(ObjectKind kind) {
 namespace {
 
 // Mitsuba 3 plugins that Candela deliberately does not have, with the reason. Candela renders
-// surfaces in vacuum in unpolarised RGB: participating media and polarisation have no place in
-// it, and rendering these plugins as something else would give a silently wrong picture.
+// unpolarised RGB without derivatives: polarisation and differentiable integrators have no place
+// in it, and rendering these plugins as something else would give a silently wrong picture.
 const char* unsupported_reason(ObjectKind kind, const std::string& type) {
-    static const char* media = "participating media are not supported (Candela renders surfaces in vacuum)";
+    static const char* differentiable = "differentiable rendering is not supported (render media with volpath or volpathmis)";
     static const char* polarisation = "polarisation is not supported (Candela renders unpolarised RGB only)";
     static const std::map<std::pair<ObjectKind, std::string>, const char*> table = {
-        {{ObjectKind::Integrator, "volpath"}, media},
-        {{ObjectKind::Integrator, "volpathmis"}, media},
-        {{ObjectKind::Integrator, "prbvolpath"}, media},
+        {{ObjectKind::Integrator, "prbvolpath"}, differentiable},
         {{ObjectKind::Integrator, "stokes"}, polarisation},
         {{ObjectKind::BSDF, "measured_polarized"}, polarisation},
         {{ObjectKind::BSDF, "retarder"}, polarisation},
@@ -130,6 +128,11 @@ Ref<Object> create_plugin(ObjectKind kind, const Properties& props) {
         throw SceneError(props.location(), e.what());
     }
     obj->id = props.id;
+    // Mitsuba lets an emitter name the medium it stands in (an Endpoint's medium). Nothing needs
+    // it here: volumetric integrators follow shadow rays from the scattering point through
+    // whatever media lie on the way. It is accepted, one at most.
+    if (kind == ObjectKind::Emitter && props.get_objects(ObjectKind::Medium).size() > 1)
+        props.fail("an emitter stands in at most one medium");
     props.check_all_used();
     return obj;
 }

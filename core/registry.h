@@ -23,7 +23,7 @@ std::string nearest_name(const std::string& word, const std::vector<std::string>
 
 // Builds the plugin named by props.plugin_type(), then checks that it read every property.
 // An unknown type is a SceneError at the object's location naming the nearest supported type;
-// Mitsuba plugins that Candela deliberately lacks (media, polarisation) say why.
+// Mitsuba plugins that Candela deliberately lacks (polarisation, differentiable ones) say why.
 Ref<Object> create_plugin(ObjectKind kind, const Properties& props);
 
 template <typename T> Ref<T> create_plugin_as(ObjectKind kind, const Properties& props) {

@@ -1,6 +1,7 @@
 #include "core/scene.h"
 
 #include "core/bsdf.h"
+#include "core/medium.h"
 #include "core/registry.h"
 
 #include <algorithm>
@@ -38,13 +39,16 @@ Scene::Scene(const Properties& props) {
                                       : std::static_pointer_cast<Integrator>(integrators[0]);
     // Top-level BSDFs, textures, samplers, films and filters exist to be referenced by id (Mitsuba's
     // documentation scenes declare their sampler at the top and refer to it from the sensor).
-    for (ObjectKind kind : {ObjectKind::BSDF, ObjectKind::Texture, ObjectKind::Sampler, ObjectKind::Film, ObjectKind::Filter})
+    for (ObjectKind kind : {ObjectKind::BSDF, ObjectKind::Texture, ObjectKind::Sampler, ObjectKind::Film, ObjectKind::Filter,
+                            ObjectKind::Medium, ObjectKind::Phase, ObjectKind::Volume})
         props.get_objects(kind);
 
     for (auto& shape : shapes_) {
         bbox_.expand(shape->bbox());
         if (shape->bsdf()->has_null_lobe()) has_null_surfaces_ = true;
+        if (shape->is_medium_transition()) has_media_ = true;
     }
+    if (sensor_->medium()) has_media_ = true;
     accel_.build(shapes_);
     for (auto& emitter : emitters_) {
         emitter->set_scene(*this);
@@ -73,6 +77,11 @@ bool Scene::intersect(const Ray& ray, SurfaceInteraction& si) const {
 
 Spectrum Scene::transmittance(const Ray& shadow_ray) const {
     if (!has_null_surfaces_) return occluded(shadow_ray) ? Spectrum(0.0f) : Spectrum(1.0f);
+    PCG32 unused;
+    return transmittance(shadow_ray, nullptr, unused);
+}
+
+Spectrum Scene::transmittance(const Ray& shadow_ray, const Medium* medium, PCG32& rng) const {
     // Cross the surfaces one by one; a ray that keeps meeting surfaces after this many crossings
     // (coplanar layers that the offsets cannot separate) is taken as blocked rather than looping.
     const int MaxCrossings = 256;
@@ -80,9 +89,12 @@ Spectrum Scene::transmittance(const Ray& shadow_ray) const {
     Ray ray = shadow_ray;
     for (int crossed = 0; crossed < MaxCrossings; ++crossed) {
         SurfaceInteraction si;
-        if (!intersect(ray, si)) return T;
+        bool found = intersect(ray, si);
+        if (medium) T *= medium->transmittance(ray, found ? si.t : ray.tmax, rng);
+        if (!found || is_black(T)) return T;
         T *= si.shape->bsdf()->null_transmission(si);
         if (is_black(T)) return T;
+        if (si.shape->is_medium_transition()) medium = si.shape->target_medium(si, ray.d);
         Vec3 origin = offset_ray_origin(si.p, si.p_error, si.n, ray.d);
         float remaining = ray.tmax - glm::dot(origin - ray.o, ray.d);  // inf stays inf
         if (!(remaining > 0.0f)) return T;

@@ -5,6 +5,7 @@
 #include "core/accel.h"
 #include "core/emitter.h"
 #include "core/integrator.h"
+#include "core/rng.h"
 #include "core/sensor.h"
 
 #include <map>
@@ -25,8 +26,14 @@ public:
     // query, unless the scene has surfaces with a Null lobe (null, mask, polarizer); then the
     // product of the null_transmission() of every surface the ray crosses (0 at an opaque one).
     Spectrum transmittance(const Ray& ray) const;
+    // The same for a shadow ray that starts in `medium` (null: vacuum): each stretch also takes
+    // its medium's transmittance (ratio tracking draws from `rng`), and the medium changes where
+    // the ray crosses a shape with an interior or exterior medium.
+    Spectrum transmittance(const Ray& ray, const Medium* medium, PCG32& rng) const;
     // Whether any shape's BSDF lets light pass straight through (a Null lobe).
     bool has_null_surfaces() const { return has_null_surfaces_; }
+    // Whether any shape or the sensor carries a participating medium.
+    bool has_media() const { return has_media_; }
 
     const std::vector<Ref<Shape>>& shapes() const { return shapes_; }
     // All emitters: area emitters of shapes, then the others in document order.
@@ -55,6 +62,7 @@ private:
     BoundingBox bbox_;
     Accel accel_;
     bool has_null_surfaces_ = false;
+    bool has_media_ = false;
 };
 
 }  // namespace candela

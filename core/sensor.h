@@ -11,6 +11,7 @@
 namespace candela {
 
 class Properties;
+class Medium;
 
 // A pinhole camera's projection (the rasterizer's camera, and the projector light's): camera
 // space has +z forward, +y up and +x toward the image's left (Mitsuba's convention). Film
@@ -80,8 +81,12 @@ public:
         sampler_->set_film_size(film_->full_size());
     }
     const Transform& to_world() const { return to_world_; }
+    // The medium the camera stands in (Mitsuba: a <medium> or <ref> nested in the sensor); null
+    // for vacuum.
+    const Medium* medium() const { return medium_.get(); }
 
 protected:
+    Ref<Medium> medium_;
     Ref<Film> film_;
     Ref<Sampler> sampler_;
     Transform to_world_;

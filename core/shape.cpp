@@ -2,6 +2,7 @@
 
 #include "core/bsdf.h"
 #include "core/emitter.h"
+#include "core/medium.h"
 #include "core/registry.h"
 
 namespace candela {
@@ -16,6 +17,11 @@ Shape::Shape(const Properties& props) {
         if (emitter_->type() != EmitterType::Area) props.fail("only an area emitter can be nested in a shape");
         if (emitter_->shape()) props.fail("this emitter is already attached to another shape");
         emitter_->set_shape(this);
+    }
+    for (auto& [name, medium] : props.get_named_objects(ObjectKind::Medium)) {
+        if (name == "interior") interior_ = std::static_pointer_cast<Medium>(medium);
+        else if (name == "exterior") exterior_ = std::static_pointer_cast<Medium>(medium);
+        else props.fail(name, "a shape's medium must be named \"interior\" or \"exterior\", not \"" + name + "\"");
     }
     auto bsdfs = props.get_objects(ObjectKind::BSDF);
     if (bsdfs.size() > 1) props.fail("a shape can have only one bsdf");

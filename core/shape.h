@@ -16,6 +16,7 @@ namespace candela {
 
 class BSDF;
 class Emitter;
+class Medium;
 
 // A point sampled on a surface; `pdf` is per unit area.
 struct PositionSample {
@@ -119,6 +120,17 @@ public:
         return cos_theta >= 1.0f - 1e-4f;
     }
 
+    // Mitsuba's media on either side: a ray crossing the surface against the geometric normal
+    // enters the interior, along it the exterior (null: vacuum). A shape with neither leaves the
+    // medium a ray is in unchanged.
+    const Medium* interior() const { return interior_.get(); }
+    const Medium* exterior() const { return exterior_.get(); }
+    bool is_medium_transition() const { return interior_ || exterior_; }
+    // The medium a ray leaving si in world direction d travels through (a transition only).
+    const Medium* target_medium(const SurfaceInteraction& si, const Vec3& d) const {
+        return glm::dot(d, si.n) > 0.0f ? exterior() : interior();
+    }
+
     const BSDF* bsdf() const { return bsdf_.get(); }
     const Emitter* emitter() const { return emitter_.get(); }
     const Ref<Emitter>& emitter_ref() const { return emitter_; }
@@ -131,6 +143,7 @@ protected:
 private:
     Ref<BSDF> bsdf_;
     Ref<Emitter> emitter_;
+    Ref<Medium> interior_, exterior_;
 };
 
 }  // namespace candela

@@ -26,6 +26,7 @@ const std::map<std::string, ObjectKind>& object_tags() {
         {"shape", ObjectKind::Shape},     {"bsdf", ObjectKind::BSDF},       {"emitter", ObjectKind::Emitter},
         {"texture", ObjectKind::Texture}, {"sensor", ObjectKind::Sensor},   {"film", ObjectKind::Film},
         {"rfilter", ObjectKind::Filter},  {"sampler", ObjectKind::Sampler}, {"integrator", ObjectKind::Integrator},
+        {"medium", ObjectKind::Medium},   {"phase", ObjectKind::Phase},     {"volume", ObjectKind::Volume},
     };
     return tags;
 }
@@ -277,9 +278,6 @@ private:
             throw SceneError(where(doc, child), "unsupported element <animation>: animated transforms (motion blur) are not supported");
         } else if (tag == "resource_path") {
             throw SceneError(where(doc, child), "unknown element <resource_path> (Mitsuba 3 calls it <path value=\"...\"/>)");
-        } else if (tag == "medium" || tag == "phase" || tag == "volume") {
-            throw SceneError(where(doc, child), "unsupported element <" + tag +
-                                                    ">: participating media are not supported (Candela renders surfaces in vacuum)");
         } else {
             read_property(doc, child, props);
         }

@@ -85,6 +85,7 @@ public:
 
     // The photon maps are built in prepare(), with the render's threads, seed and interruption.
     RenderResult render(const Scene& scene, const RenderOptions& options) override {
+        refuse_unrendered_media(scene);
         threads_ = options.threads;
         interrupt_ = options.interrupt;
         seed_ = sample_settings(scene, options).seed;

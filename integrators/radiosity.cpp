@@ -134,6 +134,7 @@ public:
     }
 
     RenderResult render(const Scene& scene, const RenderOptions& options) override {
+        refuse_unrendered_media(scene);
         auto start = std::chrono::steady_clock::now();
         patches_ = std::make_unique<RadiosityPatches>(scene, settings_);
         RadiosityStats stats;

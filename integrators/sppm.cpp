@@ -185,6 +185,7 @@ Spectrum SPPMIntegrator::gather(const PhotonGrid& grid, const GatherPoint& vp, f
 }
 
 RenderResult SPPMIntegrator::render(const Scene& scene, const RenderOptions& options) {
+    refuse_unrendered_media(scene);
     auto t_start = std::chrono::steady_clock::now();
     if (!options.aovs.empty()) throw InputError("sppm renders no AOVs (its passes are correlated: there is no per-pixel variance)");
     const SampleSettings samples = sample_settings(scene, options);

@@ -1,5 +1,6 @@
 #include "sensors/projective.h"
 
+#include "core/medium.h"
 #include "core/properties.h"
 #include "core/registry.h"
 
@@ -8,6 +9,9 @@ namespace candela {
 ProjectiveCamera::ProjectiveCamera(const Properties& props) {
     to_world_ = props.get_transform("to_world", Transform());
     world_to_local_ = to_world_.inverse();
+    auto media = props.get_objects(ObjectKind::Medium);
+    if (media.size() > 1) props.fail("a sensor stands in at most one medium");
+    if (!media.empty()) medium_ = std::static_pointer_cast<Medium>(media[0]);
     auto films = props.get_objects(ObjectKind::Film);
     auto samplers = props.get_objects(ObjectKind::Sampler);
     if (films.size() > 1 || samplers.size() > 1) props.fail("a sensor has at most one film and one sampler");

@@ -10,6 +10,7 @@
 //              or the baked irradiance                                    pass_ambient.cpp
 //   lights     per light, its shadow (map or volume) and its direct lighting added to every
 //              sample (Gouraud: lit at the vertices, interpolated)        pass_lights.cpp
+//   fog        the medium around the camera as exponential fog              pass_fog.cpp
 //   resolve    the supersamples filtered into pixels                       pass_resolve.cpp
 //   overlays   wireframe and light gizmos drawn over the pixels            pass_overlays.cpp
 // The passes share FrameBuffers: each reads what earlier passes wrote and fills its own part.
@@ -95,6 +96,7 @@ void geometry_pass(const FrameSetup& frame, FrameBuffers& buffers);
 void surface_pass(const FrameSetup& frame, FrameBuffers& buffers);
 void ambient_pass(const FrameSetup& frame, FrameBuffers& buffers);
 void lights_pass(const FrameSetup& frame, FrameBuffers& buffers);
+void fog_pass(const FrameSetup& frame, FrameBuffers& buffers);
 void resolve_pass(const FrameSetup& frame, FrameBuffers& buffers);
 void overlay_pass(const FrameSetup& frame, FrameBuffers& buffers);
 

@@ -78,6 +78,7 @@
 #include "core/memory_budget.h"
 #include "core/registry.h"
 #include "core/scene.h"
+#include "core/warning.h"
 #include "integrators/raster/environment.h"
 #include "integrators/radiosity.h"
 #include "integrators/raster/frame.h"
@@ -349,6 +350,12 @@ Image in_pixel_format(const Image& rgb, const std::vector<float>& coverage, Pixe
 
 RenderResult RasterIntegrator::render(const Scene& scene, const RenderOptions& options) {
     using namespace raster;
+    for (const auto& shape : scene.shapes())
+        if (shape->is_medium_transition()) {
+            warn(SourceLocation{scene.source_file, 0},
+                 "the raster mode draws only the medium around the camera, as fog; media inside shapes are left out");
+            break;
+        }
     auto t_start = std::chrono::steady_clock::now();
     if (!options.aovs.empty()) throw InputError("the raster mode renders no AOVs (albedo, normal, depth, variance come from sampling integrators)");
     auto pinhole = scene.sensor().pinhole();
@@ -364,6 +371,7 @@ RenderResult RasterIntegrator::render(const Scene& scene, const RenderOptions& o
         surface_pass(frame, buffers);
         ambient_pass(frame, buffers);
         lights_pass(frame, buffers);
+        fog_pass(frame, buffers);
         resolve_pass(frame, buffers);
         overlay_pass(frame, buffers);
         result.image = in_pixel_format(buffers.image, buffers.coverage, scene.sensor().film().pixel_format());

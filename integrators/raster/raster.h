@@ -86,6 +86,8 @@ public:
     ~RasterIntegrator() override;
     RenderResult render(const Scene& scene, const RenderOptions& options) override;
     std::string to_string() const override { return "raster"; }
+    // The medium around the camera becomes exponential fog (pass_fog.cpp).
+    bool renders_media() const override { return true; }
 
     RasterSettings& settings() { return settings_; }
     // Seconds spent baking the lighting for the last frame (0 when it was reused or not baked).

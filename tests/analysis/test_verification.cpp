@@ -43,6 +43,8 @@ TEST_CASE("converge: every analytic furnace scene converges to its stated answer
         {"convex_diffuse.xml", ""},
         {"sky_irradiance.xml", ""},
         {"point_irradiance.xml", ""},
+        {"medium_sphere.xml", ""},
+        {"medium_sphere.xml", "-D integrator=volpathmis"},
     };
     for (const Case& c : cases) {
         int code = converge(c.scene, c.extra, dir / "log.txt", c.spp);

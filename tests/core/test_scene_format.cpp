@@ -362,7 +362,7 @@ TEST_CASE("conductors: material names give the measured IOR of Mitsuba 3's table
     CHECK_THAT(e.message(), Catch::Contains("unknown conductor \"Cuu\" (nearest: \"Cu\")"));
 }
 
-TEST_CASE("unsupported: unknown plugins name the nearest supported one; media and polarisation say why", "[xml][errors]") {
+TEST_CASE("unsupported: unknown plugins name the nearest supported one; polarisation and differentiable integrators say why", "[xml][errors]") {
     struct Case {
         std::string body;
         int line;
@@ -371,13 +371,12 @@ TEST_CASE("unsupported: unknown plugins name the nearest supported one; media an
     const std::vector<Case> cases = {
         {"<bsdf type=\"roughplastc\"/>", 2, "unknown bsdf type \"roughplastc\" (nearest supported: \"roughplastic\")"},
         {"<shape type=\"spher\"/>", 2, "unknown shape type \"spher\" (nearest supported: \"sphere\")"},
-        {"<integrator type=\"volpath\"/>", 2, "unsupported integrator type \"volpath\": participating media are not supported"},
+        {"<integrator type=\"prbvolpath\"/>", 2, "unsupported integrator type \"prbvolpath\": differentiable rendering is not supported"},
         {"<integrator type=\"stokes\"/>", 2, "unsupported integrator type \"stokes\": polarisation is not supported"},
         {"<bsdf type=\"measured_polarized\"/>", 2, "unsupported bsdf type \"measured_polarized\": polarisation is not supported"},
-        {"<medium type=\"homogeneous\" id=\"fog\"/>", 2, "unsupported element <medium>: participating media are not supported"},
-        {"<shape type=\"sphere\">\n<medium type=\"homogeneous\" name=\"interior\"/>\n</shape>", 3, "unsupported element <medium>"},
-        {"<phase type=\"hg\"/>", 2, "unsupported element <phase>"},
-        {"<volume type=\"gridvolume\"/>", 2, "unsupported element <volume>"},
+        {"<medium type=\"homogenous\" id=\"fog\"/>", 2, "unknown medium type \"homogenous\" (nearest supported: \"homogeneous\")"},
+        {"<shape type=\"sphere\">\n<medium type=\"homogeneous\" name=\"inside\"/>\n</shape>", 3, "must be named \"interior\" or \"exterior\""},
+        {"<phase type=\"hg\"><float name=\"g\" value=\"1\"/></phase>", 2, "strictly between -1 and 1"},
         {"<shape type=\"sphere\">\n<animation name=\"to_world\"/>\n</shape>", 3, "unsupported element <animation>: animated transforms"},
         {"<resource_path value=\".\"/>", 2, "Mitsuba 3 calls it <path"},
     };

@@ -1,6 +1,7 @@
 // The example scenes of scenes/examples load and render (small and noisy here): finite images
 // with light in them, and the rasterizer draws those whose camera is a pinhole, lighting them
-// with the same delta lights (projector and textured spot through sample_direction).
+// with the same delta lights (projector and textured spot through sample_direction), and the
+// fog around the camera as exponential fog.
 
 #include "core/registry.h"
 #include "core/xml.h"
@@ -23,9 +24,9 @@ double image_mean(const Image& img, bool& finite) {
 }
 }  // namespace
 
-TEST_CASE("example scenes: sensors and lights render", "[scenes][camera][lights]") {
+TEST_CASE("example scenes: sensors, lights and media render", "[scenes][camera][lights][media]") {
     const SceneParameters small = {{"res", "24"}, {"spp", "4"}};
-    for (const char* name : {"orthographic", "thinlens", "projector", "spot_texture", "directionalarea"}) {
+    for (const char* name : {"orthographic", "thinlens", "projector", "spot_texture", "directionalarea", "fog", "smoke"}) {
         INFO(name);
         Ref<Scene> scene = load_scene(source_path(std::string("scenes/examples/") + name + ".xml"), small);
         RenderOptions options;

@@ -1,0 +1,36 @@
+#include "core/volume.h"
+
+#include "core/registry.h"
+
+namespace candela {
+
+Volume::Volume(const Properties& props) {
+    Transform to_world = props.get_transform("to_world", Transform());
+    if (!to_world.all_finite() || to_world.determinant3() == 0.0f) props.fail("to_world", "the volume's to_world must be invertible");
+    set_to_world(to_world);
+}
+
+void Volume::set_to_world(const Transform& to_world) {
+    to_world_ = to_world;
+    to_local_ = to_world.inverse();
+    bbox_ = BoundingBox();
+    for (int corner = 0; corner < 8; ++corner)
+        bbox_.expand(to_world_.apply_point(Vec3(float(corner & 1), float((corner >> 1) & 1), float((corner >> 2) & 1))));
+}
+
+Ref<Volume> get_volume(const Properties& props, const std::string& name, const Spectrum& def) {
+    if (props.has(name)) {
+        Properties::Type type;
+        const Properties::Value& raw = props.get_raw(name, &type);
+        if (type == Properties::Type::Object) {
+            auto object = std::get<Ref<Object>>(raw);
+            if (object && object->kind() == ObjectKind::Volume) return std::static_pointer_cast<Volume>(object);
+        }
+    }
+    // A constant (float, rgb, or a <spectrum> constant texture), read as an rgb.
+    Properties constant("constvolume", props.location_of(name));
+    constant.set_rgb("value", props.get_rgb(name, def));
+    return create_plugin_as<Volume>(ObjectKind::Volume, constant);
+}
+
+}  // namespace candela

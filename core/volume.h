@@ -1,0 +1,47 @@
+#pragma once
+// Volumes: spatially varying values (a medium's sigma_t or albedo) over a region of space, as
+// Mitsuba 3's Volume. A volume's local coordinates are the unit cube [0, 1]^3, placed in the
+// world by `to_world` (default: the identity); constvolume has one value everywhere, gridvolume
+// interpolates a voxel grid (Mitsuba's .vol files).
+
+#include "core/object.h"
+#include "core/properties.h"
+#include "core/spectrum.h"
+#include "core/transform.h"
+
+namespace candela {
+
+class Volume : public Object {
+public:
+    explicit Volume(const Properties& props);
+    ObjectKind kind() const override { return ObjectKind::Volume; }
+
+    // The value at a world-space point.
+    virtual Spectrum eval(const Vec3& p_world) const = 0;
+    // A bound, channel by channel, on every value eval() can return at a point whose local
+    // coordinates lie in the box [lo, hi] (a majorant grid's cell).
+    virtual Spectrum max_in_local_box(const Vec3& lo, const Vec3& hi) const = 0;
+    Spectrum max() const { return max_in_local_box(Vec3(0.0f), Vec3(1.0f)); }
+    // One value everywhere (constvolume).
+    virtual bool is_constant() const { return false; }
+    // Voxels along each axis (1 for a constant), for sizing majorant grids.
+    virtual glm::ivec3 resolution() const { return glm::ivec3(1); }
+
+    const Transform& to_world() const { return to_world_; }
+    Vec3 to_local(const Vec3& p_world) const { return to_local_.apply_point(p_world); }
+    Vec3 to_local_vector(const Vec3& v_world) const { return to_local_.apply_vector(v_world); }
+    // The world-space bounding box of the unit cube.
+    const BoundingBox& bbox() const { return bbox_; }
+
+protected:
+    // Places the unit cube by `to_world` (and updates to_local and the bounding box).
+    void set_to_world(const Transform& to_world);
+    Transform to_world_, to_local_;
+    BoundingBox bbox_;
+};
+
+// A volume-valued parameter as Mitsuba's props.volume(): a nested <volume>, or a float or rgb
+// (or <spectrum>) constant made into a constvolume; `def` when absent.
+Ref<Volume> get_volume(const Properties& props, const std::string& name, const Spectrum& def);
+
+}  // namespace candela

@@ -1,0 +1,53 @@
+// homogeneous: a medium with the same coefficients everywhere (Mitsuba 3's `homogeneous`).
+//
+// Parameters:
+//   sigma_t           float, rgb or constvolume   extinction coefficient, per scene unit
+//                                                  (default 1)
+//   albedo            float, rgb or constvolume   single-scattering albedo sigma_s / sigma_t,
+//                                                  in [0, 1] (default 0.75)
+//   scale             float     multiplies sigma_t, e.g. to change units (default 1)
+//   sample_emitters   boolean   next-event estimation from inside the medium (default true)
+//   (nested phase)              the phase function (default isotropic)
+// It fills whatever region refers to it (a shape's interior or exterior, a sensor's
+// surroundings), without bounds of its own. Transmittance is exact: exp(-sigma_t * distance).
+
+#include "core/medium.h"
+#include "core/registry.h"
+#include "core/volume.h"
+
+namespace candela {
+
+class HomogeneousMedium : public Medium {
+public:
+    explicit HomogeneousMedium(const Properties& props) : Medium(props) {
+        Ref<Volume> sigma_t = get_volume(props, "sigma_t", Spectrum(1.0f)), albedo = get_volume(props, "albedo", Spectrum(0.75f));
+        if (!sigma_t->is_constant()) props.fail("sigma_t", "a homogeneous medium needs a constant sigma_t (use a heterogeneous medium for a grid)");
+        if (!albedo->is_constant()) props.fail("albedo", "a homogeneous medium needs a constant albedo (use a heterogeneous medium for a grid)");
+        float scale = props.get_float("scale", 1.0f);
+        point_.sigma_t = sigma_t->max() * scale;
+        Spectrum a = albedo->max();
+        if (!all_finite(point_.sigma_t) || min_component(point_.sigma_t) < 0.0f)
+            props.fail(props.has("sigma_t") ? "sigma_t" : "scale", "sigma_t * scale must be finite and non-negative");
+        if (!all_finite(a) || min_component(a) < 0.0f || max_component(a) > 1.0f) props.fail("albedo", "the albedo must lie in [0, 1]");
+        point_.sigma_s = point_.sigma_t * a;
+    }
+
+    MediumPoint eval(const Vec3&) const override { return point_; }
+    MajorantIterator majorants(const Ray& ray, float tmax) const override { return MajorantIterator(ray.tmin, tmax, point_.sigma_t); }
+    Spectrum transmittance(const Ray& ray, float tmax, PCG32&) const override {
+        float distance = tmax - ray.tmin;
+        Spectrum T;
+        for (int k = 0; k < 3; ++k) T[k] = point_.sigma_t[k] == 0.0f ? 1.0f : std::exp(-point_.sigma_t[k] * distance);
+        return T;
+    }
+    bool is_homogeneous() const override { return true; }
+    const MediumPoint& coefficients() const { return point_; }
+    std::string to_string() const override { return "homogeneous"; }
+
+private:
+    MediumPoint point_;
+};
+
+CANDELA_REGISTER(HomogeneousMedium, ObjectKind::Medium, "homogeneous");
+
+}  // namespace candela

@@ -1,0 +1,196 @@
+// volpath and volpathmis against closed forms, against each other and against path.
+//   - Beer-Lambert: an orthographic camera looks at an emitter of radiance L through a slab of
+//     thickness d of an absorbing medium (chromatic sigma_t), bounded by null surfaces or by
+//     index-matched dielectrics, and through a sphere along its diameter: the image is
+//     L exp(-sigma_t d).
+//   - Furnace (scenes/furnace/medium_sphere.xml): a camera inside a closed sphere that emits 1
+//     and reflects 0.5 diffusely, filled with a medium of albedo 1 (chromatic sigma_t, HG phase
+//     function): every pixel is 1 / (1 - 0.5) = 2. Next-event estimation, phase sampling and MIS through the medium all
+//     contribute; volpathmis's per-channel majorants are exercised by the chromatic sigma_t.
+//   - A medium with sigma_t = 0 changes nothing: volpath renders what path renders without it.
+//   - volpath and volpathmis agree on a heterogeneous, chromatic, scattering scene.
+//   - path refuses a scene with media, naming volpath.
+// Statistics: pixels of a box-filtered render are independent, so image and block means get their
+// standard errors from the spread of the pixels; every comparison is a z-test, and all of them
+// together keep a 1% family-wise level (Sidak over the count below).
+
+#include "core/scene.h"
+#include "core/xml.h"
+#include "analysis/vol_writer.h"
+#include "tests/stats.h"
+#include "tests/util.h"
+
+#include <catch2/catch.hpp>
+
+using namespace candela;
+using namespace candela::test;
+
+namespace {
+
+// Channels times the z-tests: Beer-Lambert 3 cases x 2 integrators, the furnace 2 integrators,
+// sigma_t = 0 one comparison, volpath vs volpathmis 1 image mean + 16 block means.
+const double Z = two_sided_z(sidak(0.01, 3 * (6 + 2 + 1 + 17)));
+
+RenderResult render_xml(const std::string& xml, const std::string& name) {
+    auto dir = scratch_dir(name);
+    write_text(dir / "scene.xml", xml);
+    Ref<Scene> scene = load_scene((dir / "scene.xml").string());
+    return scene->integrator().render(*scene, RenderOptions());
+}
+
+MeanAndError channel_mean(const Image& img, int ch, int x0 = 0, int y0 = 0, int w = -1, int h = -1) {
+    if (w < 0) w = img.width();
+    if (h < 0) h = img.height();
+    std::vector<double> v;
+    for (int y = y0; y < y0 + h; ++y)
+        for (int x = x0; x < x0 + w; ++x) v.push_back(img.at(x, y, ch));
+    return mean_and_error(v);
+}
+
+std::string film(int size, int spp) {
+    return R"(<film type="hdrfilm"><integer name="width" value=")" + std::to_string(size) + R"("/><integer name="height" value=")" +
+           std::to_string(size) + R"("/><rfilter type="box"/><string name="component_format" value="float32"/></film>
+        <sampler type="independent"><integer name="sample_count" value=")" + std::to_string(spp) + R"("/></sampler>)";
+}
+
+// Looking down -z at an emitter of radiance (1, 2, 3) in the plane z = 0, through `between`.
+std::string beer_lambert_scene(const std::string& integrator, const std::string& between, float view_scale) {
+    return scene_xml(R"(<integrator type=")" + integrator + R"("/>
+        <sensor type="orthographic"><transform name="to_world"><scale value=")" + std::to_string(view_scale) +
+                     R"("/><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>)" + film(16, 64) + R"(</sensor>
+        <shape type="rectangle"><transform name="to_world"><scale value="10"/></transform>
+            <emitter type="area"><rgb name="radiance" value="1, 2, 3"/></emitter></shape>
+        <medium type="homogeneous" id="absorber"><rgb name="sigma_t" value="0.5, 1, 2"/><float name="albedo" value="0"/></medium>)" +
+                     between);
+}
+
+}  // namespace
+
+TEST_CASE("volpath: Beer-Lambert through slabs and a sphere", "[volpath][stats]") {
+    const Vec3 L(1.0f, 2.0f, 3.0f), sigma(0.5f, 1.0f, 2.0f);
+    struct Case {
+        std::string name, between;
+        float view_scale, distance;
+    };
+    const std::string slab_transform = R"(<transform name="to_world"><scale x="10" y="10" z="0.5"/><translate z="2"/></transform>)";
+    const std::vector<Case> cases = {
+        {"null slab", "<shape type=\"cube\">" + slab_transform + "<bsdf type=\"null\"/><ref name=\"interior\" id=\"absorber\"/></shape>", 1.0f, 1.0f},
+        {"index-matched dielectric slab",
+         "<shape type=\"cube\">" + slab_transform +
+             R"(<bsdf type="dielectric"><float name="int_ior" value="1"/><float name="ext_ior" value="1"/></bsdf><ref name="interior" id="absorber"/></shape>)",
+         1.0f, 1.0f},
+        // Along the diameter: the view is 0.02 across, so chords differ from 2 by under 1e-4.
+        {"sphere", R"(<shape type="sphere"><point name="center" value="0, 0, 2"/><float name="radius" value="1"/><bsdf type="null"/>
+            <ref name="interior" id="absorber"/></shape>)",
+         0.01f, 2.0f},
+    };
+    for (const Case& c : cases)
+        for (const char* integrator : {"volpath", "volpathmis"}) {
+            INFO(c.name << ", " << integrator);
+            RenderResult r = render_xml(beer_lambert_scene(integrator, c.between, c.view_scale), "beer-lambert");
+            for (int ch = 0; ch < 3; ++ch) {
+                MeanAndError m = channel_mean(r.image, ch);
+                double expected = L[ch] * std::exp(-double(sigma[ch]) * c.distance);
+                INFO("channel " << ch << ": " << m.mean << " +- " << m.std_error << ", expected " << expected);
+                CHECK(std::abs(m.mean - expected) < Z * m.std_error);
+                CHECK(m.std_error < 0.03 * L[ch]);  // power: a 10% error would be seen
+            }
+        }
+}
+
+TEST_CASE("volpath: furnace, a closed emitting sphere filled with a medium of albedo 1", "[volpath][stats]") {
+    for (const char* integrator : {"volpath", "volpathmis"}) {
+        INFO(integrator);
+        RenderResult r = render_file(source_path("scenes/furnace/medium_sphere.xml"), {{"integrator", integrator}, {"res", "16"}, {"spp", "64"}});
+        for (int ch = 0; ch < 3; ++ch) {
+            MeanAndError m = channel_mean(r.image, ch);
+            INFO("channel " << ch << ": " << m.mean << " +- " << m.std_error);
+            CHECK(std::abs(m.mean - 2.0) < Z * m.std_error);
+            CHECK(m.std_error < 0.035);  // power: a 5% error would be seen
+        }
+    }
+}
+
+namespace {
+
+// A floor, a sphere and an area light, seen in perspective; `extra` is added.
+std::string small_scene(const std::string& integrator, const std::string& extra, int spp) {
+    return scene_xml(R"(<integrator type=")" + integrator + R"("/>
+        <sensor type="perspective"><float name="fov" value="45"/>
+            <transform name="to_world"><lookat origin="0, 1.5, 4" target="0, 0.5, 0" up="0, 1, 0"/></transform>)" + film(32, spp) + R"(</sensor>
+        <shape type="rectangle"><transform name="to_world"><scale value="3"/><rotate x="1" angle="-90"/></transform>
+            <bsdf type="diffuse"><rgb name="reflectance" value="0.6, 0.5, 0.4"/></bsdf></shape>
+        <shape type="sphere"><point name="center" value="0.3, 0.5, 0"/><float name="radius" value="0.5"/>
+            <bsdf type="roughplastic"/></shape>
+        <shape type="rectangle"><transform name="to_world"><scale value="0.5"/><rotate x="1" angle="90"/><translate y="2.5"/></transform>
+            <emitter type="area"><rgb name="radiance" value="10"/></emitter></shape>)" + extra);
+}
+
+}  // namespace
+
+TEST_CASE("volpath: a medium with sigma_t = 0 renders as vacuum, as path renders the scene", "[volpath][stats]") {
+    const std::string clear_box = R"(<medium type="homogeneous" id="clear"><float name="sigma_t" value="0"/></medium>
+        <shape type="cube"><transform name="to_world"><scale value="1.2"/><translate y="0.6"/></transform>
+            <bsdf type="null"/><ref name="interior" id="clear"/></shape>)";
+    RenderResult with_medium = render_xml(small_scene("volpath", clear_box, 32), "clear-medium");
+    RenderResult vacuum = render_xml(small_scene("path", "", 32), "clear-vacuum");
+    for (int ch = 0; ch < 3; ++ch) {
+        std::vector<double> diff;
+        for (int y = 0; y < 32; ++y)
+            for (int x = 0; x < 32; ++x) diff.push_back(double(with_medium.image.at(x, y, ch)) - vacuum.image.at(x, y, ch));
+        MeanAndError d = mean_and_error(diff);
+        MeanAndError level = channel_mean(vacuum.image, ch);
+        INFO("channel " << ch << ": difference " << d.mean << " +- " << d.std_error << " of " << level.mean);
+        CHECK(std::abs(d.mean) < Z * d.std_error);
+        CHECK(d.std_error < 0.03 * level.mean);
+    }
+}
+
+TEST_CASE("volpath and volpathmis agree on a heterogeneous chromatic medium", "[volpath][stats]") {
+    auto dir = scratch_dir("volpath-vs-mis");
+    PCG32 rng(5, 9);
+    const glm::ivec3 res(12, 12, 12);
+    std::vector<float> density;
+    for (int i = 0; i < res.x * res.y * res.z; ++i) {
+        float v = rng.next_float() < 0.5f ? 0.0f : 6.0f * rng.next_float();
+        density.insert(density.end(), {v, 0.5f * v, 0.2f * v});
+    }
+    write_vol(dir / "smoke.vol", res, 3, density);
+    const std::string smoke = R"(<medium type="heterogeneous" id="smoke"><rgb name="albedo" value="0.9, 0.7, 0.8"/>
+            <volume type="gridvolume" name="sigma_t"><string name="filename" value="smoke.vol"/>
+                <transform name="to_world"><scale value="1.4"/><translate x="-0.9" y="0.01" z="-0.5"/></transform></volume>
+            <phase type="hg"><float name="g" value="0.5"/></phase></medium>
+        <shape type="cube"><transform name="to_world"><scale value="0.7"/><translate x="-0.2" y="0.71" z="0.2"/></transform>
+            <bsdf type="null"/><ref name="interior" id="smoke"/></shape>)";
+    Image images[2];
+    int i = 0;
+    for (const char* integrator : {"volpath", "volpathmis"}) {
+        write_text(dir / "scene.xml", small_scene(integrator, smoke, 32));
+        Ref<Scene> scene = load_scene((dir / "scene.xml").string());
+        images[i++] = scene->integrator().render(*scene, RenderOptions()).image;
+    }
+    for (int ch = 0; ch < 3; ++ch) {
+        // The whole image, then 16 blocks of 8 x 8 pixels.
+        for (int block = -1; block < 16; ++block) {
+            int x0 = block < 0 ? 0 : 8 * (block % 4), y0 = block < 0 ? 0 : 8 * (block / 4), size = block < 0 ? 32 : 8;
+            std::vector<double> diff;
+            for (int y = y0; y < y0 + size; ++y)
+                for (int x = x0; x < x0 + size; ++x) diff.push_back(double(images[0].at(x, y, ch)) - images[1].at(x, y, ch));
+            MeanAndError d = mean_and_error(diff);
+            INFO("channel " << ch << ", block " << block << ": difference " << d.mean << " +- " << d.std_error);
+            CHECK(std::abs(d.mean) <= Z * d.std_error);
+        }
+    }
+}
+
+TEST_CASE("path refuses a scene with media and names volpath", "[volpath][errors]") {
+    auto dir = scratch_dir("path-refuses-media");
+    write_text(dir / "scene.xml", beer_lambert_scene("path", R"(<shape type="sphere"><bsdf type="null"/><ref name="interior" id="absorber"/></shape>)", 1.0f));
+    Ref<Scene> scene = load_scene((dir / "scene.xml").string());
+    try {
+        scene->integrator().render(*scene, RenderOptions());
+        FAIL("path rendered a scene with media");
+    } catch (const SceneError& e) {
+        CHECK_THAT(e.message(), Catch::Contains("volpath"));
+    }
+}
