@@ -339,7 +339,7 @@ private:
         for (int s = samples.begin; s < samples.end; ++s) {
             sampler.start(pixel, uint32_t(s));
             SampleRecord record;
-            record.film_pos = Vec2(pixel) + sampler.next_2d();
+            record.film_pos = Vec2(pixel) + sensor_.pixel_offset(sampler.next_2d());
             record.aperture = sampler.next_2d();
             record.differential_scale = differential_scale_;
             FirstHitAovs aov;

@@ -84,12 +84,17 @@ public:
     // The medium the camera stands in (Mitsuba: a <medium> or <ref> nested in the sensor); null
     // for vacuum.
     const Medium* medium() const { return medium_.get(); }
+    // Where in its pixel a camera sample lies: `u` uniform in [0,1)^2 (jittered, the default)
+    // or the pixel's centre (Mitsuba's jitter = false).
+    Vec2 pixel_offset(const Vec2& u) const { return jitter_ ? u : Vec2(0.5f); }
+    bool jitter() const { return jitter_; }
 
 protected:
     Ref<Medium> medium_;
     Ref<Film> film_;
     Ref<Sampler> sampler_;
     Transform to_world_;
+    bool jitter_ = true;
 };
 
 }  // namespace candela

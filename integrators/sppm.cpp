@@ -141,7 +141,9 @@ private:
 Spectrum SPPMIntegrator::trace_camera(const Scene& scene, Sampler& sampler, const FilterSampler& filter, const Vec2i& pixel,
                                       GatherPoint& vp) const {
     float filter_weight;
-    Vec2 pos = Vec2(pixel) + Vec2(0.5f) + filter.sample(sampler.next_2d(), filter_weight);
+    Vec2 offset = filter.sample(sampler.next_2d(), filter_weight);
+    if (!scene.sensor().jitter()) offset = Vec2(0.0f), filter_weight = 1.0f;  // the pixel's centre
+    Vec2 pos = Vec2(pixel) + Vec2(0.5f) + offset;
     Ray ray = scene.sensor().sample_ray(pos, sampler.next_2d());
     WalkSettings walk;
     walk.max_depth = max_depth_;

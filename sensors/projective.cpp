@@ -30,6 +30,9 @@ ProjectiveCamera::ProjectiveCamera(const Properties& props) {
     focus_distance_ = props.get_float("focus_distance", far_clip_);
     if (!(focus_distance_ > 0.0f)) props.fail("focus_distance", "focus_distance must be positive");
 
+    jitter_ = props.get_bool("jitter", true);
+    if (!(props.get_float("cone_scale", 1.0f) > 0.0f)) props.fail("cone_scale", "cone_scale must be positive");
+
     float open = props.get_float("shutter_open", 0.0f), close = props.get_float("shutter_close", 0.0f);
     if (!(close >= open)) props.fail("shutter_close", "shutter_open must not come after shutter_close");
     if (props.has("srf"))

@@ -7,6 +7,12 @@
 //                                  uses it, the others accept it, as in Mitsuba
 //   shutter_open,      float       the exposure interval (default 0, 0); accepted and unused, as
 //   shutter_close                  nothing in a Candela scene moves
+//   jitter             boolean     place each sample at a random point of its pixel (default
+//                                  true); false puts every sample at the pixel's centre
+//   cone_scale         float       scales the ray-cone footprints of Mitsuba's trilinear and
+//                                  anisotropic bitmap filtering (default 1, positive); accepted
+//                                  and unused, as Candela's bitmap filters (nearest, bilinear)
+//                                  take no footprint, in Mitsuba neither
 //   srf                spectrum    rejected: a sensor response needs a spectral variant, and
 //                                  Candela renders in RGB (Mitsuba's RGB variants reject it too)
 //   film, sampler      nested      default: hdrfilm and independent

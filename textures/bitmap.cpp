@@ -15,6 +15,8 @@
 //                             8-bit files, float16 for 16-bit files, variant otherwise)
 //   accel         boolean     Mitsuba's hardware texture units in CUDA mode; without a GPU it
 //                             changes nothing (default true)
+//   max_anisotropy integer    the anisotropic filter's limit (at least 1); only
+//                             that filter, which Candela does not have, uses it
 //   mapping, mapping_to_world  how surface points find their uv (core/texture.h): uv (default),
 //                 planar, cylindrical or spherical, with the mapping's frame
 // v = 0 is the top row of the image (no flip), as in Mitsuba 3; texel centres sit at
@@ -74,6 +76,7 @@ public:
         to_uv_ = UVTransform(props.get_transform("to_uv"));
 
         props.get_bool("accel", true);  // CUDA texture units: nothing to switch on a CPU
+        if (props.get_int("max_anisotropy", 16) < 1) props.fail("max_anisotropy", "max_anisotropy must be at least 1");
 
         Image img;
         int integer_bits = 0;

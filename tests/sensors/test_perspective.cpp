@@ -107,3 +107,35 @@ TEST_CASE("camera: focus_distance and shutter times are accepted, srf is refused
     CHECK_THROWS_WITH(camera_scene(R"(<string name="focal_length" value="35mm"/><string name="fov_axis" value="y"/>)", 64, 48),
                       Catch::Contains("fov_axis"));
 }
+
+TEST_CASE("camera: jitter false puts every sample at its pixel's centre; cone_scale is accepted", "[camera]") {
+    // A disk light of radiance 1 seen through a box filter: jittered samples give its edge pixels
+    // fractions of 1 (the share of the pixel it covers), centred samples give 0 or 1 exactly.
+    auto image = [](const std::string& jitter) {
+        auto dir = scratch_dir("camera-jitter");
+        write_text(dir / "scene.xml", scene_xml(R"(<sensor type="perspective"><float name="fov" value="30"/>)" + jitter + R"(
+    <sampler type="independent"><integer name="sample_count" value="16"/></sampler>
+    <film type="hdrfilm"><integer name="width" value="24"/><integer name="height" value="24"/><rfilter type="box"/></film></sensor>
+<shape type="disk"><transform name="to_world"><rotate y="1" angle="180"/><scale value="0.5"/><translate z="2"/></transform>
+    <emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>)"));
+        Ref<Scene> scene = load_scene((dir / "scene.xml").string());
+        return scene->integrator().render(*scene, RenderOptions()).image;
+    };
+    auto count = [](const Image& img, int& zero, int& one, int& between) {
+        zero = one = between = 0;
+        for (int y = 0; y < img.height(); ++y)
+            for (int x = 0; x < img.width(); ++x) {
+                float v = img.at(x, y, 0);
+                (v == 0.0f ? zero : v == 1.0f ? one : between) += 1;
+            }
+    };
+    int zero, one, between;
+    count(image(R"(<boolean name="jitter" value="false"/><float name="cone_scale" value="2"/>)"), zero, one, between);
+    CHECK(between == 0);
+    CHECK(zero > 0);
+    CHECK(one > 0);
+    count(image(""), zero, one, between);
+    CHECK(between > 0);
+    CHECK_THROWS_WITH(camera_scene(R"(<float name="fov" value="40"/><float name="cone_scale" value="0"/>)", 8, 8),
+                      Catch::Contains("cone_scale"));
+}
