@@ -26,6 +26,8 @@ void add_estimate_command(CLI::App& app, std::function<int()>& run);
 void add_converge_command(CLI::App& app, std::function<int()>& run);
 void add_validate_command(CLI::App& app, std::function<int()>& run);
 void add_compare_modes_command(CLI::App& app, std::function<int()>& run);
+void add_merge_command(CLI::App& app, std::function<int()>& run);
+void add_farm_command(CLI::App& app, std::function<int()>& run);
 
 // The raster mode's options on the command line (render --mode raster, compare-modes): each is a
 // RasterSettings option (--aa-filter sets aa_filter, ...).
@@ -43,6 +45,9 @@ struct RasterOptionArgs {
 // Shared by the commands: -D name=value pairs, and "x,y,z" triples (InputError when malformed).
 SceneParameters parse_defines(const std::vector<std::string>& defines);
 Vec3 parse_triple(const std::string& text, const std::string& option);
+
+// The absolute path of this program (for commands that other machines run).
+std::string program_path();
 
 // Runs `body`, turning scene and input errors into a message on stderr and exit code 2.
 int run_guarded(const std::function<int()>& body);

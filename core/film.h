@@ -27,6 +27,9 @@ public:
     ImageBlock() = default;
     // `offset` and `size` are in film pixels (the crop's coordinate system).
     ImageBlock(const Vec2i& offset, const Vec2i& size, const ReconstructionFilter* filter);
+    // How many pixels beyond its own a sample reaches with this filter: the farthest pixel centre
+    // within the filter radius of a point inside the pixel is ceil(radius - 0.5) pixels away.
+    static int reach(const ReconstructionFilter& filter);
 
     // Splats radiance L at continuous film position `pos` (in pixels, crop coordinates).
     void put(const Vec2& pos, const Spectrum& L);

@@ -11,14 +11,18 @@
 #include <chrono>
 
 // The pixel loop, in the order a render runs it:
-//   AovLayout      which extra layers were asked for, and their channels after R, G, B
-//   make_tiles     the film cut into tiles, each with its own ImageBlock (and pixel statistics)
+//   AovLayout      which extra layers were asked for (core/pixel_sums.h)
+//   render_window  the region to write and the rectangle to sample (the region plus the filter's
+//                  reach): the whole image unless the render is one part of a split render
+//   make_tiles     the sampled rectangle cut into tiles, each with its own ImageBlock (and pixel
+//                  statistics)
 //   sample_passes  the sample indices [begin, end) cut into passes of growing width
 //   TileSampler    takes the samples of one pass for every pixel of one tile
-//   develop        merges the tiles in a fixed order and writes RGB and the AOV layers
+//   gather_sums    adds the tiles in a fixed order into the region's PixelSums, which develop
+//                  into RGB and the AOV layers
 // A pixel's samples depend only on (seed, pixel, sample index), so the schedule (threads, tile
-// order) never changes the image. Rendering a sub-range of sample indices, or another sampler,
-// only changes what sample_passes and the sampler hand out.
+// order) never changes the image. Rendering a sub-range of sample indices or a region (a part of
+// a farm render, farm/) only changes what render_window and sample_passes hand out.
 
 namespace candela {
 
@@ -26,101 +30,47 @@ namespace {
 
 constexpr int TileSize = 32;
 
-// Per-pixel running sums of the samples that landed in the pixel (not filtered): these give the
-// variance of the pixel mean and the first-hit AOVs.
-struct PixelStats {
-    uint32_t n = 0;
-    double sum[3] = {0, 0, 0}, sum_sq[3] = {0, 0, 0};
-    Spectrum albedo{0.0f};
-    Vec3 normal{0.0f};
-    double depth = 0.0;
-
-    void add(const Spectrum& L, const FirstHitAovs& aov) {
-        n++;
-        for (int c = 0; c < 3; ++c) {
-            sum[c] += L[c];
-            sum_sq[c] += double(L[c]) * L[c];
-        }
-        albedo += aov.albedo;
-        normal += aov.normal;
-        depth += aov.depth;
-    }
-    // Unbiased sample variance divided by n: the variance of the pixel mean.
-    double variance_of_mean(int c) const {
-        double count = n;
-        double var = count > 1 ? (sum_sq[c] - sum[c] * sum[c] / count) / (count - 1) / count : 0.0;
-        return std::max(var, 0.0);
-    }
-};
-
 struct Tile {
-    Vec2i offset, size;  // in crop pixels
+    Vec2i offset, size;  // in pixels of the sampled rectangle
     ImageBlock block;
     std::vector<PixelStats> stats;  // empty unless an AOV needs them
 };
 
-// A half-open range of sample indices [begin, end).
-struct SampleRange {
-    int begin = 0, end = 0;
+// The pixels of a render: `region` is the rectangle it writes (image pixels), `sampled` the one
+// whose samples it takes: the region grown by the filter's reach and clipped to the image, so
+// that the region's edge pixels get every splat they get in a render of the whole image.
+struct RenderWindow {
+    ImageRect region, sampled;
 };
 
-// The extra layers of a render and their channel layout: R, G, B, then albedo.RGB, normal.XYZ,
-// depth.Z and variance.RGB, each only when asked for.
-class AovLayout {
-public:
-    explicit AovLayout(const std::vector<std::string>& names) {
-        for (const auto& a : names) {
-            if (a == "albedo") albedo_ = true;
-            else if (a == "normal") normal_ = true;
-            else if (a == "depth") depth_ = true;
-            else if (a == "variance") variance_ = true;
-            else throw InputError("unknown AOV \"" + a + "\" (known: albedo, normal, depth, variance)");
-        }
-    }
-    // Whether samples must report their first hit, and whether pixels keep running sums.
-    bool first_hit() const { return albedo_ || normal_ || depth_; }
-    bool pixel_stats() const { return first_hit() || variance_; }
+RenderWindow render_window(const Film& film, const ImageRect& requested) {
+    const Vec2i image = film.crop_size();
+    RenderWindow w;
+    w.region = requested.empty() ? ImageRect{Vec2i(0), image} : requested;
+    const Vec2i end = w.region.offset + w.region.size;
+    if (glm::any(glm::lessThan(w.region.offset, Vec2i(0))) || glm::any(glm::greaterThan(end, image)))
+        throw InputError("region " + std::to_string(w.region.offset.x) + "," + std::to_string(w.region.offset.y) + "," +
+                         std::to_string(w.region.size.x) + "," + std::to_string(w.region.size.y) + " is not inside the " +
+                         std::to_string(image.x) + " x " + std::to_string(image.y) + " image");
+    const int reach = ImageBlock::reach(film.filter());
+    const Vec2i lo = glm::max(w.region.offset - Vec2i(reach), Vec2i(0));
+    const Vec2i hi = glm::min(end + Vec2i(reach), image);
+    w.sampled = ImageRect{lo, hi - lo};
+    return w;
+}
 
-    std::vector<std::string> channels() const {
-        std::vector<std::string> channels = {"R", "G", "B"};
-        const char* rgb[3] = {"R", "G", "B"};
-        if (albedo_)
-            for (auto c : rgb) channels.push_back(std::string("albedo.") + c);
-        if (normal_)
-            for (auto c : {"X", "Y", "Z"}) channels.push_back(std::string("normal.") + c);
-        if (depth_) channels.push_back("depth.Z");
-        if (variance_)
-            for (auto c : rgb) channels.push_back(std::string("variance.") + c);
-        return channels;
-    }
-
-    // Writes the AOV channels of pixel (x, y) from its statistics.
-    void write(const PixelStats& ps, Image& img, int x, int y) const {
-        int c = 3;
-        float inv_n = ps.n ? 1.0f / float(ps.n) : 0.0f;
-        if (albedo_)
-            for (int k = 0; k < 3; ++k) img.at(x, y, c++) = ps.albedo[k] * inv_n;
-        if (normal_)
-            for (int k = 0; k < 3; ++k) img.at(x, y, c++) = ps.normal[k] * inv_n;
-        if (depth_) img.at(x, y, c++) = float(ps.depth * inv_n);
-        if (variance_)
-            for (int k = 0; k < 3; ++k) img.at(x, y, c++) = float(ps.variance_of_mean(k));
-    }
-
-private:
-    bool albedo_ = false, normal_ = false, depth_ = false, variance_ = false;
-};
-
-// Tiles covering the film's crop window in row-major order (the order develop() merges them).
-std::vector<Tile> make_tiles(const Film& film, bool with_stats) {
-    const Vec2i crop = film.crop_size();
+// Tiles covering the sampled rectangle in row-major order (the order gather_sums() adds them);
+// their blocks are placed in the region's pixels.
+std::vector<Tile> make_tiles(const RenderWindow& window, const ReconstructionFilter& filter, bool with_stats) {
+    const Vec2i area = window.sampled.size;
+    const Vec2i block_origin = window.sampled.offset - window.region.offset;
     std::vector<Tile> tiles;
-    for (int y = 0; y < crop.y; y += TileSize)
-        for (int x = 0; x < crop.x; x += TileSize) {
+    for (int y = 0; y < area.y; y += TileSize)
+        for (int x = 0; x < area.x; x += TileSize) {
             Tile t;
             t.offset = Vec2i(x, y);
-            t.size = glm::min(Vec2i(TileSize), crop - t.offset);
-            t.block = ImageBlock(t.offset, t.size, &film.filter());
+            t.size = glm::min(Vec2i(TileSize), area - t.offset);
+            t.block = ImageBlock(block_origin + t.offset, t.size, &filter);
             if (with_stats) t.stats.resize(size_t(t.size.x) * t.size.y);
             tiles.push_back(std::move(t));
         }
@@ -160,9 +110,10 @@ struct RenderCounters {
 // Takes samples for the pixels of tiles with the calling thread's sampler.
 class TileSampler {
 public:
-    TileSampler(const SamplingIntegrator& integrator, const Scene& scene, const AovLayout& layout)
-        : integrator_(integrator), scene_(scene), sensor_(scene.sensor()), crop_offset_(scene.sensor().film().crop_offset()),
-          first_hit_(layout.first_hit()) {}
+    TileSampler(const SamplingIntegrator& integrator, const Scene& scene, const AovLayout& layout, const RenderWindow& window)
+        : integrator_(integrator), scene_(scene), sensor_(scene.sensor()),
+          sampled_origin_(scene.sensor().film().crop_offset() + window.sampled.offset),
+          block_origin_(scene.sensor().film().crop_offset() + window.region.offset), first_hit_(layout.first_hit()) {}
 
     // Samples `samples` of every pixel of `tile`, pixel by pixel, until done or interrupted.
     void sample_tile(Tile& tile, const SampleRange& samples, Sampler& sampler, Interruption& interruption, RenderCounters& counters,
@@ -182,7 +133,7 @@ private:
     // The samples of one pixel (tile coordinates): each positions the sampler at (pixel, index),
     // so its random numbers depend on nothing else. Non-finite radiance is counted and dropped.
     void sample_pixel(Tile& tile, const Vec2i& local, const SampleRange& samples, Sampler& sampler, uint64_t& taken, uint64_t& nonfinite) const {
-        const Vec2i pixel = crop_offset_ + tile.offset + local;
+        const Vec2i pixel = sampled_origin_ + tile.offset + local;
         PixelStats* ps = tile.stats.empty() ? nullptr : &tile.stats[size_t(local.y) * tile.size.x + local.x];
         for (int s = samples.begin; s < samples.end; ++s) {
             sampler.start(pixel, uint32_t(s));
@@ -196,7 +147,7 @@ private:
                 ++nonfinite;
                 continue;
             }
-            tile.block.put(pos - Vec2(crop_offset_), L);
+            tile.block.put(pos - Vec2(block_origin_), L);
             if (ps) ps->add(L, aov);
         }
     }
@@ -204,26 +155,27 @@ private:
     const SamplingIntegrator& integrator_;
     const Scene& scene_;
     const Sensor& sensor_;
-    const Vec2i crop_offset_;
+    const Vec2i sampled_origin_;  // film pixel of the sampled rectangle's first pixel
+    const Vec2i block_origin_;    // film pixel of the region's first pixel
     const bool first_hit_;
 };
 
-// Merges the tiles in a fixed order, normalises by the filter weights, and writes the AOVs.
-Image develop(const std::vector<Tile>& tiles, const Vec2i& crop, const AovLayout& layout) {
-    std::vector<double> accum(size_t(crop.x) * crop.y * 4, 0.0);
-    for (const Tile& t : tiles) t.block.accumulate_into(accum, crop);
-    Image img(crop.x, crop.y, layout.channels());
-    for (int y = 0; y < crop.y; ++y)
-        for (int x = 0; x < crop.x; ++x) {
-            const double* a = &accum[(size_t(y) * crop.x + x) * 4];
-            for (int c = 0; c < 3; ++c) img.at(x, y, c) = a[3] > 0.0 ? float(a[c] / a[3]) : 0.0f;
-        }
+// Adds the tiles into the region's sums in a fixed order; pixel statistics are copied for the
+// region's pixels (the sampled margin only feeds the filtered sums).
+PixelSums gather_sums(const std::vector<Tile>& tiles, const RenderWindow& window, const AovLayout& layout) {
+    PixelSums sums(window.region.size, layout);
+    for (const Tile& t : tiles) t.block.accumulate_into(sums.filtered(), window.region.size);
+    const Vec2i to_region = window.sampled.offset - window.region.offset;
     for (const Tile& t : tiles) {
         if (t.stats.empty()) continue;
         for (int y = 0; y < t.size.y; ++y)
-            for (int x = 0; x < t.size.x; ++x) layout.write(t.stats[size_t(y) * t.size.x + x], img, t.offset.x + x, t.offset.y + y);
+            for (int x = 0; x < t.size.x; ++x) {
+                const Vec2i p = to_region + t.offset + Vec2i(x, y);
+                if (p.x < 0 || p.y < 0 || p.x >= window.region.size.x || p.y >= window.region.size.y) continue;
+                sums.stats_at(p.x, p.y) = t.stats[size_t(y) * t.size.x + x];
+            }
     }
-    return img;
+    return sums;
 }
 
 // The scene's sampler with the render's sample count and seed.
@@ -234,6 +186,15 @@ Ref<Sampler> configured_sampler(const Scene& scene, const RenderOptions& options
     return sampler;
 }
 
+// The sample indices a render takes: `requested`, or all of [0, spp) when none were given.
+SampleRange sample_indices(const SampleRange& requested, int spp) {
+    if (requested.begin == 0 && requested.end == 0) return SampleRange{0, spp};
+    if (requested.begin < 0 || requested.empty() || requested.end > spp)
+        throw InputError("sample range " + std::to_string(requested.begin) + ":" + std::to_string(requested.end) +
+                         " is not a non-empty part of [0, " + std::to_string(spp) + ")");
+    return requested;
+}
+
 }  // namespace
 
 Image Integrator::preview(const Image& rendered) const { return tonemap_srgb(rendered); }
@@ -242,15 +203,17 @@ RenderResult SamplingIntegrator::render(const Scene& scene, const RenderOptions&
     auto t_start = std::chrono::steady_clock::now();
     const AovLayout layout(options.aovs);
     Ref<Sampler> prototype = configured_sampler(scene, options);
-    const SampleRange samples{0, prototype->sample_count()};
+    const SampleRange samples = sample_indices(options.samples, prototype->sample_count());
+    const Film& film = scene.sensor().film();
+    const RenderWindow window = render_window(film, options.region);
     prepare(scene);
 
-    const Vec2i crop = scene.sensor().film().crop_size();
-    std::vector<Tile> tiles = make_tiles(scene.sensor().film(), layout.pixel_stats());
-    ProgressReporter progress("Rendering", uint64_t(samples.end - samples.begin) * uint64_t(crop.x) * uint64_t(crop.y), options.progress);
+    std::vector<Tile> tiles = make_tiles(window, film.filter(), layout.pixel_stats());
+    const uint64_t pixels = uint64_t(window.sampled.size.x) * uint64_t(window.sampled.size.y);
+    ProgressReporter progress("Rendering", uint64_t(samples.end - samples.begin) * pixels, options.progress);
     RenderCounters counters;
     Interruption interruption(options.interrupt);
-    const TileSampler tile_sampler(*this, scene, layout);
+    const TileSampler tile_sampler(*this, scene, layout, window);
     tbb::enumerable_thread_specific<Ref<Sampler>> samplers([&] { return prototype->clone(); });
     tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
     for (const SampleRange& pass : sample_passes(samples)) {
@@ -264,7 +227,8 @@ RenderResult SamplingIntegrator::render(const Scene& scene, const RenderOptions&
     progress.finish();
 
     RenderResult result;
-    result.image = develop(tiles, crop, layout);
+    result.sums = gather_sums(tiles, window, layout);
+    result.image = result.sums.develop();
     RenderStats& st = result.stats;
     st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
     st.samples = counters.samples;

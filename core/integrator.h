@@ -4,6 +4,7 @@
 
 #include "core/image.h"
 #include "core/object.h"
+#include "core/pixel_sums.h"
 #include "core/ray.h"
 #include "core/spectrum.h"
 
@@ -17,6 +18,18 @@ namespace candela {
 class Scene;
 class Sampler;
 
+// A half-open range of sample indices [begin, end); empty (0, 0) means all of them.
+struct SampleRange {
+    int begin = 0, end = 0;
+    bool empty() const { return end <= begin; }
+};
+
+// A rectangle of the rendered image, in its pixels (the film's crop window starts at 0, 0).
+struct ImageRect {
+    Vec2i offset{0}, size{0};
+    bool empty() const { return size.x <= 0 || size.y <= 0; }
+};
+
 struct RenderOptions {
     int spp = 0;                        // 0: the scene's sampler sample_count
     std::optional<uint64_t> seed;       // default: the sampler's seed
@@ -25,6 +38,11 @@ struct RenderOptions {
     const std::atomic<bool>* interrupt = nullptr;  // set (e.g. by SIGINT) to stop early
     // Extra EXR layers: "albedo", "normal", "depth", "variance".
     std::vector<std::string> aovs;
+    // A part of the render (see Integrator::renders_parts): only these sample indices (default:
+    // [0, spp)) of only these pixels (default: the whole image). The part's sums are the same as
+    // those sample indices contribute to those pixels in the whole render.
+    SampleRange samples;
+    ImageRect region;
 };
 
 struct RenderStats {
@@ -38,15 +56,9 @@ struct RenderStats {
 };
 
 struct RenderResult {
-    Image image;  // R, G, B then any AOV layers
+    Image image;  // R, G, B then any AOV layers (of options.region when one was given)
     RenderStats stats;
-};
-
-// What a sample reports about its first hit, for AOVs.
-struct FirstHitAovs {
-    Spectrum albedo{0.0f};
-    Vec3 normal{0.0f};
-    float depth = 0.0f;
+    PixelSums sums;  // what `image` was developed from; empty unless the integrator renders parts
 };
 
 class Integrator : public Object {
@@ -56,11 +68,18 @@ public:
     // A display image (values in [0, 1]) for --png: by default the sRGB tonemap of the render;
     // integrators that render other quantities (irradiance) draw false colour with a legend.
     virtual Image preview(const Image& rendered) const;
+    // Whether render() honours RenderOptions::samples and ::region and fills RenderResult::sums,
+    // so that a render can be split across machines and merged: only for integrators whose every
+    // sample depends on nothing but (seed, pixel, sample index).
+    virtual bool renders_parts() const { return false; }
 };
 
 class SamplingIntegrator : public Integrator {
 public:
     RenderResult render(const Scene& scene, const RenderOptions& options) override;
+    // True; an integrator whose samples share state across sample indices (a progressive photon
+    // map, a cache built while rendering) must override this with false.
+    bool renders_parts() const override { return true; }
     // Called once per render before any sample (build light samplers, caches).
     virtual void prepare(const Scene& scene) {}
     // Radiance arriving along `ray`. Fills `aovs` when not null.

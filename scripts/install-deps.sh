@@ -1,6 +1,9 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages Candela needs to build, test and benchmark.
 # Only packages that are missing are installed; uses sudo when not root.
+#   install-deps.sh         what building and testing need
+#   install-deps.sh slurm   only Slurm and munge, for the render farm test (tests/farm/slurm_farm.sh)
+#                           or a one-machine cluster; it starts no daemon
 set -euo pipefail
 
 packages=(
@@ -9,6 +12,12 @@ packages=(
   libtinyobjloader-dev catch2 libtbb-dev libpugixml-dev libcli11-dev
   libosmesa6-dev
 )
+if [ "${1:-}" = slurm ]; then
+  packages=(slurmctld slurmd slurm-client munge)
+elif [ $# -gt 0 ]; then
+  echo "usage: $0 [slurm]" >&2
+  exit 2
+fi
 
 missing=()
 for p in "${packages[@]}"; do

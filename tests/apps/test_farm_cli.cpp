@@ -1,0 +1,187 @@
+// The farm on the command line: render --samples/--crop write parts, merge refuses bad sets with
+// exit code 2 and prints the command that renders what is missing, farm plan's commands run by a
+// plain shell loop give the single render, farm status follows them, farm slurm writes scripts.
+// (A real Slurm runs the farm in tests/farm/slurm_farm.sh.)
+
+#include "core/image.h"
+#include "tests/util.h"
+
+#include <catch2/catch.hpp>
+
+#include <fstream>
+#include <sstream>
+
+using namespace candela;
+using namespace candela::test;
+
+namespace {
+
+const std::string Cbox = source_path("scenes/cbox.xml");
+
+std::string program(const std::string& args) { return "'" + candela_binary() + "' " + args; }
+std::string q(const std::filesystem::path& p) { return "'" + p.string() + "'"; }
+// A small Cornell box render: the options every command of one render shares.
+const std::string Render = "'" + Cbox + "' -D res=20 --spp 8 --seed 3 --aov variance,albedo";
+
+std::vector<std::string> lines(const std::string& text) {
+    std::vector<std::string> out;
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);)
+        if (!line.empty()) out.push_back(line);
+    return out;
+}
+
+// The per-pixel check of `candela compare`, which the Slurm test also uses.
+bool same_render(const std::filesystem::path& a, const std::filesystem::path& b, const std::filesystem::path& log) {
+    return run_command(program("compare " + q(a) + " " + q(b) + " --pixel-tolerance 1e-5"), log) == 0;
+}
+
+}  // namespace
+
+TEST_CASE("farm cli: parts merge into the render; merge names what is missing and how to render it", "[farm][cli]") {
+    auto dir = scratch_dir("farm-cli-merge");
+    REQUIRE(run_command(program("render " + Render + " -q -o " + q(dir / "single.exr")), dir / "log.txt") == 0);
+    REQUIRE(run_command(program("render " + Render + " -q --samples 0:3 -o " + q(dir / "a.exr")), dir / "log.txt") == 0);
+    REQUIRE(run_command(program("render " + Render + " -q --samples 5:8 --crop 0,0,20,9 -o " + q(dir / "b.exr")), dir / "log.txt") == 0);
+    REQUIRE(run_command(program("render " + Render + " -q --samples 5:8 --crop 0,9,20,11 -o " + q(dir / "c.exr")), dir / "log.txt") == 0);
+    Image part = read_image((dir / "b.exr").string());
+    CHECK(part.width() == 20);
+    CHECK(part.height() == 9);
+    CHECK(part.metadata["candela.coverage"] == "0,0,20,9@5:8");
+    CHECK(part.metadata["candela.seed"] == "3");
+    CHECK(part.metadata["candela.sampler"] == "independent");
+    CHECK(part.metadata["candela.sceneHash"].size() == 16);
+    CHECK(part.metadata.count("candela.renderTime") == 1);
+
+    // Samples 3:5 are missing: refused, with the command that renders them.
+    const std::string merge = "merge " + q(dir / "a.exr") + " " + q(dir / "b.exr") + " " + q(dir / "c.exr") + " -o " + q(dir / "merged.exr");
+    CHECK(run_command(program(merge), dir / "missing.txt") == 2);
+    CHECK_FALSE(std::filesystem::exists(dir / "merged.exr"));
+    std::string log = read_text(dir / "missing.txt");
+    INFO(log);
+    CHECK_THAT(log, Catch::Contains("missing samples 3:5"));
+    std::string command;
+    for (const std::string& line : lines(log))
+        if (line.find("--samples") != std::string::npos) command = line;
+    REQUIRE_THAT(command, Catch::Contains("--samples 3:5"));
+    // That command, as printed, completes the render.
+    REQUIRE(run_command(command + " -q", dir / "rerender.txt") == 0);
+    const std::string rerendered = (dir / "part-3-5.exr").string();
+    REQUIRE(std::filesystem::exists(rerendered));
+    REQUIRE(run_command(program(merge + " '" + rerendered + "'"), dir / "merge.txt") == 0);
+    CHECK(same_render(dir / "merged.exr", dir / "single.exr", dir / "compare.txt"));
+    Image merged = read_image((dir / "merged.exr").string());
+    CHECK(merged.channels() == read_image((dir / "single.exr").string()).channels());
+    CHECK(merged.metadata["candela.partial"] == "false");
+    CHECK(merged.metadata["candela.spp"] == "8");
+
+    // --allow-partial writes what there is, marked partial.
+    REQUIRE(run_command(program("merge " + q(dir / "a.exr") + " -o " + q(dir / "partial.exr") + " --allow-partial"), dir / "partial.txt") == 0);
+    CHECK(read_image((dir / "partial.exr").string()).metadata["candela.partial"] == "true");
+}
+
+TEST_CASE("farm cli: merge refuses overlapping and foreign parts and non-parts with exit code 2", "[farm][cli][errors]") {
+    auto dir = scratch_dir("farm-cli-refuse");
+    auto part = [&](const std::string& name, const std::string& options) {
+        REQUIRE(run_command(program("render " + options + " -q -o " + q(dir / name)), dir / "log.txt") == 0);
+        return q(dir / name);
+    };
+    const std::string a = part("a.exr", Render + " --samples 0:4"), b = part("b.exr", Render + " --samples 4:8");
+    const std::string overlapping = part("o.exr", Render + " --samples 2:6");
+    const std::string seed = part("seed.exr", "'" + Cbox + "' -D res=20 --spp 8 --seed 4 --aov variance,albedo --samples 4:8");
+    const std::string scene = part("scene.exr", "'" + Cbox + "' -D res=20 -D spp=2 --spp 8 --seed 3 --aov variance,albedo --samples 4:8");
+    const std::string aovs = part("aovs.exr", "'" + Cbox + "' -D res=20 --spp 8 --seed 3 --samples 4:8");
+    REQUIRE(run_command(program("render " + Render + " -q -o " + q(dir / "whole.exr")), dir / "log.txt") == 0);
+    struct Case {
+        std::string parts, message;
+    };
+    const Case cases[] = {{a + " " + b + " " + overlapping, "overlap"},
+                          {a + " " + seed, "seed 3 against 4"},
+                          {a + " " + scene, "scene hash"},
+                          {a + " " + aovs, "AOVs"},
+                          {a + " " + q(dir / "whole.exr"), "not a part"},
+                          {a + " " + q(dir / "nothing.exr"), "nothing.exr"}};
+    for (const Case& c : cases) {
+        INFO(c.parts);
+        CHECK(run_command(program("merge " + c.parts + " -o " + q(dir / "out.exr")), dir / "refused.txt") == 2);
+        CHECK_THAT(read_text(dir / "refused.txt"), Catch::Contains(c.message));
+        CHECK_FALSE(std::filesystem::exists(dir / "out.exr"));
+    }
+    // Parts need an integrator whose samples are independent; --png needs a whole image.
+    CHECK(run_command(program("render '" + Cbox + "' -D res=8 --mode raster --samples 0:1 -o " + q(dir / "r.exr")), dir / "raster.txt") == 2);
+    CHECK_THAT(read_text(dir / "raster.txt"), Catch::Contains("raster integrator cannot render a part"));
+    CHECK(run_command(program("render " + Render + " --samples 0:1 --png -o " + q(dir / "p.exr")), dir / "png.txt") == 2);
+    CHECK(run_command(program("render " + Render + " --samples 0:9 -o " + q(dir / "p.exr")), dir / "range.txt") == 2);
+    CHECK_THAT(read_text(dir / "range.txt"), Catch::Contains("not a non-empty part of [0, 8)"));
+    CHECK(run_command(program("render " + Render + " --crop 15,0,10,5 -o " + q(dir / "p.exr")), dir / "crop.txt") == 2);
+    CHECK_THAT(read_text(dir / "crop.txt"), Catch::Contains("not inside the 20 x 20 image"));
+    CHECK_FALSE(std::filesystem::exists(dir / "p.exr"));
+}
+
+TEST_CASE("farm cli: an interrupted part writes nothing", "[farm][cli][interrupt]") {
+    auto dir = scratch_dir("farm-cli-interrupt");
+    auto out = dir / "part.exr";
+    // As in the render interrupt test: SIGINT once the handler is installed.
+    std::string cmd = program("render '" + Cbox + "' -o " + q(out) + " --spp 100000 --samples 0:100000") +
+                      " & pid=$!; for i in $(seq 600); do"
+                      " mask=$(awk '/^SigCgt/ {print $2}' /proc/$pid/status 2>/dev/null);"
+                      " [ -n \"$mask\" ] && [ $(( 0x$mask & 2 )) -ne 0 ] && break; sleep 0.1; done;"
+                      " sleep 0.5; kill -INT $pid; wait $pid";
+    CHECK(run_command(cmd, dir / "log.txt") == 130);
+    CHECK_THAT(read_text(dir / "log.txt"), Catch::Contains("nothing written"));
+    CHECK_FALSE(std::filesystem::exists(out));
+    // Nor a temporary.
+    for (const auto& entry : std::filesystem::directory_iterator(dir)) CHECK(entry.path().extension() != ".exr");
+}
+
+TEST_CASE("farm cli: plan's commands run by a shell loop give the render; status follows the parts", "[farm][cli]") {
+    auto dir = scratch_dir("farm-cli-plan");
+    const std::string options = "'" + Cbox + "' -D res=20 --spp 7 --seed 5 --aov variance";
+    REQUIRE(run_command(program("render " + options + " -q -o " + q(dir / "single.exr")), dir / "log.txt") == 0);
+    REQUIRE(run_command(program("farm plan " + options + " --parts 3 --regions 2x1 -o " + q(dir / "out.exr")), dir / "plan.txt") == 0);
+    std::vector<std::string> commands = lines(read_text(dir / "plan.txt"));
+    INFO(read_text(dir / "plan.txt"));
+    REQUIRE(commands.size() == 3 * 2 + 1);
+    CHECK_THAT(commands[0], Catch::Contains("--samples 0:2") && Catch::Contains("--crop 0,0,10,20"));
+    CHECK_THAT(commands[5], Catch::Contains("--samples 4:7") && Catch::Contains("--crop 10,0,10,20"));
+    CHECK_THAT(commands[6], Catch::Contains(" merge "));
+    const auto workdir = dir / "out-farm";
+
+    REQUIRE(run_command(program("farm status " + q(workdir)), dir / "status0.txt") == 0);
+    CHECK_THAT(read_text(dir / "status0.txt"), Catch::Contains("0 of 6 parts done") && Catch::Contains("missing: tasks 0-5"));
+    // Four of six parts, in a plain loop.
+    for (int i : {0, 1, 3, 4}) REQUIRE(run_command(commands[i], dir / "task.txt") == 0);
+    REQUIRE(run_command(program("farm status " + q(workdir)), dir / "status4.txt") == 0);
+    std::string status = read_text(dir / "status4.txt");
+    INFO(status);
+    CHECK_THAT(status, Catch::Contains("4 of 6 parts done") && Catch::Contains("missing: tasks 2,5") && Catch::Contains("time left"));
+    CHECK_THAT(status, Catch::Contains("task 2 (samples 4:7 of pixels 0,0,10,20)"));
+    CHECK(run_command(commands[6], dir / "merge-early.txt") == 2);
+    for (int i : {2, 5}) REQUIRE(run_command(commands[i], dir / "task.txt") == 0);
+    REQUIRE(run_command(program("farm status " + q(workdir)), dir / "status6.txt") == 0);
+    CHECK_THAT(read_text(dir / "status6.txt"), Catch::Contains("6 of 6 parts done") && Catch::Contains("complete"));
+    REQUIRE(run_command(commands[6], dir / "merge.txt") == 0);
+    CHECK(same_render(dir / "out.exr", dir / "single.exr", dir / "compare.txt"));
+    CHECK_THAT(read_text(dir / "compare.txt"), Catch::Contains("agree                yes"));
+}
+
+TEST_CASE("farm cli: farm slurm writes a job array and a merge job without submitting", "[farm][cli]") {
+    auto dir = scratch_dir("farm-cli-slurm");
+    REQUIRE(run_command(program("farm slurm '" + Cbox + "' -D res=16 --parts 4 --spp 8 --partition gpu --time 1:00:00 --mem 2G "
+                                "--threads-per-task 2 --workdir " + q(dir / "work") + " -o " + q(dir / "out.exr")),
+                        dir / "log.txt") == 0);
+    std::string render = read_text(dir / "work" / "render.sbatch"), merge = read_text(dir / "work" / "merge.sbatch");
+    CHECK_THAT(render, Catch::Contains("#SBATCH --array=0-3") && Catch::Contains("#SBATCH --cpus-per-task=2") &&
+                           Catch::Contains("#SBATCH --partition=gpu") && Catch::Contains("#SBATCH --time=1:00:00") &&
+                           Catch::Contains("#SBATCH --mem=2G") && Catch::Contains("--samples 6:8") && Catch::Contains("--threads 2"));
+    CHECK_THAT(merge, Catch::Contains("#SBATCH --kill-on-invalid-dep=yes") && Catch::Contains(" merge "));
+    CHECK_THAT(read_text(dir / "log.txt"), Catch::Contains("--dependency=afterok:"));
+    CHECK(run_command("bash -n " + q(dir / "work" / "render.sbatch") + " && bash -n " + q(dir / "work" / "merge.sbatch"), dir / "syntax.txt") == 0);
+    // Task 1 of the array, run as Slurm would run it.
+    REQUIRE(run_command("SLURM_ARRAY_TASK_ID=1 bash " + q(dir / "work" / "render.sbatch"), dir / "task.txt") == 0);
+    CHECK(read_image((dir / "work" / "parts" / "part-00001.exr").string()).metadata["candela.coverage"] == "0,0,16,16@2:4");
+    CHECK(run_command("SLURM_ARRAY_TASK_ID=9 bash " + q(dir / "work" / "render.sbatch"), dir / "task.txt") == 2);
+    // More parts than samples: refused.
+    CHECK(run_command(program("farm plan '" + Cbox + "' -D res=16 --parts 9 --spp 8 -o " + q(dir / "x.exr")), dir / "bad.txt") == 2);
+    CHECK_THAT(read_text(dir / "bad.txt"), Catch::Contains("--parts 9 exceeds"));
+}
