@@ -29,11 +29,11 @@ void add_compare_modes_command(CLI::App& app, std::function<int()>& run);
 void add_merge_command(CLI::App& app, std::function<int()>& run);
 void add_farm_command(CLI::App& app, std::function<int()>& run);
 
-// The raster mode's options on the command line (render --mode raster, compare-modes): each is a
-// RasterSettings option (--aa-filter sets aa_filter, ...).
+// The raster mode's options on the command line (render --mode raster, compare-modes): those of
+// raster_options() marked for it (--aa-filter sets aa_filter, ...), their choices in --help.
 struct RasterOptionArgs {
-    std::map<std::string, std::string> values;
-    bool wireframe = false, light_gizmos = false, affine = false, backface_culling = false;
+    std::map<std::string, std::string> values;  // by option name; empty when not given
+    std::map<std::string, bool> flags;          // the boolean options, by name
 
     void add_to(CLI::App* cmd);
     // The options that were given, by RasterSettings name.

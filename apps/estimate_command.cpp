@@ -42,6 +42,12 @@ void add_common(CLI::App* cmd, EstimateArgs& a) {
     cmd->add_option("--threads,-t", a.threads, "Worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
 }
 
+// The command-line spelling of a parameter name: light_sampler -> light-sampler.
+std::string dashed(std::string name) {
+    std::replace(name.begin(), name.end(), '_', '-');
+    return name;
+}
+
 EstimatorOptions options_from(const EstimateArgs& a) {
     EstimatorOptions o;
     o.samples = uint64_t(a.samples);
@@ -49,10 +55,8 @@ EstimatorOptions options_from(const EstimateArgs& a) {
     o.path.max_depth = a.max_depth;
     o.path.light_sampler = a.light_sampler;
     o.threads = a.threads;
-    const auto& names = light_sampler_names();
-    if (std::find(names.begin(), names.end(), a.light_sampler) == names.end())
-        throw InputError("unknown --light-sampler \"" + a.light_sampler + "\" (tree, power or uniform)");
-    if (a.max_depth < -1) throw InputError("--max-depth must be -1 or larger");
+    // Checked before the scene loads, with the option's name.
+    if (auto problem = check_path_settings(o.path)) throw InputError("--" + dashed(problem->parameter) + ": " + problem->message);
     return o;
 }
 

@@ -5,32 +5,34 @@
 namespace candela::app {
 
 void RasterOptionArgs::add_to(CLI::App* cmd) {
-    for (const char* name : {"shading", "reflection", "shadows", "aa", "aa-filter", "texture-filter", "environment-mapping"}) {
-        std::string key = name;
-        std::replace(key.begin(), key.end(), '-', '_');
-        cmd->add_option(std::string("--") + name, values[key], "Raster mode: " + key + " (see integrators/raster/raster.cpp)");
+    for (const RasterOption& o : raster_options()) {
+        if (!o.command_line) continue;
+        std::string flag = o.name;
+        std::replace(flag.begin(), flag.end(), '_', '-');
+        flag = "--" + flag;
+        std::string help = std::string("Raster mode: ") + o.help;
+        if (o.kind == RasterOption::Kind::Boolean) {
+            cmd->add_flag(flag, flags[o.name], help);
+            continue;
+        }
+        if (o.kind == RasterOption::Kind::Integer) help += " (" + o.accepted() + ")";
+        cmd->add_option(flag, values[o.name], help)->type_name(o.kind == RasterOption::Kind::Choice ? o.accepted() : "N");
     }
-    cmd->add_flag("--wireframe", wireframe, "Raster mode: draw visible triangle edges");
-    cmd->add_flag("--light-gizmos", light_gizmos, "Raster mode: draw the lights");
-    cmd->add_flag("--affine", affine, "Raster mode: affine (not perspective-correct) interpolation");
-    cmd->add_flag("--backface-culling", backface_culling, "Raster mode: cull back faces");
 }
 
 std::map<std::string, std::string> RasterOptionArgs::given() const {
     std::map<std::string, std::string> out;
-    for (const auto& [k, v] : values)
-        if (!v.empty()) out[k] = v;
-    if (wireframe) out["wireframe"] = "true";
-    if (light_gizmos) out["light_gizmos"] = "true";
-    if (affine) out["affine"] = "true";
-    if (backface_culling) out["backface_culling"] = "true";
+    for (const auto& [name, value] : values)
+        if (!value.empty()) out[name] = value;
+    for (const auto& [name, on] : flags)
+        if (on) out[name] = "true";
     return out;
 }
 
 void RasterOptionArgs::apply(RasterSettings& settings) const {
     std::string error;
-    for (const auto& [k, v] : given())
-        if (!settings.set(k, v, error)) throw InputError(error);
+    for (const auto& [name, value] : given())
+        if (!settings.set(name, value, error)) throw InputError(error);
 }
 
 }  // namespace candela::app

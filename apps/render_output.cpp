@@ -29,6 +29,11 @@ void annotate_render(RenderResult& result, const Scene& scene, const std::string
 
 std::string render_summary(const RenderStats& s, const std::string& output) {
     char buf[256];
+    if (s.single_frame) {
+        std::snprintf(buf, sizeof buf, "wrote %s: %.1f ms per frame, %d sample%s per pixel%s", output.c_str(), s.seconds * 1e3, s.spp,
+                      s.spp == 1 ? "" : "s", s.partial ? " (partial)" : "");
+        return buf;
+    }
     double t = std::max(s.seconds, 1e-9);
     std::snprintf(buf, sizeof buf, "wrote %s: %s, %d spp, %s samples/s, %.2f Mrays/s%s", output.c_str(),
                   format_duration(s.seconds).c_str(), s.spp, format_count(double(s.samples) / t).c_str(),

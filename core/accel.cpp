@@ -17,15 +17,25 @@ void embree_error(void*, RTCError code, const char* message) {
 
 uint64_t thread_ray_count() { return g_rays_traced; }
 
-Accel::Accel() {
+Accel::Accel() : owns_device_(true) {
     device_ = rtcNewDevice(nullptr);
     if (!device_) throw std::runtime_error("could not create the Embree device");
     rtcSetDeviceErrorFunction(device_, embree_error, nullptr);
+    rtcSetDeviceMemoryMonitorFunction(device_, memory_monitor, this);
 }
 
+Accel::Accel(RTCDevice shared_device) : device_(shared_device) { rtcRetainDevice(device_); }
+
 Accel::~Accel() {
+    // Scenes of shape groups may outlive this one on the same device: stop counting into *this.
+    if (owns_device_) rtcSetDeviceMemoryMonitorFunction(device_, nullptr, nullptr);
     if (scene_) rtcReleaseScene(scene_);
     if (device_) rtcReleaseDevice(device_);
+}
+
+bool Accel::memory_monitor(void* self, ssize_t bytes, bool) {
+    static_cast<Accel*>(self)->bytes_ += int64_t(bytes);
+    return true;
 }
 
 void Accel::build(const std::vector<Ref<Shape>>& shapes) {
@@ -71,6 +81,11 @@ const Shape* Accel::intersect(const Ray& ray, RayHit& hit) const {
     hit.u = rh.hit.u;
     hit.v = rh.hit.v;
     hit.prim_index = rh.hit.primID;
+    if (rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID) {
+        hit.instance_geometry = rh.hit.geomID;
+        return shapes_[rh.hit.instID[0]];
+    }
+    hit.instance_geometry = RTC_INVALID_GEOMETRY_ID;
     return shapes_[rh.hit.geomID];
 }
 

@@ -1,34 +1,53 @@
 #pragma once
 // The Embree 3 acceleration structure: one BVH over every shape of the scene, answering
-// closest-hit and shadow (any-hit) queries.
+// closest-hit and shadow (any-hit) queries. A shape group builds its own BVH on the scene's
+// device, which instances then reference (Embree's single-level instancing): the group's
+// geometry is stored once however many instances there are.
 
 #include "core/shape.h"
 
 #include <embree3/rtcore.h>
+
+#include <atomic>
 #include <vector>
 
 namespace candela {
 
 class Accel {
 public:
+    // A BVH with its own Embree device (the scene's).
     Accel();
+    // A BVH on an existing device (a shape group's, for instances in the scene on that device).
+    explicit Accel(RTCDevice shared_device);
     ~Accel();
     Accel(const Accel&) = delete;
     Accel& operator=(const Accel&) = delete;
 
     void build(const std::vector<Ref<Shape>>& shapes);
 
-    // Closest hit within [ray.tmin, ray.tmax]; returns the shape hit (null for a miss).
+    // Closest hit within [ray.tmin, ray.tmax]; returns the shape hit (null for a miss). For a hit
+    // on an instance, the instance is returned and hit.instance_geometry names the geometry of
+    // the group that was hit (see shape(unsigned)).
     const Shape* intersect(const Ray& ray, RayHit& hit) const;
     // True when anything blocks the ray within [ray.tmin, ray.tmax].
     bool occluded(const Ray& ray) const;
 
     RTCDevice device() const { return device_; }
+    RTCScene scene() const { return scene_; }
+    // The shape of an Embree geometry id of this BVH.
+    const Shape* shape(unsigned geometry_id) const { return geometry_id < shapes_.size() ? shapes_[geometry_id] : nullptr; }
+    // Bytes the Embree device currently holds (BVHs and geometry buffers of every scene built on
+    // it, shape groups included); counted only by the Accel that created the device.
+    int64_t embree_bytes() const { return bytes_.load(); }
 
 private:
+    static bool memory_monitor(void* self, ssize_t bytes, bool post);
+
     RTCDevice device_ = nullptr;
+    bool owns_device_ = false;
     RTCScene scene_ = nullptr;
     std::vector<const Shape*> shapes_;  // by Embree geometry id
+    std::atomic<int64_t> bytes_{0};
 };
 
 }  // namespace candela

@@ -21,14 +21,18 @@ enum BSDFFlags : uint32_t {
     GlossyTransmission = 1u << 3,
     DeltaReflection = 1u << 4,
     DeltaTransmission = 1u << 5,
+    // The ray passes on unchanged, as if the surface were not there (`null`, the transparent part
+    // of `mask`, `polarizer`): wo = -wi. A delta lobe, but no scattering: the path tracer crosses
+    // it without counting a bounce, and shadow rays pass with null_transmission().
+    Null = 1u << 6,
 
     Reflection = DiffuseReflection | GlossyReflection | DeltaReflection,
     Transmission = DiffuseTransmission | GlossyTransmission | DeltaTransmission,
     Diffuse = DiffuseReflection | DiffuseTransmission,
     Glossy = GlossyReflection | GlossyTransmission,
     Smooth = Diffuse | Glossy,
-    Delta = DeltaReflection | DeltaTransmission,
-    AllLobes = Reflection | Transmission,
+    Delta = DeltaReflection | DeltaTransmission | Null,
+    AllLobes = Reflection | Transmission | Null,
 };
 
 // Radiance: paths traced from the camera (the usual case). Importance: paths from the lights,
@@ -63,6 +67,11 @@ public:
     // Directional albedo estimate for AOVs and light-path heuristics (not used for rendering).
     virtual Spectrum albedo(const SurfaceInteraction& si) const = 0;
 
+    // The fraction of light that passes straight through at si (the weight of the Null lobe times
+    // the probability with which sample() picks it): what a shadow ray keeps when it crosses this
+    // surface. 0 for every BSDF without a Null lobe.
+    virtual Spectrum null_transmission(const SurfaceInteraction& si) const { return Spectrum(0.0f); }
+
     // The rasterizer's local-model view (core/local_model.h). By default a Lambertian of the
     // albedo at normal incidence, two-sided when the BSDF transmits.
     virtual LocalShading local_shading() const;
@@ -73,11 +82,33 @@ public:
     uint32_t flags() const { return flags_; }
     bool has_smooth_lobe() const { return (flags_ & Smooth) != 0; }
     bool is_delta_only() const { return flags_ != 0 && (flags_ & Smooth) == 0; }
+    bool has_null_lobe() const { return (flags_ & Null) != 0; }
 
 protected:
+    // Completes a sample whose direction, lobe and eta a smooth lobe has drawn: its pdf is pdf()
+    // (the density of the whole BSDF, as MIS needs) and its weight eval / pdf; invalid when the pdf
+    // is not positive or the weight not finite.
+    BSDFSample weighted_by_pdf(const BSDFContext& ctx, const SurfaceInteraction& si, BSDFSample bs) const {
+        bs.pdf = pdf(ctx, si, bs.wo);
+        if (!(bs.pdf > 0.0f)) return BSDFSample();
+        bs.weight = eval(ctx, si, bs.wo) / bs.pdf;
+        if (!all_finite(bs.weight)) return BSDFSample();
+        return bs;
+    }
+
     uint32_t flags_ = BSDFNone;
 };
 
 inline bool is_delta(uint32_t lobe) { return (lobe & Delta) != 0; }
+
+// A sample of the Null lobe: straight on (wo = -wi), chosen with probability `pdf`.
+inline BSDFSample null_lobe_sample(const SurfaceInteraction& si, float pdf, const Spectrum& weight) {
+    BSDFSample bs;
+    bs.wo = -si.wi;
+    bs.pdf = pdf;
+    bs.lobe = Null;
+    bs.weight = weight;
+    return bs;
+}
 
 }  // namespace candela

@@ -64,12 +64,15 @@ Image read_image(const std::string& path) {
     return image;
 }
 
-bool image_is_integer_format(const std::string& path) {
+bool image_is_integer_format(const std::string& path) { return image_integer_bits(path) > 0; }
+
+int image_integer_bits(const std::string& path) {
     auto in = OIIO::ImageInput::open(path);
     if (!in) throw InputError(path + ": cannot read image: " + OIIO::geterror());
     OIIO::TypeDesc f = in->spec().format;
-    return f.basetype == OIIO::TypeDesc::UINT8 || f.basetype == OIIO::TypeDesc::UINT16 ||
-           f.basetype == OIIO::TypeDesc::INT8 || f.basetype == OIIO::TypeDesc::INT16;
+    if (f.basetype == OIIO::TypeDesc::UINT8 || f.basetype == OIIO::TypeDesc::INT8) return 8;
+    if (f.basetype == OIIO::TypeDesc::UINT16 || f.basetype == OIIO::TypeDesc::INT16) return 16;
+    return 0;
 }
 
 void check_output_path(const std::string& path) {

@@ -49,6 +49,8 @@ private:
 Image read_image(const std::string& path);
 // True when the file stores integer (display-referred, usually sRGB-encoded) values.
 bool image_is_integer_format(const std::string& path);
+// Bits per channel of an integer-format file (8 or 16), 0 for floating-point files.
+int image_integer_bits(const std::string& path);
 
 // Fails with InputError if `path` cannot be created or replaced (missing directory, no
 // permission, a directory in the way). Creates nothing.

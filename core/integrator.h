@@ -53,6 +53,9 @@ struct RenderStats {
     int spp = 0;               // samples per pixel requested
     uint64_t seed = 0;
     bool partial = false;      // interrupted before all samples were taken
+    // `seconds` timed one rasterized frame, not Monte Carlo sampling: a summary reports the
+    // frame time rather than sample and ray rates.
+    bool single_frame = false;
 };
 
 struct RenderResult {

@@ -14,6 +14,11 @@ void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
     if (!uvs_.empty() && uvs_.size() != positions_.size()) props.fail("mesh has a uv count that differs from its vertex count");
     if (!normals_.empty() && normals_.size() != positions_.size())
         props.fail("mesh has a normal count that differs from its vertex count");
+    for (const MeshAttribute& a : attributes_) {
+        size_t rows = a.per_face ? triangles_.size() : positions_.size();
+        if (a.channels < 1 || a.channels > 4 || a.values.size() != rows * size_t(a.channels))
+            props.fail("mesh attribute \"" + a.name + "\" does not have one value per " + (a.per_face ? "face" : "vertex"));
+    }
 
     for (auto& p : positions_) {
         p = to_world_.apply_point(p);
@@ -29,15 +34,26 @@ void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
     // Zero-area triangles cannot be hit or sampled; drop them.
     std::vector<glm::uvec3> kept;
     std::vector<float> areas;
+    std::vector<size_t> kept_index;
     kept.reserve(triangles_.size());
-    for (const auto& t : triangles_) {
+    for (size_t i = 0; i < triangles_.size(); ++i) {
+        const glm::uvec3& t = triangles_[i];
         float a = 0.5f * glm::length(glm::cross(positions_[t.y] - positions_[t.x], positions_[t.z] - positions_[t.x]));
         if (a > 0.0f && std::isfinite(a)) {
             kept.push_back(t);
+            kept_index.push_back(i);
             areas.push_back(a);
         }
     }
     triangles_ = std::move(kept);
+    for (MeshAttribute& attr : attributes_) {
+        if (!attr.per_face) continue;
+        std::vector<float> rows;
+        rows.reserve(kept_index.size() * size_t(attr.channels));
+        for (size_t i : kept_index)
+            for (int c = 0; c < attr.channels; ++c) rows.push_back(attr.values[i * size_t(attr.channels) + size_t(c)]);
+        attr.values = std::move(rows);
+    }
     if (triangles_.empty()) props.fail("mesh has no triangles with non-zero area");
     double total = 0.0;
     for (float a : areas) total += a;
@@ -194,6 +210,26 @@ void Mesh::tessellate(TriangleSoup& out, int) const {
         }
     }
     out.closed = closed;
+}
+
+bool Mesh::eval_attribute(const std::string& name, const SurfaceInteraction& si, Spectrum& value) const {
+    for (const MeshAttribute& a : attributes_) {
+        if (a.name != name) continue;
+        size_t n = size_t(a.channels);
+        float v[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+        if (a.per_face) {
+            for (size_t c = 0; c < n; ++c) v[c] = a.values[si.prim_index * n + c];
+        } else {
+            const glm::uvec3& t = triangles_[si.prim_index];
+            float b1 = si.prim_uv.x, b2 = si.prim_uv.y, b0 = 1.0f - b1 - b2;
+            for (size_t c = 0; c < n; ++c)
+                v[c] = b0 * a.values[t.x * n + c] + b1 * a.values[t.y * n + c] + b2 * a.values[t.z * n + c];
+        }
+        // One channel is grey; two fill red and green; a fourth (alpha) is not a colour.
+        value = a.channels == 1 ? Spectrum(v[0]) : Spectrum(v[0], v[1], v[2]);
+        return true;
+    }
+    return false;
 }
 
 PositionSample Mesh::sample_position(const Vec2& u) const {

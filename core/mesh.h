@@ -14,6 +14,15 @@ namespace candela {
 void triangle_tangents(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec2& uv0, const Vec2& uv1, const Vec2& uv2, const Vec3& n,
                        Vec3& dpdu, Vec3& dpdv);
 
+// Data attached to a mesh's vertices or faces, named as in Mitsuba ("vertex_color",
+// "face_normal_x", ...), with 1 to 4 channels per element.
+struct MeshAttribute {
+    std::string name;
+    bool per_face = false;
+    int channels = 1;
+    std::vector<float> values;  // channels per vertex (or per triangle of triangles_)
+};
+
 class Mesh : public Shape {
 public:
     explicit Mesh(const Properties& props) : Shape(props) {}
@@ -29,6 +38,9 @@ public:
         axis = cone_axis_;
         cos_theta = cone_cos_;
     }
+
+    bool eval_attribute(const std::string& name, const SurfaceInteraction& si, Spectrum& value) const override;
+    const std::vector<MeshAttribute>& attributes() const { return attributes_; }
 
     size_t triangle_count() const { return triangles_.size(); }
     const std::vector<Vec3>& positions() const { return positions_; }
@@ -46,6 +58,9 @@ protected:
     std::vector<Vec3> positions_, normals_;
     std::vector<Vec2> uvs_;
     std::vector<glm::uvec3> triangles_;
+    // Face attributes hold one row per entry of triangles_ (a polygon's row repeated for each of
+    // its triangles); finalize() drops the rows of degenerate triangles with them.
+    std::vector<MeshAttribute> attributes_;
 
 private:
     Distribution1D area_distribution_;

@@ -141,6 +141,14 @@ Transform Properties::get_transform(const std::string& name, const Transform& de
     return e ? std::get<Transform>(e->value) : def;
 }
 
+std::string Properties::get_path(const std::string& name) const {
+    namespace fs = std::filesystem;
+    fs::path p(get_string(name));
+    SourceLocation where = location_of(name);
+    if (p.is_relative() && !where.file.empty()) p = fs::path(where.file).parent_path() / p;
+    return p.string();
+}
+
 std::string Properties::get_file_path(const std::string& name) const {
     namespace fs = std::filesystem;
     std::string value = get_string(name);

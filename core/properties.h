@@ -76,6 +76,9 @@ public:
     // Set by the loader for every object it creates.
     void set_file_resolver(std::shared_ptr<const FileResolver> resolver) { resolver_ = std::move(resolver); }
     const std::shared_ptr<const FileResolver>& file_resolver() const { return resolver_; }
+    // A name that need not be one existing file (a pattern of several, such as a cube map's
+    // "{face}"), made absolute relative to the file that names it.
+    std::string get_path(const std::string& name) const;
 
     // A texture-valued parameter: a nested/referenced texture, or an rgb/float constant.
     Ref<Texture> get_texture(const std::string& name, const Spectrum& def) const;

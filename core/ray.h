@@ -56,6 +56,7 @@ struct SurfaceInteraction {
     Vec3 wi{0.0f, 0.0f, 1.0f};  // toward the ray's origin, in the shading frame
     const Shape* shape = nullptr;
     unsigned prim_index = 0;
+    Vec2 prim_uv{0.0f};  // where on primitive prim_index: barycentrics (b1, b2) on a triangle
 
     bool is_valid() const { return shape != nullptr; }
     Vec3 to_world(const Vec3& v) const { return shading.to_world(v); }

@@ -9,7 +9,11 @@ namespace candela {
 
 Scene::Scene(const Properties& props) {
     source_file = props.location().file;
-    for (auto& obj : props.get_objects(ObjectKind::Shape)) shapes_.push_back(std::static_pointer_cast<Shape>(obj));
+    // Shape groups are not drawn themselves, only through the instances that reference them.
+    for (auto& obj : props.get_objects(ObjectKind::Shape)) {
+        auto shape = std::static_pointer_cast<Shape>(obj);
+        if (!shape->is_shape_group()) shapes_.push_back(shape);
+    }
     // Area emitters first (in shape order), then the scene's own emitters.
     for (auto& shape : shapes_)
         if (shape->emitter()) emitters_.push_back(shape->emitter_ref());
@@ -37,7 +41,10 @@ Scene::Scene(const Properties& props) {
     for (ObjectKind kind : {ObjectKind::BSDF, ObjectKind::Texture, ObjectKind::Sampler, ObjectKind::Film, ObjectKind::Filter})
         props.get_objects(kind);
 
-    for (auto& shape : shapes_) bbox_.expand(shape->bbox());
+    for (auto& shape : shapes_) {
+        bbox_.expand(shape->bbox());
+        if (shape->bsdf()->has_null_lobe()) has_null_surfaces_ = true;
+    }
     accel_.build(shapes_);
     for (auto& emitter : emitters_) {
         emitter->set_scene(*this);
@@ -54,12 +61,34 @@ bool Scene::intersect(const Ray& ray, SurfaceInteraction& si) const {
         si.wi = -ray.d;
         return false;
     }
-    shape->fill_interaction(ray, hit, si);
+    // An instance replaces si.shape by the shape of its group that was hit (for its BSDF).
     si.shape = shape;
+    shape->fill_interaction(ray, hit, si);
     si.prim_index = hit.prim_index;
+    si.prim_uv = Vec2(hit.u, hit.v);
     si.t = hit.t;
     si.wi = si.to_local(-ray.d);
     return true;
+}
+
+Spectrum Scene::transmittance(const Ray& shadow_ray) const {
+    if (!has_null_surfaces_) return occluded(shadow_ray) ? Spectrum(0.0f) : Spectrum(1.0f);
+    // Cross the surfaces one by one; a ray that keeps meeting surfaces after this many crossings
+    // (coplanar layers that the offsets cannot separate) is taken as blocked rather than looping.
+    const int MaxCrossings = 256;
+    Spectrum T(1.0f);
+    Ray ray = shadow_ray;
+    for (int crossed = 0; crossed < MaxCrossings; ++crossed) {
+        SurfaceInteraction si;
+        if (!intersect(ray, si)) return T;
+        T *= si.shape->bsdf()->null_transmission(si);
+        if (is_black(T)) return T;
+        Vec3 origin = offset_ray_origin(si.p, si.p_error, si.n, ray.d);
+        float remaining = ray.tmax - glm::dot(origin - ray.o, ray.d);  // inf stays inf
+        if (!(remaining > 0.0f)) return T;
+        ray = Ray(origin, ray.d, remaining);
+    }
+    return Spectrum(0.0f);
 }
 
 Spectrum Scene::eval_environment(const Vec3& d) const {

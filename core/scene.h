@@ -21,6 +21,12 @@ public:
     // Closest surface along the ray; si.is_valid() is false for a miss.
     bool intersect(const Ray& ray, SurfaceInteraction& si) const;
     bool occluded(const Ray& ray) const { return accel_.occluded(ray); }
+    // The fraction of light that travels along the shadow ray unblocked: 0 or 1 from one any-hit
+    // query, unless the scene has surfaces with a Null lobe (null, mask, polarizer); then the
+    // product of the null_transmission() of every surface the ray crosses (0 at an opaque one).
+    Spectrum transmittance(const Ray& ray) const;
+    // Whether any shape's BSDF lets light pass straight through (a Null lobe).
+    bool has_null_surfaces() const { return has_null_surfaces_; }
 
     const std::vector<Ref<Shape>>& shapes() const { return shapes_; }
     // All emitters: area emitters of shapes, then the others in document order.
@@ -51,6 +57,7 @@ private:
     Ref<Integrator> integrator_;
     BoundingBox bbox_;
     Accel accel_;
+    bool has_null_surfaces_ = false;
 };
 
 }  // namespace candela

@@ -29,6 +29,11 @@ Shape::Shape(const Properties& props) {
     }
 }
 
+void Shape::tessellate_parts(std::vector<TessellatedPart>& parts, int detail) const {
+    parts.push_back(TessellatedPart{this, TriangleSoup()});
+    tessellate(parts.back().triangles, detail);
+}
+
 DirectionSample Shape::sample_direction(const SurfaceInteraction& ref, const Vec2& u) const {
     DirectionSample ds;
     static_cast<PositionSample&>(ds) = sample_position(u);

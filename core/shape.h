@@ -5,9 +5,11 @@
 #include "core/object.h"
 #include "core/properties.h"
 #include "core/ray.h"
+#include "core/spectrum.h"
 
 #include <embree3/rtcore.h>
 
+#include <string>
 #include <vector>
 
 namespace candela {
@@ -38,6 +40,24 @@ struct TriangleSoup {
     std::vector<Vec2> uvs;
     std::vector<glm::uvec3> triangles;
     bool closed = false;  // every edge shared by exactly two triangles (a watertight surface)
+
+    // Adds another soup's triangles (the result is not known to be closed).
+    void append(const TriangleSoup& other) {
+        unsigned base = unsigned(positions.size());
+        positions.insert(positions.end(), other.positions.begin(), other.positions.end());
+        normals.insert(normals.end(), other.normals.begin(), other.normals.end());
+        uvs.insert(uvs.end(), other.uvs.begin(), other.uvs.end());
+        for (const auto& t : other.triangles) triangles.push_back(t + glm::uvec3(base));
+        closed = false;
+    }
+};
+
+class Shape;
+
+// Triangles of one shape, for the rasterizer, with the shape whose BSDF and emitter they have.
+struct TessellatedPart {
+    const Shape* shape = nullptr;
+    TriangleSoup triangles;
 };
 
 // What Embree reports for a closest hit; shapes turn it into a SurfaceInteraction.
@@ -45,6 +65,7 @@ struct RayHit {
     float t = Infinity;
     float u = 0.0f, v = 0.0f;  // barycentrics for triangles, shape-defined otherwise
     unsigned prim_index = 0;
+    unsigned instance_geometry = ~0u;  // for a hit on an instance: the geometry hit inside its group
 };
 
 class Shape : public Object {
@@ -69,6 +90,9 @@ public:
     // Appends this shape as triangles; analytic shapes are tessellated finely enough that their
     // silhouettes stay within about a pixel at `detail` segments per full turn.
     virtual void tessellate(TriangleSoup& out, int detail = 64) const = 0;
+    // What the rasterizer draws for this shape: by default one part, this shape's tessellation;
+    // an instance gives one part per shape of its group (each with its own BSDF).
+    virtual void tessellate_parts(std::vector<TessellatedPart>& parts, int detail = 64) const;
 
     // A cone containing every front-facing normal of the shape: axis and the cosine of its
     // half-angle (-1 when the normals point everywhere).
@@ -76,6 +100,16 @@ public:
         axis = Vec3(0.0f, 0.0f, 1.0f);
         cos_theta = -1.0f;
     }
+
+    // A shape group only holds shapes for instances to reference; it is not part of the scene's
+    // BVH itself.
+    virtual bool is_shape_group() const { return false; }
+
+    // A per-vertex or per-face attribute of a mesh ("vertex_color", "face_id", ...) at a hit
+    // point (si.prim_index, si.prim_uv), as the mesh_attribute texture reads it: vertex
+    // attributes interpolated barycentrically, face attributes constant per face. One channel
+    // comes back as grey. False when the shape has no attribute of that name.
+    virtual bool eval_attribute(const std::string& name, const SurfaceInteraction& si, Spectrum& value) const { return false; }
 
     // Whether all front-facing normals agree (rectangle, disk, a flat mesh), within the margin
     // that meshes add to their cone; `normal` receives the common normal.

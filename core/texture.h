@@ -1,8 +1,9 @@
 #pragma once
-// Textures: spatially varying colours looked up by surface uv. Every rgb parameter of a BSDF can
-// be a texture; a plain rgb value becomes a ConstantTexture.
+// Textures: spatially varying colours looked up at a surface point, most by its uv. Every rgb
+// parameter of a BSDF can be a texture; a plain rgb value becomes a ConstantTexture.
 
 #include "core/object.h"
+#include "core/ray.h"
 #include "core/spectrum.h"
 #include "core/transform.h"
 
@@ -17,6 +18,10 @@ public:
     ObjectKind kind() const override { return ObjectKind::Texture; }
     // The colour at uv, unfiltered beyond the texture's own reconstruction (bilinear or nearest).
     virtual Spectrum eval(const Vec2& uv) const = 0;
+    // The colour at a surface point: what BSDFs ask. By default the uv lookup; textures that read
+    // more of the hit (mesh_attribute: the shape's per-vertex data) override these two.
+    virtual Spectrum eval(const SurfaceInteraction& si) const { return eval(si.uv); }
+    virtual float eval_1(const SurfaceInteraction& si) const { return eval_1(si.uv); }
     // A lookup over the footprint given by the screen-space derivatives of uv (the rasterizer's
     // texture filtering): nearest or bilinear reconstruction at full resolution, or trilinear
     // filtering in the MIP pyramid. Textures without a pyramid ignore the footprint.
@@ -60,6 +65,8 @@ class ConstantTexture final : public Texture {
 public:
     explicit ConstantTexture(const Spectrum& value) : value_(value) {}
     Spectrum eval(const Vec2&) const override { return value_; }
+    // A grey value (a float parameter) is returned exactly, not through the luminance weights.
+    float eval_1(const Vec2&) const override { return value_.x == value_.y && value_.y == value_.z ? value_.x : luminance(value_); }
     Spectrum mean() const override { return value_; }
     bool is_constant() const override { return true; }
     float max_value() const override { return max_component(value_); }

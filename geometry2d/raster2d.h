@@ -4,7 +4,7 @@
 //   circles    the midpoint circle algorithm with eight-way symmetry
 //   filling    scanline triangle fill and scanline polygon fill (even-odd, pixel centres at
 //              half-integers, half-open vertex rule), and trapezoid decomposition
-// Ear clipping and the point-in-polygon test live in core/polygon.h. Used by plots, the
+// Ear clipping and the point-in-polygon test live in geometry2d/polygon.h. Used by plots, the
 // rasterizer's wireframe overlay and light gizmos.
 
 #include "core/math.h"

@@ -13,6 +13,7 @@
 #include "core/registry.h"
 #include "core/scene.h"
 #include "integrators/estimators.h"
+#include "integrators/path.h"
 
 #include <cstdio>
 
@@ -20,7 +21,7 @@ namespace candela {
 
 class IrradianceIntegrator final : public SamplingIntegrator {
 public:
-    explicit IrradianceIntegrator(const Properties& props) : path_(settings(props)) {
+    explicit IrradianceIntegrator(const Properties& props) : path_(read_path_settings(props, false)) {
         max_value_ = props.get_float("max_value", 0.0f);
         if (max_value_ < 0.0f) props.fail("max_value", "max_value must be positive");
     }
@@ -75,14 +76,6 @@ public:
     std::string to_string() const override { return "irradiance"; }
 
 private:
-    static PathSettings settings(const Properties& props) {
-        PathSettings s;
-        s.max_depth = props.get_int("max_depth", -1);
-        s.rr_depth = props.get_int("rr_depth", 5);
-        s.light_sampler = props.get_string("light_sampler", "tree");
-        if (s.max_depth < -1 || s.rr_depth <= 0) props.fail("max_depth", "max_depth must be >= -1 and rr_depth positive");
-        return s;
-    }
     PathIntegrator path_;
     float max_value_ = 0.0f;
 };

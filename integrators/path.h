@@ -5,6 +5,8 @@
 #include "core/integrator.h"
 #include "lights/light_sampler.h"
 
+#include <optional>
+
 namespace candela {
 
 class BSDF;
@@ -17,9 +19,22 @@ struct PathSettings {
     std::string light_sampler = "tree";
 };
 
+// The settings of every integrator that continues paths (path, irradiance, the estimators) are
+// read and checked here and nowhere else.
+struct PathSettingProblem {
+    std::string parameter;  // Mitsuba name: max_depth, rr_depth or light_sampler
+    std::string message;
+};
+// The first invalid setting, or nothing when all are valid.
+std::optional<PathSettingProblem> check_path_settings(const PathSettings& settings);
+// Reads max_depth, rr_depth, light_sampler (and hide_emitters when `hide_emitters` is true) from
+// an integrator's properties; an invalid value is a SceneError at its file:line.
+PathSettings read_path_settings(const Properties& props, bool hide_emitters);
+
 class PathIntegrator : public SamplingIntegrator {
 public:
     explicit PathIntegrator(const Properties& props);
+    // InputError naming the parameter when the settings are invalid.
     explicit PathIntegrator(const PathSettings& settings);
 
     void prepare(const Scene& scene) override;

@@ -29,7 +29,7 @@ public:
 
     Spectrum eval(const SurfaceInteraction& si) const override {
         if (Frame::cos_theta(si.wi) <= 0.0f) return Spectrum(0.0f);  // back side
-        return radiance_->eval(si.uv);
+        return radiance_->eval(si);
     }
 
     DirectionSample sample_direction(const SurfaceInteraction& ref, const Vec2& u, Spectrum& weight) const override {

@@ -57,7 +57,7 @@ public:
         ds.uv = hit.uv;
         ds.dist = glm::length(hit.p - ref.p);
         ds.pdf = 1.0f;
-        weight = radiance_->eval(hit.uv);
+        weight = radiance_->eval(hit);
         return ds;
     }
     float pdf_direction(const SurfaceInteraction&, const DirectionSample&) const override { return 0.0f; }

@@ -51,7 +51,7 @@ public:
 
 private:
     Spectrum reflectance(const SurfaceInteraction& si, float cos_i) const {
-        return specular_->eval(si.uv) * fresnel_conductor(cos_i, eta_->eval(si.uv), k_->eval(si.uv));
+        return specular_->eval(si) * fresnel_conductor(cos_i, eta_->eval(si), k_->eval(si));
     }
     Ref<Texture> eta_, k_, specular_;
 };

@@ -40,13 +40,13 @@ public:
         if (c.reflect) {
             bs.wo = reflect(si.wi);
             bs.lobe = DeltaReflection;
-            bs.weight = reflectance_->eval(si.uv) * c.weight_factor;
+            bs.weight = reflectance_->eval(si) * c.weight_factor;
         } else {
             bs.wo = refract(si.wi, fr.cos_theta_t, fr.eta_ti);
             bs.lobe = DeltaTransmission;
             bs.eta = fr.eta_it;
             float scale = ctx.mode == TransportMode::Radiance ? fr.eta_ti * fr.eta_ti : 1.0f;
-            bs.weight = transmittance_->eval(si.uv) * (scale * c.weight_factor);
+            bs.weight = transmittance_->eval(si) * (scale * c.weight_factor);
         }
         return bs;
     }
@@ -55,7 +55,7 @@ public:
     float pdf(const BSDFContext&, const SurfaceInteraction&, const Vec3&) const override { return 0.0f; }
     Spectrum albedo(const SurfaceInteraction& si) const override {
         float F = fresnel_dielectric(Frame::cos_theta(si.wi), eta_).F;
-        return reflectance_->eval(si.uv) * F + transmittance_->eval(si.uv) * (1.0f - F);
+        return reflectance_->eval(si) * F + transmittance_->eval(si) * (1.0f - F);
     }
     // Local model: environment reflection with weight F0 = ((eta - 1) / (eta + 1))^2 and
     // environment refraction (Snell, relative IOR eta) with weight 1 - F0.

@@ -28,13 +28,13 @@ public:
         bs.pdf = warp::square_to_cosine_hemisphere_pdf(bs.wo);
         if (bs.pdf <= 0.0f) return BSDFSample();
         bs.lobe = DiffuseReflection;
-        bs.weight = reflectance_->eval(si.uv);
+        bs.weight = reflectance_->eval(si);
         return bs;
     }
 
     Spectrum eval(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
         if (!ctx.allows(DiffuseReflection) || Frame::cos_theta(si.wi) <= 0.0f || Frame::cos_theta(wo) <= 0.0f) return Spectrum(0.0f);
-        return reflectance_->eval(si.uv) * (InvPi * Frame::cos_theta(wo));
+        return reflectance_->eval(si) * (InvPi * Frame::cos_theta(wo));
     }
 
     float pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
@@ -42,7 +42,7 @@ public:
         return warp::square_to_cosine_hemisphere_pdf(wo);
     }
 
-    Spectrum albedo(const SurfaceInteraction& si) const override { return reflectance_->eval(si.uv); }
+    Spectrum albedo(const SurfaceInteraction& si) const override { return reflectance_->eval(si); }
     // Local model: kd = reflectance; no highlight, no reflection.
     LocalShading local_shading() const override {
         LocalShading s;

@@ -41,16 +41,29 @@ float erf_inv(float x) {
 MicrofacetDistribution::MicrofacetDistribution(MicrofacetType type, float au, float av, bool sample_visible)
     : type_(type), alpha_u_(std::max(au, 1e-4f)), alpha_v_(std::max(av, 1e-4f)), sample_visible_(sample_visible) {}
 
-MicrofacetDistribution MicrofacetDistribution::from_properties(const Properties& props, bool allow_anisotropic) {
+namespace {
+MicrofacetType read_type(const Properties& props) {
     std::string name = props.get_string("distribution", "beckmann");
-    MicrofacetType type;
-    if (name == "beckmann") type = MicrofacetType::Beckmann;
-    else if (name == "ggx") type = MicrofacetType::GGX;
-    else props.fail("distribution", "distribution must be beckmann or ggx, not \"" + name + "\"");
+    if (name == "beckmann") return MicrofacetType::Beckmann;
+    if (name == "ggx") return MicrofacetType::GGX;
+    props.fail("distribution", "distribution must be beckmann or ggx, not \"" + name + "\"");
+}
+
+// Mitsuba's rule: alpha, or both alpha_u and alpha_v, never both forms.
+bool anisotropic_roughness(const Properties& props) {
+    if (!props.has("alpha_u") && !props.has("alpha_v")) return false;
+    if (props.has("alpha")) props.fail("alpha", "give either alpha or alpha_u and alpha_v");
+    if (!props.has("alpha_u") || !props.has("alpha_v"))
+        props.fail(props.has("alpha_u") ? "alpha_u" : "alpha_v", "give both alpha_u and alpha_v");
+    return true;
+}
+}  // namespace
+
+MicrofacetDistribution MicrofacetDistribution::from_properties(const Properties& props, bool allow_anisotropic) {
+    MicrofacetType type = read_type(props);
     float au, av;
-    if (props.has("alpha_u") || props.has("alpha_v")) {
+    if (anisotropic_roughness(props)) {
         if (!allow_anisotropic) props.fail("alpha_u", props.plugin_type() + " is isotropic: use alpha");
-        if (props.has("alpha")) props.fail("alpha", "give either alpha or alpha_u and alpha_v");
         au = props.get_float("alpha_u");
         av = props.get_float("alpha_v");
     } else {
@@ -59,6 +72,35 @@ MicrofacetDistribution MicrofacetDistribution::from_properties(const Properties&
     if (!(au > 0.0f && av > 0.0f)) props.fail("alpha", "roughness alpha must be positive");
     return MicrofacetDistribution(type, au, av, props.get_bool("sample_visible", true));
 }
+
+MicrofacetRoughness MicrofacetRoughness::from_properties(const Properties& props) {
+    MicrofacetRoughness r;
+    r.type_ = read_type(props);
+    if (anisotropic_roughness(props)) {
+        r.alpha_u_ = props.get_texture("alpha_u");
+        r.alpha_v_ = props.get_texture("alpha_v");
+    } else {
+        r.alpha_u_ = r.alpha_v_ = props.get_texture("alpha", Spectrum(0.1f));
+    }
+    for (const char* name : {"alpha", "alpha_u", "alpha_v"}) {
+        const Ref<Texture>& t = std::string(name) == "alpha_v" ? r.alpha_v_ : r.alpha_u_;
+        if (props.has(name) && t->is_constant() && !(t->eval_1(Vec2(0.0f)) > 0.0f))
+            props.fail(name, "roughness " + std::string(name) + " must be positive");
+    }
+    r.sample_visible_ = props.get_bool("sample_visible", true);
+    if (r.alpha_u_->is_constant() && r.alpha_v_->is_constant())
+        r.constant_ = MicrofacetDistribution(r.type_, r.alpha_u_->eval_1(Vec2(0.0f)), r.alpha_v_->eval_1(Vec2(0.0f)), r.sample_visible_);
+    return r;
+}
+
+MicrofacetDistribution MicrofacetRoughness::at(const SurfaceInteraction& si) const {
+    if (constant_) return *constant_;
+    float au = alpha_u_->eval_1(si);
+    float av = alpha_v_ == alpha_u_ ? au : alpha_v_->eval_1(si);
+    return MicrofacetDistribution(type_, au, av, sample_visible_);
+}
+
+float MicrofacetRoughness::mean_alpha() const { return 0.5f * (luminance(alpha_u_->mean()) + luminance(alpha_v_->mean())); }
 
 float MicrofacetDistribution::D(const Vec3& m) const {
     float cos_theta = m.z;

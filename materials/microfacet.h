@@ -9,6 +9,9 @@
 //               D(m) cos(theta_m) otherwise
 
 #include "core/properties.h"
+#include "core/texture.h"
+
+#include <optional>
 
 namespace candela {
 
@@ -47,6 +50,28 @@ private:
     float alpha_u_, alpha_v_;
     bool sample_visible_;
 };
+
+// Roughness as Mitsuba's rough BSDFs read it: distribution (beckmann | ggx, default beckmann),
+// alpha or alpha_u and alpha_v (default 0.1), each a float or a texture (looked up as a scalar,
+// eval_1), and sample_visible (default true). The distribution is built per shading point;
+// constant roughness builds it once.
+class MicrofacetRoughness {
+public:
+    static MicrofacetRoughness from_properties(const Properties& props);
+    MicrofacetDistribution at(const SurfaceInteraction& si) const;
+    // The mean of (alpha_u + alpha_v) / 2 over the textures (for the local model).
+    float mean_alpha() const;
+
+private:
+    MicrofacetType type_ = MicrofacetType::Beckmann;
+    bool sample_visible_ = true;
+    Ref<Texture> alpha_u_, alpha_v_;
+    std::optional<MicrofacetDistribution> constant_;
+};
+
+// The Phong exponent whose lobe matches a Beckmann distribution of roughness alpha, 2 / alpha^2 - 2
+// (Walter et al. 2007), at least 1: the local model's highlight for a microfacet lobe.
+inline float phong_exponent(float alpha) { return std::max(2.0f / (alpha * alpha) - 2.0f, 1.0f); }
 
 // Inverse error function (Giles 2010 approximation refined by Newton's method).
 float erf_inv(float x);

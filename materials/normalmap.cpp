@@ -22,7 +22,7 @@ public:
 
 protected:
     Frame perturbed_frame(const SurfaceInteraction& si) const override {
-        Vec3 local = 2.0f * map_->eval(si.uv) - Vec3(1.0f);
+        Vec3 local = 2.0f * map_->eval(si) - Vec3(1.0f);
         float len = glm::length(local);
         if (!(len > 0.0f) || !std::isfinite(len)) return si.shading;
         Vec3 n = glm::normalize(si.shading.to_world(local / len));

@@ -19,7 +19,7 @@ float PhongFamilyBSDF::glossy_probability(const BSDFContext& ctx, const SurfaceI
     bool has_d = ctx.allows(DiffuseReflection), has_g = ctx.allows(GlossyReflection);
     if (!has_g) return 0.0f;
     if (!has_d) return 1.0f;
-    float d = average(kd_->eval(si.uv)), s = average(ks_->eval(si.uv));
+    float d = average(kd_->eval(si)), s = average(ks_->eval(si));
     return d + s > 0.0f ? s / (d + s) : 0.5f;
 }
 
@@ -45,8 +45,8 @@ Spectrum PhongFamilyBSDF::eval(const BSDFContext& ctx, const SurfaceInteraction&
     float cos_o = Frame::cos_theta(wo);
     if (Frame::cos_theta(si.wi) <= 0.0f || cos_o <= 0.0f) return Spectrum(0.0f);
     Spectrum f(0.0f);
-    if (ctx.allows(DiffuseReflection)) f += kd_->eval(si.uv) * InvPi;
-    if (ctx.allows(GlossyReflection)) f += ks_->eval(si.uv) * lobe(si.wi, wo);
+    if (ctx.allows(DiffuseReflection)) f += kd_->eval(si) * InvPi;
+    if (ctx.allows(GlossyReflection)) f += ks_->eval(si) * lobe(si.wi, wo);
     return f * cos_o;
 }
 

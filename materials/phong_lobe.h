@@ -18,7 +18,7 @@ public:
     BSDFSample sample(const BSDFContext& ctx, const SurfaceInteraction& si, float u_lobe, const Vec2& u) const override;
     Spectrum eval(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override;
     float pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override;
-    Spectrum albedo(const SurfaceInteraction& si) const override { return kd_->eval(si.uv) + ks_->eval(si.uv); }
+    Spectrum albedo(const SurfaceInteraction& si) const override { return kd_->eval(si) + ks_->eval(si); }
 
     // Local model: kd, ks and the exponent carry over directly (the rasterizer draws the lobe of
     // its chosen reflection model, Phong or Blinn-Phong, with the same normalisation).

@@ -47,7 +47,7 @@ public:
             bs.wo = reflect(si.wi);
             bs.pdf = p_spec;
             bs.lobe = DeltaReflection;
-            bs.weight = specular_->eval(si.uv) * (Fi / p_spec);
+            bs.weight = specular_->eval(si) * (Fi / p_spec);
             return bs;
         }
         if (!ctx.allows(DiffuseReflection)) return bs;
@@ -74,7 +74,7 @@ public:
 
     Spectrum albedo(const SurfaceInteraction& si) const override {
         float Fi = fresnel_dielectric(std::max(Frame::cos_theta(si.wi), 0.0f), eta_).F;
-        return specular_->eval(si.uv) * Fi + diffuse_->eval(si.uv) * (1.0f - Fi);
+        return specular_->eval(si) * Fi + diffuse_->eval(si) * (1.0f - Fi);
     }
     // Local model: kd = diffuse_reflectance (the base under the coating), and the coating as a
     // mirror reflecting the environment with F0 = ((eta - 1) / (eta + 1))^2.
@@ -97,7 +97,7 @@ private:
 
     Spectrum diffuse_term(const SurfaceInteraction& si, float Fi, const Vec3& wo) const {
         float Fo = fresnel_dielectric(Frame::cos_theta(wo), eta_).F;
-        Spectrum rho = diffuse_->eval(si.uv);
+        Spectrum rho = diffuse_->eval(si);
         Spectrum rho_p = nonlinear_ ? rho / (Spectrum(1.0f) - rho * fdr_int_) : rho / (1.0f - fdr_int_);
         return rho_p * ((1.0f - Fi) * (1.0f - Fo) * Frame::cos_theta(wo) * InvPi / (eta_ * eta_));
     }

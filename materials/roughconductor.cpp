@@ -3,8 +3,8 @@
 //
 // Parameters (Mitsuba 3):
 //   distribution           string           beckmann (default) or ggx
-//   alpha                  float            roughness (default 0.1); or alpha_u and alpha_v for
-//                                           an anisotropic surface
+//   alpha                  float or texture roughness (default 0.1); or alpha_u and alpha_v for
+//                                           an anisotropic surface (textures: scalar lookups)
 //   sample_visible         boolean          sample visible normals (default true)
 //   material, eta, k       as `conductor`
 //   specular_reflectance   rgb or texture   extra factor (default 1)
@@ -22,7 +22,7 @@ namespace candela {
 
 class RoughConductorBSDF final : public BSDF {
 public:
-    explicit RoughConductorBSDF(const Properties& props) : distribution_(MicrofacetDistribution::from_properties(props)) {
+    explicit RoughConductorBSDF(const Properties& props) : roughness_(MicrofacetRoughness::from_properties(props)) {
         read_conductor_ior(props, eta_, k_);
         specular_ = props.get_texture("specular_reflectance", Spectrum(1.0f));
         flags_ = GlossyReflection;
@@ -32,7 +32,7 @@ public:
         BSDFSample bs;
         if (!ctx.allows(GlossyReflection) || Frame::cos_theta(si.wi) <= 0.0f) return bs;
         float pdf_m;
-        Vec3 m = distribution_.sample(si.wi, u, pdf_m);
+        Vec3 m = roughness_.at(si).sample(si.wi, u, pdf_m);
         Vec3 wo = reflect(si.wi, m);
         if (wo.z <= 0.0f || !(pdf_m > 0.0f)) return bs;
         bs.wo = wo;
@@ -47,21 +47,22 @@ public:
         float cos_i = Frame::cos_theta(si.wi), cos_o = Frame::cos_theta(wo);
         if (!ctx.allows(GlossyReflection) || cos_i <= 0.0f || cos_o <= 0.0f) return Spectrum(0.0f);
         Vec3 h = glm::normalize(si.wi + wo);
-        float D = distribution_.D(h);
+        MicrofacetDistribution distribution = roughness_.at(si);
+        float D = distribution.D(h);
         if (D == 0.0f) return Spectrum(0.0f);
-        float G = distribution_.G(si.wi, wo, h);
-        Spectrum F = fresnel_conductor(glm::dot(si.wi, h), eta_->eval(si.uv), k_->eval(si.uv));
-        return specular_->eval(si.uv) * F * (D * G / (4.0f * cos_i));
+        float G = distribution.G(si.wi, wo, h);
+        Spectrum F = fresnel_conductor(glm::dot(si.wi, h), eta_->eval(si), k_->eval(si));
+        return specular_->eval(si) * F * (D * G / (4.0f * cos_i));
     }
 
     float pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
         if (!ctx.allows(GlossyReflection) || Frame::cos_theta(si.wi) <= 0.0f || Frame::cos_theta(wo) <= 0.0f) return 0.0f;
         Vec3 h = glm::normalize(si.wi + wo);
-        return distribution_.pdf(si.wi, h) / (4.0f * glm::dot(wo, h));
+        return roughness_.at(si).pdf(si.wi, h) / (4.0f * glm::dot(wo, h));
     }
 
     Spectrum albedo(const SurfaceInteraction& si) const override {
-        return specular_->eval(si.uv) * fresnel_conductor(std::max(Frame::cos_theta(si.wi), 0.0f), eta_->eval(si.uv), k_->eval(si.uv));
+        return specular_->eval(si) * fresnel_conductor(std::max(Frame::cos_theta(si.wi), 0.0f), eta_->eval(si), k_->eval(si));
     }
     // Local model: highlight ks = F0 (conductor Fresnel at normal incidence) with shininess
     // 2 / alpha^2 - 2 (the Phong exponent whose lobe matches a Beckmann distribution of
@@ -70,9 +71,9 @@ public:
     LocalShading local_shading() const override {
         LocalShading s;
         Spectrum F0 = specular_->mean() * fresnel_conductor(1.0f, eta_->mean(), k_->mean());
-        float alpha = 0.5f * (distribution_.alpha_u() + distribution_.alpha_v());
+        float alpha = roughness_.mean_alpha();
         s.specular = F0;
-        s.shininess = std::max(2.0f / (alpha * alpha) - 2.0f, 1.0f);
+        s.shininess = phong_exponent(alpha);
         s.mirror = F0;
         s.roughness = alpha;
         return s;
@@ -80,7 +81,7 @@ public:
     std::string to_string() const override { return "roughconductor"; }
 
 private:
-    MicrofacetDistribution distribution_;
+    MicrofacetRoughness roughness_;
     Ref<Texture> eta_, k_, specular_;
 };
 

@@ -2,7 +2,8 @@
 // BTDF of Walter et al. 2007 ("Microfacet Models for Refraction through Rough Surfaces").
 //
 // Parameters (Mitsuba 3):
-//   distribution, alpha (or alpha_u, alpha_v), sample_visible   as `roughconductor`
+//   distribution, alpha (or alpha_u, alpha_v), sample_visible   as `roughconductor` (alphas may
+//                                                                be textures)
 //   int_ior, ext_ior, specular_reflectance, specular_transmittance   as `dielectric`
 //
 // With eta' = n_other_side / n_wi_side and the half vector m of the pair (m.z > 0):
@@ -23,7 +24,7 @@ namespace candela {
 
 class RoughDielectricBSDF final : public BSDF {
 public:
-    explicit RoughDielectricBSDF(const Properties& props) : distribution_(MicrofacetDistribution::from_properties(props)) {
+    explicit RoughDielectricBSDF(const Properties& props) : roughness_(MicrofacetRoughness::from_properties(props)) {
         eta_ = read_relative_ior(props, "bk7");
         reflectance_ = props.get_texture("specular_reflectance", Spectrum(1.0f));
         transmittance_ = props.get_texture("specular_transmittance", Spectrum(1.0f));
@@ -38,7 +39,7 @@ public:
         // Sample a normal visible from wi mirrored into the upper hemisphere.
         Vec3 wi_up = cos_i > 0.0f ? si.wi : -si.wi;
         float pdf_m;
-        Vec3 m = distribution_.sample(wi_up, u, pdf_m);
+        Vec3 m = roughness_.at(si).sample(wi_up, u, pdf_m);
         if (!(pdf_m > 0.0f)) return bs;
         DielectricFresnel fr = fresnel_dielectric(glm::dot(si.wi, m), eta_);
         if (choose_fresnel_lobe(has_r, has_t, fr.F, u_lobe).reflect) {
@@ -52,27 +53,24 @@ public:
             bs.eta = fr.eta_it;
             if (bs.wo.z * cos_i >= 0.0f) return BSDFSample();
         }
-        bs.pdf = pdf(ctx, si, bs.wo);
-        if (!(bs.pdf > 0.0f)) return BSDFSample();
-        bs.weight = eval(ctx, si, bs.wo) / bs.pdf;
-        if (!all_finite(bs.weight)) return BSDFSample();
-        return bs;
+        return weighted_by_pdf(ctx, si, bs);
     }
 
     Spectrum eval(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
         Geometry g;
         if (!half_vector(si.wi, wo, g)) return Spectrum(0.0f);
         if (g.reflect ? !ctx.allows(GlossyReflection) : !ctx.allows(GlossyTransmission)) return Spectrum(0.0f);
-        float D = distribution_.D(g.m);
+        MicrofacetDistribution distribution = roughness_.at(si);
+        float D = distribution.D(g.m);
         if (D == 0.0f) return Spectrum(0.0f);
-        float G = distribution_.G(si.wi, wo, g.m);
+        float G = distribution.G(si.wi, wo, g.m);
         float F = fresnel_dielectric(g.wi_m, eta_).F;
         float cos_i = std::abs(Frame::cos_theta(si.wi));
-        if (g.reflect) return reflectance_->eval(si.uv) * (F * D * G / (4.0f * cos_i));
+        if (g.reflect) return reflectance_->eval(si) * (F * D * G / (4.0f * cos_i));
         float denom = g.wi_m + g.eta_p * g.wo_m;
         float value = (1.0f - F) * D * G * std::abs(g.wi_m * g.wo_m) / (cos_i * denom * denom);
         if (ctx.mode == TransportMode::Importance) value *= g.eta_p * g.eta_p;
-        return transmittance_->eval(si.uv) * value;
+        return transmittance_->eval(si) * value;
     }
 
     float pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
@@ -81,7 +79,7 @@ public:
         bool has_r = ctx.allows(GlossyReflection), has_t = ctx.allows(GlossyTransmission);
         if (g.reflect ? !has_r : !has_t) return 0.0f;
         Vec3 wi_up = Frame::cos_theta(si.wi) > 0.0f ? si.wi : -si.wi;
-        float pdf_m = distribution_.pdf(wi_up, g.m);
+        float pdf_m = roughness_.at(si).pdf(wi_up, g.m);
         float F = fresnel_dielectric(g.wi_m, eta_).F;
         float lobe = (has_r && has_t) ? (g.reflect ? F : 1.0f - F) : 1.0f;
         if (g.reflect) return pdf_m * lobe / (4.0f * std::abs(g.wo_m));
@@ -92,16 +90,16 @@ public:
 
     Spectrum albedo(const SurfaceInteraction& si) const override {
         float F = fresnel_dielectric(Frame::cos_theta(si.wi), eta_).F;
-        return reflectance_->eval(si.uv) * F + transmittance_->eval(si.uv) * (1.0f - F);
+        return reflectance_->eval(si) * F + transmittance_->eval(si) * (1.0f - F);
     }
     // Local model: as `dielectric`, plus a highlight ks = F0 with shininess 2 / alpha^2 - 2, and
     // both environment lookups blurred by alpha.
     LocalShading local_shading() const override {
         LocalShading s;
         float F0 = fresnel_dielectric(1.0f, eta_).F;
-        float alpha = 0.5f * (distribution_.alpha_u() + distribution_.alpha_v());
+        float alpha = roughness_.mean_alpha();
         s.specular = reflectance_->mean() * F0;
-        s.shininess = std::max(2.0f / (alpha * alpha) - 2.0f, 1.0f);
+        s.shininess = phong_exponent(alpha);
         s.mirror = reflectance_->mean() * F0;
         s.transmission = transmittance_->mean() * (1.0f - F0);
         s.eta = eta_;
@@ -137,7 +135,7 @@ private:
         return g.wi_m * cos_i > 0.0f && g.wo_m * cos_o > 0.0f;
     }
 
-    MicrofacetDistribution distribution_;
+    MicrofacetRoughness roughness_;
     float eta_;
     Ref<Texture> reflectance_, transmittance_;
 };

@@ -2,7 +2,8 @@
 // One-sided, isotropic.
 //
 // Parameters (Mitsuba 3):
-//   distribution, alpha, sample_visible   as `roughconductor` (isotropic only)
+//   distribution, alpha, sample_visible   as `roughconductor`, but isotropic and alpha a float (as
+//                                         in Mitsuba 3: the coating's tables depend on it)
 //   int_ior, ext_ior, diffuse_reflectance, specular_reflectance, nonlinear   as `plastic`
 //
 //   specular:  F(wi . h) D(h) G(wi, wo) / (4 cos wi)
@@ -55,11 +56,7 @@ public:
             bs.lobe = DiffuseReflection;
         }
         if (bs.wo.z <= 0.0f) return BSDFSample();
-        bs.pdf = pdf(ctx, si, bs.wo);
-        if (!(bs.pdf > 0.0f)) return BSDFSample();
-        bs.weight = eval(ctx, si, bs.wo) / bs.pdf;
-        if (!all_finite(bs.weight)) return BSDFSample();
-        return bs;
+        return weighted_by_pdf(ctx, si, bs);
     }
 
     Spectrum eval(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
@@ -71,11 +68,11 @@ public:
             float D = distribution_.D(h);
             if (D > 0.0f) {
                 float F = fresnel_dielectric(glm::dot(si.wi, h), eta_).F;
-                result += specular_->eval(si.uv) * (F * D * distribution_.G(si.wi, wo, h) / (4.0f * cos_i));
+                result += specular_->eval(si) * (F * D * distribution_.G(si.wi, wo, h) / (4.0f * cos_i));
             }
         }
         if (ctx.allows(DiffuseReflection)) {
-            Spectrum rho = diffuse_->eval(si.uv);
+            Spectrum rho = diffuse_->eval(si);
             Spectrum rho_p = nonlinear_ ? rho / (Spectrum(1.0f) - rho * internal_reflectance_) : rho / (1.0f - internal_reflectance_);
             result += rho_p * (transmittance(cos_i) * transmittance(cos_o) * cos_o * InvPi / (eta_ * eta_));
         }
@@ -96,7 +93,7 @@ public:
 
     Spectrum albedo(const SurfaceInteraction& si) const override {
         float T = transmittance(std::max(Frame::cos_theta(si.wi), 0.0f));
-        return specular_->eval(si.uv) * (1.0f - T) + diffuse_->eval(si.uv) * T;
+        return specular_->eval(si) * (1.0f - T) + diffuse_->eval(si) * T;
     }
     // Local model: kd = diffuse_reflectance, a highlight ks = F0 with shininess 2 / alpha^2 - 2,
     // and the environment reflected with F0, blurred by alpha.
@@ -106,7 +103,7 @@ public:
         float alpha = distribution_.alpha_u();
         s.diffuse = diffuse_;
         s.specular = specular_->mean() * F0;
-        s.shininess = std::max(2.0f / (alpha * alpha) - 2.0f, 1.0f);
+        s.shininess = phong_exponent(alpha);
         s.mirror = specular_->mean() * F0;
         s.roughness = alpha;
         return s;

@@ -37,7 +37,7 @@ public:
         bs.pdf = c.pdf;
         bs.wo = c.reflect ? reflect(si.wi) : -si.wi;
         bs.lobe = c.reflect ? DeltaReflection : DeltaTransmission;
-        bs.weight = (c.reflect ? reflectance_ : transmittance_)->eval(si.uv) * c.weight_factor;
+        bs.weight = (c.reflect ? reflectance_ : transmittance_)->eval(si) * c.weight_factor;
         return bs;
     }
 
@@ -45,7 +45,7 @@ public:
     float pdf(const BSDFContext&, const SurfaceInteraction&, const Vec3&) const override { return 0.0f; }
     Spectrum albedo(const SurfaceInteraction& si) const override {
         float R = sheet_reflectance(Frame::cos_theta(si.wi));
-        return reflectance_->eval(si.uv) * R + transmittance_->eval(si.uv) * (1.0f - R);
+        return reflectance_->eval(si) * R + transmittance_->eval(si) * (1.0f - R);
     }
     // Local model: environment reflection with the sheet's reflectance R at normal incidence and
     // the environment seen straight through with 1 - R.

@@ -21,6 +21,8 @@ public:
         back_ = nested.size() == 2 ? std::static_pointer_cast<BSDF>(nested[1]) : front_;
         if ((front_->flags() | back_->flags()) & Transmission)
             props.fail("twosided cannot wrap a transmissive BSDF (it is two-sided already)");
+        if ((front_->flags() | back_->flags()) & Null)
+            props.fail("twosided cannot wrap a BSDF that lets light pass (null, mask, polarizer): put the twosided inside it");
         flags_ = front_->flags() | back_->flags();
     }
 

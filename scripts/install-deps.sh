@@ -9,7 +9,7 @@ set -euo pipefail
 packages=(
   cmake g++ make pkg-config
   libembree-dev libopenimageio-dev openimageio-tools libopenexr-dev libglm-dev
-  libtinyobjloader-dev catch2 libtbb-dev libpugixml-dev libcli11-dev
+  libtinyobjloader-dev catch2 libtbb-dev libpugixml-dev libcli11-dev zlib1g-dev
   libosmesa6-dev
 )
 if [ "${1:-}" = slurm ]; then

@@ -8,11 +8,21 @@
 //   flip_normals   boolean     swap front and back (default false)
 // Vertex properties read: x y z, nx ny nz, and uv as u v, s t, texture_u texture_v or
 // texture_s texture_t (not flipped). Faces: the list vertex_indices (or vertex_index); polygons
-// are triangulated by ear clipping. Other elements and properties are skipped.
+// are triangulated by ear clipping (each triangle keeps its polygon's face attributes). Other
+// elements are skipped.
+//
+// Other properties become mesh attributes (read by the mesh_attribute texture), named as in
+// Mitsuba 3: r g b [a] or red green blue [alpha] become "vertex_color" (or "face_color" on
+// faces); consecutive properties <prefix>_<c> whose one-letter suffixes run x y z [w], r g b [a],
+// 0 1 2 [3] or 1 2 3 [4] become "vertex_<prefix>" ("vertex_<prefix>_color" for r g b), with 1 or
+// 3 components. Properties without such a suffix, or groups of 2 or 4, are not attributes.
+// Integer-typed attribute values are normalised by their type's maximum and decoded from sRGB
+// to linear, as Mitsuba's loader does (8-bit colours 0..255 become linear 0..1).
 
 #include "core/mesh.h"
 #include "geometry2d/polygon.h"
 #include "core/registry.h"
+#include "core/warning.h"
 
 #include <cstring>
 #include <fstream>
@@ -58,6 +68,98 @@ struct PlyElement {
     size_t count = 0;
     std::vector<PlyProperty> properties;
 };
+
+// A mesh attribute and the element properties it is read from, in component order.
+struct PlyAttribute {
+    std::string name;
+    std::vector<int> properties;
+};
+
+int find_property(const PlyElement& e, const std::string& name) {
+    for (size_t i = 0; i < e.properties.size(); ++i)
+        if (e.properties[i].name == name && !e.properties[i].is_list) return int(i);
+    return -1;
+}
+
+// Mitsuba 3's grouping of the properties that are not geometry into attributes named
+// "<kind>_<prefix>" (see the comment at the top of this file).
+// Properties that fit no attribute are added to `ignored`.
+std::vector<PlyAttribute> group_attributes(const PlyElement& e, const std::string& kind, std::vector<std::string> reserved,
+                                           std::vector<std::string>& ignored) {
+    std::vector<PlyAttribute> out;
+    for (const char* names : {"r g b a", "red green blue alpha"}) {
+        std::istringstream ss(names);
+        std::vector<int> idx;
+        for (std::string n; ss >> n;) idx.push_back(find_property(e, n));
+        if (idx[0] < 0 || idx[1] < 0 || idx[2] < 0) continue;
+        if (idx[3] < 0) idx.pop_back();
+        out.push_back({kind + "color", idx});
+        break;
+    }
+    for (const char* n : {"r", "g", "b", "a", "red", "green", "blue", "alpha"}) reserved.push_back(n);
+    // Suffix sequences by component: {x, y, z, w}, {r, g, b, a}, {0, 1, 2, 3}, {1, 2, 3, 4}.
+    const char* sequences[4] = {"xyzw", "rgba", "0123", "1234"};
+    std::vector<std::string> seen;
+    PlyAttribute current;
+    int sequence = -1;
+    std::string prefix;
+    bool broken = false;  // the prefix continues, but not in its sequence: not an attribute
+    auto flush = [&] {
+        size_t n = current.properties.size();
+        if ((n == 1 || n == 3) && !broken) {
+            current.name = kind + prefix + (sequence == 1 ? "_color" : "");
+            out.push_back(current);
+        } else {
+            for (int k : current.properties) ignored.push_back(e.properties[size_t(k)].name);
+        }
+        if (n > 0) seen.push_back(prefix);
+        current = PlyAttribute();
+        sequence = -1;
+        broken = false;
+    };
+    for (size_t i = 0; i < e.properties.size(); ++i) {
+        const PlyProperty& p = e.properties[i];
+        if (p.is_list || std::find(reserved.begin(), reserved.end(), p.name) != reserved.end()) continue;
+        size_t underscore = p.name.find_last_of('_');
+        bool suffixed = underscore != std::string::npos && underscore + 2 == p.name.size();
+        std::string pre = suffixed ? p.name.substr(0, underscore) : "";
+        char c = suffixed ? p.name.back() : 0;
+        if (sequence >= 0 && suffixed && pre == prefix && (current.properties.size() >= 4 || c != sequences[sequence][current.properties.size()]))
+            broken = true;
+        if (sequence >= 0 && (!suffixed || pre != prefix || broken)) flush();
+        if (!suffixed || std::find(seen.begin(), seen.end(), pre) != seen.end()) {
+            ignored.push_back(p.name);
+            continue;
+        }
+        if (sequence < 0) {
+            for (int k = 0; k < 4; ++k)
+                if (c == sequences[k][0]) sequence = k;
+            if (sequence < 0) {
+                ignored.push_back(p.name);
+                continue;
+            }
+            prefix = pre;
+        }
+        current.properties.push_back(int(i));
+    }
+    if (sequence >= 0) flush();
+    return out;
+}
+
+// An integer attribute value normalised to [0, 1] by its type's range and decoded from sRGB.
+double attribute_value(double v, PlyType type) {
+    double max = 0.0;
+    switch (type) {
+    case PlyType::Int8: max = 127.0; break;
+    case PlyType::UInt8: max = 255.0; break;
+    case PlyType::Int16: max = 32767.0; break;
+    case PlyType::UInt16: max = 65535.0; break;
+    case PlyType::Int32: max = 2147483647.0; break;
+    case PlyType::UInt32: max = 4294967295.0; break;
+    default: return v;
+    }
+    return srgb_to_linear(float(v / max));
+}
 
 class PlyError : public std::runtime_error {
 public:
@@ -141,11 +243,18 @@ public:
             props.fail("filename", "cannot read PLY file \"" + path + "\": " + e.what());
         }
         if (triangles_.empty()) props.fail("filename", "PLY file \"" + path + "\" has no faces");
+        if (!ignored_.empty()) {  // as Mitsuba warns
+            std::string names;
+            for (const std::string& n : ignored_) names += (names.empty() ? "" : ", ") + n;
+            warn(props.location_of("filename"), "PLY properties that form no mesh attribute (<prefix>_<x y z | r g b | 0 1 2 | 1 2 3>, 1 or 3 of them) are ignored: " + names);
+        }
         finalize(props, !face_normals);
     }
     std::string to_string() const override { return "ply"; }
 
 private:
+    std::vector<std::string> ignored_;  // properties that are neither geometry nor attributes
+
     void read(const std::string& path, bool face_normals) {
         std::ifstream in(path, std::ios::binary);
         if (!in) throw PlyError("cannot open file");
@@ -214,10 +323,10 @@ private:
         }
     }
 
+    // The first of `names` that the element has as a scalar property.
     static int find(const PlyElement& e, std::initializer_list<const char*> names) {
         for (const char* n : names)
-            for (size_t i = 0; i < e.properties.size(); ++i)
-                if (e.properties[i].name == n && !e.properties[i].is_list) return int(i);
+            if (int i = find_property(e, n); i >= 0) return i;
         return -1;
     }
 
@@ -227,6 +336,11 @@ private:
         int inx = find(e, {"nx"}), iny = find(e, {"ny"}), inz = find(e, {"nz"});
         int iu = find(e, {"u", "s", "texture_u", "texture_s"}), iv = find(e, {"v", "t", "texture_v", "texture_t"});
         bool normals = inx >= 0 && iny >= 0 && inz >= 0 && !face_normals, uvs = iu >= 0 && iv >= 0;
+        std::vector<std::string> reserved = {"x", "y", "z", "nx", "ny", "nz"};
+        if (uvs) reserved.insert(reserved.end(), {e.properties[size_t(iu)].name, e.properties[size_t(iv)].name});
+        std::vector<PlyAttribute> attributes = group_attributes(e, "vertex_", reserved, ignored_);
+        size_t first_attribute = attributes_.size();
+        for (const PlyAttribute& a : attributes) attributes_.push_back(MeshAttribute{a.name, false, int(a.properties.size()), {}});
         std::vector<double> values(e.properties.size());
         positions_.reserve(e.count);
         for (size_t i = 0; i < e.count; ++i) {
@@ -244,7 +358,15 @@ private:
             positions_.emplace_back(values[ix], values[iy], values[iz]);
             if (normals) normals_.emplace_back(values[inx], values[iny], values[inz]);
             if (uvs) uvs_.emplace_back(values[iu], values[iv]);
+            append_attributes(e, attributes, values, first_attribute);
         }
+    }
+
+    void append_attributes(const PlyElement& e, const std::vector<PlyAttribute>& attributes, const std::vector<double>& values,
+                           size_t first_attribute) {
+        for (size_t a = 0; a < attributes.size(); ++a)
+            for (int k : attributes[a].properties)
+                attributes_[first_attribute + a].values.push_back(float(attribute_value(values[size_t(k)], e.properties[size_t(k)].type)));
     }
 
     void read_faces(const PlyElement& e, PlyBodyReader& body) {
@@ -253,12 +375,16 @@ private:
             if (e.properties[i].is_list && (e.properties[i].name == "vertex_indices" || e.properties[i].name == "vertex_index"))
                 list = int(i);
         if (list < 0) throw PlyError("face element lacks a vertex_indices list");
-        std::vector<unsigned> corner;
+        std::vector<PlyAttribute> attributes = group_attributes(e, "face_", {}, ignored_);
+        size_t first_attribute = attributes_.size();
+        for (const PlyAttribute& a : attributes) attributes_.push_back(MeshAttribute{a.name, true, int(a.properties.size()), {}});
+        std::vector<double> values(e.properties.size(), 0.0);
+        std::vector<unsigned> corner, polygon;
         for (size_t i = 0; i < e.count; ++i) {
             for (size_t k = 0; k < e.properties.size(); ++k) {
                 const PlyProperty& p = e.properties[k];
                 if (!p.is_list) {
-                    body.read(p.type);
+                    values[k] = body.read(p.type);
                     continue;
                 }
                 double n = body.read(p.count_type);
@@ -271,16 +397,19 @@ private:
                                        ", which does not exist (vertices must come before faces)");
                     corner[j] = unsigned(idx);
                 }
-                if (int(k) != list) continue;
-                if (corner.size() == 3) {
-                    triangles_.push_back({corner[0], corner[1], corner[2]});
-                } else if (corner.size() > 3) {
-                    std::vector<Vec3> pts(corner.size());
-                    for (size_t j = 0; j < corner.size(); ++j) pts[j] = positions_[corner[j]];
-                    for (auto& t : triangulate_polygon_3d(pts)) triangles_.push_back({corner[t[0]], corner[t[1]], corner[t[2]]});
-                }
+                if (int(k) == list) polygon = corner;
             }
             body.end_element();
+            size_t before = triangles_.size();
+            if (polygon.size() == 3) {
+                triangles_.push_back({polygon[0], polygon[1], polygon[2]});
+            } else if (polygon.size() > 3) {
+                std::vector<Vec3> pts(polygon.size());
+                for (size_t j = 0; j < polygon.size(); ++j) pts[j] = positions_[polygon[j]];
+                for (auto& t : triangulate_polygon_3d(pts)) triangles_.push_back({polygon[t[0]], polygon[t[1]], polygon[t[2]]});
+            }
+            // Face attributes: one row per triangle of the polygon.
+            for (size_t t = before; t < triangles_.size(); ++t) append_attributes(e, attributes, values, first_attribute);
         }
     }
 

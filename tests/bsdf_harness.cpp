@@ -116,6 +116,24 @@ MeanAndError pdf_integral(const BSDF& bsdf, const SurfaceInteraction& si, const 
     return mean_and_error(values);
 }
 
+PointwiseDifference compare_pointwise(const BSDF& a, const BSDF& b, const BSDFContext& ctx, int pairs, uint64_t seed, bool both_sides) {
+    PCG32 rng(seed, 31);
+    PointwiseDifference d;
+    auto relative = [](double x, double y) { return std::abs(x - y) / std::max({std::abs(x), std::abs(y), 1e-3}); };
+    for (int i = 0; i < pairs; ++i) {
+        float u1 = rng.next_float(), u2 = rng.next_float(), u3 = rng.next_float(), u4 = rng.next_float();
+        Vec3 wi = both_sides ? warp::square_to_uniform_sphere(Vec2(u1, u2)) : warp::square_to_uniform_hemisphere(Vec2(u1, u2));
+        Vec3 wo = warp::square_to_uniform_sphere(Vec2(u3, u4));
+        SurfaceInteraction si = local_interaction(wi);
+        Spectrum fa = a.eval(ctx, si, wo), fb = b.eval(ctx, si, wo);
+        float pa = a.pdf(ctx, si, wo), pb = b.pdf(ctx, si, wo);
+        if (max_component(fa) > 0.0f || max_component(fb) > 0.0f || pa > 0.0f || pb > 0.0f) ++d.nonzero;
+        for (int c = 0; c < 3; ++c) d.eval = std::max(d.eval, relative(fa[c], fb[c]));
+        d.pdf = std::max(d.pdf, relative(pa, pb));
+    }
+    return d;
+}
+
 double reciprocity_error(const BSDF& bsdf, int pairs, uint64_t seed) {
     PCG32 rng(seed, 29);
     BSDFContext ctx;

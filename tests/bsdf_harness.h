@@ -42,6 +42,15 @@ SamplingCheck check_sampling(const BSDF& bsdf, const SurfaceInteraction& si, con
 // Monte Carlo estimate of the integral of pdf() over the sphere (uniform directions).
 MeanAndError pdf_integral(const BSDF& bsdf, const SurfaceInteraction& si, const BSDFContext& ctx, int n, uint64_t seed);
 
+// The largest relative differences of eval (any channel) and of pdf between two BSDFs over random
+// direction pairs: wi from the upper hemisphere or, with `both_sides`, the whole sphere; wo from
+// the whole sphere. Differences are relative to max(|a|, |b|, 1e-3).
+struct PointwiseDifference {
+    double eval = 0.0, pdf = 0.0;
+    int nonzero = 0;  // pairs where either BSDF had a non-zero value (the comparison has content)
+};
+PointwiseDifference compare_pointwise(const BSDF& a, const BSDF& b, const BSDFContext& ctx, int pairs, uint64_t seed, bool both_sides);
+
 // Largest relative violation of reciprocity, |f(wi, wo) - f(wo, wi)| / max, over random pairs
 // in the upper hemisphere (f = eval / cos wo).
 double reciprocity_error(const BSDF& bsdf, int pairs, uint64_t seed);

@@ -40,6 +40,18 @@ int run_command(const std::string& command, const std::filesystem::path& log) {
 
 std::string scene_xml(const std::string& body) { return "<scene version=\"3.0.0\">\n" + body + "\n</scene>\n"; }
 
+Ref<Scene> load_scene_xml(const std::string& name, const std::string& body) {
+    auto dir = scratch_dir(name);
+    write_text(dir / "scene.xml", scene_xml(body));
+    return load_scene((dir / "scene.xml").string());
+}
+
+std::string pinhole_camera(const std::string& origin, const std::string& target, int w, int h, float fov) {
+    return "<sensor type=\"perspective\"><float name=\"fov\" value=\"" + std::to_string(fov) + "\"/><transform name=\"to_world\"><lookat origin=\"" + origin +
+           "\" target=\"" + target + "\" up=\"0, 1, 0\"/></transform><film type=\"hdrfilm\"><integer name=\"width\" value=\"" + std::to_string(w) +
+           "\"/><integer name=\"height\" value=\"" + std::to_string(h) + "\"/><rfilter type=\"box\"/></film></sensor>";
+}
+
 }  // namespace candela::test
 
 namespace candela::test {

@@ -25,5 +25,10 @@ RenderResult render_file(const std::string& scene_path, const SceneParameters& p
 
 // A minimal scene document around `body` (sensor, film and integrator given by the caller).
 std::string scene_xml(const std::string& body);
+// That document written to a fresh scratch directory `name` as scene.xml, and loaded.
+Ref<Scene> load_scene_xml(const std::string& name, const std::string& body);
+// A perspective sensor at `origin` looking at `target` (up +y, fov in degrees along x) with a
+// box-filtered w x h film, as XML.
+std::string pinhole_camera(const std::string& origin, const std::string& target, int w, int h, float fov = 60);
 
 }  // namespace candela::test

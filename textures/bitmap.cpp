@@ -8,8 +8,17 @@
 //   raw           boolean     keep stored values; by default 8/16-bit images are decoded from
 //                             sRGB to linear, float images are used as they are (default false)
 //   to_uv         transform   uv transform (default identity)
+//   format        string      storage precision of the texels, as Mitsuba stores them:
+//                             variant (default: float32), float16 (or fp16: values rounded to
+//                             half precision), uint8 (8 bits per channel; sRGB-encoded sources
+//                             keep their encoding and are decoded on lookup), auto (uint8 for
+//                             8-bit files, float16 for 16-bit files, variant otherwise)
+//   accel         boolean     Mitsuba's hardware texture units in CUDA mode; without a GPU it
+//                             changes nothing (default true)
 // v = 0 is the top row of the image (no flip), as in Mitsuba 3; texel centres sit at
-// half-integers. Alpha is ignored; one-channel images are grey.
+// half-integers. Alpha is ignored; one- and two-channel (grey, grey + alpha) images are grey.
+// Mitsuba's newest filter types trilinear and anisotropic (ray-cone footprints) are not
+// supported and are an error.
 
 #include "core/error.h"
 #include "core/image.h"
@@ -18,13 +27,42 @@
 #include "core/registry.h"
 #include "core/texture.h"
 
+#include <Imath/half.h>
+
 namespace candela {
+
+namespace {
+
+enum class TexelFormat { Float32, Float16, UInt8 };
+
+TexelFormat parse_format(const Properties& props, int integer_bits) {
+    std::string f = props.get_string("format", "variant");
+    if (f == "variant") return TexelFormat::Float32;
+    if (f == "float16" || f == "fp16") return TexelFormat::Float16;
+    if (f == "uint8") return TexelFormat::UInt8;
+    if (f == "auto") return integer_bits == 8 ? TexelFormat::UInt8 : integer_bits == 16 ? TexelFormat::Float16 : TexelFormat::Float32;
+    props.fail("format", "format must be variant, auto, float16 (fp16) or uint8, not \"" + f + "\"");
+}
+
+// A value as the texel format stores it.
+float quantize(float v, TexelFormat format) {
+    switch (format) {
+    case TexelFormat::Float32: return v;
+    case TexelFormat::Float16: return float(half(v));
+    case TexelFormat::UInt8: return std::round(std::clamp(v, 0.0f, 1.0f) * 255.0f) / 255.0f;
+    }
+    return v;
+}
+
+}  // namespace
 
 class BitmapTexture final : public Texture {
 public:
     explicit BitmapTexture(const Properties& props) {
         std::string path = props.get_file_path("filename");
         std::string filter = props.get_string("filter_type", "bilinear");
+        if (filter == "trilinear" || filter == "anisotropic")
+            props.fail("filter_type", "filter_type \"" + filter + "\" needs ray-cone footprints, which Candela does not track; use bilinear or nearest");
         if (!parse_texture_filter(filter, filter_) || filter_ == TextureFilter::Trilinear)
             props.fail("filter_type", "filter_type must be bilinear or nearest, not \"" + filter + "\"");
         std::string wrap = props.get_string("wrap_mode", "repeat");
@@ -33,22 +71,31 @@ public:
         bool raw = props.get_bool("raw", false);
         to_uv_ = UVTransform(props.get_transform("to_uv"));
 
+        props.get_bool("accel", true);  // CUDA texture units: nothing to switch on a CPU
+
         Image img;
-        bool srgb = false;
+        int integer_bits = 0;
         try {
             img = read_image(path);
-            srgb = !raw && image_is_integer_format(path);
+            integer_bits = image_integer_bits(path);
         } catch (const InputError& e) {
             props.fail("filename", e.what());
         }
+        bool srgb = !raw && integer_bits > 0;
+        TexelFormat format = parse_format(props, integer_bits);
         int nch = img.channel_count();
         if (img.width() <= 0 || img.height() <= 0 || nch <= 0) props.fail("filename", "image \"" + path + "\" is empty");
         std::vector<Spectrum> texels(size_t(img.width()) * img.height());
         for (int y = 0; y < img.height(); ++y)
             for (int x = 0; x < img.width(); ++x) {
                 Spectrum s = nch >= 3 ? Spectrum(img.at(x, y, 0), img.at(x, y, 1), img.at(x, y, 2)) : Spectrum(img.at(x, y, 0));
-                if (srgb)
-                    for (int c = 0; c < 3; ++c) s[c] = srgb_to_linear(s[c]);
+                // 8 bits hold what the file encodes (decoded on lookup); half precision holds the
+                // decoded, linear values.
+                for (int c = 0; c < 3; ++c) {
+                    if (format == TexelFormat::UInt8) s[c] = quantize(s[c], format);
+                    if (srgb) s[c] = srgb_to_linear(s[c]);
+                    if (format == TexelFormat::Float16) s[c] = quantize(s[c], format);
+                }
                 for (int c = 0; c < 3; ++c)
                     if (!std::isfinite(s[c])) s[c] = 0.0f;
                 texels[size_t(y) * img.width() + x] = s;

@@ -18,6 +18,31 @@ bool parse_texture_filter(const std::string& s, TextureFilter& filter) {
     return true;
 }
 
+namespace {
+
+// One output texel's share of the source texels along an axis: a box filter from size n down to
+// m = ceil(n / 2) texels, where output texel i covers source [i n / m, (i + 1) n / m). For even
+// n that is two whole texels; for odd n the edge texels count with their covered fraction.
+struct Footprint {
+    int first = 0, count = 0;
+    float weight[3] = {0, 0, 0};  // covered fraction of texels first, first + 1, first + 2
+};
+
+std::vector<Footprint> box_footprints(int n, int m) {
+    std::vector<Footprint> out(static_cast<size_t>(m));
+    for (int i = 0; i < m; ++i) {
+        // Exact in double: the bounds are multiples of 1/m of a texel.
+        double lo = double(i) * n / m, hi = double(i + 1) * n / m;
+        Footprint& f = out[size_t(i)];
+        f.first = int(std::floor(lo));
+        for (int j = f.first; j < n && double(j) < hi && f.count < 3; ++j)
+            f.weight[f.count++] = float(std::min(double(j + 1), hi) - std::max(double(j), lo));
+    }
+    return out;
+}
+
+}  // namespace
+
 MipMap::MipMap(std::vector<Spectrum> rgb, int width, int height, WrapMode wrap) : wrap_(wrap) {
     double sum[3] = {0, 0, 0};
     for (const Spectrum& s : rgb) {
@@ -27,29 +52,30 @@ MipMap::MipMap(std::vector<Spectrum> rgb, int width, int height, WrapMode wrap) 
     double n = double(rgb.size());
     mean_ = Spectrum(float(sum[0] / n), float(sum[1] / n), float(sum[2] / n));
     levels_.push_back(Level{width, height, std::move(rgb)});
-    // Each level halves the previous one (rounding up); a texel averages the up-to-2x2 texels
-    // it covers, so odd sizes lose nothing at the border.
-    while (levels_.back().width > 1 || levels_.back().height > 1) {
-        const Level& prev = levels_.back();
-        Level next;
-        next.width = (prev.width + 1) / 2;
-        next.height = (prev.height + 1) / 2;
-        next.texels.resize(size_t(next.width) * next.height);
-        for (int y = 0; y < next.height; ++y)
-            for (int x = 0; x < next.width; ++x) {
-                Spectrum acc(0.0f);
-                int count = 0;
-                for (int dy = 0; dy < 2; ++dy)
-                    for (int dx = 0; dx < 2; ++dx) {
-                        int sx = 2 * x + dx, sy = 2 * y + dy;
-                        if (sx >= prev.width || sy >= prev.height) continue;
-                        acc += prev.texels[size_t(sy) * prev.width + sx];
-                        ++count;
-                    }
-                next.texels[size_t(y) * next.width + x] = acc / float(count);
-            }
-        levels_.push_back(std::move(next));
-    }
+    while (levels_.back().width > 1 || levels_.back().height > 1) levels_.push_back(downsample(levels_.back()));
+}
+
+// The next level, ceil(w / 2) by ceil(h / 2): each texel is the box-filtered average of the
+// (possibly fractional) rectangle of the previous level it covers, so every level keeps the
+// image's mean (the non-power-of-two reduction of pbrt and OpenGL's box filter).
+MipMap::Level MipMap::downsample(const Level& prev) {
+    Level next;
+    next.width = (prev.width + 1) / 2;
+    next.height = (prev.height + 1) / 2;
+    next.texels.resize(size_t(next.width) * next.height);
+    const std::vector<Footprint> fx = box_footprints(prev.width, next.width), fy = box_footprints(prev.height, next.height);
+    // Every footprint covers n / m source texels; dividing by their product normalises.
+    const float area = float(double(prev.width) / next.width * (double(prev.height) / next.height));
+    for (int y = 0; y < next.height; ++y)
+        for (int x = 0; x < next.width; ++x) {
+            const Footprint &col = fx[size_t(x)], &row = fy[size_t(y)];
+            Spectrum acc(0.0f);
+            for (int j = 0; j < row.count; ++j)
+                for (int i = 0; i < col.count; ++i)
+                    acc += prev.texels[size_t(row.first + j) * prev.width + col.first + i] * (row.weight[j] * col.weight[i]);
+            next.texels[size_t(y) * next.width + x] = acc / area;
+        }
+    return next;
 }
 
 int MipMap::wrap(int i, int n) const {

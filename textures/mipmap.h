@@ -46,6 +46,7 @@ private:
         int width = 0, height = 0;
         std::vector<Spectrum> texels;
     };
+    static Level downsample(const Level& prev);
     int wrap(int i, int n) const;
     std::vector<Level> levels_;
     WrapMode wrap_ = WrapMode::Repeat;

@@ -44,6 +44,13 @@ Vec3 EnvironmentLookup::face_to_direction(int face, float s, float t) {
     }
 }
 
+std::string EnvironmentLookup::face_file(const std::string& pattern, int face) {
+    std::string path = pattern;
+    size_t at = path.find("{face}");
+    if (at == std::string::npos) throw InputError("cube_map \"" + pattern + "\" must contain {face}");
+    return path.replace(at, 6, FaceNames[face]);
+}
+
 EnvironmentLookup::EnvironmentLookup(const Scene& scene, Mode mode, int resolution, const std::string& pattern) : scene_(scene), mode_(mode) {
     empty_ = scene.infinite_emitters().empty() && pattern.empty();
     if (mode != Mode::Cube || empty_) return;
@@ -51,11 +58,7 @@ EnvironmentLookup::EnvironmentLookup(const Scene& scene, Mode mode, int resoluti
         std::vector<Spectrum> texels;
         int w = resolution, h = resolution;
         if (!pattern.empty()) {
-            std::string path = pattern;
-            size_t at = path.find("{face}");
-            if (at == std::string::npos) throw InputError("cube_map \"" + pattern + "\" must contain {face}");
-            path.replace(at, 6, FaceNames[f]);
-            Image img = read_image(path);
+            Image img = read_image(face_file(pattern, f));
             w = img.width();
             h = img.height();
             for (int y = 0; y < h; ++y)

@@ -26,6 +26,8 @@ public:
     // (s, t) in [0, 1]^2 with t = 0 at the top row.
     static void direction_to_face(const Vec3& d, int& face, float& s, float& t);
     static Vec3 face_to_direction(int face, float s, float t);
+    // The image of one face: `pattern` with "{face}" replaced (InputError when it has none).
+    static std::string face_file(const std::string& pattern, int face);
 
 private:
     const Scene& scene_;

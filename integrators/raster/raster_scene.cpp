@@ -32,56 +32,65 @@ void subdivide(RasterGeometry& g, uint32_t first, uint32_t count, std::vector<gl
     }
 }
 
+// Displacement mapping of the shape's triangles (its vertices from first_vertex on): refine
+// `subdivisions` times, move every vertex along its normal by the height field, recompute the
+// normals (area-weighted face normals). The height field is then geometry: no longer a bump.
+void displace(RasterGeometry& g, RasterShape& rs, unsigned first_vertex, int subdivisions) {
+    for (int level = 0; level < subdivisions; ++level) {
+        std::vector<glm::uvec3> refined;
+        subdivide(g, rs.first_triangle, rs.triangle_count, refined);
+        g.triangles.resize(rs.first_triangle);
+        g.triangles.insert(g.triangles.end(), refined.begin(), refined.end());
+        rs.triangle_count = uint32_t(refined.size());
+    }
+    for (unsigned v = first_vertex; v < g.positions.size(); ++v)
+        g.positions[v] += g.normals[v] * (rs.material.height->eval_1(g.uvs[v]) * rs.material.height_scale);
+    std::vector<Vec3> n(g.positions.size() - first_vertex, Vec3(0.0f));
+    for (uint32_t i = rs.first_triangle; i < rs.first_triangle + rs.triangle_count; ++i) {
+        const glm::uvec3& t = g.triangles[i];
+        Vec3 f = glm::cross(g.positions[t.y] - g.positions[t.x], g.positions[t.z] - g.positions[t.x]);
+        n[t.x - first_vertex] += f;
+        n[t.y - first_vertex] += f;
+        n[t.z - first_vertex] += f;
+    }
+    for (size_t v = 0; v < n.size(); ++v)
+        if (squared_length(n[v]) > 0.0f) g.normals[first_vertex + v] = glm::normalize(n[v]);
+    rs.material.height = nullptr;
+}
+
+// Appends one shape's triangles with its material (displaced when asked).
+void add_shape(RasterGeometry& g, const Shape* shape, const TriangleSoup& soup, bool displacement, int subdivisions) {
+    RasterShape rs;
+    rs.shape = shape;
+    rs.bsdf = shape->bsdf();
+    rs.material = rs.bsdf->local_shading();
+    rs.closed = soup.closed;
+    if (const Emitter* e = shape->emitter()) {
+        auto a = e->local_approximation();
+        if (a && a->kind == LocalApproximation::Kind::AreaPoint) rs.emission = a->radiance;
+    }
+    unsigned base = unsigned(g.positions.size());
+    g.positions.insert(g.positions.end(), soup.positions.begin(), soup.positions.end());
+    g.normals.insert(g.normals.end(), soup.normals.begin(), soup.normals.end());
+    g.uvs.insert(g.uvs.end(), soup.uvs.begin(), soup.uvs.end());
+    rs.first_triangle = uint32_t(g.triangles.size());
+    for (const auto& t : soup.triangles) g.triangles.push_back(t + glm::uvec3(base));
+    rs.triangle_count = uint32_t(soup.triangles.size());
+    if (displacement && rs.material.height) displace(g, rs, base, subdivisions);
+    g.triangle_shape.resize(g.triangles.size(), uint32_t(g.shapes.size()));
+    g.vertex_shape.resize(g.positions.size(), uint32_t(g.shapes.size()));
+    g.shapes.push_back(rs);
+}
+
 }  // namespace
 
 RasterGeometry build_geometry(const Scene& scene, int detail, bool displacement, int subdivisions) {
     RasterGeometry g;
+    std::vector<TessellatedPart> parts;  // one scene shape's parts at a time (an instance has several)
     for (const auto& shape : scene.shapes()) {
-        TriangleSoup soup;
-        shape->tessellate(soup, detail);
-        RasterShape rs;
-        rs.shape = shape.get();
-        rs.bsdf = shape->bsdf();
-        rs.material = rs.bsdf->local_shading();
-        rs.closed = soup.closed;
-        if (const Emitter* e = shape->emitter()) {
-            if (auto a = e->local_approximation()) rs.emission = a->radiance;
-        }
-        unsigned base = unsigned(g.positions.size());
-        g.positions.insert(g.positions.end(), soup.positions.begin(), soup.positions.end());
-        g.normals.insert(g.normals.end(), soup.normals.begin(), soup.normals.end());
-        g.uvs.insert(g.uvs.end(), soup.uvs.begin(), soup.uvs.end());
-        rs.first_triangle = uint32_t(g.triangles.size());
-        for (const auto& t : soup.triangles) g.triangles.push_back(t + glm::uvec3(base));
-        rs.triangle_count = uint32_t(soup.triangles.size());
-        if (displacement && rs.material.height) {
-            // Displacement mapping: refine, then move each new vertex along its normal.
-            unsigned first_vertex = base;
-            for (int level = 0; level < subdivisions; ++level) {
-                std::vector<glm::uvec3> refined;
-                subdivide(g, rs.first_triangle, rs.triangle_count, refined);
-                g.triangles.resize(rs.first_triangle);
-                g.triangles.insert(g.triangles.end(), refined.begin(), refined.end());
-                rs.triangle_count = uint32_t(refined.size());
-            }
-            for (unsigned v = first_vertex; v < g.positions.size(); ++v)
-                g.positions[v] += g.normals[v] * (rs.material.height->eval_1(g.uvs[v]) * rs.material.height_scale);
-            // Normals of the displaced surface (area-weighted face normals).
-            std::vector<Vec3> n(g.positions.size() - first_vertex, Vec3(0.0f));
-            for (uint32_t i = rs.first_triangle; i < rs.first_triangle + rs.triangle_count; ++i) {
-                const glm::uvec3& t = g.triangles[i];
-                Vec3 f = glm::cross(g.positions[t.y] - g.positions[t.x], g.positions[t.z] - g.positions[t.x]);
-                n[t.x - first_vertex] += f;
-                n[t.y - first_vertex] += f;
-                n[t.z - first_vertex] += f;
-            }
-            for (size_t v = 0; v < n.size(); ++v)
-                if (squared_length(n[v]) > 0.0f) g.normals[first_vertex + v] = glm::normalize(n[v]);
-            // The height field is now geometry; do not also bump the shading normal.
-            rs.material.height = nullptr;
-        }
-        for (uint32_t i = 0; i < rs.triangle_count; ++i) g.triangle_shape.push_back(uint32_t(g.shapes.size()));
-        g.shapes.push_back(rs);
+        parts.clear();
+        shape->tessellate_parts(parts, detail);
+        for (const TessellatedPart& part : parts) add_shape(g, part.shape, part.triangles, displacement, subdivisions);
     }
     for (const Vec3& p : g.positions) g.bbox.expand(p);
     return g;

@@ -26,6 +26,7 @@ struct RasterGeometry {
     std::vector<Vec2> uvs;
     std::vector<glm::uvec3> triangles;
     std::vector<uint32_t> triangle_shape;  // index into shapes
+    std::vector<uint32_t> vertex_shape;    // index into shapes: every vertex belongs to one shape
     std::vector<RasterShape> shapes;
     BoundingBox bbox;
 };

@@ -59,24 +59,25 @@ ShadowMap::ShadowMap(const LocalLight& light, const RasterGeometry& g, int resol
     }
     }
     int skip = light_shape(light, g);
-    for (Face& f : faces_) {
-        std::vector<std::array<Vec4, 3>> clip;
-        std::vector<uint32_t> ids;
-        for (size_t i = 0; i < g.triangles.size(); ++i) {
-            if (int(g.triangle_shape[i]) == skip) continue;
-            const glm::uvec3& t = g.triangles[i];
-            clip.push_back({f.camera.clip(g.positions[t.x]), f.camera.clip(g.positions[t.y]), f.camera.clip(g.positions[t.z])});
-        }
-        Rasterizer r(resolution, resolution, sample_pattern(1), Vec2i(resolution));
-        r.setup(clip, true);
-        f.depth.assign(size_t(resolution) * resolution, Infinity);
-        bool ortho = f.camera.orthographic;
-        r.run([&](const Fragment& frag) {
-            float& d = f.depth[size_t(frag.y) * resolution + frag.x];
-            float view = float(ortho ? linear_depth(f.camera, float(frag.depth)) : frag.w);
-            if (view < d) d = view;
-        });
+    for (Face& f : faces_) render_depth(f, g, skip);
+}
+
+void ShadowMap::render_depth(Face& f, const RasterGeometry& g, int skip_shape) const {
+    std::vector<std::array<Vec4, 3>> clip;
+    for (size_t i = 0; i < g.triangles.size(); ++i) {
+        if (int(g.triangle_shape[i]) == skip_shape) continue;
+        const glm::uvec3& t = g.triangles[i];
+        clip.push_back({f.camera.clip(g.positions[t.x]), f.camera.clip(g.positions[t.y]), f.camera.clip(g.positions[t.z])});
     }
+    Rasterizer r(resolution_, resolution_, sample_pattern(1), Vec2i(resolution_));
+    r.setup(clip, true);
+    f.depth.assign(size_t(resolution_) * resolution_, Infinity);
+    bool ortho = f.camera.orthographic;
+    r.run([&](const Fragment& frag) {
+        float& d = f.depth[size_t(frag.y) * resolution_ + frag.x];
+        float view = float(ortho ? linear_depth(f.camera, float(frag.depth)) : frag.w);
+        if (view < d) d = view;
+    });
 }
 
 float ShadowMap::face_visibility(const Face& f, const Vec3& p_surface, const Vec3& n, float cos_theta, int pcf) const {
@@ -166,55 +167,45 @@ struct VolumeBuilder {
 
 }  // namespace
 
-void shadow_volume_mask(const LocalLight& light, const RasterGeometry& g, const RasterCamera& camera, const Rasterizer& layout,
-                        const std::vector<float>& view_depths, std::vector<uint8_t>& lit) {
-    float reach = 4.0f * std::max(g.bbox.bounding_radius(), 1e-3f);
-    VolumeBuilder vb{light, {}, 1e-3f * (light.kind == LocalLight::Kind::Directional ? reach : 1.0f)};
-    int skip = light_shape(light, g);
-    for (size_t s = 0; s < g.shapes.size(); ++s) {
-        if (int(s) == skip) continue;
-        const RasterShape& rs = g.shapes[s];
-        auto pos = [&](unsigned v) { return g.positions[v]; };
-        if (!rs.closed) {
-            for (uint32_t i = rs.first_triangle; i < rs.first_triangle + rs.triangle_count; ++i) {
-                const glm::uvec3& t = g.triangles[i];
-                vb.prism(pos(t.x), pos(t.y), pos(t.z));
-            }
-            continue;
-        }
-        // Closed mesh: the near caps are the triangles facing away from the light, reversed (so
-        // that they face it); the sides stand on the silhouette edges between those and the lit
-        // triangles (vertices welded by position to find neighbours).
-        std::map<std::tuple<float, float, float>, unsigned> weld;
-        auto id = [&](unsigned v) {
-            const Vec3& p = g.positions[v];
-            return weld.emplace(std::make_tuple(p.x, p.y, p.z), unsigned(weld.size())).first->second;
-        };
-        struct Edge {
-            bool dark;
-            Vec3 from, to;
-        };
-        std::map<std::pair<unsigned, unsigned>, Edge> edges;  // directed, as wound in the mesh
-        for (uint32_t i = rs.first_triangle; i < rs.first_triangle + rs.triangle_count; ++i) {
-            const glm::uvec3& t = g.triangles[i];
-            Vec3 a = pos(t.x), b = pos(t.y), c = pos(t.z);
-            bool dark = !vb.faces_light(a, b, c);
-            unsigned ia = id(t.x), ib = id(t.y), ic = id(t.z);
-            edges[{ia, ib}] = {dark, a, b};
-            edges[{ib, ic}] = {dark, b, c};
-            edges[{ic, ia}] = {dark, c, a};
-            if (dark) vb.caps(a, c, b);
-        }
-        for (const auto& [key, e] : edges) {
-            if (!e.dark) continue;
-            auto twin = edges.find({key.second, key.first});
-            if (twin != edges.end() && twin->second.dark) continue;  // interior to the dark side
-            // In the reversed cap this edge runs to -> from.
-            vb.side(e.to, e.from);
-        }
+namespace {
+
+// The volumes of a closed mesh: the near caps are the triangles facing away from the light,
+// reversed (so that they face it); the sides stand on the silhouette edges between those and the
+// lit triangles (vertices welded by position to find neighbours).
+void closed_mesh_volumes(VolumeBuilder& vb, const RasterGeometry& g, const RasterShape& rs) {
+    std::map<std::tuple<float, float, float>, unsigned> weld;
+    auto id = [&](unsigned v) {
+        const Vec3& p = g.positions[v];
+        return weld.emplace(std::make_tuple(p.x, p.y, p.z), unsigned(weld.size())).first->second;
+    };
+    struct Edge {
+        bool dark;
+        Vec3 from, to;
+    };
+    std::map<std::pair<unsigned, unsigned>, Edge> edges;  // directed, as wound in the mesh
+    for (uint32_t i = rs.first_triangle; i < rs.first_triangle + rs.triangle_count; ++i) {
+        const glm::uvec3& t = g.triangles[i];
+        Vec3 a = g.positions[t.x], b = g.positions[t.y], c = g.positions[t.z];
+        bool dark = !vb.faces_light(a, b, c);
+        unsigned ia = id(t.x), ib = id(t.y), ic = id(t.z);
+        edges[{ia, ib}] = {dark, a, b};
+        edges[{ib, ic}] = {dark, b, c};
+        edges[{ic, ia}] = {dark, c, a};
+        if (dark) vb.caps(a, c, b);
     }
-    // Rasterize the volumes with an infinitely far projection (z_ndc = 1 - n / z), so that the
-    // caps at infinity are not clipped away, and count them against the camera samples.
+    for (const auto& [key, e] : edges) {
+        if (!e.dark) continue;
+        auto twin = edges.find({key.second, key.first});
+        if (twin != edges.end() && twin->second.dark) continue;  // interior to the dark side
+        // In the reversed cap this edge runs to -> from.
+        vb.side(e.to, e.from);
+    }
+}
+
+// Rasterizes the volumes with an infinitely far projection (z_ndc = 1 - n / z), so that the
+// caps at infinity are not clipped away, and counts them against the camera samples (z-fail).
+std::vector<int16_t> count_volumes(const std::vector<std::array<Vec4, 3>>& world, const RasterCamera& camera, const Rasterizer& layout,
+                                   const std::vector<float>& view_depths) {
     Mat4 infinite = camera.projection;
     if (!camera.orthographic) {
         infinite[2][2] = 1.0f;
@@ -222,8 +213,8 @@ void shadow_volume_mask(const LocalLight& light, const RasterGeometry& g, const 
     }
     Mat4 vp = infinite * camera.view;
     std::vector<std::array<Vec4, 3>> clip;
-    clip.reserve(vb.world.size());
-    for (const auto& t : vb.world) clip.push_back({vp * t[0], vp * t[1], vp * t[2]});
+    clip.reserve(world.size());
+    for (const auto& t : world) clip.push_back({vp * t[0], vp * t[1], vp * t[2]});
     Rasterizer r(layout.width(), layout.height(), layout.sample_offsets(), layout.full_size(), layout.offset());
     r.setup(clip, true);
     std::vector<int16_t> count(view_depths.size(), 0);
@@ -235,6 +226,29 @@ void shadow_volume_mask(const LocalLight& light, const RasterGeometry& g, const 
         double depth = f.depth >= 1.0 ? double(Infinity) : double(n) / (1.0 - f.depth);
         if (depth >= view_depths[i]) count[i] += f.triangle->front ? -1 : 1;  // z-fail
     });
+    return count;
+}
+
+}  // namespace
+
+void shadow_volume_mask(const LocalLight& light, const RasterGeometry& g, const RasterCamera& camera, const Rasterizer& layout,
+                        const std::vector<float>& view_depths, std::vector<uint8_t>& lit) {
+    float reach = 4.0f * std::max(g.bbox.bounding_radius(), 1e-3f);
+    VolumeBuilder vb{light, {}, 1e-3f * (light.kind == LocalLight::Kind::Directional ? reach : 1.0f)};
+    int skip = light_shape(light, g);
+    for (size_t s = 0; s < g.shapes.size(); ++s) {
+        if (int(s) == skip) continue;
+        const RasterShape& rs = g.shapes[s];
+        if (rs.closed) {
+            closed_mesh_volumes(vb, g, rs);
+            continue;
+        }
+        for (uint32_t i = rs.first_triangle; i < rs.first_triangle + rs.triangle_count; ++i) {
+            const glm::uvec3& t = g.triangles[i];
+            vb.prism(g.positions[t.x], g.positions[t.y], g.positions[t.z]);
+        }
+    }
+    std::vector<int16_t> count = count_volumes(vb.world, camera, layout, view_depths);
     lit.resize(view_depths.size());
     for (size_t i = 0; i < count.size(); ++i) lit[i] = count[i] == 0;
 }

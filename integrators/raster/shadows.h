@@ -30,6 +30,8 @@ private:
         std::vector<float> depth;  // view depth (camera z) per texel; +inf where nothing
     };
     float face_visibility(const Face& f, const Vec3& p, const Vec3& n, float cos_theta, int pcf) const;
+    // The face's depth map of every triangle except those of shape `skip_shape`.
+    void render_depth(Face& f, const RasterGeometry& geometry, int skip_shape) const;
     LocalLight light_;
     int resolution_;
     std::vector<Face> faces_;

@@ -184,6 +184,17 @@ TEST_CASE("cli: --mode raster with its options, and compare-modes", "[cli][raste
     Image img = read_image(out.string());
     CHECK(img.width() == 256);
     CHECK(std::filesystem::exists(dir / "raster.png"));
+    // The summary of a rasterized frame is its frame time, not sample and ray rates.
+    REQUIRE(run_command(render_cmd("'" + Cbox + "' -o '" + out.string() + "' --mode raster --aa 4 -D res=32"), dir / "summary.txt") == 0);
+    std::string summary = read_text(dir / "summary.txt");
+    CHECK_THAT(summary, Catch::Contains("ms per frame, 4 samples per pixel") && !Catch::Contains("Mrays/s") && !Catch::Contains("spp"));
+    // --help lists the accepted values of every raster option.
+    REQUIRE(run_command(render_cmd("--help"), dir / "help.txt") == 0);
+    std::string help = read_text(dir / "help.txt");
+    for (const char* option : {"--shading flat|gouraud|phong", "--reflection phong|blinn", "--shadows none|map|volume", "--aa-filter box|tent|gaussian",
+                               "--texture-filter nearest|bilinear|trilinear", "--environment-mapping latlong|cube", "integer >= 1"})
+        CHECK_THAT(help, Catch::Contains(option));
+    CHECK_THAT(help, !Catch::Contains("see integrators/raster"));
     // Raster options without raster mode, and bad values, are bad input.
     CHECK(run_command(render_cmd("'" + Cbox + "' -o '" + out.string() + "' --shading phong"), dir / "log.txt") == 2);
     CHECK_THAT(read_text(dir / "log.txt"), Catch::Contains("need --mode raster"));

@@ -3,6 +3,7 @@
 
 #include "core/ray.h"
 #include "core/xml.h"
+#include "integrators/estimators.h"
 #include "tests/stats.h"
 #include "tests/util.h"
 
@@ -74,3 +75,40 @@ TEST_CASE("furnace: lossless BSDFs under a uniform environment render exactly 1"
     }
 }
 
+
+TEST_CASE("integrator settings: path and irradiance report a bad light_sampler or rr_depth at its line", "[render][errors]") {
+    auto dir = scratch_dir("path-settings");
+    struct Case {
+        const char* property;  // on line 3 of the scene, after max_depth on line 2
+        const char* message;
+    };
+    const Case cases[] = {{"<string name=\"light_sampler\" value=\"bogus\"/>", "unknown light_sampler \"bogus\""},
+                          {"<integer name=\"rr_depth\" value=\"0\"/>", "rr_depth must be positive"}};
+    for (const char* type : {"path", "irradiance"})
+        for (const Case& c : cases) {
+            // scene_xml puts the body from line 2 on: the integrator, max_depth, then the bad property.
+            write_text(dir / "scene.xml", scene_xml(std::string("<integrator type=\"") + type + "\">\n<integer name=\"max_depth\" value=\"4\"/>\n" + c.property +
+                                                    "\n</integrator>"));
+            INFO(type << ": " << c.property);
+            try {
+                load_scene((dir / "scene.xml").string());
+                FAIL_CHECK("expected an error");
+            } catch (const SceneError& e) {
+                CHECK(e.location.line == 4);
+                CHECK_THAT(std::string(e.what()), Catch::Contains(c.message));
+            }
+        }
+}
+
+TEST_CASE("integrator settings: the estimators refuse the same bad settings", "[estimate][errors]") {
+    auto dir = scratch_dir("estimator-settings");
+    write_text(dir / "scene.xml", scene_xml("<emitter type=\"constant\"/>"));
+    Ref<Scene> scene = load_scene((dir / "scene.xml").string());
+    EstimatorOptions o;
+    o.samples = 16;
+    o.path.light_sampler = "bogus";
+    CHECK_THROWS_WITH(estimate_irradiance(*scene, Vec3(0.0f), Vec3(0, 1, 0), o), Catch::Contains("unknown light_sampler \"bogus\""));
+    o.path.light_sampler = "tree";
+    o.path.rr_depth = 0;
+    CHECK_THROWS_WITH(estimate_radiance(*scene, Vec3(0.0f), Vec3(0, 1, 0), o), Catch::Contains("rr_depth must be positive"));
+}

@@ -28,6 +28,8 @@ struct Config {
 
 const std::vector<float> Outside = {0.9f, 0.5f, 0.07f};
 const std::vector<float> BothSides = {0.9f, 0.5f, 0.07f, -0.6f, -0.15f};
+// A fibre has no preferred side; three directions (costly to evaluate) suffice.
+const std::vector<float> Fibre = {0.8f, 0.2f, -0.5f};
 
 std::vector<DeltaExpectation> fresnel_split(const Vec3& wi, float eta) {
     float F = fresnel_dielectric(wi.z, eta).F;
@@ -91,9 +93,80 @@ const std::vector<Config>& configs() {
          R"(<bsdf type="bumpmap"><texture type="checkerboard"><transform name="to_uv"><rotate z="1" angle="30"/></transform></texture><float name="scale" value="0.2"/>
             <bsdf type="roughconductor"><string name="distribution" value="ggx"/><float name="alpha" value="0.25"/></bsdf></bsdf>)",
          {0.9f, 0.5f}, {}, false, false},
+        // Issue 10: textured roughness.
+        {"roughconductor textured alpha_u, alpha_v",
+         R"(<bsdf type="roughconductor"><string name="distribution" value="ggx"/>
+              <texture type="checkerboard" name="alpha_u"><rgb name="color0" value="0.05"/><rgb name="color1" value="0.3"/></texture>
+              <texture type="checkerboard" name="alpha_v"><rgb name="color0" value="0.4"/><rgb name="color1" value="0.1"/></texture></bsdf>)",
+         Outside, {}},
+        {"roughdielectric textured alpha",
+         R"(<bsdf type="roughdielectric"><texture type="checkerboard" name="alpha"><rgb name="color0" value="0.3"/><rgb name="color1" value="0.15"/></texture>
+              <float name="int_ior" value="1.5"/><float name="ext_ior" value="1"/></bsdf>)",
+         BothSides, {}, false, false},
+        // principled: defaults; every lobe at once (both sides); textured; white limits.
+        {"principled default", R"(<bsdf type="principled"/>)", Outside, {}},
+        {"principled every lobe",
+         R"(<bsdf type="principled"><rgb name="base_color" value="0.8, 0.5, 0.3"/><float name="metallic" value="0.3"/>
+              <float name="specular" value="0.6"/><float name="roughness" value="0.35"/><float name="spec_tint" value="0.4"/>
+              <float name="anisotropic" value="0.5"/><float name="sheen" value="0.3"/><float name="sheen_tint" value="0.2"/>
+              <float name="clearcoat" value="0.6"/><float name="clearcoat_gloss" value="0.3"/><float name="spec_trans" value="0.4"/>
+              <float name="flatness" value="0.5"/></bsdf>)",
+         BothSides, {}, false, false},
+        {"principled textured",
+         R"(<bsdf type="principled"><texture type="checkerboard" name="base_color"/><texture type="checkerboard" name="roughness"/>
+              <texture type="checkerboard" name="metallic"><rgb name="color0" value="0.2"/><rgb name="color1" value="0.7"/></texture>
+              <float name="eta" value="1.33"/><float name="clearcoat" value="1"/><float name="clearcoat_gloss" value="0.5"/></bsdf>)",
+         Outside, {}, false, true},
+        {"principled white metal", R"(<bsdf type="principled"><rgb name="base_color" value="1"/><float name="metallic" value="1"/><float name="roughness" value="0.4"/></bsdf>)",
+         Outside, {}},
+        {"principled white glass", R"(<bsdf type="principled"><rgb name="base_color" value="1"/><float name="spec_trans" value="1"/><float name="roughness" value="0.5"/><float name="eta" value="1.5"/></bsdf>)",
+         BothSides, {}, false, false},
+        {"principledthin",
+         R"(<bsdf type="principledthin"><rgb name="base_color" value="0.7, 0.1, 0.1"/><float name="roughness" value="0.3"/>
+              <float name="spec_tint" value="0.1"/><float name="anisotropic" value="0.5"/><float name="spec_trans" value="0.6"/>
+              <float name="diff_trans" value="0.6"/><float name="eta" value="1.33"/><float name="sheen" value="0.5"/><float name="flatness" value="0.3"/></bsdf>)",
+         BothSides, {}, false, false},
+        {"principledthin default", R"(<bsdf type="principledthin"/>)", BothSides, {}, false, false},
+        {"principledthin white sheet", R"(<bsdf type="principledthin"><rgb name="base_color" value="1"/><float name="spec_trans" value="1"/><float name="roughness" value="0.6"/></bsdf>)",
+         BothSides, {}, false, false},
+        // Composites and surfaces that let light pass.
+        {"blendbsdf rough metal and diffuse",
+         R"(<bsdf type="blendbsdf"><float name="weight" value="0.3"/><bsdf type="roughconductor"><float name="alpha" value="0.2"/></bsdf>
+              <bsdf type="diffuse"><rgb name="reflectance" value="0.9, 0.6, 0.3"/></bsdf></bsdf>)",
+         Outside, {}},
+        {"blendbsdf mirror and rough plastic",
+         R"(<bsdf type="blendbsdf"><float name="weight" value="0.6"/><bsdf type="conductor"/><bsdf type="roughplastic"/></bsdf>)", Outside,
+         [](const Vec3&) { return std::vector<DeltaExpectation>{{DeltaReflection, 0.4}}; }, false, false},
+        {"blendbsdf mirror and glass", R"(<bsdf type="blendbsdf"><float name="weight" value="0.25"/><bsdf type="conductor"/><bsdf type="dielectric"/></bsdf>)",
+         Outside,
+         [](const Vec3& wi) {
+             float F = fresnel_dielectric(wi.z, 1.5046f / 1.000277f).F;
+             return std::vector<DeltaExpectation>{{DeltaReflection, 0.75 + 0.25 * F}, {DeltaTransmission, 0.25 * (1.0 - F)}};
+         },
+         true, false},
+        {"mask over rough plastic",
+         R"(<bsdf type="mask"><float name="opacity" value="0.3"/><bsdf type="roughplastic"><float name="alpha" value="0.2"/></bsdf></bsdf>)", BothSides,
+         [](const Vec3&) { return std::vector<DeltaExpectation>{{Null, 0.7}}; }, false, false},
+        {"mask over a mirror", R"(<bsdf type="mask"><float name="opacity" value="0.4"/><bsdf type="conductor"/></bsdf>)", Outside,
+         [](const Vec3&) { return std::vector<DeltaExpectation>{{Null, 0.6}, {DeltaReflection, 0.4}}; }, true, false},
+        {"null", R"(<bsdf type="null"/>)", BothSides, [](const Vec3&) { return std::vector<DeltaExpectation>{{Null, 1.0}}; }, true, false},
+        {"polarizer", R"(<bsdf type="polarizer"><rgb name="transmittance" value="0.8"/></bsdf>)", BothSides,
+         [](const Vec3&) { return std::vector<DeltaExpectation>{{Null, 1.0}}; }, false, false},
+        // hair: pigmented, lossless (sigma_a = 0), and smooth with a strong tilt.
+        {"hair", R"(<bsdf type="hair"/>)", Fibre, {}, false, false},
+        {"hair lossless", R"(<bsdf type="hair"><rgb name="sigma_a" value="0"/></bsdf>)", Fibre, {}, true, false},
+        {"hair smooth blonde",
+         R"(<bsdf type="hair"><float name="eumelanin" value="0.2"/><float name="pheomelanin" value="0.4"/><float name="longitudinal_roughness" value="0.2"/>
+              <float name="azimuthal_roughness" value="0.2"/><float name="scale_tilt" value="5"/></bsdf>)",
+         Fibre, {}, false, false},
+        {"pplastic", R"(<bsdf type="pplastic"><rgb name="diffuse_reflectance" value="0.05, 0.03, 0.1"/><float name="alpha" value="0.06"/></bsdf>)", Outside, {}},
+        {"pplastic ggx rough", R"(<bsdf type="pplastic"><string name="distribution" value="ggx"/><float name="alpha" value="0.4"/></bsdf>)", Outside, {}},
     };
     return list;
 }
+
+// Runs every configuration whose name starts with `prefix`; there must be one.
+void check_configs(const std::string& prefix);
 
 int statistical_tests() {
     int n = 0;
@@ -130,6 +203,16 @@ void check_config(const Config& c) {
     if (c.reciprocal) CHECK(reciprocity_error(*t.bsdf, 2000, 99) < 1e-4);  // float32 evaluation
 }
 
+void check_configs(const std::string& prefix) {
+    int found = 0;
+    for (const Config& c : configs())
+        if (c.name.compare(0, prefix.size(), prefix) == 0) {
+            check_config(c);
+            ++found;
+        }
+    REQUIRE(found > 0);
+}
+
 }  // namespace
 
 TEST_CASE("bsdf: diffuse and twosided", "[bsdf]") {
@@ -154,7 +237,21 @@ TEST_CASE("bsdf: plastics", "[bsdf]") {
 TEST_CASE("bsdf: phong, blinnphong and bump mapping", "[bsdf]") {
     for (int i = 18; i <= 20; ++i) check_config(configs()[i]);
 }
-TEST_CASE("bsdf: the configuration table is covered exactly", "[bsdf]") { CHECK(configs().size() == 21); }
+TEST_CASE("bsdf: textured roughness", "[bsdf]") {
+    check_configs("roughconductor textured");
+    check_configs("roughdielectric textured");
+}
+TEST_CASE("bsdf: principled", "[bsdf][principled]") { check_configs("principled "); }
+TEST_CASE("bsdf: principledthin", "[bsdf][principled]") { check_configs("principledthin"); }
+TEST_CASE("bsdf: blendbsdf", "[bsdf]") { check_configs("blendbsdf"); }
+TEST_CASE("bsdf: mask, null and polarizer", "[bsdf]") {
+    check_configs("mask");
+    check_configs("null");
+    check_configs("polarizer");
+}
+TEST_CASE("bsdf: hair", "[bsdf][hair]") { check_configs("hair"); }
+TEST_CASE("bsdf: pplastic", "[bsdf]") { check_configs("pplastic"); }
+TEST_CASE("bsdf: the configuration table is covered exactly", "[bsdf]") { CHECK(configs().size() == 43); }
 
 TEST_CASE("bsdf: one-sided BSDFs are black from behind, transmissive ones are not", "[bsdf]") {
     BSDFContext ctx;

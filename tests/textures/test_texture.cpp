@@ -5,11 +5,14 @@
 #include "core/image.h"
 #include "textures/mipmap.h"
 #include "core/registry.h"
+#include "core/rng.h"
 #include "core/texture.h"
 #include "core/xml.h"
 #include "tests/util.h"
 
 #include <catch2/catch.hpp>
+
+#include <Imath/half.h>
 
 using namespace candela;
 using namespace candela::test;
@@ -101,11 +104,37 @@ TEST_CASE("mipmap: levels average their footprint, trilinear blends levels", "[t
     // A footprint of one texel reads level 0; a footprint of the whole texture the top level.
     CHECK(mip.trilinear(Vec2(1.5f / 8, 0.5f / 8), 1.0f / 8).x == Approx(1.0f));
     CHECK(mip.trilinear(Vec2(0.3f, 0.7f), 1.0f).x == Approx(0.5f));
-    // Odd sizes: a 3x1 image pyramid keeps the average.
+    // Odd sizes: a 3x1 image [0, 3, 6] halves to 2 texels covering 1.5 source texels each,
+    // [(0 + 3 / 2) / 1.5, (3 / 2 + 6) / 1.5] = [1, 5], and then to their mean 3.
     MipMap odd({Spectrum(0.0f), Spectrum(3.0f), Spectrum(6.0f)}, 3, 1, WrapMode::Clamp);
     CHECK(odd.levels() == 3);
-    CHECK(odd.texel(1, 0, 0).x == Approx(1.5f));
-    CHECK(odd.texel(1, 1, 0).x == Approx(6.0f));
+    CHECK(odd.texel(1, 0, 0).x == Approx(1.0f));
+    CHECK(odd.texel(1, 1, 0).x == Approx(5.0f));
+    CHECK(odd.texel(2, 0, 0).x == Approx(3.0f));
+}
+
+TEST_CASE("mipmap: every level keeps the image's mean, for odd and even sizes", "[texture]") {
+    PCG32 rng(12, 5);
+    for (int height = 1; height <= 13; ++height)
+        for (int width = 1; width <= 19; ++width) {
+            std::vector<Spectrum> texels(size_t(width) * height);
+            for (Spectrum& t : texels) t = Spectrum(rng.next_float(), 4.0f * rng.next_float(), rng.next_float() * rng.next_float());
+            MipMap mip(texels, width, height, WrapMode::Repeat);
+            const Spectrum mean = mip.mean();
+            for (int level = 1; level < mip.levels(); ++level) {
+                // Texels of a level cover equal areas, so the level's plain mean is the image's.
+                double sum[3] = {0, 0, 0};
+                for (int y = 0; y < mip.height(level); ++y)
+                    for (int x = 0; x < mip.width(level); ++x)
+                        for (int c = 0; c < 3; ++c) sum[c] += mip.texel(level, x, y)[c];
+                double count = double(mip.width(level)) * mip.height(level);
+                INFO(width << "x" << height << " level " << level << " (" << mip.width(level) << "x" << mip.height(level) << ")");
+                // float32 rounding over a few levels of weighted sums: well below 1e-5 relative.
+                for (int c = 0; c < 3; ++c) CHECK(sum[c] / count == Approx(mean[c]).epsilon(1e-5));
+            }
+            CHECK(mip.width(mip.levels() - 1) == 1);
+            CHECK(mip.height(mip.levels() - 1) == 1);
+        }
 }
 
 TEST_CASE("bitmap: a missing or unreadable image is an error at the filename's line", "[texture][errors]") {
@@ -120,4 +149,52 @@ TEST_CASE("bitmap: a missing or unreadable image is an error at the filename's l
         CHECK(e.location.line == 3);
         CHECK_THAT(std::string(e.what()), Catch::Contains("broken.png"));
     }
+}
+
+namespace {
+Ref<Texture> load_with(const std::filesystem::path& dir, const std::string& file, const std::string& format) {
+    Properties props("bitmap", SourceLocation{(dir / "virtual.xml").string(), 1});
+    props.set_string("filename", file);
+    props.set_string("filter_type", "nearest");
+    if (!format.empty()) props.set_string("format", format);
+    props.set_bool("accel", false);  // Mitsuba's CUDA texture units: accepted, nothing to switch here
+    return create_plugin_as<Texture>(ObjectKind::Texture, props);
+}
+}  // namespace
+
+TEST_CASE("bitmap: format stores texels in float32, float16 or 8 bits as Mitsuba does", "[texture]") {
+    auto dir = scratch_dir("bitmap-format");
+    Image img = Image::rgb(1, 1);
+    const Spectrum value(0.1234567f, 1.0f / 3.0f, 2.5f);
+    img.set_rgb(0, 0, value);
+    write_exr(img, (dir / "values.exr").string(), true);
+    Spectrum half_value(float(half(value.x)), float(half(value.y)), float(half(value.z)));
+    CHECK(load_with(dir, "values.exr", "")->eval(Vec2(0.5f)) == value);  // variant: float32
+    CHECK(load_with(dir, "values.exr", "auto")->eval(Vec2(0.5f)) == value);  // a float file: float32
+    CHECK(load_with(dir, "values.exr", "float16")->eval(Vec2(0.5f)) == half_value);
+    CHECK(load_with(dir, "values.exr", "fp16")->eval(Vec2(0.5f)) == half_value);
+    CHECK(half_value != value);
+    // 8 bits: [0, 1], 256 levels.
+    CHECK(load_with(dir, "values.exr", "uint8")->eval(Vec2(0.5f)) == Spectrum(std::round(0.1234567f * 255) / 255, 85.0f / 255, 1.0f));
+    // An 8-bit sRGB file keeps its encoding in 8 bits and is decoded on lookup: the same values.
+    Image grey = Image::rgb(1, 1);
+    grey.set_rgb(0, 0, Spectrum(100.0f / 255.0f));
+    write_png_display(grey, (dir / "grey.png").string());
+    Spectrum decoded = load_with(dir, "grey.png", "variant")->eval(Vec2(0.5f));
+    CHECK(load_with(dir, "grey.png", "uint8")->eval(Vec2(0.5f)) == decoded);
+    CHECK(load_with(dir, "grey.png", "auto")->eval(Vec2(0.5f)) == decoded);
+}
+
+TEST_CASE("bitmap: filter types without support and unknown formats are errors", "[texture][errors]") {
+    auto dir = scratch_dir("bitmap-options");
+    Image img = Image::rgb(2, 2);
+    write_exr(img, (dir / "black.exr").string(), true);
+    for (const char* filter : {"trilinear", "anisotropic", "cubic"}) {
+        INFO(filter);
+        Properties props("bitmap", SourceLocation{(dir / "virtual.xml").string(), 1});
+        props.set_string("filename", "black.exr");
+        props.set_string("filter_type", filter);
+        CHECK_THROWS_AS(create_plugin(ObjectKind::Texture, props), SceneError);
+    }
+    CHECK_THROWS_AS(load_with(dir, "black.exr", "float64"), SceneError);
 }

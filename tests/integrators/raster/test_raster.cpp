@@ -19,17 +19,7 @@ using namespace candela::test;
 
 namespace {
 
-Ref<Scene> scene_from(const std::string& body) {
-    auto dir = scratch_dir("raster");
-    write_text(dir / "scene.xml", scene_xml(body));
-    return load_scene((dir / "scene.xml").string());
-}
-
-std::string camera(const std::string& origin, const std::string& target, int w, int h, float fov = 60) {
-    return "<sensor type=\"perspective\"><float name=\"fov\" value=\"" + std::to_string(fov) + "\"/><transform name=\"to_world\"><lookat origin=\"" + origin +
-           "\" target=\"" + target + "\" up=\"0, 1, 0\"/></transform><film type=\"hdrfilm\"><integer name=\"width\" value=\"" + std::to_string(w) +
-           "\"/><integer name=\"height\" value=\"" + std::to_string(h) + "\"/><rfilter type=\"box\"/></film></sensor>";
-}
+Ref<Scene> scene_from(const std::string& body) { return load_scene_xml("raster", body); }
 
 // Clip-space triangles of a scene's geometry as the raster integrator submits them.
 std::vector<std::array<Vec4, 3>> clip_triangles(const RasterGeometry& g, const RasterCamera& cam) {
@@ -45,7 +35,7 @@ TEST_CASE("rasterizer: a closed mesh around the camera covers every sample exact
     // passing through sample positions at every angle; with 4 samples per pixel and a crop.
     for (const char* shape : {"<shape type=\"sphere\"><float name=\"radius\" value=\"3\"/></shape>",
                               "<shape type=\"cube\"><transform name=\"to_world\"><scale value=\"2\"/><rotate y=\"1\" angle=\"30\"/></transform></shape>"}) {
-        Ref<Scene> scene = scene_from(std::string(shape) + camera("0.3, 0.2, 0.1", "1, 0.5, 2", 97, 61, 100));
+        Ref<Scene> scene = scene_from(std::string(shape) + pinhole_camera("0.3, 0.2, 0.1", "1, 0.5, 2", 97, 61, 100));
         RasterGeometry g = build_geometry(*scene, 57, false, 0);
         RasterCamera cam = RasterCamera::from_pinhole(*scene->sensor().pinhole());
         for (int spp : {1, 4}) {
@@ -64,7 +54,7 @@ TEST_CASE("rasterizer: a closed mesh around the camera covers every sample exact
 
 TEST_CASE("rasterizer: perspective-correct uv on a steep plane equals the ray-cast uv", "[raster]") {
     Ref<Scene> scene = scene_from(R"(<shape type="rectangle"><transform name="to_world"><scale x="2" y="20"/><rotate x="1" angle="-90"/><translate z="-19"/></transform></shape>)" +
-                                  camera("0, 0.3, 1", "0, 0, -5", 80, 60));
+                                  pinhole_camera("0, 0.3, 1", "0, 0, -5", 80, 60));
     RasterGeometry g = build_geometry(*scene, 32, false, 0);
     RasterCamera cam = RasterCamera::from_pinhole(*scene->sensor().pinhole());
     for (bool perspective : {true, false}) {
@@ -112,7 +102,7 @@ TEST_CASE("rasterizer: the z-buffer resolves interpenetrating triangles as a ray
         <shape type="rectangle"><transform name="to_world"><rotate x="1" angle="35"/></transform></shape>
         <shape type="rectangle"><transform name="to_world"><rotate x="1" angle="-30"/><rotate y="1" angle="20"/></transform></shape>
         <shape type="rectangle"><transform name="to_world"><scale value="0.7"/><rotate y="1" angle="70"/><translate x="0.2"/></transform></shape>)" +
-                                  camera("0.5, 0.4, 3", "0, 0, 0", 120, 100, 50));
+                                  pinhole_camera("0.5, 0.4, 3", "0, 0, 0", 120, 100, 50));
     RasterGeometry g = build_geometry(*scene, 32, false, 0);
     RasterCamera cam = RasterCamera::from_pinhole(*scene->sensor().pinhole());
     Rasterizer r(120, 100, sample_pattern(1), Vec2i(120, 100));
@@ -171,7 +161,7 @@ TEST_CASE("raster: physical settings match the path tracer's direct illumination
     // Diffuse only, point, spot and directional lights, Phong shading, inverse-square attenuation,
     // shadow maps, no ambient; the path tracer at max_depth 2 computes the same quantity exactly.
     const int W = 160, H = 128;
-    Ref<Scene> scene = scene_from(std::string(PhysicsScene) + camera("0, 2.2, 5", "0, 0.3, 0", W, H, 45) +
+    Ref<Scene> scene = scene_from(std::string(PhysicsScene) + pinhole_camera("0, 2.2, 5", "0, 0.3, 0", W, H, 45) +
                                   R"(<integrator type="path"><integer name="max_depth" value="2"/></integrator>)");
     RenderOptions path_options;
     path_options.spp = 256;
@@ -248,9 +238,33 @@ TEST_CASE("raster: cube map faces round-trip directions and load from images", "
         for (float& v : img.data()) v = 0.1f * float(f + 1);
         write_exr(img, (dir / (std::string("sky_") + names[f] + ".exr")).string(), true);
     }
-    Ref<Scene> scene = scene_from(camera("0, 0, 0", "0, 0, 1", 8, 8));
+    Ref<Scene> scene = scene_from(pinhole_camera("0, 0, 0", "0, 0, 1", 8, 8));
     EnvironmentLookup cube(*scene, EnvironmentLookup::Mode::Cube, 8, (dir / "sky_{face}.exr").string());
     CHECK(cube.lookup(Vec3(1, 0.2f, 0.1f), 0.0f).x == Approx(0.1f));
     CHECK(cube.lookup(Vec3(0.1f, -1, 0.3f), 0.0f).x == Approx(0.4f));
     CHECK(cube.lookup(Vec3(0.2f, 0.1f, -1), 0.0f).x == Approx(0.6f));
+}
+
+TEST_CASE("raster: the cube_map property names six face images relative to the scene file", "[raster]") {
+    // A perfect mirror facing the camera reflects the +z face; a pattern whose faces are missing,
+    // or that has no {face}, is an error at the property's line.
+    auto dir = scratch_dir("cubemap-property");
+    const char* names[6] = {"px", "nx", "py", "ny", "pz", "nz"};
+    std::filesystem::create_directories(dir / "sky");
+    for (int f = 0; f < 6; ++f) {
+        Image img = Image::rgb(4, 4);
+        for (float& v : img.data()) v = 0.1f * float(f + 1);
+        write_exr(img, (dir / "sky" / (std::string(names[f]) + ".exr")).string(), true);
+    }
+    auto scene_with = [&](const std::string& pattern) {
+        write_text(dir / "scene.xml", scene_xml("<integrator type=\"raster\">\n<string name=\"cube_map\" value=\"" + pattern +
+                                                "\"/>\n</integrator><shape type=\"rectangle\"><bsdf type=\"conductor\"/></shape>" +
+                                                pinhole_camera("0, 0, 3", "0, 0, 0", 8, 8, 20)));
+        return load_scene((dir / "scene.xml").string());
+    };
+    Ref<Scene> scene = scene_with("sky/{face}.exr");
+    RenderResult r = scene->integrator().render(*scene, RenderOptions{});
+    for (int k = 0; k < 3; ++k) CHECK(r.image.rgb_at(4, 4)[k] == Approx(0.5f));
+    CHECK_THROWS_WITH(scene_with("sky/{face}.png"), Catch::Contains("scene.xml:") && Catch::Contains("file not found"));
+    CHECK_THROWS_WITH(scene_with("sky/pz.exr"), Catch::Contains("scene.xml:") && Catch::Contains("must contain {face}"));
 }

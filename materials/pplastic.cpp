@@ -1,0 +1,118 @@
+// pplastic: Mitsuba 3's polarised plastic (after Baek et al. 2018) as its RGB (unpolarised)
+// variants compute it: a rough specular reflection added to a Lambertian base that light reaches
+// and leaves through smooth refractions. Not energy conserving (the two are added, not layered).
+// One-sided.
+//
+// Parameters (Mitsuba 3):
+//   diffuse_reflectance    rgb or texture   base albedo rho (default 0.5)
+//   specular_reflectance   rgb or texture   factor on the specular term (default 1)
+//   int_ior, ext_ior       float or name    indices (defaults polypropylene 1.49, air)
+//   distribution, alpha (or alpha_u, alpha_v), sample_visible
+//                          as `roughconductor`, floats (default beckmann, 0.1, true)
+//
+//   f cos(wo) = s F(wi . h) D G / (4 cos wi) + rho (1 - F(cos wi)) (1 - F(cos wo)) cos(wo) / pi
+// The specular term is sampled with probability mean(s) / (mean(s) + mean(rho)) (Mitsuba's
+// specular_sampling_weight), the diffuse one by the cosine.
+
+#include "core/bsdf.h"
+#include "core/local_model.h"
+#include "core/registry.h"
+#include "core/texture.h"
+#include "core/warp.h"
+#include "materials/fresnel.h"
+#include "materials/ior.h"
+#include "materials/microfacet.h"
+
+namespace candela {
+
+class PolarizedPlasticBSDF final : public BSDF {
+public:
+    explicit PolarizedPlasticBSDF(const Properties& props) : distribution_(MicrofacetDistribution::from_properties(props)) {
+        diffuse_ = props.get_texture("diffuse_reflectance", Spectrum(0.5f));
+        specular_ = props.get_texture("specular_reflectance", Spectrum(1.0f));
+        eta_ = read_relative_ior(props, "polypropylene");
+        float d = average(diffuse_->mean()), s = average(specular_->mean());
+        specular_weight_ = s / (d + s);
+        flags_ = GlossyReflection | DiffuseReflection;
+    }
+
+    BSDFSample sample(const BSDFContext& ctx, const SurfaceInteraction& si, float u_lobe, const Vec2& u) const override {
+        BSDFSample bs;
+        if (Frame::cos_theta(si.wi) <= 0.0f) return bs;
+        float p_spec = specular_probability(ctx);
+        if (u_lobe < p_spec) {
+            float pdf_m;
+            Vec3 m = distribution_.sample(si.wi, u, pdf_m);
+            bs.wo = reflect(si.wi, m);
+            bs.lobe = GlossyReflection;
+        } else {
+            if (!ctx.allows(DiffuseReflection)) return bs;
+            bs.wo = warp::square_to_cosine_hemisphere(u);
+            bs.lobe = DiffuseReflection;
+        }
+        if (bs.wo.z <= 0.0f) return BSDFSample();
+        return weighted_by_pdf(ctx, si, bs);
+    }
+
+    Spectrum eval(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
+        float cos_i = Frame::cos_theta(si.wi), cos_o = Frame::cos_theta(wo);
+        if (cos_i <= 0.0f || cos_o <= 0.0f) return Spectrum(0.0f);
+        Spectrum result(0.0f);
+        if (ctx.allows(GlossyReflection)) {
+            Vec3 h = glm::normalize(si.wi + wo);
+            float F = fresnel_dielectric(glm::dot(si.wi, h), eta_).F;
+            result += specular_->eval(si) * (F * distribution_.D(h) * distribution_.G(si.wi, wo, h) / (4.0f * cos_i));
+        }
+        if (ctx.allows(DiffuseReflection)) {
+            float Fi = fresnel_dielectric(cos_i, eta_).F, Fo = fresnel_dielectric(cos_o, eta_).F;
+            result += diffuse_->eval(si) * ((1.0f - Fi) * (1.0f - Fo) * cos_o * InvPi);
+        }
+        return result;
+    }
+
+    float pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
+        float cos_i = Frame::cos_theta(si.wi), cos_o = Frame::cos_theta(wo);
+        if (cos_i <= 0.0f || cos_o <= 0.0f) return 0.0f;
+        float p_spec = specular_probability(ctx), result = 0.0f;
+        Vec3 h = glm::normalize(si.wi + wo);
+        if (p_spec > 0.0f && glm::dot(si.wi, h) > 0.0f && glm::dot(wo, h) > 0.0f)
+            result += p_spec * distribution_.pdf(si.wi, h) / (4.0f * glm::dot(wo, h));
+        if (ctx.allows(DiffuseReflection)) result += (1.0f - p_spec) * warp::square_to_cosine_hemisphere_pdf(wo);
+        return result;
+    }
+
+    Spectrum albedo(const SurfaceInteraction& si) const override {
+        float F = fresnel_dielectric(std::max(Frame::cos_theta(si.wi), 0.0f), eta_).F;
+        return specular_->eval(si) * F + diffuse_->eval(si) * (1.0f - F);
+    }
+    // Local model: kd = diffuse_reflectance, a highlight and environment reflection with
+    // F0 = ((eta - 1) / (eta + 1))^2, shininess 2 / alpha^2 - 2, blurred by alpha.
+    LocalShading local_shading() const override {
+        LocalShading s;
+        float F0 = fresnel_dielectric(1.0f, eta_).F;
+        float alpha = 0.5f * (distribution_.alpha_u() + distribution_.alpha_v());
+        s.diffuse = diffuse_;
+        s.specular = specular_->mean() * F0;
+        s.shininess = phong_exponent(alpha);
+        s.mirror = s.specular;
+        s.roughness = alpha;
+        return s;
+    }
+    std::string to_string() const override { return "pplastic"; }
+
+private:
+    float specular_probability(const BSDFContext& ctx) const {
+        bool has_s = ctx.allows(GlossyReflection), has_d = ctx.allows(DiffuseReflection);
+        if (!has_s) return 0.0f;
+        if (!has_d) return 1.0f;
+        return specular_weight_;
+    }
+
+    MicrofacetDistribution distribution_;
+    Ref<Texture> diffuse_, specular_;
+    float eta_, specular_weight_;
+};
+
+CANDELA_REGISTER(PolarizedPlasticBSDF, ObjectKind::BSDF, "pplastic");
+
+}  // namespace candela

@@ -1,0 +1,207 @@
+// serialized: a writer here produces Mitsuba's format from its description (several meshes per
+// file, versions 3 and 4, single and double precision, with and without normals, uvs and
+// colours); the reader must give back exactly what was written. Broken files are errors at the
+// filename's line.
+
+#include "core/mesh.h"
+#include "core/xml.h"
+#include "tests/util.h"
+
+#include <catch2/catch.hpp>
+
+#include <zlib.h>
+
+#include <cstring>
+#include <fstream>
+
+using namespace candela;
+using namespace candela::test;
+
+namespace {
+
+struct TestMesh {
+    std::vector<Vec3> positions, normals, colors;
+    std::vector<Vec2> uvs;
+    std::vector<glm::uvec3> triangles;
+    bool double_precision = false, face_normals = false;
+    std::string name = "mesh";
+};
+
+void put(std::string& out, uint64_t v, int bytes) {
+    for (int i = 0; i < bytes; ++i) out += char((v >> (8 * i)) & 0xFF);
+}
+void put_real(std::string& out, float v, bool dbl) {
+    if (dbl) {
+        double d = v;
+        uint64_t bits;
+        std::memcpy(&bits, &d, 8);
+        put(out, bits, 8);
+    } else {
+        uint32_t bits;
+        std::memcpy(&bits, &v, 4);
+        put(out, bits, 4);
+    }
+}
+
+// One mesh: the uncompressed header, then its fields compressed with zlib.
+std::string encode_mesh(const TestMesh& m, int version) {
+    std::string raw;
+    uint32_t flags = m.double_precision ? 0x2000 : 0x1000;
+    if (!m.normals.empty()) flags |= 0x0001;
+    if (!m.uvs.empty()) flags |= 0x0002;
+    if (!m.colors.empty()) flags |= 0x0008;
+    if (m.face_normals) flags |= 0x0010;
+    put(raw, flags, 4);
+    if (version == 4) raw += m.name + '\0';
+    put(raw, m.positions.size(), 8);
+    put(raw, m.triangles.size(), 8);
+    for (const Vec3& p : m.positions)
+        for (int k = 0; k < 3; ++k) put_real(raw, p[k], m.double_precision);
+    for (const Vec3& n : m.normals)
+        for (int k = 0; k < 3; ++k) put_real(raw, n[k], m.double_precision);
+    for (const Vec2& uv : m.uvs)
+        for (int k = 0; k < 2; ++k) put_real(raw, uv[k], m.double_precision);
+    for (const Vec3& c : m.colors)
+        for (int k = 0; k < 3; ++k) put_real(raw, c[k], m.double_precision);
+    for (const glm::uvec3& t : m.triangles)
+        for (int k = 0; k < 3; ++k) put(raw, t[k], 4);
+    uLongf size = compressBound(uLong(raw.size()));
+    std::string packed(size, '\0');
+    REQUIRE(compress2(reinterpret_cast<Bytef*>(packed.data()), &size, reinterpret_cast<const Bytef*>(raw.data()), uLong(raw.size()), 9) == Z_OK);
+    packed.resize(size);
+    std::string out;
+    put(out, 0x041C, 2);
+    put(out, uint64_t(version), 2);
+    return out + packed;
+}
+
+// Meshes one after another, then the dictionary of their offsets and their count.
+std::string encode_file(const std::vector<TestMesh>& meshes, int version) {
+    std::string file;
+    std::vector<uint64_t> offsets;
+    for (const TestMesh& m : meshes) {
+        offsets.push_back(file.size());
+        file += encode_mesh(m, version);
+    }
+    for (uint64_t o : offsets) put(file, o, version == 4 ? 8 : 4);
+    put(file, meshes.size(), 4);
+    return file;
+}
+
+// A small non-planar mesh: a tetrahedron with per-vertex data.
+TestMesh tetrahedron(float scale) {
+    TestMesh m;
+    m.positions = {{0, 0, 0}, {scale, 0, 0}, {0, scale, 0}, {0, 0, scale}};
+    m.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+    return m;
+}
+
+const Mesh& load(const std::filesystem::path& dir, const std::string& shape, Ref<Scene>& keep) {
+    write_text(dir / "scene.xml", scene_xml(shape));
+    keep = load_scene((dir / "scene.xml").string());
+    REQUIRE(keep->shapes().size() == 1);
+    auto* mesh = dynamic_cast<const Mesh*>(keep->shapes()[0].get());
+    REQUIRE(mesh);
+    return *mesh;
+}
+
+std::string serialized_shape(const std::string& file, int index, const std::string& extra = "") {
+    return "<shape type=\"serialized\">\n<string name=\"filename\" value=\"" + file + "\"/>\n<integer name=\"shape_index\" value=\"" +
+           std::to_string(index) + "\"/>" + extra + "</shape>";
+}
+
+}  // namespace
+
+TEST_CASE("serialized: several meshes in one file round-trip through the reader", "[mesh][serialized]") {
+    auto dir = scratch_dir("serialized");
+    TestMesh full = tetrahedron(1.0f);
+    for (size_t i = 0; i < full.positions.size(); ++i) {
+        full.normals.push_back(glm::normalize(full.positions[i] - Vec3(0.2f)));
+        full.uvs.emplace_back(0.1f * float(i), 1.0f - 0.2f * float(i));
+    }
+    TestMesh bare = tetrahedron(2.0f);
+    bare.double_precision = true;
+    bare.positions[3] = Vec3(0.1f, 0.3f, 1.7f);  // not representable exactly: read as double, rounded once
+    TestMesh colored = tetrahedron(0.5f);
+    colored.colors = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0.25f, 0.5f, 0.75f}};
+    colored.face_normals = true;
+    std::vector<TestMesh> meshes = {full, bare, colored};
+
+    for (int version : {3, 4}) {
+        INFO("version " << version);
+        std::string name = "meshes" + std::to_string(version) + ".serialized";
+        write_text(dir / name, encode_file(meshes, version));
+        for (int index = 0; index < 3; ++index) {
+            INFO("shape_index " << index);
+            Ref<Scene> keep;
+            const Mesh& m = load(dir, serialized_shape(name, index), keep);
+            const TestMesh& expected = meshes[size_t(index)];
+            CHECK(m.positions() == expected.positions);
+            CHECK(m.triangles() == expected.triangles);
+            CHECK(m.uvs() == expected.uvs);
+            if (index == 0) {
+                REQUIRE(m.normals().size() == expected.normals.size());
+                for (size_t i = 0; i < expected.normals.size(); ++i) CHECK(glm::length(m.normals()[i] - expected.normals[i]) < 1e-6f);
+            }
+            if (index == 1) CHECK(m.normals().size() == 4);  // none in the file: smooth ones computed
+            if (index == 2) {
+                CHECK(m.normals().size() == 4);  // the face-normals flag changes nothing, as in Mitsuba 3
+                REQUIRE(m.attributes().size() == 1);
+                CHECK(m.attributes()[0].name == "vertex_color");
+                CHECK(m.attributes()[0].values == std::vector<float>({1, 0, 0, 0, 1, 0, 0, 0, 1, 0.25f, 0.5f, 0.75f}));
+            } else {
+                CHECK(m.attributes().empty());
+            }
+        }
+    }
+}
+
+TEST_CASE("serialized: to_world, flip_normals and face_normals apply as for other meshes", "[mesh][serialized]") {
+    auto dir = scratch_dir("serialized-params");
+    TestMesh m = tetrahedron(1.0f);
+    for (const Vec3& p : m.positions) m.normals.push_back(squared_length(p) > 0 ? glm::normalize(p) : Vec3(-0.57735f));
+    write_text(dir / "one.serialized", encode_file({m}, 4));
+    Ref<Scene> keep, keep2;
+    const Mesh& moved = load(dir, serialized_shape("one.serialized", 0, "<transform name=\"to_world\"><translate x=\"5\"/></transform><boolean name=\"flip_normals\" value=\"true\"/>"), keep);
+    CHECK(moved.positions()[1] == Vec3(6, 0, 0));
+    CHECK(moved.flip_normals());
+    const Mesh& flat = load(dir, serialized_shape("one.serialized", 0, "<boolean name=\"face_normals\" value=\"true\"/>"), keep2);
+    CHECK(flat.normals().empty());
+}
+
+TEST_CASE("serialized: broken files are errors at the filename's line", "[mesh][serialized][errors]") {
+    auto dir = scratch_dir("serialized-bad");
+    std::vector<TestMesh> meshes = {tetrahedron(1.0f), tetrahedron(2.0f)};
+    std::string good = encode_file(meshes, 4);
+    std::string first_mesh = encode_mesh(meshes[0], 4);
+    std::string corrupt = good;
+    corrupt[first_mesh.size() / 2] = char(corrupt[first_mesh.size() / 2] ^ 0x5A);  // inside the first mesh's zlib data
+    std::string bad_magic = good;
+    bad_magic[0] = 0x1D;
+    std::string bad_dictionary = good;
+    bad_dictionary[good.size() - 5] = char(0x7F);  // the last offset now points far past the end
+    struct Case {
+        const char* name;
+        std::string bytes;
+        int index;
+    };
+    std::vector<Case> cases = {{"truncated", good.substr(0, first_mesh.size() - 10), 0},
+                               {"corrupt", corrupt, 0},
+                               {"magic", bad_magic, 0},
+                               {"dictionary", bad_dictionary, 1},
+                               {"index", good, 2},
+                               {"empty", "", 0},
+                               {"version", good.substr(0, 2) + std::string("\x07\x00", 2) + good.substr(4), 0}};
+    for (const Case& c : cases) {
+        INFO(c.name);
+        write_text(dir / (std::string(c.name) + ".serialized"), c.bytes);
+        write_text(dir / "scene.xml", scene_xml(serialized_shape(std::string(c.name) + ".serialized", c.index)));
+        try {
+            load_scene((dir / "scene.xml").string());
+            FAIL("expected an error");
+        } catch (const SceneError& e) {
+            INFO(e.what());
+            CHECK(e.location.line == 3);  // the <string name="filename"> line
+        }
+    }
+}
