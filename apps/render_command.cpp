@@ -1,7 +1,9 @@
 // candela render SCENE.xml -o OUT.exr [--spp N] [-D k=v]... [--threads N] [--seed S] [--png]
 //                [--quiet] [--aov albedo,normal,depth,variance] [--samples START:END] [--crop x,y,w,h]
+//                [--resume PARTIAL.exr] [--checkpoint MINUTES]
 // With --samples or --crop it renders one part of a split render (farm/part_file.h), which
-// `candela merge` adds up with the others.
+// `candela merge` adds up with the others. Ctrl-C or SIGTERM stops a render and writes what it has
+// as a part marked partial; --resume continues it, --checkpoint writes one every MINUTES.
 
 #include "apps/commands.h"
 
@@ -11,7 +13,9 @@
 #include "core/xml.h"
 #include "integrators/path.h"
 #include "integrators/raster/raster.h"
+#include "farm/coverage.h"
 #include "farm/part_file.h"
+#include "farm/resumable_render.h"
 #include "farm/shell.h"
 
 #include <chrono>
@@ -27,10 +31,14 @@ namespace candela::app {
 namespace {
 
 std::atomic<bool> g_interrupted{false};
+std::atomic<int> g_signal{0};
 
-void on_sigint(int) {
+// SIGINT (Ctrl-C) and SIGTERM (what Slurm and systemd send before they kill) stop the render,
+// which then writes what it has.
+void on_stop_signal(int signal) {
+    g_signal = signal;
     g_interrupted = true;
-    std::signal(SIGINT, SIG_DFL);  // a second Ctrl-C ends the program at once
+    std::signal(signal, SIG_DFL);  // a second one ends the program at once
 }
 
 struct RenderArgs {
@@ -40,12 +48,12 @@ struct RenderArgs {
     int64_t seed = -1;
     std::vector<std::string> defines, aovs;
     std::string samples, crop;  // a part of a split render
+    std::string resume;         // a part to continue
+    double checkpoint_minutes = 0.0;
     bool png = false, quiet = false;
 
     bool part() const { return !samples.empty() || !crop.empty(); }
 };
-
-double seconds_since_epoch() { return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count(); }
 
 // The command that renders this scene again, as every part of the split render records it: the
 // options that change the image, with spp and seed spelled out.
@@ -62,31 +70,78 @@ std::string repeat_command(const RenderArgs& a, const RenderStats& stats) {
     return shell_join(words);
 }
 
-// The part options, checked against the integrator.
-void set_part_options(const RenderArgs& a, const Scene& scene, RenderOptions& options) {
-    if (!scene.integrator().renders_parts())
-        throw InputError("the " + scene.integrator().to_string() + " integrator cannot render a part (--samples, --crop): its samples " +
-                         "are not independent of each other; render the whole image");
-    if (!a.samples.empty()) options.samples = parse_sample_range(a.samples);
-    if (!a.crop.empty()) options.region = parse_rect(a.crop);
+// What the render renders: --crop's pixels (default all) times --samples (default [0, spp)).
+CoverageBox render_target(const RenderArgs& a, const Scene& scene, int spp) {
+    CoverageBox t{ImageRect{Vec2i(0), scene.sensor().film().crop_size()}, SampleRange{0, spp}};
+    if (!a.crop.empty()) t.rect = parse_rect(a.crop);
+    if (!a.samples.empty()) t.samples = parse_sample_range(a.samples);
+    return t;
 }
 
-void write_render_part(const RenderArgs& a, const Scene& scene, const RenderResult& result, double started, const std::string& output) {
-    PartHeader h;
-    h.identity = render_identity(scene, a.scene, result.stats, result.sums.layout(), repeat_command(a, result.stats));
-    const Vec2i image = h.identity.image;
-    h.rect = a.crop.empty() ? ImageRect{Vec2i(0), image} : parse_rect(a.crop);
-    const SampleRange samples = a.samples.empty() ? SampleRange{0, result.stats.spp} : parse_sample_range(a.samples);
-    h.coverage = {CoverageBox{h.rect, samples}};
-    h.render_seconds = result.stats.seconds;
-    h.started = started;
-    h.finished = seconds_since_epoch();
-    char host[256] = {0};
-    if (::gethostname(host, sizeof host - 1) == 0) h.host = host;
-    h.samples = result.stats.samples;
-    h.rays = result.stats.rays;
-    h.nonfinite = result.stats.nonfinite;
-    write_part(output, result.sums, h);
+// --resume without --spp or --seed takes them from the part, so that the same command line
+// with --resume added continues the render.
+void take_resumed_settings(const RenderArgs& a, RenderOptions& options) {
+    if (a.resume.empty()) return;
+    const PartHeader h = read_part_header(a.resume);
+    if (a.spp <= 0) options.spp = h.identity.spp;
+    if (a.seed < 0) options.seed = h.identity.seed;
+}
+
+// The command that continues a render interrupted after writing `output`.
+std::string resume_command(const RenderArgs& a, const std::string& repeat, const std::string& output) {
+    std::string cmd = repeat;
+    if (!a.samples.empty()) cmd += " --samples " + a.samples;
+    if (!a.crop.empty()) cmd += " --crop " + a.crop;
+    return cmd + " --resume " + shell_quote(output) + " -o " + shell_quote(output);
+}
+
+// A Monte Carlo render through the sums (farm/resumable_render.h): the image when it is whole and
+// not a part, else a part (a farm part, or an interrupted render to continue).
+int render_with_sums(const RenderArgs& a, const Scene& scene, RenderOptions options, const std::string& output, const std::string& png) {
+    take_resumed_settings(a, options);
+    const RenderStats planned = planned_render(scene, options);
+    ResumableRequest request;
+    request.scene_path = a.scene;
+    request.command = repeat_command(a, planned);
+    request.target = render_target(a, scene, planned.spp);
+    request.resume = a.resume;
+    request.checkpoint_seconds = a.checkpoint_minutes * 60.0;
+    request.output = output;
+    ResumableResult r = render_resumable(scene, options, request);
+    const bool whole = !r.header.partial && !a.part();
+    if (whole) {
+        RenderResult result;
+        result.image = r.sums.develop();
+        result.stats = r.stats;
+        annotate_render(result, scene, a.scene);
+        write_exr(result.image, output, scene.sensor().film().float32());
+        if (a.png) write_png_display(scene.integrator().preview(result.image), png);
+    } else {
+        write_part(output, r.sums, r.header);
+    }
+    if (!a.quiet) std::cerr << render_summary(r.stats, output) << (a.part() ? " (part)" : "") << "\n";
+    if (r.stats.nonfinite > 0) std::cerr << "warning: " << r.stats.nonfinite << " samples were NaN or infinite and were dropped\n";
+    if (r.header.partial) {
+        std::cerr << (r.interrupted ? "interrupted: " : "") << "wrote the partial render (a part holding "
+                  << format_coverage(r.header.coverage) << ") to " << output << "; continue it with:\n  "
+                  << resume_command(a, request.command, output) << "\n";
+        return r.interrupted ? 128 + (g_signal.load() ? g_signal.load() : SIGINT) : ExitOk;
+    }
+    return ExitOk;
+}
+
+// A render whose integrator keeps no sums (the rasterizer): the image as it comes.
+int render_frame(const RenderArgs& a, const Scene& scene, const RenderOptions& options, const std::string& output, const std::string& png) {
+    RenderResult result = scene.integrator().render(scene, options);
+    annotate_render(result, scene, a.scene);
+    write_exr(result.image, output, scene.sensor().film().float32());
+    if (a.png) write_png_display(scene.integrator().preview(result.image), png);
+    if (!a.quiet) std::cerr << render_summary(result.stats, output) << "\n";
+    if (result.stats.partial) {
+        std::cerr << "interrupted: wrote the partial image to " << output << "\n";
+        return 128 + (g_signal.load() ? g_signal.load() : SIGINT);
+    }
+    return ExitOk;
 }
 
 // --mode and the raster options replace or adjust the scene's integrator.
@@ -148,6 +203,8 @@ void add_render_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("--aov", args->aovs, "Extra EXR layers: albedo, normal, depth, variance")->delimiter(',');
     cmd->add_option("--samples", args->samples, "Render only sample indices START:END of every pixel, as one part for `candela merge`");
     cmd->add_option("--crop", args->crop, "Render only the image region x,y,width,height (pixels), as one part for `candela merge`");
+    cmd->add_option("--resume", args->resume, "Continue the render that wrote this partial EXR (after Ctrl-C, SIGTERM or a checkpoint)");
+    cmd->add_option("--checkpoint", args->checkpoint_minutes, "Write a resumable partial render to the output every MINUTES (atomically)");
     cmd->add_option("--mode", args->mode, "path (Monte Carlo global illumination) or raster (local illumination); default: the scene's integrator")
         ->check(CLI::IsMember({"path", "raster"}));
     args->raster.add_to(cmd);
@@ -159,10 +216,13 @@ void add_render_command(CLI::App& app, std::function<int()>& run) {
             check_output_path(output);
             if (args->png) check_output_path(png);
             if (args->part() && args->png) throw InputError("--png needs the whole image: a part (--samples, --crop) holds sums; merge the parts first");
+            if (args->checkpoint_minutes < 0.0) throw InputError("--checkpoint expects minutes > 0");
 
-            // From here on Ctrl-C stops the render and writes what there is.
+            // From here on Ctrl-C or SIGTERM stops the render and writes what there is.
             g_interrupted = false;
-            auto previous = std::signal(SIGINT, on_sigint);
+            g_signal = 0;
+            auto previous_int = std::signal(SIGINT, on_stop_signal);
+            auto previous_term = std::signal(SIGTERM, on_stop_signal);
             Ref<Scene> scene = load_scene(args->scene, params);
             apply_mode(*scene, *args);
             RenderOptions options;
@@ -172,34 +232,14 @@ void add_render_command(CLI::App& app, std::function<int()>& run) {
             options.progress = !args->quiet && stderr_is_terminal();
             options.interrupt = &g_interrupted;
             options.aovs = args->aovs;
-            if (args->part()) set_part_options(*args, *scene, options);
-
-            const double started = seconds_since_epoch();
-            RenderResult result = scene->integrator().render(*scene, options);
-            std::signal(SIGINT, previous);
-            if (args->part()) {
-                if (result.stats.partial) {
-                    std::cerr << "interrupted: nothing written (a part holds its whole sample range or nothing)\n";
-                    return ExitInterrupted;
-                }
-                write_render_part(*args, *scene, result, started, output);
-                if (!args->quiet) std::cerr << render_summary(result.stats, output) << " (part)\n";
-                if (result.stats.nonfinite > 0)
-                    std::cerr << "warning: " << result.stats.nonfinite << " samples were NaN or infinite and were dropped\n";
-                return ExitOk;
-            }
-
-            annotate_render(result, *scene, args->scene);
-            write_exr(result.image, output, scene->sensor().film().float32());
-            if (args->png) write_png_display(scene->integrator().preview(result.image), png);
-            if (!args->quiet) std::cerr << render_summary(result.stats, output) << "\n";
-            if (result.stats.nonfinite > 0)
-                std::cerr << "warning: " << result.stats.nonfinite << " samples were NaN or infinite and were dropped\n";
-            if (result.stats.partial) {
-                std::cerr << "interrupted: wrote the partial image to " << output << "\n";
-                return ExitInterrupted;
-            }
-            return ExitOk;
+            const bool sums = scene->integrator().renders_parts();
+            if (!sums && (args->part() || !args->resume.empty() || args->checkpoint_minutes > 0.0))
+                throw InputError("the " + scene->integrator().to_string() + " integrator renders one frame: it cannot render a part " +
+                                 "(--samples, --crop), resume or checkpoint");
+            int code = sums ? render_with_sums(*args, *scene, options, output, png) : render_frame(*args, *scene, options, output, png);
+            std::signal(SIGINT, previous_int);
+            std::signal(SIGTERM, previous_term);
+            return code;
         };
     });
 }

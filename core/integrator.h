@@ -9,6 +9,7 @@
 #include "core/spectrum.h"
 
 #include <atomic>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -17,18 +18,7 @@ namespace candela {
 
 class Scene;
 class Sampler;
-
-// A half-open range of sample indices [begin, end); empty (0, 0) means all of them.
-struct SampleRange {
-    int begin = 0, end = 0;
-    bool empty() const { return end <= begin; }
-};
-
-// A rectangle of the rendered image, in its pixels (the film's crop window starts at 0, 0).
-struct ImageRect {
-    Vec2i offset{0}, size{0};
-    bool empty() const { return size.x <= 0 || size.y <= 0; }
-};
+class Film;
 
 struct RenderOptions {
     int spp = 0;                        // 0: the scene's sampler sample_count
@@ -43,6 +33,10 @@ struct RenderOptions {
     // those sample indices contribute to those pixels in the whole render.
     SampleRange samples;
     ImageRect region;
+    // Called every `checkpoint_seconds` (at the end of a pass, when the sums are consistent) with
+    // what the render holds so far; 0 or no callback: never.
+    double checkpoint_seconds = 0.0;
+    std::function<void(const PixelSums& sums, const std::vector<CoverageBox>& coverage)> checkpoint;
 };
 
 struct RenderStats {
@@ -59,9 +53,12 @@ struct RenderStats {
 };
 
 struct RenderResult {
-    Image image;  // R, G, B then any AOV layers (of options.region when one was given)
+    Image image;  // R, G, B then any AOV layers (of sums.rect(): the region and its filter margin)
     RenderStats stats;
     PixelSums sums;  // what `image` was developed from; empty unless the integrator renders parts
+    // Which samples of which pixels `sums` holds: the requested region and samples, less what an
+    // interruption left out (whole tiles of the last pass).
+    std::vector<CoverageBox> coverage;
 };
 
 class Integrator : public Object {
@@ -88,6 +85,10 @@ public:
     // Radiance arriving along `ray`. Fills `aovs` when not null.
     virtual Spectrum sample_radiance(const Scene& scene, Sampler& sampler, const Ray& ray, FirstHitAovs* aovs) const = 0;
 };
+
+// The pixels the samples of `region` splat onto: the region grown by the film filter's reach and
+// clipped to the image (RenderResult::sums covers this).
+ImageRect sums_rect(const Film& film, const ImageRect& region);
 
 // Number of rays traced by the calling thread so far (the accelerator counts them).
 uint64_t thread_ray_count();

@@ -81,15 +81,29 @@ void AovLayout::write(const PixelStats& ps, Image& img, int x, int y) const {
         for (int k = 0; k < 3; ++k) img.at(x, y, c++) = float(ps.variance_of_mean(k));
 }
 
-PixelSums::PixelSums(const Vec2i& size, const AovLayout& layout)
-    : size_(size), layout_(layout), filtered_(size_t(size.x) * size.y * 4, 0.0) {
-    if (layout.pixel_stats()) stats_.resize(size_t(size.x) * size.y);
+PixelSums::PixelSums(const ImageRect& rect, const AovLayout& layout)
+    : rect_(rect), layout_(layout), filtered_(size_t(rect.size.x) * rect.size.y * 4, 0.0) {
+    if (layout.pixel_stats()) stats_.resize(size_t(rect.size.x) * rect.size.y);
+}
+
+void PixelSums::add(const PixelSums& other) {
+    const Vec2i at = other.rect_.offset - rect_.offset;
+    const Vec2i end = at + other.rect_.size;
+    if (at.x < 0 || at.y < 0 || end.x > rect_.size.x || end.y > rect_.size.y || other.has_stats() != has_stats())
+        throw InputError("sums of another region or layout cannot be added");
+    for (int y = 0; y < other.rect_.size.y; ++y)
+        for (int x = 0; x < other.rect_.size.x; ++x) {
+            const double* src = other.filtered_at(x, y);
+            double* dst = filtered_at(at.x + x, at.y + y);
+            for (int c = 0; c < 4; ++c) dst[c] += src[c];
+            if (has_stats()) stats_at(at.x + x, at.y + y).add(other.stats_at(x, y));
+        }
 }
 
 Image PixelSums::develop() const {
-    Image img(size_.x, size_.y, layout_.channels());
-    for (int y = 0; y < size_.y; ++y)
-        for (int x = 0; x < size_.x; ++x) {
+    Image img(rect_.size.x, rect_.size.y, layout_.channels());
+    for (int y = 0; y < rect_.size.y; ++y)
+        for (int x = 0; x < rect_.size.x; ++x) {
             const double* a = filtered_at(x, y);
             for (int c = 0; c < 3; ++c) img.at(x, y, c) = a[3] > 0.0 ? float(a[c] / a[3]) : 0.0f;
             if (has_stats()) layout_.write(stats_at(x, y), img, x, y);

@@ -13,6 +13,26 @@
 
 namespace candela {
 
+// A half-open range of sample indices [begin, end); empty (0, 0) means all of them.
+struct SampleRange {
+    int begin = 0, end = 0;
+    bool empty() const { return end <= begin; }
+};
+
+// A rectangle of the rendered image, in its pixels (the film's crop window starts at 0, 0).
+struct ImageRect {
+    Vec2i offset{0}, size{0};
+    bool empty() const { return size.x <= 0 || size.y <= 0; }
+};
+
+// Sample indices `samples` of the pixels `rect`: what a part of a split render, or an
+// interrupted render, holds. Sums hold every splat those samples make (also on pixels around
+// `rect`, within the filter's reach), so that boxes that do not overlap add up.
+struct CoverageBox {
+    ImageRect rect;
+    SampleRange samples;
+};
+
 // What a sample reports about its first hit, for AOVs.
 struct FirstHitAovs {
     Spectrum albedo{0.0f};
@@ -60,30 +80,35 @@ private:
     bool albedo_ = false, normal_ = false, depth_ = false, variance_ = false;
 };
 
-// The sums of a rectangle of pixels.
+// The sums of a rectangle of the image's pixels.
 class PixelSums {
 public:
     PixelSums() = default;
-    PixelSums(const Vec2i& size, const AovLayout& layout);
+    PixelSums(const ImageRect& rect, const AovLayout& layout);
 
-    const Vec2i& size() const { return size_; }
+    const ImageRect& rect() const { return rect_; }
+    const Vec2i& size() const { return rect_.size; }
     const AovLayout& layout() const { return layout_; }
     bool has_stats() const { return !stats_.empty(); }
 
     // (sum(w r), sum(w g), sum(w b), sum(w)) per pixel, row by row: the buffer that
     // ImageBlock::accumulate_into adds to.
     std::vector<double>& filtered() { return filtered_; }
-    double* filtered_at(int x, int y) { return &filtered_[(size_t(y) * size_.x + x) * 4]; }
-    const double* filtered_at(int x, int y) const { return &filtered_[(size_t(y) * size_.x + x) * 4]; }
+    // (x, y) relative to rect().offset.
+    double* filtered_at(int x, int y) { return &filtered_[(size_t(y) * rect_.size.x + x) * 4]; }
+    const double* filtered_at(int x, int y) const { return &filtered_[(size_t(y) * rect_.size.x + x) * 4]; }
     // Only when layout().pixel_stats().
-    PixelStats& stats_at(int x, int y) { return stats_[size_t(y) * size_.x + x]; }
-    const PixelStats& stats_at(int x, int y) const { return stats_[size_t(y) * size_.x + x]; }
+    PixelStats& stats_at(int x, int y) { return stats_[size_t(y) * rect_.size.x + x]; }
+    const PixelStats& stats_at(int x, int y) const { return stats_[size_t(y) * rect_.size.x + x]; }
+
+    // Adds `other` (same layout) where its rectangle lies; InputError unless it lies inside this.
+    void add(const PixelSums& other);
 
     // The image: R, G, B = sum(w L) / sum(w) (black where no sample reached), then the AOVs.
     Image develop() const;
 
 private:
-    Vec2i size_{0};
+    ImageRect rect_;
     AovLayout layout_;
     std::vector<double> filtered_;
     std::vector<PixelStats> stats_;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <map>
+#include <tuple>
 
 namespace candela {
 
@@ -84,15 +85,19 @@ bool overlap(const CoverageBox& a, const CoverageBox& b) {
              apart(a.samples.begin, a.samples.end, b.samples.begin, b.samples.end));
 }
 
-std::vector<CoverageBox> uncovered(const std::vector<CoverageBox>& covered, const Vec2i& image, int spp) {
-    // Cut the image at every box edge; in each cell, the sample ranges no box covers. Then join
+CoverageBox whole_render(const Vec2i& image, int spp) { return CoverageBox{ImageRect{Vec2i(0), image}, SampleRange{0, spp}}; }
+
+std::vector<CoverageBox> uncovered(const std::vector<CoverageBox>& covered, const CoverageBox& target) {
+    // Cut the target at every box edge; in each cell, the sample ranges no box covers. Then join
     // cells missing the same range into rectangles, row runs first and then downwards.
-    std::vector<int> xs = {0, image.x}, ys = {0, image.y};
+    const Vec2i lo = target.rect.offset, hi = target.rect.offset + target.rect.size;
+    const int s0 = target.samples.begin, s1 = target.samples.end;
+    std::vector<int> xs = {lo.x, hi.x}, ys = {lo.y, hi.y};
     for (const CoverageBox& b : covered) {
-        xs.push_back(std::clamp(b.rect.offset.x, 0, image.x));
-        xs.push_back(std::clamp(b.rect.offset.x + b.rect.size.x, 0, image.x));
-        ys.push_back(std::clamp(b.rect.offset.y, 0, image.y));
-        ys.push_back(std::clamp(b.rect.offset.y + b.rect.size.y, 0, image.y));
+        xs.push_back(std::clamp(b.rect.offset.x, lo.x, hi.x));
+        xs.push_back(std::clamp(b.rect.offset.x + b.rect.size.x, lo.x, hi.x));
+        ys.push_back(std::clamp(b.rect.offset.y, lo.y, hi.y));
+        ys.push_back(std::clamp(b.rect.offset.y + b.rect.size.y, lo.y, hi.y));
     }
     xs = breakpoints(xs);
     ys = breakpoints(ys);
@@ -106,18 +111,18 @@ std::vector<CoverageBox> uncovered(const std::vector<CoverageBox>& covered, cons
                     ys[j + 1] <= b.rect.offset.y + b.rect.size.y)
                     ranges.push_back(b.samples);
             std::sort(ranges.begin(), ranges.end(), [](const SampleRange& a, const SampleRange& b) { return a.begin < b.begin; });
-            int next = 0;
-            auto gap = [&](int s0, int s1) {
-                auto& mask = missing_cells[{s0, s1}];
+            int next = s0;
+            auto gap = [&](int a, int b) {
+                auto& mask = missing_cells[{a, b}];
                 mask.resize(size_t(nx) * ny, 0);
                 mask[size_t(j) * nx + i] = 1;
             };
             for (const SampleRange& r : ranges) {
-                if (r.begin > next) gap(next, std::min(r.begin, spp));
+                if (r.begin > next) gap(next, std::min(r.begin, s1));
                 next = std::max(next, r.end);
-                if (next >= spp) break;
+                if (next >= s1) break;
             }
-            if (next < spp) gap(next, spp);
+            if (next < s1) gap(next, s1);
         }
     std::vector<CoverageBox> boxes;
     for (auto& [range, mask] : missing_cells)
@@ -133,6 +138,19 @@ std::vector<CoverageBox> uncovered(const std::vector<CoverageBox>& covered, cons
                 boxes.push_back(CoverageBox{ImageRect{Vec2i(xs[i], ys[j]), Vec2i(xs[i1] - xs[i], ys[j1] - ys[j])}, SampleRange{range.first, range.second}});
             }
     return boxes;
+}
+
+std::vector<CoverageBox> coalesce(std::vector<CoverageBox> boxes) {
+    auto key = [](const CoverageBox& b) { return std::make_tuple(b.rect.offset.y, b.rect.offset.x, b.rect.size.y, b.rect.size.x, b.samples.begin); };
+    std::sort(boxes.begin(), boxes.end(), [&](const CoverageBox& a, const CoverageBox& b) { return key(a) < key(b); });
+    std::vector<CoverageBox> out;
+    for (const CoverageBox& b : boxes) {
+        if (!out.empty() && out.back().rect.offset == b.rect.offset && out.back().rect.size == b.rect.size && out.back().samples.end == b.samples.begin)
+            out.back().samples.end = b.samples.end;
+        else
+            out.push_back(b);
+    }
+    return out;
 }
 
 std::string describe(const CoverageBox& box, const Vec2i& image) {

@@ -58,20 +58,6 @@ void check_overlaps(const std::vector<PartHeader>& parts, const Vec2i& image) {
         }
 }
 
-// Boxes of one rectangle with adjacent sample ranges joined, to keep the metadata short.
-std::vector<CoverageBox> coalesce(std::vector<CoverageBox> boxes) {
-    auto key = [](const CoverageBox& b) { return std::make_tuple(b.rect.offset.y, b.rect.offset.x, b.rect.size.y, b.rect.size.x, b.samples.begin); };
-    std::sort(boxes.begin(), boxes.end(), [&](const CoverageBox& a, const CoverageBox& b) { return key(a) < key(b); });
-    std::vector<CoverageBox> out;
-    for (const CoverageBox& b : boxes) {
-        if (!out.empty() && out.back().rect.offset == b.rect.offset && out.back().rect.size == b.rect.size && out.back().samples.end == b.samples.begin)
-            out.back().samples.end = b.samples.end;
-        else
-            out.push_back(b);
-    }
-    return out;
-}
-
 // The bounding rectangle of the parts' pixels.
 ImageRect bounds(const std::vector<PartHeader>& parts) {
     Vec2i lo = parts[0].rect.offset, hi = lo;
@@ -82,9 +68,10 @@ ImageRect bounds(const std::vector<PartHeader>& parts) {
     return ImageRect{lo, hi - lo};
 }
 
+// One part at a time: memory is the sums of `area` plus one part.
 PixelSums add_parts(const MergeSet& set, const ImageRect& area) {
-    PixelSums sums(area.size, set.identity.layout());
-    for (const PartHeader& p : set.parts) add_part(p, sums, area.offset);
+    PixelSums sums(area, set.identity.layout());
+    for (const PartHeader& p : set.parts) add_part(p, sums);
     return sums;
 }
 
@@ -101,6 +88,7 @@ PartHeader summed_header(const MergeSet& set) {
         h.finished = std::max(h.finished, p.finished);
         if (p.host != h.host) h.host = "several";
         h.rendered_parts += p.rendered_parts;
+        h.partial = h.partial || p.partial;
         h.samples += p.samples;
         h.rays += p.rays;
         h.nonfinite += p.nonfinite;
@@ -131,7 +119,7 @@ MergeSet check_parts(const std::vector<std::string>& paths) {
     check_overlaps(set.parts, set.identity.image);
     std::vector<CoverageBox> all;
     for (const PartHeader& p : set.parts) all.insert(all.end(), p.coverage.begin(), p.coverage.end());
-    set.missing = uncovered(all, set.identity.image, set.identity.spp);
+    set.missing = uncovered(all, whole_render(set.identity.image, set.identity.spp));
     return set;
 }
 
@@ -182,9 +170,7 @@ Image merge_image(const MergeSet& set) {
 }
 
 void merge_into_part(const MergeSet& set, const std::string& output) {
-    PartHeader h = summed_header(set);
-    h.rect = bounds(set.parts);
-    write_part(output, add_parts(set, h.rect), h);
+    write_part(output, add_parts(set, bounds(set.parts)), summed_header(set));
 }
 
 }  // namespace candela

@@ -45,14 +45,14 @@ struct Fnv1a {
 };
 
 std::vector<std::string> part_channels(const AovLayout& layout) {
-    std::vector<std::string> ch = {"sum.R", "sum.G", "sum.B", "sum.W"};
+    std::vector<std::string> ch = {"R", "G", "B", "sum.R", "sum.G", "sum.B", "sum.W"};
     if (layout.pixel_stats()) ch.push_back("count.N");
     auto layer = [&](const char* name, const char* components) {
         for (const char* c = components; *c; ++c) ch.push_back(std::string(name) + "." + *c);
     };
-    if (layout.albedo()) layer("albedo", "RGB");
-    if (layout.normal()) layer("normal", "XYZ");
-    if (layout.depth()) layer("depth", "Z");
+    if (layout.albedo()) layer("albedoSum", "RGB");
+    if (layout.normal()) layer("normalSum", "XYZ");
+    if (layout.depth()) layer("depthSum", "Z");
     if (layout.variance()) {
         layer("moment1", "RGB");
         layer("moment1lo", "RGB");
@@ -161,11 +161,12 @@ void write_part(const std::string& path, const PixelSums& sums, const PartHeader
             auto put_hi_lo = [&](const double* v) {
                 for (int k = 0; k < 3; ++k) {
                     img.at(x, y, c + k) = float(v[k]);
-                    img.at(x, y, c + 3 + k) = 0.0f * float(v[k] - double(float(v[k])));
+                    img.at(x, y, c + 3 + k) = float(v[k] - double(float(v[k])));
                 }
                 c += 6;
             };
             const double* f = sums.filtered_at(x, y);
+            for (int k = 0; k < 3; ++k) put(f[3] > 0.0 ? f[k] / f[3] : 0.0);
             for (int k = 0; k < 4; ++k) put(f[k]);
             if (!layout.pixel_stats()) continue;
             const PixelStats& ps = sums.stats_at(x, y);
@@ -198,7 +199,8 @@ void write_part(const std::string& path, const PixelSums& sums, const PartHeader
     m["candela.float32"] = id.float32 ? "true" : "false";
     m["candela.command"] = id.command;
     m["candela.coverage"] = format_coverage(header.coverage);
-    m["candela.origin"] = std::to_string(header.rect.offset.x) + "," + std::to_string(header.rect.offset.y);
+    m["candela.partial"] = header.partial ? "true" : "false";
+    m["candela.origin"] = std::to_string(sums.rect().offset.x) + "," + std::to_string(sums.rect().offset.y);
     m["candela.renderTime"] = format_seconds(header.render_seconds);
     m["candela.started"] = format_seconds(header.started);
     m["candela.finished"] = format_seconds(header.finished);
@@ -235,8 +237,9 @@ PartHeader read_part_header(const std::string& path) {
     id.version = r.text("candela.version");
     id.float32 = r.text("candela.float32") == "true";
     id.command = r.text("candela.command");
+    h.partial = r.text("candela.partial") == "true";
     try {
-        h.coverage = parse_coverage(r.text("candela.coverage"));
+        h.coverage = r.text_or_empty("candela.coverage").empty() ? std::vector<CoverageBox>{} : parse_coverage(r.text("candela.coverage"));
     } catch (const InputError& e) {
         throw InputError(path + ": " + e.what());
     }
@@ -267,14 +270,15 @@ PartHeader read_part_header(const std::string& path) {
     return h;
 }
 
-void add_part(const PartHeader& h, PixelSums& image_sums, const Vec2i& origin) {
+void add_part(const PartHeader& h, PixelSums& image_sums) {
     // OpenEXR stores channels sorted by name: find each where it is.
     Image part = read_image(h.path);
     std::vector<int> index;
-    for (const std::string& name : part_channels(image_sums.layout())) index.push_back(part.channel_index(name));
+    for (const std::string& name : part_channels(image_sums.layout()))
+        if (name.find('.') != std::string::npos) index.push_back(part.channel_index(name));  // not R, G, B: the image
     if (part.width() != h.rect.size.x || part.height() != h.rect.size.y || std::count(index.begin(), index.end(), -1) > 0)
         throw InputError(h.path + ": changed while merging");
-    const Vec2i at = h.rect.offset - origin;
+    const Vec2i at = h.rect.offset - image_sums.rect().offset;
     if (at.x < 0 || at.y < 0 || at.x + part.width() > image_sums.size().x || at.y + part.height() > image_sums.size().y)
         throw InputError(h.path + ": lies outside the merged area");
     const AovLayout& layout = image_sums.layout();

@@ -1,23 +1,28 @@
 #pragma once
-// A part of a render split across machines: an OpenEXR file (float32) holding the sums a range of
-// sample indices contributes to a region of the image (core/pixel_sums.h), and metadata that says
-// which render it belongs to and what it covers. Parts add up exactly; `candela merge` divides.
+// A part of a render: an OpenEXR file (float32) holding the sums a set of samples contributes to
+// the image (core/pixel_sums.h), and metadata that says which render it belongs to and what it
+// covers. It is the one partial-render file of Candela: a part of a farm render (render --samples,
+// --crop), an interrupted render (Ctrl-C, SIGTERM) and a checkpoint (--checkpoint) are all parts;
+// `candela merge` adds parts up and divides, `candela render --resume` continues one.
 //
-// Channels (every value a sum over the part's samples):
+// Channels:
+//   R G B                          the image so far (sum.RGB / sum.W), to look at; never read back
 //   sum.R sum.G sum.B sum.W        filtered sums sum(w L) and sum(w), what the image divides
 //   count.N                        samples that landed in the pixel (when there are AOVs)
-//   albedo.R..B normal.X..Z depth.Z    sums of the first-hit values (when asked for)
+//   albedoSum.R..B normalSum.X..Z depthSum.Z   sums of the first-hit values (when asked for)
 //   moment1.R..B moment2.R..B      sum(L) and sum(L^2) for the variance layer, each with a
 //   moment1lo.R..B moment2lo.R..B  float32 "lo" channel holding what float32 rounded off: the
 //                                  variance sum(L^2) - sum(L)^2 / n cancels and needs about
 //                                  48 bits; everything else keeps its relative float32 rounding.
+// The file's pixels are the rectangle the samples reach: the covered pixels grown by the filter's
+// reach (candela.origin: where its first pixel lies in the image).
 // Metadata (string attributes): candela.partFormat, the render's identity (candela.scene,
 // candela.sceneHash, candela.seed, candela.sampler, candela.spp, candela.imageSize,
 // candela.integrator, candela.aovs, candela.version, candela.float32, candela.command), what the
-// part holds (candela.coverage: boxes "x,y,w,h@start:end" joined by ';'; candela.origin: where the
-// file's pixels lie in the image) and how it was made (candela.renderTime, candela.started,
-// candela.finished, candela.host, candela.renderedParts, candela.samples, candela.rays,
-// candela.nonfiniteSamples).
+// part holds (candela.coverage: boxes "x,y,w,h@start:end" joined by ';'; candela.partial: "true"
+// when it holds less than it was asked to render, so that it must be resumed or completed) and how
+// it was made (candela.renderTime, candela.started, candela.finished, candela.host,
+// candela.renderedParts, candela.samples, candela.rays, candela.nonfiniteSamples).
 
 #include "core/pixel_sums.h"
 #include "farm/coverage.h"
@@ -64,7 +69,8 @@ struct PartHeader {
     std::string path;
     RenderIdentity identity;
     std::vector<CoverageBox> coverage;
-    ImageRect rect;               // where the file's pixels lie in the image
+    bool partial = false;         // interrupted: it holds less than it was asked to
+    ImageRect rect;               // where the file's pixels lie in the image (write_part: sums.rect())
     double render_seconds = 0.0;  // summed over the rendered parts it holds
     double started = 0.0, finished = 0.0;  // seconds since the epoch: first start, last finish
     std::string host;
@@ -72,12 +78,12 @@ struct PartHeader {
     uint64_t samples = 0, rays = 0, nonfinite = 0;  // RenderStats, summed
 };
 
-// Writes the part atomically (a killed writer leaves nothing under `path`). `sums` covers
-// header.rect. InputError when a pixel holds more samples than float32 counts exactly (2^24).
+// Writes the part atomically (a killed writer leaves nothing under `path`, or the file that was
+// there). InputError when a pixel holds more samples than float32 counts exactly (2^24).
 void write_part(const std::string& path, const PixelSums& sums, const PartHeader& header);
 // Reads only the metadata; InputError naming the file when it is not a part.
 PartHeader read_part_header(const std::string& path);
-// Adds the part's sums into `sums`, whose first pixel is pixel `origin` of the image.
-void add_part(const PartHeader& header, PixelSums& sums, const Vec2i& origin);
+// Adds the part's sums into `sums` (whose rectangle must contain the part's).
+void add_part(const PartHeader& header, PixelSums& sums);
 
 }  // namespace candela

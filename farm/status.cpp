@@ -33,6 +33,7 @@ std::string task_label(const FarmTask& t) {
 // Whether the part file holds exactly what its task renders; otherwise why not.
 std::string check_part(const FarmTask& t, const PartHeader& h, const RenderIdentity& first) {
     if (std::string d = first.difference(h.identity); !d.empty()) return "belongs to another render than the other parts: " + d;
+    if (h.partial) return "was interrupted (it holds only " + format_coverage(h.coverage) + "); its task renders it again";
     ImageRect rect = t.region.empty() ? ImageRect{Vec2i(0), h.identity.image} : t.region;
     if (h.coverage.size() != 1 || h.coverage[0].rect.offset != rect.offset || h.coverage[0].rect.size != rect.size ||
         h.coverage[0].samples.begin != t.samples.begin || h.coverage[0].samples.end != t.samples.end)
@@ -86,7 +87,7 @@ std::string farm_status(const std::string& workdir) {
         }
     }
     std::string s = "farm " + workdir + ": " + std::to_string(done.size()) + " of " + std::to_string(plan.tasks.size()) + " parts done\n";
-    if (!problems.empty()) s += "parts that cannot be used (move them away and render them again):\n" + problems;
+    if (!problems.empty()) s += "parts that cannot be used (their tasks, below, render them again):\n" + problems;
     if (!missing.empty()) {
         s += "missing: task" + std::string(missing.size() > 1 ? "s " : " ") + array_spec(missing) + "\n";
         for (size_t i : missing) s += "  task " + std::to_string(i) + " (" + task_label(plan.tasks[i]) + "): " + plan.tasks[i].command + "\n";

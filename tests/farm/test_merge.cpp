@@ -13,6 +13,7 @@
 #include "analysis/image_metrics.h"
 #include "core/scene.h"
 #include "farm/merge.h"
+#include "farm/resumable_render.h"
 #include "tests/util.h"
 
 #include <catch2/catch.hpp>
@@ -66,14 +67,18 @@ struct Splitter {
 
     // Renders one part into a file, as `candela render --samples --crop` does.
     std::string part(const SampleRange& samples, const ImageRect& region) {
-        RenderResult r = render(samples, region);
-        PartHeader h;
-        h.identity = render_identity(*scene, scene_path, r.stats, r.sums.layout(), "candela render test");
-        h.rect = region.empty() ? ImageRect{Vec2i(0), h.identity.image} : region;
-        h.coverage = {CoverageBox{h.rect, samples}};
-        h.render_seconds = r.stats.seconds;
+        RenderOptions options;
+        options.spp = Spp;
+        options.seed = 11;
+        options.aovs = AllAovs;
+        ResumableRequest request;
+        request.scene_path = scene_path;
+        request.command = "candela render test";
+        request.target = CoverageBox{region.empty() ? ImageRect{Vec2i(0), scene->sensor().film().crop_size()} : region, samples};
+        ResumableResult r = render_resumable(*scene, options, request);
+        REQUIRE_FALSE(r.header.partial);
         std::string path = (dir / ("part-" + std::to_string(written++) + ".exr")).string();
-        write_part(path, r.sums, h);
+        write_part(path, r.sums, r.header);
         return path;
     }
 };
@@ -136,11 +141,19 @@ TEST_CASE("farm: the same part rendered twice is bit-identical; its sums are tho
     Image pa = read_image(a), pb = read_image(b);
     REQUIRE(pa.channels() == pb.channels());
     CHECK(pa.data() == pb.data());
-    // Only the part's samples: the sample count of each pixel is the range's length.
+    // Only the part's samples: the sample count of each pixel is the range's length, and zero on
+    // the margin around the region that its splats reach (2 pixels for the Gaussian filter).
     const int count = pa.channel_index("count.N");
     REQUIRE(count >= 0);
+    const PartHeader h = read_part_header(a);
+    CHECK(h.rect.offset == region.offset - Vec2i(2));
+    CHECK(h.rect.size == region.size + Vec2i(4));
     for (int y = 0; y < pa.height(); ++y)
-        for (int x = 0; x < pa.width(); ++x) CHECK(pa.at(x, y, count) == 7.0f);
+        for (int x = 0; x < pa.width(); ++x) {
+            const Vec2i p = h.rect.offset + Vec2i(x, y) - region.offset;
+            const bool in_region = p.x >= 0 && p.y >= 0 && p.x < region.size.x && p.y < region.size.y;
+            CHECK(pa.at(x, y, count) == (in_region ? 7.0f : 0.0f));
+        }
 }
 
 TEST_CASE("farm: merging refuses overlapping, foreign and incomplete sets, naming the files", "[farm]") {
@@ -171,7 +184,7 @@ TEST_CASE("farm: the missing pieces of crop-and-range parts are found as few box
     std::vector<CoverageBox> covered = {{ImageRect{Vec2i(0), image}, {0, 4}},
                                         {ImageRect{Vec2i(0, 0), Vec2i(11, 20)}, {4, 16}},
                                         {ImageRect{Vec2i(11, 0), Vec2i(15, 7)}, {4, 10}}};
-    std::vector<CoverageBox> missing = uncovered(covered, image, 16);
+    std::vector<CoverageBox> missing = uncovered(covered, whole_render(image, 16));
     // Right column below y = 7: samples 4:16; right column above: 10:16.
     int64_t volume = 0;
     for (const CoverageBox& b : missing) volume += int64_t(b.rect.size.x) * b.rect.size.y * (b.samples.end - b.samples.begin);
@@ -179,7 +192,12 @@ TEST_CASE("farm: the missing pieces of crop-and-range parts are found as few box
     CHECK(missing.size() == 2);
     for (const CoverageBox& b : missing)
         for (const CoverageBox& c : covered) CHECK_FALSE(overlap(b, c));
-    CHECK(uncovered({{ImageRect{Vec2i(0), image}, {0, 16}}}, image, 16).empty());
+    CHECK(uncovered({{ImageRect{Vec2i(0), image}, {0, 16}}}, whole_render(image, 16)).empty());
+    // Within a target: a part's own box.
+    const CoverageBox target{ImageRect{Vec2i(3, 4), Vec2i(10, 6)}, {2, 9}};
+    std::vector<CoverageBox> rest = uncovered({{ImageRect{Vec2i(3, 4), Vec2i(10, 6)}, {2, 5}}}, target);
+    REQUIRE(rest.size() == 1);
+    CHECK(format_coverage(rest) == "3,4,10,6@5:9");
     CHECK(format_coverage(parse_coverage("1,2,3,4@5:6;0,0,26,20@0:16")) == "1,2,3,4@5:6;0,0,26,20@0:16");
     CHECK_THROWS_AS(parse_sample_range("5:5"), InputError);
     CHECK_THROWS_AS(parse_rect("1,2,0,4"), InputError);
