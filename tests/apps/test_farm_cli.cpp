@@ -132,7 +132,7 @@ std::string wait_for_handler(int signal) {
 // float32 sums of the partial file and the grouping of additions differ (relative 1e-7 per
 // addition; bound 1e-5 as for merges). Where the interruption lands is up to the scheduler, which
 // the check does not depend on: any coverage must resume to the same image.
-TEST_CASE("farm cli: SIGTERM writes a resumable partial render; --resume gives the uninterrupted image; a checkpoint survives kill -9",
+TEST_CASE("farm cli: SIGTERM writes a resumable partial render, --resume gives the uninterrupted image, a checkpoint survives kill -9",
           "[farm][cli][interrupt]") {
     auto dir = scratch_dir("farm-cli-resume");
     const std::string options = "'" + Cbox + "' -D res=32 --spp 1024 --seed 9 --aov variance,albedo --threads 1";
@@ -159,7 +159,7 @@ TEST_CASE("farm cli: SIGTERM writes a resumable partial render; --resume gives t
     CHECK(same_render(dir / "resumed.exr", dir / "reference.exr", dir / "compare.txt"));
     INFO(read_text(dir / "compare.txt"));
     // A part of another render is refused.
-    CHECK(run_command(program("render " + options + " --seed 10 -q --resume " + q(part) + " -o " + q(dir / "x.exr")), dir / "foreign.txt") == 2);
+    CHECK(run_command(program("render '" + Cbox + "' -D res=32 --spp 1024 --seed 10 --aov variance,albedo -q --resume " + q(part) + " -o " + q(dir / "x.exr")), dir / "foreign.txt") == 2);
     CHECK_THAT(read_text(dir / "foreign.txt"), Catch::Contains("belongs to another render") && Catch::Contains("seed"));
 
     // kill -9 while a checkpoint is being written: stopped (SIGSTOP) once its temporary exists,
