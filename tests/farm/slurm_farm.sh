@@ -174,7 +174,20 @@ for _ in $(seq 1500); do
   sleep 0.05
 done
 [ "$(squeue -h -j "${render_job}_2" -o %T 2>/dev/null)" = RUNNING ] || fail "task 2 never ran"
-sleep 0.5  # the render has started
+# The task's renderer (the batch script execs it) has installed its SIGTERM handler (bit 15 of
+# SigCgt in /proc/PID/status) and rendered for a moment: cancelled at once, before the program
+# has started, it would simply die, which shows nothing about what an interrupted task leaves.
+task_pid=""
+for _ in $(seq 600); do
+  task_pid=$(pgrep -f -- "-o $tmp/work/b/parts/part-00002.exr" | head -n 1 || true)
+  if [ -n "$task_pid" ]; then
+    mask=$(awk '/^SigCgt/ {print $2}' "/proc/$task_pid/status" 2>/dev/null || true)
+    [ -n "$mask" ] && [ $(( 0x$mask >> 14 & 1 )) -ne 0 ] && break
+  fi
+  sleep 0.05
+done
+[ -n "$task_pid" ] || fail "task 2's renderer never started"
+sleep 0.5
 scancel "${render_job}_2"
 note "cancelled task ${render_job}_2"
 wait_jobs "$render_job,$merge_job"
