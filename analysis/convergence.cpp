@@ -105,20 +105,19 @@ SlopeFit fit_convergence_slope(const std::vector<CountError>& counts, const Conv
     return fit;
 }
 
-ConvergenceStudy study_convergence(const Scene& scene, const ConvergenceTarget& target, const std::vector<int>& spp_counts, uint64_t seed,
-                                   int threads, const ConvergenceCriteria& criteria,
+ConvergenceStudy study_convergence(const Scene& scene, const ConvergenceTarget& target, const std::vector<int>& spp_counts,
+                                   const RenderOptions& base, const ConvergenceCriteria& criteria,
                                    const std::function<void(const CountError&, double bias_z)>& on_count) {
     ConvergenceStudy study;
     study.bias_z = two_sided_z(sidak(criteria.alpha, int(spp_counts.size())));
     study.slope_z = two_sided_z(criteria.alpha);
     for (size_t i = 0; i < spp_counts.size(); ++i) {
-        RenderOptions o;
+        RenderOptions o = base;
         o.spp = spp_counts[i];
-        o.seed = seed + i;
-        o.threads = threads;
+        o.seed = base.seed.value_or(0) + i;
         RenderResult r = scene.integrator().render(scene, o);
         CountError c = measure_error(r.image, target);
-        c.spp = spp_counts[i];
+        c.spp = r.stats.spp;
         c.seconds = r.stats.seconds;
         study.counts.push_back(c);
         if (on_count) on_count(c, study.bias_z);

@@ -6,6 +6,7 @@
 // (-1/2 for an unbiased estimator) and the convergence plot drawn.
 
 #include "core/image.h"
+#include "core/integrator.h"
 
 #include <functional>
 #include <string>
@@ -58,12 +59,14 @@ struct ConvergenceStudy {
     std::vector<std::string> failures;  // empty when the render converges as it should
 };
 
-// Renders `scene` with its own integrator at each of `spp_counts` (count i with seed + i) and
-// judges the result: a bias is significant beyond bias_z standard errors plus a float32
-// allowance of 1e-5 relative; the slope fails when it lies outside the accepted range by more
-// than slope_z of its standard errors. `on_count` sees each count as soon as it is measured.
-ConvergenceStudy study_convergence(const Scene& scene, const ConvergenceTarget& target, const std::vector<int>& spp_counts, uint64_t seed,
-                                   int threads, const ConvergenceCriteria& criteria,
+// Renders `scene` with its own integrator at each of `spp_counts` with the options `base` (count
+// i with seed base.seed + i, or 0 + i) and judges the result: a bias is significant beyond bias_z
+// standard errors plus a float32 allowance of 1e-5 relative; the slope fails when it lies
+// outside the accepted range by more than slope_z of its standard errors. Each count's spp is
+// the one rendered (samplers may round a count up). `on_count` sees each count as soon as it is
+// measured.
+ConvergenceStudy study_convergence(const Scene& scene, const ConvergenceTarget& target, const std::vector<int>& spp_counts,
+                                   const RenderOptions& base, const ConvergenceCriteria& criteria,
                                    const std::function<void(const CountError&, double bias_z)>& on_count = nullptr);
 
 // The log-log plot of measured RMSE against spp beside the ideal N^-1/2 line through the first

@@ -59,6 +59,7 @@ private:
         }
     }
     double unary() {
+        Nesting nesting(*this);
         if (accept('-')) return -unary();
         if (accept('+')) return unary();
         return power();
@@ -69,6 +70,7 @@ private:
         return base;
     }
     double atom() {
+        Nesting nesting(*this);
         skip();
         if (accept('(')) {
             double v = sum();
@@ -98,8 +100,20 @@ private:
         return v;
     }
 
+    // Each unary sign, "^", "(" and function call recurses: bounding the depth keeps a long run
+    // of them (100000 "(") from overflowing the stack.
+    static constexpr int MaxNesting = 1000;  // signs, "^" and "(" count one or two each
+    struct Nesting {
+        explicit Nesting(Parser& p) : parser(p) {
+            if (++parser.depth_ > MaxNesting) parser.fail("nested too deeply (more than " + std::to_string(MaxNesting) + " levels of signs, powers and parentheses)");
+        }
+        ~Nesting() { --parser.depth_; }
+        Parser& parser;
+    };
+
     const std::string& s_;
     size_t i_ = 0;
+    int depth_ = 0;
 };
 
 }  // namespace

@@ -2,6 +2,7 @@
 
 #include "core/file_output.h"
 #include "core/image_draw.h"
+#include "core/text.h"
 #include "geometry2d/raster2d.h"
 
 #include <cstdio>
@@ -54,7 +55,7 @@ std::string LogLogPlot::svg() const {
     std::ostringstream o;
     o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << w << "\" height=\"" << h << "\" font-family=\"sans-serif\" font-size=\"12\">\n";
     o << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
-    o << "<text x=\"" << w / 2 << "\" y=\"22\" text-anchor=\"middle\" font-size=\"15\">" << title << "</text>\n";
+    o << "<text x=\"" << w / 2 << "\" y=\"22\" text-anchor=\"middle\" font-size=\"15\">" << escape_markup(title) << "</text>\n";
     for (int e = int(rx.lo); e <= int(rx.hi); ++e) {
         double x = px(std::pow(10.0, e));
         o << "<line x1=\"" << x << "\" y1=\"" << Top << "\" x2=\"" << x << "\" y2=\"" << Top + ph << "\" stroke=\"#ddd\"/>\n";
@@ -66,8 +67,8 @@ std::string LogLogPlot::svg() const {
         o << "<text x=\"" << Left - 6 << "\" y=\"" << y + 4 << "\" text-anchor=\"end\">10<tspan dy=\"-6\" font-size=\"9\">" << e << "</tspan></text>\n";
     }
     o << "<rect x=\"" << Left << "\" y=\"" << Top << "\" width=\"" << pw << "\" height=\"" << ph << "\" fill=\"none\" stroke=\"black\"/>\n";
-    o << "<text x=\"" << Left + pw / 2 << "\" y=\"" << h - 12 << "\" text-anchor=\"middle\">" << x_label << "</text>\n";
-    o << "<text x=\"16\" y=\"" << Top + ph / 2 << "\" text-anchor=\"middle\" transform=\"rotate(-90 16 " << Top + ph / 2 << ")\">" << y_label << "</text>\n";
+    o << "<text x=\"" << Left + pw / 2 << "\" y=\"" << h - 12 << "\" text-anchor=\"middle\">" << escape_markup(x_label) << "</text>\n";
+    o << "<text x=\"16\" y=\"" << Top + ph / 2 << "\" text-anchor=\"middle\" transform=\"rotate(-90 16 " << Top + ph / 2 << ")\">" << escape_markup(y_label) << "</text>\n";
     int legend_y = Top + 10;
     for (const auto& s : series) {
         std::ostringstream pts;
@@ -80,7 +81,7 @@ std::string LogLogPlot::svg() const {
                 if (s.x[i] > 0 && s.y[i] > 0) o << "<circle cx=\"" << px(s.x[i]) << "\" cy=\"" << py(s.y[i]) << "\" r=\"3.5\" fill=\"" << rgb(s.color) << "\"/>\n";
         o << "<line x1=\"" << Left + pw + 10 << "\" y1=\"" << legend_y << "\" x2=\"" << Left + pw + 30 << "\" y2=\"" << legend_y << "\" stroke=\"" << rgb(s.color)
           << "\" stroke-width=\"2\"" << (s.dashed ? " stroke-dasharray=\"6,4\"" : "") << "/>\n";
-        o << "<text x=\"" << Left + pw + 34 << "\" y=\"" << legend_y + 4 << "\">" << s.label << "</text>\n";
+        o << "<text x=\"" << Left + pw + 34 << "\" y=\"" << legend_y + 4 << "\">" << escape_markup(s.label) << "</text>\n";
         legend_y += 18;
     }
     o << "</svg>\n";

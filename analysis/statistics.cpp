@@ -36,6 +36,67 @@ double gamma_q(double a, double x) {
     return std::exp(-x + a * std::log(x) - gln) * h;
 }
 
+namespace {
+// The continued fraction of I_x(a, b), evaluated where it converges fast (x < (a + 1) / (a + b + 2)).
+double beta_continued_fraction(double a, double b, double x) {
+    const double tiny = 1e-300;
+    double qab = a + b, qap = a + 1.0, qam = a - 1.0;
+    double c = 1.0, d = 1.0 - qab * x / qap;
+    if (std::abs(d) < tiny) d = tiny;
+    d = 1.0 / d;
+    double h = d;
+    for (int m = 1; m < 10000; ++m) {
+        int m2 = 2 * m;
+        double aa = m * (b - m) * x / ((qam + m2) * (a + m2));
+        d = 1.0 + aa * d;
+        if (std::abs(d) < tiny) d = tiny;
+        c = 1.0 + aa / c;
+        if (std::abs(c) < tiny) c = tiny;
+        d = 1.0 / d;
+        h *= d * c;
+        aa = -(a + m) * (qab + m) * x / ((a + m2) * (qap + m2));
+        d = 1.0 + aa * d;
+        if (std::abs(d) < tiny) d = tiny;
+        c = 1.0 + aa / c;
+        if (std::abs(c) < tiny) c = tiny;
+        d = 1.0 / d;
+        double del = d * c;
+        h *= del;
+        if (std::abs(del - 1.0) < 1e-15) break;
+    }
+    return h;
+}
+}  // namespace
+
+double incomplete_beta(double a, double b, double x) {
+    if (x <= 0.0) return 0.0;
+    if (x >= 1.0) return 1.0;
+    double front = std::exp(std::lgamma(a + b) - std::lgamma(a) - std::lgamma(b) + a * std::log(x) + b * std::log1p(-x));
+    if (x < (a + 1.0) / (a + b + 2.0)) return front * beta_continued_fraction(a, b, x) / a;
+    return 1.0 - front * beta_continued_fraction(b, a, 1.0 - x) / b;
+}
+
+double student_t_two_sided_p(double t, double dof) {
+    if (!(dof > 0.0)) return 1.0;
+    return incomplete_beta(0.5 * dof, 0.5, dof / (dof + t * t));
+}
+
+WelchResult welch_test(const std::vector<double>& a, const std::vector<double>& b) {
+    WelchResult r;
+    MeanAndError ma = mean_and_error(a), mb = mean_and_error(b);
+    double va = ma.std_error * ma.std_error, vb = mb.std_error * mb.std_error, v = va + vb;
+    double diff = ma.mean - mb.mean;
+    if (!(v > 0.0)) {
+        r.p_value = diff == 0.0 ? 1.0 : 0.0;
+        return r;
+    }
+    r.t = diff / std::sqrt(v);
+    double na = double(a.size()), nb = double(b.size());
+    r.dof = v * v / (va * va / (na - 1.0) + vb * vb / (nb - 1.0));
+    r.p_value = student_t_two_sided_p(r.t, r.dof);
+    return r;
+}
+
 double chi2_survival(double chi2, int dof) { return dof > 0 ? gamma_q(0.5 * dof, 0.5 * chi2) : 1.0; }
 
 double sidak(double alpha, int tests) { return 1.0 - std::pow(1.0 - alpha, 1.0 / std::max(tests, 1)); }

@@ -15,6 +15,21 @@ namespace candela {
 double gamma_q(double a, double x);
 // P(X >= chi2) for a chi-square variable with `dof` degrees of freedom.
 double chi2_survival(double chi2, int dof);
+// Regularised incomplete beta function I_x(a, b) (continued fraction by modified Lentz; Press et
+// al., Numerical Recipes, section 6.4).
+double incomplete_beta(double a, double b, double x);
+// P(|T| >= |t|) for Student's t with `dof` (not necessarily integer) degrees of freedom: the
+// two-sided p-value of a t statistic.
+double student_t_two_sided_p(double t, double dof);
+
+// Welch's test that two sets of independent estimates share their mean: the t statistic, the
+// Welch-Satterthwaite degrees of freedom and the two-sided p-value. Needs two or more values in
+// each set; a set without spread against one without spread gives p = 1 when the means are
+// equal and 0 otherwise.
+struct WelchResult {
+    double t = 0.0, dof = 0.0, p_value = 1.0;
+};
+WelchResult welch_test(const std::vector<double>& a, const std::vector<double>& b);
 // The per-test significance that keeps the family-wise error rate at `alpha` over `tests`
 // independent tests (Sidak): 1 - (1 - alpha)^(1 / tests).
 double sidak(double alpha, int tests);

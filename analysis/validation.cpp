@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 #include "core/scene.h"
+#include "core/text.h"
 #include "core/xml.h"
 
 #include <algorithm>
@@ -32,7 +33,7 @@ std::string base64(const std::string& bytes) {
 }
 
 std::string img_tag(const std::string& png, const std::string& alt) {
-    return "<img alt=\"" + alt + "\" src=\"data:image/png;base64," + base64(png) + "\">";
+    return "<img alt=\"" + escape_markup(alt) + "\" src=\"data:image/png;base64," + base64(png) + "\">";
 }
 
 std::string fmt(const char* f, double v) {
@@ -50,6 +51,10 @@ void add_cases(const fs::path& scenes, const fs::path& refs, std::vector<Validat
         if (p.extension() == ".xml" && fs::exists(ref)) cases.push_back({p.stem().string(), p.string(), ref.string()});
     }
 }
+
+// Sections are named by their position, not by the scene's file name (which may hold any
+// character); every name and reason in the report goes through escape_markup.
+std::string section_id(size_t index) { return "scene-" + std::to_string(index + 1); }
 
 void write_head(std::ostringstream& o) {
     o << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>Candela validation report</title>\n<style>\n"
@@ -72,8 +77,9 @@ void write_summary(std::ostringstream& o, const std::vector<SceneValidation>& sc
          "heavy-tailed, and a sample variance cannot see rare bright paths that its samples missed, so between two correct renderers it rejects "
          "more often than its nominal level (the fraction beyond |z| = 3 would be 0.27% for Gaussian noise).</p>\n";
     o << "<table><tr><th>scene</th><th>verdict</th><th>spp</th><th>mean R</th><th>mean G</th><th>mean B</th><th>block MARE</th><th>z-test rejections</th><th>max |z|</th><th>time</th></tr>\n";
-    for (const auto& s : scenes) {
-        o << "<tr><td class=\"name\"><a href=\"#" << s.name << "\">" << s.name << "</a></td><td class=\"" << (s.pass ? "pass\">pass" : "fail\">FAIL") << "</td><td>"
+    for (size_t i = 0; i < scenes.size(); ++i) {
+        const SceneValidation& s = scenes[i];
+        o << "<tr><td class=\"name\"><a href=\"#" << section_id(i) << "\">" << escape_markup(s.name) << "</a></td><td class=\"" << (s.pass ? "pass\">pass" : "fail\">FAIL") << "</td><td>"
           << s.spp << "</td>";
         for (int c = 0; c < 3; ++c) o << "<td>" << fmt("%+.3f%%", 100.0 * s.metrics.mean_relative_difference[c]) << "</td>";
         o << "<td>" << fmt("%.3f%%", 100.0 * s.metrics.block_mare) << "</td><td>" << s.z.rejected << " / " << s.z.tested << "</td><td>" << fmt("%.2f", s.z.max_abs_z)
@@ -82,9 +88,9 @@ void write_summary(std::ostringstream& o, const std::vector<SceneValidation>& sc
     o << "</table>\n";
 }
 
-void write_scene_section(std::ostringstream& o, const SceneValidation& s) {
-    o << "<section id=\"" << s.name << "\"><h2>" << s.name << " <span class=\"" << (s.pass ? "pass\">pass" : "fail\">FAIL") << "</span></h2>\n";
-    if (!s.pass) o << "<p class=\"fail\">" << s.reason << "</p>\n";
+void write_scene_section(std::ostringstream& o, const SceneValidation& s, size_t index) {
+    o << "<section id=\"" << section_id(index) << "\"><h2>" << escape_markup(s.name) << " <span class=\"" << (s.pass ? "pass\">pass" : "fail\">FAIL") << "</span></h2>\n";
+    if (!s.pass) o << "<p class=\"fail\">" << escape_markup(s.reason) << "</p>\n";
     o << "<figure>" << img_tag(s.render_png, s.name + " rendered by Candela") << "<figcaption>Candela, " << s.spp << " spp</figcaption></figure>\n";
     o << "<figure>" << img_tag(s.reference_png, s.name + " reference") << "<figcaption>reference</figcaption></figure>\n";
     o << "<figure>" << img_tag(s.heatmap_png, s.name + " relative difference") << "<figcaption>relative luminance difference (Candela - reference) / reference</figcaption></figure>\n";
@@ -130,6 +136,7 @@ SceneValidation validate_scene(const ValidationCase& c, const ValidationSettings
     Image reference = read_image(c.reference_path);
     RenderOptions o;
     o.spp = settings.spp;
+    o.sampler = settings.sampler;
     o.threads = settings.threads;
     o.aovs = {"variance"};
     RenderResult result = scene->integrator().render(*scene, o);
@@ -150,7 +157,7 @@ std::string validation_report_html(const std::vector<SceneValidation>& scenes, c
     std::ostringstream o;
     write_head(o);
     write_summary(o, scenes, settings);
-    for (const auto& s : scenes) write_scene_section(o, s);
+    for (size_t i = 0; i < scenes.size(); ++i) write_scene_section(o, scenes[i], i);
     o << "</body></html>\n";
     return o.str();
 }

@@ -22,6 +22,7 @@ std::vector<ValidationCase> find_validation_cases(const std::string& dir);
 
 struct ValidationSettings {
     int spp = 0;               // 0: each scene's own sample count
+    std::string sampler;       // "" : each scene's own sampler
     int reference_spp = 2048;  // the references' sample count, for their variance in the z-test
     int threads = 0;
     AgreementThresholds thresholds;

@@ -3,6 +3,7 @@
 // returns the process exit code: 0 success, 1 a check that failed (compare, validate, converge),
 // 2 bad input (scene errors name file:line), 130 interrupted.
 
+#include "core/integrator.h"
 #include "core/math.h"
 #include "core/xml.h"
 #include "integrators/raster/raster.h"
@@ -41,6 +42,12 @@ struct RasterOptionArgs {
     // Applies the given options; InputError for an invalid value.
     void apply(RasterSettings& settings) const;
 };
+
+// --sampler NAME (any registered sampler plugin, checked when parsing) and the adaptive sampling
+// options (--adaptive-threshold, --adaptive-min-spp, --adaptive-step), for the commands that
+// render with RenderOptions.
+void add_sampler_option(CLI::App* cmd, std::string& sampler);
+void add_adaptive_options(CLI::App* cmd, AdaptiveSampling& adaptive);
 
 // Shared by the commands: -D name=value pairs, and "x,y,z" triples (InputError when malformed).
 SceneParameters parse_defines(const std::vector<std::string>& defines);

@@ -13,6 +13,7 @@
 #include "core/error.h"
 #include "core/scene.h"
 #include "farm/plan.h"
+#include "farm/resumable_render.h"
 #include "farm/shell.h"
 #include "farm/status.h"
 
@@ -62,11 +63,15 @@ FarmRequest make_request(const FarmArgs& a) {
     r.aovs = a.aovs;
     AovLayout check_names(a.aovs);
     Ref<Scene> scene = load_scene(a.scene, parse_defines(a.defines));
-    if (!scene->integrator().renders_parts())
-        throw InputError("the " + scene->integrator().to_string() + " integrator cannot render parts; a farm needs one that can (path, irradiance, ...)");
-    const Sampler& sampler = scene->sensor().sampler();
-    r.spp = a.spp > 0 ? a.spp : sampler.sample_count();
-    r.seed = a.seed >= 0 ? uint64_t(a.seed) : sampler.seed();
+    if (std::string reason = scene->integrator().parts_refusal(); !reason.empty())
+        throw InputError("the " + scene->integrator().to_string() + " integrator cannot render parts: " + reason +
+                         "; a farm needs one that can (path, direct, ao, irradiance, ...)");
+    RenderOptions options;  // spp and seed as the parts' renders resolve them (a sampler may round spp up)
+    options.spp = a.spp;
+    if (a.seed >= 0) options.seed = uint64_t(a.seed);
+    const RenderStats planned = planned_render(*scene, options);
+    r.spp = planned.spp;
+    r.seed = planned.seed;
     r.image = scene->sensor().film().crop_size();
     r.parts = a.parts;
     if (std::sscanf(a.regions.c_str(), "%dx%d", &r.regions.x, &r.regions.y) != 2) throw InputError("--regions expects CxR, got \"" + a.regions + "\"");

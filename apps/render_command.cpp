@@ -1,20 +1,27 @@
 // candela render SCENE.xml -o OUT.exr [--spp N] [-D k=v]... [--threads N] [--seed S] [--png]
-//                [--quiet] [--aov albedo,normal,depth,variance] [--samples START:END] [--crop x,y,w,h]
-//                [--resume PARTIAL.exr] [--checkpoint MINUTES]
+//                [--quiet] [--aov albedo,normal,depth,variance,samples] [--sampler NAME]
+//                [--adaptive-threshold T [--adaptive-min-spp N] [--adaptive-step N]] [--max-memory SIZE]
+//                [--samples START:END] [--crop x,y,w,h] [--resume PARTIAL.exr] [--checkpoint MINUTES]
 // With --samples or --crop it renders one part of a split render (farm/part_file.h), which
 // `candela merge` adds up with the others. Ctrl-C or SIGTERM stops a render and writes what it has
-// as a part marked partial; --resume continues it, --checkpoint writes one every MINUTES.
+// as a part marked partial; --resume continues it, --checkpoint writes one every MINUTES. Renders
+// that cannot be split (adaptive sampling, integrators that are not pixel loops) write their image
+// as it is when stopped, marked partial.
 
 #include "apps/commands.h"
 
 #include "core/integrator.h"
+#include "core/memory_budget.h"
 #include "core/progress.h"
+#include "core/registry.h"
+#include "core/warning.h"
 #include "apps/render_output.h"
 #include "core/xml.h"
 #include "integrators/path.h"
 #include "integrators/raster/raster.h"
 #include "farm/coverage.h"
 #include "farm/part_file.h"
+#include "farm/plan.h"
 #include "farm/resumable_render.h"
 #include "farm/shell.h"
 
@@ -42,7 +49,8 @@ void on_stop_signal(int signal) {
 }
 
 struct RenderArgs {
-    std::string scene, output, mode;
+    std::string scene, output, mode, max_memory, sampler;
+    AdaptiveSampling adaptive;
     RasterOptionArgs raster;
     int spp = 0, threads = 0;
     int64_t seed = -1;
@@ -58,16 +66,16 @@ struct RenderArgs {
 // The command that renders this scene again, as every part of the split render records it: the
 // options that change the image, with spp and seed spelled out.
 std::string repeat_command(const RenderArgs& a, const RenderStats& stats) {
-    std::vector<std::string> words = {program_path(), "render", std::filesystem::absolute(a.scene).string(), "--spp", std::to_string(stats.spp),
-                                      "--seed", std::to_string(stats.seed)};
-    for (const std::string& d : a.defines) words.insert(words.end(), {"-D", d});
-    if (!a.aovs.empty()) {
-        std::string list;
-        for (const std::string& v : a.aovs) list += (list.empty() ? "" : ",") + v;
-        words.insert(words.end(), {"--aov", list});
-    }
-    if (!a.mode.empty()) words.insert(words.end(), {"--mode", a.mode});
-    return shell_join(words);
+    FarmRequest r;
+    r.candela = program_path();
+    r.scene = std::filesystem::absolute(a.scene).string();
+    r.spp = stats.spp;
+    r.seed = stats.seed;
+    r.defines = a.defines;
+    r.aovs = a.aovs;
+    r.sampler = a.sampler;
+    r.mode = a.mode;
+    return shell_join(render_words(r));
 }
 
 // What the render renders: --crop's pixels (default all) times --samples (default [0, spp)).
@@ -95,6 +103,26 @@ std::string resume_command(const RenderArgs& a, const std::string& repeat, const
     return cmd + " --resume " + shell_quote(output) + " -o " + shell_quote(output);
 }
 
+// Why this render cannot be split, resumed or checkpointed (the integrator's reason, or adaptive
+// sampling's).
+std::string parts_refusal(const Scene& scene, const RenderOptions& options) {
+    const std::string what = "cannot render a part (--samples, --crop), resume or checkpoint: ";
+    if (std::string reason = scene.integrator().parts_refusal(); !reason.empty())
+        return "the " + scene.integrator().to_string() + " integrator " + what + reason;
+    return "adaptive sampling (--adaptive-threshold) " + what + "whether a pixel takes a sample depends on its earlier samples and " +
+           "on its neighbours', which a part does not have; render the whole image";
+}
+
+// The lines every render prints after writing: --spp rounded by the sampler, the summary, the
+// dropped non-finite samples.
+void report_render(const RenderArgs& a, const RenderStats& stats, const std::string& output, const char* suffix) {
+    if (a.spp > 0 && stats.spp != a.spp && !stats.single_frame)
+        warn(SourceLocation{}, "--spp " + std::to_string(a.spp) + " rounded up to " + std::to_string(stats.spp) + " by the " + stats.sampler +
+                                   " sampler");
+    if (!a.quiet) std::cerr << render_summary(stats, output) << suffix << "\n";
+    if (stats.nonfinite > 0) std::cerr << "warning: " << stats.nonfinite << " samples were NaN or infinite and were dropped\n";
+}
+
 // A Monte Carlo render through the sums (farm/resumable_render.h): the image when it is whole and
 // not a part, else a part (a farm part, or an interrupted render to continue).
 int render_with_sums(const RenderArgs& a, const Scene& scene, RenderOptions options, const std::string& output, const std::string& png) {
@@ -119,8 +147,7 @@ int render_with_sums(const RenderArgs& a, const Scene& scene, RenderOptions opti
     } else {
         write_part(output, r.sums, r.header);
     }
-    if (!a.quiet) std::cerr << render_summary(r.stats, output) << (a.part() ? " (part)" : "") << "\n";
-    if (r.stats.nonfinite > 0) std::cerr << "warning: " << r.stats.nonfinite << " samples were NaN or infinite and were dropped\n";
+    report_render(a, r.stats, output, a.part() ? " (part)" : "");
     if (r.header.partial) {
         std::cerr << (r.interrupted ? "interrupted: " : "") << "wrote the partial render (a part holding "
                   << format_coverage(r.header.coverage) << ") to " << output << "; continue it with:\n  "
@@ -130,13 +157,14 @@ int render_with_sums(const RenderArgs& a, const Scene& scene, RenderOptions opti
     return ExitOk;
 }
 
-// A render whose integrator keeps no sums (the rasterizer): the image as it comes.
+// A render that keeps no sums (the rasterizer, particle tracers, adaptive sampling): the image as
+// it comes.
 int render_frame(const RenderArgs& a, const Scene& scene, const RenderOptions& options, const std::string& output, const std::string& png) {
     RenderResult result = scene.integrator().render(scene, options);
     annotate_render(result, scene, a.scene);
     write_exr(result.image, output, scene.sensor().film().float32());
     if (a.png) write_png_display(scene.integrator().preview(result.image), png);
-    if (!a.quiet) std::cerr << render_summary(result.stats, output) << "\n";
+    report_render(a, result.stats, output, "");
     if (result.stats.partial) {
         std::cerr << "interrupted: wrote the partial image to " << output << "\n";
         return 128 + (g_signal.load() ? g_signal.load() : SIGINT);
@@ -160,6 +188,21 @@ void apply_mode(Scene& scene, const RenderArgs& a) {
 }
 
 }  // namespace
+
+void add_sampler_option(CLI::App* cmd, std::string& sampler) {
+    cmd->add_option("--sampler", sampler, "Sampler to use instead of the scene's, with its sample count and seed")
+        ->check(CLI::IsMember(plugin_names(ObjectKind::Sampler)));
+}
+
+void add_adaptive_options(CLI::App* cmd, AdaptiveSampling& adaptive) {
+    auto* threshold = cmd->add_option("--adaptive-threshold", adaptive.threshold,
+                                      "Adaptive sampling: stop a pixel once its noise estimate is below this (Cycles' noise threshold, e.g. 0.01; default off)")
+                          ->check(CLI::PositiveNumber);
+    cmd->add_option("--adaptive-min-spp", adaptive.min_spp, "Adaptive sampling: samples before a pixel's first check (default max(16, spp/16), a power of two)")
+        ->check(CLI::PositiveNumber)
+        ->needs(threshold);
+    cmd->add_option("--adaptive-step", adaptive.step, "Adaptive sampling: samples between checks (default: the minimum)")->check(CLI::PositiveNumber)->needs(threshold);
+}
 
 Vec3 parse_triple(const std::string& text, const std::string& option) {
     Vec3 v;
@@ -200,7 +243,12 @@ void add_render_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("--seed", args->seed, "Random seed (default: the sampler's)")->check(CLI::NonNegativeNumber);
     cmd->add_flag("--png", args->png, "Also write a tonemapped sRGB PNG beside the EXR");
     cmd->add_flag("--quiet,-q", args->quiet, "No progress bar and no summary line");
-    cmd->add_option("--aov", args->aovs, "Extra EXR layers: albedo, normal, depth, variance")->delimiter(',');
+    cmd->add_option("--aov", args->aovs, "Extra EXR layers: albedo, normal, depth, variance, samples")->delimiter(',');
+    add_sampler_option(cmd, args->sampler);
+    add_adaptive_options(cmd, args->adaptive);
+    cmd->add_option("--max-memory", args->max_memory,
+                    "Stop at once (exit code 2) when the film, meshes or other buffers would need more than SIZE (e.g. 4G, 512M); "
+                    "the machine's available memory is always a limit");
     cmd->add_option("--samples", args->samples, "Render only sample indices START:END of every pixel, as one part for `candela merge`");
     cmd->add_option("--crop", args->crop, "Render only the image region x,y,width,height (pixels), as one part for `candela merge`");
     cmd->add_option("--resume", args->resume, "Continue the render that wrote this partial EXR (after Ctrl-C, SIGTERM or a checkpoint)");
@@ -211,6 +259,7 @@ void add_render_command(CLI::App& app, std::function<int()>& run) {
     cmd->callback([args, &run] {
         run = [args] {
             SceneParameters params = parse_defines(args->defines);
+            if (!args->max_memory.empty()) set_memory_limit(parse_memory_size(args->max_memory));
             std::string output = args->output.empty() ? default_output_for(args->scene, ".exr") : args->output;
             std::string png = std::filesystem::path(output).replace_extension(".png").string();
             check_output_path(output);
@@ -232,10 +281,11 @@ void add_render_command(CLI::App& app, std::function<int()>& run) {
             options.progress = !args->quiet && stderr_is_terminal();
             options.interrupt = &g_interrupted;
             options.aovs = args->aovs;
-            const bool sums = scene->integrator().renders_parts();
+            options.sampler = args->sampler;
+            options.adaptive = args->adaptive;
+            const bool sums = scene->integrator().renders_parts() && !options.adaptive.enabled();
             if (!sums && (args->part() || !args->resume.empty() || args->checkpoint_minutes > 0.0))
-                throw InputError("the " + scene->integrator().to_string() + " integrator renders one frame: it cannot render a part " +
-                                 "(--samples, --crop), resume or checkpoint");
+                throw InputError(parts_refusal(*scene, options));
             int code = sums ? render_with_sums(*args, *scene, options, output, png) : render_frame(*args, *scene, options, output, png);
             std::signal(SIGINT, previous_int);
             std::signal(SIGTERM, previous_term);

@@ -1,4 +1,4 @@
-// candela validate DIR [--spp N] [-o report.html] [--reference-spp 2048]
+// candela validate DIR [--spp N] [--sampler NAME] [-o report.html] [--reference-spp 2048]
 //
 // Renders every scene NAME.xml in DIR (or in DIR/scenes, the layout of the shared validation set)
 // that has a reference DIR/refs/NAME.exr, compares them by the validation criteria (channel
@@ -56,6 +56,7 @@ void add_validate_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("dir", a->dir, "Directory with NAME.xml (or scenes/NAME.xml) scenes and refs/NAME.exr references")->required();
     cmd->add_option("-o,--output", a->report, "HTML report to write (default validation-report.html)");
     cmd->add_option("--spp", s.spp, "Samples per pixel (default: each scene's own)")->check(CLI::PositiveNumber);
+    add_sampler_option(cmd, s.sampler);
     cmd->add_option("--reference-spp", s.reference_spp, "Samples per pixel of the references, for their variance (default 2048)")->check(CLI::PositiveNumber);
     cmd->add_option("--mean-tolerance", s.thresholds.mean, "Channel mean tolerance (default 0.01)")->check(CLI::PositiveNumber);
     cmd->add_option("--block-tolerance", s.thresholds.block, "Block luminance tolerance (default 0.02)")->check(CLI::PositiveNumber);

@@ -38,6 +38,6 @@ for n in 1 4 16; do
   printf "N = %2d: parts + merge %8.2f s CPU (%.3fx one render); merge %.2f s, %d kB peak; part file %d kB; %s\n" \
     "$n" "$total" "$(echo "$total / $single" | bc -l)" "$merge_cpu" "$merge_rss" "$((part_bytes / 1024))" "$same"
 done
-# Memory: the merge holds the image's sums (4 doubles per pixel, plus 14 doubles of pixel
-# statistics with AOVs) and one part (float32 channels) at a time.
-echo "sums of one image: $((res * res * (4 + 14) * 8 / 1024)) kB; a part in memory: $((res * res * 16 * 4 / 1024)) kB"
+# Memory: the merge holds the image's sums (4 doubles per pixel for R, G, B and the weight, plus
+# 152 bytes of pixel statistics with AOVs) and one part (float32 channels) at a time.
+echo "sums of one image: $((res * res * (4 * 8 + 152) / 1024)) kB; a part in memory: $((res * res * 16 * 4 / 1024)) kB"

@@ -5,8 +5,12 @@
 // On one scene and one thread count it reports (1) raw Embree closest-hit throughput on
 // incoherent rays (random points inside the scene's bounds, uniformly random directions),
 // (2) the path tracer's rays per second and samples per second on the same scene, and (3) the
-// ratio of the two. It prints figures and asserts nothing.
+// ratio of the two. A second render of the same scene is sampled by a profiling timer (SIGPROF
+// every millisecond of CPU time) to give (4) the share of the path tracer's time spent inside
+// Embree, and from it the rate at which Embree traces the path tracer's own rays. It prints
+// figures and asserts nothing.
 
+#include "core/profiling.h"
 #include "core/rng.h"
 #include "core/warp.h"
 #include "core/xml.h"
@@ -14,12 +18,42 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <sys/time.h>
+
+#include <atomic>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <string>
 
 using namespace candela;
+
+namespace {
+
+std::atomic<long> g_samples_inside{0}, g_samples_total{0};
+
+void on_profile_tick(int) {
+    if (thread_inside_embree()) g_samples_inside.fetch_add(1, std::memory_order_relaxed);
+    g_samples_total.fetch_add(1, std::memory_order_relaxed);
+}
+
+// Renders with a profiling timer running; the fraction of its ticks that found the interrupted
+// thread inside an Embree query. A separate render, so the timer does not slow the timed one.
+double embree_share(const Scene& scene, const RenderOptions& options) {
+    struct sigaction action = {};
+    action.sa_handler = on_profile_tick;
+    sigemptyset(&action.sa_mask);
+    action.sa_flags = SA_RESTART;
+    sigaction(SIGPROF, &action, nullptr);
+    itimerval tick = {{0, 1000}, {0, 1000}}, off = {};
+    setitimer(ITIMER_PROF, &tick, nullptr);
+    scene.integrator().render(scene, options);
+    setitimer(ITIMER_PROF, &off, nullptr);
+    return double(g_samples_inside.load()) / double(std::max(1L, g_samples_total.load()));
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
     std::string scene_path = std::string(CANDELA_SOURCE_DIR) + "/scenes/cbox.xml";
@@ -78,5 +112,8 @@ int main(int argc, char** argv) {
     std::printf("path tracer Mrays/s       %.2f\n", path_mrays);
     std::printf("path tracer samples/s     %.0f\n", samples_per_s);
     std::printf("ratio path/embree Mrays   %.3f\n", path_mrays / embree_mrays);
+    double share = embree_share(*scene, options);
+    std::printf("share of time inside Embree %.1f%% (%ld profiler ticks)\n", 100.0 * share, g_samples_total.load());
+    std::printf("embree Mrays/s on its rays  %.2f (path tracer rays / time inside Embree)\n", path_mrays / share);
     return 0;
 }

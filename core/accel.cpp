@@ -2,13 +2,17 @@
 
 #include "core/error.h"
 #include "core/integrator.h"
+#include "core/profiling.h"
 
+#include <csignal>
 #include <cstdio>
 
 namespace candela {
 
 namespace {
 thread_local uint64_t g_rays_traced = 0;
+// Set around each Embree query; volatile so that a signal handler on this thread sees it.
+thread_local volatile sig_atomic_t g_inside_embree = 0;
 
 void embree_error(void*, RTCError code, const char* message) {
     if (code != RTC_ERROR_NONE) std::fprintf(stderr, "embree error %d: %s\n", int(code), message ? message : "");
@@ -16,6 +20,7 @@ void embree_error(void*, RTCError code, const char* message) {
 }  // namespace
 
 uint64_t thread_ray_count() { return g_rays_traced; }
+bool thread_inside_embree() { return g_inside_embree != 0; }
 
 Accel::Accel() : owns_device_(true) {
     device_ = rtcNewDevice(nullptr);
@@ -75,7 +80,9 @@ const Shape* Accel::intersect(const Ray& ray, RayHit& hit) const {
     rh.ray.flags = 0;
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    g_inside_embree = 1;
     rtcIntersect1(scene_, &context, &rh);
+    g_inside_embree = 0;
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return nullptr;
     hit.t = rh.ray.tfar;
     hit.u = rh.hit.u;
@@ -106,7 +113,9 @@ bool Accel::occluded(const Ray& ray) const {
     r.mask = 0xFFFFFFFFu;
     r.id = 0;
     r.flags = 0;
+    g_inside_embree = 1;
     rtcOccluded1(scene_, &context, &r);
+    g_inside_embree = 0;
     return r.tfar < 0.0f;  // Embree sets tfar to -inf on a hit
 }
 

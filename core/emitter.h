@@ -1,7 +1,8 @@
 #pragma once
 // The emitter interface. `sample_direction` picks a point on (or a direction toward) the
-// emitter as seen from a reference point; `eval` is the radiance leaving the emitter toward a
-// viewer; `power` guides light selection. Area emitters emit on the front side only.
+// emitter as seen from a reference point; `sample_ray` starts a light path (a position and a
+// direction of emission); `eval` is the radiance leaving the emitter toward a viewer; `power`
+// guides light selection. Area emitters emit on the front side only.
 
 #include "core/object.h"
 #include "core/shape.h"
@@ -28,6 +29,23 @@ struct LightBounds {
     bool two_sided = false;
 };
 
+// A ray of emitted light, sampled by position and direction (Mitsuba's Emitter::sample_ray,
+// pbrt-v4's SampleLe), to start the light paths of particle tracing and photon mapping.
+struct EmitterRay {
+    Ray ray;                  // starts exactly on the emitter (not offset); unit direction
+    Vec3 n{0.0f};             // the emitter's normal at the origin (zero for point and infinite emitters)
+    float p_error = 0.0f;     // bound on the error of each coordinate of the origin
+    Vec2 uv{0.0f};            // surface uv of the origin (area emitters)
+    float pdf_position = 0.0f;   // per unit area (1 for a delta in position; infinite emitters:
+                                 // per unit area of the disk the rays start from)
+    float pdf_direction = 0.0f;  // per unit solid angle (1 for a delta in direction)
+    bool delta_position = false, delta_direction = false;
+    // Le |cos| / (pdf_position pdf_direction): the flux this ray carries, in W. Its mean over the
+    // samples is power(); infinite emitters send their flux through the scene's bounding disk.
+    Spectrum weight{0.0f};
+    bool valid() const { return pdf_position > 0.0f && pdf_direction > 0.0f; }
+};
+
 class Emitter : public Object {
 public:
     ObjectKind kind() const override { return ObjectKind::Emitter; }
@@ -44,6 +62,13 @@ public:
     virtual Spectrum eval_environment(const Vec3& d) const { return Spectrum(0.0f); }
     // Emitted flux in W (approximate where exact is costly); used to pick lights.
     virtual Spectrum power() const = 0;
+    // A ray leaving the emitter: the origin from `u_position`, the direction from `u_direction`.
+    // A failed sample is not valid().
+    virtual EmitterRay sample_ray(const Vec2& u_position, const Vec2& u_direction) const = 0;
+    // The factor on the flux of a sample_ray ray where it first meets a surface at distance
+    // `dist`: 1 for physical emitters; point and spot lights with the lecture's distance
+    // attenuation give d^2 / (a0 + a1 d + a2 d^2), the ratio of their law to the inverse square.
+    virtual float ray_attenuation(float dist) const { return 1.0f; }
     // The rasterizer's local-model view (core/local_model.h); delta lights have none (the
     // rasterizer evaluates them exactly through sample_direction), nor do emitters it ignores.
     virtual std::optional<LocalApproximation> local_approximation() const;

@@ -6,6 +6,31 @@ namespace fs = std::filesystem;
 
 namespace candela {
 
+namespace {
+std::vector<fs::path>& confinement() {
+    static std::vector<fs::path> folders;
+    return folders;
+}
+
+// Whether `p` lies inside one of the confinement folders (always, without a confinement).
+bool allowed(const fs::path& p) {
+    if (confinement().empty()) return true;
+    std::error_code ec;
+    fs::path real = fs::weakly_canonical(p, ec);
+    if (ec) return false;
+    for (const fs::path& folder : confinement()) {
+        auto [f, r] = std::mismatch(folder.begin(), folder.end(), real.begin(), real.end());
+        if (f == folder.end()) return true;
+    }
+    return false;
+}
+}  // namespace
+
+void FileResolver::confine_to(const std::vector<fs::path>& folders) {
+    confinement().clear();
+    for (const fs::path& folder : folders) confinement().push_back(fs::canonical(folder));
+}
+
 void FileResolver::prepend(const fs::path& folder) {
     folders_.erase(std::remove(folders_.begin(), folders_.end(), folder), folders_.end());
     folders_.insert(folders_.begin(), folder);
@@ -19,10 +44,10 @@ void FileResolver::append(const fs::path& folder) {
 template <typename Test> std::optional<fs::path> FileResolver::find(const std::string& name, Test test) const {
     fs::path p(name);
     std::error_code ec;
-    if (p.is_absolute()) return test(p, ec) ? std::optional<fs::path>(p) : std::nullopt;
+    if (p.is_absolute()) return test(p, ec) && allowed(p) ? std::optional<fs::path>(p) : std::nullopt;
     for (const fs::path& folder : folders_) {
         fs::path candidate = folder / p;
-        if (test(candidate, ec)) return candidate.lexically_normal();
+        if (test(candidate, ec) && allowed(candidate)) return candidate.lexically_normal();
     }
     return std::nullopt;
 }

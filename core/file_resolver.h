@@ -27,6 +27,12 @@ public:
     // Every file find_file() has returned, in order, shared by all copies of this resolver: the
     // files a scene read besides itself (the farm hashes them to tell renders apart).
     const std::vector<std::filesystem::path>& found_files() const { return *found_files_; }
+
+    // Confines every FileResolver of the process to files inside `folders` (symbolic links and
+    // ".." resolved first): any other file is "not found". For programs that load untrusted
+    // scenes, such as the fuzzers, so that an <include> or a filename cannot reach /proc, /etc
+    // or the user's files. Call once, before loading; an empty list lifts the confinement.
+    static void confine_to(const std::vector<std::filesystem::path>& folders);
     // "a, b, c": the folders, for error messages.
     std::string describe() const;
 

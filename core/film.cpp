@@ -1,20 +1,58 @@
 #include "core/film.h"
 
+#include "core/spectral.h"
+
 namespace candela {
 
-ImageBlock::ImageBlock(const Vec2i& offset, const Vec2i& size, const ReconstructionFilter* filter)
-    : offset_(offset), size_(size), filter_(filter) {
+std::vector<std::string> pixel_format_channels(PixelFormat format) {
+    switch (format) {
+    case PixelFormat::Luminance: return {"Y"};
+    case PixelFormat::LuminanceAlpha: return {"Y", "A"};
+    case PixelFormat::RGB: return {"R", "G", "B"};
+    case PixelFormat::RGBA: return {"R", "G", "B", "A"};
+    case PixelFormat::XYZ: return {"X", "Y", "Z"};
+    case PixelFormat::XYZA: return {"X", "Y", "Z", "A"};
+    }
+    return {};
+}
+
+bool pixel_format_has_alpha(PixelFormat format) {
+    return format == PixelFormat::LuminanceAlpha || format == PixelFormat::RGBA || format == PixelFormat::XYZA;
+}
+
+void write_pixel_format(PixelFormat format, const Spectrum& rgb, float alpha, float* out) {
+    int c = 0;
+    if (format == PixelFormat::RGB || format == PixelFormat::RGBA) {
+        for (int k = 0; k < 3; ++k) out[c++] = rgb[k];
+    } else {
+        Vec3d xyz = linear_srgb_to_xyz(Vec3d(rgb));
+        if (format == PixelFormat::Luminance || format == PixelFormat::LuminanceAlpha) out[c++] = float(xyz.y);
+        else
+            for (int k = 0; k < 3; ++k) out[c++] = float(xyz[k]);
+    }
+    if (pixel_format_has_alpha(format)) out[c] = alpha;
+}
+
+std::string film_description(const Film& film) {
+    Vec2i crop = film.crop_size();
+    std::string size = std::to_string(crop.x) + " x " + std::to_string(crop.y);
+    return crop == film.full_size() ? "film " + size : "film crop window " + size;
+}
+
+ImageBlock::ImageBlock(const Vec2i& offset, const Vec2i& size, const ReconstructionFilter* filter, int channels)
+    : offset_(offset), size_(size), channels_(channels), filter_(filter) {
     border_ = reach(*filter);
     stored_size_ = size + Vec2i(2 * border_);
-    data_.assign(size_t(stored_size_.x) * stored_size_.y * 4, 0.0f);
+    data_.assign(size_t(stored_size_.x) * stored_size_.y * size_t(channels_ + 1), 0.0f);
 }
 
 int ImageBlock::reach(const ReconstructionFilter& filter) { return std::max(0, int(std::ceil(filter.radius() - 0.5f))); }
 
 void ImageBlock::clear() { std::fill(data_.begin(), data_.end(), 0.0f); }
 
-void ImageBlock::put(const Vec2& pos, const Spectrum& L) {
+void ImageBlock::put(const Vec2& pos, const float* values) {
     const float r = filter_->radius();
+    const int stride = channels_ + 1;
     // Position relative to the stored area's first pixel.
     Vec2 local = pos - Vec2(offset_) + Vec2(float(border_));
     int x0 = std::max(0, int(std::ceil(local.x - 0.5f - r)));
@@ -28,28 +66,28 @@ void ImageBlock::put(const Vec2& pos, const Spectrum& L) {
     for (int j = 0; j < ny; ++j) wy[j] = filter_->eval(float(y0 + j) + 0.5f - local.y);
     for (int j = 0; j < ny; ++j) {
         if (wy[j] == 0.0f) continue;
-        float* row = &data_[(size_t(y0 + j) * stored_size_.x + x0) * 4];
+        float* row = &data_[(size_t(y0 + j) * stored_size_.x + x0) * stride];
         for (int i = 0; i < nx; ++i) {
             float w = wx[i] * wy[j];
             if (w == 0.0f) continue;
-            row[4 * i + 0] += w * L.x;
-            row[4 * i + 1] += w * L.y;
-            row[4 * i + 2] += w * L.z;
-            row[4 * i + 3] += w;
+            float* px = row + size_t(i) * stride;
+            for (int c = 0; c < channels_; ++c) px[c] += w * values[c];
+            px[channels_] += w;
         }
     }
 }
 
 void ImageBlock::accumulate_into(std::vector<double>& buffer, const Vec2i& buffer_size) const {
+    const int stride = channels_ + 1;
     for (int y = 0; y < stored_size_.y; ++y) {
         int by = offset_.y - border_ + y;
         if (by < 0 || by >= buffer_size.y) continue;
         for (int x = 0; x < stored_size_.x; ++x) {
             int bx = offset_.x - border_ + x;
             if (bx < 0 || bx >= buffer_size.x) continue;
-            const float* src = &data_[(size_t(y) * stored_size_.x + x) * 4];
-            double* dst = &buffer[(size_t(by) * buffer_size.x + bx) * 4];
-            for (int c = 0; c < 4; ++c) dst[c] += src[c];
+            const float* src = &data_[(size_t(y) * stored_size_.x + x) * stride];
+            double* dst = &buffer[(size_t(by) * buffer_size.x + bx) * stride];
+            for (int c = 0; c < stride; ++c) dst[c] += src[c];
         }
     }
 }

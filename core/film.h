@@ -1,13 +1,27 @@
 #pragma once
 // The film (Mitsuba's `hdrfilm`) and the image blocks that accumulate filtered samples.
 
+#include "core/error.h"
 #include "core/filter.h"
 #include "core/object.h"
 #include "core/spectrum.h"
 
+#include <string>
 #include <vector>
 
 namespace candela {
+
+// Mitsuba's pixel formats: the film's own channels, before any AOVs.
+enum class PixelFormat { Luminance, LuminanceAlpha, RGB, RGBA, XYZ, XYZA };
+
+// The channels a pixel format writes, named as Mitsuba names them: Y; Y, A; R, G, B; R, G, B, A;
+// X, Y, Z; X, Y, Z, A.
+std::vector<std::string> pixel_format_channels(PixelFormat format);
+bool pixel_format_has_alpha(PixelFormat format);
+// Writes the channels of `format` from filtered linear sRGB and alpha (the fraction of the
+// filter weight that came from valid samples). XYZ and Y are linear in RGB (CIE 1931 through
+// Rec. 709 primaries), so converting after filtering equals converting every sample.
+void write_pixel_format(PixelFormat format, const Spectrum& rgb, float alpha, float* out);
 
 class Film : public Object {
 public:
@@ -17,35 +31,49 @@ public:
     virtual Vec2i crop_size() const = 0;   // the size of the image that is written
     virtual const ReconstructionFilter& filter() const = 0;
     virtual bool float32() const = 0;      // component_format: float32 or float16
+    virtual PixelFormat pixel_format() const = 0;
+    // Mitsuba's sample_border: pixels within the filter's reach outside the crop window are
+    // sampled too, so that edge pixels get their full filter support.
+    virtual bool sample_border() const = 0;
+    // Where the scene declares the film (for errors about its size).
+    virtual SourceLocation location() const { return {}; }
 };
 
-// A rectangle of the film that accumulates sum(w * L) and sum(w) per pixel, with a border of the
-// filter's radius so that samples near the edge can reach neighbouring pixels. Blocks are merged
-// into the final image in a fixed order, which keeps renders deterministic.
+// "film 1920 x 1080", or "film crop window 640 x 480" when a crop window is rendered: how the
+// memory checks name the image they size.
+std::string film_description(const Film& film);
+
+// A rectangle of the film that accumulates sum(w * v) for each of `channels` values per sample
+// and sum(w) per pixel, with a border of the filter's radius so that samples near the edge can
+// reach neighbouring pixels. Blocks are merged into the final image in a fixed order, which
+// keeps renders deterministic.
 class ImageBlock {
 public:
     ImageBlock() = default;
     // `offset` and `size` are in film pixels (the crop's coordinate system).
-    ImageBlock(const Vec2i& offset, const Vec2i& size, const ReconstructionFilter* filter);
+    ImageBlock(const Vec2i& offset, const Vec2i& size, const ReconstructionFilter* filter, int channels = 3);
     // How many pixels beyond its own a sample reaches with this filter: the farthest pixel centre
     // within the filter radius of a point inside the pixel is ceil(radius - 0.5) pixels away.
     static int reach(const ReconstructionFilter& filter);
 
-    // Splats radiance L at continuous film position `pos` (in pixels, crop coordinates).
-    void put(const Vec2& pos, const Spectrum& L);
-    // Adds this block into a full-size accumulation buffer (4 floats per pixel).
+    // Splats `channels()` values at continuous film position `pos` (in pixels, crop coordinates).
+    void put(const Vec2& pos, const float* values);
+    void put(const Vec2& pos, const Spectrum& L) { put(pos, &L[0]); }  // a block of 3 channels
+    // Adds this block into a full-size accumulation buffer (channels() + 1 values per pixel: the
+    // weighted sums, then the weight).
     void accumulate_into(std::vector<double>& buffer, const Vec2i& buffer_size) const;
     void clear();
 
     const Vec2i& offset() const { return offset_; }
     const Vec2i& size() const { return size_; }
+    int channels() const { return channels_; }
 
 private:
     Vec2i offset_{0}, size_{0};
-    int border_ = 0;
+    int border_ = 0, channels_ = 3;
     Vec2i stored_size_{0};
     const ReconstructionFilter* filter_ = nullptr;
-    std::vector<float> data_;  // (r, g, b, weight) per stored pixel
+    std::vector<float> data_;  // (channels values, weight) per stored pixel
 };
 
 }  // namespace candela

@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 #include "core/file_output.h"
+#include "core/spectral.h"
 
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
@@ -46,11 +47,40 @@ Image Image::select_channels(const std::vector<std::string>& names) const {
     return out;
 }
 
+namespace {
+// The formats Mitsuba 3's Bitmap reads (OpenImageIO's names: "pnm" covers PPM and PFM, "hdr" is
+// RGBE). OpenImageIO also reads DDS, TIFF, raw camera files, DICOM, video frames ... and some of
+// those readers hang or misbehave on malformed files (OpenImageIO 2.4's DDS reader spins for
+// minutes on a 293-byte cube map, found by fuzz_image), so only these are read.
+bool readable_format(const std::string& format) {
+    for (const char* name : {"openexr", "png", "jpeg", "hdr", "pnm", "targa", "bmp"})
+        if (format == name) return true;
+    return false;
+}
+
+[[noreturn]] void refuse_format(const std::string& path, const std::string& format) {
+    throw InputError(path + ": is a " + format + " image; Candela reads the formats Mitsuba 3 does: OpenEXR, PNG, JPEG, RGBE (.hdr), PFM, PPM, TGA, BMP");
+}
+}  // namespace
+
 Image read_image(const std::string& path) {
     if (!fs::exists(path)) throw InputError(path + ": file not found");
+    // By the extension first (without reading the file), then by what OpenImageIO found the
+    // content to be: it tries every reader when the extension's one fails.
+    if (auto by_name = OIIO::ImageInput::create(path, false); by_name && !readable_format(by_name->format_name()))
+        refuse_format(path, by_name->format_name());
     auto in = OIIO::ImageInput::open(path);
     if (!in) throw InputError(path + ": cannot read image: " + OIIO::geterror());
+    if (!readable_format(in->format_name())) refuse_format(path, in->format_name());
     const OIIO::ImageSpec& spec = in->spec();
+    // The size comes from the file: check it before allocating. A volume image (DDS volume
+    // textures, ...) would also fill depth times the buffer of a 2D one.
+    if (spec.depth != 1) throw InputError(path + ": is a volume image (depth " + std::to_string(spec.depth) + "); only 2D images are read");
+    if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) throw InputError(path + ": image has no pixels");
+    const uint64_t values = uint64_t(spec.width) * uint64_t(spec.height) * uint64_t(spec.nchannels);
+    if (values > MaxImageValues)
+        throw InputError(path + ": image of " + std::to_string(spec.width) + " x " + std::to_string(spec.height) + " pixels and " +
+                         std::to_string(spec.nchannels) + " channels is larger than the 2^28 values Candela reads");
     std::vector<std::string> names;
     for (int c = 0; c < spec.nchannels; ++c) {
         std::string n = c < int(spec.channelnames.size()) ? spec.channelnames[c] : "";
@@ -75,17 +105,32 @@ int image_integer_bits(const std::string& path) {
     return 0;
 }
 
+namespace {
+// No write permission for anyone. Checked on the mode bits as well as with access(), which
+// always grants root write access: a read-only file or folder says "keep this" also to root.
+bool read_only(const fs::path& p) {
+    std::error_code ec;
+    fs::perms perms = fs::status(p, ec).permissions();
+    if (ec) return false;
+    const fs::perms writable = fs::perms::owner_write | fs::perms::group_write | fs::perms::others_write;
+    return (perms & writable) == fs::perms::none || ::access(p.c_str(), W_OK) != 0;
+}
+}  // namespace
+
 void check_output_path(const std::string& path) {
     if (path.empty()) throw InputError("no output file given");
     fs::path p(path);
     fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
     std::error_code ec;
     if (!fs::is_directory(dir, ec)) throw InputError(path + ": cannot write: directory " + dir.string() + " does not exist");
-    if (::access(dir.c_str(), W_OK) != 0) throw InputError(path + ": cannot write: directory " + dir.string() + " is not writable");
-    if (fs::exists(p, ec)) {
-        if (fs::is_directory(p, ec)) throw InputError(path + ": cannot write: it is a directory");
-        if (::access(p.c_str(), W_OK) != 0) throw InputError(path + ": cannot write: file is not writable");
-    }
+    if (read_only(dir)) throw InputError(path + ": cannot write: directory " + dir.string() + " is not writable");
+    if (!fs::exists(fs::symlink_status(p, ec)) && !fs::exists(p, ec)) return;
+    if (fs::is_directory(p, ec)) throw InputError(path + ": cannot write: it is a directory");
+    // Outputs are written beside the target and renamed over it: that would replace a device
+    // (/dev/full, /dev/null), a pipe or a symbolic link by a plain file.
+    if (fs::is_symlink(fs::symlink_status(p, ec)) || !fs::is_regular_file(p, ec))
+        throw InputError(path + ": cannot write: it is not a regular file");
+    if (read_only(p)) throw InputError(path + ": cannot write: the file is read-only");
 }
 
 void write_exr(const Image& image, const std::string& path, bool float32) {
@@ -144,6 +189,27 @@ std::string encode_png(const Image& display) {
     std::error_code ec;
     fs::remove(tmp, ec);
     return bytes;
+}
+
+Image linear_rgb(const Image& rendered) {
+    auto has = [&](const char* a, const char* b, const char* c) {
+        return rendered.channel_index(a) >= 0 && rendered.channel_index(b) >= 0 && rendered.channel_index(c) >= 0;
+    };
+    if (has("R", "G", "B")) return rendered.select_channels({"R", "G", "B"});
+    Image rgb = Image::rgb(rendered.width(), rendered.height());
+    rgb.metadata = rendered.metadata;
+    if (has("X", "Y", "Z")) {
+        int cx = rendered.channel_index("X"), cy = rendered.channel_index("Y"), cz = rendered.channel_index("Z");
+        for (int y = 0; y < rendered.height(); ++y)
+            for (int x = 0; x < rendered.width(); ++x)
+                rgb.set_rgb(x, y, Spectrum(xyz_to_linear_srgb(Vec3d(rendered.at(x, y, cx), rendered.at(x, y, cy), rendered.at(x, y, cz)))));
+        return rgb;
+    }
+    int cy = rendered.channel_index("Y");
+    if (cy < 0) throw InputError("the image has neither R, G, B nor X, Y, Z nor Y channels");
+    for (int y = 0; y < rendered.height(); ++y)
+        for (int x = 0; x < rendered.width(); ++x) rgb.set_rgb(x, y, Spectrum(rendered.at(x, y, cy)));
+    return rgb;
 }
 
 Image tonemap_srgb(const Image& image, float exposure) {

@@ -5,6 +5,7 @@
 
 #include "core/spectrum.h"
 
+#include <cstdint>
 #include <map>
 #include <string>
 #include <vector>
@@ -44,19 +45,26 @@ private:
     std::vector<float> data_;
 };
 
-// Reads any format OpenImageIO knows. Channels come back as the file names them; 8- and 16-bit
-// integer images are returned in [0, 1] without colour conversion. Throws InputError.
+// Reads any 2D image format OpenImageIO knows. Channels come back as the file names them; 8- and
+// 16-bit integer images are returned in [0, 1] without colour conversion. Throws InputError, also
+// for volume images and for images of more than MaxImageValues values (a 16384 x 16384 RGBA
+// image has exactly that many; a corrupt header must not make us allocate without bound).
+constexpr uint64_t MaxImageValues = uint64_t(1) << 28;
 Image read_image(const std::string& path);
 // True when the file stores integer (display-referred, usually sRGB-encoded) values.
 bool image_is_integer_format(const std::string& path);
 // Bits per channel of an integer-format file (8 or 16), 0 for floating-point files.
 int image_integer_bits(const std::string& path);
 
-// Fails with InputError if `path` cannot be created or replaced (missing directory, no
-// permission, a directory in the way). Creates nothing.
+// Fails with InputError if `path` cannot be created or replaced (missing or read-only directory,
+// a read-only file, a directory, device, pipe or symbolic link in the way). Creates nothing.
+// A full disk shows only when writing: write_atomically then keeps the earlier file.
 void check_output_path(const std::string& path);
 
 void write_exr(const Image& image, const std::string& path, bool float32);
+// The linear sRGB colour of a render, whatever the film's pixel format: its R, G, B channels;
+// X, Y, Z converted (Rec. 709, D65); or Y alone as grey. InputError when it has none of these.
+Image linear_rgb(const Image& rendered);
 // Linear RGB (times 2^exposure) clamped to [0, 1] and encoded with the sRGB curve, for display.
 Image tonemap_srgb(const Image& linear, float exposure = 0.0f);
 // The bytes of an 8-bit PNG of a display-referred image (for embedding in HTML reports).

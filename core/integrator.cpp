@@ -1,28 +1,43 @@
 #include "core/integrator.h"
 
+#include "core/memory_budget.h"
 #include "core/progress.h"
+#include "core/registry.h"
+#include "core/sampler.h"
 #include "core/scene.h"
+#include "core/bsdf.h"
+#include "core/shape.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <candela/version.h>
+
 #include <chrono>
+#include <cstdio>
 
 // The pixel loop, in the order a render runs it:
-//   AovLayout      which extra layers were asked for (core/pixel_sums.h)
+//   SampleLayout   the values each sample splats: R, G, B, the alpha when the film has one, and
+//                  the integrator's own channels (aov, moment, ...) (core/pixel_sums.h)
+//   AovLayout      which --aov layers were asked for, and their channels after all of those
 //   render_window  the region whose samples it takes, and the rectangle its sums cover (the region
 //                  plus the filter's reach): the whole image unless the render is a part
-//   make_tiles     the region cut into tiles, each with its own ImageBlock (and pixel statistics)
-//   sample_passes  the sample indices [begin, end) cut into passes of growing width
-//   TileSampler    takes the samples of one pass for every pixel of one tile
-//   gather_sums    adds the tiles in a fixed order into PixelSums, which develop into RGB and the
-//                  AOV layers; tile_coverage says which samples of which pixels they hold
+//   make_tiles     the region cut into tiles, each with its own ImageBlock (and pixel statistics);
+//                  with sample_border the tiles on the crop's edges also sample the ring of
+//                  pixels outside it that the filter reaches
+//   sample_passes  the sample indices [begin, end) cut into passes of growing width (and, with
+//                  adaptive sampling, ending at every convergence check)
+//   TileSampler    takes the samples of one pass for every active pixel of one tile
+//   stop_converged adaptive sampling: between passes, stops the pixels whose noise is low enough
+//   gather_sums    adds the tiles in a fixed order into PixelSums, which develop into the film's
+//                  pixel format, the integrator's channels and the --aov layers; tile_coverage
+//                  says which samples of which pixels they hold
 // A pixel's samples depend only on (seed, pixel, sample index), so the schedule (threads, tile
 // order) never changes the image. Rendering a sub-range of sample indices or a region (a part of
-// a farm render, farm/; the rest of an interrupted render) only changes what render_window and
-// sample_passes hand out.
+// a farm render, farm/; the rest of an interrupted render), or another sampler, only changes what
+// render_window, sample_passes and the sampler hand out.
 
 namespace candela {
 
@@ -32,9 +47,13 @@ constexpr int TileSize = 32;
 
 struct Tile {
     Vec2i offset, size;  // in pixels of the region
+    // The pixels this tile samples, relative to `offset`: its own, and with sample_border the
+    // ring outside the crop next to it. The block receives them all; only its own are developed.
+    Vec2i sample_min{0}, sample_max{0};
     ImageBlock block;
-    std::vector<PixelStats> stats;  // empty unless an AOV needs them
+    std::vector<PixelStats> stats;  // own pixels only; empty unless an --aov layer needs them
     int done = 0;                   // every pixel holds the sample indices [first, done)
+    int sampled_pixels() const { return (sample_max.x - sample_min.x) * (sample_max.y - sample_min.y); }
 };
 
 // The pixels of a render: `region` is the rectangle whose samples it takes (image pixels),
@@ -43,6 +62,7 @@ struct Tile {
 // sample ranges) then add up to those of the whole render (core/pixel_sums.h).
 struct RenderWindow {
     ImageRect region, stored;
+    bool whole(const Vec2i& image) const { return region.offset == Vec2i(0) && region.size == image; }
 };
 
 RenderWindow render_window(const Film& film, const ImageRect& requested) {
@@ -58,18 +78,39 @@ RenderWindow render_window(const Film& film, const ImageRect& requested) {
     return w;
 }
 
-// Tiles covering the region in row-major order (the order gather_sums() adds them); their
-// blocks are placed in the stored rectangle's pixels.
-std::vector<Tile> make_tiles(const RenderWindow& window, const ReconstructionFilter& filter, bool with_stats, int first_sample) {
+// What each sample splats with this film and integrator.
+SampleLayout sample_layout(const Film& film, const SamplingIntegrator& integrator) {
+    std::vector<std::string> extras = integrator.channel_names();
+    if (extras.size() > size_t(MaxSampleChannels))
+        throw InputError("the integrator reports " + std::to_string(extras.size()) + " channels per sample, more than the " +
+                         std::to_string(MaxSampleChannels) + " Candela supports");
+    return SampleLayout(film.pixel_format(), std::move(extras));
+}
+
+// Tiles covering the region in row-major order (the order gather_sums() adds them), each with a
+// block of `values` channels placed in the stored rectangle's pixels. With sample_border, the
+// tiles on the crop's edges also sample the pixels outside it within the filter's reach (Mitsuba
+// samples a crop grown by the filter's border size): a pixel of that ring is sampled by the tile
+// of the nearest crop pixel, so disjoint regions sample it once. Pixels inside the crop receive the
+// same samples in the same order as without it, so only those within that reach of an edge change.
+std::vector<Tile> make_tiles(const Film& film, const RenderWindow& window, int values, bool with_stats, int first_sample) {
+    const Vec2i image = film.crop_size();
     const Vec2i area = window.region.size;
     const Vec2i block_origin = window.region.offset - window.stored.offset;
+    const int border = film.sample_border() ? ImageBlock::reach(film.filter()) : 0;
     std::vector<Tile> tiles;
     for (int y = 0; y < area.y; y += TileSize)
         for (int x = 0; x < area.x; x += TileSize) {
             Tile t;
             t.offset = Vec2i(x, y);
             t.size = glm::min(Vec2i(TileSize), area - t.offset);
-            t.block = ImageBlock(block_origin + t.offset, t.size, &filter);
+            t.sample_max = t.size;
+            for (int axis = 0; axis < 2; ++axis) {
+                const int first = window.region.offset[axis] + t.offset[axis];
+                if (first == 0) t.sample_min[axis] = -border;
+                if (first + t.size[axis] == image[axis]) t.sample_max[axis] += border;
+            }
+            t.block = ImageBlock(block_origin + t.offset, t.size, &film.filter(), values);
             if (with_stats) t.stats.resize(size_t(t.size.x) * t.size.y);
             t.done = first_sample;
             tiles.push_back(std::move(t));
@@ -77,12 +118,58 @@ std::vector<Tile> make_tiles(const RenderWindow& window, const ReconstructionFil
     return tiles;
 }
 
+// Stops the render before any allocation when its buffers cannot fit in memory: the tiles'
+// blocks (with their filter borders) and pixel statistics, then the double-precision sums and
+// the image, or at the end the image and write_exr's copies.
+void check_film_memory(const Film& film, const RenderWindow& window, const SampleLayout& values, const AovLayout& layout) {
+    const uint64_t w = uint64_t(window.region.size.x), h = uint64_t(window.region.size.y), pixels = w * h;
+    const uint64_t stored = uint64_t(window.stored.size.x) * uint64_t(window.stored.size.y);
+    const uint64_t border = uint64_t(ImageBlock::reach(film.filter()));
+    const uint64_t tiles_x = (w + TileSize - 1) / TileSize, tiles_y = (h + TileSize - 1) / TileSize;
+    // A block holds each splatted value and the filter weight per pixel.
+    uint64_t blocks = saturating_mul(saturating_mul(w + 2 * border * tiles_x, h + 2 * border * tiles_y), uint64_t(values.values() + 1) * sizeof(float));
+    blocks = saturating_add(blocks, saturating_mul(tiles_x * tiles_y, sizeof(Tile)));
+    uint64_t stats = layout.pixel_stats() ? saturating_mul(pixels, sizeof(PixelStats)) : 0;
+    uint64_t image = saturating_mul(stored, (values.channels().size() + layout.channels().size()) * sizeof(float));
+    uint64_t sums = saturating_mul(stored, uint64_t(values.values() + 1) * sizeof(double));
+    if (layout.pixel_stats()) sums = saturating_add(sums, saturating_mul(stored, sizeof(PixelStats)));
+    uint64_t develop = saturating_add(saturating_add(blocks, stats), saturating_add(sums, image));
+    uint64_t write = saturating_add(saturating_mul(image, 2), image / 2);  // the image, a sanitised copy, half floats
+    std::string what = film_description(film);
+    if (int n = layout.layer_count()) what += " with " + std::to_string(n) + (n == 1 ? " AOV" : " AOVs");
+    check_memory(std::max(develop, write), what, film.location());
+}
+
+// Adaptive sampling's schedule: the sample counts at which pixels are checked.
+struct AdaptiveSchedule {
+    bool enabled = false;
+    float threshold = 0.0f;
+    int min_spp = 0, step = 0;
+
+    AdaptiveSchedule(const AdaptiveSampling& a, int spp) : enabled(a.enabled()), threshold(a.threshold) {
+        if (!enabled) return;
+        if (a.min_spp < 0 || a.step < 0) throw InputError("adaptive sampling: the minimum sample count and the step must not be negative");
+        int automatic = 16;
+        while (automatic < spp / 16) automatic *= 2;
+        min_spp = a.min_spp > 0 ? a.min_spp : automatic;
+        step = a.step > 0 ? a.step : min_spp;
+    }
+    // Whether pixels are checked once `count` samples are taken.
+    bool checks_at(int count) const { return enabled && count >= min_spp && (count - min_spp) % step == 0; }
+};
+
 // Passes over the whole image with growing sample counts (1, 2, 4, ... 32 samples per pixel):
-// an interrupted render still has every pixel sampled about equally often.
-std::vector<SampleRange> sample_passes(const SampleRange& samples) {
+// an interrupted render still has every pixel sampled about equally often. With adaptive
+// sampling a pass also ends at every count where pixels are checked.
+std::vector<SampleRange> sample_passes(const SampleRange& samples, const AdaptiveSchedule& adaptive) {
     std::vector<SampleRange> passes;
-    for (int s0 = samples.begin, step = 1; s0 < samples.end; s0 += step, step = std::min(step * 2, 32))
-        passes.push_back({s0, std::min(samples.end, s0 + step)});
+    for (int s0 = samples.begin, step = 1; s0 < samples.end; step = std::min(step * 2, 32)) {
+        int end = std::min(samples.end, s0 + step);
+        for (int c = s0 + 1; c < end; ++c)
+            if (adaptive.checks_at(c)) end = c;
+        passes.push_back({s0, end});
+        s0 = end;
+    }
     return passes;
 }
 
@@ -112,19 +199,21 @@ struct RenderCounters {
 // Takes samples for the pixels of tiles with the calling thread's sampler.
 class TileSampler {
 public:
-    TileSampler(const SamplingIntegrator& integrator, const Scene& scene, const AovLayout& layout, const RenderWindow& window)
+    TileSampler(const SamplingIntegrator& integrator, const Scene& scene, const SampleLayout& values, const AovLayout& layers,
+                const RenderWindow& window, int spp)
         : integrator_(integrator), scene_(scene), sensor_(scene.sensor()),
           region_origin_(scene.sensor().film().crop_offset() + window.region.offset),
-          block_origin_(scene.sensor().film().crop_offset() + window.stored.offset), first_hit_(layout.first_hit()) {}
+          block_origin_(scene.sensor().film().crop_offset() + window.stored.offset), values_(values), first_hit_(layers.first_hit()),
+          differential_scale_(1.0f / std::sqrt(float(std::max(spp, 1)))) {}
 
-    // Samples `samples` of every pixel of `tile`, unless the render was interrupted before.
+    // Samples `samples` of every pixel the tile samples, unless the render was interrupted before.
     void sample_tile(Tile& tile, const SampleRange& samples, Sampler& sampler, Interruption& interruption, RenderCounters& counters,
                      ProgressReporter& progress) const {
         if (interruption.check()) return;
         uint64_t rays_before = thread_ray_count();
         uint64_t taken = 0, nonfinite = 0;
-        for (int y = 0; y < tile.size.y; ++y)
-            for (int x = 0; x < tile.size.x; ++x) sample_pixel(tile, Vec2i(x, y), samples, sampler, taken, nonfinite);
+        for (int y = tile.sample_min.y; y < tile.sample_max.y; ++y)
+            for (int x = tile.sample_min.x; x < tile.sample_max.x; ++x) sample_pixel(tile, Vec2i(x, y), samples, sampler, taken, nonfinite);
         tile.done = samples.end;
         counters.rays += thread_ray_count() - rays_before;
         counters.samples += taken;
@@ -134,24 +223,32 @@ public:
 
 private:
     // The samples of one pixel (tile coordinates): each positions the sampler at (pixel, index),
-    // so its random numbers depend on nothing else. Non-finite radiance is counted and dropped.
+    // so its random numbers depend on nothing else. Samples with a non-finite value are counted
+    // and dropped.
     void sample_pixel(Tile& tile, const Vec2i& local, const SampleRange& samples, Sampler& sampler, uint64_t& taken, uint64_t& nonfinite) const {
         const Vec2i pixel = region_origin_ + tile.offset + local;
-        PixelStats* ps = tile.stats.empty() ? nullptr : &tile.stats[size_t(local.y) * tile.size.x + local.x];
+        const bool own = local.x >= 0 && local.y >= 0 && local.x < tile.size.x && local.y < tile.size.y;
+        PixelStats* ps = tile.stats.empty() || !own ? nullptr : &tile.stats[size_t(local.y) * tile.size.x + local.x];
+        if (ps && !ps->active) return;
+        if (ps) ps->taken += uint32_t(samples.end - samples.begin);
+        float values[3 + 1 + MaxSampleChannels];
         for (int s = samples.begin; s < samples.end; ++s) {
             sampler.start(pixel, uint32_t(s));
-            Vec2 pos = Vec2(pixel) + sampler.next_2d();
-            Vec2 aperture = sampler.next_2d();
-            Ray ray = sensor_.sample_ray(pos, aperture);
+            SampleRecord record;
+            record.film_pos = Vec2(pixel) + sampler.next_2d();
+            record.aperture = sampler.next_2d();
+            record.differential_scale = differential_scale_;
             FirstHitAovs aov;
-            Spectrum L = integrator_.sample_radiance(scene_, sampler, ray, first_hit_ ? &aov : nullptr);
+            record.first_hit = first_hit_ ? &aov : nullptr;
+            Ray ray = sensor_.sample_ray(record.film_pos, record.aperture);
+            Spectrum L = integrator_.sample_radiance(scene_, sampler, ray, record);
             ++taken;
-            if (!all_finite(L)) {
+            if (!values_.fill(L, record.valid, record.channels, values)) {
                 ++nonfinite;
                 continue;
             }
-            tile.block.put(pos - Vec2(block_origin_), L);
-            if (ps) ps->add(L, aov);
+            tile.block.put(record.film_pos - Vec2(block_origin_), values);
+            if (ps) ps->add(L, aov, uint32_t(s));
         }
     }
 
@@ -160,17 +257,45 @@ private:
     const Sensor& sensor_;
     const Vec2i region_origin_;  // film pixel of the region's first pixel
     const Vec2i block_origin_;   // film pixel of the stored rectangle's first pixel
+    const SampleLayout& values_;
     const bool first_hit_;
+    const float differential_scale_;
 };
+
+// Adaptive sampling's check, between passes: a pixel is quiet when it has stopped or its error
+// is below the threshold; an active pixel stops when it and its 8 neighbours are quiet (Cycles
+// dilates the unconverged pixels by one the same way), and never starts again, so all active
+// pixels take the same sample indices. Single-threaded over the whole image: deterministic.
+void stop_converged(std::vector<Tile>& tiles, const Vec2i& crop, float threshold) {
+    std::vector<uint8_t> quiet(size_t(crop.x) * crop.y, 0);
+    for (const Tile& t : tiles)
+        for (int y = 0; y < t.size.y; ++y)
+            for (int x = 0; x < t.size.x; ++x) {
+                const PixelStats& ps = t.stats[size_t(y) * t.size.x + x];
+                quiet[size_t(t.offset.y + y) * crop.x + t.offset.x + x] = !ps.active || ps.adaptive_error() < threshold;
+            }
+    auto neighbourhood_quiet = [&](int px, int py) {
+        for (int y = std::max(0, py - 1); y <= std::min(crop.y - 1, py + 1); ++y)
+            for (int x = std::max(0, px - 1); x <= std::min(crop.x - 1, px + 1); ++x)
+                if (!quiet[size_t(y) * crop.x + x]) return false;
+        return true;
+    };
+    for (Tile& t : tiles)
+        for (int y = 0; y < t.size.y; ++y)
+            for (int x = 0; x < t.size.x; ++x) {
+                PixelStats& ps = t.stats[size_t(y) * t.size.x + x];
+                if (ps.active && neighbourhood_quiet(t.offset.x + x, t.offset.y + y)) ps.active = false;
+            }
+}
 
 // Adds the tiles into the stored rectangle's sums in a fixed order, with the pixel statistics of
 // the region's pixels.
-PixelSums gather_sums(const std::vector<Tile>& tiles, const RenderWindow& window, const AovLayout& layout) {
-    PixelSums sums(window.stored, layout);
+PixelSums gather_sums(const std::vector<Tile>& tiles, const RenderWindow& window, const SampleLayout& values, const AovLayout& layers) {
+    PixelSums sums(window.stored, values, layers);
     for (const Tile& t : tiles) t.block.accumulate_into(sums.filtered(), window.stored.size);
     const Vec2i to_stored = window.region.offset - window.stored.offset;
     for (const Tile& t : tiles) {
-        if (t.stats.empty()) continue;
+        if (t.stats.empty() || !sums.has_stats()) continue;
         for (int y = 0; y < t.size.y; ++y)
             for (int x = 0; x < t.size.x; ++x) {
                 const Vec2i p = to_stored + t.offset + Vec2i(x, y);
@@ -200,12 +325,11 @@ std::vector<CoverageBox> tile_coverage(const std::vector<Tile>& tiles, const Ren
     return boxes;
 }
 
-// The scene's sampler with the render's sample count and seed.
-Ref<Sampler> configured_sampler(const Scene& scene, const RenderOptions& options) {
-    Ref<Sampler> sampler = scene.sensor().sampler().clone();
-    if (options.spp > 0) sampler->set_sample_count(options.spp);
-    if (options.seed) sampler->set_seed(*options.seed);
-    return sampler;
+// An image's channel names must be distinct (an EXR cannot hold two channels of one name).
+void check_distinct_channels(const std::vector<std::string>& channels) {
+    for (size_t i = 0; i < channels.size(); ++i)
+        for (size_t j = 0; j < i; ++j)
+            if (channels[i] == channels[j]) throw InputError("two image channels are named \"" + channels[i] + "\" (rename an AOV)");
 }
 
 // The sample indices a render takes: `requested`, or all of [0, spp) when none were given.
@@ -219,6 +343,22 @@ SampleRange sample_indices(const SampleRange& requested, int spp) {
 
 }  // namespace
 
+Ref<Sampler> configured_sampler(const Scene& scene, const RenderOptions& options) {
+    const Sampler& own = scene.sensor().sampler();
+    Ref<Sampler> sampler;
+    if (options.sampler.empty()) {
+        sampler = own.clone();
+    } else {
+        sampler = create_plugin_as<Sampler>(ObjectKind::Sampler, Properties(options.sampler, SourceLocation{}));
+        sampler->set_sample_count(own.sample_count());
+        sampler->set_seed(own.seed());
+    }
+    sampler->set_film_size(scene.sensor().film().full_size());
+    if (options.spp > 0) sampler->set_sample_count(options.spp);
+    if (options.seed) sampler->set_seed(*options.seed);
+    return sampler;
+}
+
 ImageRect sums_rect(const Film& film, const ImageRect& region) {
     const int reach = ImageBlock::reach(film.filter());
     const Vec2i lo = glm::max(region.offset - Vec2i(reach), Vec2i(0));
@@ -226,45 +366,83 @@ ImageRect sums_rect(const Film& film, const ImageRect& region) {
     return ImageRect{lo, hi - lo};
 }
 
-Image Integrator::preview(const Image& rendered) const { return tonemap_srgb(rendered); }
+void SampleRecord::record_first_hit(const SurfaceInteraction& si) {
+    if (!first_hit) return;
+    first_hit->albedo = si.shape->bsdf()->albedo(si);
+    first_hit->normal = si.shading.n;
+    first_hit->depth = si.t;
+}
+
+void annotate_image(Image& image, const RenderStats& s, const std::string& integrator, const std::string& scene_path) {
+    auto& m = image.metadata;
+    m["software"] = std::string("Candela ") + CANDELA_VERSION;
+    m["candela.version"] = CANDELA_VERSION;
+    m["candela.scene"] = scene_path;
+    m["candela.integrator"] = integrator;
+    m["candela.spp"] = std::to_string(s.spp);
+    m["candela.seed"] = std::to_string(s.seed);
+    if (!s.sampler.empty()) m["candela.sampler"] = s.sampler;
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.3f", s.seconds);
+    m["candela.renderTime"] = buf;
+    m["candela.samples"] = std::to_string(s.samples);
+    m["candela.rays"] = std::to_string(s.rays);
+    m["candela.nonfiniteSamples"] = std::to_string(s.nonfinite);
+    m["candela.partial"] = s.partial ? "true" : "false";
+}
+
+Image Integrator::preview(const Image& rendered) const { return tonemap_srgb(linear_rgb(rendered)); }
 
 RenderResult SamplingIntegrator::render(const Scene& scene, const RenderOptions& options) {
     auto t_start = std::chrono::steady_clock::now();
-    const AovLayout layout(options.aovs);
+    const Film& film = scene.sensor().film();
+    const SampleLayout values = sample_layout(film, *this);
+    const AovLayout layers(options.aovs);
+    std::vector<std::string> channels = values.channels(), layer_channels = layers.channels();
+    channels.insert(channels.end(), layer_channels.begin(), layer_channels.end());
+    check_distinct_channels(channels);
+    const RenderWindow window = render_window(film, options.region);
+    check_film_memory(film, window, values, layers);
     Ref<Sampler> prototype = configured_sampler(scene, options);
     const SampleRange samples = sample_indices(options.samples, prototype->sample_count());
-    const Film& film = scene.sensor().film();
-    const RenderWindow window = render_window(film, options.region);
+    const AdaptiveSchedule adaptive(options.adaptive, prototype->sample_count());
+    // Whether a pixel takes a sample depends on its earlier samples and on its neighbours': a part
+    // could not know, so adaptive renders are whole (see farm/resumable_render.h).
+    if (adaptive.enabled && (samples.begin != 0 || samples.end != prototype->sample_count() || !window.whole(film.crop_size())))
+        throw InputError("adaptive sampling renders every sample index of the whole image: whether a pixel takes a sample depends on "
+                         "its earlier samples and its neighbours', so it cannot render a part (--samples, --crop) or resume");
     prepare(scene);
 
-    std::vector<Tile> tiles = make_tiles(window, film.filter(), layout.pixel_stats(), samples.begin);
-    const uint64_t pixels = uint64_t(window.region.size.x) * uint64_t(window.region.size.y);
-    ProgressReporter progress("Rendering", uint64_t(samples.end - samples.begin) * pixels, options.progress);
+    std::vector<Tile> tiles = make_tiles(film, window, values.values(), layers.pixel_stats() || adaptive.enabled, samples.begin);
+    uint64_t sampled_pixels = 0;
+    for (const Tile& t : tiles) sampled_pixels += uint64_t(t.sampled_pixels());
+    ProgressReporter progress("Rendering", uint64_t(samples.end - samples.begin) * sampled_pixels, options.progress);
     RenderCounters counters;
     Interruption interruption(options.interrupt);
-    const TileSampler tile_sampler(*this, scene, layout, window);
+    const TileSampler tile_sampler(*this, scene, values, layers, window, prototype->sample_count());
     tbb::enumerable_thread_specific<Ref<Sampler>> samplers([&] { return prototype->clone(); });
     tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
     auto last_checkpoint = std::chrono::steady_clock::now();
-    for (const SampleRange& pass : sample_passes(samples)) {
+    for (const SampleRange& pass : sample_passes(samples, adaptive)) {
         if (interruption.stopped()) break;
         arena.execute([&] {
             tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
                 for (size_t i = r.begin(); i != r.end(); ++i) tile_sampler.sample_tile(tiles[i], pass, *samplers.local(), interruption, counters, progress);
             });
         });
+        if (adaptive.checks_at(pass.end) && !interruption.stopped()) stop_converged(tiles, window.region.size, adaptive.threshold);
         // A checkpoint after a whole pass, and only when more passes follow.
         const auto now = std::chrono::steady_clock::now();
         if (options.checkpoint && options.checkpoint_seconds > 0.0 && !interruption.stopped() && pass.end < samples.end &&
             std::chrono::duration<double>(now - last_checkpoint).count() >= options.checkpoint_seconds) {
-            options.checkpoint(gather_sums(tiles, window, layout), tile_coverage(tiles, window, samples.begin));
+            options.checkpoint(gather_sums(tiles, window, values, layers), tile_coverage(tiles, window, samples.begin));
             last_checkpoint = now;
         }
     }
     progress.finish();
 
     RenderResult result;
-    result.sums = gather_sums(tiles, window, layout);
+    result.sums = gather_sums(tiles, window, values, layers);
     result.coverage = tile_coverage(tiles, window, samples.begin);
     result.image = result.sums.develop();
     RenderStats& st = result.stats;
@@ -274,6 +452,7 @@ RenderResult SamplingIntegrator::render(const Scene& scene, const RenderOptions&
     st.nonfinite = counters.nonfinite;
     st.spp = prototype->sample_count();
     st.seed = prototype->seed();
+    st.sampler = prototype->to_string();
     st.partial = !(result.coverage.size() == 1 && result.coverage[0].samples.begin == samples.begin &&
                    result.coverage[0].samples.end == samples.end && result.coverage[0].rect.size == window.region.size);
     return result;

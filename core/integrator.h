@@ -20,17 +20,33 @@ class Scene;
 class Sampler;
 class Film;
 
+// Adaptive sampling (off unless threshold > 0): after `min_spp` samples, and then every `step`
+// samples, a pixel stops once its error estimate and those of its 8 neighbours are below
+// `threshold` (Cycles' noise threshold: the difference between the mean of all samples and the
+// mean of half of them, |I - A|_1 / sqrt(I_r + I_g + I_b), Dammertz et al. 2010). Decisions are
+// made between passes over the whole image, from each pixel's own samples, so the result does
+// not depend on the thread count.
+struct AdaptiveSampling {
+    float threshold = 0.0f;  // 0: off
+    int min_spp = 0;         // 0: automatic, max(16, spp / 16) rounded up to a power of two
+    int step = 0;            // 0: automatic, min_spp
+    bool enabled() const { return threshold > 0.0f; }
+};
+
 struct RenderOptions {
     int spp = 0;                        // 0: the scene's sampler sample_count
     std::optional<uint64_t> seed;       // default: the sampler's seed
+    std::string sampler;                // a sampler plugin to use instead of the scene's ("" keeps it)
     int threads = 0;                    // 0: all hardware threads
     bool progress = false;              // progress bar on stderr
     const std::atomic<bool>* interrupt = nullptr;  // set (e.g. by SIGINT) to stop early
-    // Extra EXR layers: "albedo", "normal", "depth", "variance".
+    // Extra EXR layers: "albedo", "normal", "depth", "variance", "samples" (samples per pixel).
     std::vector<std::string> aovs;
-    // A part of the render (see Integrator::renders_parts): only these sample indices (default:
+    AdaptiveSampling adaptive;
+    // A part of the render (see Integrator::parts_refusal): only these sample indices (default:
     // [0, spp)) of only these pixels (default: the whole image). The part's sums are the same as
-    // those sample indices contribute to those pixels in the whole render.
+    // those sample indices contribute to those pixels in the whole render. Not with adaptive
+    // sampling, whose pixels take samples depending on their earlier ones and their neighbours'.
     SampleRange samples;
     ImageRect region;
     // Called every `checkpoint_seconds` (at the end of a pass, when the sums are consistent) with
@@ -44,8 +60,9 @@ struct RenderStats {
     uint64_t samples = 0;      // camera samples taken
     uint64_t rays = 0;         // closest-hit and shadow rays traced
     uint64_t nonfinite = 0;    // samples dropped because they were NaN or infinite
-    int spp = 0;               // samples per pixel requested
+    int spp = 0;               // samples per pixel requested (after the sampler's rounding)
     uint64_t seed = 0;
+    std::string sampler;       // the sampler's plugin name
     bool partial = false;      // interrupted before all samples were taken
     // `seconds` timed one rasterized frame, not Monte Carlo sampling: a summary reports the
     // frame time rather than sample and ray rates.
@@ -53,12 +70,36 @@ struct RenderStats {
 };
 
 struct RenderResult {
-    Image image;  // R, G, B then any AOV layers (of sums.rect(): the region and its filter margin)
+    // The film's channels (R, G, B, or as its pixel_format says), the integrator's channels, then
+    // the --aov layers; for a part, of sums.rect() (the region and its filter margin).
+    Image image;
     RenderStats stats;
     PixelSums sums;  // what `image` was developed from; empty unless the integrator renders parts
     // Which samples of which pixels `sums` holds: the requested region and samples, less what an
     // interruption left out (whole tiles of the last pass).
     std::vector<CoverageBox> coverage;
+};
+
+// The most extra values one sample may report (SamplingIntegrator::channel_names()).
+constexpr int MaxSampleChannels = 64;
+
+// One camera sample besides its radiance: where it lies on the film (in), what the integrator
+// reports about it (out). Lives on the stack of the pixel loop: nothing is allocated per sample.
+struct SampleRecord {
+    // In: the film position (pixels of the full film) and aperture sample the camera ray came
+    // from, and the scale of ray differentials (Mitsuba's: one pixel times 1 / sqrt(spp)).
+    Vec2 film_pos{0.0f}, aperture{0.5f};
+    float differential_scale = 1.0f;
+    // In: the --aov first-hit layers to fill, or null.
+    FirstHitAovs* first_hit = nullptr;
+    // Out: the sample saw something (Mitsuba's `valid`: the film's alpha). Each integrator
+    // documents its rule; by default a sample sees nothing.
+    bool valid = false;
+    // Out: the values of the integrator's channel_names(), in order.
+    float channels[MaxSampleChannels];
+
+    // Fills the --aov first-hit layers, when asked for, from the camera ray's first surface.
+    void record_first_hit(const SurfaceInteraction& si);
 };
 
 class Integrator : public Object {
@@ -68,27 +109,41 @@ public:
     // A display image (values in [0, 1]) for --png: by default the sRGB tonemap of the render;
     // integrators that render other quantities (irradiance) draw false colour with a legend.
     virtual Image preview(const Image& rendered) const;
-    // Whether render() honours RenderOptions::samples and ::region and fills RenderResult::sums,
-    // so that a render can be split across machines and merged: only for integrators whose every
-    // sample depends on nothing but (seed, pixel, sample index).
-    virtual bool renders_parts() const { return false; }
+    // Why render() cannot honour RenderOptions::samples and ::region and fill RenderResult::sums
+    // (so that a render is split across machines and merged, resumed or checkpointed); "" when it
+    // can: only integrators whose every sample depends on nothing but (seed, pixel, sample index)
+    // and on state that every part computes alike.
+    virtual std::string parts_refusal() const { return "it renders one frame, not independent pixel samples"; }
+    bool renders_parts() const { return parts_refusal().empty(); }
 };
 
 class SamplingIntegrator : public Integrator {
 public:
     RenderResult render(const Scene& scene, const RenderOptions& options) override;
-    // True; an integrator whose samples share state across sample indices (a progressive photon
-    // map, a cache built while rendering) must override this with false.
-    bool renders_parts() const override { return true; }
+    // "": every sample is a pixel sample; an integrator whose samples share state across sample
+    // indices (a cache built while rendering) must say why it cannot render parts.
+    std::string parts_refusal() const override { return ""; }
     // Called once per render before any sample (build light samplers, caches).
     virtual void prepare(const Scene& scene) {}
-    // Radiance arriving along `ray`. Fills `aovs` when not null.
-    virtual Spectrum sample_radiance(const Scene& scene, Sampler& sampler, const Ray& ray, FirstHitAovs* aovs) const = 0;
+    // Radiance arriving along `ray`; fills `record` (valid, channels, first_hit when asked).
+    virtual Spectrum sample_radiance(const Scene& scene, Sampler& sampler, const Ray& ray, SampleRecord& record) const = 0;
+    // The extra channels every sample fills, written after the film's own (Mitsuba's
+    // aov_names(): "dd.T", "nn.X", ...); at most MaxSampleChannels.
+    virtual std::vector<std::string> channel_names() const { return {}; }
 };
+
+// The scene's sampler, or the one the options name with the scene's sample count and seed, with
+// the render's sample count and seed (what render() samples with).
+Ref<Sampler> configured_sampler(const Scene& scene, const RenderOptions& options);
 
 // The pixels the samples of `region` splat onto: the region grown by the film filter's reach and
 // clipped to the image (RenderResult::sums covers this).
 ImageRect sums_rect(const Film& film, const ImageRect& region);
+
+// Writes what a render records about itself into `image`'s metadata (candela.*): the Candela
+// version, the scene file, the integrator, spp, seed, sampler, render time, samples, rays,
+// dropped non-finite samples and whether it is partial.
+void annotate_image(Image& image, const RenderStats& stats, const std::string& integrator, const std::string& scene_path);
 
 // Number of rays traced by the calling thread so far (the accelerator counts them).
 uint64_t thread_ray_count();

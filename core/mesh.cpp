@@ -1,5 +1,6 @@
 #include "core/mesh.h"
 
+#include "core/memory_budget.h"
 #include "core/warp.h"
 
 #include <map>
@@ -7,25 +8,44 @@
 
 namespace candela {
 
+void Mesh::check_mesh_memory(uint64_t vertices, uint64_t triangles, uint64_t file_bytes, const SourceLocation& where) {
+    // Per vertex: position, normal and uv here, positions again in Embree's buffer (64 bytes,
+    // rounded up). Per triangle: indices here, in finalize()'s copy and in Embree's buffer, the
+    // area and its table entry, and Embree's BVH, about 100 bytes per triangle at high quality.
+    const uint64_t per_vertex = 64, per_triangle = 160;
+    uint64_t bytes = saturating_add(saturating_add(saturating_mul(vertices, per_vertex), saturating_mul(triangles, per_triangle)), file_bytes);
+    check_memory(bytes, "mesh of " + std::to_string(vertices) + " vertices and " + std::to_string(triangles) + " triangles", where);
+}
+namespace {
+// Errors in a mesh's data name the mesh file (at the filename property's line) when there is one.
+[[noreturn]] void fail_mesh(const Properties& props, const std::string& message) {
+    if (props.has("filename")) props.fail("filename", "mesh file \"" + props.get_string("filename") + "\": " + message);
+    props.fail(message);
+}
+}  // namespace
+
 void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
     for (const auto& t : triangles_)
         if (t.x >= positions_.size() || t.y >= positions_.size() || t.z >= positions_.size())
-            props.fail("mesh has a face that refers to a vertex that does not exist");
-    if (!uvs_.empty() && uvs_.size() != positions_.size()) props.fail("mesh has a uv count that differs from its vertex count");
+            fail_mesh(props, "a face refers to a vertex that does not exist");
+    if (!uvs_.empty() && uvs_.size() != positions_.size()) fail_mesh(props, "the uv count differs from the vertex count");
     if (!normals_.empty() && normals_.size() != positions_.size())
-        props.fail("mesh has a normal count that differs from its vertex count");
+        fail_mesh(props, "the normal count differs from the vertex count");
     for (const MeshAttribute& a : attributes_) {
         size_t rows = a.per_face ? triangles_.size() : positions_.size();
         if (a.channels < 1 || a.channels > 4 || a.values.size() != rows * size_t(a.channels))
-            props.fail("mesh attribute \"" + a.name + "\" does not have one value per " + (a.per_face ? "face" : "vertex"));
+            fail_mesh(props, "attribute \"" + a.name + "\" does not have one value per " + (a.per_face ? "face" : "vertex"));
     }
 
     for (auto& p : positions_) {
         p = to_world_.apply_point(p);
-        if (!all_finite(p)) props.fail("mesh has a vertex that is not a finite number");
+        if (!all_finite(p)) fail_mesh(props, "a vertex is not a finite number");
         bbox_.expand(p);
     }
+    for (const Vec2& uv : uvs_)
+        if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) fail_mesh(props, "a texture coordinate is not a finite number");
     for (auto& n : normals_) {
+        if (!all_finite(n)) fail_mesh(props, "a normal is not a finite number");
         n = to_world_.apply_normal(n);
         float len = glm::length(n);
         n = len > 0.0f && std::isfinite(len) ? n / len : Vec3(0.0f, 0.0f, 1.0f);
@@ -54,7 +74,7 @@ void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
             for (int c = 0; c < attr.channels; ++c) rows.push_back(attr.values[i * size_t(attr.channels) + size_t(c)]);
         attr.values = std::move(rows);
     }
-    if (triangles_.empty()) props.fail("mesh has no triangles with non-zero area");
+    if (triangles_.empty()) fail_mesh(props, "no triangle has a non-zero area");
     double total = 0.0;
     for (float a : areas) total += a;
     area_ = float(total);

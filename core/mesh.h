@@ -5,6 +5,7 @@
 #include "core/distribution.h"
 #include "core/shape.h"
 
+#include <algorithm>
 #include <vector>
 
 namespace candela {
@@ -13,6 +14,22 @@ namespace candela {
 // are degenerate).
 void triangle_tangents(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec2& uv0, const Vec2& uv1, const Vec2& uv2, const Vec3& n,
                        Vec3& dpdu, Vec3& dpdv);
+
+// How far the surface a triangle approximates may lie from the triangle's plane, from how much
+// its vertex normals turn away from the face normal: a chord of length l across a surface whose
+// normals turn by theta lies l theta / 8 below it (the sagitta, l^2 / 8R with l = R theta); with
+// the vertex normals turned by about theta / 2, l max|n_i x n_face| / 4 covers it, and twice
+// that leaves a margin. Zero for flat meshes. Rays leaving a tessellated surface toward the
+// exact one (the raster mode's ambient occlusion, baking) start this far off it.
+inline float tessellation_gap(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& n0, const Vec3& n1, const Vec3& n2) {
+    Vec3 face = glm::cross(p1 - p0, p2 - p0);
+    float len = glm::length(face);
+    if (!(len > 0.0f)) return 0.0f;
+    face /= len;
+    float turn = std::max({glm::length(glm::cross(n0, face)), glm::length(glm::cross(n1, face)), glm::length(glm::cross(n2, face))});
+    float edge = std::sqrt(std::max({squared_length(p1 - p0), squared_length(p2 - p1), squared_length(p0 - p2)}));
+    return 0.5f * edge * turn;
+}
 
 // Data attached to a mesh's vertices or faces, named as in Mitsuba ("vertex_color",
 // "face_normal_x", ...), with 1 to 4 channels per element.
@@ -49,6 +66,10 @@ public:
     const std::vector<glm::uvec3>& triangles() const { return triangles_; }
 
 protected:
+    // Stops the load (memory_budget.h) before a reader allocates a mesh of `vertices` and
+    // `triangles`, with `file_bytes` more for the reader's own buffers: an estimate of the
+    // arrays here with finalize()'s temporaries, the area table and Embree's buffers and BVH.
+    static void check_mesh_memory(uint64_t vertices, uint64_t triangles, uint64_t file_bytes, const SourceLocation& where);
     // Moves the object-space data to world space, drops degenerate triangles, and builds the
     // area table. With `smooth_if_missing`, a mesh without vertex normals gets angle-weighted
     // smooth normals (Thürmer & Wüthrich 1998), as Mitsuba does for OBJ and PLY files.

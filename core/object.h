@@ -17,8 +17,7 @@ public:
     virtual ObjectKind kind() const = 0;
     // A one-line description for logs and error messages.
     virtual std::string to_string() const { return kind_tag(kind()); }
-    std::string id;    // the scene file's id attribute, if any
-    std::string type;  // the plugin's type name ("independent"), set by create_plugin
+    std::string id;  // the scene file's id attribute, if any
 };
 
 template <typename T> using Ref = std::shared_ptr<T>;

@@ -2,8 +2,10 @@
 
 #include "core/file_resolver.h"
 #include "core/texture.h"
+#include "core/warning.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 
 namespace candela {
@@ -176,6 +178,18 @@ Ref<Texture> Properties::get_texture(const std::string& name, const Spectrum& de
     return std::make_shared<ConstantTexture>(get_rgb(name));
 }
 
+Ref<Texture> Properties::get_reflectance(const std::string& name, const Spectrum& def) const {
+    Ref<Texture> texture = get_texture(name, def);
+    if (!has(name) || !texture->is_constant()) return texture;
+    const Spectrum v = texture->mean();
+    char value[96];
+    std::snprintf(value, sizeof value, "(%g, %g, %g)", v.x, v.y, v.z);
+    if (!all_finite(v) || min_component(v) < 0.0f) fail(name, name + " " + value + " is not a reflectance: it must lie between 0 and 1");
+    if (max_component(v) > 1.0f)
+        warn(location_of(name), name + " " + value + " exceeds 1, which is physically impossible (more light out than in); rendered as given");
+    return texture;
+}
+
 Ref<Texture> Properties::get_texture(const std::string& name) const {
     if (!has(name)) throw SceneError(location_, plugin_type_ + ": missing required property \"" + name + "\" (texture or rgb)");
     return get_texture(name, Spectrum(0.0f));
@@ -186,18 +200,24 @@ Ref<Object> Properties::get_object(const std::string& name) const {
     return e ? std::get<Ref<Object>>(e->value) : nullptr;
 }
 
-std::vector<Ref<Object>> Properties::get_objects(ObjectKind kind) const {
-    std::vector<const Entry*> found;
+std::vector<std::pair<std::string, Ref<Object>>> Properties::get_named_objects(ObjectKind kind) const {
+    std::vector<std::pair<const std::string*, const Entry*>> found;
     for (auto& [name, e] : entries_) {
         if (e.type != Type::Object) continue;
-        if (std::get<Ref<Object>>(e.value)->kind() == kind) found.push_back(&e);
+        if (std::get<Ref<Object>>(e.value)->kind() == kind) found.emplace_back(&name, &e);
     }
-    std::sort(found.begin(), found.end(), [](const Entry* a, const Entry* b) { return a->order < b->order; });
-    std::vector<Ref<Object>> out;
-    for (const Entry* e : found) {
+    std::sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.second->order < b.second->order; });
+    std::vector<std::pair<std::string, Ref<Object>>> out;
+    for (const auto& [name, e] : found) {
         e->used = true;
-        out.push_back(std::get<Ref<Object>>(e->value));
+        out.emplace_back(*name, std::get<Ref<Object>>(e->value));
     }
+    return out;
+}
+
+std::vector<Ref<Object>> Properties::get_objects(ObjectKind kind) const {
+    std::vector<Ref<Object>> out;
+    for (auto& named : get_named_objects(kind)) out.push_back(std::move(named.second));
     return out;
 }
 

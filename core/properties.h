@@ -83,11 +83,17 @@ public:
     // A texture-valued parameter: a nested/referenced texture, or an rgb/float constant.
     Ref<Texture> get_texture(const std::string& name, const Spectrum& def) const;
     Ref<Texture> get_texture(const std::string& name) const;  // required
+    // A reflectance or transmittance (the fraction of light a surface passes on), read as
+    // get_texture. A constant below 0 is an error at its line; one above 1 is accepted with a
+    // warning there, as a physically impossible value (more light out than in).
+    Ref<Texture> get_reflectance(const std::string& name, const Spectrum& def) const;
 
     // A named nested object, or null when absent.
     Ref<Object> get_object(const std::string& name) const;
     // All nested objects of a kind, in document order, named or not; each is marked as used.
     std::vector<Ref<Object>> get_objects(ObjectKind kind) const;
+    // The same with their names: the name attribute, or "_argN" the loader gives unnamed ones.
+    std::vector<std::pair<std::string, Ref<Object>>> get_named_objects(ObjectKind kind) const;
 
     // Throws a SceneError at the first property (in document order) that nothing read.
     void check_all_used() const;

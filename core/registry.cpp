@@ -97,7 +97,6 @@ Ref<Object> create_plugin(ObjectKind kind, const Properties& props) {
         throw SceneError(props.location(), e.what());
     }
     obj->id = props.id;
-    obj->type = props.plugin_type();
     props.check_all_used();
     return obj;
 }

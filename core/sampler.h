@@ -1,7 +1,12 @@
 #pragma once
 // Samplers hand out the random numbers of one pixel sample. A sample's numbers depend only on
-// (seed, pixel, sample index), never on thread or tile order, so renders are reproducible bit
-// for bit with any number of threads.
+// (seed, pixel, sample index, dimension), never on thread or tile order or on which other samples
+// were taken, so renders are reproducible bit for bit with any number of threads and any sample
+// range [begin, end) of a pixel gives the same numbers as the whole.
+//
+// Dimensions count scalars: next_1d() takes one, next_2d() two. A path hands them out in a fixed
+// layout (SampleDimensions below), so that the best-distributed dimensions of a low-discrepancy
+// sampler reach the same integrand in every sample.
 
 #include "core/math.h"
 #include "core/object.h"
@@ -16,20 +21,45 @@ public:
     ObjectKind kind() const override { return ObjectKind::Sampler; }
 
     int sample_count() const { return sample_count_; }
-    void set_sample_count(int spp) { sample_count_ = spp; }
+    // Samplers that need a particular count (a square, a power of two, ...) round `spp` up as
+    // Mitsuba (or pbrt-v4, for sobol and zsobol) does; sample_count() then gives the rounded count.
+    virtual void set_sample_count(int spp) { sample_count_ = spp; }
     uint64_t seed() const { return seed_; }
     void set_seed(uint64_t seed) { seed_ = seed; }
+    // The size of the whole film in pixels. Samplers whose sequences span the image (sobol,
+    // zsobol) need it; the sensor tells its sampler when both are built.
+    virtual void set_film_size(const Vec2i& size) {}
 
     // Each thread works on its own copy.
     virtual Ref<Sampler> clone() const = 0;
-    // Positions the sampler at sample `index` of `pixel` (film coordinates, crop included).
+    // Positions the sampler at sample `index` (below sample_count()) of `pixel` (film
+    // coordinates, crop included), at dimension 0.
     virtual void start(const Vec2i& pixel, uint32_t index) = 0;
+    // Continues at dimension `d` (see SampleDimensions).
+    void set_dimension(uint32_t d) { dimension_ = d; }
+    uint32_t dimension() const { return dimension_; }
     virtual float next_1d() = 0;
     virtual Vec2 next_2d() = 0;
 
 protected:
     int sample_count_ = 4;
     uint64_t seed_ = 0;
+    uint32_t dimension_ = 0;  // the next dimension handed out
+};
+
+// The sampler of a sensor that names none: the one that measured best (bench/bench_samplers.cpp;
+// README says why).
+constexpr const char* DefaultSampler = "stratified";
+
+// The dimensions of a camera path: the film position, the aperture, then per bounce (scattering
+// vertex k, counted from 0 at the first surface the camera ray meets) the light pick, the
+// position on the light, the BSDF lobe, the BSDF direction and Russian roulette. Every bounce
+// claims all of them whether it uses them or not, so bounce k always starts at bounce(k).
+struct SampleDimensions {
+    static constexpr uint32_t Film = 0, Aperture = 2, FirstBounce = 4, PerBounce = 7;
+    // Offsets within a bounce.
+    static constexpr uint32_t LightPick = 0, LightPosition = 1, Lobe = 3, Direction = 4, Roulette = 6;
+    static constexpr uint32_t bounce(uint32_t k) { return FirstBounce + PerBounce * k; }
 };
 
 // Seeds a PCG32 for one sample: state from (seed, pixel), stream from (seed, sample index).

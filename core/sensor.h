@@ -40,6 +40,25 @@ struct PinholeProjection {
 // for an image of aspect width / height: returns tan(fov_x / 2).
 float read_tan_half_fov_x(const Properties& props, float aspect);
 
+// A connection from a point in the scene to the sensor, for light tracing (Mitsuba's
+// Sensor::sample_direction): the inverse of sample_ray, with the importance it carries.
+struct SensorSample {
+    Vec3 p{0.0f};         // where the connection enters the sensor's view: on the near-clip plane,
+                          // so a shadow ray from the reference point to p tests what the camera sees
+    Vec3 d{0.0f};         // unit direction from the reference point toward the sensor
+    float dist = 0.0f;    // distance from the reference point to p
+    Vec2 film_pos{0.0f};  // where it lands on the film, in pixels of the full film (as sample_ray)
+    float pdf = 0.0f;     // solid-angle density of d at the reference point (1 for a delta:
+                          // pinhole, orthographic); 0 when the point is not in view
+    bool delta = false;
+    // The importance of the connection over its density, W_e cos(theta_sensor) / (dist_lens^2 p)
+    // in film pixels: a particle of flux weight beta arriving at the reference point, scattered
+    // toward the sensor by f |cos|, adds beta f |cos| * weight to the film at film_pos, through a
+    // reconstruction filter of unit integral; dividing the film by the number of light paths
+    // gives radiance. A surface of radiance L seen through the sensor measures the same L.
+    float weight = 0.0f;
+};
+
 class Sensor : public Object {
 public:
     // The projection of a pinhole camera (nullopt for other camera models: the rasterizer
@@ -49,9 +68,17 @@ public:
     // A primary ray through continuous film position `film_pos` (pixels of the full film, origin
     // at the top-left corner); `aperture_u` is for cameras with a lens.
     virtual Ray sample_ray(const Vec2& film_pos, const Vec2& aperture_u) const = 0;
+    // The connection from world point `ref` to the sensor; `aperture_u` picks the lens point of
+    // cameras with a lens. pdf 0 when `ref` is outside the view or the clip range.
+    virtual SensorSample sample_direction(const Vec3& ref, const Vec2& aperture_u) const = 0;
 
     Film& film() const { return *film_; }
     Sampler& sampler() const { return *sampler_; }
+    // Replaces the sampler (candela render --sampler) and tells it the film's size.
+    void set_sampler(Ref<Sampler> sampler) {
+        sampler_ = std::move(sampler);
+        sampler_->set_film_size(film_->full_size());
+    }
     const Transform& to_world() const { return to_world_; }
 
 protected:

@@ -126,6 +126,15 @@ Vec3d xyz_to_linear_srgb(const Vec3d& xyz) {
     return out;
 }
 
+Vec3d linear_srgb_to_xyz(const Vec3d& rgb) {
+    // Mitsuba 3's matrix (float literals, as there); its middle row is the luminance of
+    // core/spectrum.h.
+    const double m[3][3] = {{0.412453f, 0.357580f, 0.180423f}, {0.212671f, 0.715160f, 0.072169f}, {0.019334f, 0.119193f, 0.950227f}};
+    Vec3d out;
+    for (int r = 0; r < 3; ++r) out[r] = m[r][0] * rgb.x + m[r][1] * rgb.y + m[r][2] * rgb.z;
+    return out;
+}
+
 void check_spectrum(const SampledSpectrum& s) {
     if (s.wavelengths.size() != s.values.size()) throw SpectrumFormatError("wavelengths and values differ in number");
     if (s.wavelengths.size() < 2) throw SpectrumFormatError("a sampled spectrum needs at least two wavelength:value pairs");

@@ -61,5 +61,8 @@ Spectrum blackbody_rgb(double temperature, double lambda_min = CieMin, double la
 Vec3d cie1931_xyz(double wavelength_nm);
 double cie_d65(double wavelength_nm);  // times CIE_D65_NORMALIZATION
 Vec3d xyz_to_linear_srgb(const Vec3d& xyz);
+// Its inverse, Mitsuba's srgb_to_xyz (Rec. 709 primaries, D65 white): the film's xyz and
+// luminance pixel formats and the moment integrator use it.
+Vec3d linear_srgb_to_xyz(const Vec3d& rgb);
 
 }  // namespace candela

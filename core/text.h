@@ -1,6 +1,9 @@
 #pragma once
-// Splitting attribute text into its items, as Mitsuba's string::tokenize does for number lists.
+// Small text helpers: splitting attribute text into its items, as Mitsuba's string::tokenize
+// does for number lists, case folding for names Mitsuba reads case-insensitively, and escaping
+// text for HTML and SVG output.
 
+#include <algorithm>
 #include <cctype>
 #include <string>
 #include <vector>
@@ -21,6 +24,31 @@ inline std::vector<std::string> split_list(const std::string& text) {
     }
     if (!item.empty()) items.push_back(item);
     return items;
+}
+
+// ASCII lower case (Mitsuba's string::to_lower).
+inline std::string to_lower(std::string s) {
+    std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return s;
+}
+
+// `text` as HTML/XML character data or a quoted attribute value: the five characters with a
+// meaning in markup become entities, so that a scene or file name shows as written and never
+// becomes markup (or script) in a report.
+inline std::string escape_markup(const std::string& text) {
+    std::string out;
+    out.reserve(text.size());
+    for (char c : text) {
+        switch (c) {
+        case '&': out += "&amp;"; break;
+        case '<': out += "&lt;"; break;
+        case '>': out += "&gt;"; break;
+        case '"': out += "&quot;"; break;
+        case '\'': out += "&#39;"; break;
+        default: out += c;
+        }
+    }
+    return out;
 }
 
 }  // namespace candela

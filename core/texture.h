@@ -13,15 +13,54 @@ namespace candela {
 // bilinear at full resolution, or trilinear in the MIP pyramid.
 enum class TextureFilter { Nearest, Bilinear, Trilinear };
 
+class Properties;
+
+// How a surface point finds its texture coordinates (the lecture's UV mapping, "uv coordinate
+// <-> object coordinate"). `uv` takes the shape's own parameterisation. The others project the
+// point p, carried into the mapping's frame by the inverse of `mapping_to_world` (q below):
+//   planar       (s, t) = (q.x, q.y): orthogonal projection along the frame's z axis
+//   cylindrical  s = phi / 2pi with phi = atan2(q.y, q.x) in [0, 2pi), t = q.z: the height
+//                fraction on the cylinder whose axis runs along z from z = 0 (t = 0) to 1 (t = 1)
+//   spherical    s = phi / 2pi, t = theta / pi with theta the angle of q from the +z pole
+// With mapping_to_world equal to a shape's own placement these reproduce the parameterisations
+// of Mitsuba's sphere (spherical) and cylinder (cylindrical, scaled to its radius and length),
+// and of the rectangle when the frame's unit square [0, 1]^2 is put on the rectangle (planar).
+struct TextureMapping {
+    enum class Kind { UV, Planar, Cylindrical, Spherical };
+    Kind kind = Kind::UV;
+    Transform world_to_mapping;
+
+    TextureMapping() = default;
+    // Reads `mapping` (uv, planar, cylindrical or spherical; default uv) and `mapping_to_world`.
+    explicit TextureMapping(const Properties& props);
+    // Texture coordinates of the surface point p whose own uv is `uv`.
+    Vec2 map(const Vec2& uv, const Vec3& p) const;
+    // b - a in texture coordinates, the shorter way round where s wraps (cylindrical and
+    // spherical), so that a footprint across the seam stays small.
+    Vec2 difference(const Vec2& a, const Vec2& b) const;
+};
+
 class Texture : public Object {
 public:
+    Texture() = default;
+    // Reads the parameters every texture plugin shares: `mapping` and `mapping_to_world`.
+    explicit Texture(const Properties& props) : mapping_(props) {}
     ObjectKind kind() const override { return ObjectKind::Texture; }
-    // The colour at uv, unfiltered beyond the texture's own reconstruction (bilinear or nearest).
+    // The colour at texture coordinates uv, unfiltered beyond the texture's own reconstruction
+    // (bilinear or nearest).
     virtual Spectrum eval(const Vec2& uv) const = 0;
-    // The colour at a surface point: what BSDFs ask. By default the uv lookup; textures that read
-    // more of the hit (mesh_attribute: the shape's per-vertex data) override these two.
-    virtual Spectrum eval(const SurfaceInteraction& si) const { return eval(si.uv); }
-    virtual float eval_1(const SurfaceInteraction& si) const { return eval_1(si.uv); }
+    // The colour at a surface point: what BSDFs and emitters ask. By default the lookup at the
+    // point's texture coordinates (texture_uv); textures that read more of the hit (mesh_attribute:
+    // the shape's per-vertex data) override these two.
+    virtual Spectrum eval(const SurfaceInteraction& si) const { return eval(texture_uv(si)); }
+    virtual float eval_1(const SurfaceInteraction& si) const { return eval_1(texture_uv(si)); }
+    // d eval_1 / d(u, v) at a surface point, with (u, v) the surface's own parameters: the
+    // texture's gradient under the uv mapping; under another mapping central differences along
+    // dp/du and dp/dv (bump mapping).
+    Vec2 eval_1_gradient(const SurfaceInteraction& si) const;
+    // Where `mapping` puts a surface point in the texture.
+    Vec2 texture_uv(const SurfaceInteraction& si) const { return mapping_.map(si.uv, si.p); }
+    const TextureMapping& mapping() const { return mapping_; }
     // A lookup over the footprint given by the screen-space derivatives of uv (the rasterizer's
     // texture filtering): nearest or bilinear reconstruction at full resolution, or trilinear
     // filtering in the MIP pyramid. Textures without a pyramid ignore the footprint.
@@ -44,6 +83,9 @@ public:
     virtual Vec2i resolution() const { return Vec2i(1); }
     // The largest value any channel reaches (for energy bounds).
     virtual float max_value() const = 0;
+
+protected:
+    TextureMapping mapping_;
 };
 
 // A 2D affine map of texture coordinates (Mitsuba's `to_uv`): a 4x4 transform from the scene

@@ -465,8 +465,7 @@ private:
             props.set(property_name(doc, node), Properties::Type::Float, parse_double(doc, node, attr(doc, node, "value")), loc);
         } else if (tag == "boolean") {
             check_attributes(doc, node, {"name", "value"});
-            std::string v = trim(attr(doc, node, "value"));
-            std::transform(v.begin(), v.end(), v.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+            std::string v = to_lower(trim(attr(doc, node, "value")));
             if (v != "true" && v != "false") throw SceneError(loc, "\"" + v + "\" is not a boolean (true or false)");
             props.set(property_name(doc, node), Properties::Type::Boolean, v == "true", loc);
         } else if (tag == "string") {

@@ -70,7 +70,7 @@ ImageRect bounds(const std::vector<PartHeader>& parts) {
 
 // One part at a time: memory is the sums of `area` plus one part.
 PixelSums add_parts(const MergeSet& set, const ImageRect& area) {
-    PixelSums sums(area, set.identity.layout());
+    PixelSums sums(area, set.identity.values(), set.identity.layout());
     for (const PartHeader& p : set.parts) add_part(p, sums);
     return sums;
 }
@@ -148,23 +148,20 @@ Image merge_image(const MergeSet& set) {
     Image image = add_parts(set, whole).develop();
     const PartHeader h = summed_header(set);
     const RenderIdentity& id = set.identity;
+    RenderStats stats;  // of all the parts together
+    stats.seconds = h.render_seconds;
+    stats.samples = h.samples;
+    stats.rays = h.rays;
+    stats.nonfinite = h.nonfinite;
+    stats.spp = id.spp;
+    stats.seed = id.seed;
+    stats.sampler = id.sampler;
+    stats.partial = !set.missing.empty();
+    annotate_image(image, stats, id.integrator, id.scene);
     auto& m = image.metadata;
-    m["software"] = "Candela " + id.version;
-    m["candela.version"] = id.version;
-    m["candela.scene"] = id.scene;
+    m["candela.version"] = id.version;  // the parts' (the merging program's is in "software")
     m["candela.sceneHash"] = id.scene_hash;
-    m["candela.integrator"] = id.integrator;
-    m["candela.sampler"] = id.sampler;
-    m["candela.spp"] = std::to_string(id.spp);
-    m["candela.seed"] = std::to_string(id.seed);
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.3f", h.render_seconds);
-    m["candela.renderTime"] = buf;
-    m["candela.samples"] = std::to_string(h.samples);
-    m["candela.rays"] = std::to_string(h.rays);
-    m["candela.nonfiniteSamples"] = std::to_string(h.nonfinite);
     m["candela.mergedParts"] = std::to_string(h.rendered_parts);
-    m["candela.partial"] = set.missing.empty() ? "false" : "true";
     if (!set.missing.empty()) m["candela.missing"] = format_coverage(set.missing);
     return image;
 }

@@ -44,9 +44,12 @@ struct Fnv1a {
     }
 };
 
-std::vector<std::string> part_channels(const AovLayout& layout) {
-    std::vector<std::string> ch = {"R", "G", "B", "sum.R", "sum.G", "sum.B", "sum.W"};
+std::vector<std::string> part_channels(const SampleLayout& values, const AovLayout& layout) {
+    std::vector<std::string> ch = {"R", "G", "B"};
+    for (const std::string& v : values.value_names()) ch.push_back("sum." + v);
+    ch.push_back("sum.W");
     if (layout.pixel_stats()) ch.push_back("count.N");
+    if (layout.samples()) ch.push_back("taken.N");
     auto layer = [&](const char* name, const char* components) {
         for (const char* c = components; *c; ++c) ch.push_back(std::string(name) + "." + *c);
     };
@@ -98,9 +101,21 @@ struct HeaderReader {
     }
 };
 
+std::string join_names(const std::vector<std::string>& names) {
+    std::string out;
+    for (const std::string& n : names) out += (out.empty() ? "" : ",") + n;
+    return out;
+}
+
 }  // namespace
 
 AovLayout RenderIdentity::layout() const { return AovLayout(split_list(aovs)); }
+
+SampleLayout RenderIdentity::values() const {
+    for (PixelFormat f : {PixelFormat::Luminance, PixelFormat::LuminanceAlpha, PixelFormat::RGB, PixelFormat::RGBA, PixelFormat::XYZ, PixelFormat::XYZA})
+        if (join_names(pixel_format_channels(f)) == film_channels) return SampleLayout(f, split_list(integrator_channels));
+    throw InputError("film channels \"" + film_channels + "\" name no pixel format");
+}
 
 std::string RenderIdentity::difference(const RenderIdentity& o) const {
     auto differs = [](const std::string& what, const std::string& a, const std::string& b) {
@@ -117,6 +132,8 @@ std::string RenderIdentity::difference(const RenderIdentity& o) const {
     check("samples per pixel", std::to_string(spp), std::to_string(o.spp));
     check("resolution", std::to_string(image.x) + "x" + std::to_string(image.y), std::to_string(o.image.x) + "x" + std::to_string(o.image.y));
     check("integrator", integrator, o.integrator);
+    check("film channels", "\"" + film_channels + "\"", "\"" + o.film_channels + "\"");
+    check("integrator channels", "\"" + integrator_channels + "\"", "\"" + o.integrator_channels + "\"");
     check("AOVs", "\"" + aovs + "\"", "\"" + o.aovs + "\"");
     check("film format", float32 ? "float32" : "float16", o.float32 ? "float32" : "float16");
     return d;
@@ -132,16 +149,18 @@ std::string scene_hash(const Scene& scene) {
     return buf;
 }
 
-RenderIdentity render_identity(const Scene& scene, const std::string& scene_path, const RenderStats& stats, const AovLayout& layout,
-                               const std::string& command) {
+RenderIdentity render_identity(const Scene& scene, const std::string& scene_path, const RenderStats& stats, const SampleLayout& values,
+                               const AovLayout& layout, const std::string& command) {
     RenderIdentity id;
     id.scene = scene_path;
     id.scene_hash = scene_hash(scene);
     id.seed = stats.seed;
-    id.sampler = scene.sensor().sampler().type;
+    id.sampler = stats.sampler;
     id.spp = stats.spp;
     id.image = scene.sensor().film().crop_size();
     id.integrator = scene.integrator().to_string();
+    id.film_channels = join_names(pixel_format_channels(values.format()));
+    id.integrator_channels = join_names(values.integrator_channels());
     id.aovs = layout.names();
     id.version = CANDELA_VERSION;
     id.float32 = scene.sensor().film().float32();
@@ -152,7 +171,8 @@ RenderIdentity render_identity(const Scene& scene, const std::string& scene_path
 void write_part(const std::string& path, const PixelSums& sums, const PartHeader& header) {
     const AovLayout& layout = sums.layout();
     const Vec2i size = sums.size();
-    Image img(size.x, size.y, part_channels(layout));
+    const int stride = sums.stride();
+    Image img(size.x, size.y, part_channels(sums.values(), layout));
     for (int y = 0; y < size.y; ++y)
         for (int x = 0; x < size.x; ++x) {
             int c = 0;
@@ -166,13 +186,15 @@ void write_part(const std::string& path, const PixelSums& sums, const PartHeader
                 c += 6;
             };
             const double* f = sums.filtered_at(x, y);
-            for (int k = 0; k < 3; ++k) put(f[3] > 0.0 ? f[k] / f[3] : 0.0);
-            for (int k = 0; k < 4; ++k) put(f[k]);
+            const double w = f[stride - 1];
+            for (int k = 0; k < 3; ++k) put(w > 0.0 ? f[k] / w : 0.0);
+            for (int k = 0; k < stride; ++k) put(f[k]);
             if (!layout.pixel_stats()) continue;
             const PixelStats& ps = sums.stats_at(x, y);
-            if (ps.n > MaxExactCount)
-                throw InputError(path + ": a pixel holds " + std::to_string(ps.n) + " samples, more than a part can count exactly (2^24)");
+            if (ps.taken > MaxExactCount)
+                throw InputError(path + ": a pixel holds " + std::to_string(ps.taken) + " samples, more than a part can count exactly (2^24)");
             put(ps.n);
+            if (layout.samples()) put(ps.taken);
             if (layout.albedo())
                 for (double v : ps.albedo) put(v);
             if (layout.normal())
@@ -194,6 +216,8 @@ void write_part(const std::string& path, const PixelSums& sums, const PartHeader
     m["candela.spp"] = std::to_string(id.spp);
     m["candela.imageSize"] = std::to_string(id.image.x) + "x" + std::to_string(id.image.y);
     m["candela.integrator"] = id.integrator;
+    m["candela.filmChannels"] = id.film_channels;
+    m["candela.integratorChannels"] = id.integrator_channels;
     m["candela.aovs"] = id.aovs;
     m["candela.version"] = id.version;
     m["candela.float32"] = id.float32 ? "true" : "false";
@@ -233,6 +257,8 @@ PartHeader read_part_header(const std::string& path) {
     if (std::sscanf(r.text("candela.imageSize").c_str(), "%dx%d", &id.image.x, &id.image.y) != 2)
         throw InputError(path + ": part metadata candela.imageSize is not WIDTHxHEIGHT");
     id.integrator = r.text("candela.integrator");
+    id.film_channels = r.text("candela.filmChannels");
+    id.integrator_channels = r.text_or_empty("candela.integratorChannels");
     id.aovs = r.text_or_empty("candela.aovs");
     id.version = r.text("candela.version");
     id.float32 = r.text("candela.float32") == "true";
@@ -254,11 +280,18 @@ PartHeader read_part_header(const std::string& path) {
     h.samples = r.number<uint64_t>("candela.samples");
     h.rays = r.number<uint64_t>("candela.rays");
     h.nonfinite = r.number<uint64_t>("candela.nonfiniteSamples");
-    std::vector<std::string> expected = part_channels(id.layout()), found = spec.channelnames;
+    SampleLayout values;
+    try {
+        values = id.values();
+    } catch (const InputError& e) {
+        throw InputError(path + ": part metadata: " + e.what());
+    }
+    std::vector<std::string> expected = part_channels(values, id.layout()), found = spec.channelnames;
     std::sort(expected.begin(), expected.end());
     std::sort(found.begin(), found.end());
     if (found != expected)
-        throw InputError(path + ": its channels are not those of a part with AOVs \"" + id.aovs + "\"");
+        throw InputError(path + ": its channels are not those of a part with film channels \"" + id.film_channels + "\", integrator channels \"" +
+                         id.integrator_channels + "\" and AOVs \"" + id.aovs + "\"");
     const Vec2i end = h.rect.offset + h.rect.size;
     bool inside = h.rect.offset.x >= 0 && h.rect.offset.y >= 0 && end.x <= id.image.x && end.y <= id.image.y;
     for (const CoverageBox& b : h.coverage) {
@@ -274,7 +307,7 @@ void add_part(const PartHeader& h, PixelSums& image_sums) {
     // OpenEXR stores channels sorted by name: find each where it is.
     Image part = read_image(h.path);
     std::vector<int> index;
-    for (const std::string& name : part_channels(image_sums.layout()))
+    for (const std::string& name : part_channels(image_sums.values(), image_sums.layout()))
         if (name.find('.') != std::string::npos) index.push_back(part.channel_index(name));  // not R, G, B: the image
     if (part.width() != h.rect.size.x || part.height() != h.rect.size.y || std::count(index.begin(), index.end(), -1) > 0)
         throw InputError(h.path + ": changed while merging");
@@ -293,10 +326,11 @@ void add_part(const PartHeader& h, PixelSums& image_sums) {
                 c += 6;
             };
             double* f = image_sums.filtered_at(ix, iy);
-            for (int k = 0; k < 4; ++k) f[k] += next();
+            for (int k = 0; k < image_sums.stride(); ++k) f[k] += next();
             if (!layout.pixel_stats()) continue;
             PixelStats& ps = image_sums.stats_at(ix, iy);
             ps.n += uint32_t(next());
+            ps.taken += layout.samples() ? uint32_t(next()) : 0;
             if (layout.albedo())
                 for (double& v : ps.albedo) v += next();
             if (layout.normal())

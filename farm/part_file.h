@@ -7,8 +7,12 @@
 //
 // Channels:
 //   R G B                          the image so far (sum.RGB / sum.W), to look at; never read back
-//   sum.R sum.G sum.B sum.W        filtered sums sum(w L) and sum(w), what the image divides
+//   sum.R sum.G sum.B [sum.A] sum.<integrator channel>... sum.W
+//                                  filtered sums sum(w v) and sum(w), what the image divides: the
+//                                  radiance, the alpha when the film's pixel format has one, the
+//                                  integrator's own channels (core/pixel_sums.h: SampleLayout)
 //   count.N                        samples that landed in the pixel (when there are AOVs)
+//   taken.N                        sample indices taken, dropped ones included (AOV "samples")
 //   albedoSum.R..B normalSum.X..Z depthSum.Z   sums of the first-hit values (when asked for)
 //   moment1.R..B moment2.R..B      sum(L) and sum(L^2) for the variance layer, each with a
 //   moment1lo.R..B moment2lo.R..B  float32 "lo" channel holding what float32 rounded off: the
@@ -18,7 +22,7 @@
 // reach (candela.origin: where its first pixel lies in the image).
 // Metadata (string attributes): candela.partFormat, the render's identity (candela.scene,
 // candela.sceneHash, candela.seed, candela.sampler, candela.spp, candela.imageSize,
-// candela.integrator, candela.aovs, candela.version, candela.float32, candela.command), what the
+// candela.integrator, candela.filmChannels, candela.integratorChannels, candela.aovs, candela.version, candela.float32, candela.command), what the
 // part holds (candela.coverage: boxes "x,y,w,h@start:end" joined by ';'; candela.partial: "true"
 // when it holds less than it was asked to render, so that it must be resumed or completed) and how
 // it was made (candela.renderTime, candela.started, candela.finished, candela.host,
@@ -43,6 +47,8 @@ struct RenderIdentity {
     int spp = 0;             // samples per pixel of the whole render
     Vec2i image{0};          // the image size (the film's crop window)
     std::string integrator;
+    std::string film_channels;        // the film's pixel format as its channels ("R,G,B,A")
+    std::string integrator_channels;  // SamplingIntegrator::channel_names(), joined by ','
     std::string aovs;        // AovLayout::names()
     std::string version;     // Candela's
     bool float32 = true;     // the film's component format, which the final image takes
@@ -51,6 +57,8 @@ struct RenderIdentity {
     std::string command;
 
     AovLayout layout() const;
+    // InputError when film_channels names no pixel format.
+    SampleLayout values() const;
     // "" when `other` is the same render, else the first field that differs, both values shown.
     std::string difference(const RenderIdentity& other) const;
 };
@@ -60,10 +68,10 @@ struct RenderIdentity {
 // by content, not name, so copies of a scene in different folders agree.
 std::string scene_hash(const Scene& scene);
 
-// The identity of the render of `scene` (read from `scene_path`) that `stats` describe (its spp
-// and seed), with the command that repeats it.
-RenderIdentity render_identity(const Scene& scene, const std::string& scene_path, const RenderStats& stats, const AovLayout& layout,
-                               const std::string& command);
+// The identity of the render of `scene` (read from `scene_path`) that `stats` describe (its spp,
+// seed and sampler), with what each sample splats and the command that repeats it.
+RenderIdentity render_identity(const Scene& scene, const std::string& scene_path, const RenderStats& stats, const SampleLayout& values,
+                               const AovLayout& layout, const std::string& command);
 
 struct PartHeader {
     std::string path;

@@ -28,14 +28,7 @@ std::string part_name(size_t index) {
 }
 
 std::vector<std::string> render_command(const FarmRequest& r, const FarmTask& task) {
-    std::vector<std::string> cmd = {r.candela, "render", r.scene, "--spp", std::to_string(r.spp), "--seed", std::to_string(r.seed)};
-    for (const std::string& d : r.defines) cmd.insert(cmd.end(), {"-D", d});
-    if (!r.aovs.empty()) {
-        std::string list;
-        for (const std::string& a : r.aovs) list += (list.empty() ? "" : ",") + a;
-        cmd.insert(cmd.end(), {"--aov", list});
-    }
-    if (!r.mode.empty()) cmd.insert(cmd.end(), {"--mode", r.mode});
+    std::vector<std::string> cmd = render_words(r);
     cmd.insert(cmd.end(), {"--samples", format_sample_range(task.samples)});
     if (!task.region.empty()) cmd.insert(cmd.end(), {"--crop", format_rect(task.region)});
     cmd.insert(cmd.end(), {"--threads", std::to_string(r.threads_per_task), "--quiet", "-o", task.part});
@@ -65,6 +58,19 @@ void write_script(const std::string& path, const std::string& text) {
 }
 
 }  // namespace
+
+std::vector<std::string> render_words(const FarmRequest& r) {
+    std::vector<std::string> cmd = {r.candela, "render", r.scene, "--spp", std::to_string(r.spp), "--seed", std::to_string(r.seed)};
+    for (const std::string& d : r.defines) cmd.insert(cmd.end(), {"-D", d});
+    if (!r.aovs.empty()) {
+        std::string list;
+        for (const std::string& a : r.aovs) list += (list.empty() ? "" : ",") + a;
+        cmd.insert(cmd.end(), {"--aov", list});
+    }
+    if (!r.sampler.empty()) cmd.insert(cmd.end(), {"--sampler", r.sampler});
+    if (!r.mode.empty()) cmd.insert(cmd.end(), {"--mode", r.mode});
+    return cmd;
+}
 
 FarmPlan plan_farm(const FarmRequest& r) {
     if (r.parts < 1) throw InputError("--parts must be at least 1");

@@ -18,6 +18,7 @@ struct FarmRequest {
     std::string scene;                 // absolute
     std::vector<std::string> defines;  // name=value
     std::vector<std::string> aovs;
+    std::string sampler;               // render --sampler, when given
     std::string mode;                  // render --mode, when given
     int spp = 0;                       // the render's (resolved from the scene when not given)
     uint64_t seed = 0;                 // likewise
@@ -40,6 +41,10 @@ struct FarmPlan {
     std::vector<FarmTask> tasks;
     std::string merge_command;  // a shell line
 };
+
+// The words of the command that renders the request's image whole: `candela render SCENE --spp S
+// --seed X`, then -D, --aov, --sampler and --mode as given. Parts add --samples and --crop.
+std::vector<std::string> render_words(const FarmRequest& request);
 
 // Sample range k of N is [floor(k spp / N), floor((k+1) spp / N)); region (i, j) of a C x R grid
 // likewise in x and y. Task index = region index * N + range index. InputError when a range or

@@ -1,6 +1,7 @@
 #include "farm/resumable_render.h"
 
 #include "core/error.h"
+#include "core/sampler.h"
 #include "core/scene.h"
 #include "farm/coverage.h"
 
@@ -98,28 +99,33 @@ void check_target(const CoverageBox& t, const Vec2i& image, int spp) {
 }  // namespace
 
 RenderStats planned_render(const Scene& scene, const RenderOptions& options) {
+    const Ref<Sampler> sampler = configured_sampler(scene, options);
     RenderStats s;
-    s.spp = options.spp > 0 ? options.spp : scene.sensor().sampler().sample_count();
-    s.seed = options.seed ? *options.seed : scene.sensor().sampler().seed();
+    s.spp = sampler->sample_count();
+    s.seed = sampler->seed();
+    s.sampler = sampler->to_string();
     return s;
 }
 
 ResumableResult render_resumable(const Scene& scene, RenderOptions options, const ResumableRequest& request) {
-    if (!scene.integrator().renders_parts())
-        throw InputError("the " + scene.integrator().to_string() + " integrator cannot render parts, resume or checkpoint: its samples " +
-                         "are not independent of each other; render the whole image");
+    if (std::string reason = scene.integrator().parts_refusal(); !reason.empty())
+        throw InputError("the " + scene.integrator().to_string() + " integrator cannot render a part (--samples, --crop), resume or " +
+                         "checkpoint: " + reason);
+    const auto* integrator = dynamic_cast<const SamplingIntegrator*>(&scene.integrator());
+    if (!integrator) throw InputError("the " + scene.integrator().to_string() + " integrator keeps no pixel sums");
     ResumableResult result;
     result.stats = planned_render(scene, options);
     check_target(request.target, scene.sensor().film().crop_size(), result.stats.spp);
     const AovLayout layout(options.aovs);
+    const SampleLayout values(scene.sensor().film().pixel_format(), integrator->channel_names());
     PartHeader& h = result.header;
-    h.identity = render_identity(scene, request.scene_path, result.stats, layout, request.command);
+    h.identity = render_identity(scene, request.scene_path, result.stats, values, layout, request.command);
     h.started = seconds_since_epoch();
     h.host = host_name();
     // Allocated when a resumed part needs it, else taken from the first render (add_render).
     const ImageRect rect = sums_rect(scene.sensor().film(), request.target.rect);
     if (!request.resume.empty()) {
-        result.sums = PixelSums(rect, layout);
+        result.sums = PixelSums(rect, values, layout);
         resume_from(request.resume, request.target, result);
     }
 
@@ -144,7 +150,7 @@ ResumableResult render_resumable(const Scene& scene, RenderOptions options, cons
             break;
         }
     }
-    if (result.sums.rect().empty()) result.sums = PixelSums(rect, layout);  // interrupted before any render
+    if (result.sums.rect().empty()) result.sums = PixelSums(rect, values, layout);  // interrupted before any render
     h.coverage = coalesce(h.coverage);
     h.partial = !uncovered(h.coverage, request.target).empty();
     h.finished = seconds_since_epoch();

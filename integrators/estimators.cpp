@@ -4,6 +4,7 @@
 #include "core/registry.h"
 #include "core/scene.h"
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -44,6 +45,13 @@ struct Sums {
     }
 };
 
+// The independent sampler, which the estimators draw from as if sample i were a pixel.
+Ref<Sampler> estimator_sampler(uint64_t seed) {
+    Ref<Sampler> sampler = create_plugin_as<Sampler>(ObjectKind::Sampler, Properties("independent", SourceLocation{"<estimator>", 0}));
+    sampler->set_seed(seed);
+    return sampler;
+}
+
 // Runs `one(sampler)` for every sample in fixed chunks and combines the chunks in order, so the
 // result does not depend on the thread count.
 template <typename F> Estimate run(const EstimatorOptions& options, F one) {
@@ -52,8 +60,7 @@ template <typename F> Estimate run(const EstimatorOptions& options, F one) {
     tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
     arena.execute([&] {
         // Random numbers for sample i: the independent sampler, positioned as "pixel" i.
-        Ref<Sampler> prototype = create_plugin_as<Sampler>(ObjectKind::Sampler, Properties("independent", SourceLocation{"<estimator>", 0}));
-        prototype->set_seed(options.seed);
+        Ref<Sampler> prototype = estimator_sampler(options.seed);
         tbb::parallel_for(uint64_t(0), chunks, [&](uint64_t c) {
             Ref<Sampler> sampler = prototype->clone();
             for (uint64_t i = c * chunk; i < std::min(options.samples, (c + 1) * chunk); ++i) {
@@ -118,11 +125,43 @@ Estimate estimate_irradiance(const Scene& scene, const Vec3& p, const Vec3& n, c
     return run(options, [&](Sampler& sampler) { return Pi * path.continue_path(scene, sampler, vertex, white, 0); });
 }
 
+std::vector<Spectrum> estimate_irradiance_at(const Scene& scene, const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
+                                             const EstimatorOptions& options) {
+    PathIntegrator path(options.path);
+    path.prepare(scene);
+    const BSDF& white = white_lambertian();
+    std::vector<Spectrum> out(points.size(), Spectrum(0.0f));
+    tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+    arena.execute([&] {
+        Ref<Sampler> prototype = estimator_sampler(options.seed);
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size(), 16), [&](const tbb::blocked_range<size_t>& range) {
+            Ref<Sampler> sampler = prototype->clone();
+            for (size_t i = range.begin(); i != range.end(); ++i) {
+                SurfaceInteraction vertex = virtual_vertex(scene, points[i], normals[i]);
+                Spectrum sum(0.0f);
+                uint64_t n = 0;
+                for (uint64_t s = 0; s < options.samples; ++s) {
+                    sampler->start(Vec2i(int(i & 0x7fffffff), int(i >> 31)), uint32_t(s));
+                    Spectrum v = Pi * path.continue_path(scene, *sampler, vertex, white, 0);
+                    if (!all_finite(v)) continue;
+                    sum += v;
+                    ++n;
+                }
+                out[i] = n > 0 ? sum / float(n) : Spectrum(0.0f);
+            }
+        });
+    });
+    return out;
+}
+
 Estimate estimate_radiance(const Scene& scene, const Vec3& origin, const Vec3& direction, const EstimatorOptions& options) {
     PathIntegrator path(options.path);
     path.prepare(scene);
     Ray ray(origin, glm::normalize(direction));
-    return run(options, [&](Sampler& sampler) { return path.sample_radiance(scene, sampler, ray, nullptr); });
+    return run(options, [&](Sampler& sampler) {
+        SampleRecord record;
+        return path.sample_radiance(scene, sampler, ray, record);
+    });
 }
 
 }  // namespace candela

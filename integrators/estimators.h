@@ -30,6 +30,11 @@ struct EstimatorOptions {
 };
 
 Estimate estimate_irradiance(const Scene& scene, const Vec3& p, const Vec3& n, const EstimatorOptions& options);
+// The irradiance at many points at once (the mean of options.samples paths at each), for
+// baking: point i draws the random numbers of "pixel" (i, 0) of options.seed, so the values do
+// not depend on the thread count; non-finite samples are dropped.
+std::vector<Spectrum> estimate_irradiance_at(const Scene& scene, const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
+                                             const EstimatorOptions& options);
 Estimate estimate_radiance(const Scene& scene, const Vec3& origin, const Vec3& direction, const EstimatorOptions& options);
 
 // A vertex at p with geometric and shading normal n, looking back along n, for estimators that

@@ -28,14 +28,12 @@ public:
 
     void prepare(const Scene& scene) override { path_.prepare(scene); }
 
-    Spectrum sample_radiance(const Scene& scene, Sampler& sampler, const Ray& ray, FirstHitAovs* aovs) const override {
+    // A sample is valid (the film's alpha) when it finds a surface.
+    Spectrum sample_radiance(const Scene& scene, Sampler& sampler, const Ray& ray, SampleRecord& record) const override {
         SurfaceInteraction si;
         if (!scene.intersect(ray, si)) return Spectrum(0.0f);
-        if (aovs) {
-            aovs->albedo = si.shape->bsdf()->albedo(si);
-            aovs->normal = si.shading.n;
-            aovs->depth = si.t;
-        }
+        record.valid = true;
+        record.record_first_hit(si);
         // A white Lambertian receiver on the camera's side of the surface.
         Vec3 n = glm::dot(si.n, ray.d) < 0.0f ? si.n : -si.n;
         SurfaceInteraction vertex = si;
@@ -46,7 +44,8 @@ public:
     }
 
     // False colour on a linear scale with a legend in W/m^2.
-    Image preview(const Image& img) const override {
+    Image preview(const Image& rendered) const override {
+        const Image img = linear_rgb(rendered);
         std::vector<float> lum;
         for (int y = 0; y < img.height(); ++y)
             for (int x = 0; x < img.width(); ++x) {

@@ -5,8 +5,11 @@
 //   max_depth       integer   longest path in segments; -1 = unbounded (default), 1 = only
 //                             emitters seen directly, 2 = direct illumination
 //   rr_depth        integer   depth from which Russian roulette may end paths (default 5)
-//   hide_emitters   boolean   emitters (and the environment) seen directly render black
-//                             (default false)
+//   hide_emitters   boolean   no emission from what the camera sees directly, through null
+//                             surfaces at most (default false): the environment renders black
+//                             and an area light shows only what its surface reflects; the path
+//                             goes on from the light's surface, which still lights the scene
+//                             (Mitsuba 3's semantics, as its volpath and, since 3.6, path)
 //   light_sampler   string    how next-event estimation picks a light: tree (default; a light
 //                             BVH, best with many lights), power, uniform
 // Roulette continues with probability min(max(throughput) * eta^2, 0.95) (Mitsuba's rule).
@@ -21,6 +24,7 @@
 #include "core/registry.h"
 #include "core/sampler.h"
 #include "core/scene.h"
+#include "integrators/direct_lighting.h"
 
 namespace candela {
 
@@ -52,23 +56,26 @@ PathIntegrator::PathIntegrator(const PathSettings& s)
 }
 void PathIntegrator::prepare(const Scene& scene) { lights_ = create_light_sampler(light_strategy_, scene); }
 
-Spectrum PathIntegrator::sample_radiance(const Scene& scene, Sampler& sampler, const Ray& ray, FirstHitAovs* aovs) const {
+Spectrum PathIntegrator::sample_radiance(const Scene& scene, Sampler& sampler, const Ray& ray, SampleRecord& record) const {
     if (max_depth_ == 0) return Spectrum(0.0f);
     SurfaceInteraction si;
-    if (!scene.intersect(ray, si)) return hide_emitters_ ? Spectrum(0.0f) : scene.eval_environment(ray.d);
-    if (aovs) {
-        aovs->albedo = si.shape->bsdf()->albedo(si);
-        aovs->normal = si.shading.n;
-        aovs->depth = si.t;
+    if (!scene.intersect(ray, si)) {
+        record.valid = !hide_emitters_ && !scene.infinite_emitters().empty();
+        return hide_emitters_ ? Spectrum(0.0f) : scene.eval_environment(ray.d);
     }
+    record.record_first_hit(si);
     Spectrum L(0.0f);
-    // Seen directly: no MIS (the camera ray is a delta "lobe").
+    // Seen directly: no MIS (the camera ray is a delta "lobe"). A hidden emitter still scatters
+    // what reaches it, as in Mitsuba 3: only its emission on the first segment is left out.
     if (const Emitter* emitter = si.shape->emitter(); emitter && !hide_emitters_) L += emitter->eval(si);
-    return L + continue_path(scene, sampler, si, *si.shape->bsdf(), 0);
+    bool scattered = false;
+    L += continue_path(scene, sampler, si, *si.shape->bsdf(), 0, &scattered);
+    record.valid = scattered || (!hide_emitters_ && !scene.infinite_emitters().empty());
+    return L;
 }
 
 Spectrum PathIntegrator::continue_path(const Scene& scene, Sampler& sampler, const SurfaceInteraction& start, const BSDF& start_bsdf,
-                                       uint32_t depth) const {
+                                       uint32_t depth, bool* scattered_somewhere) const {
     Spectrum L(0.0f), beta(1.0f);
     float eta = 1.0f;
     SurfaceInteraction si = start;
@@ -79,17 +86,25 @@ Spectrum PathIntegrator::continue_path(const Scene& scene, Sampler& sampler, con
     SurfaceInteraction from = start;
     float from_pdf = 0.0f;
     bool from_delta = true;
-    for (;;) {
+    // Sample dimensions: every vertex the path meets (a Null crossing included) claims its own
+    // block of SampleDimensions, used or not, so that vertex k always draws the same dimensions.
+    for (uint32_t vertex = depth;; ++vertex) {
+        const uint32_t dims = SampleDimensions::bounce(vertex);
+        if (scattered_somewhere && !bsdf->has_null_lobe()) *scattered_somewhere = true;
         // At the last allowed bounce only a Null lobe may still carry the path on.
         bool may_scatter = depth + 1 < max_depth_;
         if (!may_scatter && !bsdf->has_null_lobe()) break;
         BSDFContext ctx;
         if (!may_scatter) ctx.lobes = Null;
-        if (may_scatter && bsdf->has_smooth_lobe()) L += beta * sample_light(scene, sampler, si, *bsdf);
+        // sample_emitter_mis draws the light pick, then the light position (LightPick, LightPosition).
+        sampler.set_dimension(dims + SampleDimensions::LightPick);
+        if (may_scatter && bsdf->has_smooth_lobe()) L += beta * sample_emitter_mis(scene, *lights_, sampler, si, *bsdf, BSDFContext());
 
+        sampler.set_dimension(dims + SampleDimensions::Lobe);
         float u_lobe = sampler.next_1d();
         Vec2 u_dir = sampler.next_2d();
         BSDFSample bs = bsdf->sample(ctx, si, u_lobe, u_dir);
+        if (scattered_somewhere && (!bs.valid() || bs.lobe != Null)) *scattered_somewhere = true;
         if (!bs.valid() || is_black(bs.weight)) break;
         beta *= bs.weight;
         bool scattered = bs.lobe != Null;
@@ -107,75 +122,22 @@ Spectrum PathIntegrator::continue_path(const Scene& scene, Sampler& sampler, con
         // Emission found by the BSDF sample, weighted against light sampling (same pdfs as
         // next-event estimation, so the two weights sum to one).
         if (!found) {
-            if (!hidden) L += beta * environment_radiance(scene, from, ray.d, from_pdf, from_delta);
+            if (!hidden) L += beta * environment_mis(scene, *lights_, from, ray.d, from_pdf, from_delta);
             break;
         }
         if (const Emitter* emitter = si.shape->emitter(); emitter && !hidden) {
             Spectrum Le = emitter->eval(si);
-            if (!is_black(Le)) {
-                float w = 1.0f;
-                if (!from_delta) {
-                    // Measured from the scattering vertex itself, as light sampling measures it.
-                    DirectionSample ds;
-                    ds.p = si.p;
-                    ds.n = si.n;
-                    Vec3 to = si.p - from.p;
-                    ds.dist = glm::length(to);
-                    ds.d = to / ds.dist;
-                    w = power_heuristic(from_pdf, lights_->pmf(from, emitter) * emitter->pdf_direction(from, ds));
-                }
-                L += beta * Le * w;
-            }
+            if (!is_black(Le)) L += beta * Le * (from_delta ? 1.0f : emitter_hit_weight(*lights_, from, from_pdf, *emitter, si));
         }
         bsdf = si.shape->bsdf();
 
         if (scattered && depth >= rr_depth_) {
+            sampler.set_dimension(dims + SampleDimensions::Roulette);
             float q = std::min(max_component(beta) * eta * eta, 0.95f);
             if (!(sampler.next_1d() < q)) break;
             beta /= q;
         }
         if (max_component(beta) <= 0.0f) break;
-    }
-    return L;
-}
-
-// Next-event estimation: one light sample, weighted against BSDF sampling.
-Spectrum PathIntegrator::sample_light(const Scene& scene, Sampler& sampler, const SurfaceInteraction& si, const BSDF& bsdf) const {
-    const BSDFContext ctx;
-    float u_pick = sampler.next_1d();
-    Vec2 u = sampler.next_2d();
-    float pick_prob = 0.0f;
-    const Emitter* emitter = lights_->sample(si, u_pick, pick_prob);
-    if (!emitter || !(pick_prob > 0.0f)) return Spectrum(0.0f);
-    Spectrum weight;
-    DirectionSample ds = emitter->sample_direction(si, u, weight);
-    if (!(ds.pdf > 0.0f) || is_black(weight)) return Spectrum(0.0f);
-    Vec3 wo = si.to_local(ds.d);
-    Spectrum f = bsdf.eval(ctx, si, wo);
-    if (is_black(f)) return Spectrum(0.0f);
-    Ray shadow = std::isinf(ds.dist) ? si.spawn_ray(ds.d) : si.spawn_ray_to(ds.p, ds.delta ? Vec3(0.0f) : ds.n, ds.p_error);
-    Spectrum T = scene.transmittance(shadow);  // through null surfaces and masks
-    if (is_black(T)) return Spectrum(0.0f);
-    float w = ds.delta ? 1.0f : power_heuristic(ds.pdf * pick_prob, bsdf.pdf(ctx, si, wo));
-    return T * f * weight * (w / pick_prob);
-}
-
-// Radiance of the infinite emitters along an escaped ray, each MIS-weighted against the light
-// sampling that could have produced the same direction.
-Spectrum PathIntegrator::environment_radiance(const Scene& scene, const SurfaceInteraction& prev_si, const Vec3& d, float prev_pdf,
-                                              bool prev_delta) const {
-    Spectrum L(0.0f);
-    for (const Emitter* e : scene.infinite_emitters()) {
-        Spectrum Le = e->eval_environment(d);
-        if (is_black(Le)) continue;
-        float w = 1.0f;
-        if (!prev_delta) {
-            DirectionSample ds;
-            ds.d = d;
-            ds.dist = Infinity;
-            w = power_heuristic(prev_pdf, lights_->pmf(prev_si, e) * e->pdf_direction(prev_si, ds));
-        }
-        L += Le * w;
     }
     return L;
 }

@@ -38,18 +38,20 @@ public:
     explicit PathIntegrator(const PathSettings& settings);
 
     void prepare(const Scene& scene) override;
-    Spectrum sample_radiance(const Scene& scene, Sampler& sampler, const Ray& ray, FirstHitAovs* aovs) const override;
+    // A sample is valid (the film's alpha) when it scatters at a surface, or when the environment
+    // is visible (there is one and hide_emitters is off), as in Mitsuba.
+    Spectrum sample_radiance(const Scene& scene, Sampler& sampler, const Ray& ray, SampleRecord& record) const override;
     // Radiance that `bsdf` at vertex `si` (si.wi set) scatters toward si.wi, by next-event
     // estimation and BSDF sampling with MIS, following the path onward; `depth` is the number of
     // segments that led to si. Emission at si itself is not included. prepare() must have run.
-    Spectrum continue_path(const Scene& scene, Sampler& sampler, const SurfaceInteraction& si, const BSDF& bsdf, uint32_t depth) const;
+    // `scattered`, when given, learns whether the path scattered anywhere (not only crossed null
+    // surfaces).
+    Spectrum continue_path(const Scene& scene, Sampler& sampler, const SurfaceInteraction& si, const BSDF& bsdf, uint32_t depth,
+                           bool* scattered = nullptr) const;
 
     std::string to_string() const override { return "path"; }
 
 private:
-    Spectrum sample_light(const Scene& scene, Sampler& sampler, const SurfaceInteraction& si, const BSDF& bsdf) const;
-    Spectrum environment_radiance(const Scene& scene, const SurfaceInteraction& prev_si, const Vec3& d, float prev_pdf, bool prev_delta) const;
-
     uint32_t max_depth_ = UINT32_MAX, rr_depth_ = 5;
     bool hide_emitters_ = false;
     std::string light_strategy_;

@@ -2,7 +2,7 @@
 //
 // Parameters:
 //   radiance   rgb or texture   emitted radiance in W m^-2 sr^-1 (default 1); a texture is looked
-//                               up by the shape's uv
+//                               up at the surface point (by the shape's uv or the texture's mapping)
 // Sampling is delegated to the shape: uniform solid angle for spheres seen from outside,
 // uniform area (converted to solid angle) otherwise. A textured radiance is evaluated at the
 // sampled point's uv, which keeps the estimate unbiased; unlike Mitsuba, the texture is not
@@ -14,6 +14,7 @@
 #include "core/properties.h"
 #include "core/registry.h"
 #include "core/texture.h"
+#include "core/warp.h"
 
 namespace candela {
 
@@ -41,13 +42,35 @@ public:
             weight = Spectrum(0.0f);
             return ds;
         }
-        weight = radiance_->eval(ds.uv) / ds.pdf;
+        SurfaceInteraction on_light;  // where the radiance texture is looked up
+        on_light.p = ds.p;
+        on_light.n = ds.n;
+        on_light.uv = ds.uv;
+        weight = radiance_->eval(on_light) / ds.pdf;
         return ds;
     }
 
     float pdf_direction(const SurfaceInteraction& ref, const DirectionSample& ds) const override {
         if (glm::dot(ds.d, ds.n) >= 0.0f) return 0.0f;
         return shape_->pdf_direction(ref, ds);
+    }
+
+    // Light paths: a point uniform by area, a cosine-weighted direction on the front side; the
+    // cosine cancels, leaving the weight pi L(uv) / pdf_area.
+    EmitterRay sample_ray(const Vec2& u_position, const Vec2& u_direction) const override {
+        EmitterRay r;
+        PositionSample ps = shape_->sample_position(u_position);
+        if (!(ps.pdf > 0.0f)) return r;
+        Vec3 local = warp::square_to_cosine_hemisphere(u_direction);
+        r.pdf_direction = warp::square_to_cosine_hemisphere_pdf(local);
+        if (!(r.pdf_direction > 0.0f)) return r;
+        r.ray = Ray(ps.p, Frame(ps.n).to_world(local));
+        r.n = ps.n;
+        r.p_error = ps.p_error;
+        r.uv = ps.uv;
+        r.pdf_position = ps.pdf;
+        r.weight = radiance_->eval(ps.uv) * (Pi / ps.pdf);
+        return r;
     }
 
     // Flux of a one-sided Lambertian emitter: pi * area * mean radiance.

@@ -10,6 +10,7 @@
 #include "core/registry.h"
 #include "core/scene.h"
 #include "core/warp.h"
+#include "lights/scene_disk.h"
 
 namespace candela {
 
@@ -20,7 +21,10 @@ public:
         radiance_ = props.get_rgb("radiance", Spectrum(1.0f));
     }
 
-    void set_scene(const Scene& scene) override { scene_radius_ = std::max(scene.bbox().bounding_radius(), 1e-3f); }
+    void set_scene(const Scene& scene) override {
+        disk_.center = scene.bbox().valid() ? scene.bbox().center() : Vec3(0.0f);
+        disk_.radius = std::max(scene.bbox().bounding_radius(), 1e-3f);
+    }
 
     Spectrum eval(const SurfaceInteraction&) const override { return radiance_; }
     Spectrum eval_environment(const Vec3&) const override { return radiance_; }
@@ -29,7 +33,7 @@ public:
         DirectionSample ds;
         ds.d = warp::square_to_uniform_sphere(u);
         ds.dist = Infinity;
-        ds.p = ref.p + ds.d * (2.0f * scene_radius_);
+        ds.p = ref.p + ds.d * (2.0f * disk_.radius);
         ds.n = -ds.d;
         ds.pdf = InvFourPi;
         ds.emitter = this;
@@ -39,8 +43,17 @@ public:
 
     float pdf_direction(const SurfaceInteraction&, const DirectionSample&) const override { return InvFourPi; }
 
-    // Flux through the scene's bounding sphere: L * 4pi * (pi r^2).
-    Spectrum power() const override { return radiance_ * (FourPi * Pi * scene_radius_ * scene_radius_); }
+    // Flux through the scene's bounding disk: L * 4pi * (pi r^2).
+    Spectrum power() const override { return radiance_ * (FourPi * disk_.area()); }
+    // Light paths: a direction uniform over the sphere, then a point on the bounding disk across it.
+    EmitterRay sample_ray(const Vec2& u_position, const Vec2& u_direction) const override {
+        EmitterRay r;
+        r.ray = disk_.ray(warp::square_to_uniform_sphere(u_direction), u_position);
+        r.pdf_position = 1.0f / disk_.area();
+        r.pdf_direction = InvFourPi;
+        r.weight = radiance_ * (FourPi * disk_.area());
+        return r;
+    }
     // Local model: uniform ambient radiance.
     std::optional<LocalApproximation> local_approximation() const override {
         LocalApproximation a;
@@ -52,7 +65,7 @@ public:
 
 private:
     Spectrum radiance_;
-    float scene_radius_ = 1.0f;
+    SceneDisk disk_;
 };
 
 CANDELA_REGISTER(ConstantEmitter, ObjectKind::Emitter, "constant");

@@ -8,6 +8,7 @@
 #include "core/emitter.h"
 #include "core/registry.h"
 #include "core/scene.h"
+#include "lights/scene_disk.h"
 
 namespace candela {
 
@@ -23,15 +24,15 @@ public:
     }
 
     void set_scene(const Scene& scene) override {
-        scene_center_ = scene.bbox().valid() ? scene.bbox().center() : Vec3(0.0f);
-        scene_radius_ = std::max(scene.bbox().bounding_radius(), 1e-3f);
+        disk_.center = scene.bbox().valid() ? scene.bbox().center() : Vec3(0.0f);
+        disk_.radius = std::max(scene.bbox().bounding_radius(), 1e-3f);
     }
 
     DirectionSample sample_direction(const SurfaceInteraction& ref, const Vec2&, Spectrum& weight) const override {
         DirectionSample ds;
         ds.d = -direction_;
         ds.dist = Infinity;
-        ds.p = ref.p - direction_ * (2.0f * scene_radius_);
+        ds.p = ref.p - direction_ * (2.0f * disk_.radius);
         ds.n = direction_;
         ds.pdf = 1.0f;
         ds.delta = true;
@@ -40,9 +41,19 @@ public:
         return ds;
     }
     float pdf_direction(const SurfaceInteraction&, const DirectionSample&) const override { return 0.0f; }
+    // Light paths start uniformly on the scene's bounding disk across the beam (lights/scene_disk.h).
+    EmitterRay sample_ray(const Vec2& u_position, const Vec2&) const override {
+        EmitterRay r;
+        r.ray = disk_.ray(direction_, u_position);
+        r.pdf_position = 1.0f / disk_.area();
+        r.pdf_direction = 1.0f;
+        r.delta_direction = true;
+        r.weight = irradiance_ * disk_.area();
+        return r;
+    }
     Spectrum eval(const SurfaceInteraction&) const override { return Spectrum(0.0f); }
     // Flux through the disk the scene presents to the light.
-    Spectrum power() const override { return irradiance_ * (Pi * scene_radius_ * scene_radius_); }
+    Spectrum power() const override { return irradiance_ * disk_.area(); }
     std::string to_string() const override { return "directional"; }
 
     const Vec3& direction() const { return direction_; }
@@ -50,8 +61,8 @@ public:
 
 private:
     Spectrum irradiance_;
-    Vec3 direction_, scene_center_{0.0f};
-    float scene_radius_ = 1.0f;
+    Vec3 direction_;
+    SceneDisk disk_;
 };
 
 CANDELA_REGISTER(DirectionalEmitter, ObjectKind::Emitter, "directional");

@@ -61,6 +61,21 @@ public:
         return ds;
     }
     float pdf_direction(const SurfaceInteraction&, const DirectionSample&) const override { return 0.0f; }
+    // Light paths: a point uniform by area, leaving along the normal (a delta in direction).
+    EmitterRay sample_ray(const Vec2& u_position, const Vec2&) const override {
+        EmitterRay r;
+        PositionSample ps = shape_->sample_position(u_position);
+        if (!(ps.pdf > 0.0f)) return r;
+        r.ray = Ray(ps.p, normal_);
+        r.n = ps.n;
+        r.p_error = ps.p_error;
+        r.uv = ps.uv;
+        r.pdf_position = ps.pdf;
+        r.pdf_direction = 1.0f;
+        r.delta_direction = true;
+        r.weight = radiance_->eval(ps.uv) / ps.pdf;
+        return r;
+    }
     Spectrum eval(const SurfaceInteraction&) const override { return Spectrum(0.0f); }
     // Flux: L per unit area, all of it along the normal.
     Spectrum power() const override { return shape_->surface_area() * radiance_->mean(); }

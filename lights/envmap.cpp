@@ -19,6 +19,7 @@
 #include "core/image.h"
 #include "core/registry.h"
 #include "core/scene.h"
+#include "lights/scene_disk.h"
 
 namespace candela {
 
@@ -51,7 +52,10 @@ public:
         build_distribution();
     }
 
-    void set_scene(const Scene& scene) override { scene_radius_ = std::max(scene.bbox().bounding_radius(), 1e-3f); }
+    void set_scene(const Scene& scene) override {
+        disk_.center = scene.bbox().valid() ? scene.bbox().center() : Vec3(0.0f);
+        disk_.radius = std::max(scene.bbox().bounding_radius(), 1e-3f);
+    }
 
     Spectrum eval_environment(const Vec3& d) const override { return lookup(uv_of(d)); }
     Spectrum eval(const SurfaceInteraction& si) const override { return eval_environment(-si.wi_world()); }
@@ -70,7 +74,7 @@ public:
         Vec3 local(sin_theta * std::sin(phi), std::cos(theta), -sin_theta * std::cos(phi));
         ds.d = glm::normalize(to_world_.apply_vector(local));
         ds.dist = Infinity;
-        ds.p = ref.p + ds.d * (2.0f * scene_radius_);
+        ds.p = ref.p + ds.d * (2.0f * disk_.radius);
         ds.n = -ds.d;
         // The density of the direction as pdf_direction computes it: a sample landing exactly on a
         // cell edge may round into the neighbouring cell, and MIS needs both to agree.
@@ -91,7 +95,22 @@ public:
     }
 
     // Flux through the scene's bounding disk: pi r^2 times the radiance integrated over the sphere.
-    Spectrum power() const override { return integral_ * (Pi * scene_radius_ * scene_radius_); }
+    Spectrum power() const override { return integral_ * disk_.area(); }
+    // Light paths: a direction toward the map drawn as for next-event estimation (the light
+    // travels the opposite way), then a point on the bounding disk across it.
+    EmitterRay sample_ray(const Vec2& u_position, const Vec2& u_direction) const override {
+        SurfaceInteraction center;
+        center.p = disk_.center;
+        Spectrum radiance_over_pdf;
+        DirectionSample ds = sample_direction(center, u_direction, radiance_over_pdf);
+        EmitterRay r;
+        if (!(ds.pdf > 0.0f)) return r;
+        r.ray = disk_.ray(-ds.d, u_position);
+        r.pdf_position = 1.0f / disk_.area();
+        r.pdf_direction = ds.pdf;
+        r.weight = radiance_over_pdf * disk_.area();
+        return r;
+    }
     // Local model: ambient radiance equal to the map's average over the sphere (reflections and
     // refractions still look the map up through eval_environment).
     std::optional<LocalApproximation> local_approximation() const override {
@@ -154,7 +173,8 @@ private:
 
     int width_ = 0, height_ = 0;
     std::vector<Spectrum> texels_;
-    float scale_ = 1.0f, scene_radius_ = 1.0f;
+    float scale_ = 1.0f;
+    SceneDisk disk_;
     Transform to_world_, world_to_local_;
     Distribution2D distribution_;
     Spectrum integral_{0.0f};

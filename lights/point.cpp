@@ -11,6 +11,7 @@
 #include "core/emitter.h"
 #include "core/registry.h"
 #include "core/scene.h"
+#include "core/warp.h"
 #include "lights/point_source.h"
 
 namespace candela {
@@ -31,6 +32,11 @@ public:
         return ds;
     }
     float pdf_direction(const SurfaceInteraction&, const DirectionSample&) const override { return 0.0f; }
+    // Light paths leave uniformly over the sphere.
+    EmitterRay sample_ray(const Vec2&, const Vec2& u_direction) const override {
+        return point_source_ray(position_, warp::square_to_uniform_sphere(u_direction), InvFourPi, intensity_);
+    }
+    float ray_attenuation(float dist) const override { return attenuation_.ray_factor(dist); }
     Spectrum eval(const SurfaceInteraction&) const override { return Spectrum(0.0f); }
     Spectrum power() const override { return FourPi * intensity_; }
     std::optional<LightBounds> bounds() const override {

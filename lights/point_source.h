@@ -23,7 +23,22 @@ struct Attenuation {
     }
     bool physical() const { return constant == 0.0f && linear == 0.0f && quadratic == 1.0f; }
     float operator()(float d) const { return 1.0f / (constant + linear * d + quadratic * d * d); }
+    // A light path's flux where it first meets a surface at distance d already falls as 1 / d^2:
+    // this is the factor that turns that into the law above (Emitter::ray_attenuation).
+    float ray_factor(float d) const { return physical() ? 1.0f : d * d * (*this)(d); }
 };
+
+// A ray from a point source at `position` along unit direction `d`, drawn with solid-angle density
+// `pdf_direction`, carrying the radiant intensity `intensity` toward d.
+inline EmitterRay point_source_ray(const Vec3& position, const Vec3& d, float pdf_direction, const Spectrum& intensity) {
+    EmitterRay r;
+    r.ray = Ray(position, d);
+    r.pdf_position = 1.0f;
+    r.delta_position = true;
+    r.pdf_direction = pdf_direction;
+    if (pdf_direction > 0.0f) r.weight = intensity / pdf_direction;
+    return r;
+}
 
 // The sample toward a point source at `position` (a delta in position: pdf 1, no normal).
 inline DirectionSample sample_point_source(const Vec3& position, const SurfaceInteraction& ref, const Emitter* emitter) {

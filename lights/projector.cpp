@@ -62,6 +62,19 @@ public:
         return ds;
     }
     float pdf_direction(const SurfaceInteraction&, const DirectionSample&) const override { return 0.0f; }
+    // Light paths leave through a point uniform on the image plane at depth 1 (area 4 tan_x tan_y):
+    // solid-angle density 1 / (4 tan_x tan_y cos^3 theta), which the intensity pi scale T / cos^3
+    // divides into the constant weight pi scale T(uv) 4 tan_x tan_y.
+    EmitterRay sample_ray(const Vec2&, const Vec2& u_direction) const override {
+        Vec3 local = projection_.direction(u_direction);  // z = 1
+        float len = glm::length(local), cos_theta = 1.0f / len;
+        float image_area = 4.0f * projection_.tan_half_x * projection_.tan_half_x / projection_.aspect;
+        Vec3 d = glm::normalize(projection_.to_world.apply_vector(local / len));
+        EmitterRay r = point_source_ray(position_, d, 1.0f / (image_area * cos_theta * cos_theta * cos_theta), Spectrum(0.0f));
+        r.uv = u_direction;
+        r.weight = image_->eval(u_direction) * (Pi * scale_ * image_area);
+        return r;
+    }
     Spectrum eval(const SurfaceInteraction&) const override { return Spectrum(0.0f); }
     Spectrum power() const override { return power_; }
     std::optional<LightBounds> bounds() const override {

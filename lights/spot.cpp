@@ -18,6 +18,7 @@
 #include "core/emitter.h"
 #include "core/registry.h"
 #include "core/texture.h"
+#include "core/warp.h"
 #include "lights/point_source.h"
 
 namespace candela {
@@ -65,6 +66,20 @@ public:
         return ds;
     }
     float pdf_direction(const SurfaceInteraction&, const DirectionSample&) const override { return 0.0f; }
+    // Light paths leave uniformly over the cone (as in Mitsuba), weighted by the falloff and the
+    // texture. The density is carried through to_world (its Jacobian |det M| / |M v|^3), so a
+    // scaled spot stays correct.
+    EmitterRay sample_ray(const Vec2&, const Vec2& u_direction) const override {
+        Vec3 local = warp::square_to_uniform_cone(u_direction, cos_cutoff_);
+        Vec3 world = to_world_.apply_vector(local);
+        float len = glm::length(world);
+        float pdf = warp::square_to_uniform_cone_pdf(local, cos_cutoff_) * len * len * len / std::abs(to_world_.determinant3());
+        Spectrum intensity = intensity_ * falloff(local);
+        if (texture_) intensity *= texture_->eval(texture_uv(local));
+        EmitterRay r = point_source_ray(position_, world / len, std::isfinite(pdf) ? pdf : 0.0f, intensity);
+        return r;
+    }
+    float ray_attenuation(float dist) const override { return attenuation_.ray_factor(dist); }
     Spectrum eval(const SurfaceInteraction&) const override { return Spectrum(0.0f); }
     Spectrum power() const override { return power_; }
     std::optional<LightBounds> bounds() const override {

@@ -35,7 +35,7 @@ public:
 
 protected:
     Frame perturbed_frame(const SurfaceInteraction& si) const override {
-        Vec2 g = scale_ * height_->eval_1_gradient(si.uv);
+        Vec2 g = scale_ * height_->eval_1_gradient(si);
         const Vec3& n = si.shading.n;
         Vec3 dpdu = si.dpdu + n * (g.x - glm::dot(n, si.dpdu));
         Vec3 dpdv = si.dpdv + n * (g.y - glm::dot(n, si.dpdv));

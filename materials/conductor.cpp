@@ -22,7 +22,7 @@ class ConductorBSDF final : public BSDF {
 public:
     explicit ConductorBSDF(const Properties& props) {
         read_conductor_ior(props, eta_, k_);
-        specular_ = props.get_texture("specular_reflectance", Spectrum(1.0f));
+        specular_ = props.get_reflectance("specular_reflectance", Spectrum(1.0f));
         flags_ = DeltaReflection;
     }
 

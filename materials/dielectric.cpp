@@ -25,8 +25,8 @@ class DielectricBSDF final : public BSDF {
 public:
     explicit DielectricBSDF(const Properties& props) {
         eta_ = read_relative_ior(props, "bk7");
-        reflectance_ = props.get_texture("specular_reflectance", Spectrum(1.0f));
-        transmittance_ = props.get_texture("specular_transmittance", Spectrum(1.0f));
+        reflectance_ = props.get_reflectance("specular_reflectance", Spectrum(1.0f));
+        transmittance_ = props.get_reflectance("specular_transmittance", Spectrum(1.0f));
         flags_ = DeltaReflection | DeltaTransmission;
     }
 

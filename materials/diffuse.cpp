@@ -17,7 +17,7 @@ namespace candela {
 class DiffuseBSDF final : public BSDF {
 public:
     explicit DiffuseBSDF(const Properties& props) {
-        reflectance_ = props.get_texture("reflectance", Spectrum(0.5f));
+        reflectance_ = props.get_reflectance("reflectance", Spectrum(0.5f));
         flags_ = DiffuseReflection;
     }
 

@@ -2,19 +2,13 @@
 
 #include "core/registry.h"
 #include "core/spectral.h"
+#include "core/text.h"
 #include "materials/ior_data.h"
 
 #include <algorithm>
 #include <map>
 
 namespace candela {
-
-namespace {
-std::string lower(std::string s) {
-    std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    return s;
-}
-}  // namespace
 
 std::optional<float> named_ior(const std::string& name) {
     // Mitsuba 3's table (include/mitsuba/render/ior.h), values at about 589 nm.
@@ -26,7 +20,7 @@ std::optional<float> named_ior(const std::string& name) {
         {"acrylic glass", 1.49f}, {"polypropylene", 1.49f},    {"bk7", 1.5046f},            {"sodium chloride", 1.544f},
         {"amber", 1.55f},         {"pet", 1.5750f},            {"diamond", 2.419f},
     };
-    auto it = table.find(lower(name));
+    auto it = table.find(to_lower(name));
     if (it == table.end()) return std::nullopt;
     return it->second;
 }
@@ -48,7 +42,6 @@ float read_ior(const Properties& props, const std::string& param, const std::str
 
 float read_relative_ior(const Properties& props, const std::string& default_interior) {
     float int_ior = read_ior(props, "int_ior", default_interior), ext_ior = read_ior(props, "ext_ior", "air");
-    if (int_ior == ext_ior) props.fail("int_ior", "int_ior and ext_ior must differ");
     return int_ior / ext_ior;
 }
 
@@ -72,7 +65,7 @@ const std::map<std::string, std::pair<std::string, ComplexIOR>>& conductor_table
             auto k = k_text.find(name);
             if (k == k_text.end()) continue;
             ComplexIOR ior{spectrum_to_rgb(parse_spd(eta), false, false), spectrum_to_rgb(parse_spd(k->second), false, false)};
-            out[lower(name)] = {name, ior};
+            out[to_lower(name)] = {name, ior};
         }
         return out;
     }();
@@ -81,7 +74,7 @@ const std::map<std::string, std::pair<std::string, ComplexIOR>>& conductor_table
 }  // namespace
 
 std::optional<ComplexIOR> named_conductor(const std::string& name) {
-    auto it = conductor_table().find(lower(name));
+    auto it = conductor_table().find(to_lower(name));
     if (it == conductor_table().end()) return std::nullopt;
     return it->second.second;
 }

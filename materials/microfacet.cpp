@@ -69,7 +69,7 @@ MicrofacetDistribution MicrofacetDistribution::from_properties(const Properties&
     } else {
         au = av = props.get_float("alpha", 0.1f);
     }
-    if (!(au > 0.0f && av > 0.0f)) props.fail("alpha", "roughness alpha must be positive");
+    if (!(au >= 0.0f && av >= 0.0f)) props.fail("alpha", "roughness alpha must not be negative");
     return MicrofacetDistribution(type, au, av, props.get_bool("sample_visible", true));
 }
 
@@ -84,8 +84,8 @@ MicrofacetRoughness MicrofacetRoughness::from_properties(const Properties& props
     }
     for (const char* name : {"alpha", "alpha_u", "alpha_v"}) {
         const Ref<Texture>& t = std::string(name) == "alpha_v" ? r.alpha_v_ : r.alpha_u_;
-        if (props.has(name) && t->is_constant() && !(t->eval_1(Vec2(0.0f)) > 0.0f))
-            props.fail(name, "roughness " + std::string(name) + " must be positive");
+        if (props.has(name) && t->is_constant() && !(t->eval_1(Vec2(0.0f)) >= 0.0f))
+            props.fail(name, "roughness " + std::string(name) + " must not be negative");
     }
     r.sample_visible_ = props.get_bool("sample_visible", true);
     if (r.alpha_u_->is_constant() && r.alpha_v_->is_constant())

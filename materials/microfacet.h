@@ -21,7 +21,8 @@ class MicrofacetDistribution {
 public:
     MicrofacetDistribution(MicrofacetType type, float alpha_u, float alpha_v, bool sample_visible = true);
     // Reads distribution (beckmann | ggx, default beckmann), alpha or alpha_u and alpha_v
-    // (default 0.1) and sample_visible (default true), Mitsuba's parameters.
+    // (default 0.1) and sample_visible (default true), Mitsuba's parameters. Like Mitsuba, a
+    // roughness below 1e-4 (0 included) is raised to 1e-4: a smooth surface in all but name.
     static MicrofacetDistribution from_properties(const Properties& props, bool allow_anisotropic = true);
 
     float D(const Vec3& m) const;

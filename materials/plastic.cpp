@@ -27,8 +27,8 @@ class PlasticBSDF final : public BSDF {
 public:
     explicit PlasticBSDF(const Properties& props) {
         eta_ = read_relative_ior(props, "polypropylene");
-        diffuse_ = props.get_texture("diffuse_reflectance", Spectrum(0.5f));
-        specular_ = props.get_texture("specular_reflectance", Spectrum(1.0f));
+        diffuse_ = props.get_reflectance("diffuse_reflectance", Spectrum(0.5f));
+        specular_ = props.get_reflectance("specular_reflectance", Spectrum(1.0f));
         nonlinear_ = props.get_bool("nonlinear", false);
         fdr_int_ = fresnel_diffuse_reflectance(1.0f / eta_);
         // Lobe selection favours the brighter component (Mitsuba's specular_sampling_weight).

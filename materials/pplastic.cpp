@@ -28,8 +28,8 @@ namespace candela {
 class PolarizedPlasticBSDF final : public BSDF {
 public:
     explicit PolarizedPlasticBSDF(const Properties& props) : distribution_(MicrofacetDistribution::from_properties(props)) {
-        diffuse_ = props.get_texture("diffuse_reflectance", Spectrum(0.5f));
-        specular_ = props.get_texture("specular_reflectance", Spectrum(1.0f));
+        diffuse_ = props.get_reflectance("diffuse_reflectance", Spectrum(0.5f));
+        specular_ = props.get_reflectance("specular_reflectance", Spectrum(1.0f));
         eta_ = read_relative_ior(props, "polypropylene");
         float d = average(diffuse_->mean()), s = average(specular_->mean());
         specular_weight_ = s / (d + s);

@@ -209,12 +209,11 @@ private:
     };
 
     Params params(const SurfaceInteraction& si) const {
-        const Vec2& uv = si.uv;
         Params p;
-        common_.eval(uv, p);
-        p.metallic = metallic_->eval_1(uv);
-        p.clearcoat = has_clearcoat_ ? clearcoat_->eval_1(uv) : 0.0f;
-        p.clearcoat_gloss = clearcoat_gloss_->eval_1(uv);
+        common_.eval(si, p);
+        p.metallic = metallic_->eval_1(si);
+        p.clearcoat = has_clearcoat_ ? clearcoat_->eval_1(si) : 0.0f;
+        p.clearcoat_gloss = clearcoat_gloss_->eval_1(si);
         return p;
     }
 

@@ -12,7 +12,7 @@ bool principled_lobe_present(const Properties& props, const std::string& name) {
 }
 
 PrincipledCommon::PrincipledCommon(const Properties& props) {
-    base_color = props.get_texture("base_color", Spectrum(0.5f));
+    base_color = props.get_reflectance("base_color", Spectrum(0.5f));
     roughness = props.get_texture("roughness", Spectrum(0.5f));
     anisotropic = props.get_texture("anisotropic", Spectrum(0.0f));
     has_spec_trans = principled_lobe_present(props, "spec_trans");
@@ -23,15 +23,15 @@ PrincipledCommon::PrincipledCommon(const Properties& props) {
     flatness = props.get_texture("flatness", Spectrum(0.0f));
 }
 
-void PrincipledCommon::eval(const Vec2& uv, Values& v) const {
-    v.base = base_color->eval(uv);
-    v.roughness = roughness->eval_1(uv);
-    v.anisotropic = anisotropic->eval_1(uv);
-    v.spec_trans = has_spec_trans ? spec_trans->eval_1(uv) : 0.0f;
-    v.spec_tint = spec_tint->eval_1(uv);
-    v.sheen = sheen->eval_1(uv);
-    v.sheen_tint = sheen_tint->eval_1(uv);
-    v.flatness = flatness->eval_1(uv);
+void PrincipledCommon::eval(const SurfaceInteraction& si, Values& v) const {
+    v.base = base_color->eval(si);
+    v.roughness = roughness->eval_1(si);
+    v.anisotropic = anisotropic->eval_1(si);
+    v.spec_trans = has_spec_trans ? spec_trans->eval_1(si) : 0.0f;
+    v.spec_tint = spec_tint->eval_1(si);
+    v.sheen = sheen->eval_1(si);
+    v.sheen_tint = sheen_tint->eval_1(si);
+    v.flatness = flatness->eval_1(si);
 }
 
 Spectrum schlick_fresnel(const Spectrum& r0, float cos_theta_i, float eta) {

@@ -19,8 +19,9 @@ struct PrincipledCommon {
         float roughness = 0.5f, anisotropic = 0.0f, spec_trans = 0.0f, spec_tint = 0.0f, sheen = 0.0f, sheen_tint = 0.0f, flatness = 0.0f;
     };
     explicit PrincipledCommon(const Properties& props);
-    // The values at uv; spec_trans is 0 unless the parameter was given (and not the float 0).
-    void eval(const Vec2& uv, Values& v) const;
+    // The values at a surface point; spec_trans is 0 unless the parameter was given (and not
+    // the float 0).
+    void eval(const SurfaceInteraction& si, Values& v) const;
 
     Ref<Texture> base_color, roughness, anisotropic, spec_trans, spec_tint, sheen, sheen_tint, flatness;
     bool has_spec_trans = false;

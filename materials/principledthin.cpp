@@ -160,11 +160,10 @@ private:
     };
 
     Params params(const SurfaceInteraction& si) const {
-        const Vec2& uv = si.uv;
         Params p;
-        common_.eval(uv, p);
-        p.eta = eta_->eval_1(uv);
-        p.diff_trans = has_diff_trans_ ? 0.5f * diff_trans_->eval_1(uv) : 0.0f;  // 0..2 -> 0..1
+        common_.eval(si, p);
+        p.eta = eta_->eval_1(si);
+        p.diff_trans = has_diff_trans_ ? 0.5f * diff_trans_->eval_1(si) : 0.0f;  // 0..2 -> 0..1
         return p;
     }
 

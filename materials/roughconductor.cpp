@@ -24,7 +24,7 @@ class RoughConductorBSDF final : public BSDF {
 public:
     explicit RoughConductorBSDF(const Properties& props) : roughness_(MicrofacetRoughness::from_properties(props)) {
         read_conductor_ior(props, eta_, k_);
-        specular_ = props.get_texture("specular_reflectance", Spectrum(1.0f));
+        specular_ = props.get_reflectance("specular_reflectance", Spectrum(1.0f));
         flags_ = GlossyReflection;
     }
 

@@ -26,15 +26,27 @@ class RoughDielectricBSDF final : public BSDF {
 public:
     explicit RoughDielectricBSDF(const Properties& props) : roughness_(MicrofacetRoughness::from_properties(props)) {
         eta_ = read_relative_ior(props, "bk7");
-        reflectance_ = props.get_texture("specular_reflectance", Spectrum(1.0f));
-        transmittance_ = props.get_texture("specular_transmittance", Spectrum(1.0f));
+        reflectance_ = props.get_reflectance("specular_reflectance", Spectrum(1.0f));
+        transmittance_ = props.get_reflectance("specular_transmittance", Spectrum(1.0f));
         flags_ = GlossyReflection | GlossyTransmission;
+        // An index-matched interface (eta = 1) neither reflects (F = 0) nor bends light, however
+        // rough: every microfacet refracts wo = -wi, where the half-vector model degenerates
+        // (wi + eta' wo = 0). It is a smooth straight transmission, as `dielectric` gives.
+        if (eta_ == 1.0f) flags_ = DeltaTransmission;
     }
 
     BSDFSample sample(const BSDFContext& ctx, const SurfaceInteraction& si, float u_lobe, const Vec2& u) const override {
         BSDFSample bs;
         float cos_i = Frame::cos_theta(si.wi);
         bool has_r = ctx.allows(GlossyReflection), has_t = ctx.allows(GlossyTransmission);
+        if (eta_ == 1.0f) {
+            if (cos_i == 0.0f || !ctx.allows(DeltaTransmission)) return bs;
+            bs.wo = -si.wi;
+            bs.lobe = DeltaTransmission;
+            bs.pdf = 1.0f;
+            bs.weight = transmittance_->eval(si);
+            return bs;
+        }
         if (cos_i == 0.0f || (!has_r && !has_t)) return bs;
         // Sample a normal visible from wi mirrored into the upper hemisphere.
         Vec3 wi_up = cos_i > 0.0f ? si.wi : -si.wi;
@@ -58,7 +70,7 @@ public:
 
     Spectrum eval(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
         Geometry g;
-        if (!half_vector(si.wi, wo, g)) return Spectrum(0.0f);
+        if (eta_ == 1.0f || !half_vector(si.wi, wo, g)) return Spectrum(0.0f);
         if (g.reflect ? !ctx.allows(GlossyReflection) : !ctx.allows(GlossyTransmission)) return Spectrum(0.0f);
         MicrofacetDistribution distribution = roughness_.at(si);
         float D = distribution.D(g.m);
@@ -75,7 +87,7 @@ public:
 
     float pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
         Geometry g;
-        if (!half_vector(si.wi, wo, g)) return 0.0f;
+        if (eta_ == 1.0f || !half_vector(si.wi, wo, g)) return 0.0f;
         bool has_r = ctx.allows(GlossyReflection), has_t = ctx.allows(GlossyTransmission);
         if (g.reflect ? !has_r : !has_t) return 0.0f;
         Vec3 wi_up = Frame::cos_theta(si.wi) > 0.0f ? si.wi : -si.wi;

@@ -32,8 +32,8 @@ class RoughPlasticBSDF final : public BSDF {
 public:
     explicit RoughPlasticBSDF(const Properties& props) : distribution_(MicrofacetDistribution::from_properties(props, false)) {
         eta_ = read_relative_ior(props, "polypropylene");
-        diffuse_ = props.get_texture("diffuse_reflectance", Spectrum(0.5f));
-        specular_ = props.get_texture("specular_reflectance", Spectrum(1.0f));
+        diffuse_ = props.get_reflectance("diffuse_reflectance", Spectrum(0.5f));
+        specular_ = props.get_reflectance("specular_reflectance", Spectrum(1.0f));
         nonlinear_ = props.get_bool("nonlinear", false);
         float d = average(diffuse_->mean()), s = average(specular_->mean());
         specular_weight_ = s / (d + s);

@@ -1,6 +1,7 @@
 #pragma once
-// The independent sampler, also the stand-in for the stratified, multijitter, orthogonal and
-// ldsampler plugins until Candela implements them (see samplers/fallback.h).
+// The independent sampler: a PCG32 stream per sample, seeded by (seed, pixel, sample index). Its
+// numbers are drawn in order and set_dimension() does not move them: every number is independent
+// of every other, so which one a dimension gets changes nothing in distribution.
 
 #include "core/sampler.h"
 
@@ -14,6 +15,7 @@ public:
     IndependentSampler(int sample_count, uint64_t seed);
 
     Ref<Sampler> clone() const override { return std::make_shared<IndependentSampler>(*this); }
+    std::string to_string() const override { return "independent"; }
     void start(const Vec2i& pixel, uint32_t index) override { seed_for_sample(rng_, seed_, pixel, index); }
     float next_1d() override { return rng_.next_float(); }
     Vec2 next_2d() override {

@@ -1,29 +1,52 @@
-// ldsampler (FALLBACK to independent, see samplers/fallback.h): Kollig and Keller's scrambled
-// (0, 2)-sequence.
+// ldsampler: Kollig and Keller's scrambled (0, 2)-sequence (Kollig and Keller 2002, "Efficient
+// Multidimensional Sampling"), Mitsuba 3's low-discrepancy sampler.
 //
 // Parameters (Mitsuba 3):
-//   sample_count   integer   samples per pixel, rounded up to the square of a power of two
-//                            (default 4)
+//   sample_count   integer   samples per pixel, rounded up to the square of a power of two of at
+//                            least 2 (4, 16, 64, 256, ...; default 4)
 //   seed           integer   seed offset (default 0)
+//
+// Every dimension is filled from the same (0, 2)-sequence (van der Corput for x, the second
+// Sobol' dimension for y), XOR-scrambled by a random digital shift per pixel, which keeps the
+// (0, 2) property: the pixel's N points have one point in every elementary interval of area 1/N.
+// Each dimension visits the points in its own random order (Kensler's permutation seeded by pixel
+// and dimension), which decorrelates the dimensions ("padding"). The 1D points are exactly
+// stratified in N strata.
 
 #include "core/properties.h"
 #include "core/registry.h"
-#include "samplers/fallback.h"
+#include "samplers/pixel_sampler.h"
 
 namespace candela {
 
-namespace {
-// The smallest r * r >= n with r a power of two of at least 2 (Mitsuba's ldsampler).
-int round_to_power_of_two_square(int n) {
-    int r = 2;
-    while (r * r < n) r *= 2;
-    return r * r;
-}
-}  // namespace
-
-class LowDiscrepancySampler final : public FallbackSampler {
+class LowDiscrepancySampler final : public PixelSequenceSampler {
 public:
-    explicit LowDiscrepancySampler(const Properties& props) : FallbackSampler(props, round_to_power_of_two_square) {}
+    explicit LowDiscrepancySampler(const Properties& props) { read_count_and_seed(props, "the square of a power of two, as Mitsuba does"); }
+
+    void set_sample_count(int spp) override {
+        int r = 2;
+        while (r * r < spp) r *= 2;
+        sample_count_ = r * r;
+    }
+
+    Ref<Sampler> clone() const override { return std::make_shared<LowDiscrepancySampler>(*this); }
+    std::string to_string() const override { return "ldsampler"; }
+
+    float next_1d() override {
+        uint32_t i = point(dimension_++);
+        return bits_to_unit(reverse_bits(i) ^ hash_bits(sequence_, 0x48bc48ebu));
+    }
+    Vec2 next_2d() override {
+        uint32_t i = point(dimension_);
+        dimension_ += 2;
+        uint32_t x = reverse_bits(i) ^ hash_bits(sequence_, 0x98bc51abu);
+        uint32_t y = sobol_bits(i, 1) ^ hash_bits(sequence_, 0x68bc21ebu);
+        return Vec2(bits_to_unit(x), bits_to_unit(y));
+    }
+
+private:
+    // The point of the (0, 2)-sequence that dimension `dim` of this sample takes.
+    uint32_t point(uint32_t dim) const { return permute_index(index_, uint32_t(sample_count_), dimension_seed(dim)); }
 };
 
 CANDELA_REGISTER(LowDiscrepancySampler, ObjectKind::Sampler, "ldsampler");

@@ -1,29 +1,59 @@
-// stratified (FALLBACK to independent, see samplers/fallback.h): one sample per cell of a
-// square grid.
+// stratified: one sample per stratum of a regular grid, in every dimension (Mitsuba 3's
+// stratified sampler).
 //
 // Parameters (Mitsuba 3):
-//   sample_count   integer   samples per pixel, rounded up to a square (default 4)
+//   sample_count   integer   samples per pixel, rounded up to a square N = r * r (default 4)
 //   seed           integer   seed offset (default 0)
-//   jitter         boolean   random position inside each stratum (default true)
+//   jitter         boolean   a uniform random position inside each stratum; false puts every
+//                            sample at its stratum's centre (default true)
+//
+// A 1D dimension has N strata of width 1/N; a 2D dimension an r x r grid. In each dimension the
+// pixel's sample indices are shuffled by their own permutation (Kensler's hashed permutation,
+// seeded by pixel and dimension), so every dimension is stratified and the dimensions are
+// decorrelated from each other.
 
 #include "core/properties.h"
 #include "core/registry.h"
-#include "samplers/fallback.h"
+#include "samplers/pixel_sampler.h"
 
 namespace candela {
 
-namespace {
-// The smallest square at least n (Mitsuba's stratified sampler).
-int round_to_square(int n) {
-    int r = 1;
-    while (r * r < n) ++r;
-    return r * r;
-}
-}  // namespace
-
-class StratifiedSampler final : public FallbackSampler {
+class StratifiedSampler final : public PixelSequenceSampler {
 public:
-    explicit StratifiedSampler(const Properties& props) : FallbackSampler(props, round_to_square) { props.get_bool("jitter", true); }
+    explicit StratifiedSampler(const Properties& props) {
+        jitter_ = props.get_bool("jitter", true);
+        read_count_and_seed(props, "a square, as Mitsuba does");
+    }
+
+    void set_sample_count(int spp) override {
+        resolution_ = 1;
+        while (resolution_ * resolution_ < spp) ++resolution_;
+        sample_count_ = resolution_ * resolution_;
+    }
+
+    Ref<Sampler> clone() const override { return std::make_shared<StratifiedSampler>(*this); }
+    std::string to_string() const override { return "stratified"; }
+
+    float next_1d() override {
+        uint32_t dim = dimension_++;
+        uint32_t stratum = permute_index(index_, uint32_t(sample_count_), dimension_seed(dim));
+        float j = jitter_ ? jitter(dim, 0) : 0.5f;
+        return clamp_below_one((float(stratum) + j) / float(sample_count_));
+    }
+
+    Vec2 next_2d() override {
+        uint32_t dim = dimension_;
+        dimension_ += 2;
+        uint32_t stratum = permute_index(index_, uint32_t(sample_count_), dimension_seed(dim));
+        uint32_t y = stratum / uint32_t(resolution_), x = stratum - y * uint32_t(resolution_);
+        float jx = jitter_ ? jitter(dim, 0) : 0.5f, jy = jitter_ ? jitter(dim, 1) : 0.5f;
+        float inv = 1.0f / float(resolution_);
+        return Vec2(clamp_below_one((float(x) + jx) * inv), clamp_below_one((float(y) + jy) * inv));
+    }
+
+private:
+    bool jitter_ = true;
+    int resolution_ = 2;
 };
 
 CANDELA_REGISTER(StratifiedSampler, ObjectKind::Sampler, "stratified");

@@ -15,7 +15,9 @@
 //   focus_distance             float       accepted, no effect (a pinhole has no focus)
 //
 // A film position s in [0,1]^2 (top-left origin), t = s + offset, looks along the camera-space
-// direction ((1 - 2 t.x) tan(fov_x / 2), (1 - 2 t.y) tan(fov_x / 2) / aspect, 1).
+// direction ((1 - 2 t.x) tan(fov_x / 2), (1 - 2 t.y) tan(fov_x / 2) / aspect, 1). Light tracers
+// connect to the pinhole (sample_direction) with the importance of that map: film pixels per
+// solid angle, W H / (4 tan(fov_x / 2) tan(fov_y / 2) cos^3 theta).
 
 #include "core/properties.h"
 #include "core/registry.h"
@@ -47,6 +49,14 @@ public:
         ray.tmin = near_clip_ * inv_z;
         ray.tmax = far_clip_ * inv_z;
         return ray;
+    }
+
+    SensorSample sample_direction(const Vec3& ref, const Vec2&) const override {
+        Vec3 local = world_to_local_.apply_point(ref);
+        if (!(local.z > near_clip_ && local.z < far_clip_)) return SensorSample();
+        Vec2 fraction = projection_.film_position(local);
+        if (!on_film(fraction)) return SensorSample();
+        return lens_connection(ref, local, Vec3(0.0f), fraction, projection_.tan_half_x);
     }
 
     std::optional<PinholeProjection> pinhole() const override { return projection_; }

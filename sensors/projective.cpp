@@ -7,13 +7,14 @@ namespace candela {
 
 ProjectiveCamera::ProjectiveCamera(const Properties& props) {
     to_world_ = props.get_transform("to_world", Transform());
+    world_to_local_ = to_world_.inverse();
     auto films = props.get_objects(ObjectKind::Film);
     auto samplers = props.get_objects(ObjectKind::Sampler);
     if (films.size() > 1 || samplers.size() > 1) props.fail("a sensor has at most one film and one sampler");
     film_ = films.empty() ? create_plugin_as<Film>(ObjectKind::Film, Properties("hdrfilm", props.location()))
                           : std::static_pointer_cast<Film>(films[0]);
-    sampler_ = samplers.empty() ? create_plugin_as<Sampler>(ObjectKind::Sampler, Properties("independent", props.location()))
-                                : std::static_pointer_cast<Sampler>(samplers[0]);
+    set_sampler(samplers.empty() ? create_plugin_as<Sampler>(ObjectKind::Sampler, Properties(DefaultSampler, props.location()))
+                                 : std::static_pointer_cast<Sampler>(samplers[0]));
     Vec2i size = film_->full_size();
     aspect_ = float(size.x) / float(size.y);
     inv_size_ = Vec2(1.0f / float(size.x), 1.0f / float(size.y));
@@ -29,6 +30,27 @@ ProjectiveCamera::ProjectiveCamera(const Properties& props) {
     if (!(close >= open)) props.fail("shutter_close", "shutter_open must not come after shutter_close");
     if (props.has("srf"))
         props.fail("srf", "a sensor response function (srf) needs a spectral variant; Candela renders in RGB, where Mitsuba rejects it too");
+}
+
+SensorSample ProjectiveCamera::lens_connection(const Vec3& ref, const Vec3& local, const Vec3& lens, const Vec2& fraction,
+                                               float tan_half_x) const {
+    SensorSample s;
+    Vec3 v = local - lens;  // camera space, from the lens point toward the reference point
+    float r2 = squared_length(v), r = std::sqrt(r2);
+    float cos_theta = v.z / r;
+    if (!(cos_theta > 0.0f) || !(r > 0.0f)) return s;
+    float image_area = 4.0f * tan_half_x * tan_half_x / aspect_;
+    s.weight = film_area() / (image_area * cos_theta * cos_theta * cos_theta * r2);
+    // The camera ray starts where it crosses the near plane (z = near_clip).
+    s.p = to_world_.apply_point(lens + v * (near_clip_ / v.z));
+    Vec3 to_sensor = s.p - ref;
+    s.dist = glm::length(to_sensor);
+    if (!(s.dist > 0.0f)) return SensorSample();
+    s.d = to_sensor / s.dist;
+    s.film_pos = film_pixels(fraction);
+    s.pdf = 1.0f;
+    s.delta = true;
+    return s;
 }
 
 }  // namespace candela

@@ -18,9 +18,20 @@ namespace candela {
 class ProjectiveCamera : public Sensor {
 protected:
     explicit ProjectiveCamera(const Properties& props);
-    // Film position in pixels of the full film -> fractions in [0,1]^2.
+    // Film position in pixels of the full film -> fractions in [0,1]^2, and back.
     Vec2 film_fraction(const Vec2& film_pos) const { return film_pos * inv_size_; }
+    Vec2 film_pixels(const Vec2& fraction) const { return fraction / inv_size_; }
+    static bool on_film(const Vec2& fraction) { return fraction.x >= 0.0f && fraction.x <= 1.0f && fraction.y >= 0.0f && fraction.y <= 1.0f; }
+    // The full film's area in pixels: importance is measured per pixel.
+    float film_area() const { return 1.0f / (inv_size_.x * inv_size_.y); }
+    // A lens camera's connection from camera-space point `local` through lens point `lens`
+    // (camera space, z = 0; the origin for a pinhole) that reaches the film at `fraction`: the
+    // ray runs from the lens through `local`, entering the view at depth near_clip, and carries
+    // W_e cos / dist^2 = film_area / (A cos^3 dist^2), A the image plane's area at depth 1
+    // (4 tan(fov_x / 2) tan(fov_y / 2)): pixel area per solid angle, then per area at `local`.
+    SensorSample lens_connection(const Vec3& ref, const Vec3& local, const Vec3& lens, const Vec2& fraction, float tan_half_x) const;
 
+    Transform world_to_local_;
     float aspect_ = 1.0f;  // width / height of the full film
     float near_clip_ = 0.01f, far_clip_ = 1e4f, focus_distance_ = 1e4f;
 

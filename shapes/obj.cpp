@@ -43,20 +43,21 @@ public:
             auto key = std::make_tuple(idx.vertex_index, idx.texcoord_index, vn);
             auto it = vertex_of.find(key);
             if (it != vertex_of.end()) return it->second;
-            if (idx.vertex_index < 0 || size_t(3 * idx.vertex_index + 2) >= attrib.vertices.size())
+            // Indices come from the file: widen them before scaling (3 * index overflows an int).
+            const size_t v = size_t(idx.vertex_index), vt = size_t(idx.texcoord_index), n = size_t(vn);
+            if (idx.vertex_index < 0 || 3 * v + 2 >= attrib.vertices.size())
                 props.fail("filename", "OBJ file \"" + path + "\" refers to a vertex that does not exist");
             unsigned id = unsigned(positions_.size());
-            positions_.emplace_back(attrib.vertices[3 * idx.vertex_index], attrib.vertices[3 * idx.vertex_index + 1],
-                                    attrib.vertices[3 * idx.vertex_index + 2]);
-            if (idx.texcoord_index >= 0 && size_t(2 * idx.texcoord_index + 1) < attrib.texcoords.size()) {
-                float u = attrib.texcoords[2 * idx.texcoord_index], v = attrib.texcoords[2 * idx.texcoord_index + 1];
-                uvs_.emplace_back(u, flip_tex ? 1.0f - v : v);
+            positions_.emplace_back(attrib.vertices[3 * v], attrib.vertices[3 * v + 1], attrib.vertices[3 * v + 2]);
+            if (idx.texcoord_index >= 0 && 2 * vt + 1 < attrib.texcoords.size()) {
+                float u = attrib.texcoords[2 * vt], tv = attrib.texcoords[2 * vt + 1];
+                uvs_.emplace_back(u, flip_tex ? 1.0f - tv : tv);
                 has_uv_ = true;
             } else {
                 uvs_.emplace_back(0.0f);
             }
-            if (vn >= 0 && size_t(3 * vn + 2) < attrib.normals.size()) {
-                normals_.emplace_back(attrib.normals[3 * vn], attrib.normals[3 * vn + 1], attrib.normals[3 * vn + 2]);
+            if (vn >= 0 && 3 * n + 2 < attrib.normals.size()) {
+                normals_.emplace_back(attrib.normals[3 * n], attrib.normals[3 * n + 1], attrib.normals[3 * n + 2]);
                 has_normal_ = true;
             } else {
                 normals_.emplace_back(0.0f);

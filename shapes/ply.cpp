@@ -19,13 +19,16 @@
 // Integer-typed attribute values are normalised by their type's maximum and decoded from sRGB
 // to linear, as Mitsuba's loader does (8-bit colours 0..255 become linear 0..1).
 
+#include "core/memory_budget.h"
 #include "core/mesh.h"
 #include "geometry2d/polygon.h"
 #include "core/registry.h"
 #include "core/warning.h"
 
+#include <cmath>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 namespace candela {
@@ -44,6 +47,24 @@ PlyType parse_type(const std::string& s) {
     if (s == "float" || s == "float32") return PlyType::Float32;
     if (s == "double" || s == "float64") return PlyType::Float64;
     return PlyType::Invalid;
+}
+
+bool is_integer_type(PlyType t) { return t != PlyType::Float32 && t != PlyType::Float64 && t != PlyType::Invalid; }
+
+// Whether `v` (read from an ascii file) is a value of type `t`: integer types need an integer
+// in their range, float32 a value in its range (infinities and NaN pass; the mesh rejects them).
+bool representable(double v, PlyType t) {
+    switch (t) {
+    case PlyType::Int8: return v == std::floor(v) && v >= -128.0 && v <= 127.0;
+    case PlyType::UInt8: return v == std::floor(v) && v >= 0.0 && v <= 255.0;
+    case PlyType::Int16: return v == std::floor(v) && v >= -32768.0 && v <= 32767.0;
+    case PlyType::UInt16: return v == std::floor(v) && v >= 0.0 && v <= 65535.0;
+    case PlyType::Int32: return v == std::floor(v) && v >= -2147483648.0 && v <= 2147483647.0;
+    case PlyType::UInt32: return v == std::floor(v) && v >= 0.0 && v <= 4294967295.0;
+    case PlyType::Float32: return !std::isfinite(v) || std::abs(v) <= double(std::numeric_limits<float>::max());
+    case PlyType::Float64: return true;
+    default: return false;
+    }
 }
 
 size_t type_size(PlyType t) {
@@ -172,7 +193,7 @@ public:
     PlyBodyReader(std::istream& in, int format, int first_line) : in_(in), format_(format), line_(first_line) {}
 
     double read(PlyType type) {
-        if (format_ == 0) return read_ascii();
+        if (format_ == 0) return read_ascii(type);
         unsigned char buf[8];
         size_t n = type_size(type);
         if (!in_.read(reinterpret_cast<char*>(buf), std::streamsize(n))) throw PlyError("unexpected end of file");
@@ -203,7 +224,7 @@ public:
     int line() const { return line_; }
 
 private:
-    double read_ascii() {
+    double read_ascii(PlyType type) {
         while (!have_line_ || pos_ >= tokens_.size()) {
             if (have_line_) throw PlyError("too few values on line " + std::to_string(line_));
             std::string text;
@@ -219,6 +240,7 @@ private:
         char* end = nullptr;
         double v = std::strtod(t.c_str(), &end);
         if (end == t.c_str() || *end != '\0') throw PlyError("bad number \"" + t + "\" on line " + std::to_string(line_));
+        if (!representable(v, type)) throw PlyError("\"" + t + "\" on line " + std::to_string(line_) + " is not a value of the property's type");
         return v;
     }
 
@@ -238,7 +260,7 @@ public:
         std::string path = props.get_file_path("filename");
         bool face_normals = props.get_bool("face_normals", false);
         try {
-            read(path, face_normals);
+            read(path, face_normals, props.location_of("filename"));
         } catch (const PlyError& e) {
             props.fail("filename", "cannot read PLY file \"" + path + "\": " + e.what());
         }
@@ -255,7 +277,7 @@ public:
 private:
     std::vector<std::string> ignored_;  // properties that are neither geometry nor attributes
 
-    void read(const std::string& path, bool face_normals) {
+    void read(const std::string& path, bool face_normals, const SourceLocation& location) {
         std::ifstream in(path, std::ios::binary);
         if (!in) throw PlyError("cannot open file");
         std::string line;
@@ -303,6 +325,7 @@ private:
                     p.count_type = parse_type(ct);
                     p.type = parse_type(it);
                     if (p.count_type == PlyType::Invalid) throw PlyError("unknown type \"" + ct + "\"" + where);
+                    if (!is_integer_type(p.count_type)) throw PlyError("a list's count must have an integer type" + where);
                 } else {
                     p.type = parse_type(t);
                     ss >> p.name;
@@ -314,6 +337,13 @@ private:
             }
         }
         if (format < 0) throw PlyError("header has no format line");
+        check_body_size(elements, format, in);
+        uint64_t vertices = 0, faces = 0;
+        for (const PlyElement& e : elements) {
+            if (e.name == "vertex") vertices = saturating_add(vertices, e.count);
+            if (e.name == "face") faces = saturating_add(faces, e.count);
+        }
+        check_mesh_memory(vertices, faces, 0, location);
 
         PlyBodyReader body(in, format, line_no);
         for (const PlyElement& e : elements) {
@@ -321,6 +351,31 @@ private:
             else if (e.name == "face") read_faces(e, body);
             else skip(e, body);
         }
+    }
+
+    // Refuses a header that promises more elements than the rest of the file can hold, before
+    // anything is allocated for them: in binary, every scalar takes its type's size and every
+    // list at least its count; in ascii, every value at least one character and a separator.
+    static void check_body_size(const std::vector<PlyElement>& elements, int format, std::istream& in) {
+        const std::streamoff body_start = in.tellg();
+        in.seekg(0, std::ios::end);
+        const std::streamoff file_end = in.tellg();
+        in.seekg(body_start);
+        if (body_start < 0 || file_end < body_start) throw PlyError("cannot determine the file size");
+        const uint64_t available = uint64_t(file_end - body_start);
+        uint64_t needed = 0;
+        std::string promised;
+        for (const PlyElement& e : elements) {
+            uint64_t per_element = 0;
+            for (const PlyProperty& p : e.properties)
+                per_element += format == 0 ? 2 : type_size(p.is_list ? p.count_type : p.type);
+            needed = saturating_add(needed, saturating_mul(e.count, per_element));
+            promised += (promised.empty() ? "" : ", ") + std::to_string(e.count) + " " + e.name + (e.count == 1 ? "" : "s");
+        }
+        if (format == 0 && needed > 0) --needed;  // the last value needs no separator
+        if (needed > available)
+            throw PlyError("the header promises " + promised + ", at least " + std::to_string(needed) + " bytes, but the file holds only " +
+                           std::to_string(available) + " bytes after its header");
     }
 
     // The first of `names` that the element has as a scalar property.
@@ -342,12 +397,13 @@ private:
         size_t first_attribute = attributes_.size();
         for (const PlyAttribute& a : attributes) attributes_.push_back(MeshAttribute{a.name, false, int(a.properties.size()), {}});
         std::vector<double> values(e.properties.size());
-        positions_.reserve(e.count);
+        // The count comes from the file: reserve no more than a small file could hold.
+        positions_.reserve(std::min(e.count, size_t(1) << 16));
         for (size_t i = 0; i < e.count; ++i) {
             for (size_t k = 0; k < e.properties.size(); ++k) {
                 const PlyProperty& p = e.properties[k];
                 if (p.is_list) {
-                    size_t n = size_t(body.read(p.count_type));
+                    size_t n = read_count(p, body);
                     for (size_t j = 0; j < n; ++j) body.read(p.type);
                     values[k] = 0.0;
                 } else {
@@ -355,9 +411,9 @@ private:
                 }
             }
             body.end_element();
-            positions_.emplace_back(values[ix], values[iy], values[iz]);
-            if (normals) normals_.emplace_back(values[inx], values[iny], values[inz]);
-            if (uvs) uvs_.emplace_back(values[iu], values[iv]);
+            positions_.emplace_back(to_float(values[ix]), to_float(values[iy]), to_float(values[iz]));
+            if (normals) normals_.emplace_back(to_float(values[inx]), to_float(values[iny]), to_float(values[inz]));
+            if (uvs) uvs_.emplace_back(to_float(values[iu]), to_float(values[iv]));
             append_attributes(e, attributes, values, first_attribute);
         }
     }
@@ -366,7 +422,7 @@ private:
                            size_t first_attribute) {
         for (size_t a = 0; a < attributes.size(); ++a)
             for (int k : attributes[a].properties)
-                attributes_[first_attribute + a].values.push_back(float(attribute_value(values[size_t(k)], e.properties[size_t(k)].type)));
+                attributes_[first_attribute + a].values.push_back(to_float(attribute_value(values[size_t(k)], e.properties[size_t(k)].type)));
     }
 
     void read_faces(const PlyElement& e, PlyBodyReader& body) {
@@ -375,6 +431,7 @@ private:
             if (e.properties[i].is_list && (e.properties[i].name == "vertex_indices" || e.properties[i].name == "vertex_index"))
                 list = int(i);
         if (list < 0) throw PlyError("face element lacks a vertex_indices list");
+        if (!is_integer_type(e.properties[size_t(list)].type)) throw PlyError("vertex_indices must have an integer type");
         std::vector<PlyAttribute> attributes = group_attributes(e, "face_", {}, ignored_);
         size_t first_attribute = attributes_.size();
         for (const PlyAttribute& a : attributes) attributes_.push_back(MeshAttribute{a.name, true, int(a.properties.size()), {}});
@@ -387,17 +444,21 @@ private:
                     values[k] = body.read(p.type);
                     continue;
                 }
-                double n = body.read(p.count_type);
-                if (n < 0 || n > 1e6) throw PlyError("face with an invalid corner count");
-                corner.resize(size_t(n));
+                size_t n = read_count(p, body);
+                if (int(k) != list) {  // another per-face list (texture coordinates, ...): skipped
+                    for (size_t j = 0; j < n; ++j) body.read(p.type);
+                    continue;
+                }
+                if (n > 1000000) throw PlyError("face " + std::to_string(i) + " has " + std::to_string(n) + " corners");
+                corner.resize(n);
                 for (size_t j = 0; j < corner.size(); ++j) {
-                    double idx = body.read(p.type);
+                    double idx = body.read(p.type);  // an integer: the type is checked above
                     if (idx < 0 || idx >= double(positions_.size()))
-                        throw PlyError("face " + std::to_string(i) + " refers to vertex " + std::to_string(long(idx)) +
+                        throw PlyError("face " + std::to_string(i) + " refers to vertex " + std::to_string(int64_t(idx)) +
                                        ", which does not exist (vertices must come before faces)");
                     corner[j] = unsigned(idx);
                 }
-                if (int(k) == list) polygon = corner;
+                polygon = corner;
             }
             body.end_element();
             size_t before = triangles_.size();
@@ -413,10 +474,26 @@ private:
         }
     }
 
+    // A list's length: its count type is an integer type (checked in the header), so only a
+    // negative count is left to refuse.
+    static size_t read_count(const PlyProperty& p, PlyBodyReader& body) {
+        double n = body.read(p.count_type);
+        if (n < 0) throw PlyError("list \"" + p.name + "\" has a negative length");
+        return size_t(n);
+    }
+
+    // float() of a double beyond float's range is undefined; such values become infinities,
+    // which the mesh refuses as non-finite.
+    static float to_float(double v) {
+        if (std::abs(v) > double(std::numeric_limits<float>::max()) && std::isfinite(v))
+            return v > 0 ? std::numeric_limits<float>::infinity() : -std::numeric_limits<float>::infinity();
+        return float(v);
+    }
+
     static void skip(const PlyElement& e, PlyBodyReader& body) {
         for (size_t i = 0; i < e.count; ++i) {
             for (const PlyProperty& p : e.properties) {
-                size_t n = p.is_list ? size_t(body.read(p.count_type)) : 1;
+                size_t n = p.is_list ? read_count(p, body) : 1;
                 for (size_t j = 0; j < n; ++j) body.read(p.type);
             }
             body.end_element();

@@ -92,13 +92,18 @@ private:
         // Too close to the plane: the spherical rectangle degenerates.
         float scale = std::max(len_x_, len_y_);
         if (std::abs(sr.z0) < 1e-4f * scale) return false;
-        Vec3 v00(sr.x0, sr.y0, sr.z0), v01(sr.x0, sr.y1, sr.z0), v10(sr.x1, sr.y0, sr.z0), v11(sr.x1, sr.y1, sr.z0);
-        Vec3 n0 = glm::normalize(glm::cross(v00, v10)), n1 = glm::normalize(glm::cross(v10, v11));
-        Vec3 n2 = glm::normalize(glm::cross(v11, v01)), n3 = glm::normalize(glm::cross(v01, v00));
-        float g0 = safe_acos(-glm::dot(n0, n1)), g1 = safe_acos(-glm::dot(n1, n2));
-        float g2 = safe_acos(-glm::dot(n2, n3)), g3 = safe_acos(-glm::dot(n3, n0));
-        sr.b0 = n0.z;
-        sr.b1 = n2.z;
+        // The normals of the four edge planes through the point, n_i = normalize(v_i x v_i+1),
+        // have closed forms in these coordinates (Urena et al. 2013, section 3.1):
+        //   n0 = (0, z0, -y0) / r(y0)   n1 = (-z0, 0, x1) / r(x1)
+        //   n2 = (0, -z0, y1) / r(y1)   n3 = (z0, 0, -x0) / r(x0)    with r(a) = sqrt(z0^2 + a^2),
+        // so the interior angles g_i = acos(-n_i . n_i+1) need no cross products.
+        float z2 = sr.z0 * sr.z0;
+        float inv_rx0 = 1.0f / std::sqrt(z2 + sr.x0 * sr.x0), inv_rx1 = 1.0f / std::sqrt(z2 + sr.x1 * sr.x1);
+        float inv_ry0 = 1.0f / std::sqrt(z2 + sr.y0 * sr.y0), inv_ry1 = 1.0f / std::sqrt(z2 + sr.y1 * sr.y1);
+        float g0 = safe_acos(sr.y0 * sr.x1 * inv_ry0 * inv_rx1), g1 = safe_acos(-sr.x1 * sr.y1 * inv_rx1 * inv_ry1);
+        float g2 = safe_acos(sr.x0 * sr.y1 * inv_ry1 * inv_rx0), g3 = safe_acos(-sr.x0 * sr.y0 * inv_rx0 * inv_ry0);
+        sr.b0 = -sr.y0 * inv_ry0;
+        sr.b1 = sr.y1 * inv_ry1;
         sr.k = TwoPi - g2 - g3;
         sr.solid_angle = g0 + g1 - sr.k;
         // Tiny solid angles lose all precision in the angle sums; area sampling is exact enough.

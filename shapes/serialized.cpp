@@ -21,6 +21,7 @@
 // description says otherwise), does not change the shading: the face_normals parameter does.
 // Without normals in the file, smooth vertex normals are computed as for OBJ and PLY files.
 
+#include "core/memory_budget.h"
 #include "core/mesh.h"
 #include "core/registry.h"
 
@@ -40,6 +41,8 @@ public:
 };
 
 constexpr uint16_t FileMagic = 0x041C;
+constexpr size_t MaxHeaderBytes = 1 << 16;  // flags, a name of up to 64 kB, the counts
+constexpr uint64_t MaxDeflateRatio = 1032;
 enum SerializedFlags : uint32_t {
     HasNormals = 0x0001,
     HasTexcoords = 0x0002,
@@ -55,8 +58,9 @@ uint64_t read_le(const unsigned char* p, int bytes) {
     return v;
 }
 
-// Inflates the zlib stream starting at `offset` until its end marker.
-std::vector<unsigned char> inflate_stream(const std::string& file, size_t offset) {
+// Inflates the zlib stream starting at `offset` until its end marker, or until it has given
+// `limit` bytes; `complete` tells whether the end marker was reached.
+std::vector<unsigned char> inflate_stream(const std::string& file, size_t offset, size_t limit, bool& complete) {
     z_stream zs;
     std::memset(&zs, 0, sizeof(zs));
     if (inflateInit(&zs) != Z_OK) throw SerializedError("cannot initialise zlib");
@@ -64,9 +68,9 @@ std::vector<unsigned char> inflate_stream(const std::string& file, size_t offset
     zs.avail_in = uInt(file.size() - offset);
     std::vector<unsigned char> out;
     int status = Z_OK;
-    while (status == Z_OK) {
+    while (status == Z_OK && out.size() < limit) {
         size_t have = out.size();
-        out.resize(have + (size_t(1) << 20));
+        out.resize(have + std::min(size_t(1) << 20, limit - have));
         zs.next_out = out.data() + have;
         zs.avail_out = uInt(out.size() - have);
         status = inflate(&zs, Z_NO_FLUSH);
@@ -74,9 +78,10 @@ std::vector<unsigned char> inflate_stream(const std::string& file, size_t offset
         if (status == Z_BUF_ERROR && zs.avail_in == 0) break;  // input ran out before the end
     }
     inflateEnd(&zs);
+    complete = status == Z_STREAM_END;
+    if (status == Z_OK || complete) return out;
     if (status == Z_BUF_ERROR) throw SerializedError("the compressed data is truncated");
-    if (status != Z_STREAM_END) throw SerializedError(std::string("the compressed data is corrupt (zlib: ") + (zs.msg ? zs.msg : "error") + ")");
-    return out;
+    throw SerializedError(std::string("the compressed data is corrupt (zlib: ") + (zs.msg ? zs.msg : "error") + ")");
 }
 
 // Reads the decompressed fields in order, checking that each is there.
@@ -118,6 +123,7 @@ public:
     void check_count(uint64_t count, size_t size, const char* what) {
         if (count > (data_.size() - pos_) / size) throw SerializedError(std::string("the data ends inside the ") + what);
     }
+    size_t position() const { return pos_; }
     void need(size_t bytes, const char* what) {
         if (data_.size() - pos_ < bytes) throw SerializedError(std::string("the data ends inside the ") + what);
     }
@@ -137,7 +143,7 @@ public:
         if (shape_index < 0) props.fail("shape_index", "shape_index must not be negative");
         bool face_normals = props.get_bool("face_normals", false);
         try {
-            read(path, size_t(shape_index), face_normals);
+            read(path, size_t(shape_index), face_normals, props.location_of("filename"));
         } catch (const SerializedError& e) {
             props.fail("filename", "cannot read serialized mesh \"" + path + "\" (shape_index " + std::to_string(shape_index) + "): " + e.what());
         }
@@ -146,8 +152,34 @@ public:
     std::string to_string() const override { return "serialized"; }
 
 private:
+    // The size of the mesh's decompressed fields as its header declares them, checked before
+    // anything is inflated in full: against what the compressed bytes can hold (DEFLATE expands
+    // at most 1032:1, zlib's technical notes) and against the memory budget.
+    uint64_t stream_size(const std::string& file, size_t offset, int version, const SourceLocation& location) const {
+        bool complete = false;
+        std::vector<unsigned char> head = inflate_stream(file, offset, MaxHeaderBytes, complete);
+        FieldReader h(head);
+        uint32_t flags = uint32_t(h.integer(4, "flags"));
+        if (version == 4) h.cstring();
+        uint64_t vertices = h.integer(8, "vertex count"), triangles = h.integer(8, "triangle count");
+        const uint64_t header = h.position();
+        bool dbl = (flags & DoublePrecision) != 0;
+        if (dbl && (flags & SinglePrecision)) throw SerializedError("the flags ask for both single and double precision");
+        uint64_t reals = 3 + ((flags & HasNormals) ? 3 : 0) + ((flags & HasTexcoords) ? 2 : 0) + ((flags & HasColors) ? 3 : 0);
+        uint64_t index_bytes = vertices > 0xFFFFFFFFull ? 8 : 4;
+        uint64_t size = saturating_add(header, saturating_add(saturating_mul(saturating_mul(vertices, reals), dbl ? 8 : 4),
+                                                              saturating_mul(triangles, 3 * index_bytes)));
+        uint64_t compressed = file.size() - offset;
+        if (size / MaxDeflateRatio > compressed)
+            throw SerializedError("the header declares " + std::to_string(vertices) + " vertices and " + std::to_string(triangles) +
+                                  " triangles (" + format_bytes(size) + "), more than its " + format_bytes(compressed) +
+                                  " of compressed data can hold");
+        check_mesh_memory(vertices, triangles, size, location);
+        return size;
+    }
+
     // Loads mesh `index`.
-    void read(const std::string& path, size_t index, bool skip_normals) {
+    void read(const std::string& path, size_t index, bool skip_normals, const SourceLocation& location) {
         std::ifstream in(path, std::ios::binary);
         if (!in) throw SerializedError("cannot open the file");
         std::stringstream ss;
@@ -171,17 +203,16 @@ private:
                 throw SerializedError("the dictionary's offset of this mesh does not point at a mesh header");
             offset = size_t(at);
         }
-        std::vector<unsigned char> data = inflate_stream(file, offset + 4);
+        const uint64_t data_size = stream_size(file, offset + 4, version, location);
+        bool complete = false;
+        // One byte more than declared shows a stream that holds more than its header says.
+        std::vector<unsigned char> data = inflate_stream(file, offset + 4, size_t(data_size) + 1, complete);
+        if (!complete) throw SerializedError("the compressed data holds more than its header declares");
         FieldReader r(data);
         uint32_t flags = uint32_t(r.integer(4, "flags"));
         if (version == 4) r.cstring();
         uint64_t vertex_count = r.integer(8, "vertex count"), triangle_count = r.integer(8, "triangle count");
-        // Every vertex and every triangle takes at least 12 bytes: larger counts are corrupt (and
-        // would overflow the sizes computed from them).
-        if (vertex_count > data.size() / 12 || triangle_count > data.size() / 12)
-            throw SerializedError("the vertex or triangle count exceeds what the file holds");
         bool dbl = (flags & DoublePrecision) != 0;
-        if (dbl && (flags & SinglePrecision)) throw SerializedError("the flags ask for both single and double precision");
 
         std::vector<float> p = r.reals(vertex_count * 3, dbl, "vertex positions");
         positions_.resize(size_t(vertex_count));

@@ -62,4 +62,16 @@ std::vector<double> SphericalHistogram::expected(const std::function<double(cons
     return out;
 }
 
+MeanAndVariance block_mean(const Image& img, int ch, int x0, int y0, int size) {
+    int var = img.channel_index(std::string("variance.") + "RGB"[ch]);
+    MeanAndVariance m;
+    double n = double(size) * size;
+    for (int y = y0; y < y0 + size; ++y)
+        for (int x = x0; x < x0 + size; ++x) {
+            m.mean += img.at(x, y, ch) / n;
+            m.variance_of_mean += img.at(x, y, var) / (n * n);
+        }
+    return m;
+}
+
 }  // namespace candela::test

@@ -1,11 +1,25 @@
 #include "tests/util.h"
 
+#include "core/scene.h"
+
+#include <algorithm>
+#include <cstdlib>
 #include <fstream>
+#include <stdexcept>
 #include <sstream>
 #include <sys/wait.h>
 #include <unistd.h>
 
 namespace candela::test {
+
+int effort_scaled(int samples, int minimum) {
+    const char* text = std::getenv("CANDELA_TEST_EFFORT");
+    if (!text || !*text) return samples;
+    char* end = nullptr;
+    double effort = std::strtod(text, &end);
+    if (*end || !(effort > 0.0 && effort <= 1.0)) throw std::invalid_argument("CANDELA_TEST_EFFORT must be a number in (0, 1]");
+    return std::max(minimum, int(samples * effort));
+}
 
 std::filesystem::path scratch_dir(const std::string& name) {
     // Per process: ctest runs test cases in parallel processes.
@@ -38,6 +52,14 @@ int run_command(const std::string& command, const std::filesystem::path& log) {
     return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }
 
+std::string interrupt_after_start(const std::string& command) {
+    return command +
+           " & pid=$!; for i in $(seq 600); do"
+           " mask=$(awk '/^SigCgt/ {print $2}' /proc/$pid/status 2>/dev/null);"
+           " [ -n \"$mask\" ] && [ $(( 0x$mask & 2 )) -ne 0 ] && break; sleep 0.1; done;"
+           " sleep 1; kill -INT $pid; wait $pid";
+}
+
 std::string scene_xml(const std::string& body) { return "<scene version=\"3.0.0\">\n" + body + "\n</scene>\n"; }
 
 Ref<Scene> load_scene_xml(const std::string& name, const std::string& body) {
@@ -49,7 +71,7 @@ Ref<Scene> load_scene_xml(const std::string& name, const std::string& body) {
 std::string pinhole_camera(const std::string& origin, const std::string& target, int w, int h, float fov) {
     return "<sensor type=\"perspective\"><float name=\"fov\" value=\"" + std::to_string(fov) + "\"/><transform name=\"to_world\"><lookat origin=\"" + origin +
            "\" target=\"" + target + "\" up=\"0, 1, 0\"/></transform><film type=\"hdrfilm\"><integer name=\"width\" value=\"" + std::to_string(w) +
-           "\"/><integer name=\"height\" value=\"" + std::to_string(h) + "\"/><rfilter type=\"box\"/></film></sensor>";
+           "\"/><integer name=\"height\" value=\"" + std::to_string(h) + "\"/><rfilter type=\"box\"/></film><sampler type=\"independent\"/></sensor>";
 }
 
 }  // namespace candela::test
@@ -62,6 +84,21 @@ RenderResult render_file(const std::string& scene_path, const SceneParameters& p
     options.threads = threads;
     options.aovs = std::move(aovs);
     return scene->integrator().render(*scene, options);
+}
+
+PixelView pixel_view(const Scene& scene, int x, int y) {
+    const Vec2 origin = Vec2(scene.sensor().film().crop_offset()) + Vec2(float(x), float(y));
+    PixelView view;
+    bool first = true;
+    for (Vec2 corner : {Vec2(1e-3f, 1e-3f), Vec2(0.999f, 1e-3f), Vec2(1e-3f, 0.999f), Vec2(0.999f, 0.999f)}) {
+        SurfaceInteraction si;
+        const Shape* hit = scene.intersect(scene.sensor().sample_ray(origin + corner, Vec2(0.5f)), si) ? si.shape : nullptr;
+        if (first) view.shape = hit;
+        else if (hit != view.shape) view.mixed = true;
+        first = false;
+    }
+    if (view.mixed) view.shape = nullptr;
+    return view;
 }
 
 }  // namespace candela::test

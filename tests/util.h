@@ -18,10 +18,23 @@ std::string candela_binary();
 
 // Runs a shell command; returns its exit code (not the raw wait status). Output goes to `log`.
 int run_command(const std::string& command, const std::filesystem::path& log);
+// A shell line that starts `command` in the background and, once its SIGINT handler is
+// installed (SigCgt in /proc/PID/status has SIGINT's bit) and a second later, sends it SIGINT
+// and waits. A background job of a non-interactive shell starts with SIGINT ignored, so a signal
+// sent before the handler is installed would be lost and the command would run to its end.
+std::string interrupt_after_start(const std::string& command);
 std::string read_text(const std::filesystem::path& path);
 
 // Loads a scene file with `params` and renders it with its own integrator.
 RenderResult render_file(const std::string& scene_path, const SceneParameters& params, int threads = 0, std::vector<std::string> aovs = {});
+
+// A statistical test's sample count scaled by CANDELA_TEST_EFFORT (a number in (0, 1], default
+// 1), never below `minimum`. The sanitizer run of scripts/test.sh sets it to run the long
+// statistical tests at reduced size. Their significance stays as stated: thresholds come from
+// the estimator's own variance and the Sidak correction, which hold at any sample count; what a
+// smaller count loses is power (larger errors go unseen), not honesty. Tests that assert a power
+// or a fixed tolerance must not use it.
+int effort_scaled(int samples, int minimum);
 
 // A minimal scene document around `body` (sensor, film and integrator given by the caller).
 std::string scene_xml(const std::string& body);
@@ -30,5 +43,15 @@ Ref<Scene> load_scene_xml(const std::string& name, const std::string& body);
 // A perspective sensor at `origin` looking at `target` (up +y, fov in degrees along x) with a
 // box-filtered w x h film, as XML.
 std::string pinhole_camera(const std::string& origin, const std::string& target, int w, int h, float fov = 60);
+
+// What the camera sees over the whole of pixel (x, y) of the crop window, judged by the camera
+// rays through its four corners (right for convex shapes with nothing in front): the shape all
+// four hit first, or nothing when all four miss; `mixed` when they disagree.
+struct PixelView {
+    const Shape* shape = nullptr;
+    bool mixed = false;
+    bool nothing() const { return !shape && !mixed; }
+};
+PixelView pixel_view(const Scene& scene, int x, int y);
 
 }  // namespace candela::test

@@ -7,7 +7,7 @@
 //   wrap_mode     string      repeat (default), mirror or clamp
 //   raw           boolean     keep stored values; by default 8/16-bit images are decoded from
 //                             sRGB to linear, float images are used as they are (default false)
-//   to_uv         transform   uv transform (default identity)
+//   to_uv         transform   uv transform (default identity), applied after the mapping
 //   format        string      storage precision of the texels, as Mitsuba stores them:
 //                             variant (default: float32), float16 (or fp16: values rounded to
 //                             half precision), uint8 (8 bits per channel; sRGB-encoded sources
@@ -15,6 +15,8 @@
 //                             8-bit files, float16 for 16-bit files, variant otherwise)
 //   accel         boolean     Mitsuba's hardware texture units in CUDA mode; without a GPU it
 //                             changes nothing (default true)
+//   mapping, mapping_to_world  how surface points find their uv (core/texture.h): uv (default),
+//                 planar, cylindrical or spherical, with the mapping's frame
 // v = 0 is the top row of the image (no flip), as in Mitsuba 3; texel centres sit at
 // half-integers. Alpha is ignored; one- and two-channel (grey, grey + alpha) images are grey.
 // Mitsuba's newest filter types trilinear and anisotropic (ray-cone footprints) are not
@@ -58,7 +60,7 @@ float quantize(float v, TexelFormat format) {
 
 class BitmapTexture final : public Texture {
 public:
-    explicit BitmapTexture(const Properties& props) {
+    explicit BitmapTexture(const Properties& props) : Texture(props) {
         std::string path = props.get_file_path("filename");
         std::string filter = props.get_string("filter_type", "bilinear");
         if (filter == "trilinear" || filter == "anisotropic")

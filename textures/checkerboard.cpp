@@ -2,7 +2,10 @@
 //
 // Parameters:
 //   color0, color1   rgb or texture   the two colours (defaults 0.4 and 0.2)
-//   to_uv            transform        uv transform (e.g. <scale x="8" y="8"/> for 8x8 periods)
+//   to_uv            transform        uv transform (e.g. <scale x="8" y="8"/> for 8x8 periods),
+//                                     applied after the mapping
+//   mapping, mapping_to_world         how surface points find their uv (core/texture.h): uv
+//                                     (default), planar, cylindrical or spherical
 // color0 where frac(u) > 0.5 and frac(v) > 0.5 agree, color1 elsewhere. Scalar lookups (a
 // roughness texture) use the opposite parity, as Mitsuba 3 does for backward compatibility.
 
@@ -14,7 +17,7 @@ namespace candela {
 
 class CheckerboardTexture final : public Texture {
 public:
-    explicit CheckerboardTexture(const Properties& props) {
+    explicit CheckerboardTexture(const Properties& props) : Texture(props) {
         color0_ = props.get_texture("color0", Spectrum(0.4f));
         color1_ = props.get_texture("color1", Spectrum(0.2f));
         to_uv_ = UVTransform(props.get_transform("to_uv"));
@@ -22,9 +25,9 @@ public:
 
     Spectrum eval(const Vec2& uv_in) const override { return first_color(uv_in) ? color0_->eval(uv_in) : color1_->eval(uv_in); }
     float eval_1(const Vec2& uv_in) const override { return first_color(uv_in) ? color1_->eval_1(uv_in) : color0_->eval_1(uv_in); }
-    // At a surface point the nested textures see the whole point (a mesh_attribute needs it).
-    Spectrum eval(const SurfaceInteraction& si) const override { return first_color(si.uv) ? color0_->eval(si) : color1_->eval(si); }
-    float eval_1(const SurfaceInteraction& si) const override { return first_color(si.uv) ? color1_->eval_1(si) : color0_->eval_1(si); }
+    // At a surface point the nested textures see the whole point (their own mappings apply; a mesh_attribute needs the whole point).
+    Spectrum eval(const SurfaceInteraction& si) const override { return first_color(texture_uv(si)) ? color0_->eval(si) : color1_->eval(si); }
+    float eval_1(const SurfaceInteraction& si) const override { return first_color(texture_uv(si)) ? color1_->eval_1(si) : color0_->eval_1(si); }
     Spectrum mean() const override { return 0.5f * (color0_->mean() + color1_->mean()); }
     float max_value() const override { return std::max(color0_->max_value(), color1_->max_value()); }
     std::string to_string() const override { return "checkerboard"; }

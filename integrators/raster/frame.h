@@ -3,8 +3,11 @@
 //   geometry   clip-space triangles, then at every camera sample the nearest triangle, its view
 //              depth and perspective-correct barycentrics (a G-buffer)     pass_geometry.cpp
 //   surfaces   position, normals, uv and texture lookup at every sample, and the radiance that
-//              needs no light: emission, ambient, mirror and refraction of the environment,
-//              the environment itself where no surface is                  pass_surfaces.cpp
+//              needs no light: emission, mirror and refraction of the environment (glossy
+//              ones prefiltered), the environment itself where no surface is  pass_surfaces.cpp
+//   ambient    the diffuse light that is not from the local lights: the environment's SH
+//              irradiance (or its average) and the `ambient` setting, times ambient occlusion;
+//              or the baked irradiance                                    pass_ambient.cpp
 //   lights     per light, its shadow (map or volume) and its direct lighting added to every
 //              sample (Gouraud: lit at the vertices, interpolated)        pass_lights.cpp
 //   resolve    the supersamples filtered into pixels                       pass_resolve.cpp
@@ -12,9 +15,11 @@
 // The passes share FrameBuffers: each reads what earlier passes wrote and fills its own part.
 
 #include "core/image.h"
+#include "integrators/raster/image_lighting.h"
 #include "integrators/raster/raster.h"
 #include "integrators/raster/raster_scene.h"
 #include "integrators/raster/rasterizer.h"
+#include "integrators/raster/shadows.h"
 
 #include <array>
 #include <vector>
@@ -25,7 +30,8 @@ constexpr uint32_t NoTriangle = 0xffffffffu;
 
 // What stays the same during a frame: scene, settings, geometry, camera, lights, sample layout.
 struct FrameSetup {
-    FrameSetup(const Scene& scene, const RasterSettings& settings, const RasterGeometry& geometry, const PinholeProjection& pinhole);
+    FrameSetup(const Scene& scene, const RasterSettings& settings, const RasterGeometry& geometry, const PinholeProjection& pinhole,
+               const ImageBasedLighting* image_lighting);
 
     const Scene& scene;
     const RasterSettings& settings;
@@ -33,6 +39,9 @@ struct FrameSetup {
     RasterCamera camera;
     LocalLights lights;
     Spectrum ambient;            // of the environments plus the `ambient` setting
+    // The environment as image-based light, null without an environment or when the settings
+    // ask for its average (`ambient` then holds it).
+    const ImageBasedLighting* image_lighting;
     Vec2i full, offset;          // the film's size and the crop window's corner in it
     int width, height;           // the crop window: the image rendered
     std::vector<Vec2> pattern;   // sample positions within a pixel
@@ -43,6 +52,9 @@ struct FrameSetup {
     size_t sample_index(int x, int y, int s) const { return (size_t(y) * size_t(width) + size_t(x)) * pattern.size() + size_t(s); }
     // Where sample s of pixel (x, y) lies in the crop window, in pixels.
     Vec2 sample_position(int x, int y, int s) const { return Vec2(float(x) + pattern[size_t(s)].x, float(y) + pattern[size_t(s)].y); }
+    // The spacing of the camera's samples (world units) on a surface facing the camera at this
+    // view depth.
+    float sample_spacing(float view_depth) const;
     // A rasterizer of the camera's samples (triangles not yet set up).
     Rasterizer camera_rasterizer() const { return Rasterizer(width, height, pattern, full, offset); }
 };
@@ -59,6 +71,8 @@ struct SurfaceSample {
     bool lit_side = false;  // seen from a side the material reflects on
 };
 
+// Kept by the integrator from frame to frame: the passes resize them, so a frame like the last
+// one reuses their storage.
 struct FrameBuffers {
     // Per triangle (geometry): clip-space vertices; culled back faces lie behind the eye.
     std::vector<std::array<Vec4, 3>> clip;
@@ -69,12 +83,17 @@ struct FrameBuffers {
     // Per camera sample (surfaces, then lights).
     std::vector<SurfaceSample> surface;
     std::vector<Spectrum> color;  // the radiance so far
+    // Per light (lights): its shadow map, when shadows are mapped.
+    std::vector<ShadowMap> shadow_maps;
     // Per pixel (resolve, then overlays).
     Image image;
+    std::vector<float> coverage;  // the filtered fraction of samples that found a surface
+
 };
 
 void geometry_pass(const FrameSetup& frame, FrameBuffers& buffers);
 void surface_pass(const FrameSetup& frame, FrameBuffers& buffers);
+void ambient_pass(const FrameSetup& frame, FrameBuffers& buffers);
 void lights_pass(const FrameSetup& frame, FrameBuffers& buffers);
 void resolve_pass(const FrameSetup& frame, FrameBuffers& buffers);
 void overlay_pass(const FrameSetup& frame, FrameBuffers& buffers);

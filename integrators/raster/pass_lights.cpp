@@ -1,14 +1,16 @@
 // The lights pass: one light after another, its visibility at every camera sample (a shadow map,
 // a shadow-volume mask, or none) times its direct lighting, added to the sample's radiance.
 // Flat shading lights each triangle at its centroid with the face normal, Gouraud lights each
-// vertex once and interpolates, Phong lights every sample with its own normal.
+// vertex once and interpolates, Phong lights every sample with its own normal. Under baked
+// lighting the lights add their highlights only (the bake holds their diffuse light).
 
 #include "integrators/raster/frame.h"
 #include "integrators/raster/shadows.h"
 
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
-#include <memory>
+#include <array>
 
 namespace candela::raster {
 
@@ -41,8 +43,18 @@ Spectrum direct_light(const LocalLight& light, const LocalShading& m, const Spec
     return out * E;
 }
 
+// With baked lighting the bake holds every light's diffuse light: the lights add highlights only.
+bool baked_diffuse(const FrameSetup& f) { return f.settings.lighting == RasterSettings::Lighting::Baked && !f.geometry.baked_front.empty(); }
+
+// Whether any surface has a highlight.
+bool has_highlights(const RasterGeometry& g) {
+    for (const RasterShape& rs : g.shapes)
+        if (rs.material.shininess > 0.0f && !is_black(rs.material.specular)) return true;
+    return false;
+}
+
 // Gouraud: the light at every vertex, with the material of the one shape the vertex belongs
-// to and its texture at the vertex uv. One evaluation per vertex, each written by one task.
+// to and its texture at the vertex (through the texture's mapping). One evaluation per vertex, each written by one task.
 void light_vertices(const FrameSetup& f, const LocalLight& light, std::vector<Spectrum>& vertex_light) {
     const RasterGeometry& g = f.geometry;
     vertex_light.resize(g.positions.size());
@@ -50,7 +62,7 @@ void light_vertices(const FrameSetup& f, const LocalLight& light, std::vector<Sp
         const LocalShading& m = g.shapes[g.vertex_shape[i]].material;
         Vec3 n = g.normals[i], v = glm::normalize(f.camera.eye - g.positions[i]);
         if (m.two_sided && glm::dot(n, v) < 0.0f) n = -n;
-        Spectrum kd = m.diffuse ? m.diffuse->eval(g.uvs[i]) : Spectrum(0.0f);
+        Spectrum kd = m.diffuse && !baked_diffuse(f) ? m.diffuse->eval(m.diffuse->mapping().map(g.uvs[i], g.positions[i])) : Spectrum(0.0f);
         vertex_light[i] = direct_light(light, m, kd, g.positions[i], n, v, f.settings.reflection);
     });
 }
@@ -70,27 +82,68 @@ Spectrum sample_light(const FrameSetup& f, const FrameBuffers& b, size_t i, cons
     case RasterSettings::Shading::Flat: {
         Vec3 c = (g.positions[v.x] + g.positions[v.y] + g.positions[v.z]) / 3.0f;
         Vec2 uvc = (g.uvs[v.x] + g.uvs[v.y] + g.uvs[v.z]) / 3.0f;
-        Spectrum kd = m.diffuse ? m.diffuse->eval(uvc) : Spectrum(0.0f);
+        Spectrum kd = m.diffuse && !baked_diffuse(f) ? m.diffuse->eval(m.diffuse->mapping().map(uvc, c)) : Spectrum(0.0f);
         return direct_light(light, m, kd, c, ss.n_geo, glm::normalize(f.camera.eye - c), f.settings.reflection);
     }
     case RasterSettings::Shading::Phong: break;
     }
-    return direct_light(light, m, ss.kd, ss.p, ss.n, ss.v, f.settings.reflection);
+    return direct_light(light, m, baked_diffuse(f) ? Spectrum(0.0f) : ss.kd, ss.p, ss.n, ss.v, f.settings.reflection);
+}
+
+// Whether camera sample i receives direct light (a surface seen from a side that reflects).
+bool receives_light(const FrameBuffers& b, size_t i) { return b.triangle[i] != NoTriangle && b.surface[i].lit_side; }
+
+// The shadow map of `light` for this frame. A face that no receiving sample looks up is left
+// out. Each face's resolution is the setting's, or, when the settings leave it to the view, the
+// finest that a sample looking it up needs: a texel no larger than the spacing of the camera's
+// samples there (at most AutoShadowMapLimit texels per side).
+void render_shadow_map(const FrameSetup& f, const FrameBuffers& b, const LocalLight& light, ShadowMap& map) {
+    constexpr int AutoShadowMapLimit = 1024;
+    map.place(light, f.geometry);
+    using Needs = std::array<float, 6>;  // per face: 0 unused, else the resolution it needs
+    Needs needs = tbb::parallel_reduce(
+        tbb::blocked_range<size_t>(0, f.sample_count(), 4096), Needs{},
+        [&](const tbb::blocked_range<size_t>& r, Needs acc) {
+            for (size_t i = r.begin(); i != r.end(); ++i) {
+                if (!receives_light(b, i)) continue;
+                const Vec3& p = b.surface[i].p;
+                int face = map.face_of(p);
+                float need = map.resolution_needed(face, p, f.sample_spacing(b.depth[i]));
+                acc[size_t(face)] = std::max(acc[size_t(face)], std::isfinite(need) ? std::max(need, 1.0f) : float(AutoShadowMapLimit));
+            }
+            return acc;
+        },
+        [](Needs a, const Needs& c) {
+            for (size_t k = 0; k < a.size(); ++k) a[k] = std::max(a[k], c[k]);
+            return a;
+        });
+    std::vector<int> resolution(map.face_count(), 0);
+    for (size_t k = 0; k < resolution.size(); ++k) {
+        if (needs[k] <= 0.0f) continue;
+        int fixed = f.settings.shadow_map_resolution;
+        // Rounded up to whole rasterizer tiles: the size changes only in steps as the view moves.
+        int chosen = std::min(AutoShadowMapLimit, (int(std::ceil(needs[k])) + TileSize - 1) / TileSize * TileSize);
+        resolution[k] = fixed > 0 ? fixed : chosen;
+    }
+    map.render(f.geometry, resolution);
 }
 
 // One light: its shadow, then visibility times lighting added to every lit sample.
-void add_light(const FrameSetup& f, FrameBuffers& b, const LocalLight& light, const std::vector<float>& view_depth, std::vector<uint8_t>& lit,
+void add_light(const FrameSetup& f, FrameBuffers& b, size_t light_index, const std::vector<float>& view_depth, std::vector<uint8_t>& lit,
                std::vector<Spectrum>& vertex_light) {
     const RasterSettings& s = f.settings;
-    std::unique_ptr<ShadowMap> map;
-    if (s.shadows == RasterSettings::Shadows::Map) map = std::make_unique<ShadowMap>(light, f.geometry, s.shadow_map_resolution);
+    const LocalLight& light = f.lights.lights[light_index];
+    const ShadowMap* map = nullptr;
+    if (s.shadows == RasterSettings::Shadows::Map) {
+        render_shadow_map(f, b, light, b.shadow_maps[light_index]);
+        map = &b.shadow_maps[light_index];
+    }
     if (s.shadows == RasterSettings::Shadows::Volume) shadow_volume_mask(light, f.geometry, f.camera, f.camera_rasterizer(), view_depth, lit);
     if (s.shading == RasterSettings::Shading::Gouraud) light_vertices(f, light, vertex_light);
     tbb::parallel_for(size_t(0), f.sample_count(), [&](size_t i) {
-        const SurfaceSample& ss = b.surface[i];
-        if (b.triangle[i] == NoTriangle || !ss.lit_side) return;
+        if (!receives_light(b, i)) return;
         float visibility = 1.0f;
-        if (map) visibility = map->visibility(ss.p, ss.n_geo, s.pcf);
+        if (map) visibility = map->visibility(b.surface[i].p, b.surface[i].n_geo, s.pcf);
         if (s.shadows == RasterSettings::Shadows::Volume) visibility = lit[i] ? 1.0f : 0.0f;
         if (visibility == 0.0f) return;
         b.color[i] += visibility * sample_light(f, b, i, light, vertex_light);
@@ -100,6 +153,7 @@ void add_light(const FrameSetup& f, FrameBuffers& b, const LocalLight& light, co
 }  // namespace
 
 void lights_pass(const FrameSetup& f, FrameBuffers& b) {
+    if (baked_diffuse(f) && !has_highlights(f.geometry)) return;  // nothing for the lights to add
     std::vector<float> view_depth;  // of every sample, for shadow volumes
     if (f.settings.shadows == RasterSettings::Shadows::Volume) {
         view_depth.resize(f.sample_count());
@@ -107,7 +161,8 @@ void lights_pass(const FrameSetup& f, FrameBuffers& b) {
     }
     std::vector<uint8_t> lit;
     std::vector<Spectrum> vertex_light;
-    for (const LocalLight& light : f.lights.lights) add_light(f, b, light, view_depth, lit, vertex_light);
+    if (f.settings.shadows == RasterSettings::Shadows::Map) b.shadow_maps.resize(f.lights.lights.size());
+    for (size_t k = 0; k < f.lights.lights.size(); ++k) add_light(f, b, k, view_depth, lit, vertex_light);
 }
 
 }  // namespace candela::raster

@@ -1,6 +1,6 @@
 // The resolve pass: the supersamples filtered into pixels by the `aa_filter` reconstruction
 // filter (box: the pixel's own samples; tent and gaussian also reach into the neighbours),
-// normalised by the sum of the weights.
+// normalised by the sum of the weights; likewise the coverage (the film's alpha).
 
 #include "integrators/raster/frame.h"
 
@@ -37,21 +37,25 @@ void resolve_pass(const FrameSetup& f, FrameBuffers& b) {
     const RasterSettings::AAFilter filter = f.settings.aa_filter;
     const int reach = resolve_reach(filter), W = f.width, H = f.height;
     b.image = Image::rgb(W, H);
+    b.coverage.assign(size_t(W) * H, 0.0f);
     tbb::parallel_for(0, H, [&](int y) {
         for (int x = 0; x < W; ++x) {
             const Vec2 centre(float(x) + 0.5f, float(y) + 0.5f);
             Spectrum sum(0.0f);
-            float wsum = 0.0f;
+            float wsum = 0.0f, covered = 0.0f;
             for (int yy = std::max(0, y - reach); yy <= std::min(H - 1, y + reach); ++yy)
                 for (int xx = std::max(0, x - reach); xx <= std::min(W - 1, x + reach); ++xx)
                     for (int s = 0; s < f.samples_per_pixel(); ++s) {
                         Vec2 d = f.sample_position(xx, yy, s) - centre;
                         float w = resolve_weight(filter, d.x) * resolve_weight(filter, d.y);
                         if (w <= 0.0f) continue;
-                        sum += w * b.color[f.sample_index(xx, yy, s)];
+                        size_t i = f.sample_index(xx, yy, s);
+                        sum += w * b.color[i];
+                        if (b.triangle[i] != NoTriangle) covered += w;
                         wsum += w;
                     }
             b.image.set_rgb(x, y, wsum > 0.0f ? sum / wsum : Spectrum(0.0f));
+            b.coverage[size_t(y) * W + x] = wsum > 0.0f ? covered / wsum : 0.0f;
         }
     });
 }

@@ -1,6 +1,6 @@
 // The surfaces pass: from the G-buffer, the visible surface at every camera sample (position,
 // normals, uv, the BSDF's bump- or normal-mapped frame under Phong shading, the texture filtered
-// over the sample's footprint) and the radiance that needs no light: emission, ambient, and the
+// over the sample's footprint) and the radiance that needs no light: emission and the
 // environment seen by reflection and refraction; where no surface is, the environment itself.
 
 #include "core/bsdf.h"
@@ -84,30 +84,43 @@ SurfaceSample reconstruct(const FrameSetup& f, uint32_t t, const Vec3& b) {
     return ss;
 }
 
-// The diffuse texture at uv, filtered over the footprint of the sample at `pos`: the uv
+// The diffuse texture at the surface point (uv, p), through the texture's mapping (uv or
+// projected from the position), filtered over the footprint of the sample at `pos`: the
 // derivatives per pixel come from the triangle's homogeneous setup.
-Spectrum filtered_albedo(const FrameSetup& f, const Texture& texture, const HomogeneousSetup& h, uint32_t t, const Vec2& uv, const Vec2& pos) {
+Spectrum filtered_albedo(const FrameSetup& f, const Texture& texture, const HomogeneousSetup& h, uint32_t t, const Vec2& surface_uv, const Vec3& p, const Vec2& pos) {
     const RasterGeometry& g = f.geometry;
     const glm::uvec3& v = g.triangles[t];
+    const TextureMapping& mapping = texture.mapping();
+    const Vec2 uv = mapping.map(surface_uv, p);
     Vec2 du(0.0f), dv(0.0f);
     if (h.valid) {
         Vec3 b0 = h.at(pos.x, pos.y), bx = h.at(pos.x + 1.0f, pos.y), by = h.at(pos.x, pos.y + 1.0f);
-        auto uv_at = [&](const Vec3& bb) { return bb.x * g.uvs[v.x] + bb.y * g.uvs[v.y] + bb.z * g.uvs[v.z]; };
-        du = uv_at(bx) - uv_at(b0);
-        dv = uv_at(by) - uv_at(b0);
+        auto uv_at = [&](const Vec3& bb) {
+            return mapping.map(bb.x * g.uvs[v.x] + bb.y * g.uvs[v.y] + bb.z * g.uvs[v.z],
+                               bb.x * g.positions[v.x] + bb.y * g.positions[v.y] + bb.z * g.positions[v.z]);
+        };
+        du = mapping.difference(uv_at(b0), uv_at(bx));
+        dv = mapping.difference(uv_at(b0), uv_at(by));
     }
     return texture.eval_filtered(uv, du, dv, f.settings.texture_filter);
 }
 
-// What a surface shows without any light of the local model: its emission (front side),
-// ambient light, and the environment in the mirror and refraction directions.
+// The environment seen in direction d by a reflection or refraction of this roughness: a glossy
+// one (lat-long mapping, roughness > 0) reads the image-based lighting's prefiltered maps, the
+// others the environment or its cube map.
+Spectrum environment_seen(const FrameSetup& f, const EnvironmentLookup& environment, const Vec3& d, float roughness) {
+    if (f.image_lighting && roughness > 0.0f && !f.settings.cube_mapping) return f.image_lighting->glossy(d, roughness);
+    return environment.lookup(d, roughness);
+}
+
+// What a surface shows without any light of the local model: its emission (front side) and the
+// environment in the mirror and refraction directions. (Ambient light: the ambient pass.)
 Spectrum unlit_radiance(const FrameSetup& f, const EnvironmentLookup& environment, const RasterShape& rs, const SurfaceSample& ss) {
     const LocalShading& m = rs.material;
     Spectrum L(0.0f);
     if (ss.front) L += rs.emission;
-    L += ss.kd * f.ambient;
-    if (!is_black(m.mirror)) L += m.mirror * environment.lookup(2.0f * glm::dot(ss.n, ss.v) * ss.n - ss.v, m.roughness);
-    if (!is_black(m.transmission)) L += m.transmission * environment.lookup(refracted(ss.v, ss.n, ss.front ? m.eta : 1.0f / m.eta), m.roughness);
+    if (!is_black(m.mirror)) L += m.mirror * environment_seen(f, environment, 2.0f * glm::dot(ss.n, ss.v) * ss.n - ss.v, m.roughness);
+    if (!is_black(m.transmission)) L += m.transmission * environment_seen(f, environment, refracted(ss.v, ss.n, ss.front ? m.eta : 1.0f / m.eta), m.roughness);
     return L;
 }
 
@@ -140,7 +153,7 @@ void surface_pass(const FrameSetup& f, FrameBuffers& b) {
                 SurfaceSample& ss = b.surface[i] = reconstruct(f, t, b.bary[i]);
                 if (!ss.lit_side) continue;  // one-sided materials are black from behind
                 const RasterShape& rs = g.shapes[g.triangle_shape[t]];
-                if (rs.material.diffuse) ss.kd = filtered_albedo(f, *rs.material.diffuse, setups[t], t, ss.uv, pos);
+                if (rs.material.diffuse) ss.kd = filtered_albedo(f, *rs.material.diffuse, setups[t], t, ss.uv, ss.p, pos);
                 b.color[i] = unlit_radiance(f, environment, rs, ss);
             }
     });

@@ -1,6 +1,7 @@
 #include "integrators/raster/raster_scene.h"
 
 #include "core/texture.h"
+#include "integrators/radiosity.h"
 
 #include <map>
 
@@ -44,7 +45,7 @@ void displace(RasterGeometry& g, RasterShape& rs, unsigned first_vertex, int sub
         rs.triangle_count = uint32_t(refined.size());
     }
     for (unsigned v = first_vertex; v < g.positions.size(); ++v)
-        g.positions[v] += g.normals[v] * (rs.material.height->eval_1(g.uvs[v]) * rs.material.height_scale);
+        g.positions[v] += g.normals[v] * (rs.material.height->eval_1(rs.material.height->mapping().map(g.uvs[v], g.positions[v])) * rs.material.height_scale);
     std::vector<Vec3> n(g.positions.size() - first_vertex, Vec3(0.0f));
     for (uint32_t i = rs.first_triangle; i < rs.first_triangle + rs.triangle_count; ++i) {
         const glm::uvec3& t = g.triangles[i];
@@ -91,6 +92,19 @@ RasterGeometry build_geometry(const Scene& scene, int detail, bool displacement,
         parts.clear();
         shape->tessellate_parts(parts, detail);
         for (const TessellatedPart& part : parts) add_shape(g, part.shape, part.triangles, displacement, subdivisions);
+    }
+    for (const Vec3& p : g.positions) g.bbox.expand(p);
+    return g;
+}
+
+RasterGeometry build_baked_geometry(const std::vector<RadiosityMesh>& meshes) {
+    RasterGeometry g;
+    for (const RadiosityMesh& m : meshes) {
+        if (!m.shape || m.patches.triangles.empty()) continue;
+        add_shape(g, m.shape, m.patches, false, 0);
+        g.baked_front.insert(g.baked_front.end(), m.irradiance.begin(), m.irradiance.end());
+        if (m.irradiance_back.empty()) g.baked_back.resize(g.baked_front.size(), Spectrum(0.0f));
+        else g.baked_back.insert(g.baked_back.end(), m.irradiance_back.begin(), m.irradiance_back.end());
     }
     for (const Vec3& p : g.positions) g.bbox.expand(p);
     return g;

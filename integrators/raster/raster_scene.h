@@ -10,6 +10,10 @@
 
 #include <vector>
 
+namespace candela {
+struct RadiosityMesh;
+}
+
 namespace candela::raster {
 
 struct RasterShape {
@@ -29,12 +33,19 @@ struct RasterGeometry {
     std::vector<uint32_t> vertex_shape;    // index into shapes: every vertex belongs to one shape
     std::vector<RasterShape> shapes;
     BoundingBox bbox;
+    // Baked lighting (empty unless the geometry was built from a bake): the irradiance (W m^-2)
+    // arriving at every vertex on its front side, and on its back side (zero for one-sided
+    // materials).
+    std::vector<Spectrum> baked_front, baked_back;
 };
 
 // Tessellates every shape (`detail` segments per turn for analytic shapes). With displacement,
 // shapes whose material has a height field are subdivided `subdivisions` times (each triangle
 // into four) and their vertices moved along the normal by height * scale, normals recomputed.
 RasterGeometry build_geometry(const Scene& scene, int detail, bool displacement, int subdivisions);
+// The scene as baked lighting draws it: every shape's radiosity patches (bake_radiosity,
+// bake_path_irradiance in integrators/radiosity.h) with the irradiance at their vertices.
+RasterGeometry build_baked_geometry(const std::vector<RadiosityMesh>& meshes);
 
 // A view and projection. Camera space has +z forward, +y up, +x toward the image's left; clip
 // space x, y in [-w, w] and z in [0, w] (0 at the near plane). Perspective or orthographic.

@@ -17,11 +17,19 @@ std::vector<Vec2> sample_pattern(int n) {
 }
 
 Rasterizer::Rasterizer(int width, int height, std::vector<Vec2> offsets, Vec2i full_size, Vec2i offset)
-    : width_(width), height_(height), offsets_(std::move(offsets)), full_size_(full_size), offset_(offset) {
+    : offsets_(std::move(offsets)) {
     for (const Vec2& o : offsets_) {
         offset_fx_.push_back(int64_t(std::lround(double(o.x) * (1 << SubpixelBits))));
         offset_fy_.push_back(int64_t(std::lround(double(o.y) * (1 << SubpixelBits))));
     }
+    set_target(width, height, full_size, offset);
+}
+
+void Rasterizer::set_target(int width, int height, Vec2i full_size, Vec2i offset) {
+    width_ = width;
+    height_ = height;
+    full_size_ = full_size;
+    offset_ = offset;
     tiles_x_ = (width_ + TileSize - 1) / TileSize;
     tiles_y_ = (height_ + TileSize - 1) / TileSize;
 }
@@ -31,7 +39,9 @@ void Rasterizer::setup(const std::vector<std::array<Vec4, 3>>& triangles, bool p
     screen_.clear();
     screen_.reserve(triangles.size());
     for (size_t i = 0; i < triangles.size(); ++i) clip_and_add(triangles[i], uint32_t(i));
-    bins_.assign(size_t(tiles_x_) * tiles_y_, {});
+    // Emptied rather than replaced: the bins keep their storage from earlier setups.
+    bins_.resize(size_t(tiles_x_) * tiles_y_);
+    for (auto& bin : bins_) bin.clear();
     for (size_t i = 0; i < screen_.size(); ++i) {
         const ScreenTriangle& t = screen_[i];
         for (int ty = t.by0 / TileSize; ty <= t.by1 / TileSize; ++ty)

@@ -54,6 +54,11 @@ public:
     // (offsets in [0, 1)^2), mapping clip space through a full_width x full_height viewport
     // whose top-left corner is at -offset.
     Rasterizer(int width, int height, std::vector<Vec2> sample_offsets, Vec2i full_size, Vec2i offset = Vec2i(0));
+    // One sample per pixel, at its centre; no target until set_target().
+    Rasterizer() : Rasterizer(0, 0, {Vec2(0.5f)}, Vec2i(0)) {}
+    // Another target size with the same sample offsets. Storage of earlier setups is kept, so a
+    // rasterizer reused frame after frame does not allocate.
+    void set_target(int width, int height, Vec2i full_size, Vec2i offset = Vec2i(0));
 
     // Clips, projects and bins triangles given in clip space. `perspective_correct` false
     // interpolates attributes linearly in screen space (the distortion the lecture warns about).
@@ -76,7 +81,7 @@ private:
     void add_screen_triangle(const Vec4 clip[3], const Vec3 bary[3], uint32_t id);
     template <typename Op> void raster_in_tile(const ScreenTriangle& t, int tx0, int ty0, int tx1, int ty1, Op& op) const;
 
-    int width_, height_;
+    int width_ = 0, height_ = 0;
     std::vector<Vec2> offsets_;
     std::vector<int64_t> offset_fx_, offset_fy_;  // sample offsets in fixed point
     Vec2i full_size_, offset_;

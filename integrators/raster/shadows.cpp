@@ -26,55 +26,74 @@ float linear_depth(const RasterCamera& c, float z_ndc) {
 
 }  // namespace
 
-ShadowMap::ShadowMap(const LocalLight& light, const RasterGeometry& g, int resolution) : light_(light), resolution_(resolution) {
+void ShadowMap::place(const LocalLight& light, const RasterGeometry& g) {
+    light_ = light;
     float radius = std::max(g.bbox.bounding_radius(), 1e-3f);
     Vec3 center = g.bbox.center();
     float far_clip = 4.0f * radius + glm::length(light.position - center);
     float near_clip = far_clip * 1e-5f;
     switch (light.kind) {
-    case LocalLight::Kind::Directional: {
-        Face f;
-        f.camera = RasterCamera::orthographic_box(view_along(center - light.direction * (2.0f * radius), light.direction), radius, radius, 0.0f,
-                                                  4.0f * radius);
-        f.texel_scale = 2.0f * radius / float(resolution);
-        faces_.push_back(std::move(f));
+    case LocalLight::Kind::Directional:
+        faces_.resize(1);
+        faces_[0].camera = RasterCamera::orthographic_box(view_along(center - light.direction * (2.0f * radius), light.direction), radius, radius,
+                                                          0.0f, 4.0f * radius);
+        faces_[0].extent = 2.0f * radius;
         break;
-    }
     case LocalLight::Kind::Spot: {
-        Face f;
+        faces_.resize(1);
         float t = std::tan(std::min(light.cutoff, radians(85.0f)));
-        f.camera = RasterCamera::perspective(view_along(light.position, light.direction), t, t, near_clip, far_clip);
-        f.texel_scale = 2.0f * t / float(resolution);
-        faces_.push_back(std::move(f));
+        faces_[0].camera = RasterCamera::perspective(view_along(light.position, light.direction), t, t, near_clip, far_clip);
+        faces_[0].extent = 2.0f * t;
         break;
     }
     default: {
+        // In the order face_of() numbers them.
         const Vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-        for (const Vec3& axis : axes) {
-            Face f;
-            f.camera = RasterCamera::perspective(view_along(light.position, axis), 1.0f, 1.0f, near_clip, far_clip);
-            f.texel_scale = 2.0f / float(resolution);
-            faces_.push_back(std::move(f));
+        faces_.resize(6);
+        for (int i = 0; i < 6; ++i) {
+            faces_[size_t(i)].camera = RasterCamera::perspective(view_along(light.position, axes[i]), 1.0f, 1.0f, near_clip, far_clip);
+            faces_[size_t(i)].extent = 2.0f;
         }
     }
     }
-    int skip = light_shape(light, g);
-    for (Face& f : faces_) render_depth(f, g, skip);
 }
 
-void ShadowMap::render_depth(Face& f, const RasterGeometry& g, int skip_shape) const {
-    std::vector<std::array<Vec4, 3>> clip;
+int ShadowMap::face_of(const Vec3& p) const {
+    if (faces_.size() == 1) return 0;
+    // Cube map: the face of the dominant axis of the direction from the light.
+    Vec3 d = p - light_.position, a = glm::abs(d);
+    return a.x >= a.y && a.x >= a.z ? (d.x > 0 ? 0 : 1) : (a.y >= a.z ? (d.y > 0 ? 2 : 3) : (d.z > 0 ? 4 : 5));
+}
+
+float ShadowMap::resolution_needed(int face, const Vec3& p, float footprint) const {
+    const Face& f = faces_[size_t(face)];
+    float side = f.camera.orthographic ? f.extent : f.extent * std::max(f.camera.view_depth(p), 0.0f);
+    return side / footprint;
+}
+
+void ShadowMap::render(const RasterGeometry& g, const std::vector<int>& resolution) {
+    int skip = light_shape(light_, g);
+    for (size_t i = 0; i < faces_.size(); ++i) {
+        faces_[i].resolution = resolution[i];
+        faces_[i].texel_scale = faces_[i].extent / float(std::max(resolution[i], 1));
+        if (resolution[i] > 0) render_depth(faces_[i], g, skip);
+    }
+}
+
+void ShadowMap::render_depth(Face& f, const RasterGeometry& g, int skip_shape) {
+    f.clip.clear();
     for (size_t i = 0; i < g.triangles.size(); ++i) {
         if (int(g.triangle_shape[i]) == skip_shape) continue;
         const glm::uvec3& t = g.triangles[i];
-        clip.push_back({f.camera.clip(g.positions[t.x]), f.camera.clip(g.positions[t.y]), f.camera.clip(g.positions[t.z])});
+        f.clip.push_back({f.camera.clip(g.positions[t.x]), f.camera.clip(g.positions[t.y]), f.camera.clip(g.positions[t.z])});
     }
-    Rasterizer r(resolution_, resolution_, sample_pattern(1), Vec2i(resolution_));
-    r.setup(clip, true);
-    f.depth.assign(size_t(resolution_) * resolution_, Infinity);
+    const int res = f.resolution;
+    f.rasterizer.set_target(res, res, Vec2i(res));
+    f.rasterizer.setup(f.clip, true);
+    f.depth.assign(size_t(res) * res, Infinity);
     bool ortho = f.camera.orthographic;
-    r.run([&](const Fragment& frag) {
-        float& d = f.depth[size_t(frag.y) * resolution_ + frag.x];
+    f.rasterizer.run([&](const Fragment& frag) {
+        float& d = f.depth[size_t(frag.y) * res + frag.x];
         float view = float(ortho ? linear_depth(f.camera, float(frag.depth)) : frag.w);
         if (view < d) d = view;
     });
@@ -83,25 +102,24 @@ void ShadowMap::render_depth(Face& f, const RasterGeometry& g, int skip_shape) c
 float ShadowMap::face_visibility(const Face& f, const Vec3& p_surface, const Vec3& n, float cos_theta, int pcf) const {
     // Normal offset: look the map up a texel's width off the surface, which keeps grazing
     // surfaces (where the depth slope is steep) out of their own shadow.
-    float texel_world = f.camera.orthographic ? f.texel_scale : f.texel_scale * std::max(f.camera.view_depth(p_surface), 0.0f);
-    Vec3 p = p_surface + n * texel_world;
+    Vec3 p = p_surface + n * f.texel(std::max(f.camera.view_depth(p_surface), 0.0f));
     Vec4 c = f.camera.clip(p);
     if (!(c.w > 0.0f)) return 1.0f;
-    float px = (c.x / c.w + 1.0f) * 0.5f * float(resolution_), py = (c.y / c.w + 1.0f) * 0.5f * float(resolution_);
+    const int res = f.resolution;
+    float px = (c.x / c.w + 1.0f) * 0.5f * float(res), py = (c.y / c.w + 1.0f) * 0.5f * float(res);
     float depth = f.camera.view_depth(p);
-    // Slope-scaled bias: a texel spans texel_scale * depth in the world (perspective); a surface
-    // tilted by theta against the light changes depth by that much times tan(theta) across it.
-    float texel = f.camera.orthographic ? f.texel_scale : f.texel_scale * depth;
+    // Slope-scaled bias: a texel spans texel(depth) in the world; a surface tilted by theta
+    // against the light changes depth by that much times tan(theta) across it.
     float tan_theta = std::min(safe_sqrt(1.0f - cos_theta * cos_theta) / std::max(cos_theta, 1e-3f), 10.0f);
-    float bias = texel * (1.5f + 2.0f * tan_theta);
+    float bias = f.texel(depth) * (1.5f + 2.0f * tan_theta);
     int k = std::max(pcf, 1), half = k / 2;
     int cx = int(std::floor(px)), cy = int(std::floor(py));
     int lit = 0, total = 0;
     for (int dy = -half; dy < k - half; ++dy)
         for (int dx = -half; dx < k - half; ++dx) {
-            int x = std::clamp(cx + dx, 0, resolution_ - 1), y = std::clamp(cy + dy, 0, resolution_ - 1);
+            int x = std::clamp(cx + dx, 0, res - 1), y = std::clamp(cy + dy, 0, res - 1);
             ++total;
-            if (depth - bias <= f.depth[size_t(y) * resolution_ + x]) ++lit;
+            if (depth - bias <= f.depth[size_t(y) * res + x]) ++lit;
         }
     return float(lit) / float(total);
 }
@@ -113,11 +131,9 @@ float ShadowMap::visibility(const Vec3& p, const Vec3& n, int pcf) const {
     light_.illuminate(p, to_light, dist, e);
     float cos_theta = std::abs(glm::dot(n, to_light));
     Vec3 n_lit = glm::dot(n, to_light) >= 0.0f ? n : -n;
-    if (faces_.size() == 1) return face_visibility(faces_[0], p, n_lit, cos_theta, pcf);
-    // Cube map: the face of the dominant axis of the direction from the light.
-    Vec3 d = p - light_.position, a = glm::abs(d);
-    int face = a.x >= a.y && a.x >= a.z ? (d.x > 0 ? 0 : 1) : (a.y >= a.z ? (d.y > 0 ? 2 : 3) : (d.z > 0 ? 4 : 5));
-    return face_visibility(faces_[size_t(face)], p, n_lit, cos_theta, pcf);
+    const Face& face = faces_[size_t(face_of(p))];
+    if (face.resolution == 0) return 1.0f;  // left out: no sample was expected to look it up
+    return face_visibility(face, p, n_lit, cos_theta, pcf);
 }
 
 // ---- shadow volumes ------------------------------------------------------------------------

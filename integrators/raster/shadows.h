@@ -18,22 +18,37 @@ namespace candela::raster {
 
 class ShadowMap {
 public:
-    // Renders the depth of every triangle except those of the light's own shape.
-    ShadowMap(const LocalLight& light, const RasterGeometry& geometry, int resolution);
+    // Places the faces around the light: one for a spot or directional light, a cube of six for
+    // point and area lights. Storage of an earlier frame is kept for reuse.
+    void place(const LocalLight& light, const RasterGeometry& geometry);
+    size_t face_count() const { return faces_.size(); }
+    // The face that point p looks up.
+    int face_of(const Vec3& p) const;
+    // Texels per side that face `face` needs so that one of its texels spans no more than
+    // `footprint` (world units) at p.
+    float resolution_needed(int face, const Vec3& p, float footprint) const;
+    // Renders the depth of every triangle except those of the light's own shape into each face,
+    // at `resolution[face]` texels per side; a face of resolution 0 (no sample looks it up) is
+    // left out. Reuses the storage of earlier frames.
+    void render(const RasterGeometry& geometry, const std::vector<int>& resolution);
     // Fraction of the light that reaches p (normal n) unoccluded, PCF over pcf x pcf texels.
     float visibility(const Vec3& p, const Vec3& n, int pcf) const;
 
 private:
     struct Face {
         RasterCamera camera;
-        float texel_scale = 0.0f;  // world size of a texel per unit view depth (or constant, ortho)
+        float extent = 0.0f;  // world size of the face's side per unit view depth (or constant, ortho)
+        int resolution = 0;   // texels per side; 0 when left out
+        float texel_scale = 0.0f;  // extent / resolution: a texel's world size per unit depth (or constant)
         std::vector<float> depth;  // view depth (camera z) per texel; +inf where nothing
+        std::vector<std::array<Vec4, 3>> clip;  // scratch: the triangles in the face's clip space
+        Rasterizer rasterizer;                  // scratch, one sample per texel
+        // World size of a texel at view depth d.
+        float texel(float d) const { return camera.orthographic ? texel_scale : texel_scale * d; }
     };
     float face_visibility(const Face& f, const Vec3& p, const Vec3& n, float cos_theta, int pcf) const;
-    // The face's depth map of every triangle except those of shape `skip_shape`.
-    void render_depth(Face& f, const RasterGeometry& geometry, int skip_shape) const;
+    void render_depth(Face& f, const RasterGeometry& geometry, int skip_shape);
     LocalLight light_;
-    int resolution_;
     std::vector<Face> faces_;
 };
 

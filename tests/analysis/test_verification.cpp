@@ -3,9 +3,14 @@
 // `candela validate`, and proof that both can fail, for the right reason.
 
 #include "core/image.h"
+#include "core/integrator.h"
+#include "core/scene.h"
+#include "core/xml.h"
 #include "tests/util.h"
 
 #include <catch2/catch.hpp>
+
+#include <cstring>
 
 using namespace candela;
 using namespace candela::test;
@@ -81,6 +86,49 @@ TEST_CASE("validate: the validation scenes agree with Mitsuba 3 and the report s
     CHECK(html.find("src=\"http") == std::string::npos);
 }
 
+TEST_CASE("validate: the HTML report escapes every scene and file name", "[verification][validation][errors]") {
+    // A scene file whose name is markup: in the report it must show as text, never as a tag, an
+    // attribute or an entity. The reference differs (other seed, fewer samples), so the scene
+    // fails and its reason is printed too.
+    auto dir = scratch_dir("validate-escape");
+    const std::string name = "<img src=x onerror=\"alert('&amp;')\">";
+    std::filesystem::create_directories(dir / "refs");
+    write_text(dir / (name + ".xml"), scene_xml(
+        "<integrator type=\"path\"/>\n<sensor type=\"perspective\"><transform name=\"to_world\"><lookat origin=\"0,0,4\" target=\"0,0,0\" up=\"0,1,0\"/></transform>\n"
+        "<film type=\"hdrfilm\"><integer name=\"width\" value=\"16\"/><integer name=\"height\" value=\"16\"/></film></sensor>\n"
+        "<emitter type=\"constant\"/>\n<shape type=\"sphere\"><bsdf type=\"diffuse\"/></shape>"));
+    Image dark = Image::rgb(16, 16);
+    write_exr(dark, (dir / "refs" / (name + ".exr")).string(), true);
+    auto report = dir / "report.html";
+    int code = run_command("'" + candela_binary() + "' validate '" + dir.string() + "' --spp 2 -o '" + report.string() + "'", dir / "log.txt");
+    INFO(read_text(dir / "log.txt"));
+    CHECK(code == 1);  // the black reference disagrees
+    std::string html = read_text(report);
+    CHECK(html.find("<img src=x") == std::string::npos);
+    CHECK(html.find("onerror=\"") == std::string::npos);
+    CHECK(html.find("'&amp;'") == std::string::npos);  // the name's entity text is escaped too
+    CHECK_THAT(html, Catch::Contains("&lt;img src=x onerror=&quot;alert(&#39;&amp;amp;&#39;)&quot;&gt;"));
+    // Every tag in the report is one the report itself writes.
+    for (size_t pos = 0; (pos = html.find('<', pos)) != std::string::npos; ++pos) {
+        size_t end = html.find_first_of(" >", pos);
+        std::string tag = html.substr(pos + 1, end - pos - 1);
+        if (!tag.empty() && tag[0] == '/') tag.erase(0, 1);
+        INFO(tag);
+        CHECK((tag == "!DOCTYPE" || tag == "html" || tag == "head" || tag == "meta" || tag == "title" || tag == "style" || tag == "body" ||
+               tag == "h1" || tag == "h2" || tag == "p" || tag == "table" || tag == "tr" || tag == "th" || tag == "td" || tag == "a" ||
+               tag == "section" || tag == "span" || tag == "figure" || tag == "figcaption" || tag == "img"));
+    }
+    // Exactly the four images the report embeds, each an alt text and a data URL, no other attribute.
+    size_t images = 0;
+    for (size_t pos = 0; (pos = html.find("<img ", pos)) != std::string::npos; ++pos) {
+        ++images;
+        CHECK(html.compare(pos, 10, "<img alt=\"") == 0);
+        const std::string data_url = "\" src=\"data:image/png;base64,";
+        CHECK(html.compare(html.find('"', pos + 10), data_url.size(), data_url) == 0);
+    }
+    CHECK(images == 4);
+}
+
 TEST_CASE("validate: a reference scaled by 1.02 or mirrored left-right is a failure with its reason", "[verification]") {
     auto dir = scratch_dir("validate-broken");
     std::filesystem::create_directories(dir / "refs");
@@ -121,4 +169,70 @@ TEST_CASE("validate: reads the shared set's layout DIR/scenes/NAME.xml with DIR/
     std::filesystem::copy_file(source_path("scenes/validation/cbox.xml"), dir / "cbox.xml");
     CHECK(run_command(command, dir / "both.txt") == 2);
     CHECK_THAT(read_text(dir / "both.txt"), Catch::Contains("cbox.xml is both in the directory and in scenes/"));
+}
+
+// The stratified and low-discrepancy samplers on a smooth furnace: a convex diffuse sphere under
+// a constant sky, where a path's light sample sees a half-space (a smooth boundary) and its BSDF
+// sample a smooth MIS weight. Every sampler must be unbiased (the converge command's Sidak-
+// corrected z-tests) and never slower than -1/2; each stratified or low-discrepancy one must be
+// significantly faster than -1/2 (its slope plus 2.58 standard errors below -0.5), as theory says
+// for a 2D integrand with a smooth discontinuity (-3/4) or none (down to -3/2). A deep-path
+// furnace (closed sphere, Russian roulette) checks the bias with every sampler too.
+TEST_CASE("converge: every sampler is unbiased, and the low-discrepancy ones converge faster than -1/2 on a smooth furnace", "[verification][furnace][sampler]") {
+    auto dir = scratch_dir("converge-samplers");
+    for (const char* sampler : {"independent", "stratified", "multijitter", "orthogonal", "ldsampler", "sobol", "zsobol"}) {
+        const bool low_discrepancy = std::string(sampler) != "independent";
+        int code = converge("convex_diffuse.xml", std::string("--threads 2 --sampler ") + sampler, dir / "log.txt");
+        std::string log = read_text(dir / "log.txt");
+        INFO(sampler << "\n" << log);
+        CHECK(code == 0);
+        CHECK_THAT(log, Catch::Contains("result           PASS"));
+        if (low_discrepancy) CHECK_THAT(log, Catch::Contains("faster than 1/2  yes"));
+        code = converge("closed_sphere.xml", std::string("-D rho=0.5 --threads 2 --sampler ") + sampler, dir / "log2.txt");
+        std::string log2 = read_text(dir / "log2.txt");
+        INFO(log2);
+        CHECK(code == 0);
+        CHECK_THAT(log2, Catch::Contains("result           PASS"));
+    }
+}
+
+// Adaptive sampling stops pixels early without biasing them: on the convex furnace (every pixel
+// has the same answer, so a stopping rule that favoured low or high estimates would show as a
+// significant mean error) the bias tests pass at every count while the sample-count map shows
+// that pixels stopped. The slope is not judged: at a fixed threshold the error stops falling by
+// design.
+TEST_CASE("adaptive sampling: no bias, deterministic across thread counts, and a sample-count AOV", "[verification][adaptive]") {
+    auto dir = scratch_dir("converge-adaptive");
+    int code = converge("convex_diffuse.xml", "--threads 2 --adaptive-threshold 0.05 --adaptive-min-spp 8 --slope-range -2,0", dir / "log.txt",
+                        "16,64,256");
+    std::string log = read_text(dir / "log.txt");
+    INFO(log);
+    CHECK(code == 0);
+    CHECK_THAT(log, Catch::Contains("result           PASS"));
+
+    Ref<Scene> scene = load_scene(source_path("scenes/validation/cbox.xml"), {{"res", "32"}});
+    auto render = [&](int threads) {
+        RenderOptions o;
+        o.spp = 64;
+        o.threads = threads;
+        o.aovs = {"samples"};
+        o.adaptive.threshold = 0.05f;
+        o.adaptive.min_spp = 8;
+        return scene->integrator().render(*scene, o);
+    };
+    RenderResult one = render(1), three = render(3);
+    REQUIRE(one.image.data().size() == three.image.data().size());
+    CHECK(std::memcmp(one.image.data().data(), three.image.data().data(), one.image.data().size() * sizeof(float)) == 0);
+    int channel = one.image.channel_index("samples.N");
+    REQUIRE(channel >= 0);
+    float fewest = 1e9f, most = 0.0f;
+    for (int y = 0; y < one.image.height(); ++y)
+        for (int x = 0; x < one.image.width(); ++x) {
+            float n = one.image.at(x, y, channel);
+            fewest = std::min(fewest, n), most = std::max(most, n);
+            CHECK(n >= 8.0f);
+            CHECK(n <= 64.0f);
+        }
+    CHECK(fewest < 64.0f);  // some pixels stopped early
+    CHECK(most == 64.0f);   // and some did not
 }

@@ -87,18 +87,62 @@ TEST_CASE("cli: an unwritable output path or a bad option exits with code 2 befo
     CHECK(!std::filesystem::exists(dir / "x.exr"));
 }
 
+TEST_CASE("cli: output paths that are directories, read-only, devices or on a full disk fail with exit code 2 and keep the earlier file", "[cli][errors]") {
+    namespace fs = std::filesystem;
+    auto dir = scratch_dir("cli-output-safety");
+    const std::string scene = "'" + Cbox + "' -D res=32 --spp 2";
+    auto expect_refused = [&](const std::string& command, const std::string& message) {
+        int code = run_command(command, dir / "log.txt");
+        std::string log = read_text(dir / "log.txt");
+        INFO(command << "\n" << log);
+        CHECK(code == 2);
+        CHECK_THAT(log, Catch::Contains(message));
+    };
+    // A directory in the way stays a directory, with its contents.
+    fs::create_directories(dir / "taken.exr");
+    write_text(dir / "taken.exr" / "inside.txt", "kept");
+    expect_refused(render_cmd(scene + " -o '" + (dir / "taken.exr").string() + "'"), "it is a directory");
+    CHECK(read_text(dir / "taken.exr" / "inside.txt") == "kept");
+    // A read-only file, as the image and as the --png preview (checked before rendering).
+    write_text(dir / "locked.exr", "precious");
+    write_text(dir / "open.png", "precious");
+    fs::permissions(dir / "locked.exr", fs::perms::owner_read | fs::perms::group_read | fs::perms::others_read);
+    fs::permissions(dir / "open.png", fs::perms::owner_read | fs::perms::group_read | fs::perms::others_read);
+    expect_refused(render_cmd(scene + " -o '" + (dir / "locked.exr").string() + "'"), "read-only");
+    write_text(dir / "open.exr", "precious too");
+    expect_refused(render_cmd(scene + " -o '" + (dir / "open.exr").string() + "' --png"), "read-only");
+    CHECK(read_text(dir / "locked.exr") == "precious");
+    CHECK(read_text(dir / "open.png") == "precious");
+    CHECK(read_text(dir / "open.exr") == "precious too");
+    // A read-only folder.
+    fs::create_directories(dir / "shelf");
+    fs::permissions(dir / "shelf", fs::perms::owner_read | fs::perms::owner_exec);
+    expect_refused(render_cmd(scene + " -o '" + (dir / "shelf" / "new.exr").string() + "'"), "not writable");
+    CHECK(fs::is_empty(dir / "shelf"));
+    fs::permissions(dir / "shelf", fs::perms::owner_all);
+    // A device: the image is written beside the target and renamed, which would replace
+    // /dev/full by a plain file; refused instead, and the device stays.
+    expect_refused(render_cmd(scene + " -o /dev/full"), "not a regular file");
+    CHECK(fs::is_character_file("/dev/full"));
+    // A full disk, as the render sees it: the file-size limit makes every write past 1 KiB fail
+    // (EFBIG; SIGXFSZ ignored, as a full disk sends no signal) while the render itself runs.
+    write_text(dir / "earlier.exr", "precious");
+    expect_refused("( trap '' XFSZ; ulimit -f 1; exec " + render_cmd(scene + " -o '" + (dir / "earlier.exr").string() + "'") + " )", "cannot write");
+    CHECK(read_text(dir / "earlier.exr") == "precious");
+    // The HTML report of validate: refused before any scene renders.
+    write_text(dir / "report.html", "precious");
+    fs::permissions(dir / "report.html", fs::perms::owner_read);
+    expect_refused("'" + candela_binary() + "' validate '" + source_path("scenes/validation") + "' -o '" + (dir / "report.html").string() + "'", "read-only");
+    expect_refused("'" + candela_binary() + "' validate '" + source_path("scenes/validation") + "' -o /dev/full", "not a regular file");
+    CHECK(read_text(dir / "report.html") == "precious");
+    for (auto& entry : fs::directory_iterator(dir)) CHECK(entry.path().filename().string().find(".tmp") == std::string::npos);
+}
+
 TEST_CASE("cli: Ctrl-C writes the image so far, marked partial, and exits non-zero", "[cli][interrupt]") {
     auto dir = scratch_dir("cli-interrupt");
     auto out = dir / "partial.exr";
-    // A render far too long to finish; SIGINT once its handler is installed (SigCgt in
-    // /proc/PID/status has SIGINT's bit), then a moment later. A background job of a
-    // non-interactive shell starts with SIGINT ignored, so a signal sent before the handler is
-    // installed would be lost and the render would run to its end.
-    std::string cmd = render_cmd("'" + Cbox + "' -o '" + out.string() + "' --spp 100000") +
-                      " & pid=$!; for i in $(seq 600); do"
-                      " mask=$(awk '/^SigCgt/ {print $2}' /proc/$pid/status 2>/dev/null);"
-                      " [ -n \"$mask\" ] && [ $(( 0x$mask & 2 )) -ne 0 ] && break; sleep 0.1; done;"
-                      " sleep 1; kill -INT $pid; wait $pid";
+    // A render far too long to finish; SIGINT once its handler is installed.
+    std::string cmd = interrupt_after_start(render_cmd("'" + Cbox + "' -o '" + out.string() + "' --spp 100000"));
     int code = run_command(cmd, dir / "log.txt");
     INFO(read_text(dir / "log.txt"));
     CHECK(code == 130);
@@ -175,7 +219,7 @@ TEST_CASE("cli: float16 and float32 films write EXRs of that pixel type", "[cli]
     CHECK(run_command("oiiotool --info -v '" + (dir / "half.exr").string() + "' | grep -q half", dir / "info.txt") == 0);
 }
 
-TEST_CASE("cli: --mode raster with its options, and compare-modes", "[cli][raster]") {
+TEST_CASE("cli: --mode raster with its options", "[cli][raster]") {
     auto dir = scratch_dir("cli-raster");
     auto out = dir / "raster.exr";
     REQUIRE(run_command(render_cmd("'" + Cbox + "' -o '" + out.string() + "' --mode raster --shading gouraud --reflection phong --shadows volume --aa 4 "
@@ -192,7 +236,8 @@ TEST_CASE("cli: --mode raster with its options, and compare-modes", "[cli][raste
     REQUIRE(run_command(render_cmd("--help"), dir / "help.txt") == 0);
     std::string help = read_text(dir / "help.txt");
     for (const char* option : {"--shading flat|gouraud|phong", "--reflection phong|blinn", "--shadows none|map|volume", "--aa-filter box|tent|gaussian",
-                               "--texture-filter nearest|bilinear|trilinear", "--environment-mapping latlong|cube", "integer >= 1"})
+                               "--texture-filter nearest|bilinear|trilinear", "--environment-mapping latlong|cube", "integer >= 1",
+                               "--ao N", "--environment-lighting ibl|average", "--lighting local|baked", "--bake radiosity|path"})
         CHECK_THAT(help, Catch::Contains(option));
     CHECK_THAT(help, !Catch::Contains("see integrators/raster"));
     // Raster options without raster mode, and bad values, are bad input.
@@ -208,10 +253,38 @@ TEST_CASE("cli: --mode raster with its options, and compare-modes", "[cli][raste
     write_text(dir / "raster.xml", scene);
     REQUIRE(run_command(render_cmd("'" + (dir / "raster.xml").string() + "' -o '" + out.string() + "' -q"), dir / "log2.txt") == 0);
     CHECK(read_image(out.string()).metadata["candela.integrator"] == "raster");
-    // compare-modes: one picture, timings and metrics on stdout.
-    REQUIRE(run_command("'" + candela_binary() + "' compare-modes '" + Cbox + "' -o '" + (dir / "cmp.png").string() + "' --spp 4 -D res=48", dir / "cmp.txt") == 0);
-    std::string log = read_text(dir / "cmp.txt");
-    CHECK_THAT(log, Catch::Contains("local illumination (raster)") && Catch::Contains("global illumination (path)") && Catch::Contains("RMSE"));
+}
+
+TEST_CASE("cli: compare-modes compares any list of methods with a path-traced reference", "[cli][raster]") {
+    auto dir = scratch_dir("cli-compare-modes");
+    const std::string cmd = "'" + candela_binary() + "' compare-modes '" + Cbox + "' -D res=32 --spp 4 --reference-spp 16 ";
+    // Every kind of method: raster with a command-line option, its shorthands with parameters,
+    // registry integrators with parameters, the scene's own path tracer.
+    const std::string methods = "raster,raster-gi:ambient=0.1,baked:bake_patch_area=0.3,radiosity:max_patch_area=0.3:final_gather=false,path";
+    REQUIRE(run_command(cmd + "--aa 4 --methods '" + methods + "' -o '" + (dir / "cmp.png").string() + "' --table '" + (dir / "cmp.md").string() + "'",
+                        dir / "cmp.txt") == 0);
+    std::string log = read_text(dir / "cmp.txt"), table = read_text(dir / "cmp.md");
+    CHECK_THAT(log, Catch::Contains("| method | time (s) |") && Catch::Contains("relMSE") && Catch::Contains("block MARE") &&
+                        Catch::Contains("Reference: path tracer, 16 spp"));
+    for (const std::string m : {"| raster |", "| raster-gi:ambient=0.1 |", "| baked:bake_patch_area=0.3 |", "| radiosity:max_patch_area=0.3:final_gather=false |", "| path |"}) {
+        CHECK_THAT(log, Catch::Contains(m));
+        CHECK_THAT(table, Catch::Contains(m));
+    }
+    // One picture: the reference and five methods side by side, each above its heatmap.
     Image sheet = read_image((dir / "cmp.png").string());
-    CHECK(sheet.width() > 3 * 48);
+    CHECK(sheet.width() > 6 * 32);
+    CHECK(sheet.height() > 2 * 32);
+    // A method the registry does not know, or a parameter no integrator reads, stops before any
+    // render with the method named.
+    CHECK(run_command(cmd + "--methods raster,pathh -o '" + (dir / "bad.png").string() + "'", dir / "bad.txt") == 2);
+    CHECK_THAT(read_text(dir / "bad.txt"), Catch::Contains("--methods pathh") && Catch::Contains("nearest supported: \"path\""));
+    CHECK(run_command(cmd + "--methods radiosity:patches=3 -o '" + (dir / "bad.png").string() + "'", dir / "bad.txt") == 2);
+    CHECK_THAT(read_text(dir / "bad.txt"), Catch::Contains("unused property \"patches\""));
+    CHECK(run_command(cmd + "--methods raster:ao -o '" + (dir / "bad.png").string() + "'", dir / "bad.txt") == 2);
+    CHECK_THAT(read_text(dir / "bad.txt"), Catch::Contains("is not key=value"));
+    CHECK_FALSE(std::filesystem::exists(dir / "bad.png"));
+    // A reference from a file must match the film.
+    CHECK(run_command(cmd + "--methods raster --reference '" + source_path("scenes/validation/refs/cbox.exr") + "' -o '" + (dir / "bad.png").string() + "'",
+                      dir / "bad.txt") == 2);
+    CHECK_THAT(read_text(dir / "bad.txt"), Catch::Contains("the reference is 256x256, the scene renders 32x32"));
 }

@@ -111,6 +111,24 @@ TEST_CASE("farm cli: merge refuses overlapping and foreign parts and non-parts w
     // Parts need an integrator whose samples are independent; --png needs a whole image.
     CHECK(run_command(program("render '" + Cbox + "' -D res=8 --mode raster --samples 0:1 -o " + q(dir / "r.exr")), dir / "raster.txt") == 2);
     CHECK_THAT(read_text(dir / "raster.txt"), Catch::Contains("cannot render a part"));
+    // Adaptive sampling takes a pixel's next samples by its earlier ones and its neighbours'; a
+    // progressive photon map's passes depend on all earlier passes: neither splits.
+    CHECK(run_command(program("render " + Render + " --adaptive-threshold 0.05 --samples 0:4 -o " + q(dir / "a.exr")), dir / "adaptive.txt") == 2);
+    CHECK_THAT(read_text(dir / "adaptive.txt"), Catch::Contains("adaptive sampling (--adaptive-threshold) cannot render a part"));
+    CHECK(run_command(program("render " + Render + " --adaptive-threshold 0.05 --resume " + q(dir / "a.exr") + " -o " + q(dir / "a.exr")),
+                      dir / "adaptive-resume.txt") == 2);
+    CHECK_THAT(read_text(dir / "adaptive-resume.txt"), Catch::Contains("cannot render a part (--samples, --crop), resume or checkpoint"));
+    const std::string sppm_scene = (dir / "sppm.xml").string();
+    std::string sppm = read_text(Cbox);
+    const size_t at = sppm.find("<integrator type=\"path\">");
+    REQUIRE(at != std::string::npos);
+    sppm.replace(at, std::string("<integrator type=\"path\">").size(), "<integrator type=\"sppm\">");
+    write_text(sppm_scene, sppm);
+    CHECK(run_command(program("render " + q(sppm_scene) + " -D res=8 --spp 2 --samples 0:1 -o " + q(dir / "s.exr")), dir / "sppm.txt") == 2);
+    CHECK_THAT(read_text(dir / "sppm.txt"), Catch::Contains("the sppm integrator cannot render a part") &&
+                                                Catch::Contains("photons of all earlier passes"));
+    CHECK_FALSE(std::filesystem::exists(dir / "a.exr"));
+    CHECK_FALSE(std::filesystem::exists(dir / "s.exr"));
     CHECK(run_command(program("render " + Render + " --samples 0:1 --png -o " + q(dir / "p.exr")), dir / "png.txt") == 2);
     CHECK(run_command(program("render " + Render + " --samples 0:9 -o " + q(dir / "p.exr")), dir / "range.txt") == 2);
     CHECK_THAT(read_text(dir / "range.txt"), Catch::Contains("not a non-empty part of [0, 8)"));

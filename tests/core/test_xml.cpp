@@ -2,6 +2,7 @@
 // every error path, with the line numbers the errors must name.
 
 #include "core/bsdf.h"
+#include "core/file_resolver.h"
 #include "core/xml.h"
 #include "tests/probe.h"
 #include "tests/util.h"
@@ -223,4 +224,33 @@ TEST_CASE("xml: an include cycle is reported, not followed forever", "[xml][erro
     write_text(dir / "a.xml", scene_xml("<include filename=\"b.xml\"/>"));
     write_text(dir / "b.xml", scene_xml("<include filename=\"a.xml\"/>"));
     CHECK_THROWS_WITH(load_scene((dir / "a.xml").string()), Catch::Contains("nest too deeply"));
+}
+
+TEST_CASE("xml: a confined file resolver finds nothing outside its folders, through .., absolute names or links", "[xml][errors]") {
+    namespace fs = std::filesystem;
+    auto dir = scratch_dir("xml-confined");
+    fs::create_directories(dir / "inside" / "sub");
+    fs::create_directories(dir / "outside");
+    write_text(dir / "outside" / "secret.xml", scene_xml("<bsdf type=\"diffuse\" id=\"secret\"/>"));
+    write_text(dir / "inside" / "sub" / "part.xml", scene_xml("<bsdf type=\"diffuse\" id=\"part\"/>"));
+    fs::create_symlink(dir / "outside" / "secret.xml", dir / "inside" / "link.xml");
+    const std::string secret = (dir / "outside" / "secret.xml").string();
+    auto load = [&](const std::string& include) {
+        write_text(dir / "inside" / "scene.xml", scene_xml("<include filename=\"" + include + "\"/>"));
+        return load_scene((dir / "inside" / "scene.xml").string());
+    };
+    // Unconfined, every one of them loads.
+    for (const std::string& name : std::vector<std::string>{"sub/part.xml", "../outside/secret.xml", secret, "link.xml"}) CHECK_NOTHROW(load(name));
+    FileResolver::confine_to({dir / "inside"});
+    CHECK_NOTHROW(load("sub/part.xml"));
+    for (const std::string& name : std::vector<std::string>{"../outside/secret.xml", secret, "link.xml", "sub/../../outside/secret.xml"}) {
+        INFO(name);
+        CHECK_THROWS_WITH(load(name), Catch::Contains("scene.xml:2") && Catch::Contains("cannot open included file"));
+    }
+    // Mesh and texture names go through the same resolver.
+    write_text(dir / "inside" / "scene.xml", scene_xml("<shape type=\"obj\">\n<string name=\"filename\" value=\"" + (dir / "outside" / "m.obj").string() + "\"/>\n</shape>"));
+    write_text(dir / "outside" / "m.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    CHECK_THROWS_WITH(load_scene((dir / "inside" / "scene.xml").string()), Catch::Contains("file not found"));
+    FileResolver::confine_to({});
+    CHECK_NOTHROW(load_scene((dir / "inside" / "scene.xml").string()));
 }

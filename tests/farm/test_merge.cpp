@@ -1,6 +1,7 @@
 // Split renders merge back into the single-machine render: sample ranges (even, uneven, 1 to 7
-// of them) times image regions, for the path tracer and the irradiance integrator, with every AOV;
-// the same part rendered twice is bit-identical.
+// of them) times image regions, for the path tracer, the irradiance and direct integrators and the
+// photon mapper, with every AOV, with a pixel format with alpha, sample_border and an integrator's
+// own channels; the same part rendered twice is bit-identical.
 //
 // Why not bit-identical to the single render: each tile accumulates its splats in float32, and a
 // part's tiles sum only its own samples (and a region's tiles start at the region's corner), so
@@ -26,26 +27,38 @@ using namespace candela::test;
 
 namespace {
 
-const std::vector<std::string> AllAovs = {"albedo", "normal", "depth", "variance"};
+const std::vector<std::string> AllAovs = {"albedo", "normal", "depth", "variance", "samples"};
 constexpr int Spp = 16;
 
+// Replaces the one occurrence of `from` in `text`.
+void replace_once(std::string& text, const std::string& from, const std::string& to) {
+    const size_t at = text.find(from);
+    REQUIRE(at != std::string::npos);
+    text.replace(at, from.size(), to);
+}
+
 // The Cornell box with a Gaussian filter (it reaches 2 pixels, so regions need their margin), a
-// film crop window (sample seeds use film pixels), and the integrator as a parameter.
-std::string split_test_scene() {
-    static std::string path;
-    if (!path.empty()) return path;
+// film crop window (sample seeds use film pixels), the integrator element `integrator` and more
+// film properties `film`, written as `name`.xml.
+std::string split_scene(const std::string& name, const std::string& integrator, const std::string& film) {
     std::string xml = read_text(source_path("scenes/cbox.xml"));
-    xml = std::regex_replace(xml, std::regex("<integrator type=\"path\">"), "<integrator type=\"$$integrator\">");
-    xml = std::regex_replace(xml, std::regex("<rfilter type=\"box\"/>"),
-                             "<rfilter type=\"gaussian\"/>\n<integer name=\"crop_offset_x\" value=\"2\"/><integer name=\"crop_offset_y\" "
-                             "value=\"1\"/>\n<integer name=\"crop_width\" value=\"26\"/><integer name=\"crop_height\" value=\"20\"/>");
+    replace_once(xml, "<integrator type=\"path\">\n        <integer name=\"max_depth\" value=\"-1\"/>\n    </integrator>", integrator);
+    replace_once(xml, "<rfilter type=\"box\"/>",
+                 "<rfilter type=\"gaussian\"/>\n<integer name=\"crop_offset_x\" value=\"2\"/><integer name=\"crop_offset_y\" "
+                 "value=\"1\"/>\n<integer name=\"crop_width\" value=\"26\"/><integer name=\"crop_height\" value=\"20\"/>" + film);
     xml = std::regex_replace(xml, std::regex("<integer name=\"width\" value=\"\\$res\"/>"), "<integer name=\"width\" value=\"29\"/>");
     xml = std::regex_replace(xml, std::regex("<integer name=\"height\" value=\"\\$res\"/>"), "<integer name=\"height\" value=\"23\"/>");
     xml = std::regex_replace(xml, std::regex("<default name=\"spp\""), "<default name=\"integrator\" value=\"path\"/>\n<default name=\"spp\"");
-    auto dir = scratch_dir("split-scene");
-    path = (dir / "cbox_split.xml").string();
+    const std::string path = (scratch_dir("split-scene") / (name + ".xml")).string();
     write_text(path, xml);
     // The scene reads no other file: it is self-contained in the scratch folder.
+    return path;
+}
+
+// The split scene with the integrator as a parameter.
+std::string split_test_scene() {
+    static const std::string path =
+        split_scene("cbox_split", "<integrator type=\"$integrator\">\n        <integer name=\"max_depth\" value=\"-1\"/>\n    </integrator>", "");
     return path;
 }
 
@@ -83,9 +96,9 @@ struct Splitter {
     }
 };
 
-Splitter make_splitter(const std::string& integrator, const std::string& name) {
+Splitter make_splitter(const std::string& integrator, const std::string& name, const std::string& scene_path = split_test_scene()) {
     Splitter s;
-    s.scene_path = split_test_scene();
+    s.scene_path = scene_path;
     s.scene = load_scene(s.scene_path, {{"integrator", integrator}});
     s.dir = scratch_dir(name);
     return s;
@@ -104,12 +117,13 @@ std::vector<ImageRect> quadrants() {
             ImageRect{Vec2i(11, 7), Vec2i(15, 13)}};
 }
 
-void check_splits(const std::string& integrator) {
-    Splitter s = make_splitter(integrator, "split-" + integrator);
+const std::vector<std::vector<int>> AllSplits = {{0, 16}, {0, 5, 16}, {0, 2, 7, 8, 16}, {0, 1, 3, 4, 9, 10, 15, 16}};
+
+// Merges the parts of every split in `splits` (ranges) x (the whole image, its quadrants) and
+// compares with the single render; returns that render.
+Image check_splits(Splitter& s, const std::string& integrator, const std::vector<std::vector<int>>& splits = AllSplits) {
     const Image single = s.render({}, {}).image;
     REQUIRE(single.width() == 26);
-    REQUIRE(single.channel_count() == 3 + 3 + 3 + 1 + 3);
-    const std::vector<std::vector<int>> splits = {{0, 16}, {0, 5, 16}, {0, 2, 7, 8, 16}, {0, 1, 3, 4, 9, 10, 15, 16}};
     const std::vector<std::vector<ImageRect>> region_sets = {{ImageRect{}}, quadrants()};
     for (const auto& cuts : splits)
         for (const auto& regions : region_sets) {
@@ -126,6 +140,13 @@ void check_splits(const std::string& integrator) {
             WARN("max rel diff " << d.max_relative << " layer " << d.layer);
             CHECK(d.max_relative <= 1e-5);
         }
+    return single;
+}
+
+void check_splits(const std::string& integrator) {
+    Splitter s = make_splitter(integrator, "split-" + integrator);
+    const Image single = check_splits(s, integrator);
+    CHECK(single.channel_count() == 3 + 3 + 3 + 1 + 3 + 1);
 }
 
 }  // namespace
@@ -133,6 +154,33 @@ void check_splits(const std::string& integrator) {
 TEST_CASE("farm: parts of the path tracer merge into the single render (ranges x regions, all AOVs)", "[farm]") { check_splits("path"); }
 
 TEST_CASE("farm: parts of the irradiance integrator merge into the single render", "[farm]") { check_splits("irradiance"); }
+
+TEST_CASE("farm: parts keep the film's pixel format and alpha, sample_border and the integrator's own channels", "[farm]") {
+    // XYZA splats alpha and converts after filtering; sample_border sends the samples of the ring
+    // outside the crop window to the tiles of the nearest crop pixels, which a part must take too;
+    // the aov integrator adds channels filtered like the radiance (depth, normal) and nests the
+    // direct integrator. A lost or doubled border sample shifts edge pixels by far more than 1e-5.
+    const std::string scene = split_scene("cbox_formats",
+                                          "<integrator type=\"aov\"><string name=\"aovs\" value=\"dd.y:depth, nn:sh_normal\"/>"
+                                          "<integrator type=\"direct\" name=\"direct\"/></integrator>",
+                                          "<string name=\"pixel_format\" value=\"xyza\"/><boolean name=\"sample_border\" value=\"true\"/>");
+    Splitter s = make_splitter("aov", "split-formats", scene);
+    const Image single = check_splits(s, "aov", {{0, 16}, {0, 5, 16}, {0, 1, 3, 4, 9, 10, 15, 16}});
+    for (const char* channel : {"X", "Y", "Z", "A", "dd.y.T", "nn.X", "direct.R", "direct.A", "samples.N"}) {
+        INFO(channel);
+        CHECK(single.channel_index(channel) >= 0);
+    }
+}
+
+TEST_CASE("farm: parts of the photon mapper merge into the single render (every part builds the same maps)", "[farm]") {
+    const std::string scene = split_scene("cbox_photons",
+                                          "<integrator type=\"photonmapper\"><integer name=\"global_photons\" value=\"4000\"/>"
+                                          "<integer name=\"caustic_photons\" value=\"1000\"/><integer name=\"direct_samples\" value=\"1\"/>"
+                                          "<integer name=\"glossy_samples\" value=\"1\"/></integrator>",
+                                          "");
+    Splitter s = make_splitter("photonmapper", "split-photons", scene);
+    check_splits(s, "photonmapper", {{0, 7, 16}});
+}
 
 TEST_CASE("farm: the same part rendered twice is bit-identical; its sums are those of the whole render", "[farm]") {
     Splitter s = make_splitter("path", "split-twice");

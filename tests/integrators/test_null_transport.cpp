@@ -77,23 +77,6 @@ RatioCounts ratios(const Image& blocked, const Image& open, float k) {
     return c;
 }
 
-struct MeanAndVariance {
-    double mean = 0.0, variance_of_mean = 0.0;
-};
-// The mean of channel `ch` over a block of pixels, and its variance from the variance AOV (pixels
-// are independent).
-MeanAndVariance block_mean(const Image& img, int ch, int x0, int y0, int size) {
-    int var = img.channel_index(std::string("variance.") + "RGB"[ch]);
-    MeanAndVariance m;
-    double n = double(size) * size;
-    for (int y = y0; y < y0 + size; ++y)
-        for (int x = x0; x < x0 + size; ++x) {
-            m.mean += img.at(x, y, ch) / n;
-            m.variance_of_mean += img.at(x, y, var) / (n * n);
-        }
-    return m;
-}
-
 // The statistical tests of this file (green channel): the image mean of the scaled comparison, and
 // the image mean and 16 block means of each of three "equals" comparisons.
 constexpr int StatisticalTests = 1 + 3 * 17;

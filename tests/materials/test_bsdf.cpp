@@ -6,6 +6,7 @@
 
 #include "materials/fresnel.h"
 #include "tests/bsdf_harness.h"
+#include "tests/util.h"
 
 #include <catch2/catch.hpp>
 
@@ -174,7 +175,9 @@ int statistical_tests() {
     return n;
 }
 
-constexpr int Samples = 1000000;
+// 1e6 samples per incidence (1e5 at the sanitizer run's CANDELA_TEST_EFFORT=0.1: the same
+// significance, less power; tests/util.h).
+const int Samples = effort_scaled(1000000, 100000);
 
 void check_config(const Config& c) {
     BSDFUnderTest t = make_bsdf(c.xml);
@@ -193,7 +196,7 @@ void check_config(const Config& c) {
         for (const std::string& f : check.failures) FAIL_CHECK(f);
         INFO(check.chi2.details << " (per-test alpha " << alpha << ")");
         CHECK(check.chi2.p_value > alpha);
-        MeanAndError integral = pdf_integral(*t.bsdf, si, ctx, 200000, seed++);
+        MeanAndError integral = pdf_integral(*t.bsdf, si, ctx, effort_scaled(200000, 20000), seed++);
         INFO("pdf integral " << integral.mean << " +- " << integral.std_error);
         CHECK(integral.mean - z * integral.std_error <= 1.0);
         INFO("albedo " << check.albedo.mean << " +- " << check.albedo.std_error);

@@ -332,7 +332,9 @@ TEST_CASE("new BSDFs: bad parameters are errors", "[bsdf][errors]") {
     CHECK_THROWS_WITH(make_bsdf(R"(<bsdf type="mask"><float name="opacity" value="0.5"/></bsdf>)"), Catch::Contains("exactly one"));
     CHECK_THROWS_WITH(make_bsdf(R"(<bsdf type="twosided"><bsdf type="mask"><bsdf type="diffuse"/></bsdf></bsdf>)"), Catch::Contains("inside it"));
     CHECK_THROWS_WITH(make_bsdf(R"(<bsdf type="roughconductor"><float name="alpha_u" value="0.1"/></bsdf>)"), Catch::Contains("both alpha_u and alpha_v"));
-    CHECK_THROWS_WITH(make_bsdf(R"(<bsdf type="roughconductor"><float name="alpha" value="0"/></bsdf>)"), Catch::Contains("must be positive"));
+    // alpha = 0 is accepted (raised to 1e-4, as Mitsuba does: tests/integrators/test_robustness.cpp).
+    CHECK_THROWS_WITH(make_bsdf(R"(<bsdf type="roughconductor"><float name="alpha" value="-0.1"/></bsdf>)"), Catch::Contains("must not be negative"));
+    CHECK_THROWS_WITH(make_bsdf(R"(<bsdf type="roughplastic"><float name="alpha" value="-0.1"/></bsdf>)"), Catch::Contains("must not be negative"));
     CHECK_THROWS_WITH(make_bsdf(R"(<bsdf type="principledthin"><float name="spec_trans" value="0.5"/><float name="metallic" value="0.5"/></bsdf>)"),
                       Catch::Contains("metallic"));  // not a parameter of the thin BSDF
 }

@@ -95,13 +95,24 @@ TEST_CASE("obj: normals from the file, face_normals, and corners split by uv sea
 
 TEST_CASE("obj: a broken file is an error at the filename's line", "[mesh][errors]") {
     auto dir = scratch_dir("obj-bad");
-    write_text(dir / "bad.obj", "v 0 0 0\nv 1 0 0\nf 1 2 7\n");
-    write_text(dir / "scene.xml", scene_xml("<shape type=\"obj\">\n<string name=\"filename\" value=\"bad.obj\"/>\n</shape>"));
-    try {
-        load_scene((dir / "scene.xml").string());
-        FAIL("expected an error");
-    } catch (const SceneError& e) {
-        CHECK(e.location.line == 3);
+    // Indices past the end, also ones whose byte offset overflows an int (found by fuzz_obj:
+    // 3 * 827408843 overflowed, undefined behaviour, before the range check).
+    const std::vector<std::pair<std::string, std::string>> bad = {
+        {"missing", "v 0 0 0\nv 1 0 0\nf 1 2 7\n"},
+        {"huge_vertex", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 827408844\n"},
+        {"huge_uv_and_normal", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\nf 1/1/1 2/1100000000/1 3/1/900000000\nf 1 2 827408844\n"},
+    };
+    for (const auto& [name, text] : bad) {
+        INFO(name);
+        write_text(dir / (name + ".obj"), text);
+        write_text(dir / "scene.xml", scene_xml("<shape type=\"obj\">\n<string name=\"filename\" value=\"" + name + ".obj\"/>\n</shape>"));
+        try {
+            load_scene((dir / "scene.xml").string());
+            FAIL("expected an error");
+        } catch (const SceneError& e) {
+            CHECK(e.location.line == 3);
+            CHECK_THAT(std::string(e.what()), Catch::Contains(name + ".obj"));
+        }
     }
 }
 
@@ -176,3 +187,66 @@ TEST_CASE("ply: truncated and malformed files are errors", "[mesh][errors]") {
     }
 }
 
+
+TEST_CASE("ply: a face corner one past the last vertex is an error, also in a polygon", "[mesh][errors]") {
+    // The off-by-one planted in the index check to test the robustness CI (README "Sanitizers and
+    // fuzzing"): fuzz_ply found it in 10 s as a heap overflow in the polygon triangulation; its
+    // input is kept in fuzz/corpus/ply/regression-planted-index-equals-count.ply.
+    auto dir = scratch_dir("ply-index");
+    const std::string header = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+                               "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n";
+    write_text(dir / "triangle.ply", header + "3 0 1 4\n");
+    write_text(dir / "quad.ply", header + "4 0 1 2 4\n");
+    write_text(dir / "found.ply", read_text(source_path("fuzz/corpus/ply/regression-planted-index-equals-count.ply")));
+    for (const char* name : {"triangle.ply", "quad.ply", "found.ply"}) {
+        INFO(name);
+        write_text(dir / "scene.xml", scene_xml(std::string("<shape type=\"ply\">\n<string name=\"filename\" value=\"") + name + "\"/>\n</shape>"));
+        CHECK_THROWS_AS(load_scene((dir / "scene.xml").string()), SceneError);
+    }
+}
+
+TEST_CASE("ply: values outside their declared type, bad list types and huge counts are errors", "[mesh][errors]") {
+    // Found by fuzz_ply: an ascii index beyond every integer type reached undefined behaviour
+    // (a double converted to an integer it does not fit) instead of an error. Every case names
+    // the PLY file at the filename's line.
+    auto dir = scratch_dir("ply-types");
+    const std::string header = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n";
+    const std::string vertices = "0 0 0\n1 0 0\n0 1 0\n";
+    auto face_file = [&](const std::string& face_header, const std::string& faces) {
+        return header + face_header + "end_header\n" + vertices + faces;
+    };
+    const std::vector<std::pair<std::string, std::string>> bad = {
+        {"huge_index", face_file("element face 1\nproperty list uint8 uint16 vertex_index\n", "3 0 1 40000000000000000000000000000000000000\n")},
+        {"fractional_index", face_file("element face 1\nproperty list uchar int vertex_indices\n", "3 0 1 1.5\n")},
+        {"negative_unsigned", face_file("element face 1\nproperty list uchar uint vertex_indices\n", "3 0 1 -2\n")},
+        {"float_count", face_file("element face 1\nproperty list float int vertex_indices\n", "3 0 1 2\n")},
+        {"float_indices", face_file("element face 1\nproperty list uchar float vertex_indices\n", "3 0 1 2\n")},
+        {"negative_count", face_file("element face 1\nproperty list char int vertex_indices\n", "-3 0 1 2\n")},
+        {"float_overflow", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                           "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1e300 0 0\n0 1 0\n3 0 1 2\n"},
+        {"double_overflow", "ply\nformat ascii 1.0\nelement vertex 3\nproperty double x\nproperty double y\nproperty double z\n"
+                            "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1e300 0 0\n0 1 0\n3 0 1 2\n"},
+        {"nan_uv", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nproperty float u\n"
+                   "property float v\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0 0 0\n1 0 0 nan 0\n0 1 0 0 1\n3 0 1 2\n"},
+        {"huge_count", "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty float x\nproperty float y\n"
+                       "property float z\nend_header\n"},
+    };
+    for (const auto& [name, text] : bad) {
+        INFO(name);
+        write_text(dir / (name + ".ply"), text);
+        write_text(dir / "scene.xml", scene_xml("<shape type=\"ply\">\n<string name=\"filename\" value=\"" + name + ".ply\"/>\n</shape>"));
+        try {
+            load_scene((dir / "scene.xml").string());
+            FAIL("expected an error");
+        } catch (const SceneError& e) {
+            CHECK(e.location.line == 3);
+            CHECK_THAT(std::string(e.what()), Catch::Contains(name + ".ply"));
+        }
+    }
+    // A face element's other lists are skipped, not read as vertex indices.
+    write_text(dir / "texcoord.ply", face_file("element face 1\nproperty list uchar int vertex_indices\nproperty list uchar float texcoord\n",
+                                               "3 0 1 2 6 0.5 0.5 7.5 0 0 1\n"));
+    Ref<Scene> keep;
+    const Mesh& m = load_mesh(dir, "<shape type=\"ply\"><string name=\"filename\" value=\"texcoord.ply\"/></shape>", keep);
+    CHECK(m.triangle_count() == 1);
+}

@@ -25,6 +25,7 @@ struct TestMesh {
     std::vector<glm::uvec3> triangles;
     bool double_precision = false, face_normals = false;
     std::string name = "mesh";
+    uint64_t declared_vertices = 0;  // the vertex count the header states, when not the true one
 };
 
 void put(std::string& out, uint64_t v, int bytes) {
@@ -53,7 +54,7 @@ std::string encode_mesh(const TestMesh& m, int version) {
     if (m.face_normals) flags |= 0x0010;
     put(raw, flags, 4);
     if (version == 4) raw += m.name + '\0';
-    put(raw, m.positions.size(), 8);
+    put(raw, m.declared_vertices ? m.declared_vertices : m.positions.size(), 8);
     put(raw, m.triangles.size(), 8);
     for (const Vec3& p : m.positions)
         for (int k = 0; k < 3; ++k) put_real(raw, p[k], m.double_precision);
@@ -202,6 +203,36 @@ TEST_CASE("serialized: broken files are errors at the filename's line", "[mesh][
         } catch (const SceneError& e) {
             INFO(e.what());
             CHECK(e.location.line == 3);  // the <string name="filename"> line
+        }
+    }
+}
+
+TEST_CASE("serialized: a header that declares more than the file can hold is refused before inflating", "[mesh][serialized][errors][memory]") {
+    auto dir = scratch_dir("serialized-lying");
+    // A tetrahedron's fields under a header declaring a billion vertices (12 GB of positions):
+    // more than its hundred-odd compressed bytes can expand to, DEFLATE expanding at most 1032:1.
+    TestMesh lying = tetrahedron(1.0f);
+    lying.declared_vertices = 1000000000;
+    // Declaring three of its four vertices leaves data beyond what the header accounts for.
+    TestMesh short_count = tetrahedron(1.0f);
+    short_count.declared_vertices = 3;
+    struct Case {
+        const char* name;
+        TestMesh mesh;
+        const char* message;
+    };
+    for (const Case& c : {Case{"lying", lying, "the header declares 1000000000 vertices and 4 triangles"},
+                          Case{"short", short_count, "holds more than its header declares"}}) {
+        INFO(c.name);
+        write_text(dir / (std::string(c.name) + ".serialized"), encode_file({c.mesh}, 4));
+        write_text(dir / "scene.xml", scene_xml(serialized_shape(std::string(c.name) + ".serialized", 0)));
+        try {
+            load_scene((dir / "scene.xml").string());
+            FAIL("expected an error");
+        } catch (const SceneError& e) {
+            INFO(e.what());
+            CHECK(e.location.line == 3);
+            CHECK_THAT(std::string(e.what()), Catch::Contains(c.message));
         }
     }
 }

@@ -152,6 +152,58 @@ TEST_CASE("bitmap: a missing or unreadable image is an error at the filename's l
 }
 
 namespace {
+// A 2 x 2 x 4 DDS volume texture (uncompressed RGBA8), built byte by byte.
+std::string dds_volume() {
+    std::string bytes = "DDS ";
+    auto u32 = [&](uint32_t v) {
+        for (int i = 0; i < 4; ++i) bytes += char((v >> (8 * i)) & 0xff);
+    };
+    const uint32_t w = 2, h = 2, depth = 4;
+    u32(124);                                           // header size
+    u32(0x1 | 0x2 | 0x4 | 0x1000 | 0x800000);           // caps, height, width, pixel format, depth
+    u32(h), u32(w), u32(w * 4), u32(depth), u32(0);     // height, width, pitch, depth, mip levels
+    for (int i = 0; i < 11; ++i) u32(0);                // reserved
+    u32(32), u32(0x40 | 0x1), u32(0), u32(32);          // pixel format: size, RGB + alpha, no fourCC, 32 bits
+    u32(0x00ff0000), u32(0x0000ff00), u32(0x000000ff), u32(0xff000000);
+    u32(0x1000 | 0x8), u32(0x200000), u32(0), u32(0), u32(0);  // caps: texture, complex; volume
+    bytes += std::string(w * h * depth * 4, char(100));
+    return bytes;
+}
+}  // namespace
+
+TEST_CASE("bitmap and envmap: volume images and images too large to read are errors at the filename's line", "[texture][errors]") {
+    // A DDS volume texture made read_image hand OpenImageIO a 2D buffer for depth times as many
+    // values (a heap overflow: ASan saw the heap corrupted at the next free). A header claiming
+    // 100000 x 100000 pixels made it allocate 120 GB (std::bad_alloc, or an abort under ASan).
+    auto dir = scratch_dir("bitmap-size");
+    write_text(dir / "volume.dds", dds_volume());
+    write_text(dir / "huge.pfm", "PF\n100000 100000\n-1.0\n" + std::string(64, '\0'));
+    // A 293-byte DDS cube map on which OpenImageIO 2.4's DDS reader spins for minutes (found by
+    // fuzz_image; the corpus file's first byte chose the extension): DDS is not read at all now.
+    // Neither is a DDS file named .png (OpenImageIO tries every reader by content).
+    std::string cube = read_text(source_path("fuzz/corpus/image/regression-dds-cube-hang")).substr(1);
+    write_text(dir / "cube.dds", cube);
+    write_text(dir / "cube.png", cube);
+    for (const char* name : {"volume.dds", "huge.pfm", "cube.dds", "cube.png"}) {
+        for (const char* use : {"texture", "envmap"}) {
+            INFO(name << " as " << use);
+            std::string body = std::string(use) == "texture"
+                                   ? "<shape type=\"sphere\"><bsdf type=\"diffuse\"><texture type=\"bitmap\" name=\"reflectance\">\n"
+                                     "<string name=\"filename\" value=\"" + std::string(name) + "\"/>\n</texture></bsdf></shape>"
+                                   : "<emitter type=\"envmap\">\n<string name=\"filename\" value=\"" + std::string(name) + "\"/>\n</emitter>";
+            write_text(dir / "scene.xml", scene_xml(body));
+            try {
+                load_scene((dir / "scene.xml").string());
+                FAIL("expected an error");
+            } catch (const SceneError& e) {
+                CHECK(e.location.line == 3);
+                CHECK_THAT(std::string(e.what()), Catch::Contains(name));
+            }
+        }
+    }
+}
+
+namespace {
 Ref<Texture> load_with(const std::filesystem::path& dir, const std::string& file, const std::string& format) {
     Properties props("bitmap", SourceLocation{(dir / "virtual.xml").string(), 1});
     props.set_string("filename", file);

@@ -8,6 +8,7 @@
 #include "integrators/raster/raster.h"
 #include "integrators/raster/raster_scene.h"
 #include "integrators/raster/shadows.h"
+#include "core/warp.h"
 #include "lights/point_source.h"
 #include "tests/util.h"
 
@@ -49,6 +50,9 @@ public:
     float pdf_direction(const SurfaceInteraction&, const DirectionSample&) const override { return 0.0f; }
     Spectrum eval(const SurfaceInteraction&) const override { return Spectrum(0.0f); }
     Spectrum power() const override { return FourPi * intensity_; }
+    EmitterRay sample_ray(const Vec2&, const Vec2& u_direction) const override {
+        return point_source_ray(position_, warp::square_to_uniform_sphere(u_direction), InvFourPi, intensity_);
+    }
     std::string to_string() const override { return "test_recording_point"; }
 
 private:

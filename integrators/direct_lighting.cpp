@@ -1,0 +1,58 @@
+#include "integrators/direct_lighting.h"
+
+#include "core/sampler.h"
+#include "core/scene.h"
+
+namespace candela {
+
+Spectrum sample_emitter_mis(const Scene& scene, const LightSampler& lights, Sampler& sampler, const SurfaceInteraction& si,
+                            const BSDF& bsdf, const BSDFContext& ctx, StrategyShares shares) {
+    float u_pick = sampler.next_1d();
+    Vec2 u = sampler.next_2d();
+    float pick_prob = 0.0f;
+    const Emitter* emitter = lights.sample(si, u_pick, pick_prob);
+    if (!emitter || !(pick_prob > 0.0f)) return Spectrum(0.0f);
+    Spectrum weight;
+    DirectionSample ds = emitter->sample_direction(si, u, weight);
+    if (!(ds.pdf > 0.0f) || is_black(weight)) return Spectrum(0.0f);
+    Vec3 wo = si.to_local(ds.d);
+    Spectrum f = bsdf.eval(ctx, si, wo);
+    if (is_black(f)) return Spectrum(0.0f);
+    Ray shadow = std::isinf(ds.dist) ? si.spawn_ray(ds.d) : si.spawn_ray_to(ds.p, ds.delta ? Vec3(0.0f) : ds.n, ds.p_error);
+    Spectrum T = scene.transmittance(shadow);  // through null surfaces and masks
+    if (is_black(T)) return Spectrum(0.0f);
+    float w = ds.delta ? 1.0f : power_heuristic(ds.pdf * pick_prob * shares.emitter, bsdf.pdf(ctx, si, wo) * shares.bsdf);
+    return T * f * weight * (w / pick_prob);
+}
+
+float emitter_hit_weight(const LightSampler& lights, const SurfaceInteraction& from, float bsdf_pdf, const Emitter& emitter,
+                         const SurfaceInteraction& hit, StrategyShares shares) {
+    // Measured from the scattering vertex itself, as light sampling measures it.
+    DirectionSample ds;
+    ds.p = hit.p;
+    ds.n = hit.n;
+    Vec3 to = hit.p - from.p;
+    ds.dist = glm::length(to);
+    ds.d = to / ds.dist;
+    return power_heuristic(bsdf_pdf * shares.bsdf, lights.pmf(from, &emitter) * emitter.pdf_direction(from, ds) * shares.emitter);
+}
+
+Spectrum environment_mis(const Scene& scene, const LightSampler& lights, const SurfaceInteraction& from, const Vec3& d, float bsdf_pdf,
+                         bool from_delta, StrategyShares shares) {
+    Spectrum L(0.0f);
+    for (const Emitter* e : scene.infinite_emitters()) {
+        Spectrum Le = e->eval_environment(d);
+        if (is_black(Le)) continue;
+        float w = 1.0f;
+        if (!from_delta) {
+            DirectionSample ds;
+            ds.d = d;
+            ds.dist = Infinity;
+            w = power_heuristic(bsdf_pdf * shares.bsdf, lights.pmf(from, e) * e->pdf_direction(from, ds) * shares.emitter);
+        }
+        L += Le * w;
+    }
+    return L;
+}
+
+}  // namespace candela

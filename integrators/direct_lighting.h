@@ -1,0 +1,38 @@
+#pragma once
+// The two strategies of direct lighting at a surface vertex and their multiple importance
+// sampling (Veach's power heuristic), shared by the path and direct integrators: next-event
+// estimation (a light picked by a LightSampler, a point on it, a shadow ray), and the weight of
+// emission that a BSDF sample finds. Each strategy's pdf is scaled by the share of samples it
+// takes (Veach's n_i): path takes one sample of each (shares 1 and 1, the plain heuristic),
+// direct emitter_samples and bsdf_samples.
+
+#include "core/bsdf.h"
+#include "lights/light_sampler.h"
+
+namespace candela {
+
+class Scene;
+class Sampler;
+
+struct StrategyShares {
+    float emitter = 1.0f, bsdf = 1.0f;
+};
+
+// One next-event-estimation sample at `si` (si.wi set) for `bsdf` restricted to `ctx`: the light's
+// radiance times the BSDF and the shadow ray's transmittance (through null surfaces), over the
+// light's pdf, weighted against BSDF sampling (weight 1 for delta lights). Draws one 1D and one
+// 2D number.
+Spectrum sample_emitter_mis(const Scene& scene, const LightSampler& lights, Sampler& sampler, const SurfaceInteraction& si,
+                            const BSDF& bsdf, const BSDFContext& ctx, StrategyShares shares = {});
+
+// The MIS weight of the emission of `emitter` at `hit`, found by a BSDF sample of solid-angle pdf
+// `bsdf_pdf` from `from` (not a delta lobe), against next-event estimation from `from`.
+float emitter_hit_weight(const LightSampler& lights, const SurfaceInteraction& from, float bsdf_pdf, const Emitter& emitter,
+                         const SurfaceInteraction& hit, StrategyShares shares = {});
+
+// The radiance of the infinite emitters along direction `d` escaping from `from`, each weighted
+// against next-event estimation (weight 1 after a delta lobe).
+Spectrum environment_mis(const Scene& scene, const LightSampler& lights, const SurfaceInteraction& from, const Vec3& d, float bsdf_pdf,
+                         bool from_delta, StrategyShares shares = {});
+
+}  // namespace candela

@@ -1,0 +1,47 @@
+#include "integrators/photons.h"
+
+#include "core/sampler.h"
+#include "core/scene.h"
+
+namespace candela {
+
+GatherPoint walk_to_gather_point(const Scene& scene, Sampler& sampler, Ray ray, Spectrum beta, uint32_t depth, const WalkSettings& settings) {
+    GatherPoint end;
+    const uint32_t start = depth;
+    float eta = 1.0f;
+    bool all_delta = true;
+    SurfaceInteraction& si = end.si;
+    auto within = [&](uint32_t d) { return settings.max_depth < 0 || d <= uint32_t(settings.max_depth); };
+    auto add_emission = [&](const Spectrum& Le, uint32_t d) {
+        if (settings.hide_first && d == start + 1) return;
+        (all_delta ? end.emission_after_delta : end.emission_after_other) += beta * Le;
+    };
+    for (++depth; within(depth); ++depth) {
+        if (!scene.intersect(ray, si)) {
+            add_emission(scene.eval_environment(ray.d), depth);
+            break;
+        }
+        if (const Emitter* e = si.shape->emitter()) add_emission(e->eval(si), depth);
+        const BSDF& bsdf = *si.shape->bsdf();
+        if (gathers_photons(bsdf)) {
+            end.bsdf = &bsdf;
+            end.beta = beta;
+            end.depth = depth;
+            break;
+        }
+        BSDFSample bs = bsdf.sample(BSDFContext(), si, sampler.next_1d(), sampler.next_2d());
+        if (!bs.valid() || is_black(bs.weight)) break;
+        beta *= bs.weight;
+        eta *= bs.eta;
+        all_delta = all_delta && is_delta(bs.lobe);
+        if (depth >= uint32_t(settings.rr_depth)) {
+            float q = std::min(max_component(beta) * eta * eta, 0.95f);
+            if (!(sampler.next_1d() < q)) break;
+            beta /= q;
+        }
+        ray = si.spawn_ray(si.to_world(bs.wo));
+    }
+    return end;
+}
+
+}  // namespace candela

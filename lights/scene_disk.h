@@ -1,0 +1,27 @@
+#pragma once
+// Where the light of infinite emitters (directional, constant, envmap) enters the scene when it is
+// traced from the emitter (sample_ray): every ray travelling along d starts on the disk of the
+// scene's bounding-sphere radius r, across d, tangent to the sphere on the side the light comes
+// from, so each ray that can meet the scene does. The density is 1 / (pi r^2) per unit area of the
+// disk, and the flux through it is what power() reports (pi r^2 times the irradiance).
+
+#include "core/emitter.h"
+#include "core/warp.h"
+
+namespace candela {
+
+struct SceneDisk {
+    Vec3 center{0.0f};
+    float radius = 1.0f;
+
+    float area() const { return Pi * radius * radius; }
+    // The ray along unit direction d from the disk point picked by u.
+    Ray ray(const Vec3& d, const Vec2& u) const {
+        Vec3 s, t;
+        coordinate_system(d, s, t);
+        Vec2 q = radius * warp::square_to_uniform_disk_concentric(u);
+        return Ray(center - d * radius + s * q.x + t * q.y, d);
+    }
+};
+
+}  // namespace candela

@@ -1,0 +1,41 @@
+#pragma once
+// What Mitsuba's samplers share (stratified, multijitter, orthogonal, ldsampler): each pixel has
+// its own sequence, seeded by (seed, pixel); a dimension's points are a random permutation of
+// the pixel's sample indices, so every dimension is stratified on its own and the dimensions are
+// decorrelated; jitter inside a stratum is a hash of (sequence, sample index, dimension), never a
+// number drawn in order, so a sample's numbers do not depend on the samples taken before it.
+
+#include "core/sampler.h"
+#include "samplers/sequences.h"
+
+#include <string>
+
+namespace candela {
+
+class Properties;
+
+class PixelSequenceSampler : public Sampler {
+public:
+    void start(const Vec2i& pixel, uint32_t index) override {
+        sequence_ = hash_combine(seed_, pixel_key(pixel));
+        index_ = index;
+        dimension_ = 0;
+    }
+
+protected:
+    // Reads sample_count (positive, default 4) and seed (default 0), then rounds the count with
+    // set_sample_count(); a count that changes is a warning at the sampler's line naming `rule`
+    // (e.g. "a square, as Mitsuba does").
+    void read_count_and_seed(const Properties& props, const std::string& rule);
+
+    // A 32-bit seed for the permutations of dimension `dim` in this pixel; `salt` tells apart the
+    // several permutations one dimension may use.
+    uint32_t dimension_seed(uint32_t dim, uint32_t salt = 0) const { return hash_bits(sequence_ ^ salt, dim); }
+    // A uniform number in [0, 1) for (sample, dimension dim, axis `axis`): the jitter in a stratum.
+    float jitter(uint32_t dim, uint32_t axis) const { return bits_to_unit(hash_bits(hash_combine(sequence_, index_), uint64_t(dim) * 4 + axis)); }
+
+    uint64_t sequence_ = 0;  // the pixel's sequence
+    uint32_t index_ = 0;     // the sample index within the pixel
+};
+
+}  // namespace candela

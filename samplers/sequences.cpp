@@ -1,0 +1,134 @@
+#include "samplers/sequences.h"
+
+#include "core/rng.h"
+
+#include <array>
+#include <vector>
+
+namespace candela {
+
+uint32_t hash_bits(uint64_t a, uint64_t b) { return uint32_t(hash_combine(a, b) >> 32); }
+
+uint64_t pixel_key(const Vec2i& pixel) { return (uint64_t(uint32_t(pixel.y)) << 32) | uint32_t(pixel.x); }
+
+uint32_t permute_index(uint32_t i, uint32_t n, uint32_t seed) {
+    // Mask of the bits below the next power of two at least n.
+    uint32_t mask = n - 1;
+    mask |= mask >> 1;
+    mask |= mask >> 2;
+    mask |= mask >> 4;
+    mask |= mask >> 8;
+    mask |= mask >> 16;
+    // Every step is invertible on the masked bits (xor with a constant, multiplication by an odd
+    // constant, xor with a right shift of the masked value), so the loop is a permutation of
+    // [0, mask]; cycle walking restricts it to [0, n). Constants from Kensler's paper.
+    do {
+        i ^= seed;
+        i *= 0xe170893du;
+        i ^= seed >> 16;
+        i ^= (i & mask) >> 4;
+        i ^= seed >> 8;
+        i *= 0x0929eb3fu;
+        i ^= seed >> 23;
+        i ^= (i & mask) >> 1;
+        i *= 1u | seed >> 27;
+        i *= 0x6935fa69u;
+        i ^= (i & mask) >> 11;
+        i *= 0x74dcb303u;
+        i ^= (i & mask) >> 2;
+        i *= 0x9e501cc3u;
+        i ^= (i & mask) >> 2;
+        i *= 0xc860a3dfu;
+        i &= mask;
+        i ^= i >> 5;
+    } while (i >= n);
+    return (i + seed) % n;
+}
+
+uint32_t reverse_bits(uint32_t v) {
+    v = (v << 16) | (v >> 16);
+    v = ((v & 0x00ff00ffu) << 8) | ((v & 0xff00ff00u) >> 8);
+    v = ((v & 0x0f0f0f0fu) << 4) | ((v & 0xf0f0f0f0u) >> 4);
+    v = ((v & 0x33333333u) << 2) | ((v & 0xccccccccu) >> 2);
+    v = ((v & 0x55555555u) << 1) | ((v & 0xaaaaaaaau) >> 1);
+    return v;
+}
+
+uint32_t owen_scramble(uint32_t v, uint32_t seed) {
+    // In reversed order the most significant digit is bit 0, and each step below changes a bit
+    // only by a function of the bits beneath it: a flip of each digit that depends only on the
+    // digits before it, which is Owen's nested uniform scramble.
+    v = reverse_bits(v);
+    v ^= v * 0x3d20adeau;
+    v += seed;
+    v *= (seed >> 16) | 1u;
+    v ^= v * 0x05526c56u;
+    v ^= v * 0x53a22864u;
+    return reverse_bits(v);
+}
+
+namespace {
+
+using SobolMatrix = std::array<uint32_t, SobolIndexBits>;
+
+// Column j (index bit j, j = 0 the least significant) holds the direction number v_{j+1} as a
+// 32-bit binary fraction: v_k = m_k / 2^k, with m_k from the recurrence of Bratley and Fox for
+// k beyond the polynomial's degree s (Joe and Kuo 2008, section 2):
+//   m_k = 2 a_1 m_{k-1} ^ 4 a_2 m_{k-2} ^ ... ^ 2^{s-1} a_{s-1} m_{k-s+1} ^ 2^s m_{k-s} ^ m_{k-s}.
+SobolMatrix joe_kuo_matrix(const SobolDirections& d) {
+    std::array<uint64_t, SobolIndexBits> m{};
+    for (int k = 0; k < SobolIndexBits; ++k) {
+        if (k < d.degree) {
+            m[k] = d.m[k];
+            continue;
+        }
+        uint64_t v = m[k - d.degree] ^ (m[k - d.degree] << d.degree);
+        for (int i = 1; i < d.degree; ++i)
+            if ((d.polynomial >> (d.degree - 1 - i)) & 1u) v ^= m[k - i] << i;
+        m[k] = v;
+    }
+    SobolMatrix columns{};
+    for (int j = 0; j < SobolIndexBits; ++j) {
+        int k = j + 1;  // m_k has k bits; its binary point sits k places from the right
+        columns[j] = k <= 32 ? uint32_t(m[j] << (32 - k)) : uint32_t(m[j] >> (k - 32));
+    }
+    return columns;
+}
+
+const std::vector<SobolMatrix>& sobol_matrices() {
+    static const std::vector<SobolMatrix> matrices = [] {
+        std::vector<SobolMatrix> all(SobolDimensions);
+        for (int j = 0; j < 32; ++j) all[0][j] = 1u << (31 - j);  // van der Corput
+        for (int d = 1; d < SobolDimensions; ++d) all[d] = joe_kuo_matrix(joe_kuo_directions[d - 1]);
+        return all;
+    }();
+    return matrices;
+}
+
+}  // namespace
+
+const uint32_t* sobol_matrix(int dim) { return sobol_matrices()[dim].data(); }
+
+uint32_t sobol_bits(uint64_t index, int dim) {
+    if (dim == 0) return reverse_bits(uint32_t(index));  // van der Corput: index bits 32 and up fall below 2^-32
+    const uint32_t* columns = sobol_matrix(dim);
+    uint32_t v = 0;
+    for (int j = 0; index != 0 && j < SobolIndexBits; index >>= 1, ++j)
+        if (index & 1u) v ^= columns[j];
+    return v;
+}
+
+uint64_t morton_2d(uint32_t x, uint32_t y) {
+    auto spread = [](uint64_t v) {
+        v &= 0xffffffffu;
+        v = (v | (v << 16)) & 0x0000ffff0000ffffull;
+        v = (v | (v << 8)) & 0x00ff00ff00ff00ffull;
+        v = (v | (v << 4)) & 0x0f0f0f0f0f0f0f0full;
+        v = (v | (v << 2)) & 0x3333333333333333ull;
+        v = (v | (v << 1)) & 0x5555555555555555ull;
+        return v;
+    };
+    return spread(x) | (spread(y) << 1);
+}
+
+}  // namespace candela

@@ -1,0 +1,62 @@
+#pragma once
+// The building blocks of the stratified and low-discrepancy samplers: hashed permutations
+// (Kensler 2013), bit reversal, Owen scrambling by hashing (Burley 2020), the Sobol' sequence
+// with Joe and Kuo's direction numbers, and Morton codes. All are pure functions of their
+// arguments, so a sample's numbers depend only on (seed, pixel, sample index, dimension).
+
+#include "core/math.h"
+
+#include <cstdint>
+
+namespace candela {
+
+// The largest float below 1.
+constexpr float OneMinusEpsilon = 0x1.fffffep-1f;
+
+// A uniform float in [0, 1) from the top 24 bits of `bits` (exact, never 1).
+inline float bits_to_unit(uint32_t bits) { return float(bits >> 8) * 0x1p-24f; }
+inline float clamp_below_one(float x) { return x < OneMinusEpsilon ? x : OneMinusEpsilon; }
+
+// 32 well-mixed bits from two keys.
+uint32_t hash_bits(uint64_t a, uint64_t b);
+// A per-pixel key for hashing (x and y in one 64-bit word).
+uint64_t pixel_key(const Vec2i& pixel);
+
+// Element i of a pseudo-random permutation of [0, n) chosen by `seed` (Kensler 2013, "Correlated
+// Multi-Jittered Sampling", section 3: an invertible hash on the next power of two, walked until
+// it lands below n, then rotated). i must be below n.
+uint32_t permute_index(uint32_t i, uint32_t n, uint32_t seed);
+
+uint32_t reverse_bits(uint32_t v);
+
+// A nested uniform (Owen) scramble of the binary digits of v, seen as a fraction v / 2^32: each
+// digit is flipped by a hash of the digits above it (Burley 2020, "Practical Hash-based Owen
+// Scrambling", JCGT 9(4): Laine and Karras's hash on the reversed bits, with his constants).
+// It keeps every (t, m, s)-net property of the points it scrambles.
+uint32_t owen_scramble(uint32_t v, uint32_t seed);
+
+// The Sobol' sequence: dimension 0 is van der Corput's, dimensions 1 to 256 come from Joe and
+// Kuo's direction numbers (samplers/sobol_directions.cpp). Dimensions 0 and 1 form a
+// (0, 2)-sequence: every 2^m consecutive points starting at a multiple of 2^m have exactly one
+// point in each elementary interval of area 2^-m.
+constexpr int SobolDimensions = 257;
+constexpr int SobolIndexBits = 52;
+// The 32 bits (a binary fraction) of dimension `dim` of point `index`, unscrambled.
+uint32_t sobol_bits(uint64_t index, int dim);
+// The generator matrix of dimension `dim`: column j is the contribution of bit j of the index.
+const uint32_t* sobol_matrix(int dim);
+
+// One dimension of Joe and Kuo's table: the primitive polynomial's degree and inner
+// coefficients, and the initial direction numbers m_1 ... m_degree.
+struct SobolDirections {
+    uint8_t degree;
+    uint16_t polynomial;
+    uint16_t m[11];
+};
+constexpr int JoeKuoDimensions = SobolDimensions - 1;
+extern const SobolDirections joe_kuo_directions[JoeKuoDimensions];
+
+// Interleaves the bits of x (even positions) and y (odd positions).
+uint64_t morton_2d(uint32_t x, uint32_t y);
+
+}  // namespace candela

@@ -1,0 +1,119 @@
+// sobol: one Owen-scrambled Sobol' sequence over the whole image (pbrt-v4's SobolSampler; the
+// algorithm of Grünschloß, Raab and Keller 2012, "Enumerating Quasi-Monte Carlo Point Sequences
+// in Elementary Intervals").
+//
+// Parameters: sample_count, seed, randomization (see samplers/sobol_base.h).
+//
+// The image is scaled into the unit square (its larger side rounded up to a power of two 2^m),
+// so that each pixel is an elementary interval of dimensions 0 and 1. A pixel's sample i is the
+// i-th point of the sequence that falls into that pixel: its index is (i << 2m) plus low bits
+// found by inverting the 2m x 2m generator matrix of dimensions 0 and 1 over GF(2). Dimensions 0
+// and 1 then give the position inside the pixel, randomized per pixel (pbrt-v4 leaves them
+// unscrambled, so that every pixel has the same sub-pixel pattern and the pooled positions fall
+// on a quarter of an 8 x 8 grid: a test of the 2D projections showed it; a scramble per pixel
+// keeps each pixel's (0, m, 2)-net); dimensions 2 to 256 are the sequence's own, randomized per dimension; beyond the
+// table, dimensions are padded with independent numbers hashed from (seed, pixel, sample,
+// dimension).
+
+#include "core/properties.h"
+#include "core/registry.h"
+#include "samplers/sobol_base.h"
+
+#include <vector>
+
+namespace candela {
+
+class SobolSampler final : public SobolSamplerBase {
+public:
+    explicit SobolSampler(const Properties& props) {
+        read_parameters(props);
+        set_film_size(Vec2i(1));
+    }
+
+    void set_film_size(const Vec2i& size) override {
+        log2_scale_ = 0;
+        while ((1 << log2_scale_) < std::max(size.x, size.y)) ++log2_scale_;
+        build_index_solver();
+    }
+
+    Ref<Sampler> clone() const override { return std::make_shared<SobolSampler>(*this); }
+    std::string to_string() const override { return "sobol"; }
+
+    void start(const Vec2i& pixel, uint32_t index) override {
+        PixelSequenceSampler::start(pixel, index);
+        sobol_index_ = index_in_pixel(index, pixel);
+    }
+    float next_1d() override { return value(dimension_++); }
+    Vec2 next_2d() override {
+        float x = value(dimension_);
+        float y = value(dimension_ + 1);
+        dimension_ += 2;
+        return Vec2(x, y);
+    }
+
+private:
+    float value(uint32_t dim) const {
+        // Dimensions 0 and 1: the digits below the pixel's m leading ones.
+        if (dim < 2) return bits_to_unit(randomize(sobol_bits(sobol_index_, int(dim)) << log2_scale_, hash_bits(sequence_, dim)));
+        if (dim < uint32_t(SobolDimensions)) return bits_to_unit(randomize(sobol_bits(sobol_index_, int(dim)), hash_bits(seed_, dim)));
+        return jitter(dim, 0);
+    }
+
+    // The leading m digits of dimensions 0 and 1 contributed by index bit j, as one 2m-bit word:
+    // dimension 0's (the pixel's x) above dimension 1's (its y).
+    uint64_t leading_digits(int j) const {
+        const int m = log2_scale_;
+        uint64_t x = sobol_matrix(0)[j] >> (32 - m), y = sobol_matrix(1)[j] >> (32 - m);
+        return (x << m) | y;
+    }
+
+    // Precomputes the solution of "which low 2m index bits put a point into pixel p": the matrix
+    // of leading digits of index bits 0 .. 2m-1 is invertible because dimensions 0 and 1 form a
+    // (0, 2)-sequence. Gauss-Jordan elimination over GF(2) on rows [A | I].
+    void build_index_solver() {
+        const int m = log2_scale_, n = 2 * m;
+        target_to_index_.assign(size_t(n), 0);
+        frame_digits_.clear();
+        if (m == 0) return;
+        std::vector<uint64_t> rows(size_t(n), 0);  // bits 0..n-1: A's row; bits 32..32+n-1: identity
+        for (int r = 0; r < n; ++r) {
+            for (int j = 0; j < n; ++j)
+                if ((leading_digits(j) >> r) & 1u) rows[size_t(r)] |= uint64_t(1) << j;
+            rows[size_t(r)] |= uint64_t(1) << (32 + r);
+        }
+        for (int col = 0; col < n; ++col) {
+            int pivot = col;
+            while (!((rows[size_t(pivot)] >> col) & 1u)) ++pivot;  // exists: A is invertible
+            std::swap(rows[size_t(col)], rows[size_t(pivot)]);
+            for (int r = 0; r < n; ++r)
+                if (r != col && ((rows[size_t(r)] >> col) & 1u)) rows[size_t(r)] ^= rows[size_t(col)];
+        }
+        // Row j of the inverse says which target digits sum to index bit j; store it by digit.
+        for (int j = 0; j < n; ++j)
+            for (int b = 0; b < n; ++b)
+                if ((rows[size_t(j)] >> (32 + b)) & 1u) target_to_index_[size_t(b)] |= uint64_t(1) << j;
+        for (int j = n; j < SobolIndexBits; ++j) frame_digits_.push_back(leading_digits(j));
+    }
+
+    uint64_t index_in_pixel(uint32_t frame, const Vec2i& pixel) const {
+        const int m = log2_scale_;
+        if (m == 0) return frame;
+        uint64_t target = (uint64_t(uint32_t(pixel.x)) << m) | uint32_t(pixel.y);
+        uint64_t rest = frame;
+        for (size_t c = 0; c < frame_digits_.size() && rest != 0; ++c, rest >>= 1)
+            if (rest & 1u) target ^= frame_digits_[c];
+        uint64_t low = 0;
+        for (int b = 0; target != 0; target >>= 1, ++b)
+            if (target & 1u) low ^= target_to_index_[size_t(b)];
+        return (uint64_t(frame) << (2 * m)) | low;
+    }
+
+    int log2_scale_ = 0;
+    std::vector<uint64_t> target_to_index_;  // per target digit: the index bits it flips
+    std::vector<uint64_t> frame_digits_;     // per bit of i: the leading digits it contributes
+    uint64_t sobol_index_ = 0;
+};
+
+CANDELA_REGISTER(SobolSampler, ObjectKind::Sampler, "sobol");
+
+}  // namespace candela
