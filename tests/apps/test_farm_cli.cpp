@@ -42,7 +42,7 @@ bool same_render(const std::filesystem::path& a, const std::filesystem::path& b,
 TEST_CASE("farm cli: parts merge into the render; merge names what is missing and how to render it", "[farm][cli]") {
     auto dir = scratch_dir("farm-cli-merge");
     REQUIRE(run_command(program("render " + Render + " -q -o " + q(dir / "single.exr")), dir / "log.txt") == 0);
-    REQUIRE(run_command(program("render " + Render + " -q --samples 0:3 -o " + q(dir / "a.exr")), dir / "log.txt") == 0);
+    REQUIRE(run_command(program("render " + Render + " -q --samples 0:3 -o " + q(dir / "adaptive.exr")), dir / "log.txt") == 0);
     REQUIRE(run_command(program("render " + Render + " -q --samples 5:8 --crop 0,0,20,9 -o " + q(dir / "b.exr")), dir / "log.txt") == 0);
     REQUIRE(run_command(program("render " + Render + " -q --samples 5:8 --crop 0,9,20,11 -o " + q(dir / "c.exr")), dir / "log.txt") == 0);
     Image part = read_image((dir / "b.exr").string());
@@ -55,7 +55,7 @@ TEST_CASE("farm cli: parts merge into the render; merge names what is missing an
     CHECK(part.metadata.count("candela.renderTime") == 1);
 
     // Samples 3:5 are missing: refused, with the command that renders them.
-    const std::string merge = "merge " + q(dir / "a.exr") + " " + q(dir / "b.exr") + " " + q(dir / "c.exr") + " -o " + q(dir / "merged.exr");
+    const std::string merge = "merge " + q(dir / "adaptive.exr") + " " + q(dir / "b.exr") + " " + q(dir / "c.exr") + " -o " + q(dir / "merged.exr");
     CHECK(run_command(program(merge), dir / "missing.txt") == 2);
     CHECK_FALSE(std::filesystem::exists(dir / "merged.exr"));
     std::string log = read_text(dir / "missing.txt");
@@ -77,7 +77,7 @@ TEST_CASE("farm cli: parts merge into the render; merge names what is missing an
     CHECK(merged.metadata["candela.spp"] == "8");
 
     // --allow-partial writes what there is, marked partial.
-    REQUIRE(run_command(program("merge " + q(dir / "a.exr") + " -o " + q(dir / "partial.exr") + " --allow-partial"), dir / "partial.txt") == 0);
+    REQUIRE(run_command(program("merge " + q(dir / "adaptive.exr") + " -o " + q(dir / "partial.exr") + " --allow-partial"), dir / "partial.txt") == 0);
     CHECK(read_image((dir / "partial.exr").string()).metadata["candela.partial"] == "true");
 }
 
@@ -113,9 +113,11 @@ TEST_CASE("farm cli: merge refuses overlapping and foreign parts and non-parts w
     CHECK_THAT(read_text(dir / "raster.txt"), Catch::Contains("cannot render a part"));
     // Adaptive sampling takes a pixel's next samples by its earlier ones and its neighbours'; a
     // progressive photon map's passes depend on all earlier passes: neither splits.
-    CHECK(run_command(program("render " + Render + " --adaptive-threshold 0.05 --samples 0:4 -o " + q(dir / "a.exr")), dir / "adaptive.txt") == 2);
+    CHECK(run_command(program("render " + Render + " --adaptive-threshold 0.05 --samples 0:4 -o " + q(dir / "adaptive.exr")),
+                      dir / "adaptive.txt") == 2);
     CHECK_THAT(read_text(dir / "adaptive.txt"), Catch::Contains("adaptive sampling (--adaptive-threshold) cannot render a part"));
-    CHECK(run_command(program("render " + Render + " --adaptive-threshold 0.05 --resume " + q(dir / "a.exr") + " -o " + q(dir / "a.exr")),
+    CHECK(run_command(program("render " + Render + " --adaptive-threshold 0.05 --resume " + q(dir / "adaptive.exr") + " -o " +
+                              q(dir / "adaptive.exr")),
                       dir / "adaptive-resume.txt") == 2);
     CHECK_THAT(read_text(dir / "adaptive-resume.txt"), Catch::Contains("cannot render a part (--samples, --crop), resume or checkpoint"));
     const std::string sppm_scene = (dir / "sppm.xml").string();
@@ -124,11 +126,11 @@ TEST_CASE("farm cli: merge refuses overlapping and foreign parts and non-parts w
     REQUIRE(at != std::string::npos);
     sppm.replace(at, std::string("<integrator type=\"path\">").size(), "<integrator type=\"sppm\">");
     write_text(sppm_scene, sppm);
-    CHECK(run_command(program("render " + q(sppm_scene) + " -D res=8 --spp 2 --samples 0:1 -o " + q(dir / "s.exr")), dir / "sppm.txt") == 2);
+    CHECK(run_command(program("render " + q(sppm_scene) + " -D res=8 --spp 2 --samples 0:1 -o " + q(dir / "sppm.exr")), dir / "sppm.txt") == 2);
     CHECK_THAT(read_text(dir / "sppm.txt"), Catch::Contains("the sppm integrator cannot render a part") &&
                                                 Catch::Contains("photons of all earlier passes"));
-    CHECK_FALSE(std::filesystem::exists(dir / "a.exr"));
-    CHECK_FALSE(std::filesystem::exists(dir / "s.exr"));
+    CHECK_FALSE(std::filesystem::exists(dir / "adaptive.exr"));
+    CHECK_FALSE(std::filesystem::exists(dir / "sppm.exr"));
     CHECK(run_command(program("render " + Render + " --samples 0:1 --png -o " + q(dir / "p.exr")), dir / "png.txt") == 2);
     CHECK(run_command(program("render " + Render + " --samples 0:9 -o " + q(dir / "p.exr")), dir / "range.txt") == 2);
     CHECK_THAT(read_text(dir / "range.txt"), Catch::Contains("not a non-empty part of [0, 8)"));

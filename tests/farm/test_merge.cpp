@@ -49,7 +49,7 @@ std::string split_scene(const std::string& name, const std::string& integrator, 
     xml = std::regex_replace(xml, std::regex("<integer name=\"width\" value=\"\\$res\"/>"), "<integer name=\"width\" value=\"29\"/>");
     xml = std::regex_replace(xml, std::regex("<integer name=\"height\" value=\"\\$res\"/>"), "<integer name=\"height\" value=\"23\"/>");
     xml = std::regex_replace(xml, std::regex("<default name=\"spp\""), "<default name=\"integrator\" value=\"path\"/>\n<default name=\"spp\"");
-    const std::string path = (scratch_dir("split-scene") / (name + ".xml")).string();
+    const std::string path = (scratch_dir("split-scene-" + name) / (name + ".xml")).string();
     write_text(path, xml);
     // The scene reads no other file: it is self-contained in the scratch folder.
     return path;
