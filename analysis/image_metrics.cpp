@@ -4,7 +4,9 @@
 #include "core/image_draw.h"
 #include "analysis/statistics.h"
 
+#include <algorithm>
 #include <cstdio>
+#include <map>
 
 namespace candela {
 
@@ -134,6 +136,34 @@ Image relative_difference_heatmap(const Image& test, const Image& ref, float ran
     std::snprintf(hi, sizeof hi, "+%.0f%%", 100.0 * range);
     std::snprintf(lo, sizeof lo, "-%.0f%%", 100.0 * range);
     return draw::with_legend(map, draw::colormap_diverging, true, {hi, "0%", lo}, "(A-B)/B");
+}
+
+PixelDifference max_pixel_relative_difference(const Image& test, const Image& reference) {
+    if (test.width() != reference.width() || test.height() != reference.height() || test.channels() != reference.channels())
+        throw InputError("images differ in size or channels: " + std::to_string(test.width()) + " x " + std::to_string(test.height()) +
+                         " with " + std::to_string(test.channel_count()) + " channels against " + std::to_string(reference.width()) + " x " +
+                         std::to_string(reference.height()) + " with " + std::to_string(reference.channel_count()));
+    // Channels grouped by layer: the name up to its last dot.
+    std::map<std::string, std::vector<int>> layers;
+    for (int c = 0; c < test.channel_count(); ++c) {
+        const std::string& name = test.channels()[c];
+        size_t dot = name.rfind('.');
+        layers[dot == std::string::npos ? "" : name.substr(0, dot)].push_back(c);
+    }
+    PixelDifference worst;
+    for (int y = 0; y < test.height(); ++y)
+        for (int x = 0; x < test.width(); ++x)
+            for (const auto& [layer, channels] : layers) {
+                double scale = 0.0, diff = 0.0;
+                for (int c : channels) {
+                    double t = test.at(x, y, c), r = reference.at(x, y, c);
+                    scale = std::max({scale, std::abs(t), std::abs(r)});
+                    diff = std::max(diff, std::abs(t - r));
+                }
+                double relative = diff > 0.0 ? diff / scale : 0.0;
+                if (!(relative <= worst.max_relative)) worst = PixelDifference{relative, x, y, layer};
+            }
+    return worst;
 }
 
 }  // namespace candela

@@ -49,6 +49,19 @@ struct PixelZTest {
 PixelZTest pixel_z_test(const Image& test, const Image& reference, int test_spp, int reference_spp, double alpha = 0.01,
                         Image* z_map = nullptr);
 
+// The largest per-pixel relative difference between two images of the same size and channels,
+// layer by layer (R,G,B is one layer, "variance.R/G/B" another, ...): for each pixel and layer
+// max_c |t_c - r_c| / max_c max(|t_c|, |r_c|), zero where both are zero. Relative to the layer's
+// largest component, so that a component near zero (a normal's x) is judged at the pixel's scale.
+// For checking that a merged farm render equals the single-machine one up to float rounding.
+struct PixelDifference {
+    double max_relative = 0.0;
+    int x = -1, y = -1;  // where it is largest (-1 when the images are equal)
+    std::string layer;   // "" for R, G, B
+};
+// InputError when sizes or channel names differ.
+PixelDifference max_pixel_relative_difference(const Image& test, const Image& reference);
+
 // Per-pixel relative luminance difference (t - r) / (r + eps) as a colour image with a legend
 // bar; values beyond +-range saturate.
 Image relative_difference_heatmap(const Image& test, const Image& reference, float range = 0.1f);

@@ -27,6 +27,8 @@ void add_estimate_command(CLI::App& app, std::function<int()>& run);
 void add_converge_command(CLI::App& app, std::function<int()>& run);
 void add_validate_command(CLI::App& app, std::function<int()>& run);
 void add_compare_modes_command(CLI::App& app, std::function<int()>& run);
+void add_merge_command(CLI::App& app, std::function<int()>& run);
+void add_farm_command(CLI::App& app, std::function<int()>& run);
 
 // The raster mode's options on the command line (render --mode raster, compare-modes): those of
 // raster_options() marked for it (--aa-filter sets aa_filter, ...), their choices in --help.
@@ -55,6 +57,9 @@ SceneParameters parse_defines(const std::vector<std::string>& defines);
 void add_search_path_option(CLI::App* cmd, std::vector<std::string>& folders);
 void use_search_folders(const std::vector<std::string>& folders);
 Vec3 parse_triple(const std::string& text, const std::string& option);
+
+// The absolute path of this program (for commands that other machines run).
+std::string program_path();
 
 // Runs `body`, turning scene and input errors into a message on stderr and exit code 2.
 int run_guarded(const std::function<int()>& body);

@@ -1,6 +1,9 @@
 // candela compare A.exr B.exr [--heatmap OUT.png] [--tolerance T] [--block-tolerance B]
+//                 [--pixel-tolerance P]
 // Compares a test image A against a reference B. With --tolerance the exit code says whether
 // they agree: 0 yes, 1 no (channel means within T, 16x16 block luminance within B, default 2T).
+// With --pixel-tolerance every pixel of every layer must agree within relative difference P
+// (e.g. 1e-5: a merged farm render against the single-machine one).
 
 #include "apps/commands.h"
 
@@ -14,8 +17,18 @@ namespace candela::app {
 namespace {
 struct CompareArgs {
     std::string a, b, heatmap;
-    double tolerance = -1.0, block_tolerance = -1.0, range = 0.1;
+    double tolerance = -1.0, block_tolerance = -1.0, pixel_tolerance = -1.0, range = 0.1;
 };
+
+int check_pixels(const Image& a, const Image& b, double tolerance) {
+    PixelDifference d = max_pixel_relative_difference(a, b);
+    std::printf("max pixel rel. diff  %.3g", d.max_relative);
+    if (d.x >= 0) std::printf(" at (%d, %d)%s%s", d.x, d.y, d.layer.empty() ? "" : " in ", d.layer.c_str());
+    bool agree = d.max_relative <= tolerance;
+    std::printf("\nagree                %s\n", agree ? "yes" : "no");
+    return agree ? ExitOk : ExitCheckFailed;
+}
+
 }  // namespace
 
 void add_compare_command(CLI::App& app, std::function<int()>& run) {
@@ -29,10 +42,14 @@ void add_compare_command(CLI::App& app, std::function<int()>& run) {
         ->check(CLI::NonNegativeNumber);
     cmd->add_option("--block-tolerance", args->block_tolerance, "Block luminance tolerance (default: twice --tolerance)")
         ->check(CLI::NonNegativeNumber);
+    cmd->add_option("--pixel-tolerance", args->pixel_tolerance,
+                    "Pixel check: every pixel of every layer within this relative difference (e.g. 1e-5)")
+        ->check(CLI::NonNegativeNumber);
     cmd->callback([args, &run] {
         run = [args] {
             if (!args->heatmap.empty()) check_output_path(args->heatmap);
             Image a = read_image(args->a), b = read_image(args->b);
+            if (args->pixel_tolerance >= 0.0) return check_pixels(a, b, args->pixel_tolerance);
             ImageComparison c = compare_images(a, b);
             std::printf("size            %d x %d\n", c.width, c.height);
             std::printf("mean (test)     %.6g %.6g %.6g\n", c.mean_test.x, c.mean_test.y, c.mean_test.z);

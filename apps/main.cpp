@@ -15,6 +15,8 @@ int main(int argc, char** argv) {
     candela::app::add_converge_command(app, run);
     candela::app::add_validate_command(app, run);
     candela::app::add_compare_modes_command(app, run);
+    candela::app::add_merge_command(app, run);
+    candela::app::add_farm_command(app, run);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -1,6 +1,12 @@
 // candela render SCENE.xml -o OUT.exr [--spp N] [-D k=v]... [-a FOLDER]... [--threads N] [--seed S] [--png]
 //                [--quiet] [--aov albedo,normal,depth,variance,samples] [--sampler NAME]
 //                [--adaptive-threshold T [--adaptive-min-spp N] [--adaptive-step N]] [--max-memory SIZE]
+//                [--samples START:END] [--crop x,y,w,h] [--resume PARTIAL.exr] [--checkpoint MINUTES]
+// With --samples or --crop it renders one part of a split render (farm/part_file.h), which
+// `candela merge` adds up with the others. Ctrl-C or SIGTERM stops a render and writes what it has
+// as a part marked partial; --resume continues it, --checkpoint writes one every MINUTES. Renders
+// that cannot be split (adaptive sampling, integrators that are not pixel loops) write their image
+// as it is when stopped, marked partial.
 
 #include "apps/commands.h"
 
@@ -14,22 +20,33 @@
 #include "core/xml.h"
 #include "integrators/path.h"
 #include "integrators/raster/raster.h"
+#include "farm/coverage.h"
+#include "farm/part_file.h"
+#include "farm/plan.h"
+#include "farm/resumable_render.h"
+#include "farm/shell.h"
 
+#include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <map>
+#include <unistd.h>
 
 namespace candela::app {
 
 namespace {
 
 std::atomic<bool> g_interrupted{false};
+std::atomic<int> g_signal{0};
 
-void on_sigint(int) {
+// SIGINT (Ctrl-C) and SIGTERM (what Slurm and systemd send before they kill) stop the render,
+// which then writes what it has.
+void on_stop_signal(int signal) {
+    g_signal = signal;
     g_interrupted = true;
-    std::signal(SIGINT, SIG_DFL);  // a second Ctrl-C ends the program at once
+    std::signal(signal, SIG_DFL);  // a second one ends the program at once
 }
 
 struct RenderArgs {
@@ -39,8 +56,122 @@ struct RenderArgs {
     int spp = 0, threads = 0;
     int64_t seed = -1;
     std::vector<std::string> defines, aovs, search_path;
+    std::string samples, crop;  // a part of a split render
+    std::string resume;         // a part to continue
+    double checkpoint_minutes = 0.0;
     bool png = false, quiet = false;
+
+    bool part() const { return !samples.empty() || !crop.empty(); }
 };
+
+// The command that renders this scene again, as every part of the split render records it: the
+// options that change the image, with spp and seed spelled out.
+std::string repeat_command(const RenderArgs& a, const RenderStats& stats) {
+    FarmRequest r;
+    r.candela = program_path();
+    r.scene = std::filesystem::absolute(a.scene).string();
+    r.spp = stats.spp;
+    r.seed = stats.seed;
+    r.defines = a.defines;
+    r.aovs = a.aovs;
+    r.sampler = a.sampler;
+    r.mode = a.mode;
+    return shell_join(render_words(r));
+}
+
+// What the render renders: --crop's pixels (default all) times --samples (default [0, spp)).
+CoverageBox render_target(const RenderArgs& a, const Scene& scene, int spp) {
+    CoverageBox t{ImageRect{Vec2i(0), scene.sensor().film().crop_size()}, SampleRange{0, spp}};
+    if (!a.crop.empty()) t.rect = parse_rect(a.crop);
+    if (!a.samples.empty()) t.samples = parse_sample_range(a.samples);
+    return t;
+}
+
+// --resume without --spp or --seed takes them from the part, so that the same command line
+// with --resume added continues the render.
+void take_resumed_settings(const RenderArgs& a, RenderOptions& options) {
+    if (a.resume.empty()) return;
+    const PartHeader h = read_part_header(a.resume);
+    if (a.spp <= 0) options.spp = h.identity.spp;
+    if (a.seed < 0) options.seed = h.identity.seed;
+}
+
+// The command that continues a render interrupted after writing `output`.
+std::string resume_command(const RenderArgs& a, const std::string& repeat, const std::string& output) {
+    std::string cmd = repeat;
+    if (!a.samples.empty()) cmd += " --samples " + a.samples;
+    if (!a.crop.empty()) cmd += " --crop " + a.crop;
+    return cmd + " --resume " + shell_quote(output) + " -o " + shell_quote(output);
+}
+
+// Why this render cannot be split, resumed or checkpointed (the integrator's reason, or adaptive
+// sampling's).
+std::string parts_refusal(const Scene& scene, const RenderOptions& options) {
+    const std::string what = "cannot render a part (--samples, --crop), resume or checkpoint: ";
+    if (std::string reason = scene.integrator().parts_refusal(); !reason.empty())
+        return "the " + scene.integrator().to_string() + " integrator " + what + reason;
+    return "adaptive sampling (--adaptive-threshold) " + what + "whether a pixel takes a sample depends on its earlier samples and " +
+           "on its neighbours', which a part does not have; render the whole image";
+}
+
+// The lines every render prints after writing: --spp rounded by the sampler, the summary, the
+// dropped non-finite samples.
+void report_render(const RenderArgs& a, const RenderStats& stats, const std::string& output, const char* suffix) {
+    if (a.spp > 0 && stats.spp != a.spp && !stats.single_frame)
+        warn(SourceLocation{}, "--spp " + std::to_string(a.spp) + " rounded up to " + std::to_string(stats.spp) + " by the " + stats.sampler +
+                                   " sampler");
+    if (!a.quiet) std::cerr << render_summary(stats, output) << suffix << "\n";
+    if (stats.nonfinite > 0) std::cerr << "warning: " << stats.nonfinite << " samples were NaN or infinite and were dropped\n";
+}
+
+// A Monte Carlo render through the sums (farm/resumable_render.h): the image when it is whole and
+// not a part, else a part (a farm part, or an interrupted render to continue).
+int render_with_sums(const RenderArgs& a, const Scene& scene, RenderOptions options, const std::string& output, const std::string& png) {
+    take_resumed_settings(a, options);
+    const RenderStats planned = planned_render(scene, options);
+    ResumableRequest request;
+    request.scene_path = a.scene;
+    request.command = repeat_command(a, planned);
+    request.target = render_target(a, scene, planned.spp);
+    request.resume = a.resume;
+    request.checkpoint_seconds = a.checkpoint_minutes * 60.0;
+    request.output = output;
+    ResumableResult r = render_resumable(scene, options, request);
+    const bool whole = !r.header.partial && !a.part();
+    if (whole) {
+        RenderResult result;
+        result.image = r.sums.develop();
+        result.stats = r.stats;
+        annotate_render(result, scene, a.scene);
+        write_exr(result.image, output, scene.sensor().film().float32());
+        if (a.png) write_png_display(scene.integrator().preview(result.image), png);
+    } else {
+        write_part(output, r.sums, r.header);
+    }
+    report_render(a, r.stats, output, a.part() ? " (part)" : "");
+    if (r.header.partial) {
+        std::cerr << (r.interrupted ? "interrupted: " : "") << "wrote the partial render (a part holding "
+                  << format_coverage(r.header.coverage) << ") to " << output << "; continue it with:\n  "
+                  << resume_command(a, request.command, output) << "\n";
+        return r.interrupted ? 128 + (g_signal.load() ? g_signal.load() : SIGINT) : ExitOk;
+    }
+    return ExitOk;
+}
+
+// A render that keeps no sums (the rasterizer, particle tracers, adaptive sampling): the image as
+// it comes.
+int render_frame(const RenderArgs& a, const Scene& scene, const RenderOptions& options, const std::string& output, const std::string& png) {
+    RenderResult result = scene.integrator().render(scene, options);
+    annotate_render(result, scene, a.scene);
+    write_exr(result.image, output, scene.sensor().film().float32());
+    if (a.png) write_png_display(scene.integrator().preview(result.image), png);
+    report_render(a, result.stats, output, "");
+    if (result.stats.partial) {
+        std::cerr << "interrupted: wrote the partial image to " << output << "\n";
+        return 128 + (g_signal.load() ? g_signal.load() : SIGINT);
+    }
+    return ExitOk;
+}
 
 // --mode and the raster options replace or adjust the scene's integrator.
 void apply_mode(Scene& scene, const RenderArgs& a) {
@@ -112,6 +243,12 @@ void use_search_folders(const std::vector<std::string>& folders) {
     FileResolver::set_search_folders(out);
 }
 
+std::string program_path() {
+    std::error_code ec;
+    std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
+    return ec ? std::string("candela") : self.string();
+}
+
 std::string default_output_for(const std::string& scene_path, const std::string& extension) {
     return std::filesystem::path(scene_path).stem().string() + extension;
 }
@@ -134,6 +271,10 @@ void add_render_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("--max-memory", args->max_memory,
                     "Stop at once (exit code 2) when the film, meshes or other buffers would need more than SIZE (e.g. 4G, 512M); "
                     "the machine's available memory is always a limit");
+    cmd->add_option("--samples", args->samples, "Render only sample indices START:END of every pixel, as one part for `candela merge`");
+    cmd->add_option("--crop", args->crop, "Render only the image region x,y,width,height (pixels), as one part for `candela merge`");
+    cmd->add_option("--resume", args->resume, "Continue the render that wrote this partial EXR (after Ctrl-C, SIGTERM or a checkpoint)");
+    cmd->add_option("--checkpoint", args->checkpoint_minutes, "Write a resumable partial render to the output every MINUTES (atomically)");
     cmd->add_option("--mode", args->mode, "path (Monte Carlo global illumination) or raster (local illumination); default: the scene's integrator")
         ->check(CLI::IsMember({"path", "raster"}));
     args->raster.add_to(cmd);
@@ -145,10 +286,14 @@ void add_render_command(CLI::App& app, std::function<int()>& run) {
             std::string png = std::filesystem::path(output).replace_extension(".png").string();
             check_output_path(output);
             if (args->png) check_output_path(png);
+            if (args->part() && args->png) throw InputError("--png needs the whole image: a part (--samples, --crop) holds sums; merge the parts first");
+            if (args->checkpoint_minutes < 0.0) throw InputError("--checkpoint expects minutes > 0");
 
-            // From here on Ctrl-C stops the render and writes what there is.
+            // From here on Ctrl-C or SIGTERM stops the render and writes what there is.
             g_interrupted = false;
-            auto previous = std::signal(SIGINT, on_sigint);
+            g_signal = 0;
+            auto previous_int = std::signal(SIGINT, on_stop_signal);
+            auto previous_term = std::signal(SIGTERM, on_stop_signal);
             use_search_folders(args->search_path);
             Ref<Scene> scene = load_scene(args->scene, params);
             apply_mode(*scene, *args);
@@ -161,24 +306,13 @@ void add_render_command(CLI::App& app, std::function<int()>& run) {
             options.aovs = args->aovs;
             options.sampler = args->sampler;
             options.adaptive = args->adaptive;
-
-            RenderResult result = scene->integrator().render(*scene, options);
-            std::signal(SIGINT, previous);
-
-            if (args->spp > 0 && result.stats.spp != args->spp && !result.stats.single_frame)
-                warn(SourceLocation{}, "--spp " + std::to_string(args->spp) + " rounded up to " + std::to_string(result.stats.spp) + " by the " +
-                                           result.stats.sampler + " sampler");
-            annotate_render(result, *scene, args->scene);
-            write_exr(result.image, output, scene->sensor().film().float32());
-            if (args->png) write_png_display(scene->integrator().preview(result.image), png);
-            if (!args->quiet) std::cerr << render_summary(result.stats, output) << "\n";
-            if (result.stats.nonfinite > 0)
-                std::cerr << "warning: " << result.stats.nonfinite << " samples were NaN or infinite and were dropped\n";
-            if (result.stats.partial) {
-                std::cerr << "interrupted: wrote the partial image to " << output << "\n";
-                return ExitInterrupted;
-            }
-            return ExitOk;
+            const bool sums = scene->integrator().renders_parts() && !options.adaptive.enabled();
+            if (!sums && (args->part() || !args->resume.empty() || args->checkpoint_minutes > 0.0))
+                throw InputError(parts_refusal(*scene, options));
+            int code = sums ? render_with_sums(*args, *scene, options, output, png) : render_frame(*args, *scene, options, output, png);
+            std::signal(SIGINT, previous_int);
+            std::signal(SIGTERM, previous_term);
+            return code;
         };
     });
 }

@@ -10,22 +10,7 @@
 namespace candela {
 
 void annotate_render(RenderResult& result, const Scene& scene, const std::string& scene_path) {
-    const RenderStats& s = result.stats;
-    auto& m = result.image.metadata;
-    m["software"] = std::string("Candela ") + CANDELA_VERSION;
-    m["candela.version"] = CANDELA_VERSION;
-    m["candela.scene"] = scene_path;
-    m["candela.integrator"] = scene.integrator().to_string();
-    m["candela.spp"] = std::to_string(s.spp);
-    m["candela.seed"] = std::to_string(s.seed);
-    if (!s.sampler.empty()) m["candela.sampler"] = s.sampler;
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.3f", s.seconds);
-    m["candela.renderTime"] = buf;
-    m["candela.samples"] = std::to_string(s.samples);
-    m["candela.rays"] = std::to_string(s.rays);
-    m["candela.nonfiniteSamples"] = std::to_string(s.nonfinite);
-    m["candela.partial"] = s.partial ? "true" : "false";
+    annotate_image(result.image, result.stats, scene.integrator().to_string(), scene_path);
 }
 
 std::string render_summary(const RenderStats& s, const std::string& output) {

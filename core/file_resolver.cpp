@@ -72,7 +72,9 @@ template <typename Test> std::optional<fs::path> FileResolver::find(const std::s
 }
 
 std::optional<fs::path> FileResolver::find_file(const std::string& name) const {
-    return find(name, [](const fs::path& p, std::error_code& ec) { return fs::is_regular_file(p, ec); });
+    auto found = find(name, [](const fs::path& p, std::error_code& ec) { return fs::is_regular_file(p, ec); });
+    if (found) found_files_->push_back(*found);
+    return found;
 }
 
 std::optional<fs::path> FileResolver::find_directory(const std::string& name) const {

@@ -6,6 +6,7 @@
 // front of the including file's list. See core/xml.cpp for the order in full.
 
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -24,6 +25,9 @@ public:
     std::optional<std::filesystem::path> find_directory(const std::string& name) const;
 
     const std::vector<std::filesystem::path>& folders() const { return folders_; }
+    // Every file find_file() has returned, in order, shared by all copies of this resolver: the
+    // files a scene read besides itself (the farm hashes them to tell renders apart).
+    const std::vector<std::filesystem::path>& found_files() const { return *found_files_; }
 
     // Confines every FileResolver of the process to files inside `folders` (symbolic links and
     // ".." resolved first): any other file is "not found". For programs that load untrusted
@@ -42,6 +46,7 @@ public:
 private:
     template <typename Test> std::optional<std::filesystem::path> find(const std::string& name, Test test) const;
     std::vector<std::filesystem::path> folders_;
+    std::shared_ptr<std::vector<std::filesystem::path>> found_files_ = std::make_shared<std::vector<std::filesystem::path>>();
 };
 
 }  // namespace candela

@@ -41,12 +41,12 @@ std::string film_description(const Film& film) {
 
 ImageBlock::ImageBlock(const Vec2i& offset, const Vec2i& size, const ReconstructionFilter* filter, int channels)
     : offset_(offset), size_(size), channels_(channels), filter_(filter) {
-    // A sample inside pixel p reaches pixels within the filter radius of its position; the
-    // farthest such pixel centre is ceil(radius - 0.5) pixels away.
-    border_ = std::max(0, int(std::ceil(filter->radius() - 0.5f)));
+    border_ = reach(*filter);
     stored_size_ = size + Vec2i(2 * border_);
     data_.assign(size_t(stored_size_.x) * stored_size_.y * size_t(channels_ + 1), 0.0f);
 }
+
+int ImageBlock::reach(const ReconstructionFilter& filter) { return std::max(0, int(std::ceil(filter.radius() - 0.5f))); }
 
 void ImageBlock::clear() { std::fill(data_.begin(), data_.end(), 0.0f); }
 

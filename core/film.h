@@ -52,6 +52,9 @@ public:
     ImageBlock() = default;
     // `offset` and `size` are in film pixels (the crop's coordinate system).
     ImageBlock(const Vec2i& offset, const Vec2i& size, const ReconstructionFilter* filter, int channels = 3);
+    // How many pixels beyond its own a sample reaches with this filter: the farthest pixel centre
+    // within the filter radius of a point inside the pixel is ceil(radius - 0.5) pixels away.
+    static int reach(const ReconstructionFilter& filter);
 
     // Splats `channels()` values at continuous film position `pos` (in pixels, crop coordinates).
     void put(const Vec2& pos, const float* values);

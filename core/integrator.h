@@ -4,10 +4,12 @@
 
 #include "core/image.h"
 #include "core/object.h"
+#include "core/pixel_sums.h"
 #include "core/ray.h"
 #include "core/spectrum.h"
 
 #include <atomic>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -16,6 +18,7 @@ namespace candela {
 
 class Scene;
 class Sampler;
+class Film;
 
 // Adaptive sampling (off unless threshold > 0): after `min_spp` samples, and then every `step`
 // samples, a pixel stops once its error estimate and those of its 8 neighbours are below
@@ -40,6 +43,16 @@ struct RenderOptions {
     // Extra EXR layers: "albedo", "normal", "depth", "variance", "samples" (samples per pixel).
     std::vector<std::string> aovs;
     AdaptiveSampling adaptive;
+    // A part of the render (see Integrator::parts_refusal): only these sample indices (default:
+    // [0, spp)) of only these pixels (default: the whole image). The part's sums are the same as
+    // those sample indices contribute to those pixels in the whole render. Not with adaptive
+    // sampling, whose pixels take samples depending on their earlier ones and their neighbours'.
+    SampleRange samples;
+    ImageRect region;
+    // Called every `checkpoint_seconds` (at the end of a pass, when the sums are consistent) with
+    // what the render holds so far; 0 or no callback: never.
+    double checkpoint_seconds = 0.0;
+    std::function<void(const PixelSums& sums, const std::vector<CoverageBox>& coverage)> checkpoint;
 };
 
 struct RenderStats {
@@ -58,16 +71,13 @@ struct RenderStats {
 
 struct RenderResult {
     // The film's channels (R, G, B, or as its pixel_format says), the integrator's channels, then
-    // the --aov layers.
+    // the --aov layers; for a part, of sums.rect() (the region and its filter margin).
     Image image;
     RenderStats stats;
-};
-
-// What a sample reports about its first hit, for the --aov layers.
-struct FirstHitAovs {
-    Spectrum albedo{0.0f};
-    Vec3 normal{0.0f};
-    float depth = 0.0f;
+    PixelSums sums;  // what `image` was developed from; empty unless the integrator renders parts
+    // Which samples of which pixels `sums` holds: the requested region and samples, less what an
+    // interruption left out (whole tiles of the last pass).
+    std::vector<CoverageBox> coverage;
 };
 
 // The most extra values one sample may report (SamplingIntegrator::channel_names()).
@@ -104,11 +114,20 @@ public:
     // Stops with a SceneError naming volpath when the scene has media this integrator would
     // ignore (Mitsuba's path ignores them silently; a silently wrong picture is worse).
     void refuse_unrendered_media(const Scene& scene) const;
+    // Why render() cannot honour RenderOptions::samples and ::region and fill RenderResult::sums
+    // (so that a render is split across machines and merged, resumed or checkpointed); "" when it
+    // can: only integrators whose every sample depends on nothing but (seed, pixel, sample index)
+    // and on state that every part computes alike.
+    virtual std::string parts_refusal() const { return "it renders one frame, not independent pixel samples"; }
+    bool renders_parts() const { return parts_refusal().empty(); }
 };
 
 class SamplingIntegrator : public Integrator {
 public:
     RenderResult render(const Scene& scene, const RenderOptions& options) override;
+    // "": every sample is a pixel sample; an integrator whose samples share state across sample
+    // indices (a cache built while rendering) must say why it cannot render parts.
+    std::string parts_refusal() const override { return ""; }
     // Called once per render before any sample (build light samplers, caches).
     virtual void prepare(const Scene& scene) {}
     // Radiance arriving along `ray`; fills `record` (valid, channels, first_hit when asked).
@@ -117,6 +136,19 @@ public:
     // aov_names(): "dd.T", "nn.X", ...); at most MaxSampleChannels.
     virtual std::vector<std::string> channel_names() const { return {}; }
 };
+
+// The scene's sampler, or the one the options name with the scene's sample count and seed, with
+// the render's sample count and seed (what render() samples with).
+Ref<Sampler> configured_sampler(const Scene& scene, const RenderOptions& options);
+
+// The pixels the samples of `region` splat onto: the region grown by the film filter's reach and
+// clipped to the image (RenderResult::sums covers this).
+ImageRect sums_rect(const Film& film, const ImageRect& region);
+
+// Writes what a render records about itself into `image`'s metadata (candela.*): the Candela
+// version, the scene file, the integrator, spp, seed, sampler, render time, samples, rays,
+// dropped non-finite samples and whether it is partial.
+void annotate_image(Image& image, const RenderStats& stats, const std::string& integrator, const std::string& scene_path);
 
 // Number of rays traced by the calling thread so far (the accelerator counts them).
 uint64_t thread_ray_count();

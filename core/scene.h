@@ -52,6 +52,9 @@ public:
     // The scene file's parameters after <default>s and -D overrides, substituted ($name) as
     // everywhere else; analytic scenes state their exact answer as the parameter "expected".
     std::map<std::string, std::string> parameters;
+    // The other files the scene read (included scene files, meshes, textures, spectra), in the
+    // order they were first found.
+    std::vector<std::string> input_files;
 
 private:
     std::vector<Ref<Shape>> shapes_;

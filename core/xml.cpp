@@ -9,6 +9,7 @@
 
 #include <pugixml.hpp>
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -102,6 +103,9 @@ public:
         auto scene = std::make_shared<Scene>(scene_props);
         scene_props.check_all_used();
         scene->parameters = params_;
+        for (const fs::path& f : resolver->found_files())
+            if (std::find(scene->input_files.begin(), scene->input_files.end(), f.string()) == scene->input_files.end())
+                scene->input_files.push_back(f.string());
         return scene;
     }
 

@@ -70,6 +70,9 @@ public:
 
     RenderResult render(const Scene& scene, const RenderOptions& options) override;
     std::string to_string() const override { return "ptracer"; }
+    std::string parts_refusal() const override {
+        return "its samples are light paths that splat onto whichever pixels they reach, not sample indices of pixels";
+    }
 
 private:
     // One light path: its connections to the sensor as splats.

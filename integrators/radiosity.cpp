@@ -181,6 +181,11 @@ public:
     }
 
     std::string to_string() const override { return "radiosity"; }
+    // The pixel loop alone could be split, but a render stopped during the solve shows a quick
+    // one-sample preview of the unfinished solution, which is no part of the render.
+    std::string parts_refusal() const override {
+        return "a render stopped during its radiosity solve shows a one-sample preview of the unfinished solution, which no part may hold";
+    }
 
 private:
     Spectrum radiosity_at(const std::vector<Spectrum> (&values)[2], const PatchHit& hit) const {

@@ -116,6 +116,10 @@ public:
 
     RenderResult render(const Scene& scene, const RenderOptions& options) override;
     std::string to_string() const override { return "sppm"; }
+    std::string parts_refusal() const override {
+        return "each pass shrinks the photon radius of every visible point from the photons of all earlier passes, so a range "
+               "of passes depends on those before it and its pixels have no independent samples";
+    }
 
 private:
     static PathSettings direct_settings() {

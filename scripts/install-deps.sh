@@ -1,6 +1,9 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages Candela needs to build, test and benchmark.
 # Only packages that are missing are installed; uses sudo when not root.
+#   install-deps.sh         what building and testing need
+#   install-deps.sh slurm   only Slurm and munge, for the render farm test (tests/farm/slurm_farm.sh)
+#                           or a one-machine cluster; it starts no daemon
 set -euo pipefail
 
 packages=(
@@ -13,6 +16,12 @@ packages=(
 # clang (Debian's clang 14) builds the sanitizer and fuzzing builds; libclang-rt-14-dev holds its
 # run-times (ASan, UBSan, TSan and libFuzzer: libclang_rt.fuzzer-x86_64.a); llvm gives
 # llvm-symbolizer, which turns sanitizer reports' addresses into file:line.
+if [ "${1:-}" = slurm ]; then
+  packages=(slurmctld slurmd slurm-client munge)
+elif [ $# -gt 0 ]; then
+  echo "usage: $0 [slurm]" >&2
+  exit 2
+fi
 
 missing=()
 for p in "${packages[@]}"; do

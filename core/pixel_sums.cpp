@@ -1,0 +1,187 @@
+#include "core/pixel_sums.h"
+
+#include "core/error.h"
+#include "core/math.h"
+
+#include <cmath>
+
+namespace candela {
+
+void PixelStats::add(const Spectrum& L, const FirstHitAovs& aov, uint32_t index) {
+    n++;
+    const bool a = in_class_a(index);
+    n_a += a;
+    for (int c = 0; c < 3; ++c) {
+        sum[c] += L[c];
+        sum_sq[c] += double(L[c]) * L[c];
+        if (a) sum_a[c] += L[c];
+        albedo[c] += aov.albedo[c];
+        normal[c] += aov.normal[c];
+    }
+    depth += aov.depth;
+}
+
+void PixelStats::add(const PixelStats& o) {
+    n += o.n;
+    taken += o.taken;
+    n_a += o.n_a;
+    for (int c = 0; c < 3; ++c) {
+        sum[c] += o.sum[c];
+        sum_sq[c] += o.sum_sq[c];
+        sum_a[c] += o.sum_a[c];
+        albedo[c] += o.albedo[c];
+        normal[c] += o.normal[c];
+    }
+    depth += o.depth;
+}
+
+bool PixelStats::in_class_a(uint32_t index) {
+    uint32_t v = index & 0xaaaaaaaau;
+    int ones = 0;
+    for (; v; v &= v - 1) ++ones;
+    return ones & 1;
+}
+
+double PixelStats::adaptive_error() const {
+    if (n == 0 || n_a == 0) return Infinity;
+    double difference = 0, total = 0;
+    for (int c = 0; c < 3; ++c) {
+        double mean = sum[c] / n;
+        difference += std::abs(mean - sum_a[c] / n_a);
+        total += mean;
+    }
+    return difference / (1e-4 + std::sqrt(std::max(total, 0.0)));
+}
+
+double PixelStats::variance_of_mean(int c) const {
+    double count = n;
+    double var = count > 1 ? (sum_sq[c] - sum[c] * sum[c] / count) / (count - 1) / count : 0.0;
+    return std::max(var, 0.0);
+}
+
+SampleLayout::SampleLayout(PixelFormat format, std::vector<std::string> integrator_channels)
+    : format_(format), alpha_(pixel_format_has_alpha(format)), extra_names_(std::move(integrator_channels)) {}
+
+std::vector<std::string> SampleLayout::value_names() const {
+    std::vector<std::string> names = {"R", "G", "B"};
+    if (alpha_) names.push_back("A");
+    names.insert(names.end(), extra_names_.begin(), extra_names_.end());
+    return names;
+}
+
+bool SampleLayout::fill(const Spectrum& L, bool valid, const float* integrator_values, float* out) const {
+    int c = 0;
+    for (int k = 0; k < 3; ++k) out[c++] = L[k];
+    if (alpha_) out[c++] = valid ? 1.0f : 0.0f;
+    for (int k = 0; k < extras(); ++k) out[c++] = integrator_values[k];
+    for (int k = 0; k < c; ++k)
+        if (!std::isfinite(out[k])) return false;
+    return true;
+}
+
+std::vector<std::string> SampleLayout::channels() const {
+    std::vector<std::string> names = pixel_format_channels(format_);
+    names.insert(names.end(), extra_names_.begin(), extra_names_.end());
+    return names;
+}
+
+void SampleLayout::write(const double* v, float* out) const {
+    const Spectrum rgb{float(v[0]), float(v[1]), float(v[2])};
+    write_pixel_format(format_, rgb, alpha_ ? float(v[3]) : 1.0f, out);
+    out += pixel_format_channels(format_).size();
+    for (int k = 0, first = alpha_ ? 4 : 3; k < extras(); ++k) out[k] = float(v[first + k]);
+}
+
+AovLayout::AovLayout(const std::vector<std::string>& names) {
+    for (const auto& a : names) {
+        if (a == "albedo") albedo_ = true;
+        else if (a == "normal") normal_ = true;
+        else if (a == "depth") depth_ = true;
+        else if (a == "variance") variance_ = true;
+        else if (a == "samples") samples_ = true;
+        else throw InputError("unknown AOV \"" + a + "\" (known: albedo, normal, depth, variance, samples)");
+    }
+}
+
+std::string AovLayout::names() const {
+    std::string out;
+    auto add = [&](bool on, const char* name) {
+        if (!on) return;
+        if (!out.empty()) out += ",";
+        out += name;
+    };
+    add(albedo_, "albedo");
+    add(normal_, "normal");
+    add(depth_, "depth");
+    add(variance_, "variance");
+    add(samples_, "samples");
+    return out;
+}
+
+std::vector<std::string> AovLayout::channels() const {
+    std::vector<std::string> channels;
+    const char* rgb[3] = {"R", "G", "B"};
+    if (albedo_)
+        for (auto c : rgb) channels.push_back(std::string("albedo.") + c);
+    if (normal_)
+        for (auto c : {"X", "Y", "Z"}) channels.push_back(std::string("normal.") + c);
+    if (depth_) channels.push_back("depth.Z");
+    if (variance_)
+        for (auto c : rgb) channels.push_back(std::string("variance.") + c);
+    if (samples_) channels.push_back("samples.N");
+    return channels;
+}
+
+void AovLayout::write(const PixelStats& ps, Image& img, int x, int y, int c) const {
+    double inv_n = ps.n ? 1.0 / double(ps.n) : 0.0;
+    if (albedo_)
+        for (int k = 0; k < 3; ++k) img.at(x, y, c++) = float(ps.albedo[k] * inv_n);
+    if (normal_)
+        for (int k = 0; k < 3; ++k) img.at(x, y, c++) = float(ps.normal[k] * inv_n);
+    if (depth_) img.at(x, y, c++) = float(ps.depth * inv_n);
+    if (variance_)
+        for (int k = 0; k < 3; ++k) img.at(x, y, c++) = float(ps.variance_of_mean(k));
+    if (samples_) img.at(x, y, c++) = float(ps.taken);
+}
+
+PixelSums::PixelSums(const ImageRect& rect, const SampleLayout& values, const AovLayout& layout)
+    : rect_(rect), values_(values), layout_(layout), filtered_(size_t(rect.size.x) * rect.size.y * size_t(values.values() + 1), 0.0) {
+    if (layout.pixel_stats()) stats_.resize(size_t(rect.size.x) * rect.size.y);
+}
+
+void PixelSums::add(const PixelSums& other) {
+    const Vec2i at = other.rect_.offset - rect_.offset;
+    const Vec2i end = at + other.rect_.size;
+    if (at.x < 0 || at.y < 0 || end.x > rect_.size.x || end.y > rect_.size.y || other.has_stats() != has_stats() ||
+        other.stride() != stride())
+        throw InputError("sums of another region or layout cannot be added");
+    const int n = stride();
+    for (int y = 0; y < other.rect_.size.y; ++y)
+        for (int x = 0; x < other.rect_.size.x; ++x) {
+            const double* src = other.filtered_at(x, y);
+            double* dst = filtered_at(at.x + x, at.y + y);
+            for (int c = 0; c < n; ++c) dst[c] += src[c];
+            if (has_stats()) stats_at(at.x + x, at.y + y).add(other.stats_at(x, y));
+        }
+}
+
+Image PixelSums::develop() const {
+    std::vector<std::string> channels = values_.channels();
+    const int first_layer = int(channels.size());
+    std::vector<std::string> layer_channels = layout_.channels();
+    channels.insert(channels.end(), layer_channels.begin(), layer_channels.end());
+    Image img(rect_.size.x, rect_.size.y, channels);
+    const int n = stride();
+    std::vector<double> normalised(size_t(n - 1));
+    for (int y = 0; y < rect_.size.y; ++y)
+        for (int x = 0; x < rect_.size.x; ++x) {
+            const double* a = filtered_at(x, y);
+            const double w = a[n - 1];
+            for (int c = 0; c + 1 < n; ++c) normalised[c] = w > 0.0 ? a[c] / w : 0.0;
+            values_.write(normalised.data(), &img.at(x, y, 0));
+            if (has_stats()) layout_.write(stats_at(x, y), img, x, y, first_layer);
+        }
+    return img;
+}
+
+}  // namespace candela

@@ -1,0 +1,346 @@
+#include "farm/part_file.h"
+
+#include "core/error.h"
+#include "core/scene.h"
+#include "core/text.h"
+
+#include <OpenImageIO/imageio.h>
+#include <candela/version.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+
+namespace candela {
+
+namespace {
+
+constexpr const char* PartFormat = "1";
+// float32 holds every integer up to 2^24 exactly: the largest per-pixel sample count of a part.
+constexpr uint32_t MaxExactCount = 1u << 24;
+
+// FNV-1a, 64 bits: a plain, stable byte hash (not cryptographic; it tells renders apart).
+struct Fnv1a {
+    uint64_t state = 0xcbf29ce484222325ULL;
+    void add(const char* data, size_t size) {
+        for (size_t i = 0; i < size; ++i) {
+            state ^= static_cast<unsigned char>(data[i]);
+            state *= 0x100000001b3ULL;
+        }
+    }
+    void add(const std::string& s) {
+        add(s.data(), s.size());
+        add("\0", 1);  // so that "ab"+"c" and "a"+"bc" differ
+    }
+    void add_file(const std::string& path) {
+        std::ifstream in(path, std::ios::binary);
+        if (!in) throw InputError(path + ": cannot read it to hash the scene");
+        char buffer[1 << 16];
+        while (in) {
+            in.read(buffer, sizeof buffer);
+            add(buffer, size_t(in.gcount()));
+        }
+        add("\0", 1);
+    }
+};
+
+std::vector<std::string> part_channels(const SampleLayout& values, const AovLayout& layout) {
+    std::vector<std::string> ch = {"R", "G", "B"};
+    for (const std::string& v : values.value_names()) ch.push_back("sum." + v);
+    ch.push_back("sum.W");
+    if (layout.pixel_stats()) ch.push_back("count.N");
+    if (layout.samples()) ch.push_back("taken.N");
+    auto layer = [&](const char* name, const char* components) {
+        for (const char* c = components; *c; ++c) ch.push_back(std::string(name) + "." + *c);
+    };
+    if (layout.albedo()) layer("albedoSum", "RGB");
+    if (layout.normal()) layer("normalSum", "XYZ");
+    if (layout.depth()) layer("depthSum", "Z");
+    if (layout.variance()) {
+        layer("moment1", "RGB");
+        layer("moment1lo", "RGB");
+        layer("moment2", "RGB");
+        layer("moment2lo", "RGB");
+    }
+    return ch;
+}
+
+std::string format_seconds(double s) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.3f", s);
+    return buf;
+}
+
+// The metadata value `key` of a part, InputError naming the file when absent.
+struct HeaderReader {
+    const std::string& path;
+    const OIIO::ImageSpec& spec;
+
+    std::string text(const std::string& key) const {
+        const OIIO::ParamValue* p = spec.find_attribute(key);
+        if (!p) throw InputError(path + ": part metadata lacks " + key);
+        return p->get_string();
+    }
+    // For values that may be empty: an empty string attribute does not survive the file.
+    std::string text_or_empty(const std::string& key) const {
+        const OIIO::ParamValue* p = spec.find_attribute(key);
+        return p ? p->get_string() : std::string();
+    }
+    template <typename T> T number(const std::string& key) const {
+        std::string s = text(key);
+        try {
+            size_t used = 0;
+            T v;
+            if constexpr (std::is_same_v<T, double>) v = std::stod(s, &used);
+            else if constexpr (std::is_same_v<T, uint64_t>) v = std::stoull(s, &used);
+            else v = T(std::stoi(s, &used));
+            if (used == s.size()) return v;
+        } catch (const std::exception&) {
+        }
+        throw InputError(path + ": part metadata " + key + " is not a number: \"" + s + "\"");
+    }
+};
+
+std::string join_names(const std::vector<std::string>& names) {
+    std::string out;
+    for (const std::string& n : names) out += (out.empty() ? "" : ",") + n;
+    return out;
+}
+
+}  // namespace
+
+AovLayout RenderIdentity::layout() const { return AovLayout(split_list(aovs)); }
+
+SampleLayout RenderIdentity::values() const {
+    for (PixelFormat f : {PixelFormat::Luminance, PixelFormat::LuminanceAlpha, PixelFormat::RGB, PixelFormat::RGBA, PixelFormat::XYZ, PixelFormat::XYZA})
+        if (join_names(pixel_format_channels(f)) == film_channels) return SampleLayout(f, split_list(integrator_channels));
+    throw InputError("film channels \"" + film_channels + "\" name no pixel format");
+}
+
+std::string RenderIdentity::difference(const RenderIdentity& o) const {
+    auto differs = [](const std::string& what, const std::string& a, const std::string& b) {
+        return a == b ? std::string() : what + " " + a + " against " + b;
+    };
+    std::string d;
+    auto check = [&](const std::string& what, const std::string& a, const std::string& b) {
+        if (d.empty()) d = differs(what, a, b);
+    };
+    check("Candela version", version, o.version);
+    check("scene hash", scene_hash + " (" + scene + ")", o.scene_hash + " (" + o.scene + ")");
+    check("seed", std::to_string(seed), std::to_string(o.seed));
+    check("sampler", sampler, o.sampler);
+    check("samples per pixel", std::to_string(spp), std::to_string(o.spp));
+    check("resolution", std::to_string(image.x) + "x" + std::to_string(image.y), std::to_string(o.image.x) + "x" + std::to_string(o.image.y));
+    check("integrator", integrator, o.integrator);
+    check("film channels", "\"" + film_channels + "\"", "\"" + o.film_channels + "\"");
+    check("integrator channels", "\"" + integrator_channels + "\"", "\"" + o.integrator_channels + "\"");
+    check("AOVs", "\"" + aovs + "\"", "\"" + o.aovs + "\"");
+    check("film format", float32 ? "float32" : "float16", o.float32 ? "float32" : "float16");
+    return d;
+}
+
+std::string scene_hash(const Scene& scene) {
+    Fnv1a h;
+    h.add_file(scene.source_file);
+    for (const std::string& f : scene.input_files) h.add_file(f);
+    for (const auto& [name, value] : scene.parameters) h.add(name + "=" + value);
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h.state));
+    return buf;
+}
+
+RenderIdentity render_identity(const Scene& scene, const std::string& scene_path, const RenderStats& stats, const SampleLayout& values,
+                               const AovLayout& layout, const std::string& command) {
+    RenderIdentity id;
+    id.scene = scene_path;
+    id.scene_hash = scene_hash(scene);
+    id.seed = stats.seed;
+    id.sampler = stats.sampler;
+    id.spp = stats.spp;
+    id.image = scene.sensor().film().crop_size();
+    id.integrator = scene.integrator().to_string();
+    id.film_channels = join_names(pixel_format_channels(values.format()));
+    id.integrator_channels = join_names(values.integrator_channels());
+    id.aovs = layout.names();
+    id.version = CANDELA_VERSION;
+    id.float32 = scene.sensor().film().float32();
+    id.command = command;
+    return id;
+}
+
+void write_part(const std::string& path, const PixelSums& sums, const PartHeader& header) {
+    const AovLayout& layout = sums.layout();
+    const Vec2i size = sums.size();
+    const int stride = sums.stride();
+    Image img(size.x, size.y, part_channels(sums.values(), layout));
+    for (int y = 0; y < size.y; ++y)
+        for (int x = 0; x < size.x; ++x) {
+            int c = 0;
+            auto put = [&](double v) { img.at(x, y, c++) = float(v); };
+            // Three values as float32 (momentK), then what float32 rounded off (momentKlo).
+            auto put_hi_lo = [&](const double* v) {
+                for (int k = 0; k < 3; ++k) {
+                    img.at(x, y, c + k) = float(v[k]);
+                    img.at(x, y, c + 3 + k) = float(v[k] - double(float(v[k])));
+                }
+                c += 6;
+            };
+            const double* f = sums.filtered_at(x, y);
+            const double w = f[stride - 1];
+            for (int k = 0; k < 3; ++k) put(w > 0.0 ? f[k] / w : 0.0);
+            for (int k = 0; k < stride; ++k) put(f[k]);
+            if (!layout.pixel_stats()) continue;
+            const PixelStats& ps = sums.stats_at(x, y);
+            if (ps.taken > MaxExactCount)
+                throw InputError(path + ": a pixel holds " + std::to_string(ps.taken) + " samples, more than a part can count exactly (2^24)");
+            put(ps.n);
+            if (layout.samples()) put(ps.taken);
+            if (layout.albedo())
+                for (double v : ps.albedo) put(v);
+            if (layout.normal())
+                for (double v : ps.normal) put(v);
+            if (layout.depth()) put(ps.depth);
+            if (layout.variance()) {
+                put_hi_lo(ps.sum);
+                put_hi_lo(ps.sum_sq);
+            }
+        }
+    const RenderIdentity& id = header.identity;
+    auto& m = img.metadata;
+    m["software"] = "Candela " + id.version;
+    m["candela.partFormat"] = PartFormat;
+    m["candela.scene"] = id.scene;
+    m["candela.sceneHash"] = id.scene_hash;
+    m["candela.seed"] = std::to_string(id.seed);
+    m["candela.sampler"] = id.sampler;
+    m["candela.spp"] = std::to_string(id.spp);
+    m["candela.imageSize"] = std::to_string(id.image.x) + "x" + std::to_string(id.image.y);
+    m["candela.integrator"] = id.integrator;
+    m["candela.filmChannels"] = id.film_channels;
+    m["candela.integratorChannels"] = id.integrator_channels;
+    m["candela.aovs"] = id.aovs;
+    m["candela.version"] = id.version;
+    m["candela.float32"] = id.float32 ? "true" : "false";
+    m["candela.command"] = id.command;
+    m["candela.coverage"] = format_coverage(header.coverage);
+    m["candela.partial"] = header.partial ? "true" : "false";
+    m["candela.origin"] = std::to_string(sums.rect().offset.x) + "," + std::to_string(sums.rect().offset.y);
+    m["candela.renderTime"] = format_seconds(header.render_seconds);
+    m["candela.started"] = format_seconds(header.started);
+    m["candela.finished"] = format_seconds(header.finished);
+    m["candela.host"] = header.host;
+    m["candela.renderedParts"] = std::to_string(header.rendered_parts);
+    m["candela.samples"] = std::to_string(header.samples);
+    m["candela.rays"] = std::to_string(header.rays);
+    m["candela.nonfiniteSamples"] = std::to_string(header.nonfinite);
+    write_exr(img, path, true);
+}
+
+PartHeader read_part_header(const std::string& path) {
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) throw InputError(path + ": cannot read: " + OIIO::geterror());
+    const OIIO::ImageSpec& spec = in->spec();
+    if (!spec.find_attribute("candela.partFormat"))
+        throw InputError(path + ": not a part of a split render (no candela.partFormat metadata; parts come from "
+                                "`candela render --samples START:END` or `--crop`)");
+    HeaderReader r{path, spec};
+    if (r.text("candela.partFormat") != PartFormat)
+        throw InputError(path + ": part format " + r.text("candela.partFormat") + ", this Candela reads format " + PartFormat);
+    PartHeader h;
+    h.path = path;
+    RenderIdentity& id = h.identity;
+    id.scene = r.text("candela.scene");
+    id.scene_hash = r.text("candela.sceneHash");
+    id.seed = r.number<uint64_t>("candela.seed");
+    id.sampler = r.text("candela.sampler");
+    id.spp = r.number<int>("candela.spp");
+    if (std::sscanf(r.text("candela.imageSize").c_str(), "%dx%d", &id.image.x, &id.image.y) != 2)
+        throw InputError(path + ": part metadata candela.imageSize is not WIDTHxHEIGHT");
+    id.integrator = r.text("candela.integrator");
+    id.film_channels = r.text("candela.filmChannels");
+    id.integrator_channels = r.text_or_empty("candela.integratorChannels");
+    id.aovs = r.text_or_empty("candela.aovs");
+    id.version = r.text("candela.version");
+    id.float32 = r.text("candela.float32") == "true";
+    id.command = r.text("candela.command");
+    h.partial = r.text("candela.partial") == "true";
+    try {
+        h.coverage = r.text_or_empty("candela.coverage").empty() ? std::vector<CoverageBox>{} : parse_coverage(r.text("candela.coverage"));
+    } catch (const InputError& e) {
+        throw InputError(path + ": " + e.what());
+    }
+    if (std::sscanf(r.text("candela.origin").c_str(), "%d,%d", &h.rect.offset.x, &h.rect.offset.y) != 2)
+        throw InputError(path + ": part metadata candela.origin is not X,Y");
+    h.rect.size = Vec2i(spec.width, spec.height);
+    h.render_seconds = r.number<double>("candela.renderTime");
+    h.started = r.number<double>("candela.started");
+    h.finished = r.number<double>("candela.finished");
+    h.host = r.text_or_empty("candela.host");
+    h.rendered_parts = r.number<int>("candela.renderedParts");
+    h.samples = r.number<uint64_t>("candela.samples");
+    h.rays = r.number<uint64_t>("candela.rays");
+    h.nonfinite = r.number<uint64_t>("candela.nonfiniteSamples");
+    SampleLayout values;
+    try {
+        values = id.values();
+    } catch (const InputError& e) {
+        throw InputError(path + ": part metadata: " + e.what());
+    }
+    std::vector<std::string> expected = part_channels(values, id.layout()), found = spec.channelnames;
+    std::sort(expected.begin(), expected.end());
+    std::sort(found.begin(), found.end());
+    if (found != expected)
+        throw InputError(path + ": its channels are not those of a part with film channels \"" + id.film_channels + "\", integrator channels \"" +
+                         id.integrator_channels + "\" and AOVs \"" + id.aovs + "\"");
+    const Vec2i end = h.rect.offset + h.rect.size;
+    bool inside = h.rect.offset.x >= 0 && h.rect.offset.y >= 0 && end.x <= id.image.x && end.y <= id.image.y;
+    for (const CoverageBox& b : h.coverage) {
+        const Vec2i b1 = b.rect.offset + b.rect.size;
+        inside = inside && b.rect.offset.x >= h.rect.offset.x && b.rect.offset.y >= h.rect.offset.y && b1.x <= end.x && b1.y <= end.y &&
+                 b.samples.end <= id.spp;
+    }
+    if (!inside) throw InputError(path + ": its coverage " + format_coverage(h.coverage) + " lies outside its image or samples");
+    return h;
+}
+
+void add_part(const PartHeader& h, PixelSums& image_sums) {
+    // OpenEXR stores channels sorted by name: find each where it is.
+    Image part = read_image(h.path);
+    std::vector<int> index;
+    for (const std::string& name : part_channels(image_sums.values(), image_sums.layout()))
+        if (name.find('.') != std::string::npos) index.push_back(part.channel_index(name));  // not R, G, B: the image
+    if (part.width() != h.rect.size.x || part.height() != h.rect.size.y || std::count(index.begin(), index.end(), -1) > 0)
+        throw InputError(h.path + ": changed while merging");
+    const Vec2i at = h.rect.offset - image_sums.rect().offset;
+    if (at.x < 0 || at.y < 0 || at.x + part.width() > image_sums.size().x || at.y + part.height() > image_sums.size().y)
+        throw InputError(h.path + ": lies outside the merged area");
+    const AovLayout& layout = image_sums.layout();
+    for (int y = 0; y < part.height(); ++y)
+        for (int x = 0; x < part.width(); ++x) {
+            const int ix = at.x + x, iy = at.y + y;
+            int c = 0;
+            auto value = [&](int channel) { return double(part.at(x, y, index[channel])); };
+            auto next = [&]() { return value(c++); };
+            auto add_hi_lo = [&](double* sum) {
+                for (int k = 0; k < 3; ++k) sum[k] += value(c + k) + value(c + 3 + k);
+                c += 6;
+            };
+            double* f = image_sums.filtered_at(ix, iy);
+            for (int k = 0; k < image_sums.stride(); ++k) f[k] += next();
+            if (!layout.pixel_stats()) continue;
+            PixelStats& ps = image_sums.stats_at(ix, iy);
+            ps.n += uint32_t(next());
+            ps.taken += layout.samples() ? uint32_t(next()) : 0;
+            if (layout.albedo())
+                for (double& v : ps.albedo) v += next();
+            if (layout.normal())
+                for (double& v : ps.normal) v += next();
+            if (layout.depth()) ps.depth += next();
+            if (layout.variance()) {
+                add_hi_lo(ps.sum);
+                add_hi_lo(ps.sum_sq);
+            }
+        }
+}
+
+}  // namespace candela
