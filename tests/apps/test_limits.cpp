@@ -19,6 +19,18 @@ std::string film_scene(int width, int height) {
                      "\"/><integer name=\"height\" value=\"" + std::to_string(height) + "\"/>\n</film>\n</sensor>\n<shape type=\"sphere\"/>");
 }
 
+// A shell prefix that limits the command's memory to 3 GB: its address space (ulimit -v), or in
+// the AddressSanitizer build, whose shadow memory alone reserves terabytes of address space, its
+// resident set and any single allocation (ASan's own limits; the build's other options stay).
+std::string memory_limit_3gb() {
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer)
+    return "ASAN_OPTIONS=hard_rss_limit_mb=3000:max_allocation_size_mb=3000 ";
+#endif
+#endif
+    return "ulimit -v 3000000; ";
+}
+
 std::string render_cmd(const std::filesystem::path& scene, const std::filesystem::path& out, const std::string& extra) {
     return "'" + candela_binary() + "' render '" + scene.string() + "' -o '" + out.string() + "' --spp 1 --threads 1 " + extra;
 }
@@ -41,10 +53,10 @@ TEST_CASE("limits: a 2e9 x 8 film stops with exit code 2 at the film's line with
     auto dir = scratch_dir("limits-film");
     write_text(dir / "huge.xml", film_scene(2000000000, 8));
     write_text(dir / "small.xml", film_scene(8, 8));
-    // Under a 3 GB address-space limit an attempt to allocate the film (tens of gigabytes, in
-    // millions of tiles) would end in "out of memory" instead of the budget's message; the small
-    // film shows that the limit leaves room for an ordinary render.
-    const std::string limit = "ulimit -v 3000000; ";
+    // Under a 3 GB limit an attempt to allocate the film (tens of gigabytes, in millions of tiles)
+    // would end in "out of memory" instead of the budget's message; the small film shows that the
+    // limit leaves room for an ordinary render.
+    const std::string limit = memory_limit_3gb();
     REQUIRE(run_command(limit + render_cmd(dir / "small.xml", dir / "small.exr", "--aov albedo,normal,depth"), dir / "small.txt") == 0);
     int code = run_command(limit + render_cmd(dir / "huge.xml", dir / "huge.exr", "--aov albedo,normal,depth"), dir / "huge.txt");
     std::string log = read_text(dir / "huge.txt");
