@@ -2,8 +2,6 @@
 // PCG32 (O'Neill 2014, "PCG: A Family of Simple Fast Space-Efficient Statistically Good
 // Algorithms for Random Number Generation") and the integer hashes that seed it per sample.
 
-#include "core/math.h"
-
 #include <cstdint>
 
 namespace candela {
@@ -61,15 +59,5 @@ public:
 private:
     uint64_t state_ = 0, inc_ = 1;
 };
-
-// A 2D sample from two draws, the second coordinate drawn first. Written out because C++ leaves
-// the order in which a call's arguments are evaluated unspecified: Vec2(rng.next_float(),
-// rng.next_float()) gave GCC's builds (last argument first) other images than clang's. Drawing y
-// first keeps the images the GCC builds have always made.
-inline Vec2 next_vec2(PCG32& rng) {
-    const float y = rng.next_float();
-    const float x = rng.next_float();
-    return Vec2(x, y);
-}
 
 }  // namespace candela

@@ -1,5 +1,7 @@
 #include "integrators/light_paths.h"
 
+#include "core/random_2d.h"
+
 namespace candela {
 
 SampleSettings sample_settings(const Scene& scene, const RenderOptions& options) {

@@ -30,6 +30,7 @@
 #include "core/bsdf.h"
 #include "core/film.h"
 #include "core/progress.h"
+#include "core/random_2d.h"
 #include "core/properties.h"
 #include "core/registry.h"
 #include "core/scene.h"

@@ -10,7 +10,7 @@
 
 #include "core/emitter.h"
 #include "core/progress.h"
-#include "core/rng.h"
+#include "core/random_2d.h"
 #include "core/scene.h"
 #include "core/warning.h"
 #include "core/warp.h"

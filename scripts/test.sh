@@ -42,14 +42,17 @@ long_verification='^(validate|converge):'
 
 asan() {
     CXX=clang++ cmake -S . -B build-asan -DCANDELA_FUZZ=ON -DBUILD_TESTING=ON
-    cmake --build build-asan -j"$jobs"
+    cmake --build build-asan -j"$jobs" --target candela candela_tests
     CANDELA_TEST_EFFORT=0.1 ctest --test-dir build-asan --output-on-failure --timeout 1500 -j"$jobs" -E "$long_verification"
 }
 
-# The tests that run the parallel code: the pixel loop (integrator and CLI renders, interrupt),
-# the rasterizer's tiles and per-vertex lighting, the light tree's build; photon passes (tests
-# named photon or sppm) join when a photon-mapping integrator lands.
-parallel_paths='^(determinism|film: a crop|render: AOVs|cli: render|cli: Ctrl-C|raster: |rasterizer: |light tree|light samplers|furnace: |example scenes|scenes/shapes|null transport|photon|sppm)'
+# The tests that run the parallel code (every tbb::parallel_for of the sources): the pixel loop
+# (integrator and CLI renders, crops, AOVs, Ctrl-C), the rasterizer's tiles, per-vertex lighting,
+# ambient occlusion and environment prefiltering, the light tree's build and its use by the
+# render threads, the photon passes of sppm and photonmapper and ptracer's splats ("light paths:"
+# renders them with 1 and 2 threads), the radiosity solver, and the estimators of `candela
+# estimate`. Check a change with: ctest --test-dir build -N -R "$parallel_paths".
+parallel_paths='^(determinism|film: a crop|render: AOVs|cli: render|cli: Ctrl-C|cli: estimate|raster: |rasterizer: |raster AO: deterministic|raster IBL: |light tree|light samplers|light paths: |photonmapper|sppm|radiosity: bit-identical|radiosity and ao: |ao: bit-identical|furnace: |example scenes|scenes/shapes|null transport)'
 
 tsan() {
     CXX=clang++ cmake -S . -B build-tsan -DCANDELA_SANITIZE=thread -DBUILD_TESTING=ON

@@ -1,6 +1,6 @@
 #include "integrators/raster/rasterizer.h"
 
-#include "core/rng.h"
+#include "core/random_2d.h"
 
 namespace candela::raster {
 
