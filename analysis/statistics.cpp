@@ -159,7 +159,7 @@ ChiSquareResult chi_square(const std::vector<double>& observed, const std::vecto
         r.chi2 = INFINITY;  // samples where the pdf is zero
     }
     r.dof = std::max(cells - 1, 1);
-    r.p_value = chi2_survival(r.chi2, r.dof);
+    r.p_value = std::isinf(r.chi2) ? 0.0 : chi2_survival(r.chi2, r.dof);
     r.details = "chi2 = " + std::to_string(r.chi2) + ", dof = " + std::to_string(r.dof) + ", p = " + std::to_string(r.p_value) +
                 ", pooled cells = " + std::to_string(r.pooled_cells);
     return r;
