@@ -19,9 +19,9 @@ using namespace candela::test;
 
 namespace {
 
-// The statistical tests of this file: 7 irradiance z-tests, 1 on the error bars' N^-1/2, 9
+// The statistical tests of this file: 7 irradiance z-tests, 1 on the error bars' N^-1/2, 12
 // emitter chi-squares, 5 + 3 light-tree chi-squares, 2 strategy z-tests.
-constexpr int LightTests = 27;
+constexpr int LightTests = 30;
 const double Alpha = sidak(0.01, LightTests);
 
 Ref<Scene> scene_from(const std::string& body) {
@@ -186,6 +186,12 @@ TEST_CASE("emitters: sampling matches pdf_direction for every kind of light", "[
                        AreaLight + "</shape>";
     check_emitter_sampling("rectangle (spherical rectangle)", rect, Vec3(0.0f), 3);
     check_emitter_sampling("rectangle seen from behind", rect, Vec3(0.5f, 3.0f, -1.0f), 4);
+    check_emitter_sampling("rectangle seen from afar (area)", rect, Vec3(2.0f, -4.0f, 3.0f), 10);
+    // A mirroring to_world: Mitsuba's rectangle then faces along the transformed normal, -z here.
+    std::string mirrored = std::string(R"(<shape type="rectangle"><transform name="to_world"><scale x="0.5" y="0.4" z="-1"/><translate z="1"/></transform>)") +
+                           AreaLight + "</shape>";
+    check_emitter_sampling("mirrored rectangle, near (spherical rectangle)", mirrored, Vec3(0.1f, 0.0f, 0.2f), 11);
+    check_emitter_sampling("mirrored rectangle, far (area)", mirrored, Vec3(0.3f, 0.2f, -5.0f), 12);
     std::string sheared = std::string(R"(<shape type="rectangle"><transform name="to_world"><matrix value="1 0.5 0 0  0 0 1 1  0 1 0 0  0 0 0 1"/></transform>)") +
                           AreaLight + "</shape>";
     check_emitter_sampling("sheared rectangle (area)", sheared, Vec3(0.0f), 5);
@@ -227,6 +233,24 @@ std::string many_lights(int count, uint64_t seed) {
     return body;
 }
 }  // namespace
+
+TEST_CASE("emitters: a mirrored rectangle emits on the side Mitsuba's transformed normal faces", "[lights][sampling]") {
+    // scale z = -1 mirrors: the transformed normal of (0, 0, 1) is (0, 0, -1), while the
+    // triangles' winding still turns counter-clockwise around +z.
+    Ref<Scene> scene = scene_from(std::string(R"(<shape type="rectangle"><transform name="to_world"><scale x="0.5" y="0.4" z="-1"/><translate z="1"/></transform>)") +
+                                  AreaLight + "</shape>");
+    const Emitter& emitter = *scene->emitters()[0];
+    SurfaceInteraction from_below, from_above;
+    REQUIRE(scene->intersect(Ray(Vec3(0.0f), Vec3(0, 0, 1)), from_below));
+    REQUIRE(scene->intersect(Ray(Vec3(0, 0, 2), Vec3(0, 0, -1)), from_above));
+    CHECK(from_below.n.z < 0.0f);
+    CHECK(luminance(emitter.eval(from_below)) > 0.0f);
+    CHECK(luminance(emitter.eval(from_above)) == 0.0f);
+    // Light sampling agrees: points below see the light, points above do not.
+    Spectrum weight;
+    CHECK(emitter.sample_direction(virtual_vertex(*scene, Vec3(0, 0, 0.5f), Vec3(0, 0, 1)), Vec2(0.3f, 0.6f), weight).pdf > 0.0f);
+    CHECK(emitter.sample_direction(virtual_vertex(*scene, Vec3(0, 0, 1.5f), Vec3(0, 0, -1)), Vec2(0.3f, 0.6f), weight).pdf == 0.0f);
+}
 
 TEST_CASE("light tree: selection probabilities sum to one, match sampling, and miss no light", "[lights][tree]") {
     Ref<Scene> scene = scene_from(many_lights(60, 4));
