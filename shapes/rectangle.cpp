@@ -47,7 +47,7 @@ public:
         ps.p_error = gamma_bound(6) * (max_abs_component(corner_) + max_abs_component(ex_) + max_abs_component(ey_));
         ps.n = normal_;
         ps.uv = u;
-        ps.pdf = 1.0f / area_;
+        ps.pdf = 1.0f / surface_area();
         return ps;
     }
 
