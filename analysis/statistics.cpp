@@ -132,6 +132,7 @@ ChiSquareResult chi_square(const std::vector<double>& observed, const std::vecto
     ChiSquareResult r;
     double pooled_obs = 0.0, pooled_exp = 0.0;
     int cells = 0;
+    size_t smallest = observed.size();  // the tested cell with the smallest expectation
     for (size_t i = 0; i < observed.size(); ++i) {
         if (expected[i] < min_expected) {
             pooled_obs += observed[i];
@@ -142,18 +143,23 @@ ChiSquareResult chi_square(const std::vector<double>& observed, const std::vecto
         double d = observed[i] - expected[i];
         r.chi2 += d * d / expected[i];
         ++cells;
+        if (smallest == observed.size() || expected[i] < expected[smallest]) smallest = i;
     }
-    if (pooled_exp > 0.0) {
-        double d = pooled_obs - pooled_exp;
-        // A pooled cell too small to test keeps its (tiny) expectation; mass observed where
-        // nothing was expected is still caught because d^2 / e grows without bound.
-        r.chi2 += d * d / std::max(pooled_exp, 1e-12);
+    auto term = [](double o, double e) { return (o - e) * (o - e) / e; };
+    if (pooled_exp >= min_expected || (pooled_exp > 0.0 && cells == 0)) {
+        r.chi2 += term(pooled_obs, pooled_exp);
         ++cells;
+    } else if (pooled_exp > 0.0) {
+        // A pooled cell still below min_expected would break the chi-square approximation: one
+        // sample where 0.004 were expected adds 250 to chi2, a false failure that grows more
+        // likely as the sample count falls. It joins the smallest tested cell instead (Cochran's
+        // rule); mass observed where almost nothing was expected still shows as a large excess there.
+        r.chi2 += term(observed[smallest] + pooled_obs, expected[smallest] + pooled_exp) - term(observed[smallest], expected[smallest]);
     } else if (pooled_obs > 0.0) {
         r.chi2 = INFINITY;  // samples where the pdf is zero
     }
     r.dof = std::max(cells - 1, 1);
-    r.p_value = chi2_survival(r.chi2, r.dof);
+    r.p_value = std::isinf(r.chi2) ? 0.0 : chi2_survival(r.chi2, r.dof);
     r.details = "chi2 = " + std::to_string(r.chi2) + ", dof = " + std::to_string(r.dof) + ", p = " + std::to_string(r.p_value) +
                 ", pooled cells = " + std::to_string(r.pooled_cells);
     return r;

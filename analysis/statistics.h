@@ -47,7 +47,8 @@ struct ChiSquareResult {
     std::string details;
 };
 // Pearson's test of observed counts against expected counts; cells with expected count below
-// `min_expected` are pooled into one (as the protocol asks).
+// `min_expected` are pooled into one (as the protocol asks), which joins the smallest
+// tested cell when its own expectation is still below `min_expected`.
 ChiSquareResult chi_square(const std::vector<double>& observed, const std::vector<double>& expected, double min_expected = 5.0);
 
 // Mean and standard error of the mean of a list of values.

@@ -70,8 +70,9 @@ bool parse_srgb(const std::string& text, const std::vector<double>& numbers, Spe
     if (!text.empty() && text[0] == '#') {
         if (text.size() != 7) return false;
         for (int c = 0; c < 3; ++c) {
+            const std::string digits = text.substr(1 + 2 * c, 2);  // outlives `end`, which points into it
             char* end = nullptr;
-            long v = std::strtol(text.substr(1 + 2 * c, 2).c_str(), &end, 16);
+            long v = std::strtol(digits.c_str(), &end, 16);
             if (*end != '\0') return false;
             out[c] = srgb_to_linear(float(v) / 255.0f);
         }

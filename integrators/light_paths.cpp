@@ -1,5 +1,7 @@
 #include "integrators/light_paths.h"
 
+#include "core/random_2d.h"
+
 namespace candela {
 
 SampleSettings sample_settings(const Scene& scene, const RenderOptions& options) {
@@ -26,7 +28,7 @@ LightPathTracer::LightPathTracer(const Scene& scene, int max_hits, int rr_depth)
 
 bool LightPathTracer::start(PCG32& rng, LightPathStart& s) const {
     float u_pick = rng.next_float();
-    Vec2 u_position(rng.next_float(), rng.next_float()), u_direction(rng.next_float(), rng.next_float());
+    const Vec2 u_position = next_vec2(rng), u_direction = next_vec2(rng);
     s.emitter = lights_->sample(SurfaceInteraction(), u_pick, s.pick_prob);
     if (!s.emitter || !(s.pick_prob > 0.0f)) return false;
     s.ray = s.emitter->sample_ray(u_position, u_direction);
@@ -39,7 +41,7 @@ bool LightPathTracer::scatter(PCG32& rng, const SurfaceInteraction& si, const BS
     BSDFContext ctx;
     ctx.mode = TransportMode::Importance;
     float u_lobe = rng.next_float();
-    Vec2 u_dir(rng.next_float(), rng.next_float());
+    Vec2 u_dir = next_vec2(rng);
     BSDFSample bs = bsdf.sample(ctx, si, u_lobe, u_dir);
     if (!bs.valid() || is_black(bs.weight)) return false;
     float correction = shading_normal_correction(si, bs.wo);

@@ -50,6 +50,7 @@
 // lookups sum in a fixed order (integrators/photons.h), camera samples on (seed, pixel, index).
 
 #include "core/bsdf.h"
+#include "core/memory_budget.h"
 #include "core/properties.h"
 #include "core/registry.h"
 #include "core/sampler.h"
@@ -81,6 +82,7 @@ public:
         rr_depth_ = props.get_int("rr_depth", 5);
         if (rr_depth_ <= 0) props.fail("rr_depth", "rr_depth must be positive");
         hide_emitters_ = props.get_bool("hide_emitters", false);
+        location_ = props.location();
     }
 
     // The photon maps are built in prepare(), with the render's threads, seed and interruption.
@@ -127,6 +129,9 @@ private:
         return r;
     }
     bool within_depth(uint32_t segments) const { return max_depth_ < 0 || segments <= uint32_t(max_depth_); }
+    // Stops the render (a SceneError at the integrator, exit code 2) before the maps are filled
+    // when they cannot fit in memory (core/memory_budget.h).
+    void check_map_memory(bool caustic) const;
     void build_map(const LightPathTracer& tracer, bool caustic, uint64_t stream, PhotonMap& map) const;
     // The lookup_size nearest photons within the map's radius that pass `keep`, in photon order;
     // returns the squared radius of the estimate (the farthest of them, or the map's radius).
@@ -139,6 +144,7 @@ private:
     Spectrum gathered_radiance(const GatherPoint& y) const;
     Spectrum final_gather(const Scene& scene, Sampler& sampler, const GatherPoint& x) const;
 
+    SourceLocation location_;
     PhotonMap global_, caustic_;
     std::vector<IrradiancePoint> irradiance_;
     PointGrid<IrradiancePoint> irradiance_grid_;
@@ -161,11 +167,24 @@ void PhotonMapIntegrator::prepare(const Scene& scene) {
         map->photons.clear();
         map->emitted = 0.0;
     }
+    check_map_memory(specular);
     build_map(tracer, false, 2, global_);
     if (specular) build_map(tracer, true, 3, caustic_);
     global_.grid.build(global_.photons, global_.radius);
     caustic_.grid.build(caustic_.photons, caustic_.radius);
     precompute_irradiance();
+}
+
+// The maps' photons and, while a grid is built, a sorted copy, each photon's bucket and up to four
+// bucket starts per photon (PointGrid::build); then the irradiance points at every fourth global
+// photon with their own grid. A map may overshoot its target by part of a work unit: not counted.
+void PhotonMapIntegrator::check_map_memory(bool caustic) const {
+    const uint64_t caustic_photons = caustic ? caustic_.target : 0, grid_per_point = 5 * sizeof(uint32_t);
+    const uint64_t per_photon = 2 * sizeof(Photon) + grid_per_point, per_irradiance = 2 * sizeof(IrradiancePoint) + grid_per_point;
+    const uint64_t bytes = saturating_add(saturating_mul(saturating_add(global_.target, caustic_photons), per_photon),
+                                          saturating_mul(global_.target / 4, per_irradiance));
+    check_memory(bytes, "photonmapper's maps of " + std::to_string(global_.target) + " global and " + std::to_string(caustic_photons) + " caustic photons",
+                 location_);
 }
 
 // Irradiance at every fourth global photon from its lookup_size nearest photons on surfaces

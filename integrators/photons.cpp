@@ -29,7 +29,11 @@ GatherPoint walk_to_gather_point(const Scene& scene, Sampler& sampler, Ray ray, 
             end.depth = depth;
             break;
         }
-        BSDFSample bs = bsdf.sample(BSDFContext(), si, sampler.next_1d(), sampler.next_2d());
+        // The 2D sample first, as GCC evaluated the former call's arguments (last first): the
+        // order of a call's argument evaluation is unspecified, so it is written out.
+        const Vec2 u_dir = sampler.next_2d();
+        const float u_lobe = sampler.next_1d();
+        BSDFSample bs = bsdf.sample(BSDFContext(), si, u_lobe, u_dir);
         if (!bs.valid() || is_black(bs.weight)) break;
         beta *= bs.weight;
         eta *= bs.eta;

@@ -30,6 +30,7 @@
 #include "core/bsdf.h"
 #include "core/film.h"
 #include "core/progress.h"
+#include "core/random_2d.h"
 #include "core/properties.h"
 #include "core/registry.h"
 #include "core/scene.h"
@@ -106,7 +107,7 @@ void ParticleTracerIntegrator::trace_path(const LightPathTracer& tracer, PCG32& 
 // The emitter's own point seen by the sensor: Le |cos| / (pdf_position pick_prob) times the
 // sensor's weight.
 void ParticleTracerIntegrator::connect_area_emitter(const Scene& scene, const LightPathStart& start, PCG32& rng, ChunkSplats& out) const {
-    Vec2 u(rng.next_float(), rng.next_float());
+    Vec2 u = next_vec2(rng);
     SensorSample ss = scene.sensor().sample_direction(start.ray.ray.o, u);
     if (!(ss.pdf > 0.0f)) return;
     SurfaceInteraction si;
@@ -129,7 +130,7 @@ void ParticleTracerIntegrator::connect_area_emitter(const Scene& scene, const Li
 // sensor lands where that direction is seen; the sensor weight falls as 1 / D^2 and the solid
 // angle of the emitter "surface" grows as D^2, so D cancels.
 void ParticleTracerIntegrator::connect_environment(const Scene& scene, const LightPathStart& start, PCG32& rng, ChunkSplats& out) const {
-    Vec2 u_dir(rng.next_float(), rng.next_float()), u_lens(rng.next_float(), rng.next_float());
+    const Vec2 u_dir = next_vec2(rng), u_lens = next_vec2(rng);
     SurfaceInteraction eye;
     eye.p = scene.sensor().to_world().apply_point(Vec3(0.0f));
     Spectrum radiance_over_pdf;
@@ -145,7 +146,7 @@ void ParticleTracerIntegrator::connect_environment(const Scene& scene, const Lig
 // A light path vertex seen by the sensor: beta f |cos| (adjoint, shading-corrected) times the
 // sensor's weight.
 void ParticleTracerIntegrator::connect_vertex(const Scene& scene, const LightVertex& v, PCG32& rng, ChunkSplats& out) const {
-    Vec2 u(rng.next_float(), rng.next_float());
+    Vec2 u = next_vec2(rng);
     SensorSample ss = scene.sensor().sample_direction(v.si->p, u);
     if (!(ss.pdf > 0.0f)) return;
     Vec3 wo = v.si->to_local(ss.d);

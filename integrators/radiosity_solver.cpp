@@ -10,7 +10,7 @@
 
 #include "core/emitter.h"
 #include "core/progress.h"
-#include "core/rng.h"
+#include "core/random_2d.h"
 #include "core/scene.h"
 #include "core/warning.h"
 #include "core/warp.h"
@@ -63,7 +63,7 @@ float form_factor(const RadiosityPatches& patches, const RadiositySettings& sett
     if (!(f > 1e-12)) return 0.0f;
 
     PCG32 rng(hash_combine(settings.seed, source_index), uint64_t(receiver_index));
-    Vec2 rotation(rng.next_float(), rng.next_float());
+    Vec2 rotation = next_vec2(rng);
     SurfaceInteraction from = surface_point(receiver.centroid, receiver.p_error, receiver.normal);
     int above = 0, visible = 0;
     const int n = settings.visibility_rays;
@@ -120,7 +120,7 @@ std::vector<Spectrum> direct_irradiance(const RadiosityPatches& patches, const S
                 Spectrum sum(0.0f);
                 for (int s = 0; s < samples; ++s) {
                     Spectrum weight;
-                    Vec2 u(rng.next_float(), rng.next_float());
+                    Vec2 u = next_vec2(rng);
                     DirectionSample ds = emitter.sample_direction(at, u, weight);
                     float cos_theta = glm::dot(e.normal, ds.d);
                     if (!(ds.pdf > 0.0f) || cos_theta <= 0.0f || is_black(weight)) continue;

@@ -38,6 +38,7 @@
 #include "core/bsdf.h"
 #include "core/distribution.h"
 #include "core/film.h"
+#include "core/memory_budget.h"
 #include "core/progress.h"
 #include "core/properties.h"
 #include "core/registry.h"
@@ -49,6 +50,7 @@
 #include <tbb/enumerable_thread_specific.h>
 
 #include <chrono>
+#include <cstdio>
 
 namespace candela {
 
@@ -112,6 +114,7 @@ public:
         rr_depth_ = props.get_int("rr_depth", 5);
         if (rr_depth_ <= 0) props.fail("rr_depth", "rr_depth must be positive");
         hide_emitters_ = props.get_bool("hide_emitters", false);
+        photon_count_location_ = props.location_of("photon_count");
     }
 
     RenderResult render(const Scene& scene, const RenderOptions& options) override;
@@ -135,7 +138,11 @@ private:
     void trace_photons(const LightPathTracer& tracer, uint64_t seed, uint64_t first, uint64_t count, PassPhotons& out) const;
     // Radiance from the photons near a visible point (sum of f beta, and their number).
     Spectrum gather(const PhotonGrid& grid, const GatherPoint& vp, float radius, uint64_t& found) const;
+    // Stops the render (a SceneError at photon_count, exit code 2) before anything is allocated
+    // when its buffers cannot fit in memory (core/memory_budget.h).
+    void check_render_memory(const LightPathTracer& tracer, uint64_t seed, uint64_t chunk, size_t pixels) const;
 
+    SourceLocation photon_count_location_;
     int photon_count_ = 250000, granularity_ = 0, max_passes_ = -1, max_depth_ = -1, rr_depth_ = 5;
     float initial_radius_ = 0.0f, alpha_ = 0.7f;
     bool hide_emitters_ = false;
@@ -190,6 +197,24 @@ Spectrum SPPMIntegrator::gather(const PhotonGrid& grid, const GatherPoint& vp, f
     return phi;
 }
 
+// The pixels' statistics, visible points and direct terms, and a pass's photons three times over
+// (the work units' outputs, their concatenation, the grid's sorted copy) with the grid's bucket
+// starts and bucket indices. How many photons a light path stores depends on the scene: it is
+// measured on the first work unit of the first pass (the same paths the render traces first).
+void SPPMIntegrator::check_render_memory(const LightPathTracer& tracer, uint64_t seed, uint64_t chunk, size_t pixels) const {
+    PassPhotons pilot;
+    trace_photons(tracer, seed, 0, std::min<uint64_t>(chunk, uint64_t(photon_count_)), pilot);
+    const double per_path = double(pilot.photons.size()) / double(std::max<uint64_t>(pilot.paths, 1));
+    const uint64_t photons = uint64_t(std::ceil(per_path * double(photon_count_)));
+    const uint64_t per_pixel = sizeof(PixelState) + sizeof(GatherPoint) + sizeof(Spectrum);
+    const uint64_t per_photon = 3 * sizeof(Photon) + 5 * sizeof(uint32_t);
+    const uint64_t bytes = saturating_add(saturating_mul(pixels, per_pixel), saturating_mul(photons, per_photon));
+    char rate[32];
+    std::snprintf(rate, sizeof(rate), "%.2f", per_path);
+    check_memory(bytes, "sppm with " + std::to_string(photon_count_) + " light paths per pass (" + rate + " photons stored per path) on " +
+                            std::to_string(pixels) + " pixels", photon_count_location_);
+}
+
 RenderResult SPPMIntegrator::render(const Scene& scene, const RenderOptions& options) {
     refuse_unrendered_media(scene);
     auto t_start = std::chrono::steady_clock::now();
@@ -200,11 +225,12 @@ RenderResult SPPMIntegrator::render(const Scene& scene, const RenderOptions& opt
     const Vec2i crop = film.crop_size(), offset = film.crop_offset(), full = film.full_size();
     const size_t pixels = size_t(crop.x) * size_t(crop.y);
     const float scene_radius = std::max(scene.bbox().bounding_radius(), 1e-3f);
-    std::vector<PixelState> state(pixels);
-    for (PixelState& s : state) s.radius = initial_radius_ > 0.0f ? initial_radius_ : 5.0f * scene_radius / float(std::max(full.x, full.y));
-
+    const uint64_t chunk = granularity_ > 0 ? uint64_t(granularity_) : 4096;
     direct_.prepare(scene);
     const LightPathTracer tracer(scene, max_depth_ < 0 ? -1 : max_depth_ - 1, rr_depth_);
+    check_render_memory(tracer, samples.seed, chunk, pixels);
+    std::vector<PixelState> state(pixels);
+    for (PixelState& s : state) s.radius = initial_radius_ > 0.0f ? initial_radius_ : 5.0f * scene_radius / float(std::max(full.x, full.y));
     const FilterSampler filter(film.filter());
     Ref<Sampler> prototype = scene.sensor().sampler().clone();
     prototype->set_seed(samples.seed);
@@ -220,7 +246,6 @@ RenderResult SPPMIntegrator::render(const Scene& scene, const RenderOptions& opt
     std::vector<Photon> photons;
     PhotonGrid grid;
     int done = 0;
-    const uint64_t chunk = granularity_ > 0 ? uint64_t(granularity_) : 4096;
     for (int pass = 0; pass < passes && !interrupted(); ++pass) {
         // (1) Camera pass.
         arena.execute([&] {

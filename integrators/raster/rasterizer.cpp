@@ -1,6 +1,6 @@
 #include "integrators/raster/rasterizer.h"
 
-#include "core/rng.h"
+#include "core/random_2d.h"
 
 namespace candela::raster {
 
@@ -12,7 +12,10 @@ std::vector<Vec2> sample_pattern(int n) {
     std::vector<Vec2> out;
     PCG32 rng(0x5eed, uint64_t(n));
     for (int j = 0; j < k && int(out.size()) < n; ++j)
-        for (int i = 0; i < k && int(out.size()) < n; ++i) out.emplace_back((float(i) + rng.next_float()) / float(k), (float(j) + rng.next_float()) / float(k));
+        for (int i = 0; i < k && int(out.size()) < n; ++i) {
+            const Vec2 u = next_vec2(rng);  // jitter within cell (i, j)
+            out.emplace_back((float(i) + u.x) / float(k), (float(j) + u.y) / float(k));
+        }
     return out;
 }
 
