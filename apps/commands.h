@@ -56,6 +56,9 @@ SceneParameters parse_defines(const std::vector<std::string>& defines);
 // use_search_folders hands them to FileResolver::set_search_folders (InputError if one is missing).
 void add_search_path_option(CLI::App* cmd, std::vector<std::string>& folders);
 void use_search_folders(const std::vector<std::string>& folders);
+// The folders of -a options, each absolute: what a command run elsewhere (a farm part, a resume)
+// passes on.
+std::vector<std::string> absolute_search_folders(const std::vector<std::string>& folders);
 Vec3 parse_triple(const std::string& text, const std::string& option);
 
 // The absolute path of this program (for commands that other machines run).

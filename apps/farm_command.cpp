@@ -31,7 +31,7 @@ struct FarmArgs {
     std::string scene, output, workdir, regions = "1x1";
     int parts = 0, spp = 0, threads_per_task = 1;
     int64_t seed = -1;
-    std::vector<std::string> defines, aovs;
+    std::vector<std::string> defines, aovs, search_path;
     SlurmOptions slurm;
     bool submit = false;
 };
@@ -43,7 +43,8 @@ void add_plan_options(CLI::App* cmd, FarmArgs& a) {
     cmd->add_option("--spp", a.spp, "Samples per pixel (default: the scene's sampler)")->check(CLI::PositiveNumber);
     cmd->add_option("--seed", a.seed, "Random seed (default: the sampler's)")->check(CLI::NonNegativeNumber);
     cmd->add_option("-D", a.defines, "Set a scene parameter: -D name=value (repeatable)")->take_all();
-    cmd->add_option("--aov", a.aovs, "Extra EXR layers: albedo, normal, depth, variance")->delimiter(',');
+    add_search_path_option(cmd, a.search_path);
+    cmd->add_option("--aov", a.aovs, "Extra EXR layers: albedo, normal, depth, variance, samples")->delimiter(',');
     cmd->add_option("--regions", a.regions, "Also split the image into C x R regions, as CxR (default 1x1)");
     cmd->add_option("--workdir", a.workdir, "Folder for the parts, logs and scripts (default: OUT's name with -farm, beside it)");
     cmd->add_option("--threads-per-task", a.threads_per_task, "Threads (and Slurm CPUs) per part (default 1)")->check(CLI::PositiveNumber);
@@ -60,8 +61,10 @@ FarmRequest make_request(const FarmArgs& a) {
     r.workdir = a.workdir.empty() ? (fs::path(r.output).parent_path() / (fs::path(r.output).stem().string() + "-farm")).string()
                                   : fs::absolute(a.workdir).lexically_normal().string();
     r.defines = a.defines;
+    r.search_path = absolute_search_folders(a.search_path);
     r.aovs = a.aovs;
     AovLayout check_names(a.aovs);
+    use_search_folders(a.search_path);
     Ref<Scene> scene = load_scene(a.scene, parse_defines(a.defines));
     if (std::string reason = scene->integrator().parts_refusal(); !reason.empty())
         throw InputError("the " + scene->integrator().to_string() + " integrator cannot render parts: " + reason +

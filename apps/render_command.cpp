@@ -73,6 +73,7 @@ std::string repeat_command(const RenderArgs& a, const RenderStats& stats) {
     r.spp = stats.spp;
     r.seed = stats.seed;
     r.defines = a.defines;
+    r.search_path = absolute_search_folders(a.search_path);
     r.aovs = a.aovs;
     r.sampler = a.sampler;
     r.mode = a.mode;
@@ -229,7 +230,10 @@ void add_search_path_option(CLI::App* cmd, std::vector<std::string>& folders) {
                     "(repeatable; \"a;b\" gives several)");
 }
 
-void use_search_folders(const std::vector<std::string>& folders) {
+namespace {
+
+// The folders of -a options: each option one folder or several joined by ';'.
+std::vector<std::filesystem::path> split_search_folders(const std::vector<std::string>& folders) {
     std::vector<std::filesystem::path> out;
     for (const std::string& list : folders) {
         size_t start = 0;
@@ -240,7 +244,17 @@ void use_search_folders(const std::vector<std::string>& folders) {
             start = end + 1;
         }
     }
-    FileResolver::set_search_folders(out);
+    return out;
+}
+
+}  // namespace
+
+void use_search_folders(const std::vector<std::string>& folders) { FileResolver::set_search_folders(split_search_folders(folders)); }
+
+std::vector<std::string> absolute_search_folders(const std::vector<std::string>& folders) {
+    std::vector<std::string> out;
+    for (const std::filesystem::path& f : split_search_folders(folders)) out.push_back(std::filesystem::absolute(f).lexically_normal().string());
+    return out;
 }
 
 std::string program_path() {

@@ -15,7 +15,9 @@ namespace candela {
 
 namespace {
 
-constexpr const char* PartFormat = "1";
+// 2: sums of every splatted value (alpha, integrator channels), taken.N, the film and integrator
+// channels in the identity.
+constexpr const char* PartFormat = "2";
 // float32 holds every integer up to 2^24 exactly: the largest per-pixel sample count of a part.
 constexpr uint32_t MaxExactCount = 1u << 24;
 

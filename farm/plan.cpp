@@ -62,6 +62,7 @@ void write_script(const std::string& path, const std::string& text) {
 std::vector<std::string> render_words(const FarmRequest& r) {
     std::vector<std::string> cmd = {r.candela, "render", r.scene, "--spp", std::to_string(r.spp), "--seed", std::to_string(r.seed)};
     for (const std::string& d : r.defines) cmd.insert(cmd.end(), {"-D", d});
+    for (const std::string& f : r.search_path) cmd.insert(cmd.end(), {"-a", f});
     if (!r.aovs.empty()) {
         std::string list;
         for (const std::string& a : r.aovs) list += (list.empty() ? "" : ",") + a;

@@ -17,6 +17,7 @@ struct FarmRequest {
     std::string candela;               // the program, absolute
     std::string scene;                 // absolute
     std::vector<std::string> defines;  // name=value
+    std::vector<std::string> search_path;  // -a folders, absolute
     std::vector<std::string> aovs;
     std::string sampler;               // render --sampler, when given
     std::string mode;                  // render --mode, when given
@@ -43,7 +44,7 @@ struct FarmPlan {
 };
 
 // The words of the command that renders the request's image whole: `candela render SCENE --spp S
-// --seed X`, then -D, --aov, --sampler and --mode as given. Parts add --samples and --crop.
+// --seed X`, then -D, -a, --aov, --sampler and --mode as given. Parts add --samples and --crop.
 std::vector<std::string> render_words(const FarmRequest& request);
 
 // Sample range k of N is [floor(k spp / N), floor((k+1) spp / N)); region (i, j) of a C x R grid

@@ -207,7 +207,8 @@ TEST_CASE("farm cli: SIGTERM writes a resumable partial render, --resume gives t
 
 TEST_CASE("farm cli: plan's commands run by a shell loop give the render; status follows the parts", "[farm][cli]") {
     auto dir = scratch_dir("farm-cli-plan");
-    const std::string options = "'" + Cbox + "' -D res=20 --spp 7 --seed 5 --aov variance";
+    // -a is passed on, absolute, so that a part run anywhere finds the scene's files.
+    const std::string options = "'" + Cbox + "' -D res=20 --spp 7 --seed 5 --aov variance -a " + q(dir);
     REQUIRE(run_command(program("render " + options + " -q -o " + q(dir / "single.exr")), dir / "log.txt") == 0);
     REQUIRE(run_command(program("farm plan " + options + " --parts 3 --regions 2x1 -o " + q(dir / "out.exr")), dir / "plan.txt") == 0);
     std::vector<std::string> commands = lines(read_text(dir / "plan.txt"));
@@ -216,6 +217,7 @@ TEST_CASE("farm cli: plan's commands run by a shell loop give the render; status
     CHECK_THAT(commands[0], Catch::Contains("--samples 0:2") && Catch::Contains("--crop 0,0,10,20"));
     CHECK_THAT(commands[5], Catch::Contains("--samples 4:7") && Catch::Contains("--crop 10,0,10,20"));
     CHECK_THAT(commands[6], Catch::Contains(" merge "));
+    CHECK_THAT(commands[0], Catch::Contains(" -a ") && Catch::Contains(dir.string()));
     const auto workdir = dir / "out-farm";
 
     REQUIRE(run_command(program("farm status " + q(workdir)), dir / "status0.txt") == 0);
