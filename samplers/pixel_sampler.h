@@ -19,6 +19,7 @@ public:
     void start(const Vec2i& pixel, uint32_t index) override {
         sequence_ = hash_combine(seed_, pixel_key(pixel));
         index_ = index;
+        sample_key_ = hash_combine(sequence_, index_);
         dimension_ = 0;
     }
 
@@ -32,10 +33,11 @@ protected:
     // several permutations one dimension may use.
     uint32_t dimension_seed(uint32_t dim, uint32_t salt = 0) const { return hash_bits(sequence_ ^ salt, dim); }
     // A uniform number in [0, 1) for (sample, dimension dim, axis `axis`): the jitter in a stratum.
-    float jitter(uint32_t dim, uint32_t axis) const { return bits_to_unit(hash_bits(hash_combine(sequence_, index_), uint64_t(dim) * 4 + axis)); }
+    float jitter(uint32_t dim, uint32_t axis) const { return bits_to_unit(hash_bits(sample_key_, uint64_t(dim) * 4 + axis)); }
 
     uint64_t sequence_ = 0;  // the pixel's sequence
     uint32_t index_ = 0;     // the sample index within the pixel
+    uint64_t sample_key_ = 0;  // hash_combine(sequence_, index_), hashed once per sample, not per number
 };
 
 }  // namespace candela

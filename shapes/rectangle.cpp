@@ -6,8 +6,10 @@
 // uv = ((x + 1) / 2, (y + 1) / 2) in object space, as in Mitsuba 3.
 //
 // As an area light it is sampled uniformly in the solid angle it subtends (Urena, Fajardo & King
-// 2013, "An Area-Preserving Parametrization for Spherical Rectangles"), unless to_world shears it
-// or it subtends too small an angle for that to be accurate; then by area.
+// 2013, "An Area-Preserving Parametrization for Spherical Rectangles") when that angle is large
+// (estimated above 0.1 sr, see kSphericalMinSolidAngle); seen from afar, or when to_world shears
+// it, uniformly by area, which costs a fraction and varies little over a small solid angle.
+// A mirroring to_world faces it along the transformed normal, as Mitsuba's rectangle.
 
 #include "core/mesh.h"
 #include "core/registry.h"
