@@ -1,6 +1,6 @@
 // Split renders merge back into the single-machine render: sample ranges (even, uneven, 1 to 7
-// of them) times image regions, for the path tracer, the irradiance and direct integrators and the
-// photon mapper, with every AOV, with a pixel format with alpha, sample_border and an integrator's
+// of them) times image regions, for the path tracer, the irradiance and direct integrators, the
+// photon mapper and volpath, with every AOV, with a pixel format with alpha, sample_border and an integrator's
 // own channels; the same part rendered twice is bit-identical.
 //
 // Why not bit-identical to the single render: each tile accumulates its splats in float32, and a
@@ -180,6 +180,18 @@ TEST_CASE("farm: parts of the photon mapper merge into the single render (every 
                                           "");
     Splitter s = make_splitter("photonmapper", "split-photons", scene);
     check_splits(s, "photonmapper", {{0, 7, 16}});
+}
+
+TEST_CASE("farm: parts of volpath merge into the single render (its tracking numbers are seeded per sample)", "[farm][volpath]") {
+    // A scattering sphere of fog behind null walls: delta and ratio tracking draw from a PCG32
+    // seeded by the sample's film position and aperture, which a part reproduces exactly.
+    const std::string scene = split_scene("cbox_medium",
+                                          "<integrator type=\"volpath\"/>\n<shape type=\"sphere\"><point name=\"center\" x=\"0\" y=\"0.1\" "
+                                          "z=\"0.3\"/><float name=\"radius\" value=\"0.4\"/><bsdf type=\"null\"/><medium type=\"homogeneous\" "
+                                          "name=\"interior\"><rgb name=\"sigma_t\" value=\"3\"/><rgb name=\"albedo\" value=\"0.8\"/></medium></shape>",
+                                          "");
+    Splitter s = make_splitter("volpath", "split-medium", scene);
+    check_splits(s, "volpath", {{0, 5, 16}, {0, 1, 3, 4, 9, 10, 15, 16}});
 }
 
 TEST_CASE("farm: the same part rendered twice is bit-identical; its sums are those of the whole render", "[farm]") {
