@@ -11,6 +11,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <functional>
 #include <unordered_map>
 
@@ -20,8 +21,8 @@ using namespace candela::test;
 namespace {
 
 // The statistical tests of this file: 7 irradiance z-tests, 1 on the error bars' N^-1/2, 10
-// emitter chi-squares and 2 solid-angle z-tests, 5 + 3 light-tree chi-squares, 2 strategy z-tests.
-constexpr int LightTests = 30;
+// emitter chi-squares and 2 solid-angle z-tests with 2 uv chi-squares, 5 + 3 light-tree chi-squares, 2 strategy z-tests.
+constexpr int LightTests = 32;
 const double Alpha = sidak(0.01, LightTests);
 
 Ref<Scene> scene_from(const std::string& body) {
@@ -191,9 +192,10 @@ double subtended_solid_angle(const Shape& shape, const Vec3& p) {
 }
 
 // Lights too small for the direction histogram (the area-sampled branch of a far rectangle):
-// a density q reported as p gives E_q[1 / p] = the solid angle where q > 0 only if p = q, so
-// the mean of 1 / pdf over the samples (0 for a failed one) must be the subtended solid angle,
-// within a z-interval from the samples' own standard error; tracing finds the same pdf.
+// the mean of 1 / pdf over the samples (0 for a failed one) must be the subtended solid angle
+// (E_q[1 / p] = the solid angle where q > 0 when the reported p is the density q), within a
+// z-interval from the samples' own standard error; the points must be uniform by area (a
+// chi-square over the uv that tracing finds there, the rectangle's affine parameterisation); tracing finds the same pdf.
 void check_small_emitter_sampling(const char* what, const std::string& body, Vec3 ref_p, uint64_t seed) {
     Ref<Scene> scene = scene_from(body);
     const Emitter& emitter = *scene->emitters()[0];
@@ -201,7 +203,9 @@ void check_small_emitter_sampling(const char* what, const std::string& body, Vec
     const int n = effort_scaled(400000, 40000);
     PCG32 rng(seed, 5);
     double sum = 0.0, sum2 = 0.0;
-    int inconsistent = 0;
+    int inconsistent = 0, valid = 0;
+    constexpr int UvBins = 8;  // sampled points uniform by area: uv uniform over an 8 x 8 grid
+    std::vector<double> uv_counts(UvBins * UvBins, 0.0);
     for (int i = 0; i < n; ++i) {
         float a = rng.next_float();
         Spectrum weight;
@@ -209,6 +213,12 @@ void check_small_emitter_sampling(const char* what, const std::string& body, Vec
         double inv = ds.pdf > 0.0f ? 1.0 / ds.pdf : 0.0;
         sum += inv;
         sum2 += inv * inv;
+        SurfaceInteraction hit;  // where the sampled point really is: the surface's own uv there
+        if (ds.pdf > 0.0f && scene->intersect(Ray(ref.p, ds.d), hit)) {
+            ++valid;
+            int bx = std::clamp(int(hit.uv.x * UvBins), 0, UvBins - 1), by = std::clamp(int(hit.uv.y * UvBins), 0, UvBins - 1);
+            uv_counts[size_t(by * UvBins + bx)] += 1.0;
+        }
         if (ds.pdf > 0.0f && i % 50 == 0 && std::abs(emitter_pdf(*scene, emitter, ref, ds.d) - ds.pdf) > 1e-3 * ds.pdf) ++inconsistent;
     }
     double mean = sum / n, se = std::sqrt(std::max(0.0, sum2 / n - mean * mean) / (n - 1));
@@ -217,6 +227,11 @@ void check_small_emitter_sampling(const char* what, const std::string& body, Vec
     CHECK(omega < 0.1);  // the area-sampled branch
     CHECK(std::abs(mean - omega) <= two_sided_z(Alpha) * se + 1e-6 * omega);
     CHECK(inconsistent == 0);
+    // E[1 / pdf] barely depends on where on a far light the points fall; their uv does.
+    REQUIRE(valid > 0);
+    ChiSquareResult uniform = chi_square(uv_counts, std::vector<double>(uv_counts.size(), double(valid) / uv_counts.size()));
+    INFO("uv uniformity: " << uniform.details);
+    CHECK(uniform.p_value > Alpha);
 }
 
 const char* AreaLight = R"(<emitter type="area"><rgb name="radiance" value="1"/></emitter>)";
