@@ -5,24 +5,31 @@
 
 namespace candela {
 
-Spectrum sample_emitter_mis(const Scene& scene, const LightSampler& lights, Sampler& sampler, const SurfaceInteraction& si,
-                            const BSDF& bsdf, const BSDFContext& ctx, StrategyShares shares) {
+bool draw_light_sample(const LightSampler& lights, Sampler& sampler, const SurfaceInteraction& at, LightSample& out) {
     float u_pick = sampler.next_1d();
     Vec2 u = sampler.next_2d();
-    float pick_prob = 0.0f;
-    const Emitter* emitter = lights.sample(si, u_pick, pick_prob);
-    if (!emitter || !(pick_prob > 0.0f)) return Spectrum(0.0f);
-    Spectrum weight;
-    DirectionSample ds = emitter->sample_direction(si, u, weight);
-    if (!(ds.pdf > 0.0f) || is_black(weight)) return Spectrum(0.0f);
+    out.emitter = lights.sample(at, u_pick, out.pick_prob);
+    if (!out.emitter || !(out.pick_prob > 0.0f)) return false;
+    out.ds = out.emitter->sample_direction(at, u, out.weight);
+    return out.ds.pdf > 0.0f && !is_black(out.weight);
+}
+
+Ray shadow_ray(const SurfaceInteraction& at, const DirectionSample& ds) {
+    return std::isinf(ds.dist) ? at.spawn_ray(ds.d) : at.spawn_ray_to(ds.p, ds.delta ? Vec3(0.0f) : ds.n, ds.p_error);
+}
+
+Spectrum sample_emitter_mis(const Scene& scene, const LightSampler& lights, Sampler& sampler, const SurfaceInteraction& si,
+                            const BSDF& bsdf, const BSDFContext& ctx, StrategyShares shares) {
+    LightSample light;
+    if (!draw_light_sample(lights, sampler, si, light)) return Spectrum(0.0f);
+    const DirectionSample& ds = light.ds;
     Vec3 wo = si.to_local(ds.d);
     Spectrum f = bsdf.eval(ctx, si, wo);
     if (is_black(f)) return Spectrum(0.0f);
-    Ray shadow = std::isinf(ds.dist) ? si.spawn_ray(ds.d) : si.spawn_ray_to(ds.p, ds.delta ? Vec3(0.0f) : ds.n, ds.p_error);
-    Spectrum T = scene.transmittance(shadow);  // through null surfaces and masks
+    Spectrum T = scene.transmittance(shadow_ray(si, ds));  // through null surfaces and masks
     if (is_black(T)) return Spectrum(0.0f);
-    float w = ds.delta ? 1.0f : power_heuristic(ds.pdf * pick_prob * shares.emitter, bsdf.pdf(ctx, si, wo) * shares.bsdf);
-    return T * f * weight * (w / pick_prob);
+    float w = ds.delta ? 1.0f : power_heuristic(ds.pdf * light.pick_prob * shares.emitter, bsdf.pdf(ctx, si, wo) * shares.bsdf);
+    return T * f * light.weight * (w / light.pick_prob);
 }
 
 float emitter_hit_weight(const LightSampler& lights, const SurfaceInteraction& from, float bsdf_pdf, const Emitter& emitter,

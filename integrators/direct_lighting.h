@@ -18,6 +18,22 @@ struct StrategyShares {
     float emitter = 1.0f, bsdf = 1.0f;
 };
 
+// The first half of next-event estimation, before any BSDF or phase function: a light picked by
+// the light sampler (one 1D number) and a point on it seen from `at` (one 2D number), with the
+// light's weight (radiance over its pdf) and the pick probability.
+struct LightSample {
+    const Emitter* emitter = nullptr;
+    float pick_prob = 0.0f;
+    DirectionSample ds;
+    Spectrum weight{0.0f};
+};
+// False when nothing can be sampled (no light, zero probability, pdf or weight).
+bool draw_light_sample(const LightSampler& lights, Sampler& sampler, const SurfaceInteraction& at, LightSample& out);
+
+// The shadow ray from `at` to a sampled light point: a direction for an infinitely distant
+// light, else a segment that stops short of the point's surface (its normal and error bound).
+Ray shadow_ray(const SurfaceInteraction& at, const DirectionSample& ds);
+
 // One next-event-estimation sample at `si` (si.wi set) for `bsdf` restricted to `ctx`: the light's
 // radiance times the BSDF and the shadow ray's transmittance (through null surfaces), over the
 // light's pdf, weighted against BSDF sampling (weight 1 for delta lights). Draws one 1D and one

@@ -39,6 +39,7 @@
 #include "core/sampler.h"
 #include "core/scene.h"
 #include "core/mesh.h"
+#include "integrators/direct_lighting.h"
 #include "integrators/estimators.h"
 #include "integrators/radiosity_solver.h"
 #include "lights/light_sampler.h"
@@ -217,19 +218,12 @@ private:
 
     // One light sample, its shadow ray traced through the patches.
     Spectrum direct_light(Sampler& sampler, const SurfaceInteraction& si, const BSDF& bsdf) const {
-        float u_pick = sampler.next_1d();
-        Vec2 u = sampler.next_2d();
-        float pick = 0.0f;
-        const Emitter* emitter = lights_->sample(si, u_pick, pick);
-        if (!emitter || !(pick > 0.0f)) return Spectrum(0.0f);
-        Spectrum weight;
-        DirectionSample ds = emitter->sample_direction(si, u, weight);
-        if (!(ds.pdf > 0.0f) || is_black(weight)) return Spectrum(0.0f);
-        Spectrum f = bsdf.eval(BSDFContext(), si, si.to_local(ds.d));
+        LightSample light;
+        if (!draw_light_sample(*lights_, sampler, si, light)) return Spectrum(0.0f);
+        Spectrum f = bsdf.eval(BSDFContext(), si, si.to_local(light.ds.d));
         if (is_black(f)) return Spectrum(0.0f);
-        Ray shadow = std::isinf(ds.dist) ? si.spawn_ray(ds.d) : si.spawn_ray_to(ds.p, ds.delta ? Vec3(0.0f) : ds.n, ds.p_error);
-        if (patches_->occluded_except(shadow, emitter->shape())) return Spectrum(0.0f);
-        return f * weight / pick;
+        if (patches_->occluded_except(shadow_ray(si, light.ds), light.emitter->shape())) return Spectrum(0.0f);
+        return f * light.weight / light.pick_prob;
     }
 
     RadiositySettings settings_;

@@ -14,6 +14,7 @@
 #include "core/scene.h"
 #include "core/warning.h"
 #include "core/warp.h"
+#include "integrators/direct_lighting.h"
 #include "integrators/form_factor.h"
 #include "integrators/radiosity_solver.h"
 
@@ -124,8 +125,7 @@ std::vector<Spectrum> direct_irradiance(const RadiosityPatches& patches, const S
                     DirectionSample ds = emitter.sample_direction(at, u, weight);
                     float cos_theta = glm::dot(e.normal, ds.d);
                     if (!(ds.pdf > 0.0f) || cos_theta <= 0.0f || is_black(weight)) continue;
-                    Ray shadow = std::isinf(ds.dist) ? at.spawn_ray(ds.d) : at.spawn_ray_to(ds.p, ds.delta ? Vec3(0.0f) : ds.n, ds.p_error);
-                    if (!patches.occluded(shadow)) sum += weight * cos_theta;
+                    if (!patches.occluded(shadow_ray(at, ds))) sum += weight * cos_theta;
                 }
                 irradiance[i] += sum / float(samples);
             }

@@ -200,14 +200,9 @@ Spectrum VolPathIntegrator::trace(const Scene& scene, Sampler& sampler, Ray ray,
 // phase sampling by the power heuristic. `medium` is the medium the path is in.
 Spectrum VolPathIntegrator::sample_light(const Scene& scene, Sampler& sampler, const SurfaceInteraction& at, const Medium* medium,
                                          const BSDF* bsdf, const PhaseFunction* phase, const Vec3& wi, PCG32& rng) const {
-    float u_pick = sampler.next_1d();
-    Vec2 u = sampler.next_2d();
-    float pick_prob = 0.0f;
-    const Emitter* emitter = lights_->sample(at, u_pick, pick_prob);
-    if (!emitter || !(pick_prob > 0.0f)) return Spectrum(0.0f);
-    Spectrum weight;
-    DirectionSample ds = emitter->sample_direction(at, u, weight);
-    if (!(ds.pdf > 0.0f) || is_black(weight)) return Spectrum(0.0f);
+    LightSample light;
+    if (!draw_light_sample(*lights_, sampler, at, light)) return Spectrum(0.0f);
+    const DirectionSample& ds = light.ds;
     Spectrum f;
     float scatter_pdf;
     if (bsdf) {
@@ -220,11 +215,10 @@ Spectrum VolPathIntegrator::sample_light(const Scene& scene, Sampler& sampler, c
         scatter_pdf = phase->pdf(wi, ds.d);
     }
     if (is_black(f)) return Spectrum(0.0f);
-    Ray shadow = std::isinf(ds.dist) ? at.spawn_ray(ds.d) : at.spawn_ray_to(ds.p, ds.delta ? Vec3(0.0f) : ds.n, ds.p_error);
-    Spectrum T = scene.transmittance(shadow, medium, rng);  // through media and null surfaces
+    Spectrum T = scene.transmittance(shadow_ray(at, ds), medium, rng);  // through media and null surfaces
     if (is_black(T)) return Spectrum(0.0f);
-    float mis = ds.delta ? 1.0f : power_heuristic(ds.pdf * pick_prob, scatter_pdf);
-    return T * f * weight * (mis / pick_prob);
+    float mis = ds.delta ? 1.0f : power_heuristic(ds.pdf * light.pick_prob, scatter_pdf);
+    return T * f * light.weight * (mis / light.pick_prob);
 }
 
 struct VolPath : VolPathIntegrator {
