@@ -10,12 +10,12 @@
 // Embree, and from it the rate at which Embree traces the path tracer's own rays. It prints
 // figures and asserts nothing.
 
+#include "core/parallel.h"
 #include "core/profiling.h"
 #include "core/rng.h"
 #include "core/warp.h"
 #include "core/xml.h"
 
-#include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 #include <sys/time.h>
@@ -73,8 +73,9 @@ int main(int argc, char** argv) {
     // Incoherent closest-hit rays, generated up front so that only tracing is timed.
     BoundingBox b = scene->bbox();
     std::vector<Ray> rays(static_cast<size_t>(ray_count));
-    tbb::parallel_for(size_t(0), rays.size(), size_t(65536), [&](size_t start) {
-        size_t end = std::min(rays.size(), start + 65536);
+    const size_t batch = 65536;  // rays per random stream
+    parallel_for((rays.size() + batch - 1) / batch, [&](size_t c) {
+        size_t start = c * batch, end = std::min(rays.size(), start + batch);
         PCG32 rng(start, 3);
         for (size_t i = start; i < end; ++i) {
             Vec3 u(rng.next_float(), rng.next_float(), rng.next_float());
@@ -86,10 +87,10 @@ int main(int argc, char** argv) {
     std::atomic<long long> hits{0};
     auto t0 = std::chrono::steady_clock::now();
     arena.execute([&] {
-        tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
+        parallel_chunks(rays.size(), 4096, [&](size_t begin, size_t end) {
             long long local = 0;
             RayHit hit;
-            for (size_t i = r.begin(); i != r.end(); ++i) local += scene->accel().intersect(rays[i], hit) != nullptr;
+            for (size_t i = begin; i != end; ++i) local += scene->accel().intersect(rays[i], hit) != nullptr;
             hits += local;
         });
     });

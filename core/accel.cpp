@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 #include "core/integrator.h"
+#include "core/parallel.h"
 #include "core/profiling.h"
 
 #include <csignal>
@@ -14,10 +15,19 @@ thread_local uint64_t g_rays_traced = 0;
 // Set around each Embree query; volatile so that a signal handler on this thread sees it.
 thread_local volatile sig_atomic_t g_inside_embree = 0;
 
+// The hand-off from a thread that commits geometry or a scene to Embree's build threads.
+ParallelHandOff& embree_build_hand_off() {
+    static ParallelHandOff hand_off;
+    return hand_off;
+}
+
 void embree_error(void*, RTCError code, const char* message) {
     if (code != RTC_ERROR_NONE) std::fprintf(stderr, "embree error %d: %s\n", int(code), message ? message : "");
 }
 }  // namespace
+
+EmbreeCallbackScope::EmbreeCallbackScope() { embree_build_hand_off().chunk_begins(); }
+EmbreeCallbackScope::~EmbreeCallbackScope() { embree_build_hand_off().chunk_ends(); }
 
 uint64_t thread_ray_count() { return g_rays_traced; }
 bool thread_inside_embree() { return g_inside_embree != 0; }
@@ -39,6 +49,7 @@ Accel::~Accel() {
 }
 
 bool Accel::memory_monitor(void* self, ssize_t bytes, bool) {
+    EmbreeCallbackScope scope;
     static_cast<Accel*>(self)->bytes_ += int64_t(bytes);
     return true;
 }
@@ -52,13 +63,17 @@ void Accel::build(const std::vector<Ref<Shape>>& shapes) {
     shapes_.clear();
     for (const Ref<Shape>& shape : shapes) {
         RTCGeometry geometry = shape->create_embree_geometry(device_);
+        embree_build_hand_off().before_loop();
         rtcCommitGeometry(geometry);
+        embree_build_hand_off().after_loop();
         unsigned id = rtcAttachGeometry(scene_, geometry);
         rtcReleaseGeometry(geometry);
         if (shapes_.size() <= id) shapes_.resize(id + 1, nullptr);
         shapes_[id] = shape.get();
     }
+    embree_build_hand_off().before_loop();
     rtcCommitScene(scene_);
+    embree_build_hand_off().after_loop();
 }
 
 const Shape* Accel::intersect(const Ray& ray, RayHit& hit) const {

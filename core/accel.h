@@ -50,4 +50,17 @@ private:
     std::atomic<int64_t> bytes_{0};
 };
 
+// Embree builds BVHs on threads of its own (TBB's workers) and calls Candela's callbacks there
+// (shape bounds, the memory monitor). Each such callback holds one of these for its duration: in
+// a ThreadSanitizer build it tells TSan that what the committing thread wrote before the build
+// happens before the callback, and the callback before the commit returns (hand-offs inside the
+// uninstrumented libraries that TSan cannot see; core/parallel.h). Nothing in other builds.
+class EmbreeCallbackScope {
+public:
+    EmbreeCallbackScope();
+    ~EmbreeCallbackScope();
+    EmbreeCallbackScope(const EmbreeCallbackScope&) = delete;
+    EmbreeCallbackScope& operator=(const EmbreeCallbackScope&) = delete;
+};
+
 }  // namespace candela

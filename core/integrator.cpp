@@ -1,3 +1,4 @@
+#include "core/parallel.h"
 #include "core/integrator.h"
 
 #include "core/memory_budget.h"
@@ -8,9 +9,7 @@
 #include "core/bsdf.h"
 #include "core/shape.h"
 
-#include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 #include <candela/version.h>
@@ -433,8 +432,8 @@ RenderResult SamplingIntegrator::render(const Scene& scene, const RenderOptions&
     for (const SampleRange& pass : sample_passes(samples, adaptive)) {
         if (interruption.stopped()) break;
         arena.execute([&] {
-            tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
-                for (size_t i = r.begin(); i != r.end(); ++i) tile_sampler.sample_tile(tiles[i], pass, *samplers.local(), interruption, counters, progress);
+            parallel_chunks(tiles.size(), 1, [&](size_t begin, size_t end) {
+                for (size_t i = begin; i != end; ++i) tile_sampler.sample_tile(tiles[i], pass, *samplers.local(), interruption, counters, progress);
             });
         });
         if (adaptive.checks_at(pass.end) && !interruption.stopped()) stop_converged(tiles, window.region.size, adaptive.threshold);

@@ -1,11 +1,10 @@
+#include "core/parallel.h"
 #include "integrators/estimators.h"
 
 #include "core/bsdf.h"
 #include "core/registry.h"
 #include "core/scene.h"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 namespace candela {
@@ -61,7 +60,7 @@ template <typename F> Estimate run(const EstimatorOptions& options, F one) {
     arena.execute([&] {
         // Random numbers for sample i: the independent sampler, positioned as "pixel" i.
         Ref<Sampler> prototype = estimator_sampler(options.seed);
-        tbb::parallel_for(uint64_t(0), chunks, [&](uint64_t c) {
+        parallel_for(size_t(chunks), [&](uint64_t c) {
             Ref<Sampler> sampler = prototype->clone();
             for (uint64_t i = c * chunk; i < std::min(options.samples, (c + 1) * chunk); ++i) {
                 sampler->start(Vec2i(int(i & 0x7fffffff), int(i >> 31)), 0);
@@ -134,9 +133,9 @@ std::vector<Spectrum> estimate_irradiance_at(const Scene& scene, const std::vect
     tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
     arena.execute([&] {
         Ref<Sampler> prototype = estimator_sampler(options.seed);
-        tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size(), 16), [&](const tbb::blocked_range<size_t>& range) {
+        parallel_chunks(points.size(), 16, [&](size_t begin, size_t end) {
             Ref<Sampler> sampler = prototype->clone();
-            for (size_t i = range.begin(); i != range.end(); ++i) {
+            for (size_t i = begin; i != end; ++i) {
                 SurfaceInteraction vertex = virtual_vertex(scene, points[i], normals[i]);
                 Spectrum sum(0.0f);
                 uint64_t n = 0;

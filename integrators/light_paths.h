@@ -8,13 +8,12 @@
 // output, and outputs are consumed in chunk order. So the result never depends on the number of
 // threads or on which thread traced which chunk.
 
+#include "core/parallel.h"
 #include "core/bsdf.h"
 #include "core/rng.h"
 #include "core/scene.h"
 #include "lights/light_sampler.h"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 #include <atomic>
@@ -125,8 +124,8 @@ bool trace_in_chunks(tbb::task_arena& arena, uint64_t count, uint64_t chunk, std
     outputs.resize(chunks);
     std::atomic<bool> skipped{false};
     arena.execute([&] {
-        tbb::parallel_for(tbb::blocked_range<size_t>(0, chunks, 1), [&](const tbb::blocked_range<size_t>& r) {
-            for (size_t c = r.begin(); c != r.end(); ++c) {
+        parallel_chunks(chunks, 1, [&](size_t begin, size_t end) {
+            for (size_t c = begin; c != end; ++c) {
                 if (interrupt && interrupt->load(std::memory_order_relaxed)) {
                     skipped = true;
                     continue;

@@ -49,6 +49,7 @@
 // Deterministic: photons depend on (seed, path index), maps on the order of whole work units,
 // lookups sum in a fixed order (integrators/photons.h), camera samples on (seed, pixel, index).
 
+#include "core/parallel.h"
 #include "core/bsdf.h"
 #include "core/memory_budget.h"
 #include "core/properties.h"
@@ -193,9 +194,9 @@ void PhotonMapIntegrator::precompute_irradiance() {
     irradiance_.assign(global_.photons.size() / 4, IrradiancePoint());
     tbb::task_arena arena(threads_ > 0 ? threads_ : tbb::task_arena::automatic);
     arena.execute([&] {
-        tbb::parallel_for(tbb::blocked_range<size_t>(0, irradiance_.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
+        parallel_chunks(irradiance_.size(), 256, [&](size_t begin, size_t end) {
             thread_local Neighbours near;
-            for (size_t i = r.begin(); i != r.end(); ++i) {
+            for (size_t i = begin; i != end; ++i) {
                 const Photon& at = global_.photons[4 * i];
                 float r2 = nearest_photons(global_, at.p, [&](const Photon& ph) { return glm::dot(ph.n, at.n) > 0.9f; }, near);
                 Spectrum E(0.0f);

@@ -8,6 +8,7 @@
 // two elements: deterministic and independent of the thread count). The irradiance that a patch
 // of radiosity B sends to a point is B x F(point -> patch), so shooting needs no reciprocity.
 
+#include "core/parallel.h"
 #include "core/emitter.h"
 #include "core/progress.h"
 #include "core/random_2d.h"
@@ -18,8 +19,6 @@
 #include "integrators/form_factor.h"
 #include "integrators/radiosity_solver.h"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 #include <atomic>
@@ -110,7 +109,7 @@ std::vector<Spectrum> direct_irradiance(const RadiosityPatches& patches, const S
     const auto& emitters = scene.emitters();
     tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
     arena.execute([&] {
-        tbb::parallel_for(size_t(0), elements.size(), [&](size_t i) {
+        parallel_for(elements.size(), [&](size_t i) {
             const RadiosityElement& e = elements[i];
             SurfaceInteraction at = surface_point(e.centroid, e.p_error, e.normal);
             for (size_t l = 0; l < emitters.size(); ++l) {
@@ -172,9 +171,9 @@ std::vector<Spectrum> shoot_radiosity(const RadiosityPatches& patches, const Rad
         Vec3 tri[3];
         patches.triangle(elements[shooter], tri[0], tri[1], tri[2]);
         arena.execute([&] {
-            tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 64), [&](const tbb::blocked_range<size_t>& range) {
+            parallel_chunks(n, 64, [&](size_t begin, size_t end) {
                 uint64_t rays_before = thread_ray_count();
-                for (size_t j = range.begin(); j != range.end(); ++j) {
+                for (size_t j = begin; j != end; ++j) {
                     if (j == shooter) continue;
                     float f = form_factor(patches, settings, j, shooter, tri);
                     if (f <= 0.0f) continue;

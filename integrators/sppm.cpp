@@ -35,6 +35,7 @@
 // visible point sums its photons in a fixed order (integrators/photon_grid.h). Not available:
 // AOVs (passes are correlated, so there is no per-pixel variance).
 
+#include "core/parallel.h"
 #include "core/bsdf.h"
 #include "core/distribution.h"
 #include "core/film.h"
@@ -249,10 +250,10 @@ RenderResult SPPMIntegrator::render(const Scene& scene, const RenderOptions& opt
     for (int pass = 0; pass < passes && !interrupted(); ++pass) {
         // (1) Camera pass.
         arena.execute([&] {
-            tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels, 256), [&](const tbb::blocked_range<size_t>& r) {
+            parallel_chunks(pixels, 256, [&](size_t begin, size_t end) {
                 uint64_t before = thread_ray_count();
                 Sampler& sampler = *samplers.local();
-                for (size_t i = r.begin(); i != r.end(); ++i) {
+                for (size_t i = begin; i != end; ++i) {
                     Vec2i pixel = offset + Vec2i(int(i % size_t(crop.x)), int(i / size_t(crop.x)));
                     sampler.start(pixel, uint32_t(pass));
                     direct[i] = trace_camera(scene, sampler, filter, pixel, vps[i]);
@@ -273,8 +274,8 @@ RenderResult SPPMIntegrator::render(const Scene& scene, const RenderOptions& opt
         grid.build(photons, std::max(max_radius, 1e-6f * scene_radius));
         // (3) Gather and update (Hachisuka and Jensen 2009, equations 6 and 10).
         arena.execute([&] {
-            tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels, 256), [&](const tbb::blocked_range<size_t>& r) {
-                for (size_t i = r.begin(); i != r.end(); ++i) {
+            parallel_chunks(pixels, 256, [&](size_t begin, size_t end) {
+                for (size_t i = begin; i != end; ++i) {
                     PixelState& s = state[i];
                     for (int c = 0; c < 3; ++c) s.direct[c] += all_finite(direct[i]) ? direct[i][c] : 0.0f;
                     if (!vps[i].bsdf) continue;

@@ -1,9 +1,12 @@
 #include "shapes/analytic_shape.h"
 
+#include "core/accel.h"
+
 namespace candela {
 
 namespace {
 void bounds_callback(const RTCBoundsFunctionArguments* args) {
+    EmbreeCallbackScope scope;
     auto* shape = static_cast<const AnalyticShape*>(args->geometryUserPtr);
     BoundingBox b = shape->bbox();
     // Pad by a relative epsilon so that hits exactly on the box survive Embree's culling.

@@ -20,6 +20,7 @@
 // Volume format (little endian): "VOL", version byte 3, int32 encoding (1: float32), int32
 // xres, yres, zres, int32 channels, 6 float32 bounding box, then float32 values with x fastest.
 
+#include "core/accel.h"
 #include "core/registry.h"
 #include "core/shape.h"
 
@@ -291,6 +292,7 @@ bool SdfGrid::intersect_voxel(unsigned slot, const Vec3& of, const Vec3& df, flo
 
 namespace {
 void sdf_bounds(const RTCBoundsFunctionArguments* args) {
+    EmbreeCallbackScope scope;
     auto* grid = static_cast<const SdfGrid*>(args->geometryUserPtr);
     BoundingBox b = grid->voxel_bounds(args->primID);
     Vec3 pad = (Vec3(1.0f) + glm::abs(b.min) + glm::abs(b.max)) * 1e-6f;

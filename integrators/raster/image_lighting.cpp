@@ -6,11 +6,11 @@
 // lat-long grid, give the energy (radiance times solid angle) of every texel, which each
 // roughness level sums under its Phong lobe, normalised by the lobe's own discrete integral.
 
+#include "core/parallel.h"
 #include "integrators/raster/image_lighting.h"
 
 #include "materials/microfacet.h"
 
-#include <tbb/parallel_for.h>
 
 namespace candela::raster {
 
@@ -55,7 +55,7 @@ EnvironmentSamples sample_environment(const Scene& scene) {
     ref.p = scene.bbox().valid() ? 0.5f * (scene.bbox().min + scene.bbox().max) : Vec3(0.0f);
     for (size_t e = 0; e < scene.infinite_emitters().size(); ++e) {
         const Emitter& emitter = *scene.infinite_emitters()[e];
-        tbb::parallel_for(0, StrataPerSide, [&](int row) {
+        parallel_for(size_t(StrataPerSide), [&](int row) {
             for (int col = 0; col < StrataPerSide; ++col) {
                 size_t k = e * per_emitter + size_t(row) * StrataPerSide + size_t(col);
                 Vec2 u((float(col) + 0.5f) / float(StrataPerSide), (float(row) + 0.5f) / float(StrataPerSide));
@@ -192,7 +192,7 @@ ImageBasedLighting::ImageBasedLighting(const Scene& scene) : scene_(scene) {
         map.width = out_w;
         map.height = out_h;
         map.texels.assign(size_t(out_w) * size_t(out_h), Spectrum(0.0f));
-        tbb::parallel_for(0, out_h, [&](int j) {
+        parallel_for(size_t(out_h), [&](int j) {
             for (int i = 0; i < out_w; ++i)
                 map.texels[size_t(j) * size_t(out_w) + size_t(i)] =
                     prefiltered_texel(source, theta_of_row(j, out_h), phi_of_column(i, out_w), exponent);

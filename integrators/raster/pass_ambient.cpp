@@ -16,13 +16,13 @@
 // numbers of sample k of pixel (x, y) depend only on (x, y, k) of the full film: deterministic,
 // independent of threads and crop.
 
+#include "core/parallel.h"
 #include "core/mesh.h"
 #include "core/rng.h"
 #include "core/sampler.h"
 #include "core/warp.h"
 #include "integrators/raster/frame.h"
 
-#include <tbb/parallel_for.h>
 
 namespace candela::raster {
 
@@ -72,7 +72,7 @@ void ambient_pass(const FrameSetup& f, FrameBuffers& b) {
     const bool baked = s.lighting == RasterSettings::Lighting::Baked && !f.geometry.baked_front.empty();
     const float reach = s.ao_ray_length > 0.0f ? s.ao_ray_length : 0.5f * f.scene.bbox().bounding_radius();
     const Spectrum extra = Pi * s.ambient;
-    tbb::parallel_for(0, f.height, [&](int y) {
+    parallel_for(size_t(f.height), [&](int y) {
         for (int x = 0; x < f.width; ++x)
             for (int k = 0; k < f.samples_per_pixel(); ++k) {
                 size_t i = f.sample_index(x, y, k);

@@ -8,11 +8,11 @@
 // infinite and the fog colour alone remains. A heterogeneous medium around the camera is taken
 // with its coefficients at the eye. Media inside shapes are not drawn (RasterIntegrator warns).
 
+#include "core/parallel.h"
 #include "core/medium.h"
 #include "core/scene.h"
 #include "integrators/raster/frame.h"
 
-#include <tbb/parallel_for.h>
 
 namespace candela::raster {
 
@@ -23,7 +23,7 @@ void fog_pass(const FrameSetup& f, FrameBuffers& b) {
     Spectrum albedo(0.0f);
     for (int k = 0; k < 3; ++k) albedo[k] = mp.sigma_t[k] > 0.0f ? mp.sigma_s[k] / mp.sigma_t[k] : 0.0f;
     const Spectrum fog = albedo * f.ambient;
-    tbb::parallel_for(size_t(0), f.sample_count(), [&](size_t i) {
+    parallel_for(f.sample_count(), [&](size_t i) {
         float d = b.triangle[i] == NoTriangle ? Infinity : glm::length(b.surface[i].p - f.camera.eye);
         Spectrum T;
         for (int k = 0; k < 3; ++k) T[k] = mp.sigma_t[k] == 0.0f ? 1.0f : std::exp(-mp.sigma_t[k] * d);

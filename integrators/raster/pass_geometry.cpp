@@ -2,9 +2,9 @@
 // nearest one at every camera sample by a z-buffer of view depth (w, exact for a perspective
 // camera), with its barycentrics: the G-buffer the later passes shade from.
 
+#include "core/parallel.h"
 #include "integrators/raster/frame.h"
 
-#include <tbb/parallel_for.h>
 
 namespace candela::raster {
 
@@ -15,7 +15,7 @@ namespace {
 void clip_triangles(const FrameSetup& f, std::vector<std::array<Vec4, 3>>& clip) {
     const RasterGeometry& g = f.geometry;
     clip.resize(g.triangles.size());
-    tbb::parallel_for(size_t(0), g.triangles.size(), [&](size_t i) {
+    parallel_for(g.triangles.size(), [&](size_t i) {
         const glm::uvec3& t = g.triangles[i];
         clip[i] = {f.camera.clip(g.positions[t.x]), f.camera.clip(g.positions[t.y]), f.camera.clip(g.positions[t.z])};
         if (f.settings.backface_culling && !g.shapes[g.triangle_shape[i]].material.two_sided) {

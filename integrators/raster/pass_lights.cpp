@@ -4,11 +4,10 @@
 // vertex once and interpolates, Phong lights every sample with its own normal. Under baked
 // lighting the lights add their highlights only (the bake holds their diffuse light).
 
+#include "core/parallel.h"
 #include "integrators/raster/frame.h"
 #include "integrators/raster/shadows.h"
 
-#include <tbb/parallel_for.h>
-#include <tbb/parallel_reduce.h>
 
 #include <array>
 
@@ -58,7 +57,7 @@ bool has_highlights(const RasterGeometry& g) {
 void light_vertices(const FrameSetup& f, const LocalLight& light, std::vector<Spectrum>& vertex_light) {
     const RasterGeometry& g = f.geometry;
     vertex_light.resize(g.positions.size());
-    tbb::parallel_for(size_t(0), g.positions.size(), [&](size_t i) {
+    parallel_for(g.positions.size(), [&](size_t i) {
         const LocalShading& m = g.shapes[g.vertex_shape[i]].material;
         Vec3 n = g.normals[i], v = glm::normalize(f.camera.eye - g.positions[i]);
         if (m.two_sided && glm::dot(n, v) < 0.0f) n = -n;
@@ -101,22 +100,22 @@ void render_shadow_map(const FrameSetup& f, const FrameBuffers& b, const LocalLi
     constexpr int AutoShadowMapLimit = 1024;
     map.place(light, f.geometry);
     using Needs = std::array<float, 6>;  // per face: 0 unused, else the resolution it needs
-    Needs needs = tbb::parallel_reduce(
-        tbb::blocked_range<size_t>(0, f.sample_count(), 4096), Needs{},
-        [&](const tbb::blocked_range<size_t>& r, Needs acc) {
-            for (size_t i = r.begin(); i != r.end(); ++i) {
-                if (!receives_light(b, i)) continue;
-                const Vec3& p = b.surface[i].p;
-                int face = map.face_of(p);
-                float need = map.resolution_needed(face, p, f.sample_spacing(b.depth[i]));
-                acc[size_t(face)] = std::max(acc[size_t(face)], std::isfinite(need) ? std::max(need, 1.0f) : float(AutoShadowMapLimit));
-            }
-            return acc;
-        },
-        [](Needs a, const Needs& c) {
-            for (size_t k = 0; k < a.size(); ++k) a[k] = std::max(a[k], c[k]);
-            return a;
-        });
+    // Per chunk of samples, then combined: max is exact in any order.
+    const size_t chunk = 4096, chunks = (f.sample_count() + chunk - 1) / chunk;
+    std::vector<Needs> chunk_needs(chunks, Needs{});
+    parallel_for(chunks, [&](size_t c) {
+        Needs& acc = chunk_needs[c];
+        for (size_t i = c * chunk; i != std::min(f.sample_count(), (c + 1) * chunk); ++i) {
+            if (!receives_light(b, i)) continue;
+            const Vec3& p = b.surface[i].p;
+            int face = map.face_of(p);
+            float need = map.resolution_needed(face, p, f.sample_spacing(b.depth[i]));
+            acc[size_t(face)] = std::max(acc[size_t(face)], std::isfinite(need) ? std::max(need, 1.0f) : float(AutoShadowMapLimit));
+        }
+    });
+    Needs needs{};
+    for (const Needs& c : chunk_needs)
+        for (size_t k = 0; k < needs.size(); ++k) needs[k] = std::max(needs[k], c[k]);
     std::vector<int> resolution(map.face_count(), 0);
     for (size_t k = 0; k < resolution.size(); ++k) {
         if (needs[k] <= 0.0f) continue;
@@ -140,7 +139,7 @@ void add_light(const FrameSetup& f, FrameBuffers& b, size_t light_index, const s
     }
     if (s.shadows == RasterSettings::Shadows::Volume) shadow_volume_mask(light, f.geometry, f.camera, f.camera_rasterizer(), view_depth, lit);
     if (s.shading == RasterSettings::Shading::Gouraud) light_vertices(f, light, vertex_light);
-    tbb::parallel_for(size_t(0), f.sample_count(), [&](size_t i) {
+    parallel_for(f.sample_count(), [&](size_t i) {
         if (!receives_light(b, i)) return;
         float visibility = 1.0f;
         if (map) visibility = map->visibility(b.surface[i].p, b.surface[i].n_geo, s.pcf);

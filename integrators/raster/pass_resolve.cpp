@@ -2,9 +2,9 @@
 // filter (box: the pixel's own samples; tent and gaussian also reach into the neighbours),
 // normalised by the sum of the weights; likewise the coverage (the film's alpha).
 
+#include "core/parallel.h"
 #include "integrators/raster/frame.h"
 
-#include <tbb/parallel_for.h>
 
 namespace candela::raster {
 
@@ -38,7 +38,7 @@ void resolve_pass(const FrameSetup& f, FrameBuffers& b) {
     const int reach = resolve_reach(filter), W = f.width, H = f.height;
     b.image = Image::rgb(W, H);
     b.coverage.assign(size_t(W) * H, 0.0f);
-    tbb::parallel_for(0, H, [&](int y) {
+    parallel_for(size_t(H), [&](int y) {
         for (int x = 0; x < W; ++x) {
             const Vec2 centre(float(x) + 0.5f, float(y) + 0.5f);
             Spectrum sum(0.0f);

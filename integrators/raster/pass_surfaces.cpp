@@ -3,12 +3,12 @@
 // over the sample's footprint) and the radiance that needs no light: emission and the
 // environment seen by reflection and refraction; where no surface is, the environment itself.
 
+#include "core/parallel.h"
 #include "core/bsdf.h"
 #include "core/mesh.h"
 #include "integrators/raster/environment.h"
 #include "integrators/raster/frame.h"
 
-#include <tbb/parallel_for.h>
 
 namespace candela::raster {
 
@@ -135,12 +135,12 @@ Spectrum background(const FrameSetup& f, const Vec2& pos) {
 void surface_pass(const FrameSetup& f, FrameBuffers& b) {
     const RasterGeometry& g = f.geometry;
     std::vector<HomogeneousSetup> setups(g.triangles.size());
-    tbb::parallel_for(size_t(0), g.triangles.size(), [&](size_t i) { setups[i] = homogeneous_setup(b.clip[i].data(), f.full, f.offset); });
+    parallel_for(g.triangles.size(), [&](size_t i) { setups[i] = homogeneous_setup(b.clip[i].data(), f.full, f.offset); });
     const RasterSettings& s = f.settings;
     EnvironmentLookup environment(f.scene, s.cube_mapping ? EnvironmentLookup::Mode::Cube : EnvironmentLookup::Mode::LatLong, s.cube_resolution, s.cube_map);
     b.surface.assign(f.sample_count(), SurfaceSample{});
     b.color.assign(f.sample_count(), Spectrum(0.0f));
-    tbb::parallel_for(0, f.height, [&](int y) {
+    parallel_for(size_t(f.height), [&](int y) {
         for (int x = 0; x < f.width; ++x)
             for (int k = 0; k < f.samples_per_pixel(); ++k) {
                 size_t i = f.sample_index(x, y, k);

@@ -10,9 +10,9 @@
 // [px, px + 1) x [py, py + 1) with y down; a clip-space point maps to
 // ((x / w + 1) / 2 * W - offset.x, (y / w + 1) / 2 * H - offset.y) for a W x H full viewport.
 
+#include "core/parallel.h"
 #include "core/math.h"
 
-#include <tbb/parallel_for.h>
 
 #include <array>
 #include <vector>
@@ -98,7 +98,7 @@ std::vector<Vec2> sample_pattern(int n);
 // ---- implementation of the templates -----------------------------------------------------
 
 template <typename Op> void Rasterizer::run(Op op) const {
-    tbb::parallel_for(0, tiles_x_ * tiles_y_, [&](int tile) {
+    parallel_for(size_t(tiles_x_ * tiles_y_), [&](int tile) {
         int tx = tile % tiles_x_, ty = tile / tiles_x_;
         int x0 = tx * TileSize, y0 = ty * TileSize;
         int x1 = std::min(x0 + TileSize, width_) - 1, y1 = std::min(y0 + TileSize, height_) - 1;
