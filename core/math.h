@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 
 namespace candela {
@@ -48,6 +49,20 @@ inline bool all_finite(const Vec3& v) {
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 inline float squared_length(const Vec3& v) { return glm::dot(v, v); }
+
+// The neighbouring floats of v toward +infinity and -infinity: std::nextafter's results
+// (zero of either sign steps to the smallest subnormal), by stepping the bit pattern, since libm's
+// nextafterf is an out-of-line call and ray offsets take up to three per ray (pbrt-v4, 6.8.5).
+inline float next_float_up(float v) {
+    if (v == Infinity) return v;
+    if (v == 0.0f) return std::numeric_limits<float>::denorm_min();
+    uint32_t bits;
+    std::memcpy(&bits, &v, sizeof bits);
+    bits = v > 0.0f ? bits + 1 : bits - 1;
+    std::memcpy(&v, &bits, sizeof v);
+    return v;
+}
+inline float next_float_down(float v) { return -next_float_up(-v); }
 
 // Veach's power heuristic (beta = 2) for combining two sampling strategies; the weight of the
 // strategy with density `pdf_a`. An infinite density (a delta) takes all the weight.

@@ -11,8 +11,9 @@ namespace candela {
 void Mesh::check_mesh_memory(uint64_t vertices, uint64_t triangles, uint64_t file_bytes, const SourceLocation& where) {
     // Per vertex: position, normal and uv here, positions again in Embree's buffer (64 bytes,
     // rounded up). Per triangle: indices here, in finalize()'s copy and in Embree's buffer, the
-    // area and its table entry, and Embree's BVH, about 100 bytes per triangle at high quality.
-    const uint64_t per_vertex = 64, per_triangle = 160;
+    // area and its table entry, and Embree's BVH, about 100 bytes per triangle at high quality;
+    // a flat mesh's triangle frames (FlatTriangle, 72 bytes) on top.
+    const uint64_t per_vertex = 64, per_triangle = 232;
     uint64_t bytes = saturating_add(saturating_add(saturating_mul(vertices, per_vertex), saturating_mul(triangles, per_triangle)), file_bytes);
     check_memory(bytes, "mesh of " + std::to_string(vertices) + " vertices and " + std::to_string(triangles) + " triangles", where);
 }
@@ -93,6 +94,16 @@ void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
     }
     area_distribution_ = Distribution1D(std::move(areas));
     if (normals_.empty() && smooth_if_missing) recompute_vertex_normals();
+    // A flat triangle's frame is the same at every point of it: computed here once, not per hit.
+    flat_.clear();
+    if (normals_.empty()) {
+        flat_.reserve(triangles_.size());
+        for (const auto& t : triangles_) {
+            FlatTriangle f = flat_triangle(t);
+            f.shading = Frame::from_normal_tangent(f.n, f.dpdu);
+            flat_.push_back(f);
+        }
+    }
 }
 
 void Mesh::recompute_vertex_normals() {
@@ -152,6 +163,18 @@ RTCGeometry Mesh::create_embree_geometry(RTCDevice device) const {
     return g;
 }
 
+// The geometric normal (on the front side) and the uv tangents of triangle `t`; the shading
+// frame is left to the caller.
+Mesh::FlatTriangle Mesh::flat_triangle(const glm::uvec3& t) const {
+    const Vec3 &p0 = positions_[t.x], &p1 = positions_[t.y], &p2 = positions_[t.z];
+    FlatTriangle f;
+    f.n = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+    if (!uvs_.empty()) triangle_tangents(p0, p1, p2, uvs_[t.x], uvs_[t.y], uvs_[t.z], f.n, f.dpdu, f.dpdv);
+    else coordinate_system(f.n, f.dpdu, f.dpdv);
+    if (flip_normals_) f.n = -f.n;
+    return f;
+}
+
 void Mesh::fill_interaction(const Ray& ray, const RayHit& hit, SurfaceInteraction& si) const {
     const glm::uvec3& t = triangles_[hit.prim_index];
     const Vec3 &p0 = positions_[t.x], &p1 = positions_[t.y], &p2 = positions_[t.z];
@@ -159,31 +182,26 @@ void Mesh::fill_interaction(const Ray& ray, const RayHit& hit, SurfaceInteractio
     // Barycentric interpolation is more accurate than o + t d far from the origin.
     si.p = b0 * p0 + b1 * p1 + b2 * p2;
     si.p_error = gamma_bound(7) * max_component(glm::abs(b0 * p0) + glm::abs(b1 * p1) + glm::abs(b2 * p2));
-    Vec3 n = glm::normalize(glm::cross(p1 - p0, p2 - p0));
-
-    Vec3 dpdu, dpdv;
-    if (!uvs_.empty()) {
-        const Vec2 &uv0 = uvs_[t.x], &uv1 = uvs_[t.y], &uv2 = uvs_[t.z];
-        si.uv = b0 * uv0 + b1 * uv1 + b2 * uv2;
-        triangle_tangents(p0, p1, p2, uv0, uv1, uv2, n, dpdu, dpdv);
-    } else {
-        si.uv = Vec2(b1, b2);
-        coordinate_system(n, dpdu, dpdv);
+    si.uv = uvs_.empty() ? Vec2(b1, b2) : b0 * uvs_[t.x] + b1 * uvs_[t.y] + b2 * uvs_[t.z];
+    if (!flat_.empty()) {
+        const FlatTriangle& f = flat_[hit.prim_index];
+        si.n = f.n;
+        si.dpdu = f.dpdu;
+        si.dpdv = f.dpdv;
+        si.shading = f.shading;
+        return;
     }
-    Vec3 ns = n;
-    if (!normals_.empty()) {
-        Vec3 interp = b0 * normals_[t.x] + b1 * normals_[t.y] + b2 * normals_[t.z];
-        float len = glm::length(interp);
-        if (len > 0.0f) ns = interp / len;
-    }
-    if (flip_normals_) {
-        n = -n;
-        ns = -ns;
-    }
-    si.n = n;
-    si.dpdu = dpdu;
-    si.dpdv = dpdv;
-    si.shading = Frame::from_normal_tangent(ns, dpdu);
+    FlatTriangle f = flat_triangle(t);
+    // The shading normal interpolates the vertex normals (on the geometric normal's side, which
+    // flip_normals turns).
+    Vec3 ns = b0 * normals_[t.x] + b1 * normals_[t.y] + b2 * normals_[t.z];
+    float len = glm::length(ns);
+    ns = len > 0.0f ? ns / len : (flip_normals_ ? -f.n : f.n);
+    if (flip_normals_) ns = -ns;
+    si.n = f.n;
+    si.dpdu = f.dpdu;
+    si.dpdv = f.dpdv;
+    si.shading = Frame::from_normal_tangent(ns, f.dpdu);
 }
 
 void Mesh::tessellate(TriangleSoup& out, int) const {

@@ -84,6 +84,16 @@ protected:
     std::vector<MeshAttribute> attributes_;
 
 private:
+    // What a hit on a triangle needs beyond its point and uv, when the mesh has no vertex normals
+    // (rectangles, cubes, faceted meshes): the same everywhere on the triangle, so finalize()
+    // stores it per triangle instead of fill_interaction() recomputing it at every hit.
+    struct FlatTriangle {
+        Vec3 n, dpdu, dpdv;  // n on the front side (flip_normals applied)
+        Frame shading;
+    };
+    FlatTriangle flat_triangle(const glm::uvec3& t) const;
+    std::vector<FlatTriangle> flat_;  // per entry of triangles_; empty with vertex normals
+
     Distribution1D area_distribution_;
     float area_ = 0.0f;
     BoundingBox bbox_;

@@ -18,6 +18,18 @@ inline uint64_t mix64(uint64_t x) {
 
 inline uint64_t hash_combine(uint64_t a, uint64_t b) { return mix64(a ^ (mix64(b) + 0x9e3779b97f4a7c15ULL + (a << 6) + (a >> 2))); }
 
+// Output n (from 0) of the SplitMix64 generator started at state `key` (Steele, Lea and Flood
+// 2014, "Fast Splittable Pseudorandom Number Generators"): a Weyl step by the golden-ratio
+// increment, then Stafford's "Mix13" finaliser. One mixing pass where hash_combine takes two: for
+// a key that is already a hash (a pixel's sequence, a sample's key), consecutive n are as
+// independent as consecutive outputs of the generator, which passes BigCrush.
+inline uint64_t splitmix(uint64_t key, uint64_t n) {
+    uint64_t z = key + (n + 1) * 0x9e3779b97f4a7c15ULL;
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+}
+
 class PCG32 {
 public:
     PCG32() { seed(0x853c49e6748fea9bULL, 0xda3e39cb94b95bdbULL); }

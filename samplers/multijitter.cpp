@@ -43,7 +43,7 @@ public:
     float next_1d() override {
         uint32_t dim = dimension_++;
         uint32_t stratum = permute_index(index_, uint32_t(sample_count_), dimension_seed(dim, 1));
-        float j = jitter_ ? jitter(dim, 0) : 0.5f;
+        float j = jitter_ ? jitter(dim) : 0.5f;
         return clamp_below_one((float(stratum) + j) / float(sample_count_));
     }
 
@@ -57,9 +57,9 @@ public:
         uint32_t y = s / nx, x = s - y * nx;
         uint32_t sx = permute_index(x, nx, dimension_seed(dim, 3));
         uint32_t sy = permute_index(y, ny, dimension_seed(dim, 4));
-        float jx = jitter_ ? jitter(dim, 0) : 0.5f, jy = jitter_ ? jitter(dim, 1) : 0.5f;
-        return Vec2(clamp_below_one((float(x) + (float(sy) + jx) / float(ny)) / float(nx)),
-                    clamp_below_one((float(y) + (float(sx) + jy) / float(nx)) / float(ny)));
+        Vec2 j = jitter_ ? jitter_2d(dim) : Vec2(0.5f);
+        return Vec2(clamp_below_one((float(x) + (float(sy) + j.x) / float(ny)) / float(nx)),
+                    clamp_below_one((float(y) + (float(sx) + j.y) / float(nx)) / float(ny)));
     }
 
 private:

@@ -76,7 +76,7 @@ private:
         const uint32_t p = uint32_t(prime_);
         uint32_t stratum = permute_index(symbol, p, dimension_seed(dim, 1));
         uint32_t substratum = permute_index(sub, sub_count, dimension_seed(dim, 2));
-        float j = jitter_ ? jitter(dim, 0) : 0.5f;
+        float j = jitter_ ? jitter(dim) : 0.5f;
         return clamp_below_one((float(stratum) + (float(substratum) + j) / float(sub_count)) / float(p));
     }
 

@@ -29,11 +29,17 @@ protected:
     // (e.g. "a square, as Mitsuba does").
     void read_count_and_seed(const Properties& props, const std::string& rule);
 
-    // A 32-bit seed for the permutations of dimension `dim` in this pixel; `salt` tells apart the
-    // several permutations one dimension may use.
-    uint32_t dimension_seed(uint32_t dim, uint32_t salt = 0) const { return hash_bits(sequence_ ^ salt, dim); }
-    // A uniform number in [0, 1) for (sample, dimension dim, axis `axis`): the jitter in a stratum.
-    float jitter(uint32_t dim, uint32_t axis) const { return bits_to_unit(hash_bits(sample_key_, uint64_t(dim) * 4 + axis)); }
+    // A 32-bit seed for the permutations of dimension `dim` in this pixel; `salt` (below 8) tells
+    // apart the several permutations one dimension may use. One SplitMix64 step of the pixel's
+    // sequence, as for the jitter below: these run once or twice per number drawn.
+    uint32_t dimension_seed(uint32_t dim, uint32_t salt = 0) const { return uint32_t(splitmix(sequence_, uint64_t(dim) * 8 + salt) >> 32); }
+    // A uniform number in [0, 1) for (sample, dimension dim): the jitter in a stratum.
+    float jitter(uint32_t dim) const { return bits_to_unit(uint32_t(splitmix(sample_key_, dim) >> 32)); }
+    // Two independent jitters for a 2D dimension from one hash: its low and high 32 bits.
+    Vec2 jitter_2d(uint32_t dim) const {
+        uint64_t h = splitmix(sample_key_, dim);
+        return Vec2(bits_to_unit(uint32_t(h)), bits_to_unit(uint32_t(h >> 32)));
+    }
 
     uint64_t sequence_ = 0;  // the pixel's sequence
     uint32_t index_ = 0;     // the sample index within the pixel

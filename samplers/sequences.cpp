@@ -7,8 +7,6 @@
 
 namespace candela {
 
-uint32_t hash_bits(uint64_t a, uint64_t b) { return uint32_t(hash_combine(a, b) >> 32); }
-
 uint64_t pixel_key(const Vec2i& pixel) { return (uint64_t(uint32_t(pixel.y)) << 32) | uint32_t(pixel.x); }
 
 uint32_t permute_index(uint32_t i, uint32_t n, uint32_t seed) {
@@ -42,7 +40,9 @@ uint32_t permute_index(uint32_t i, uint32_t n, uint32_t seed) {
         i &= mask;
         i ^= i >> 5;
     } while (i >= n);
-    return (i + seed) % n;
+    // For a power of two n (every count the stratified sampler uses at 4^k spp) the mask gives
+    // the remainder without a division.
+    return mask + 1 == n ? (i + seed) & mask : (i + seed) % n;
 }
 
 uint32_t reverse_bits(uint32_t v) {

@@ -5,6 +5,7 @@
 // arguments, so a sample's numbers depend only on (seed, pixel, sample index, dimension).
 
 #include "core/math.h"
+#include "core/rng.h"
 
 #include <cstdint>
 
@@ -18,7 +19,7 @@ inline float bits_to_unit(uint32_t bits) { return float(bits >> 8) * 0x1p-24f; }
 inline float clamp_below_one(float x) { return x < OneMinusEpsilon ? x : OneMinusEpsilon; }
 
 // 32 well-mixed bits from two keys.
-uint32_t hash_bits(uint64_t a, uint64_t b);
+inline uint32_t hash_bits(uint64_t a, uint64_t b) { return uint32_t(hash_combine(a, b) >> 32); }
 // A per-pixel key for hashing (x and y in one 64-bit word).
 uint64_t pixel_key(const Vec2i& pixel);
 

@@ -56,7 +56,7 @@ private:
         // Dimensions 0 and 1: the digits below the pixel's m leading ones.
         if (dim < 2) return bits_to_unit(randomize(sobol_bits(sobol_index_, int(dim)) << log2_scale_, hash_bits(sequence_, dim)));
         if (dim < uint32_t(SobolDimensions)) return bits_to_unit(randomize(sobol_bits(sobol_index_, int(dim)), hash_bits(seed_, dim)));
-        return jitter(dim, 0);
+        return jitter(dim);
     }
 
     // The leading m digits of dimensions 0 and 1 contributed by index bit j, as one 2m-bit word:

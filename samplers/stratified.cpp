@@ -37,7 +37,7 @@ public:
     float next_1d() override {
         uint32_t dim = dimension_++;
         uint32_t stratum = permute_index(index_, uint32_t(sample_count_), dimension_seed(dim));
-        float j = jitter_ ? jitter(dim, 0) : 0.5f;
+        float j = jitter_ ? jitter(dim) : 0.5f;
         return clamp_below_one((float(stratum) + j) / float(sample_count_));
     }
 
@@ -46,9 +46,9 @@ public:
         dimension_ += 2;
         uint32_t stratum = permute_index(index_, uint32_t(sample_count_), dimension_seed(dim));
         uint32_t y = stratum / uint32_t(resolution_), x = stratum - y * uint32_t(resolution_);
-        float jx = jitter_ ? jitter(dim, 0) : 0.5f, jy = jitter_ ? jitter(dim, 1) : 0.5f;
+        Vec2 j = jitter_ ? jitter_2d(dim) : Vec2(0.5f);
         float inv = 1.0f / float(resolution_);
-        return Vec2(clamp_below_one((float(x) + jx) * inv), clamp_below_one((float(y) + jy) * inv));
+        return Vec2(clamp_below_one((float(x) + j.x) * inv), clamp_below_one((float(y) + j.y) * inv));
     }
 
 private:

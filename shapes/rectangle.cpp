@@ -22,6 +22,11 @@ public:
         positions_ = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}};
         uvs_ = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
         triangles_ = {{0, 1, 2}, {0, 2, 3}};
+        // Mitsuba's rectangle faces along to_world's transformed normal (inverse transpose), which
+        // a mirroring to_world turns against the triangles' winding: flip the winding's normal
+        // then, so that hits, sampling and emission agree on the front side. Before finalize(),
+        // which stores the triangles' frames and the normal cone on the front side.
+        if (to_world_.determinant3() < 0.0f) flip_normals_ = !flip_normals_;
         finalize(props, false);
         corner_ = to_world_.apply_point(Vec3(-1, -1, 0));
         Vec3 ex = to_world_.apply_vector(Vec3(2, 0, 0)), ey = to_world_.apply_vector(Vec3(0, 2, 0));
@@ -30,15 +35,13 @@ public:
         x_ = ex / len_x_;
         y_ = ey / len_y_;
         z_ = glm::cross(x_, y_);
-        // Mitsuba's rectangle faces along to_world's transformed normal (inverse transpose), which
-        // a mirroring to_world turns against the triangles' winding: flip the winding's normal
-        // then, so that hits, sampling and emission agree on the front side.
-        if (to_world_.determinant3() < 0.0f) flip_normals_ = !flip_normals_;
         normal_ = glm::normalize(glm::cross(ex, ey));
         if (flip_normals_) normal_ = -normal_;
         ex_ = ex;
         ey_ = ey;
         orthogonal_ = std::abs(glm::dot(x_, y_)) < 1e-4f;
+        // The error bound of corner + u.x ex + u.y ey depends on the rectangle alone.
+        position_error_ = gamma_bound(6) * (max_abs_component(corner_) + max_abs_component(ex_) + max_abs_component(ey_));
     }
     std::string to_string() const override { return "rectangle"; }
 
@@ -46,7 +49,7 @@ public:
     PositionSample sample_position(const Vec2& u) const override {
         PositionSample ps;
         ps.p = corner_ + u.x * ex_ + u.y * ey_;
-        ps.p_error = gamma_bound(6) * (max_abs_component(corner_) + max_abs_component(ex_) + max_abs_component(ey_));
+        ps.p_error = position_error_;
         ps.n = normal_;
         ps.uv = u;
         ps.pdf = 1.0f / surface_area();
@@ -145,6 +148,7 @@ private:
 
     Vec3 corner_, ex_, ey_, x_, y_, z_, normal_;
     float len_x_ = 0.0f, len_y_ = 0.0f;
+    float position_error_ = 0.0f;  // the error bound of every point sample_position() returns
     bool orthogonal_ = false;
 };
 
