@@ -19,7 +19,13 @@ AnimatedTransform::Keyframe make_keyframe(float time, const Transform& t) {
 AnimatedTransform::AnimatedTransform(const Transform& fixed) { keys_.push_back(make_keyframe(0.0f, fixed)); }
 
 AnimatedTransform::AnimatedTransform(const std::vector<std::pair<float, Transform>>& keyframes) {
-    for (const auto& [time, t] : keyframes) keys_.push_back(make_keyframe(time, t));
+    for (const auto& [time, t] : keyframes) {
+        keys_.push_back(make_keyframe(time, t));
+        // q and -q are the same rotation: keep neighbours on the same side (a . b >= 0), so that
+        // any slerp, with or without its own shorter-arc flip (Embree's), turns the short way.
+        if (keys_.size() > 1 && glm::dot(keys_[keys_.size() - 2].rotation, keys_.back().rotation) < 0.0f)
+            keys_.back().rotation = -keys_.back().rotation;
+    }
     if (keys_.empty()) keys_.push_back(make_keyframe(0.0f, Transform()));
 }
 

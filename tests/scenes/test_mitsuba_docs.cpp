@@ -1,9 +1,11 @@
 // Scenes behind Mitsuba 3's plugin documentation (mitsuba-data docs/scenes, see
 // tests/scenes/mitsuba_docs/README.md), unchanged, load and render at 1 spp: a Cornell box with
 // measured spectra found through a search folder, an analytic sphere light, B-spline curves, a
-// conductor with wavelength:value spectra and two coloured spot lights. The binary assets they
-// name (matpreview.serialized, museum.exr, envmap.exr) are not in this repository: the test
-// writes stand-ins of the same kind and name (the serialized writer of tests/, a sky gradient).
+// conductor with wavelength:value spectra, two coloured spot lights, and the four motion-blur
+// scenes (a moving instance, camera and spot light, and the rotation's slerp pose). The binary
+// assets they name (matpreview.serialized, museum.exr, envmap.exr, bunny.ply, teapot.ply) are not
+// in this repository: the test writes stand-ins of the same kind and name (the serialized writer
+// of tests/, a sky gradient, small PLY spheres).
 // Each check can fail: the light seen directly has exactly its emission's colour, the walls
 // keep their colours, the spots light the scene in red and blue only.
 
