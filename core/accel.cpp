@@ -74,7 +74,7 @@ const Shape* Accel::intersect(const Ray& ray, RayHit& hit) const {
     rh.ray.dir_z = ray.d.z;
     rh.ray.tnear = ray.tmin;
     rh.ray.tfar = ray.tmax;
-    rh.ray.time = ray.time;
+    rh.ray.time = time_(ray.time);
     rh.ray.mask = 0xFFFFFFFFu;
     rh.ray.id = 0;
     rh.ray.flags = 0;
@@ -109,7 +109,7 @@ bool Accel::occluded(const Ray& ray) const {
     r.dir_z = ray.d.z;
     r.tnear = ray.tmin;
     r.tfar = ray.tmax;
-    r.time = ray.time;
+    r.time = time_(ray.time);
     r.mask = 0xFFFFFFFFu;
     r.id = 0;
     r.flags = 0;

@@ -57,6 +57,7 @@ Scene::Scene(const Properties& props) {
     if (sensor_->is_animated()) is_animated_ = true;
     for (auto& emitter : emitters_)
         if (emitter->is_animated()) is_animated_ = true;
+    accel_.set_shutter(sensor_->shutter_open(), shutter_close);
     accel_.build(shapes_);
     for (auto& emitter : emitters_) {
         emitter->set_scene(*this);

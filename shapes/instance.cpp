@@ -68,8 +68,9 @@ void Instance::set_embree_motion(RTCGeometry g) const {
     if (!(before <= MaxPadding && after <= MaxPadding))
         throw SceneError(motion_location_, "the shutter lies too far outside an instance's keyframes: give keyframes nearer the shutter");
     const unsigned count = unsigned(pad_before + int(keys.size()) + pad_after);
+    const EmbreeTime time(shutter_open_, shutter_close_);
     rtcSetGeometryTimeStepCount(g, count);
-    rtcSetGeometryTimeRange(g, motion_.begin_time() - float(pad_before) * step, motion_.end_time() + float(pad_after) * step);
+    rtcSetGeometryTimeRange(g, time(motion_.begin_time() - float(pad_before) * step), time(motion_.end_time() + float(pad_after) * step));
     for (unsigned i = 0; i < count; ++i) {
         const AnimatedTransform::Keyframe& k = keys[size_t(std::clamp(int(i) - pad_before, 0, int(keys.size()) - 1))];
         RTCQuaternionDecomposition q;

@@ -62,7 +62,8 @@ private:
     void transform_soup(TriangleSoup& soup) const;
     // Embree's instance motion: one quaternion decomposition per time step, equally spaced from
     // the first keyframe to the last, padded with copies of the first and last pose to cover the
-    // shutter (Embree leaves a geometry out at times beyond its time range).
+    // shutter (Embree leaves a geometry out at times beyond its time range), in Embree's time
+    // relative to the shutter (EmbreeTime).
     void set_embree_motion(RTCGeometry g) const;
 
     Ref<ShapeGroup> group_;
