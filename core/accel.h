@@ -55,6 +55,7 @@ public:
 
 private:
     static bool memory_monitor(void* self, ssize_t bytes, bool post);
+    float embree_time(float time) const;
 
     RTCDevice device_ = nullptr;
     bool owns_device_ = false;
