@@ -6,6 +6,7 @@
 // linearly and R by slerp (constant angular rate, the shortest way round). Outside the keyframes
 // the first or last pose holds. A single keyframe (or a plain <transform>) is static.
 
+#include "core/error.h"
 #include "core/transform.h"
 
 #include <vector>
@@ -52,6 +53,9 @@ public:
     static Mat4 compose(const Vec3& translation, const Vec4& rotation, const Mat3& scale_shear);
     // Spherical linear interpolation of unit quaternions along the shorter arc.
     static Vec4 slerp(const Vec4& a, const Vec4& b, float t);
+
+    // Where the <animation> stands in the scene file (empty when static), for messages.
+    SourceLocation where;
 
 private:
     std::vector<Keyframe> keys_;

@@ -412,8 +412,8 @@ void Integrator::refuse_unrendered_media(const Scene& scene) const {
 
 void Integrator::refuse_unrendered_motion(const Scene& scene) const {
     if (!scene.is_animated() || renders_motion()) return;
-    throw SceneError(SourceLocation{scene.source_file, 0}, "the scene has an animated to_world (motion blur), which the " + to_string() +
-                                                               " integrator does not render: render it with path, volpath or direct");
+    throw SceneError(scene.motion_location(), "this animated to_world (motion blur) is not rendered by the " + to_string() +
+                                                  " integrator: render the scene with path, volpath or direct");
 }
 
 RenderResult SamplingIntegrator::render(const Scene& scene, const RenderOptions& options) {

@@ -156,7 +156,9 @@ AnimatedTransform Properties::get_animated_transform(const std::string& name, co
     auto it = entries_.find(name);
     if (it != entries_.end() && it->second.type == Type::Animation) {
         it->second.used = true;
-        return std::get<AnimatedTransform>(it->second.value);
+        AnimatedTransform animation = std::get<AnimatedTransform>(it->second.value);
+        animation.where = it->second.where;
+        return animation;
     }
     return AnimatedTransform(get_transform(name, def));
 }

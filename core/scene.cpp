@@ -50,13 +50,17 @@ Scene::Scene(const Properties& props) {
     }
     if (sensor_->medium()) has_media_ = true;
     const float shutter_close = sensor_->shutter_open() + sensor_->shutter_open_time();
+    // The first animation in the scene, for the message of an integrator that renders none.
+    auto note_motion = [&](bool animated, const SourceLocation& where) {
+        if (animated && !is_animated_) motion_location_ = where;
+        is_animated_ = is_animated_ || animated;
+    };
     for (auto& shape : shapes_) {
         shape->set_shutter(sensor_->shutter_open(), shutter_close);
-        if (shape->is_animated()) is_animated_ = true;
+        note_motion(shape->is_animated(), shape->motion_location());
     }
-    if (sensor_->is_animated()) is_animated_ = true;
-    for (auto& emitter : emitters_)
-        if (emitter->is_animated()) is_animated_ = true;
+    note_motion(sensor_->is_animated(), sensor_->motion_location());
+    for (auto& emitter : emitters_) note_motion(emitter->is_animated(), emitter->motion_location());
     accel_.set_shutter(sensor_->shutter_open(), shutter_close);
     accel_.build(shapes_);
     for (auto& emitter : emitters_) {

@@ -87,6 +87,7 @@ public:
     const Transform& to_world() const { return to_world_; }
     // Whether the camera's to_world is animated (<animation name="to_world">).
     virtual bool is_animated() const { return false; }
+    virtual SourceLocation motion_location() const { return {}; }
     // The exposure (Mitsuba's shutter_open, shutter_close - shutter_open): a camera sample's time
     // is shutter_open + u (close - open) for a uniform u, or shutter_open when they are equal.
     float shutter_open() const { return shutter_open_; }

@@ -112,6 +112,7 @@ public:
     // Whether the shape moves (an animated to_world: instances only, through Embree's instance
     // motion blur).
     bool is_animated() const { return motion_.is_animated(); }
+    const SourceLocation& motion_location() const { return motion_.where; }
     // Told by the scene before its BVH is built: the sensor's exposure [open, close]. A moving
     // shape shows its pose at `open` to the views that have no time (the rasterizer's
     // tessellation) and holds its first and last poses before and after its keyframes.

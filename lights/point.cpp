@@ -32,6 +32,7 @@ public:
     }
 
     bool is_animated() const override { return motion_.is_animated(); }
+    SourceLocation motion_location() const override { return motion_.where; }
     void set_scene(const Scene& scene) override {
         if (motion_.is_animated()) position_ = motion_.eval(scene.sensor().shutter_open()).apply_point(Vec3(0.0f));
     }

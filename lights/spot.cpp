@@ -54,6 +54,7 @@ public:
     }
 
     bool is_animated() const override { return motion_.is_animated(); }
+    SourceLocation motion_location() const override { return motion_.where; }
     void set_scene(const Scene& scene) override {
         if (motion_.is_animated()) set_pose(motion_.eval(scene.sensor().shutter_open()));
     }

@@ -29,6 +29,7 @@ namespace candela {
 class ProjectiveCamera : public Sensor {
 public:
     bool is_animated() const override { return motion_.is_animated(); }
+    SourceLocation motion_location() const override { return motion_.where; }
 
 protected:
     explicit ProjectiveCamera(const Properties& props);

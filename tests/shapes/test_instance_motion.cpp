@@ -191,4 +191,16 @@ TEST_CASE("instance motion: keyframes at unequal steps and an animated mesh stop
 <animation name="to_world"><transform time="0"/><transform time="1"/></animation></shape>)");
     CHECK_THAT(mesh.message(), Catch::Contains("not supported on rectangle"));
     CHECK(mesh.location.line == 3);
+    // An integrator that renders no motion stops at the animation's line.
+    Ref<Scene> scene = load_scene_xml("motion-ptracer", R"(<shape type="shapegroup" id="g"><shape type="sphere"/></shape>
+<shape type="instance"><ref id="g"/>
+<animation name="to_world"><transform time="0"/><transform time="1"/></animation></shape>
+<integrator type="ptracer"/>)");
+    try {
+        scene->integrator().render(*scene, RenderOptions());
+        FAIL("ptracer rendered a moving scene");
+    } catch (const SceneError& e) {
+        CHECK_THAT(e.message(), Catch::Contains("not rendered by the ptracer integrator"));
+        CHECK(e.location.line == 4);
+    }
 }
