@@ -5,6 +5,7 @@
 #include "core/parallel.h"
 #include "core/profiling.h"
 
+#include <algorithm>
 #include <csignal>
 #include <cstdio>
 
@@ -76,6 +77,11 @@ void Accel::build(const std::vector<Ref<Shape>>& shapes) {
     embree_build_hand_off().after_loop();
 }
 
+// Embree takes ray times in [0, 1] only (its assertions stop the program otherwise). Rays of
+// camera paths carry times within the shutter; a ray made without one (time 0, a light path's)
+// in a scene whose shutter opens later takes the nearest instant of the shutter.
+float Accel::embree_time(float time) const { return std::clamp(time_(time), 0.0f, 1.0f); }
+
 const Shape* Accel::intersect(const Ray& ray, RayHit& hit) const {
     ++g_rays_traced;
     RTCIntersectContext context;
@@ -89,7 +95,7 @@ const Shape* Accel::intersect(const Ray& ray, RayHit& hit) const {
     rh.ray.dir_z = ray.d.z;
     rh.ray.tnear = ray.tmin;
     rh.ray.tfar = ray.tmax;
-    rh.ray.time = 0.0f;
+    rh.ray.time = embree_time(ray.time);
     rh.ray.mask = 0xFFFFFFFFu;
     rh.ray.id = 0;
     rh.ray.flags = 0;
@@ -124,7 +130,7 @@ bool Accel::occluded(const Ray& ray) const {
     r.dir_z = ray.d.z;
     r.tnear = ray.tmin;
     r.tfar = ray.tmax;
-    r.time = 0.0f;
+    r.time = embree_time(ray.time);
     r.mask = 0xFFFFFFFFu;
     r.id = 0;
     r.flags = 0;

@@ -13,6 +13,17 @@
 
 namespace candela {
 
+// Embree's motion blur works in times relative to the shutter, [0, 1] from open to close
+// (rtcSetGeometryTimeRange): scene times map there linearly. A closed shutter (open == close)
+// maps by a unit length, so that its one instant lands on 0.
+struct EmbreeTime {
+    float open = 0.0f, length = 1.0f;
+    EmbreeTime() = default;
+    EmbreeTime(float shutter_open, float shutter_close)
+        : open(shutter_open), length(shutter_close > shutter_open ? shutter_close - shutter_open : 1.0f) {}
+    float operator()(float time) const { return (time - open) / length; }
+};
+
 class Accel {
 public:
     // A BVH with its own Embree device (the scene's).
@@ -24,6 +35,8 @@ public:
     Accel& operator=(const Accel&) = delete;
 
     void build(const std::vector<Ref<Shape>>& shapes);
+    // The shutter the rays' times are relative to (see EmbreeTime); before build().
+    void set_shutter(float open, float close) { time_ = EmbreeTime(open, close); }
 
     // Closest hit within [ray.tmin, ray.tmax]; returns the shape hit (null for a miss). For a hit
     // on an instance, the instance is returned and hit.instance_geometry names the geometry of
@@ -42,11 +55,13 @@ public:
 
 private:
     static bool memory_monitor(void* self, ssize_t bytes, bool post);
+    float embree_time(float time) const;
 
     RTCDevice device_ = nullptr;
     bool owns_device_ = false;
     RTCScene scene_ = nullptr;
     std::vector<const Shape*> shapes_;  // by Embree geometry id
+    EmbreeTime time_;
     std::atomic<int64_t> bytes_{0};
 };
 

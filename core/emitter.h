@@ -76,6 +76,11 @@ public:
     // Spatial and directional bounds of the emission; infinite emitters have none.
     virtual std::optional<LightBounds> bounds() const { return std::nullopt; }
 
+    // Whether the emitter moves (an animated to_world: point and spot lights); it then takes its
+    // pose at the reference point's time (SurfaceInteraction::time).
+    virtual bool is_animated() const { return false; }
+    virtual SourceLocation motion_location() const { return {}; }
+
     EmitterType type() const { return type_; }
     bool is_delta() const { return type_ == EmitterType::DeltaPosition || type_ == EmitterType::DeltaDirection; }
     bool is_infinite() const { return type_ == EmitterType::Infinite; }

@@ -239,7 +239,7 @@ private:
             record.differential_scale = differential_scale_;
             FirstHitAovs aov;
             record.first_hit = first_hit_ ? &aov : nullptr;
-            Ray ray = sensor_.sample_ray(record.film_pos, record.aperture);
+            Ray ray = sensor_.sample_ray(record.film_pos, record.aperture, sample_time(sampler));
             Spectrum L = integrator_.sample_radiance(scene_, sampler, ray, record);
             ++taken;
             if (!values_.fill(L, record.valid, record.channels, values)) {
@@ -249,6 +249,17 @@ private:
             tile.block.put(record.film_pos - Vec2(block_origin_), values);
             if (ps) ps->add(L, aov, uint32_t(s));
         }
+    }
+
+    // The camera sample's shutter time: from its own dimension when the shutter is open for a
+    // while (then the path continues at the first bounce's dimensions), else the opening time,
+    // drawing nothing.
+    float sample_time(Sampler& sampler) const {
+        if (!(sensor_.shutter_open_time() > 0.0f)) return sensor_.shutter_open();
+        sampler.set_dimension(SampleDimensions::Time);
+        float u = sampler.next_1d();
+        sampler.set_dimension(SampleDimensions::FirstBounce);
+        return sensor_.sample_time(u);
     }
 
     const SamplingIntegrator& integrator_;
@@ -398,8 +409,15 @@ void Integrator::refuse_unrendered_media(const Scene& scene) const {
                                                                " integrator would ignore: render it with volpath (or volpathmis)");
 }
 
+void Integrator::refuse_unrendered_motion(const Scene& scene) const {
+    if (!scene.is_animated() || renders_motion()) return;
+    throw SceneError(scene.motion_location(), "this animated to_world (motion blur) is not rendered by the " + to_string() +
+                                                  " integrator: render the scene with path, volpath or direct");
+}
+
 RenderResult SamplingIntegrator::render(const Scene& scene, const RenderOptions& options) {
     refuse_unrendered_media(scene);
+    refuse_unrendered_motion(scene);
     auto t_start = std::chrono::steady_clock::now();
     const Film& film = scene.sensor().film();
     const SampleLayout values = sample_layout(film, *this);

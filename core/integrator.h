@@ -114,6 +114,11 @@ public:
     // Stops with a SceneError naming volpath when the scene has media this integrator would
     // ignore (Mitsuba's path ignores them silently; a silently wrong picture is worse).
     void refuse_unrendered_media(const Scene& scene) const;
+    // Whether this integrator renders motion blur: every ray it traces carries the camera ray's
+    // time (the sampling integrators that follow camera paths). The others stop with a SceneError
+    // on a scene with an animated to_world rather than render one pose silently.
+    virtual bool renders_motion() const { return false; }
+    void refuse_unrendered_motion(const Scene& scene) const;
     // Why render() cannot honour RenderOptions::samples and ::region and fill RenderResult::sums
     // (so that a render is split across machines and merged, resumed or checkpointed); "" when it
     // can: only integrators whose every sample depends on nothing but (seed, pixel, sample index)
@@ -124,6 +129,8 @@ public:
 
 class SamplingIntegrator : public Integrator {
 public:
+    // Camera paths: the camera ray's time reaches every ray spawned from its interactions.
+    bool renders_motion() const override { return true; }
     RenderResult render(const Scene& scene, const RenderOptions& options) override;
     // "": every sample is a pixel sample; an integrator whose samples share state across sample
     // indices (a cache built while rendering) must say why it cannot render parts.

@@ -40,6 +40,7 @@ const char* type_name(Properties::Type t) {
     case Properties::Type::RGB: return "rgb";
     case Properties::Type::Transform: return "transform";
     case Properties::Type::Object: return "object";
+    case Properties::Type::Animation: return "animation";
     }
     return "?";
 }
@@ -142,8 +143,24 @@ Spectrum Properties::get_rgb(const std::string& name, const Spectrum& def) const
     return e ? as_rgb(e->value) : def;
 }
 Transform Properties::get_transform(const std::string& name, const Transform& def) const {
+    auto it = entries_.find(name);
+    if (it != entries_.end() && it->second.type == Type::Animation)
+        throw SceneError(it->second.where, "an animated " + name + " (motion blur) is not supported on " + plugin_type_ +
+                                               ": only instances, sensors and point and spot emitters move (put a shape in a "
+                                               "shapegroup and animate an instance of it, as Mitsuba's animation_shape scene does)");
     const Entry* e = find(name, Type::Transform);
     return e ? std::get<Transform>(e->value) : def;
+}
+
+AnimatedTransform Properties::get_animated_transform(const std::string& name, const Transform& def) const {
+    auto it = entries_.find(name);
+    if (it != entries_.end() && it->second.type == Type::Animation) {
+        it->second.used = true;
+        AnimatedTransform animation = std::get<AnimatedTransform>(it->second.value);
+        animation.where = it->second.where;
+        return animation;
+    }
+    return AnimatedTransform(get_transform(name, def));
 }
 
 std::string Properties::get_path(const std::string& name) const {

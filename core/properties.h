@@ -6,6 +6,7 @@
 #include "core/error.h"
 #include "core/object.h"
 #include "core/spectrum.h"
+#include "core/animated_transform.h"
 #include "core/transform.h"
 
 #include <map>
@@ -23,8 +24,9 @@ class Properties {
 public:
     // What a property tag holds. Points and vectors share Vec3; the tag is kept for messages.
     // Points, vectors and rgb values all hold a Vec3 (Spectrum is the same type); `Type` tells them apart.
-    using Value = std::variant<int64_t, double, bool, std::string, Vec3, Transform, Ref<Object>>;
-    enum class Type { Integer, Float, Boolean, String, Point, Vector, RGB, Transform, Object };
+    using Value = std::variant<int64_t, double, bool, std::string, Vec3, Transform, Ref<Object>, AnimatedTransform>;
+    // Animation: an <animation> of keyframed transforms (motion blur).
+    enum class Type { Integer, Float, Boolean, String, Point, Vector, RGB, Transform, Object, Animation };
 
     Properties() = default;
     Properties(std::string plugin_type, SourceLocation where)
@@ -66,7 +68,11 @@ public:
     Vec3 get_vector(const std::string& name, const Vec3& def) const;
     Spectrum get_rgb(const std::string& name) const;
     Spectrum get_rgb(const std::string& name, const Spectrum& def) const;
+    // A fixed transform; an <animation> under this name is an error at its line saying that the
+    // plugin cannot move (only those that read get_animated_transform can).
     Transform get_transform(const std::string& name, const Transform& def = Transform()) const;
+    // A transform that may be animated: an <animation>, or a fixed transform (static).
+    AnimatedTransform get_animated_transform(const std::string& name, const Transform& def = Transform()) const;
 
     // A file name, looked for in the folders of the scene's file resolver (the scene file's own
     // folder, <path> folders, the working directory: see core/file_resolver.h); without a resolver,

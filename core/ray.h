@@ -13,6 +13,9 @@ class Emitter;
 struct Ray {
     Vec3 o{0.0f}, d{0.0f, 0.0f, 1.0f};
     float tmin = 0.0f, tmax = Infinity;
+    // When the ray travels (motion blur): the camera ray's shutter time, kept by every ray that
+    // continues its path. Animated shapes, sensors and emitters take their pose at this time.
+    float time = 0.0f;
 
     Ray() = default;
     Ray(const Vec3& origin, const Vec3& dir, float t_max = Infinity) : o(origin), d(dir), tmax(t_max) {}
@@ -57,13 +60,18 @@ struct SurfaceInteraction {
     const Shape* shape = nullptr;
     unsigned prim_index = 0;
     Vec2 prim_uv{0.0f};  // where on primitive prim_index: barycentrics (b1, b2) on a triangle
+    float time = 0.0f;   // the time of the ray that found it; rays spawned here keep it
 
     bool is_valid() const { return shape != nullptr; }
     Vec3 to_world(const Vec3& v) const { return shading.to_world(v); }
     Vec3 to_local(const Vec3& v) const { return shading.to_local(v); }
     Vec3 wi_world() const { return shading.to_world(wi); }
 
-    Ray spawn_ray(const Vec3& d) const { return Ray(offset_ray_origin(p, p_error, n, d), d); }
+    Ray spawn_ray(const Vec3& d) const {
+        Ray r(offset_ray_origin(p, p_error, n, d), d);
+        r.time = time;
+        return r;
+    }
     // A shadow ray toward `target`, stopping just short of it. A target on a surface (normal not
     // zero) is offset off that surface by its own error bound.
     Ray spawn_ray_to(const Vec3& target, const Vec3& target_normal = Vec3(0.0f), float target_error = 0.0f) const {
@@ -71,7 +79,9 @@ struct SurfaceInteraction {
         Vec3 t = target_normal == Vec3(0.0f) ? target : offset_ray_origin(target, target_error, target_normal, o - target);
         Vec3 dir = t - o;
         float dist = glm::length(dir);
-        return Ray(o, dir / dist, dist * (1.0f - ShadowEpsilon));
+        Ray r(o, dir / dist, dist * (1.0f - ShadowEpsilon));
+        r.time = time;
+        return r;
     }
 };
 

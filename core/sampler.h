@@ -55,8 +55,13 @@ constexpr const char* DefaultSampler = "stratified";
 // vertex k, counted from 0 at the first surface the camera ray meets) the light pick, the
 // position on the light, the BSDF lobe, the BSDF direction and Russian roulette. Every bounce
 // claims all of them whether it uses them or not, so bounce k always starts at bounce(k).
+//
+// The shutter time (drawn only when the sensor's shutter is open for a while) has a dimension of
+// its own far beyond any path's bounces, so that a scene that does not draw it keeps its layout
+// and its images bit for bit (Mitsuba draws it after the aperture, which would shift them).
 struct SampleDimensions {
     static constexpr uint32_t Film = 0, Aperture = 2, FirstBounce = 4, PerBounce = 7;
+    static constexpr uint32_t Time = 0x7fffff00u;
     // Offsets within a bounce.
     static constexpr uint32_t LightPick = 0, LightPosition = 1, Lobe = 3, Direction = 4, Roulette = 6;
     static constexpr uint32_t bounce(uint32_t k) { return FirstBounce + PerBounce * k; }

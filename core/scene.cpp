@@ -49,6 +49,19 @@ Scene::Scene(const Properties& props) {
         if (shape->is_medium_transition()) has_media_ = true;
     }
     if (sensor_->medium()) has_media_ = true;
+    const float shutter_close = sensor_->shutter_open() + sensor_->shutter_open_time();
+    // The first animation in the scene, for the message of an integrator that renders none.
+    auto note_motion = [&](bool animated, const SourceLocation& where) {
+        if (animated && !is_animated_) motion_location_ = where;
+        is_animated_ = is_animated_ || animated;
+    };
+    for (auto& shape : shapes_) {
+        shape->set_shutter(sensor_->shutter_open(), shutter_close);
+        note_motion(shape->is_animated(), shape->motion_location());
+    }
+    note_motion(sensor_->is_animated(), sensor_->motion_location());
+    for (auto& emitter : emitters_) note_motion(emitter->is_animated(), emitter->motion_location());
+    accel_.set_shutter(sensor_->shutter_open(), shutter_close);
     accel_.build(shapes_);
     for (auto& emitter : emitters_) {
         emitter->set_scene(*this);
@@ -59,6 +72,7 @@ Scene::Scene(const Properties& props) {
 bool Scene::intersect(const Ray& ray, SurfaceInteraction& si) const {
     RayHit hit;
     const Shape* shape = accel_.intersect(ray, hit);
+    si.time = ray.time;
     if (!shape) {
         si.shape = nullptr;
         si.t = Infinity;
@@ -98,7 +112,9 @@ Spectrum Scene::transmittance(const Ray& shadow_ray, const Medium* medium, PCG32
         Vec3 origin = offset_ray_origin(si.p, si.p_error, si.n, ray.d);
         float remaining = ray.tmax - glm::dot(origin - ray.o, ray.d);  // inf stays inf
         if (!(remaining > 0.0f)) return T;
+        float time = ray.time;
         ray = Ray(origin, ray.d, remaining);
+        ray.time = time;
     }
     return Spectrum(0.0f);
 }

@@ -34,6 +34,10 @@ public:
     bool has_null_surfaces() const { return has_null_surfaces_; }
     // Whether any shape or the sensor carries a participating medium.
     bool has_media() const { return has_media_; }
+    // Whether a shape, the sensor or an emitter has an animated to_world (motion blur).
+    bool is_animated() const { return is_animated_; }
+    // Where the first animated to_world is given (when is_animated()).
+    const SourceLocation& motion_location() const { return motion_location_; }
 
     const std::vector<Ref<Shape>>& shapes() const { return shapes_; }
     // All emitters: area emitters of shapes, then the others in document order.
@@ -66,6 +70,8 @@ private:
     Accel accel_;
     bool has_null_surfaces_ = false;
     bool has_media_ = false;
+    bool is_animated_ = false;
+    SourceLocation motion_location_;
 };
 
 }  // namespace candela

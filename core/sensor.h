@@ -67,8 +67,11 @@ public:
     virtual std::optional<PinholeProjection> pinhole() const { return std::nullopt; }
     ObjectKind kind() const override { return ObjectKind::Sensor; }
     // A primary ray through continuous film position `film_pos` (pixels of the full film, origin
-    // at the top-left corner); `aperture_u` is for cameras with a lens.
-    virtual Ray sample_ray(const Vec2& film_pos, const Vec2& aperture_u) const = 0;
+    // at the top-left corner) at shutter time `time` (an animated camera takes its pose then; the
+    // ray carries the time); `aperture_u` is for cameras with a lens.
+    virtual Ray sample_ray(const Vec2& film_pos, const Vec2& aperture_u, float time) const = 0;
+    // The same at the shutter's opening.
+    Ray sample_ray(const Vec2& film_pos, const Vec2& aperture_u) const { return sample_ray(film_pos, aperture_u, shutter_open_); }
     // The connection from world point `ref` to the sensor; `aperture_u` picks the lens point of
     // cameras with a lens. pdf 0 when `ref` is outside the view or the clip range.
     virtual SensorSample sample_direction(const Vec3& ref, const Vec2& aperture_u) const = 0;
@@ -80,7 +83,16 @@ public:
         sampler_ = std::move(sampler);
         sampler_->set_film_size(film_->full_size());
     }
+    // The camera's pose at the shutter's opening (the rasterizer's, and the light tracers').
     const Transform& to_world() const { return to_world_; }
+    // Whether the camera's to_world is animated (<animation name="to_world">).
+    virtual bool is_animated() const { return false; }
+    virtual SourceLocation motion_location() const { return {}; }
+    // The exposure (Mitsuba's shutter_open, shutter_close - shutter_open): a camera sample's time
+    // is shutter_open + u (close - open) for a uniform u, or shutter_open when they are equal.
+    float shutter_open() const { return shutter_open_; }
+    float shutter_open_time() const { return shutter_open_time_; }
+    float sample_time(float u) const { return shutter_open_ + u * shutter_open_time_; }
     // The medium the camera stands in (Mitsuba: a <medium> or <ref> nested in the sensor); null
     // for vacuum.
     const Medium* medium() const { return medium_.get(); }
@@ -95,6 +107,7 @@ protected:
     Ref<Sampler> sampler_;
     Transform to_world_;
     bool jitter_ = true;
+    float shutter_open_ = 0.0f, shutter_open_time_ = 0.0f;
 };
 
 }  // namespace candela

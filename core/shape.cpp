@@ -7,8 +7,9 @@
 
 namespace candela {
 
-Shape::Shape(const Properties& props) {
-    to_world_ = props.get_transform("to_world", Transform());
+Shape::Shape(const Properties& props, bool may_move) {
+    motion_ = may_move ? props.get_animated_transform("to_world") : AnimatedTransform(props.get_transform("to_world", Transform()));
+    to_world_ = motion_.first();
     flip_normals_ = props.get_bool("flip_normals", false);
     auto emitters = props.get_objects(ObjectKind::Emitter);
     if (emitters.size() > 1) props.fail("a shape can have only one emitter");

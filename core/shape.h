@@ -4,6 +4,7 @@
 
 #include "core/object.h"
 #include "core/properties.h"
+#include "core/animated_transform.h"
 #include "core/ray.h"
 #include "core/spectrum.h"
 
@@ -71,7 +72,9 @@ struct RayHit {
 
 class Shape : public Object {
 public:
-    explicit Shape(const Properties& props);
+    // `may_move`: the shape accepts an animated to_world (instances); for the others an
+    // <animation> is an error at its line.
+    explicit Shape(const Properties& props, bool may_move = false);
     ObjectKind kind() const override { return ObjectKind::Shape; }
 
     // Builds the Embree geometry for this shape (the caller commits, attaches and releases it).
@@ -106,6 +109,15 @@ public:
     // BVH itself.
     virtual bool is_shape_group() const { return false; }
 
+    // Whether the shape moves (an animated to_world: instances only, through Embree's instance
+    // motion blur).
+    bool is_animated() const { return motion_.is_animated(); }
+    const SourceLocation& motion_location() const { return motion_.where; }
+    // Told by the scene before its BVH is built: the sensor's exposure [open, close]. A moving
+    // shape shows its pose at `open` to the views that have no time (the rasterizer's
+    // tessellation) and holds its first and last poses before and after its keyframes.
+    virtual void set_shutter(float open, float close) {}
+
     // A per-vertex or per-face attribute of a mesh ("vertex_color", "face_id", ...) at a hit
     // point (si.prim_index, si.prim_uv), as the mesh_attribute texture reads it: vertex
     // attributes interpolated barycentrically, face attributes constant per face. One channel
@@ -138,6 +150,7 @@ public:
 
 protected:
     Transform to_world_;
+    AnimatedTransform motion_;  // to_world_ at its keyframes (static unless constructed with may_move)
     bool flip_normals_ = false;
 
 private:

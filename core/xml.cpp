@@ -280,7 +280,8 @@ private:
             if (ids_.count(as)) throw SceneError(where(doc, child), "duplicate id \"" + as + "\"");
             ids_[as] = find_id(doc, child, id);
         } else if (tag == "animation") {
-            throw SceneError(where(doc, child), "unsupported element <animation>: animated transforms (motion blur) are not supported");
+            check_attributes(doc, child, {"name"});
+            props.set(property_name(doc, child), Properties::Type::Animation, read_animation(doc, child), where(doc, child));
         } else if (tag == "resource_path") {
             throw SceneError(where(doc, child), "unknown element <resource_path> (Mitsuba 3 calls it <path value=\"...\"/>)");
         } else {
@@ -560,6 +561,25 @@ private:
         } catch (const SpectrumFormatError& e) {
             throw SceneError(loc, "spectrum file \"" + found->string() + "\": " + e.what());
         }
+    }
+
+    // Mitsuba 3's <animation name="..."> of <transform time="..."> keyframes, times increasing.
+    AnimatedTransform read_animation(Document& doc, const pugi::xml_node& node) {
+        std::vector<std::pair<float, Transform>> keyframes;
+        for (pugi::xml_node key : node.children()) {
+            if (key.type() != pugi::node_element) continue;
+            SourceLocation loc = where(doc, key);
+            if (std::strcmp(key.name(), "transform") != 0)
+                throw SceneError(loc, "<animation> holds <transform time=\"...\"> keyframes, not <" + std::string(key.name()) + ">");
+            check_attributes(doc, key, {"time"});
+            double time = parse_double(doc, key, attr(doc, key, "time"));
+            if (!std::isfinite(time)) throw SceneError(loc, "a keyframe's time must be finite");
+            if (!keyframes.empty() && !(float(time) > keyframes.back().first))
+                throw SceneError(loc, "keyframe times must increase (this one is not after the previous one)");
+            keyframes.emplace_back(float(time), read_transform(doc, key));
+        }
+        if (keyframes.empty()) throw SceneError(where(doc, node), "<animation> needs at least one <transform time=\"...\"> keyframe");
+        return AnimatedTransform(keyframes);
     }
 
     Transform read_transform(Document& doc, const pugi::xml_node& node) {

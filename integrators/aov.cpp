@@ -179,9 +179,11 @@ private:
     // Mitsuba's ray differential: the camera ray one pixel away along `step` (same aperture
     // sample), scaled toward `ray` by the record's differential scale.
     static Ray differential_ray(const Scene& scene, const Ray& ray, const SampleRecord& record, const Vec2& step) {
-        Ray offset = scene.sensor().sample_ray(record.film_pos + step, record.aperture);
+        Ray offset = scene.sensor().sample_ray(record.film_pos + step, record.aperture, ray.time);
         float s = record.differential_scale;
-        return Ray(ray.o + (offset.o - ray.o) * s, ray.d + (offset.d - ray.d) * s);
+        Ray differential(ray.o + (offset.o - ray.o) * s, ray.d + (offset.d - ray.d) * s);
+        differential.time = ray.time;
+        return differential;
     }
 
     std::vector<NestedIntegrator> nested_;

@@ -87,8 +87,11 @@ public:
     }
 
     // The photon maps are built in prepare(), with the render's threads, seed and interruption.
+    // Its photons travel at no particular time.
+    bool renders_motion() const override { return false; }
     RenderResult render(const Scene& scene, const RenderOptions& options) override {
         refuse_unrendered_media(scene);
+        refuse_unrendered_motion(scene);
         threads_ = options.threads;
         interrupt_ = options.interrupt;
         seed_ = sample_settings(scene, options).seed;

@@ -170,6 +170,7 @@ void ParticleTracerIntegrator::splat(const Scene& scene, const Vec2& film_pos, c
 
 RenderResult ParticleTracerIntegrator::render(const Scene& scene, const RenderOptions& options) {
     refuse_unrendered_media(scene);
+    refuse_unrendered_motion(scene);
     auto t_start = std::chrono::steady_clock::now();
     bool variance = false;
     for (const std::string& a : options.aovs) {

@@ -134,8 +134,11 @@ public:
         }
     }
 
+    // Its patches are one still tessellation.
+    bool renders_motion() const override { return false; }
     RenderResult render(const Scene& scene, const RenderOptions& options) override {
         refuse_unrendered_media(scene);
+        refuse_unrendered_motion(scene);
         auto start = std::chrono::steady_clock::now();
         patches_ = std::make_unique<RadiosityPatches>(scene, settings_);
         RadiosityStats stats;

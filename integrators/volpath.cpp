@@ -134,6 +134,7 @@ Spectrum VolPathIntegrator::trace(const Scene& scene, Sampler& sampler, Ray ray,
                 record.valid = true;
                 if (!may_scatter(depth)) break;
                 SurfaceInteraction at = medium_vertex(ray(t));
+                at.time = ray.time;
                 const PhaseFunction& phase = medium->phase();
                 if (medium->sample_emitters()) {
                     sampler.set_dimension(dims + SampleDimensions::LightPick);
@@ -146,6 +147,7 @@ Spectrum VolPathIntegrator::trace(const Scene& scene, Sampler& sampler, Ray ray,
                 from = ScatterVertex{at, ps.pdf, !medium->sample_emitters()};
                 ++depth;
                 ray = Ray(at.p, ps.wo);
+                ray.time = at.time;
                 if (!roulette(sampler, dims, depth, eta, w)) break;
                 continue;
             }

@@ -3,7 +3,10 @@
 // Parameters (Mitsuba 3, plus the raster mode's attenuation):
 //   intensity                rgb         radiant intensity in W sr^-1 (default 1)
 //   position                 point       location (or the translation of to_world)
-//   to_world                 transform   alternative to position
+//   to_world                 transform   alternative to position; or an animation
+//                                        <animation name="to_world">: the light takes its
+//                                        position at the time of the point it lights (motion
+//                                        blur); rasterizer and light tracers: at shutter_open
 //   attenuation_constant,    float       the received radiance is intensity / (a0 + a1 d + a2 d^2);
 //   attenuation_linear,                  defaults 0, 0, 1: the physical inverse-square law
 //   attenuation_quadratic
@@ -22,12 +25,21 @@ public:
         type_ = EmitterType::DeltaPosition;
         intensity_ = props.get_rgb("intensity", Spectrum(1.0f));
         if (props.has("position") && props.has("to_world")) props.fail("position", "give either position or to_world, not both");
-        position_ = props.has("position") ? props.get_point("position") : props.get_transform("to_world").apply_point(Vec3(0.0f));
+        motion_ = props.has("position") ? AnimatedTransform(Transform::translate(props.get_point("position")))
+                                        : props.get_animated_transform("to_world");
+        position_ = motion_.first().apply_point(Vec3(0.0f));
         attenuation_ = Attenuation::read(props);
     }
 
+    bool is_animated() const override { return motion_.is_animated(); }
+    SourceLocation motion_location() const override { return motion_.where; }
+    void set_scene(const Scene& scene) override {
+        if (motion_.is_animated()) position_ = motion_.eval(scene.sensor().shutter_open()).apply_point(Vec3(0.0f));
+    }
+
     DirectionSample sample_direction(const SurfaceInteraction& ref, const Vec2&, Spectrum& weight) const override {
-        DirectionSample ds = sample_point_source(position_, ref, this);
+        const Vec3 position = motion_.is_animated() ? motion_.eval(ref.time).apply_point(Vec3(0.0f)) : position_;
+        DirectionSample ds = sample_point_source(position, ref, this);
         weight = ds.dist > 0.0f ? intensity_ * attenuation_(ds.dist) : Spectrum(0.0f);
         return ds;
     }
@@ -42,6 +54,11 @@ public:
     std::optional<LightBounds> bounds() const override {
         LightBounds b;
         b.box.expand(position_);
+        if (motion_.is_animated()) {  // everywhere the light goes
+            BoundingBox point;
+            point.expand(Vec3(0.0f));
+            b.box = motion_.bounds(point);
+        }
         b.phi = luminance(power());
         return b;
     }
@@ -53,7 +70,8 @@ public:
 
 private:
     Spectrum intensity_;
-    Vec3 position_;
+    AnimatedTransform motion_;
+    Vec3 position_;  // at shutter_open
     Attenuation attenuation_;
 };
 

@@ -2,7 +2,10 @@
 //
 // Parameters (Mitsuba 3, plus the raster mode's extras):
 //   intensity          rgb         radiant intensity on the axis in W sr^-1 (default 1)
-//   to_world           transform   apex at the origin, beam along +z (use a lookat)
+//   to_world           transform   apex at the origin, beam along +z (use a lookat); or an
+//                      animation   <animation name="to_world">: the light takes its pose at
+//                                  the time of the point it lights (motion blur); the
+//                                  rasterizer and the light tracers see the pose at shutter_open
 //   cutoff_angle       float       degrees from the axis where emission ends (default 20)
 //   beam_width         float       degrees of full intensity; in between it falls off linearly
 //                                  in the angle, as in Mitsuba (default 3/4 of cutoff_angle)
@@ -17,6 +20,7 @@
 
 #include "core/emitter.h"
 #include "core/registry.h"
+#include "core/scene.h"
 #include "core/texture.h"
 #include "core/warp.h"
 #include "lights/point_source.h"
@@ -28,7 +32,7 @@ public:
     explicit SpotEmitter(const Properties& props) {
         type_ = EmitterType::DeltaPosition;
         intensity_ = props.get_rgb("intensity", Spectrum(1.0f));
-        to_world_ = props.get_transform("to_world");
+        motion_ = props.get_animated_transform("to_world");
         cutoff_ = radians(props.get_float("cutoff_angle", 20.0f));
         if (!(cutoff_ > 0.0f && cutoff_ < Pi)) props.fail("cutoff_angle", "cutoff_angle must be in (0, 180) degrees");
         if (props.has("falloff_exponent")) {
@@ -45,10 +49,14 @@ public:
             if (texture_->is_constant()) props.fail("texture", "a spot light's texture must vary in space (e.g. a bitmap); use intensity for a colour");
         }
         attenuation_ = Attenuation::read(props);
-        position_ = to_world_.apply_point(Vec3(0.0f));
-        axis_ = glm::normalize(to_world_.apply_vector(Vec3(0, 0, 1)));
-        world_to_local_ = to_world_.inverse();
+        set_pose(motion_.first());
         power_ = intensity_ * integrated_profile();
+    }
+
+    bool is_animated() const override { return motion_.is_animated(); }
+    SourceLocation motion_location() const override { return motion_.where; }
+    void set_scene(const Scene& scene) override {
+        if (motion_.is_animated()) set_pose(motion_.eval(scene.sensor().shutter_open()));
     }
 
     // The falloff for a local direction (unit, beam along +z).
@@ -58,8 +66,16 @@ public:
     }
 
     DirectionSample sample_direction(const SurfaceInteraction& ref, const Vec2&, Spectrum& weight) const override {
-        DirectionSample ds = sample_point_source(position_, ref, this);
-        Vec3 local = glm::normalize(world_to_local_.apply_vector(-ds.d));
+        if (motion_.is_animated()) {  // the pose at the reference point's time
+            Transform pose = motion_.eval(ref.time);
+            return sample_from(pose.apply_point(Vec3(0.0f)), pose.inverse(), ref, weight);
+        }
+        return sample_from(position_, world_to_local_, ref, weight);
+    }
+    // The sample toward the apex at `position`, with the falloff of the pose `world_to_local`.
+    DirectionSample sample_from(const Vec3& position, const Transform& world_to_local, const SurfaceInteraction& ref, Spectrum& weight) const {
+        DirectionSample ds = sample_point_source(position, ref, this);
+        Vec3 local = glm::normalize(world_to_local.apply_vector(-ds.d));
         float f = ds.dist > 0.0f ? falloff(local) : 0.0f;
         weight = f > 0.0f ? intensity_ * (f * attenuation_(ds.dist)) : Spectrum(0.0f);
         if (texture_ && f > 0.0f) weight *= texture_->eval(texture_uv(local));
@@ -87,6 +103,12 @@ public:
         b.box.expand(position_);
         b.axis = axis_;
         b.cos_theta_o = cos_cutoff_;
+        if (motion_.is_animated()) {  // everywhere the apex goes, lighting any direction
+            BoundingBox apex;
+            apex.expand(Vec3(0.0f));
+            b.box = motion_.bounds(apex);
+            b.cos_theta_o = -1.0f;
+        }
         b.cos_theta_e = 1.0f;  // nothing beyond the cutoff
         b.phi = luminance(power_);
         return b;
@@ -102,6 +124,13 @@ public:
     const Attenuation& attenuation() const { return attenuation_; }
 
 private:
+    void set_pose(const Transform& to_world) {
+        to_world_ = to_world;
+        position_ = to_world_.apply_point(Vec3(0.0f));
+        axis_ = glm::normalize(to_world_.apply_vector(Vec3(0, 0, 1)));
+        world_to_local_ = to_world_.inverse();
+    }
+
     // The falloff (times the texture) integrated over solid angle, by the midpoint rule in theta
     // and, with a texture, in phi: the power is the intensity times this.
     Spectrum integrated_profile() const {
@@ -132,7 +161,8 @@ private:
     }
 
     Spectrum intensity_, power_;
-    Transform to_world_, world_to_local_;
+    AnimatedTransform motion_;
+    Transform to_world_, world_to_local_;  // the pose at shutter_open
     float cutoff_, beam_, cos_cutoff_, cos_beam_, exponent_ = -1.0f;
     Ref<Texture> texture_;
     Attenuation attenuation_;

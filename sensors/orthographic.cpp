@@ -32,12 +32,19 @@ public:
         if (!(cross_section_ > 0.0f)) props.fail("to_world", "the camera's to_world must be invertible");
     }
 
-    Ray sample_ray(const Vec2& film_pos, const Vec2&) const override {
+    Ray sample_ray(const Vec2& film_pos, const Vec2&, float time) const override {
         Vec2 s = film_fraction(film_pos);
         Vec3 local(1.0f - 2.0f * s.x, (1.0f - 2.0f * s.y) / aspect_, near_clip_);
         Ray ray;
-        ray.o = to_world_.apply_point(local);
-        ray.d = direction_;
+        ray.time = time;
+        if (motion_.is_animated()) {
+            Transform pose = pose_at(time);
+            ray.o = pose.apply_point(local);
+            ray.d = glm::normalize(pose.apply_vector(Vec3(0.0f, 0.0f, 1.0f)));
+        } else {
+            ray.o = to_world_.apply_point(local);
+            ray.d = direction_;
+        }
         ray.tmin = 0.0f;
         ray.tmax = far_clip_ - near_clip_;
         return ray;

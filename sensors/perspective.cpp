@@ -28,7 +28,7 @@ namespace candela {
 class PerspectiveCamera final : public ProjectiveCamera {
 public:
     explicit PerspectiveCamera(const Properties& props) : ProjectiveCamera(props) {
-        if (to_world_.has_scale()) props.fail("to_world", "the camera's to_world must not scale");
+        refuse_scaling(props);
         projection_.to_world = to_world_;
         projection_.tan_half_x = read_tan_half_fov_x(props, aspect_);
         projection_.aspect = aspect_;
@@ -39,11 +39,18 @@ public:
         origin_ = to_world_.apply_point(Vec3(0.0f));
     }
 
-    Ray sample_ray(const Vec2& film_pos, const Vec2&) const override {
+    Ray sample_ray(const Vec2& film_pos, const Vec2&, float time) const override {
         Vec3 d_local = glm::normalize(projection_.direction(film_fraction(film_pos)));
         Ray ray;
-        ray.o = origin_;
-        ray.d = glm::normalize(to_world_.apply_vector(d_local));
+        ray.time = time;
+        if (motion_.is_animated()) {
+            Transform pose = pose_at(time);
+            ray.o = pose.apply_point(Vec3(0.0f));
+            ray.d = glm::normalize(pose.apply_vector(d_local));
+        } else {
+            ray.o = origin_;
+            ray.d = glm::normalize(to_world_.apply_vector(d_local));
+        }
         // Clip planes are at camera-space depths, so the ray parameter depends on the angle.
         float inv_z = 1.0f / d_local.z;
         ray.tmin = near_clip_ * inv_z;

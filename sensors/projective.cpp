@@ -7,7 +7,12 @@
 namespace candela {
 
 ProjectiveCamera::ProjectiveCamera(const Properties& props) {
-    to_world_ = props.get_transform("to_world", Transform());
+    float open = props.get_float("shutter_open", 0.0f), close = props.get_float("shutter_close", 0.0f);
+    if (!(close >= open)) props.fail("shutter_close", "shutter_open must not come after shutter_close");
+    shutter_open_ = open;
+    shutter_open_time_ = close - open;
+    motion_ = props.get_animated_transform("to_world", Transform());
+    to_world_ = motion_.is_animated() ? motion_.eval(open) : motion_.first();
     world_to_local_ = to_world_.inverse();
     auto media = props.get_objects(ObjectKind::Medium);
     if (media.size() > 1) props.fail("a sensor stands in at most one medium");
@@ -33,10 +38,13 @@ ProjectiveCamera::ProjectiveCamera(const Properties& props) {
     jitter_ = props.get_bool("jitter", true);
     if (!(props.get_float("cone_scale", 1.0f) > 0.0f)) props.fail("cone_scale", "cone_scale must be positive");
 
-    float open = props.get_float("shutter_open", 0.0f), close = props.get_float("shutter_close", 0.0f);
-    if (!(close >= open)) props.fail("shutter_close", "shutter_open must not come after shutter_close");
     if (props.has("srf"))
         props.fail("srf", "a sensor response function (srf) needs a spectral variant; Candela renders in RGB, where Mitsuba rejects it too");
+}
+
+void ProjectiveCamera::refuse_scaling(const Properties& props) const {
+    for (const auto& key : motion_.keyframes())
+        if (key.transform.has_scale()) props.fail("to_world", "the camera's to_world must not scale");
 }
 
 SensorSample ProjectiveCamera::lens_connection(const Vec3& ref, const Vec3& local, const Vec3& lens, const Vec2& fraction,

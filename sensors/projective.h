@@ -1,12 +1,16 @@
 #pragma once
 // What perspective, thinlens and orthographic share (Mitsuba's Sensor and ProjectiveCamera):
-//   to_world           transform   camera to world (default identity)
+//   to_world           transform   camera to world (default identity), or an
+//                      animation   <animation name="to_world"> of keyframes: each camera ray
+//                                  takes the pose at its time (camera motion blur)
 //   near_clip          float       distance of the near plane (default 0.01)
 //   far_clip           float       distance of the far plane (default 10000)
 //   focus_distance     float       distance of the focal plane (default far_clip); only thinlens
 //                                  uses it, the others accept it, as in Mitsuba
-//   shutter_open,      float       the exposure interval (default 0, 0); accepted and unused, as
-//   shutter_close                  nothing in a Candela scene moves
+//   shutter_open,      float       the exposure interval (default 0, 0): each camera ray's time
+//   shutter_close                  is uniform in [open, close] (drawn from the sampler's
+//                                  SampleDimensions::Time), or exactly open when they are equal;
+//                                  animated to_worlds take their pose at that time
 //   jitter             boolean     place each sample at a random point of its pixel (default
 //                                  true); false puts every sample at the pixel's centre
 //   cone_scale         float       scales the ray-cone footprints of Mitsuba's trilinear and
@@ -17,11 +21,16 @@
 //                                  Candela renders in RGB (Mitsuba's RGB variants reject it too)
 //   film, sampler      nested      default: hdrfilm and independent
 
+#include "core/animated_transform.h"
 #include "core/sensor.h"
 
 namespace candela {
 
 class ProjectiveCamera : public Sensor {
+public:
+    bool is_animated() const override { return motion_.is_animated(); }
+    SourceLocation motion_location() const override { return motion_.where; }
+
 protected:
     explicit ProjectiveCamera(const Properties& props);
     // Film position in pixels of the full film -> fractions in [0,1]^2, and back.
@@ -37,6 +46,12 @@ protected:
     // (4 tan(fov_x / 2) tan(fov_y / 2)): pixel area per solid angle, then per area at `local`.
     SensorSample lens_connection(const Vec3& ref, const Vec3& local, const Vec3& lens, const Vec2& fraction, float tan_half_x) const;
 
+    // The camera's pose at `time` (to_world_ itself when it does not move).
+    Transform pose_at(float time) const { return motion_.is_animated() ? motion_.eval(time) : to_world_; }
+    // Stops at to_world when some keyframe scales (the pinhole cameras' requirement).
+    void refuse_scaling(const Properties& props) const;
+
+    AnimatedTransform motion_;
     Transform world_to_local_;
     float aspect_ = 1.0f;  // width / height of the full film
     float near_clip_ = 0.01f, far_clip_ = 1e4f, focus_distance_ = 1e4f;

@@ -24,7 +24,7 @@ namespace candela {
 class ThinLensCamera final : public ProjectiveCamera {
 public:
     explicit ThinLensCamera(const Properties& props) : ProjectiveCamera(props) {
-        if (to_world_.has_scale()) props.fail("to_world", "the camera's to_world must not scale");
+        refuse_scaling(props);
         projection_.to_world = to_world_;
         projection_.tan_half_x = read_tan_half_fov_x(props, aspect_);
         projection_.aspect = aspect_;
@@ -34,14 +34,16 @@ public:
         if (!(aperture_radius_ >= 0.0f) || !std::isfinite(aperture_radius_)) props.fail("aperture_radius", "aperture_radius must be non-negative");
     }
 
-    Ray sample_ray(const Vec2& film_pos, const Vec2& aperture_u) const override {
+    Ray sample_ray(const Vec2& film_pos, const Vec2& aperture_u, float time) const override {
         Vec3 focus = projection_.direction(film_fraction(film_pos)) * focus_distance_;  // z = focus distance
         Vec2 a = aperture_radius_ * warp::square_to_uniform_disk_concentric(aperture_u);
         Vec3 aperture(a.x, a.y, 0.0f);
         Vec3 d_local = glm::normalize(focus - aperture);
+        Transform pose = pose_at(time);
         Ray ray;
-        ray.o = to_world_.apply_point(aperture);
-        ray.d = glm::normalize(to_world_.apply_vector(d_local));
+        ray.time = time;
+        ray.o = pose.apply_point(aperture);
+        ray.d = glm::normalize(pose.apply_vector(d_local));
         float inv_z = 1.0f / d_local.z;
         ray.tmin = near_clip_ * inv_z;
         ray.tmax = far_clip_ * inv_z;

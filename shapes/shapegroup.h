@@ -51,17 +51,25 @@ public:
     BoundingBox bbox() const override { return bbox_; }
     void tessellate(TriangleSoup& out, int detail) const override;
     void tessellate_parts(std::vector<TessellatedPart>& parts, int detail) const override;
+    void set_shutter(float open, float close) override;
 
     // Instances carry no emitter (Mitsuba forbids emitters in shape groups): never called.
     float surface_area() const override;
     PositionSample sample_position(const Vec2&) const override;
 
 private:
-    void to_world_space(SurfaceInteraction& si) const;
+    void to_world_space(const Transform& to_world, SurfaceInteraction& si) const;
     void transform_soup(TriangleSoup& soup) const;
+    // Embree's instance motion: one quaternion decomposition per time step, equally spaced from
+    // the first keyframe to the last, padded with copies of the first and last pose to cover the
+    // shutter (Embree leaves a geometry out at times beyond its time range), in Embree's time
+    // relative to the shutter (EmbreeTime).
+    void set_embree_motion(RTCGeometry g) const;
 
     Ref<ShapeGroup> group_;
     bool identity_ = true;
+    float shutter_open_ = 0.0f, shutter_close_ = 0.0f;
+    SourceLocation motion_location_;  // where to_world is given
     BoundingBox bbox_;
 };
 

@@ -51,6 +51,7 @@ float ambient_occlusion(const FrameSetup& f, const FrameBuffers& b, size_t i, co
         if (glm::dot(d, ss.n_geo) <= 0.0f) continue;
         Ray ray(offset_ray_origin(ss.p, p_error, ss.n_geo, d), d);
         ray.tmax = reach;
+        ray.time = f.scene.sensor().shutter_open();  // the instant the frame draws
         if (!f.scene.occluded(ray)) ++open;
     }
     return float(open) / float(f.settings.ao);

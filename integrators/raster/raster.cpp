@@ -356,6 +356,8 @@ RenderResult RasterIntegrator::render(const Scene& scene, const RenderOptions& o
                  "the raster mode draws only the medium around the camera, as fog; media inside shapes are left out");
             break;
         }
+    if (scene.is_animated())
+        warn(SourceLocation{scene.source_file, 0}, "the raster mode draws one instant, the pose at shutter_open: no motion blur");
     auto t_start = std::chrono::steady_clock::now();
     if (!options.aovs.empty()) throw InputError("the raster mode renders no AOVs (albedo, normal, depth, variance come from sampling integrators)");
     auto pinhole = scene.sensor().pinhole();

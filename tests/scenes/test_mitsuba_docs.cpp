@@ -1,9 +1,11 @@
 // Scenes behind Mitsuba 3's plugin documentation (mitsuba-data docs/scenes, see
 // tests/scenes/mitsuba_docs/README.md), unchanged, load and render at 1 spp: a Cornell box with
 // measured spectra found through a search folder, an analytic sphere light, B-spline curves, a
-// conductor with wavelength:value spectra and two coloured spot lights. The binary assets they
-// name (matpreview.serialized, museum.exr, envmap.exr) are not in this repository: the test
-// writes stand-ins of the same kind and name (the serialized writer of tests/, a sky gradient).
+// conductor with wavelength:value spectra, two coloured spot lights, and the four motion-blur
+// scenes (a moving instance, camera and spot light, and the rotation's slerp pose). The binary
+// assets they name (matpreview.serialized, museum.exr, envmap.exr, bunny.ply, teapot.ply) are not
+// in this repository: the test writes stand-ins of the same kind and name (the serialized writer
+// of tests/, a sky gradient, small PLY spheres).
 // Each check can fail: the light seen directly has exactly its emission's colour, the walls
 // keep their colours, the spots light the scene in red and blue only.
 
@@ -44,6 +46,16 @@ TestMesh uv_sphere(float r, const Vec3& c, int nu, int nv) {
     return m;
 }
 
+// A mesh as an ASCII PLY file (positions and triangles).
+std::string ascii_ply(const TestMesh& m) {
+    std::string out = "ply\nformat ascii 1.0\nelement vertex " + std::to_string(m.positions.size()) +
+                      "\nproperty float x\nproperty float y\nproperty float z\nelement face " + std::to_string(m.triangles.size()) +
+                      "\nproperty list uchar int vertex_indices\nend_header\n";
+    for (const Vec3& p : m.positions) out += std::to_string(p.x) + " " + std::to_string(p.y) + " " + std::to_string(p.z) + "\n";
+    for (const auto& t : m.triangles) out += "3 " + std::to_string(t[0]) + " " + std::to_string(t[1]) + " " + std::to_string(t[2]) + "\n";
+    return out;
+}
+
 // The docs scenes copied to a scratch folder (mitsuba-data's layout: docs/scenes and common),
 // with stand-ins for the binary assets: matpreview.serialized holds a unit plane (shape 0), an
 // inner sphere (1) and the preview object, a unit sphere (2); the environment maps are a sky
@@ -63,6 +75,10 @@ fs::path docs_folder() {
     for (int y = 0; y < sky.height(); ++y)
         for (int x = 0; x < sky.width(); ++x) sky.set_rgb(x, y, Spectrum(y < sky.height() / 2 ? 1.0f - float(y) / float(sky.height()) : 0.25f));
     for (const char* name : {"museum.exr", "envmap.exr"}) write_exr(sky, (dir / "common" / "textures" / name).string(), true);
+    // The PLY meshes of the animation scenes: small spheres where the bunny (about 0.15 across,
+    // scaled by 12) and the teapot (recentred by -0.215, scaled by 0.42) would stand.
+    write_text(dir / "common" / "meshes" / "bunny.ply", ascii_ply(uv_sphere(0.05f, Vec3(0.0f, 0.0f, 0.05f), 16, 8)));
+    write_text(dir / "common" / "meshes" / "teapot.ply", ascii_ply(uv_sphere(0.8f, Vec3(0.6f, 0.0f, 1.0f), 16, 8)));
     return dir;
 }
 
@@ -155,4 +171,28 @@ TEST_CASE("mitsuba docs scenes: analytic sphere light, B-spline curves, spectral
         CHECK(s.mean.x > 2.0f * s.mean.y);
         CHECK(s.mean.z > 2.0f * s.mean.y);
     }
+}
+
+TEST_CASE("mitsuba docs scenes: the four motion-blur scenes render (moving instance, camera, spot light, slerp pose)", "[scenes][docs][animation]") {
+    fs::path dir = docs_folder();
+    fs::path scenes = dir / "docs" / "scenes";
+    for (const char* name : {"animation_shape.xml", "animation_sensor.xml", "animation_emitter.xml"}) {
+        INFO(name);
+        Summary s = summarize(render(scenes / name));
+        CHECK(s.finite);
+        CHECK(s.mean.x > 0.0f);
+        // The floor is lit: an environment of scale 3 (0.12 with the spot) and the spot.
+        CHECK(s.max.x > 0.05f);
+    }
+    // The rotation scene's closed shutter at 0.23 (one pose), and its blurred version.
+    Image still = render(scenes / "animation_rotation.xml");
+    Image blurred = render(scenes / "animation_rotation.xml", {}, {{"shutter_open", "0"}, {"shutter_close", "1"}});
+    CHECK(still.width() == 720);
+    CHECK(summarize(still).finite);
+    CHECK(summarize(blurred).finite);
+    double differing = 0;
+    for (size_t i = 0; i < still.data().size(); ++i) differing += still.data()[i] != blurred.data()[i];
+    CHECK(differing > 0);
+    // The light tracers render no motion: they stop and say so.
+    CHECK_THROWS_WITH(render(scenes / "animation_shape.xml", {}, {{"integrator", "ptracer"}}), Catch::Contains("motion blur"));
 }
