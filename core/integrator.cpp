@@ -1,7 +1,7 @@
-#include "core/parallel.h"
 #include "core/integrator.h"
 
 #include "core/memory_budget.h"
+#include "core/parallel.h"
 #include "core/progress.h"
 #include "core/registry.h"
 #include "core/sampler.h"

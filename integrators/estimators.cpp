@@ -1,7 +1,7 @@
-#include "core/parallel.h"
 #include "integrators/estimators.h"
 
 #include "core/bsdf.h"
+#include "core/parallel.h"
 #include "core/registry.h"
 #include "core/scene.h"
 

@@ -8,8 +8,8 @@
 // output, and outputs are consumed in chunk order. So the result never depends on the number of
 // threads or on which thread traced which chunk.
 
-#include "core/parallel.h"
 #include "core/bsdf.h"
+#include "core/parallel.h"
 #include "core/rng.h"
 #include "core/scene.h"
 #include "lights/light_sampler.h"

@@ -49,9 +49,9 @@
 // Deterministic: photons depend on (seed, path index), maps on the order of whole work units,
 // lookups sum in a fixed order (integrators/photons.h), camera samples on (seed, pixel, index).
 
-#include "core/parallel.h"
 #include "core/bsdf.h"
 #include "core/memory_budget.h"
+#include "core/parallel.h"
 #include "core/properties.h"
 #include "core/registry.h"
 #include "core/sampler.h"

@@ -8,8 +8,8 @@
 // two elements: deterministic and independent of the thread count). The irradiance that a patch
 // of radiosity B sends to a point is B x F(point -> patch), so shooting needs no reciprocity.
 
-#include "core/parallel.h"
 #include "core/emitter.h"
+#include "core/parallel.h"
 #include "core/progress.h"
 #include "core/random_2d.h"
 #include "core/scene.h"

@@ -35,11 +35,11 @@
 // visible point sums its photons in a fixed order (integrators/photon_grid.h). Not available:
 // AOVs (passes are correlated, so there is no per-pixel variance).
 
-#include "core/parallel.h"
 #include "core/bsdf.h"
 #include "core/distribution.h"
 #include "core/film.h"
 #include "core/memory_budget.h"
+#include "core/parallel.h"
 #include "core/progress.h"
 #include "core/properties.h"
 #include "core/registry.h"

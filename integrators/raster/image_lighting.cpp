@@ -6,9 +6,9 @@
 // lat-long grid, give the energy (radiance times solid angle) of every texel, which each
 // roughness level sums under its Phong lobe, normalised by the lobe's own discrete integral.
 
-#include "core/parallel.h"
 #include "integrators/raster/image_lighting.h"
 
+#include "core/parallel.h"
 #include "materials/microfacet.h"
 
 

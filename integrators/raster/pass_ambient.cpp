@@ -16,8 +16,8 @@
 // numbers of sample k of pixel (x, y) depend only on (x, y, k) of the full film: deterministic,
 // independent of threads and crop.
 
-#include "core/parallel.h"
 #include "core/mesh.h"
+#include "core/parallel.h"
 #include "core/rng.h"
 #include "core/sampler.h"
 #include "core/warp.h"

@@ -8,8 +8,8 @@
 // infinite and the fog colour alone remains. A heterogeneous medium around the camera is taken
 // with its coefficients at the eye. Media inside shapes are not drawn (RasterIntegrator warns).
 
-#include "core/parallel.h"
 #include "core/medium.h"
+#include "core/parallel.h"
 #include "core/scene.h"
 #include "integrators/raster/frame.h"
 

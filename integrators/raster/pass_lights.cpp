@@ -8,7 +8,6 @@
 #include "integrators/raster/frame.h"
 #include "integrators/raster/shadows.h"
 
-
 #include <array>
 
 namespace candela::raster {

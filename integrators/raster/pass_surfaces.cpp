@@ -3,9 +3,9 @@
 // over the sample's footprint) and the radiance that needs no light: emission and the
 // environment seen by reflection and refraction; where no surface is, the environment itself.
 
-#include "core/parallel.h"
 #include "core/bsdf.h"
 #include "core/mesh.h"
+#include "core/parallel.h"
 #include "integrators/raster/environment.h"
 #include "integrators/raster/frame.h"
 

@@ -10,8 +10,8 @@
 // [px, px + 1) x [py, py + 1) with y down; a clip-space point maps to
 // ((x / w + 1) / 2 * W - offset.x, (y / w + 1) / 2 * H - offset.y) for a W x H full viewport.
 
-#include "core/parallel.h"
 #include "core/math.h"
+#include "core/parallel.h"
 
 
 #include <array>
