@@ -56,8 +56,11 @@ struct FrameSetup {
     // The spacing of the camera's samples (world units) on a surface facing the camera at this
     // view depth.
     float sample_spacing(float view_depth) const;
-    // A rasterizer of the camera's samples (triangles not yet set up).
-    Rasterizer camera_rasterizer() const { return Rasterizer(width, height, pattern, full, offset); }
+    // Points `r` at the camera's samples (triangles not yet set up), keeping its storage.
+    void aim_camera_rasterizer(Rasterizer& r) const {
+        r.set_samples(pattern);
+        r.set_target(width, height, full, offset);
+    }
 };
 
 // The visible surface at one camera sample, as the shading passes need it.
@@ -72,11 +75,25 @@ struct SurfaceSample {
     bool lit_side = false;  // seen from a side the material reflects on
 };
 
+// Screen-space derivatives of the perspective-correct barycentrics of a triangle at a pixel
+// position, from its homogeneous 2D setup (Olano & Greer 1997): (b / w) is linear in (x, y).
+struct HomogeneousSetup {
+    Mat3 inverse{1.0f};
+    bool valid = false;
+    Vec3 at(float x, float y) const {
+        Vec3 u = inverse * Vec3(x, y, 1.0f);
+        float s = u.x + u.y + u.z;
+        return s != 0.0f ? u / s : Vec3(1.0f / 3.0f);
+    }
+};
+
 // Kept by the integrator from frame to frame: the passes resize them, so a frame like the last
-// one reuses their storage.
+// one reuses their storage and allocates nothing per sample or per triangle.
 struct FrameBuffers {
     // Per triangle (geometry): clip-space vertices; culled back faces lie behind the eye.
     std::vector<std::array<Vec4, 3>> clip;
+    std::vector<HomogeneousSetup> setups;  // per triangle (surfaces): for texture footprints
+    Rasterizer camera_rasterizer;  // geometry: the camera's samples; shadow volumes: their layout
     // Per camera sample (geometry): the nearest surface.
     std::vector<float> depth;        // its view depth (w); +inf where there is none
     std::vector<uint32_t> triangle;  // its triangle, NoTriangle where there is none
@@ -86,6 +103,14 @@ struct FrameBuffers {
     std::vector<Spectrum> color;  // the radiance so far
     // Per light (lights): its shadow map, when shadows are mapped.
     std::vector<ShadowMap> shadow_maps;
+    // Scratch of the lights pass: per chunk of samples, the shadow-map resolution each cube face
+    // needs; the resolution chosen per face; per sample, the view depth and the shadow-volume
+    // mask; per vertex, Gouraud's lighting.
+    std::vector<std::array<float, 6>> shadow_map_needs;
+    std::vector<int> shadow_map_resolution;
+    std::vector<float> view_depth;
+    std::vector<uint8_t> lit;
+    std::vector<Spectrum> vertex_light;
     // Per pixel (resolve, then overlays).
     Image image;
     std::vector<float> coverage;  // the filtered fraction of samples that found a surface

@@ -29,7 +29,8 @@ void clip_triangles(const FrameSetup& f, std::vector<std::array<Vec4, 3>>& clip)
 
 void geometry_pass(const FrameSetup& f, FrameBuffers& b) {
     clip_triangles(f, b.clip);
-    Rasterizer rasterizer = f.camera_rasterizer();
+    Rasterizer& rasterizer = b.camera_rasterizer;
+    f.aim_camera_rasterizer(rasterizer);
     rasterizer.setup(b.clip, !f.settings.affine);
     const size_t count = f.sample_count();
     b.depth.assign(count, Infinity);

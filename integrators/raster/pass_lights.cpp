@@ -66,7 +66,7 @@ void light_vertices(const FrameSetup& f, const LocalLight& light, std::vector<Sp
 }
 
 // The light's direct lighting at camera sample i on triangle t, by the shading mode.
-Spectrum sample_light(const FrameSetup& f, const FrameBuffers& b, size_t i, const LocalLight& light, const std::vector<Spectrum>& vertex_light) {
+Spectrum sample_light(const FrameSetup& f, const FrameBuffers& b, size_t i, const LocalLight& light) {
     const RasterGeometry& g = f.geometry;
     const uint32_t t = b.triangle[i];
     const SurfaceSample& ss = b.surface[i];
@@ -75,7 +75,7 @@ Spectrum sample_light(const FrameSetup& f, const FrameBuffers& b, size_t i, cons
     switch (f.settings.shading) {
     case RasterSettings::Shading::Gouraud: {
         const Vec3& w = b.bary[i];
-        return w.x * vertex_light[v.x] + w.y * vertex_light[v.y] + w.z * vertex_light[v.z];
+        return w.x * b.vertex_light[v.x] + w.y * b.vertex_light[v.y] + w.z * b.vertex_light[v.z];
     }
     case RasterSettings::Shading::Flat: {
         Vec3 c = (g.positions[v.x] + g.positions[v.y] + g.positions[v.z]) / 3.0f;
@@ -95,13 +95,14 @@ bool receives_light(const FrameBuffers& b, size_t i) { return b.triangle[i] != N
 // out. Each face's resolution is the setting's, or, when the settings leave it to the view, the
 // finest that a sample looking it up needs: a texel no larger than the spacing of the camera's
 // samples there (at most AutoShadowMapLimit texels per side).
-void render_shadow_map(const FrameSetup& f, const FrameBuffers& b, const LocalLight& light, ShadowMap& map) {
+void render_shadow_map(const FrameSetup& f, FrameBuffers& b, const LocalLight& light, ShadowMap& map) {
     constexpr int AutoShadowMapLimit = 1024;
     map.place(light, f.geometry);
     using Needs = std::array<float, 6>;  // per face: 0 unused, else the resolution it needs
     // Per chunk of samples, then combined: max is exact in any order.
     const size_t chunk = 4096, chunks = (f.sample_count() + chunk - 1) / chunk;
-    std::vector<Needs> chunk_needs(chunks, Needs{});
+    std::vector<Needs>& chunk_needs = b.shadow_map_needs;
+    chunk_needs.assign(chunks, Needs{});
     parallel_for(chunks, [&](size_t c) {
         Needs& acc = chunk_needs[c];
         for (size_t i = c * chunk; i != std::min(f.sample_count(), (c + 1) * chunk); ++i) {
@@ -115,7 +116,8 @@ void render_shadow_map(const FrameSetup& f, const FrameBuffers& b, const LocalLi
     Needs needs{};
     for (const Needs& c : chunk_needs)
         for (size_t k = 0; k < needs.size(); ++k) needs[k] = std::max(needs[k], c[k]);
-    std::vector<int> resolution(map.face_count(), 0);
+    std::vector<int>& resolution = b.shadow_map_resolution;
+    resolution.assign(map.face_count(), 0);
     for (size_t k = 0; k < resolution.size(); ++k) {
         if (needs[k] <= 0.0f) continue;
         int fixed = f.settings.shadow_map_resolution;
@@ -127,8 +129,7 @@ void render_shadow_map(const FrameSetup& f, const FrameBuffers& b, const LocalLi
 }
 
 // One light: its shadow, then visibility times lighting added to every lit sample.
-void add_light(const FrameSetup& f, FrameBuffers& b, size_t light_index, const std::vector<float>& view_depth, std::vector<uint8_t>& lit,
-               std::vector<Spectrum>& vertex_light) {
+void add_light(const FrameSetup& f, FrameBuffers& b, size_t light_index) {
     const RasterSettings& s = f.settings;
     const LocalLight& light = f.lights.lights[light_index];
     const ShadowMap* map = nullptr;
@@ -136,15 +137,15 @@ void add_light(const FrameSetup& f, FrameBuffers& b, size_t light_index, const s
         render_shadow_map(f, b, light, b.shadow_maps[light_index]);
         map = &b.shadow_maps[light_index];
     }
-    if (s.shadows == RasterSettings::Shadows::Volume) shadow_volume_mask(light, f.geometry, f.camera, f.camera_rasterizer(), view_depth, lit);
-    if (s.shading == RasterSettings::Shading::Gouraud) light_vertices(f, light, vertex_light);
+    if (s.shadows == RasterSettings::Shadows::Volume) shadow_volume_mask(light, f.geometry, f.camera, b.camera_rasterizer, b.view_depth, b.lit);
+    if (s.shading == RasterSettings::Shading::Gouraud) light_vertices(f, light, b.vertex_light);
     parallel_for(f.sample_count(), [&](size_t i) {
         if (!receives_light(b, i)) return;
         float visibility = 1.0f;
         if (map) visibility = map->visibility(b.surface[i].p, b.surface[i].n_geo, s.pcf);
-        if (s.shadows == RasterSettings::Shadows::Volume) visibility = lit[i] ? 1.0f : 0.0f;
+        if (s.shadows == RasterSettings::Shadows::Volume) visibility = b.lit[i] ? 1.0f : 0.0f;
         if (visibility == 0.0f) return;
-        b.color[i] += visibility * sample_light(f, b, i, light, vertex_light);
+        b.color[i] += visibility * sample_light(f, b, i, light);
     });
 }
 
@@ -152,15 +153,12 @@ void add_light(const FrameSetup& f, FrameBuffers& b, size_t light_index, const s
 
 void lights_pass(const FrameSetup& f, FrameBuffers& b) {
     if (baked_diffuse(f) && !has_highlights(f.geometry)) return;  // nothing for the lights to add
-    std::vector<float> view_depth;  // of every sample, for shadow volumes
     if (f.settings.shadows == RasterSettings::Shadows::Volume) {
-        view_depth.resize(f.sample_count());
-        for (size_t i = 0; i < view_depth.size(); ++i) view_depth[i] = surface_view_depth(f, b, i);
+        b.view_depth.resize(f.sample_count());
+        for (size_t i = 0; i < b.view_depth.size(); ++i) b.view_depth[i] = surface_view_depth(f, b, i);
     }
-    std::vector<uint8_t> lit;
-    std::vector<Spectrum> vertex_light;
     if (f.settings.shadows == RasterSettings::Shadows::Map) b.shadow_maps.resize(f.lights.lights.size());
-    for (size_t k = 0; k < f.lights.lights.size(); ++k) add_light(f, b, k, view_depth, lit, vertex_light);
+    for (size_t k = 0; k < f.lights.lights.size(); ++k) add_light(f, b, k);
 }
 
 }  // namespace candela::raster

@@ -36,7 +36,8 @@ int resolve_reach(RasterSettings::AAFilter f) {
 void resolve_pass(const FrameSetup& f, FrameBuffers& b) {
     const RasterSettings::AAFilter filter = f.settings.aa_filter;
     const int reach = resolve_reach(filter), W = f.width, H = f.height;
-    b.image = Image::rgb(W, H);
+    // Every pixel is written below, so a frame of the same size keeps the last one's storage.
+    if (b.image.width() != W || b.image.height() != H || b.image.channel_count() != 3) b.image = Image::rgb(W, H);
     b.coverage.assign(size_t(W) * H, 0.0f);
     parallel_for(size_t(H), [&](int y) {
         for (int x = 0; x < W; ++x) {

@@ -14,18 +14,6 @@ namespace candela::raster {
 
 namespace {
 
-// Screen-space derivatives of the perspective-correct barycentrics of a triangle at a pixel
-// position, from its homogeneous 2D setup (Olano & Greer 1997): (b / w) is linear in (x, y).
-struct HomogeneousSetup {
-    Mat3 inverse{1.0f};
-    bool valid = false;
-    Vec3 at(float x, float y) const {
-        Vec3 u = inverse * Vec3(x, y, 1.0f);
-        float s = u.x + u.y + u.z;
-        return s != 0.0f ? u / s : Vec3(1.0f / 3.0f);
-    }
-};
-
 HomogeneousSetup homogeneous_setup(const Vec4 c[3], Vec2i full, Vec2i offset) {
     HomogeneousSetup h;
     Mat3 m;  // columns: vertices; rows: X, Y, W in pixel-homogeneous coordinates
@@ -134,7 +122,8 @@ Spectrum background(const FrameSetup& f, const Vec2& pos) {
 
 void surface_pass(const FrameSetup& f, FrameBuffers& b) {
     const RasterGeometry& g = f.geometry;
-    std::vector<HomogeneousSetup> setups(g.triangles.size());
+    std::vector<HomogeneousSetup>& setups = b.setups;
+    setups.resize(g.triangles.size());
     parallel_for(g.triangles.size(), [&](size_t i) { setups[i] = homogeneous_setup(b.clip[i].data(), f.full, f.offset); });
     const RasterSettings& s = f.settings;
     EnvironmentLookup environment(f.scene, s.cube_mapping ? EnvironmentLookup::Mode::Cube : EnvironmentLookup::Mode::LatLong, s.cube_resolution, s.cube_map);

@@ -2,6 +2,8 @@
 
 #include "core/random_2d.h"
 
+#include <array>
+
 namespace candela::raster {
 
 std::vector<Vec2> sample_pattern(int n) {
@@ -19,13 +21,19 @@ std::vector<Vec2> sample_pattern(int n) {
     return out;
 }
 
-Rasterizer::Rasterizer(int width, int height, std::vector<Vec2> offsets, Vec2i full_size, Vec2i offset)
-    : offsets_(std::move(offsets)) {
+Rasterizer::Rasterizer(int width, int height, const std::vector<Vec2>& offsets, Vec2i full_size, Vec2i offset) {
+    set_samples(offsets);
+    set_target(width, height, full_size, offset);
+}
+
+void Rasterizer::set_samples(const std::vector<Vec2>& offsets) {
+    offsets_.assign(offsets.begin(), offsets.end());
+    offset_fx_.clear();
+    offset_fy_.clear();
     for (const Vec2& o : offsets_) {
         offset_fx_.push_back(int64_t(std::lround(double(o.x) * (1 << SubpixelBits))));
         offset_fy_.push_back(int64_t(std::lround(double(o.y) * (1 << SubpixelBits))));
     }
-    set_target(width, height, full_size, offset);
 }
 
 void Rasterizer::set_target(int width, int height, Vec2i full_size, Vec2i offset) {
@@ -66,7 +74,12 @@ void Rasterizer::clip_and_add(const std::array<Vec4, 3>& tri, uint32_t id) {
         add_screen_triangle(clip, bary, id);
         return;
     }
-    std::vector<V> poly = {{tri[0], Vec3(1, 0, 0)}, {tri[1], Vec3(0, 1, 0)}, {tri[2], Vec3(0, 0, 1)}}, next;
+    // Each of the six planes adds at most one vertex to the convex polygon: at most 3 + 6. The
+    // room beyond that is for rounding, which can bend a sliver; one that would still overflow is
+    // dropped (it covers no sample).
+    constexpr size_t MaxVertices = 16;
+    std::array<V, MaxVertices> poly = {V{tri[0], Vec3(1, 0, 0)}, V{tri[1], Vec3(0, 1, 0)}, V{tri[2], Vec3(0, 0, 1)}}, next;
+    size_t count = 3;
     auto plane = [](const Vec4& p, int k) -> float {
         switch (k) {
         case 0: return p.w + p.x;
@@ -77,22 +90,24 @@ void Rasterizer::clip_and_add(const std::array<Vec4, 3>& tri, uint32_t id) {
         default: return p.w - p.z;
         }
     };
-    for (int k = 0; k < 6 && !poly.empty(); ++k) {
-        next.clear();
-        for (size_t i = 0; i < poly.size(); ++i) {
+    for (int k = 0; k < 6 && count > 0; ++k) {
+        size_t next_count = 0;
+        for (size_t i = 0; i < count; ++i) {
             const V& a = poly[i];
-            const V& b = poly[(i + 1) % poly.size()];
+            const V& b = poly[(i + 1) % count];
+            if (next_count + 2 > MaxVertices) return;
             float da = plane(a.p, k), db = plane(b.p, k);
-            if (da >= 0.0f) next.push_back(a);
+            if (da >= 0.0f) next[next_count++] = a;
             if ((da >= 0.0f) != (db >= 0.0f)) {
                 float t = da / (da - db);
-                next.push_back({a.p + t * (b.p - a.p), a.b + t * (b.b - a.b)});
+                next[next_count++] = {a.p + t * (b.p - a.p), a.b + t * (b.b - a.b)};
             }
         }
-        poly.swap(next);
+        poly = next;
+        count = next_count;
     }
-    if (poly.size() < 3) return;
-    for (size_t i = 1; i + 1 < poly.size(); ++i) {
+    if (count < 3) return;
+    for (size_t i = 1; i + 1 < count; ++i) {
         Vec4 clip[3] = {poly[0].p, poly[i].p, poly[i + 1].p};
         Vec3 bary[3] = {poly[0].b, poly[i].b, poly[i + 1].b};
         add_screen_triangle(clip, bary, id);

@@ -53,12 +53,14 @@ public:
     // A target of width x height pixels with the given sample positions inside each pixel
     // (offsets in [0, 1)^2), mapping clip space through a full_width x full_height viewport
     // whose top-left corner is at -offset.
-    Rasterizer(int width, int height, std::vector<Vec2> sample_offsets, Vec2i full_size, Vec2i offset = Vec2i(0));
+    Rasterizer(int width, int height, const std::vector<Vec2>& sample_offsets, Vec2i full_size, Vec2i offset = Vec2i(0));
     // One sample per pixel, at its centre; no target until set_target().
     Rasterizer() : Rasterizer(0, 0, {Vec2(0.5f)}, Vec2i(0)) {}
     // Another target size with the same sample offsets. Storage of earlier setups is kept, so a
     // rasterizer reused frame after frame does not allocate.
     void set_target(int width, int height, Vec2i full_size, Vec2i offset = Vec2i(0));
+    // Other sample offsets within each pixel (as the constructor takes them), in kept storage.
+    void set_samples(const std::vector<Vec2>& sample_offsets);
 
     // Clips, projects and bins triangles given in clip space. `perspective_correct` false
     // interpolates attributes linearly in screen space (the distortion the lecture warns about).
