@@ -198,7 +198,8 @@ void add_sampler_option(CLI::App* cmd, std::string& sampler) {
 
 void add_adaptive_options(CLI::App* cmd, AdaptiveSampling& adaptive) {
     auto* threshold = cmd->add_option("--adaptive-threshold", adaptive.threshold,
-                                      "Adaptive sampling: stop a pixel once its noise estimate is below this (Cycles' noise threshold, e.g. 0.01; default off)")
+                                      "Adaptive sampling: stop a pixel with n samples once its noise estimate (Cycles', pooled over 3x3 pixels) is below this "
+                                      "times sqrt(n / min-spp) (e.g. 0.01; default off; use the independent sampler)")
                           ->check(CLI::PositiveNumber);
     cmd->add_option("--adaptive-min-spp", adaptive.min_spp, "Adaptive sampling: samples before a pixel's first check (default max(16, spp/16), a power of two)")
         ->check(CLI::PositiveNumber)

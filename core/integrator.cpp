@@ -15,6 +15,7 @@
 #include <candela/version.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 
 // The pixel loop, in the order a render runs it:
@@ -272,29 +273,41 @@ private:
     const float differential_scale_;
 };
 
-// Adaptive sampling's check, between passes: a pixel is quiet when it has stopped or its error
-// is below the threshold; an active pixel stops when it and its 8 neighbours are quiet (Cycles
-// dilates the unconverged pixels by one the same way), and never starts again, so all active
-// pixels take the same sample indices. Single-threaded over the whole image: deterministic.
-void stop_converged(std::vector<Tile>& tiles, const Vec2i& crop, float threshold) {
-    std::vector<uint8_t> quiet(size_t(crop.x) * crop.y, 0);
+// Adaptive sampling's check, between passes. A pixel's error is Cycles' estimate
+// (PixelStats::adaptive_error) pooled over its 3x3 neighbourhood as a root mean square: one
+// pixel's |I - A| is a single noisy draw (its relative spread is about 0.75), nine of them
+// estimate the noise level about three times better, and a pixel then stops on evidence that is
+// mostly its neighbours', not on its own samples happening to agree. An active pixel with n
+// samples stops once that error is below threshold * sqrt(n / min_spp): the error of its mean
+// falls as e^2 ~ v / n, so one more sample buys about e^2 / n, and stopping every pixel where
+// e^2 / n drops below the same threshold^2 / min_spp gives n ~ sqrt(v), the allocation with the
+// least summed squared error for its total sample count (a Lagrange multiplier). Stopping at a
+// fixed error instead (Cycles: n ~ v) equalises the pixels' errors, which for the same total
+// sample count gives the same summed squared error as uniform sampling, except where the
+// minimum or maximum sample count binds. At the first check (n = min_spp) the limit is the
+// threshold itself.
+// Stopped pixels never start again, so all active pixels take the same sample indices.
+// Single-threaded over the whole image: deterministic.
+void stop_converged(std::vector<Tile>& tiles, const Vec2i& crop, float threshold, int min_spp) {
+    std::vector<double> error(size_t(crop.x) * crop.y, 0.0);
     for (const Tile& t : tiles)
         for (int y = 0; y < t.size.y; ++y)
-            for (int x = 0; x < t.size.x; ++x) {
-                const PixelStats& ps = t.stats[size_t(y) * t.size.x + x];
-                quiet[size_t(t.offset.y + y) * crop.x + t.offset.x + x] = !ps.active || ps.adaptive_error() < threshold;
-            }
-    auto neighbourhood_quiet = [&](int px, int py) {
+            for (int x = 0; x < t.size.x; ++x) error[size_t(t.offset.y + y) * crop.x + t.offset.x + x] = t.stats[size_t(y) * t.size.x + x].adaptive_error();
+    auto pooled_error = [&](int px, int py) {
+        double sum = 0.0;
+        int count = 0;
         for (int y = std::max(0, py - 1); y <= std::min(crop.y - 1, py + 1); ++y)
-            for (int x = std::max(0, px - 1); x <= std::min(crop.x - 1, px + 1); ++x)
-                if (!quiet[size_t(y) * crop.x + x]) return false;
-        return true;
+            for (int x = std::max(0, px - 1); x <= std::min(crop.x - 1, px + 1); ++x, ++count) {
+                const double e = error[size_t(y) * crop.x + x];
+                sum += e * e;
+            }
+        return std::sqrt(sum / count);
     };
     for (Tile& t : tiles)
         for (int y = 0; y < t.size.y; ++y)
             for (int x = 0; x < t.size.x; ++x) {
                 PixelStats& ps = t.stats[size_t(y) * t.size.x + x];
-                if (ps.active && neighbourhood_quiet(t.offset.x + x, t.offset.y + y)) ps.active = false;
+                if (ps.active && pooled_error(t.offset.x + x, t.offset.y + y) < threshold * std::sqrt(double(ps.n) / min_spp)) ps.active = false;
             }
 }
 
@@ -454,7 +467,7 @@ RenderResult SamplingIntegrator::render(const Scene& scene, const RenderOptions&
                 for (size_t i = begin; i != end; ++i) tile_sampler.sample_tile(tiles[i], pass, *samplers.local(), interruption, counters, progress);
             });
         });
-        if (adaptive.checks_at(pass.end) && !interruption.stopped()) stop_converged(tiles, window.region.size, adaptive.threshold);
+        if (adaptive.checks_at(pass.end) && !interruption.stopped()) stop_converged(tiles, window.region.size, adaptive.threshold, adaptive.min_spp);
         // A checkpoint after a whole pass, and only when more passes follow.
         const auto now = std::chrono::steady_clock::now();
         if (options.checkpoint && options.checkpoint_seconds > 0.0 && !interruption.stopped() && pass.end < samples.end &&

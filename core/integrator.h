@@ -21,11 +21,13 @@ class Sampler;
 class Film;
 
 // Adaptive sampling (off unless threshold > 0): after `min_spp` samples, and then every `step`
-// samples, a pixel stops once its error estimate and those of its 8 neighbours are below
-// `threshold` (Cycles' noise threshold: the difference between the mean of all samples and the
-// mean of half of them, |I - A|_1 / sqrt(I_r + I_g + I_b), Dammertz et al. 2010). Decisions are
-// made between passes over the whole image, from each pixel's own samples, so the result does
-// not depend on the thread count.
+// samples, a pixel with n samples stops once its error estimate, pooled over its 3x3
+// neighbourhood, is below threshold * sqrt(n / min_spp). The estimate is Cycles' (the difference
+// between the mean of all samples and the mean of half of them, |I - A|_1 / sqrt(I_r + I_g + I_b),
+// Dammertz et al. 2010); the growing limit gives each pixel about sqrt(its variance) samples, the
+// allocation with the least summed squared error (see stop_converged in integrator.cpp).
+// Decisions are made between passes over the whole image, so the result does not depend on the
+// thread count.
 struct AdaptiveSampling {
     float threshold = 0.0f;  // 0: off
     int min_spp = 0;         // 0: automatic, max(16, spp / 16) rounded up to a power of two
