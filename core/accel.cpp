@@ -77,11 +77,6 @@ void Accel::build(const std::vector<Ref<Shape>>& shapes) {
     embree_build_hand_off().after_loop();
 }
 
-// Embree takes ray times in [0, 1] only (its assertions stop the program otherwise). Rays of
-// camera paths carry times within the shutter; a ray made without one (time 0, a light path's)
-// in a scene whose shutter opens later takes the nearest instant of the shutter.
-float Accel::embree_time(float time) const { return std::clamp(time_(time), 0.0f, 1.0f); }
-
 const Shape* Accel::intersect(const Ray& ray, RayHit& hit) const {
     ++g_rays_traced;
     RTCIntersectContext context;

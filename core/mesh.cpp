@@ -181,7 +181,7 @@ void Mesh::fill_interaction(const Ray& ray, const RayHit& hit, SurfaceInteractio
     float b1 = hit.u, b2 = hit.v, b0 = 1.0f - b1 - b2;
     // Barycentric interpolation is more accurate than o + t d far from the origin.
     si.p = b0 * p0 + b1 * p1 + b2 * p2;
-    si.p_error = gamma_bound(7) * max_component(glm::abs(b0 * p0) + glm::abs(b1 * p1) + glm::abs(b2 * p2));
+    si.p_error = gamma_bound(7) * max_component(abs_components(b0 * p0) + abs_components(b1 * p1) + abs_components(b2 * p2));
     si.uv = uvs_.empty() ? Vec2(b1, b2) : b0 * uvs_[t.x] + b1 * uvs_[t.y] + b2 * uvs_[t.z];
     if (!flat_.empty()) {
         const FlatTriangle& f = flat_[hit.prim_index];
@@ -279,7 +279,7 @@ PositionSample Mesh::sample_position(const Vec2& u) const {
     PositionSample ps;
     float b0 = 1.0f - b.x - b.y;
     ps.p = b0 * p0 + b.x * p1 + b.y * p2;
-    ps.p_error = gamma_bound(7) * max_component(glm::abs(b0 * p0) + glm::abs(b.x * p1) + glm::abs(b.y * p2));
+    ps.p_error = gamma_bound(7) * max_component(abs_components(b0 * p0) + abs_components(b.x * p1) + abs_components(b.y * p2));
     // The geometric normal: the area-to-solid-angle conversion needs the true surface
     // orientation, not an interpolated shading normal.
     Vec3 n = glm::normalize(glm::cross(p1 - p0, p2 - p0));

@@ -42,8 +42,12 @@ void Shape::tessellate_parts(std::vector<TessellatedPart>& parts, int detail) co
 }
 
 DirectionSample Shape::sample_direction(const SurfaceInteraction& ref, const Vec2& u) const {
+    return direction_from_position(ref, sample_position(u));
+}
+
+DirectionSample Shape::direction_from_position(const SurfaceInteraction& ref, const PositionSample& ps) {
     DirectionSample ds;
-    static_cast<PositionSample&>(ds) = sample_position(u);
+    static_cast<PositionSample&>(ds) = ps;
     Vec3 to = ds.p - ref.p;
     float dist2 = squared_length(to);
     ds.dist = std::sqrt(dist2);

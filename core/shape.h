@@ -149,6 +149,12 @@ public:
     bool flip_normals() const { return flip_normals_; }
 
 protected:
+    // A point sampled uniformly by area (`ps`, pdf per unit area) as seen from `ref`: its
+    // direction, distance and pdf per unit solid angle (pdf_area * dist^2 / |cos| at the point).
+    // What the default sample_direction does; shapes that fall back to area sampling call it with
+    // their own sample_position, sparing a virtual call and a copy per light sample.
+    static DirectionSample direction_from_position(const SurfaceInteraction& ref, const PositionSample& ps);
+
     Transform to_world_;
     AnimatedTransform motion_;  // to_world_ at its keyframes (static unless constructed with may_move)
     bool flip_normals_ = false;

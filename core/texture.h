@@ -107,6 +107,10 @@ class ConstantTexture final : public Texture {
 public:
     explicit ConstantTexture(const Spectrum& value) : value_(value) {}
     Spectrum eval(const Vec2&) const override { return value_; }
+    // The same value everywhere: no texture coordinates to find (the mapping is never asked;
+    // BSDFs and emitters look their constants up once or more per path vertex).
+    Spectrum eval(const SurfaceInteraction&) const override { return value_; }
+    float eval_1(const SurfaceInteraction&) const override { return eval_1(Vec2(0.0f)); }
     // A grey value (a float parameter) is returned exactly, not through the luminance weights.
     float eval_1(const Vec2&) const override { return value_.x == value_.y && value_.y == value_.z ? value_.x : luminance(value_); }
     Spectrum mean() const override { return value_; }

@@ -23,6 +23,7 @@ public:
     explicit AreaEmitter(const Properties& props) {
         type_ = EmitterType::Area;
         radiance_ = props.get_texture("radiance", Spectrum(1.0f));
+        constant_radiance_ = dynamic_cast<const ConstantTexture*>(radiance_.get());
         if (props.has("to_world")) props.fail("to_world", "an area emitter takes its placement from its shape");
     }
 
@@ -42,11 +43,7 @@ public:
             weight = Spectrum(0.0f);
             return ds;
         }
-        SurfaceInteraction on_light;  // where the radiance texture is looked up
-        on_light.p = ds.p;
-        on_light.n = ds.n;
-        on_light.uv = ds.uv;
-        weight = radiance_->eval(on_light) / ds.pdf;
+        weight = radiance_at(ds) / ds.pdf;
         return ds;
     }
 
@@ -99,7 +96,19 @@ public:
     std::string to_string() const override { return "area"; }
 
 private:
+    // The radiance at a sampled point. A constant radiance (the common case) needs no lookup
+    // point: building a SurfaceInteraction per light sample cost about 20 instructions.
+    Spectrum radiance_at(const DirectionSample& ds) const {
+        if (constant_radiance_) return constant_radiance_->value();
+        SurfaceInteraction on_light;  // where the radiance texture is looked up
+        on_light.p = ds.p;
+        on_light.n = ds.n;
+        on_light.uv = ds.uv;
+        return radiance_->eval(on_light);
+    }
+
     Ref<Texture> radiance_;
+    const ConstantTexture* constant_radiance_ = nullptr;  // radiance_, when it is constant
 };
 
 CANDELA_REGISTER(AreaEmitter, ObjectKind::Emitter, "area");

@@ -123,6 +123,7 @@ LightTree::LightTree(const Scene& scene) {
     build(all);
     for (int node = 0; node < int(nodes_.size()); ++node)
         if (nodes_[node].light >= 0) leaf_[bounded_[nodes_[node].light]] = node;
+    p_unbounded_ = float(unbounded_.size()) / float(unbounded_.size() + 1);
 }
 
 namespace {
@@ -210,7 +211,7 @@ void LightTree::build(const std::vector<LightBounds>& all) {
 const Emitter* LightTree::sample(const SurfaceInteraction& ref, float u, float& prob) const {
     prob = 0.0f;
     size_t n_unbounded = unbounded_.size();
-    float p_unbounded = nodes_.empty() ? 1.0f : float(n_unbounded) / float(n_unbounded + 1);
+    const float p_unbounded = p_unbounded_;
     if (u < p_unbounded) {
         if (n_unbounded == 0) return nullptr;
         size_t i = std::min(size_t(u / p_unbounded * float(n_unbounded)), n_unbounded - 1);
@@ -242,9 +243,8 @@ const Emitter* LightTree::sample(const SurfaceInteraction& ref, float u, float& 
 }
 
 float LightTree::pmf(const SurfaceInteraction& ref, const Emitter* emitter) const {
-    size_t n_unbounded = unbounded_.size();
-    float p_unbounded = nodes_.empty() ? 1.0f : float(n_unbounded) / float(n_unbounded + 1);
-    if (unbounded_index_.count(emitter)) return p_unbounded / float(n_unbounded);
+    const float p_unbounded = p_unbounded_;
+    if (unbounded_index_.count(emitter)) return p_unbounded / float(unbounded_.size());
     auto it = leaf_.find(emitter);
     if (it == leaf_.end()) return 0.0f;
     const int leaf = it->second;

@@ -9,42 +9,6 @@ namespace candela {
 
 uint64_t pixel_key(const Vec2i& pixel) { return (uint64_t(uint32_t(pixel.y)) << 32) | uint32_t(pixel.x); }
 
-uint32_t permute_index(uint32_t i, uint32_t n, uint32_t seed) {
-    // Mask of the bits below the next power of two at least n.
-    uint32_t mask = n - 1;
-    mask |= mask >> 1;
-    mask |= mask >> 2;
-    mask |= mask >> 4;
-    mask |= mask >> 8;
-    mask |= mask >> 16;
-    // Every step is invertible on the masked bits (xor with a constant, multiplication by an odd
-    // constant, xor with a right shift of the masked value), so the loop is a permutation of
-    // [0, mask]; cycle walking restricts it to [0, n). Constants from Kensler's paper.
-    do {
-        i ^= seed;
-        i *= 0xe170893du;
-        i ^= seed >> 16;
-        i ^= (i & mask) >> 4;
-        i ^= seed >> 8;
-        i *= 0x0929eb3fu;
-        i ^= seed >> 23;
-        i ^= (i & mask) >> 1;
-        i *= 1u | seed >> 27;
-        i *= 0x6935fa69u;
-        i ^= (i & mask) >> 11;
-        i *= 0x74dcb303u;
-        i ^= (i & mask) >> 2;
-        i *= 0x9e501cc3u;
-        i ^= (i & mask) >> 2;
-        i *= 0xc860a3dfu;
-        i &= mask;
-        i ^= i >> 5;
-    } while (i >= n);
-    // For a power of two n (every count the stratified sampler uses at 4^k spp) the mask gives
-    // the remainder without a division.
-    return mask + 1 == n ? (i + seed) & mask : (i + seed) % n;
-}
-
 uint32_t reverse_bits(uint32_t v) {
     v = (v << 16) | (v >> 16);
     v = ((v & 0x00ff00ffu) << 8) | ((v & 0xff00ff00u) >> 8);

@@ -25,8 +25,43 @@ uint64_t pixel_key(const Vec2i& pixel);
 
 // Element i of a pseudo-random permutation of [0, n) chosen by `seed` (Kensler 2013, "Correlated
 // Multi-Jittered Sampling", section 3: an invertible hash on the next power of two, walked until
-// it lands below n, then rotated). i must be below n.
-uint32_t permute_index(uint32_t i, uint32_t n, uint32_t seed);
+// it lands below n, then rotated). i must be below n. Inline: the pixel-sequence samplers call
+// it once per number drawn, and the call cost about 7% of its instructions (callgrind).
+inline uint32_t permute_index(uint32_t i, uint32_t n, uint32_t seed) {
+    // Mask of the bits below the next power of two at least n.
+    uint32_t mask = n - 1;
+    mask |= mask >> 1;
+    mask |= mask >> 2;
+    mask |= mask >> 4;
+    mask |= mask >> 8;
+    mask |= mask >> 16;
+    // Every step is invertible on the masked bits (xor with a constant, multiplication by an odd
+    // constant, xor with a right shift of the masked value), so the loop is a permutation of
+    // [0, mask]; cycle walking restricts it to [0, n). Constants from Kensler's paper.
+    do {
+        i ^= seed;
+        i *= 0xe170893du;
+        i ^= seed >> 16;
+        i ^= (i & mask) >> 4;
+        i ^= seed >> 8;
+        i *= 0x0929eb3fu;
+        i ^= seed >> 23;
+        i ^= (i & mask) >> 1;
+        i *= 1u | seed >> 27;
+        i *= 0x6935fa69u;
+        i ^= (i & mask) >> 11;
+        i *= 0x74dcb303u;
+        i ^= (i & mask) >> 2;
+        i *= 0x9e501cc3u;
+        i ^= (i & mask) >> 2;
+        i *= 0xc860a3dfu;
+        i &= mask;
+        i ^= i >> 5;
+    } while (i >= n);
+    // For a power of two n (every count the stratified sampler uses at 4^k spp) the mask gives
+    // the remainder without a division.
+    return mask + 1 == n ? (i + seed) & mask : (i + seed) % n;
+}
 
 uint32_t reverse_bits(uint32_t v);
 

@@ -58,7 +58,7 @@ public:
 
     DirectionSample sample_direction(const SurfaceInteraction& ref, const Vec2& u) const override {
         SphericalRectangle sr;
-        if (!spherical(ref.p, sr)) return Shape::sample_direction(ref, u);
+        if (!spherical(ref.p, sr)) return direction_from_position(ref, sample_position(u));
         // Invert the solid-angle CDF along x (u.x), then along y within the column (u.y).
         float au = u.x * sr.solid_angle + sr.k;
         float fu = (std::cos(au) * sr.b0 - sr.b1) / std::sin(au);
