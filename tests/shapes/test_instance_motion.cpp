@@ -175,7 +175,7 @@ TEST_CASE("instance motion: the bar's shadow is blurred too (shadow rays carry t
     check_columns(img, Spp, [](int x) { return column_average(x, 0.0, 1.0 / 16.0); });
 }
 
-TEST_CASE("instance motion: keyframes at unequal steps and a moving area light stop at their line", "[instance][animation][errors]") {
+TEST_CASE("instance motion: incommensurate keyframe times and a moving area light stop at their line", "[instance][animation][errors]") {
     auto error_of = [](const std::string& body) {
         try {
             load_scene_xml("motion-errors", body);
@@ -185,10 +185,11 @@ TEST_CASE("instance motion: keyframes at unequal steps and a moving area light s
         FAIL("no error");
         return SceneError(SourceLocation{}, "");
     };
+    // Times whose intervals share no step within 1025 keyframes (1 and 0.000123).
     SceneError uneven = error_of(R"(<shape type="shapegroup" id="g"><shape type="sphere"/></shape>
 <shape type="instance"><ref id="g"/>
-<animation name="to_world"><transform time="0"/><transform time="1"/><transform time="3"/></animation></shape>)");
-    CHECK_THAT(uneven.message(), Catch::Contains("equally spaced"));
+<animation name="to_world"><transform time="0"/><transform time="1"/><transform time="1.000123"/></animation></shape>)");
+    CHECK_THAT(uneven.message(), Catch::Contains("unevenly spaced"));
     CHECK(uneven.location.line == 4);
     // A moving shape moves as an instance, so an area light cannot move (instances draw no emitters).
     SceneError light = error_of(R"(<shape type="rectangle"><emitter type="area"/>
@@ -196,8 +197,8 @@ TEST_CASE("instance motion: keyframes at unequal steps and a moving area light s
     CHECK_THAT(light.message(), Catch::Contains("area emitter"));
     CHECK(light.location.line == 3);
     SceneError uneven_shape = error_of(R"(<shape type="sphere">
-<animation name="to_world"><transform time="0"/><transform time="1"/><transform time="3"/></animation></shape>)");
-    CHECK_THAT(uneven_shape.message(), Catch::Contains("equally spaced"));
+<animation name="to_world"><transform time="0"/><transform time="1"/><transform time="1.000123"/></animation></shape>)");
+    CHECK_THAT(uneven_shape.message(), Catch::Contains("unevenly spaced"));
     // An integrator that renders no motion stops at the animation's line.
     Ref<Scene> scene = load_scene_xml("motion-ptracer", R"(<shape type="shapegroup" id="g"><shape type="sphere"/></shape>
 <shape type="instance"><ref id="g"/>
@@ -254,4 +255,23 @@ TEST_CASE("shape motion: a moving sphere renders as the same sphere in a group m
     Image grouped = render_body("shape-motion-grouped", body + "<shape type=\"shapegroup\" id=\"one\"><shape type=\"sphere\">" + sphere +
                                                             "</shape></shape><shape type=\"instance\"><ref id=\"one\"/>" + moving + "</shape>");
     CHECK(worst_relative_difference(direct, grouped) == 0.0f);
+}
+
+TEST_CASE("instance motion: keyframes at unequal steps are resampled to equal ones, the same motion", "[instance][animation][render]") {
+    // Keyframes at t = 0, 1 and 3 (intervals 1 and 2: Embree gets steps of 1, the one at t = 2
+    // interpolated). At t = 2.5, three quarters from the pose at 1 (rotate 10, x 0.2) to the pose
+    // at 3 (rotate 50, x 1): rotate 40, x 0.8; at t = 0.5, halfway from rotate -30 to rotate 10.
+    const std::string moving = R"(<animation name="to_world">
+        <transform time="0"><rotate z="1" angle="-30"/></transform>
+        <transform time="1"><rotate z="1" angle="10"/><translate x="0.2"/></transform>
+        <transform time="3"><rotate z="1" angle="50"/><translate x="1"/></transform></animation>)";
+    for (const auto& [time, pose] : std::vector<std::pair<float, std::string>>{{2.5f, R"(<rotate z="1" angle="40"/><translate x="0.8"/>)"},
+                                                                                {0.5f, R"(<rotate z="1" angle="-10"/><translate x="0.1"/>)"}}) {
+        INFO("t = " << time);
+        Image a = render_body("motion-uneven", stage(moving, time, time));
+        Image b = render_body("motion-uneven-static", stage("<transform name=\"to_world\">" + pose + "</transform>", time, time));
+        float worst = worst_relative_difference(a, b);
+        INFO("largest relative pixel difference " << worst);
+        CHECK(worst <= 1e-4f);
+    }
 }
