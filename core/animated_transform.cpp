@@ -2,6 +2,7 @@
 
 #include <glm/gtc/quaternion.hpp>
 
+#include <algorithm>
 #include <cmath>
 
 namespace candela {
@@ -96,6 +97,40 @@ bool AnimatedTransform::equally_spaced() const {
     for (size_t i = 1; i < keys_.size(); ++i)
         if (std::abs(keys_[i].time - keys_[i - 1].time - step) > 1e-4f * step) return false;
     return true;
+}
+
+bool AnimatedTransform::resampled_equally(int max_keyframes, AnimatedTransform& out) const {
+    float shortest = end_time() - begin_time();
+    for (size_t i = 1; i < keys_.size(); ++i) shortest = std::min(shortest, keys_[i].time - keys_[i - 1].time);
+    for (int divisor = 1; divisor < max_keyframes; ++divisor) {
+        double step = double(shortest) / divisor;
+        if ((double(end_time()) - begin_time()) / step + 1.0 > max_keyframes + 0.5) return false;
+        bool divides = true;
+        for (size_t i = 1; i < keys_.size() && divides; ++i) {
+            double n = (double(keys_[i].time) - keys_[i - 1].time) / step;
+            divides = std::abs(n - std::round(n)) <= 1e-4 * n;
+        }
+        if (!divides) continue;
+        out = *this;
+        out.keys_.clear();
+        for (size_t i = 1; i < keys_.size(); ++i) {
+            const Keyframe &a = keys_[i - 1], &b = keys_[i];
+            int n = int(std::round((double(b.time) - a.time) / step));
+            for (int j = 0; j < n; ++j) {
+                float alpha = float(j) / float(n);
+                Keyframe k;
+                k.time = a.time + alpha * (b.time - a.time);
+                k.translation = a.translation + alpha * (b.translation - a.translation);
+                k.rotation = j == 0 ? a.rotation : slerp(a.rotation, b.rotation, alpha);
+                k.scale_shear = a.scale_shear + alpha * (b.scale_shear - a.scale_shear);
+                k.transform = j == 0 ? a.transform : Transform(compose(k.translation, k.rotation, k.scale_shear));
+                out.keys_.push_back(k);
+            }
+        }
+        out.keys_.push_back(keys_.back());
+        return true;
+    }
+    return false;
 }
 
 BoundingBox AnimatedTransform::bounds(const BoundingBox& local) const {

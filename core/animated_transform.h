@@ -41,6 +41,12 @@ public:
     // Whether the keyframes are equally spaced in time (within a relative 1e-4), as Embree's time
     // steps are.
     bool equally_spaced() const;
+    // The same motion with keyframes at equal steps, for Embree: the step is the shortest
+    // interval divided by 1, 2, 3 ... until it divides every interval (within a relative 1e-4),
+    // and the keyframes added inside an interval are its interpolation there (linear parts and a
+    // slerp along one arc are unchanged by subdividing them). False when that needs more than
+    // `max_keyframes` keyframes (incommensurate times).
+    bool resampled_equally(int max_keyframes, AnimatedTransform& out) const;
     // A box around `local` carried through the motion: the union of its corners' boxes at the
     // keyframes and at 32 instants within each interval (a rotation sweeps beyond the keyframes'
     // poses; the sampled instants bound that within a small fraction of the box).

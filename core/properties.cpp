@@ -146,8 +146,7 @@ Transform Properties::get_transform(const std::string& name, const Transform& de
     auto it = entries_.find(name);
     if (it != entries_.end() && it->second.type == Type::Animation)
         throw SceneError(it->second.where, "an animated " + name + " (motion blur) is not supported on " + plugin_type_ +
-                                               ": only instances, sensors and point and spot emitters move (put a shape in a "
-                                               "shapegroup and animate an instance of it, as Mitsuba's animation_shape scene does)");
+                                               ": only shapes, sensors and point and spot emitters move");
     const Entry* e = find(name, Type::Transform);
     return e ? std::get<Transform>(e->value) : def;
 }

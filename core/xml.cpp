@@ -83,6 +83,40 @@ bool parse_srgb(const std::string& text, const std::vector<double>& numbers, Spe
     return true;
 }
 
+// A shape other than an instance or a group with an <animation> named to_world (motion blur):
+// Candela builds it without that transform, puts it alone in a shapegroup and animates an
+// instance of the group, so that it moves by Embree's instance motion, as animated instances do.
+// The shape's own parameters (a sphere's center and radius, ...) place it inside the group, the
+// animation places the group: to_world(t) applied after them, as Mitsuba composes a to_world.
+bool moves_through_instance(ObjectKind kind, const Properties& props) {
+    const std::string& type = props.plugin_type();
+    if (kind != ObjectKind::Shape || type == "instance" || type == "shapegroup" || !props.has("to_world")) return false;
+    Properties::Type tag;
+    props.get_raw("to_world", &tag);
+    return tag == Properties::Type::Animation;
+}
+
+Ref<Object> create_moving_shape(const Properties& props) {
+    const SourceLocation& where = props.location();
+    Properties still(props.plugin_type(), where), group("shapegroup", where), instance("instance", where);
+    still.set_file_resolver(props.file_resolver());
+    Properties::Type tag;
+    for (const std::string& name : props.names()) {
+        if (name == "to_world") continue;
+        const Properties::Value& value = props.get_raw(name, &tag);
+        // Instances draw no emitters (as in Mitsuba): a moving area light is not supported.
+        if (tag == Properties::Type::Object && std::get<Ref<Object>>(value)->kind() == ObjectKind::Emitter)
+            throw SceneError(props.location_of("to_world"), "an animated to_world (motion blur) is not supported on a shape with an area emitter");
+        still.set(name, tag, value, props.location_of(name));
+    }
+    group.set_object("shape", create_plugin(ObjectKind::Shape, still), where);
+    instance.id = props.id;
+    const Properties::Value& animation = props.get_raw("to_world", &tag);
+    instance.set("to_world", tag, animation, props.location_of("to_world"));
+    instance.set_object("group", create_plugin(ObjectKind::Shape, group), where);
+    return create_plugin(ObjectKind::Shape, instance);
+}
+
 class XmlLoader {
 public:
     explicit XmlLoader(const SceneParameters& defines) : params_(defines) {}
@@ -375,7 +409,7 @@ private:
         if (!id.empty() && ids_.count(id)) throw SceneError(where(doc, node), "duplicate id \"" + id + "\"");
         props.set_file_resolver(doc.resolver);
         read_children(doc, node, props);
-        Ref<Object> obj = create_plugin(kind, props);
+        Ref<Object> obj = moves_through_instance(kind, props) ? create_moving_shape(props) : create_plugin(kind, props);
         if (!id.empty()) ids_[id] = obj;
         building_.erase(node.internal_object());
         built_[node.internal_object()] = obj;

@@ -3,13 +3,17 @@
 // Parameters:
 //   sigma_t           float, rgb or constvolume   extinction coefficient, per scene unit
 //                                                  (default 1)
-//   albedo            float, rgb or constvolume   single-scattering albedo sigma_s / sigma_t,
-//                                                  in [0, 1] (default 0.75)
+//   albedo            float, rgb or volume    single-scattering albedo sigma_s / sigma_t,
+//                                              in [0, 1] (default 0.75); a grid gives a spatially
+//                                              varying albedo, as Mitsuba 3 allows (its docs scene
+//                                              medium_homogeneous_sss_textured)
 //   scale             float     multiplies sigma_t, e.g. to change units (default 1)
 //   sample_emitters   boolean   next-event estimation from inside the medium (default true)
 //   (nested phase)              the phase function (default isotropic)
 // It fills whatever region refers to it (a shape's interior or exterior, a sensor's
-// surroundings), without bounds of its own. Transmittance is exact: exp(-sigma_t * distance).
+// surroundings), without bounds of its own. Transmittance is exact: exp(-sigma_t * distance),
+// since only the albedo may vary; a grid albedo is looked up where the path collides (beyond the
+// grid's box by its wrap_mode, clamp by default, as Mitsuba's grid lookup does).
 
 #include "core/medium.h"
 #include "core/registry.h"
@@ -22,7 +26,6 @@ public:
     explicit HomogeneousMedium(const Properties& props) : Medium(props) {
         Ref<Volume> sigma_t = get_volume(props, "sigma_t", Spectrum(1.0f)), albedo = get_volume(props, "albedo", Spectrum(0.75f));
         if (!sigma_t->is_constant()) props.fail("sigma_t", "a homogeneous medium needs a constant sigma_t (use a heterogeneous medium for a grid)");
-        if (!albedo->is_constant()) props.fail("albedo", "a homogeneous medium needs a constant albedo (use a heterogeneous medium for a grid)");
         float scale = props.get_float("scale", 1.0f);
         point_.sigma_t = sigma_t->max() * scale;
         Spectrum a = albedo->max();
@@ -30,9 +33,13 @@ public:
             props.fail(props.has("sigma_t") ? "sigma_t" : "scale", "sigma_t * scale must be finite and non-negative");
         if (!all_finite(a) || min_component(a) < 0.0f || max_component(a) > 1.0f) props.fail("albedo", "the albedo must lie in [0, 1]");
         point_.sigma_s = point_.sigma_t * a;
+        if (!albedo->is_constant()) albedo_ = albedo;
     }
 
-    MediumPoint eval(const Vec3&) const override { return point_; }
+    MediumPoint eval(const Vec3& p) const override {
+        if (!albedo_) return point_;
+        return MediumPoint{point_.sigma_t, point_.sigma_t * albedo_->eval(p)};
+    }
     MajorantIterator majorants(const Ray& ray, float tmax) const override { return MajorantIterator(ray.tmin, tmax, point_.sigma_t); }
     Spectrum transmittance(const Ray& ray, float tmax, PCG32&) const override {
         float distance = tmax - ray.tmin;
@@ -41,11 +48,11 @@ public:
         return T;
     }
     bool is_homogeneous() const override { return true; }
-    const MediumPoint& coefficients() const { return point_; }
     std::string to_string() const override { return "homogeneous"; }
 
 private:
-    MediumPoint point_;
+    MediumPoint point_;     // sigma_t, and sigma_s for a constant albedo
+    Ref<Volume> albedo_;    // a varying albedo (null when constant)
 };
 
 CANDELA_REGISTER(HomogeneousMedium, ObjectKind::Medium, "homogeneous");

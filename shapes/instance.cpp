@@ -4,8 +4,8 @@
 // Parameters:
 //   (nested or referenced shapegroup)   the group to draw, usually <ref id="..."/>
 //   to_world                            object (group) to world (default identity), or an
-//                                       <animation name="to_world"> of keyframes at equally
-//                                       spaced times (motion blur, Embree's instance motion:
+//                                       <animation name="to_world"> of keyframes (motion blur,
+//                                       resampled to equal steps if they are not; Embree's instance motion:
 //                                       translation and scale/shear interpolated linearly, the
 //                                       rotation by slerp; see core/animated_transform.h)
 //
@@ -33,8 +33,16 @@ Instance::Instance(const Properties& props) : Shape(props, true) {
     if (!group_) props.fail("an instance references a shapegroup, not a " + shapes[0]->to_string());
     for (const auto& key : motion_.keyframes())
         if (!key.transform.all_finite()) props.fail("to_world", "instance transform is not finite");
-    if (!motion_.equally_spaced())
-        props.fail("to_world", "an instance's keyframes must be equally spaced in time: Embree's motion blur takes equal time steps");
+    // Embree's motion takes equal time steps: other keyframe times are resampled onto a step that
+    // divides all their intervals (the same motion), if one within MaxKeyframes exists.
+    const int MaxKeyframes = 1025;
+    AnimatedTransform equal;
+    if (!motion_.equally_spaced()) {
+        if (!motion_.resampled_equally(MaxKeyframes, equal))
+            props.fail("to_world", "keyframe times too unevenly spaced: Embree's motion blur takes equal time steps, and a step that divides "
+                                   "every interval would need more than " + std::to_string(MaxKeyframes) + " keyframes");
+        motion_ = equal;
+    }
     motion_location_ = props.location_of("to_world");
     identity_ = !motion_.is_animated() && to_world_.is_identity();
     bbox_ = motion_.bounds(group_->bbox());

@@ -9,6 +9,9 @@
 //     contribute; volpathmis's per-channel majorants are exercised by the chromatic sigma_t.
 //   - A medium with sigma_t = 0 changes nothing: volpath renders what path renders without it.
 //   - volpath and volpathmis agree on a heterogeneous, chromatic, scattering scene.
+//   - A homogeneous medium with a grid albedo (Mitsuba 3 allows a spatially varying albedo with a
+//     constant sigma_t; its docs scene medium_homogeneous_sss_textured) renders as the
+//     heterogeneous medium with that albedo grid and a uniform sigma_t grid around the shape.
 //   - path refuses a scene with media, naming volpath.
 // Statistics: pixels of a box-filtered render are independent, so image and block means get their
 // standard errors from the spread of the pixels; every comparison is a z-test, and all of them
@@ -28,8 +31,9 @@ using namespace candela::test;
 namespace {
 
 // Channels times the z-tests: Beer-Lambert 3 cases x 2 integrators, the furnace 2 integrators,
-// sigma_t = 0 one comparison, volpath vs volpathmis 1 image mean + 16 block means.
-const double Z = two_sided_z(sidak(0.01, 3 * (6 + 2 + 1 + 17)));
+// sigma_t = 0 one comparison, volpath vs volpathmis 1 image mean + 16 block means, homogeneous
+// with a grid albedo vs heterogeneous the same 17.
+const double Z = two_sided_z(sidak(0.01, 3 * (6 + 2 + 1 + 17 + 17)));
 
 RenderResult render_xml(const std::string& xml, const std::string& name) {
     auto dir = scratch_dir(name);
@@ -126,6 +130,21 @@ std::string small_scene(const std::string& integrator, const std::string& extra,
             <emitter type="area"><rgb name="radiance" value="10"/></emitter></shape>)" + extra);
 }
 
+// Two independent 32 x 32 renders of one expectation agree: per channel, a z-test on the mean
+// pixel difference over the whole image, then over each of 16 blocks of 8 x 8 pixels.
+void check_agree_by_blocks(const Image& a, const Image& b) {
+    for (int ch = 0; ch < 3; ++ch)
+        for (int block = -1; block < 16; ++block) {
+            int x0 = block < 0 ? 0 : 8 * (block % 4), y0 = block < 0 ? 0 : 8 * (block / 4), size = block < 0 ? 32 : 8;
+            std::vector<double> diff;
+            for (int y = y0; y < y0 + size; ++y)
+                for (int x = x0; x < x0 + size; ++x) diff.push_back(double(a.at(x, y, ch)) - b.at(x, y, ch));
+            MeanAndError d = mean_and_error(diff);
+            INFO("channel " << ch << ", block " << block << ": difference " << d.mean << " +- " << d.std_error);
+            CHECK(std::abs(d.mean) <= Z * d.std_error);
+        }
+}
+
 }  // namespace
 
 TEST_CASE("volpath: a medium with sigma_t = 0 renders as vacuum, as path renders the scene", "[volpath][stats]") {
@@ -169,18 +188,39 @@ TEST_CASE("volpath and volpathmis agree on a heterogeneous chromatic medium", "[
         Ref<Scene> scene = load_scene((dir / "scene.xml").string());
         images[i++] = scene->integrator().render(*scene, RenderOptions()).image;
     }
-    for (int ch = 0; ch < 3; ++ch) {
-        // The whole image, then 16 blocks of 8 x 8 pixels.
-        for (int block = -1; block < 16; ++block) {
-            int x0 = block < 0 ? 0 : 8 * (block % 4), y0 = block < 0 ? 0 : 8 * (block / 4), size = block < 0 ? 32 : 8;
-            std::vector<double> diff;
-            for (int y = y0; y < y0 + size; ++y)
-                for (int x = x0; x < x0 + size; ++x) diff.push_back(double(images[0].at(x, y, ch)) - images[1].at(x, y, ch));
-            MeanAndError d = mean_and_error(diff);
-            INFO("channel " << ch << ", block " << block << ": difference " << d.mean << " +- " << d.std_error);
-            CHECK(std::abs(d.mean) <= Z * d.std_error);
-        }
+    check_agree_by_blocks(images[0], images[1]);
+}
+
+TEST_CASE("homogeneous: a grid albedo renders as the heterogeneous medium with that albedo and a uniform sigma_t", "[volpath][stats]") {
+    auto dir = scratch_dir("homogeneous-grid-albedo");
+    PCG32 rng(7, 3);
+    const glm::ivec3 res(6, 6, 6);
+    std::vector<float> albedo, uniform;
+    // Half the voxels absorb only: a medium that used one albedo everywhere would be brighter.
+    for (int i = 0; i < res.x * res.y * res.z; ++i) {
+        float a = rng.next_float() < 0.5f ? 0.0f : rng.next_float();
+        albedo.insert(albedo.end(), {a, 0.8f * a, a * a});
+        uniform.insert(uniform.end(), {3.0f, 1.5f, 0.75f});
     }
+    write_vol(dir / "albedo.vol", res, 3, albedo);
+    write_vol(dir / "sigma_t.vol", res, 3, uniform);
+    // Both grids cover the cube that holds the medium (as in the volpath-vs-mis case).
+    const std::string box = R"(<transform name="to_world"><scale value="1.4"/><translate x="-0.9" y="0.01" z="-0.5"/></transform>)";
+    const std::string grid_albedo = R"(<volume type="gridvolume" name="albedo"><string name="filename" value="albedo.vol"/>)" + box + "</volume>";
+    const std::string cube = R"(<shape type="cube"><transform name="to_world"><scale value="0.7"/><translate x="-0.2" y="0.71" z="0.2"/></transform>
+            <bsdf type="null"/><ref name="interior" id="m"/></shape>)";
+    const std::string media[2] = {
+        R"(<medium type="homogeneous" id="m"><rgb name="sigma_t" value="0.75, 0.375, 0.1875"/><float name="scale" value="4"/>)" + grid_albedo +
+            R"(<phase type="hg"><float name="g" value="0.5"/></phase></medium>)",
+        R"(<medium type="heterogeneous" id="m"><volume type="gridvolume" name="sigma_t"><string name="filename" value="sigma_t.vol"/>)" + box +
+            "</volume>" + grid_albedo + R"(<phase type="hg"><float name="g" value="0.5"/></phase></medium>)"};
+    Image images[2];
+    for (int i = 0; i < 2; ++i) {
+        write_text(dir / "scene.xml", small_scene("volpath", media[i] + cube, 32));
+        Ref<Scene> scene = load_scene((dir / "scene.xml").string());
+        images[i] = scene->integrator().render(*scene, RenderOptions()).image;
+    }
+    check_agree_by_blocks(images[0], images[1]);
 }
 
 TEST_CASE("path refuses a scene with media and names volpath", "[volpath][errors]") {

@@ -1,4 +1,5 @@
-// Phase functions (isotropic, hg, rayleigh): each is sampled exactly with its pdf.
+// Phase functions (isotropic, hg, rayleigh, tabphase, blendphase): each is sampled exactly with
+// its pdf (blendphase: its weight is eval / pdf, 1 when its parts are exact).
 //   - Chi-square: directions drawn by sample() against pdf() integrated over the cells of a
 //     10 x 20 spherical grid around the incident direction. Six cases at a 1% family-wise level
 //     (Sidak), together with the tests below.
@@ -7,7 +8,8 @@
 //   - Normalisation: the Monte Carlo integral of pdf over the sphere (uniform directions) is 1,
 //     within a z-test at the same family-wise level.
 //   - Known values: HG's mean cosine is g (estimated from the samples, z-test), Rayleigh's
-//     density at mu = 0 and 1.
+//     density at mu = 0 and 1, tabphase's table in Mitsuba's convention (the last value is
+//     forward scattering) and normalisation, blendphase at weights 0 and 1 equal to its parts.
 
 #include "core/phase.h"
 #include "core/registry.h"
@@ -21,9 +23,19 @@ using namespace candela::test;
 
 namespace {
 
-Ref<PhaseFunction> make_phase(const std::string& type, float g = 0.0f) {
+// A tabulated phase function: rising, falling and flat pieces, forward-peaked.
+const char* const Table = "0.2, 0.5, 0.5, 1.0, 3.0, 0.1, 4.0";
+
+// `g` is HG's g; for blendphase the weight of an hg (g = 0.7) against an isotropic first part.
+Ref<PhaseFunction> make_phase(const std::string& type, float g = 0.0f, const std::string& values = Table) {
     Properties props(type, SourceLocation{"test", 1});
     if (type == "hg") props.set_float("g", g);
+    if (type == "tabphase") props.set_string("values", values);
+    if (type == "blendphase") {
+        props.set_float("weight", g);
+        props.set_object("first", make_phase("isotropic"), SourceLocation{"test", 2});
+        props.set_object("second", make_phase("hg", 0.7f), SourceLocation{"test", 3});
+    }
     return create_plugin_as<PhaseFunction>(ObjectKind::Phase, props);
 }
 
@@ -31,7 +43,8 @@ struct PhaseCase {
     std::string type;
     float g;
 };
-const std::vector<PhaseCase> Cases = {{"isotropic", 0.0f}, {"hg", 0.7f}, {"hg", -0.4f}, {"hg", 0.0f}, {"hg", 0.95f}, {"rayleigh", 0.0f}};
+const std::vector<PhaseCase> Cases = {{"isotropic", 0.0f}, {"hg", 0.7f},       {"hg", -0.4f},       {"hg", 0.0f},
+                                      {"hg", 0.95f},       {"rayleigh", 0.0f}, {"tabphase", 0.0f}, {"blendphase", 0.3f}};
 // Every statistical check below runs once per case.
 const double Alpha = sidak(0.01, 3 * int(Cases.size()));
 
@@ -105,4 +118,27 @@ TEST_CASE("phase functions: known values", "[phase]") {
     CHECK(hg->eval(z, -z) == Approx(1.5 / (4.0 * 3.14159265358979323846 * 0.25)));
     CHECK(hg->eval(z, z) == Approx(0.5 / (4.0 * 3.14159265358979323846 * 2.25)));
     CHECK(make_phase("isotropic")->eval(z, x) == Approx(1.0 / (4.0 * 3.14159265358979323846)));
+    // tabphase: values at mu = -1 and 1 (Mitsuba: mu = 1, the last value, scatters forward,
+    // along wo = -wi). "0, 1" is p(mu) = (1 + mu) / 2 per unit mu, over 2 pi of azimuth.
+    Ref<PhaseFunction> ramp = make_phase("tabphase", 0.0f, "0, 1");
+    CHECK(ramp->eval(z, -z) == Approx(1.0 / (2.0 * 3.14159265358979323846)));
+    CHECK(ramp->eval(z, z) == Approx(0.0).margin(1e-7));
+    CHECK(ramp->eval(z, x) == Approx(0.5 / (2.0 * 3.14159265358979323846)));
+    CHECK(ramp->mean_cosine() == Approx(1.0 / 3.0));
+    // Any constant table is isotropic, whatever its scale.
+    CHECK(make_phase("tabphase", 0.0f, "7 7 7")->eval(z, x) == Approx(1.0 / (4.0 * 3.14159265358979323846)));
+    // blendphase: weight 0 is its first part (isotropic), 1 its second (hg 0.7).
+    Ref<PhaseFunction> hg7 = make_phase("hg", 0.7f);
+    for (const Vec3& wo : {z, x, Vec3(-z)}) {
+        CHECK(make_phase("blendphase", 0.0f)->eval(z, wo) == Approx(1.0 / (4.0 * 3.14159265358979323846)));
+        CHECK(make_phase("blendphase", 1.0f)->eval(z, wo) == Approx(hg7->eval(z, wo)));
+    }
+}
+
+TEST_CASE("phase functions: tabphase and blendphase refuse what Mitsuba refuses", "[phase][errors]") {
+    CHECK_THROWS_WITH(make_phase("tabphase", 0.0f, "1"), Catch::Contains("at least two"));
+    CHECK_THROWS_WITH(make_phase("tabphase", 0.0f, "1, x"), Catch::Contains("not a number"));
+    CHECK_THROWS_WITH(make_phase("tabphase", 0.0f, "1, -1"), Catch::Contains("negative"));
+    CHECK_THROWS_WITH(make_phase("tabphase", 0.0f, "0 0"), Catch::Contains("all zero"));
+    CHECK_THROWS_WITH(make_phase("blendphase", 1.5f), Catch::Contains("[0, 1]"));
 }

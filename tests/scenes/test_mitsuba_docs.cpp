@@ -8,6 +8,11 @@
 // of tests/, a sky gradient, small PLY spheres).
 // Each check can fail: the light seen directly has exactly its emission's colour, the walls
 // keep their colours, the spots light the scene in red and blue only.
+// Six scenes more come from an older copy (mitsuba-data as forked by acdupont, see the README):
+// they name their search folder with Mitsuba 2's <resource_path>, which Mitsuba 3 calls <path>;
+// unchanged they stop at that line, and with it renamed (as mitsuba-data now writes it) they
+// render: textured anisotropic roughness, PLY vertex and face colours, the aov integrator's
+// channels, three polarisers and a textured analytic sphere.
 
 #include "core/image.h"
 #include "core/spectral.h"
@@ -80,6 +85,15 @@ fs::path docs_folder() {
     write_text(dir / "common" / "meshes" / "bunny.ply", ascii_ply(uv_sphere(0.05f, Vec3(0.0f, 0.0f, 0.05f), 16, 8)));
     write_text(dir / "common" / "meshes" / "teapot.ply", ascii_ply(uv_sphere(0.8f, Vec3(0.6f, 0.0f, 1.0f), 16, 8)));
     return dir;
+}
+
+// The older copies name their search folder as <resource_path value="..."/>; mitsuba-data now
+// writes <path value="..."/>. Rewrites a scratch copy so.
+void rename_resource_path(const fs::path& file) {
+    std::string text = read_text(file);
+    const std::string old_tag = "<resource_path ", new_tag = "<path ";
+    for (size_t at = text.find(old_tag); at != std::string::npos; at = text.find(old_tag, at)) text.replace(at, old_tag.size(), new_tag);
+    write_text(file, text);
 }
 
 Image render(const fs::path& scene_file, const std::vector<fs::path>& search = {}, SceneParameters defines = {}) {
@@ -195,4 +209,58 @@ TEST_CASE("mitsuba docs scenes: the four motion-blur scenes render (moving insta
     CHECK(differing > 0);
     // The light tracers render no motion: they stop and say so.
     CHECK_THROWS_WITH(render(scenes / "animation_shape.xml", {}, {{"integrator", "ptracer"}}), Catch::Contains("motion blur"));
+}
+
+TEST_CASE("mitsuba docs scenes from an older copy: resource_path stops and once renamed to path six more scenes render", "[scenes][docs]") {
+    fs::path dir = docs_folder();
+    fs::path scenes = dir / "docs" / "scenes";
+    // The mesh-attribute scenes' PLY: the bunny stand-in's sphere, red at every vertex and blue
+    // on every face (mitsuba-data's file holds random colours of both kinds).
+    TestMesh bunny = uv_sphere(0.05f, Vec3(0.0f, 0.0f, 0.05f), 16, 8);
+    std::string ply = "ply\nformat ascii 1.0\nelement vertex " + std::to_string(bunny.positions.size()) +
+                      "\nproperty float x\nproperty float y\nproperty float z\nproperty float r\nproperty float g\nproperty float b\nelement face " +
+                      std::to_string(bunny.triangles.size()) +
+                      "\nproperty list uchar int vertex_indices\nproperty float r\nproperty float g\nproperty float b\nend_header\n";
+    for (const Vec3& p : bunny.positions) ply += std::to_string(p.x) + " " + std::to_string(p.y) + " " + std::to_string(p.z) + " 1 0 0\n";
+    for (const auto& t : bunny.triangles) ply += "3 " + std::to_string(t[0]) + " " + std::to_string(t[1]) + " " + std::to_string(t[2]) + " 0 0 1\n";
+    write_text(dir / "common" / "meshes" / "bunny_attribute_color.ply", ply);
+
+    CHECK_THROWS_WITH(load_scene((scenes / "texture_mesh_attribute_vertex.xml").string(), {{"spp", "1"}}), Catch::Contains("<path value="));
+    for (const char* name : {"bsdf_roughconductor_textured_carbon.xml", "texture_mesh_attribute_face.xml", "texture_mesh_attribute_vertex.xml",
+                             "integrator_aov.xml", "include/integrator_scene.xml", "bsdf_polarizer_middle.xml", "shape_sphere_parameterization.xml"})
+        rename_resource_path(scenes / name);
+    for (const char* name : {"bsdf_roughconductor_textured_carbon.xml", "bsdf_polarizer_middle.xml", "shape_sphere_parameterization.xml"}) {
+        INFO(name);
+        Summary s = summarize(render(scenes / name));
+        CHECK(s.finite);
+        CHECK(s.mean.x > 0.05f);
+    }
+    {
+        // The same scene but for the attribute read: the vertex colours make the object red, the
+        // face colours blue, everything else is equal (same seed, same paths).
+        Summary vertex = summarize(render(scenes / "texture_mesh_attribute_vertex.xml"));
+        Summary face = summarize(render(scenes / "texture_mesh_attribute_face.xml"));
+        CHECK(vertex.finite);
+        CHECK(face.finite);
+        CHECK(vertex.mean.x > face.mean.x);
+        CHECK(vertex.mean.z < face.mean.z);
+    }
+    {
+        // aovs "nn:sh_normal, position:position, depth.y:depth" with the path tracer as "image":
+        // Mitsuba's channel names, and unit normals wherever the depth says something was hit.
+        Image aov = render(scenes / "integrator_aov.xml");
+        for (const char* channel : {"R", "G", "B", "depth.y.T", "image.R", "nn.X", "nn.Y", "nn.Z", "position.X", "position.Z"})
+            CHECK(aov.channel_index(channel) >= 0);
+        int depth = aov.channel_index("depth.y.T"), nx = aov.channel_index("nn.X");
+        REQUIRE(depth >= 0);
+        REQUIRE(nx >= 0);
+        int hits = 0;
+        for (int y = 0; y < aov.height(); ++y)
+            for (int x = 0; x < aov.width(); ++x) {
+                if (aov.at(x, y, depth) <= 0.0f) continue;
+                Vec3 n(aov.at(x, y, nx), aov.at(x, y, nx + 1), aov.at(x, y, nx + 2));
+                hits += std::abs(glm::length(n) - 1.0f) < 0.02f;
+            }
+        CHECK(hits > aov.width() * aov.height() / 4);
+    }
 }
