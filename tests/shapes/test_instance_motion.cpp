@@ -228,7 +228,9 @@ TEST_CASE("shape motion: analytic shapes and a mesh with an animated to_world re
         {"rectangle", ""},
         {"cylinder", R"(<float name="radius" value="0.4"/><point name="p0" value="0, 0, -0.5"/><point name="p1" value="0.3, 0, 0.8"/>)"},
         {"cube", ""}};
-    for (const auto& [type, params] : shapes) {
+    for (const auto& shape : shapes) {
+        const std::string& type = shape.first;  // not a structured binding: C++17 lambdas cannot capture one
+        const std::string& params = shape.second;
         INFO(type);
         auto scene_with = [&](const std::string& transform) {
             // stage()'s lighting and camera, with this shape in place of the instance.
