@@ -40,6 +40,9 @@ public:
     uint32_t dimension() const { return dimension_; }
     virtual float next_1d() = 0;
     virtual Vec2 next_2d() = 0;
+    // True when a pixel's samples are stratified only as a whole: a pixel that adaptive sampling
+    // stops early keeps a random subset of the strata and loses the stratification.
+    virtual bool stratified_only_as_a_whole() const { return false; }
 
 protected:
     int sample_count_ = 4;

@@ -22,6 +22,8 @@ public:
         sample_key_ = hash_combine(sequence_, index_);
         dimension_ = 0;
     }
+    // Sample indices are permuted over the strata per dimension (above).
+    bool stratified_only_as_a_whole() const override { return true; }
 
 protected:
     // Reads sample_count (positive, default 4) and seed (default 0), then rounds the count with

@@ -23,6 +23,10 @@ public:
         log2_spp_ = 0;
         while ((1 << log2_spp_) < n) ++log2_spp_;
     }
+    // Sample indices run along the Sobol sequence, not over permuted strata. Measured with sobol
+    // (bench/bench_adaptive, Cornell box): adaptive sampling still reached uniform's error with
+    // 0.87 to 0.98 of the samples. zsobol, which shares this, was not measured.
+    bool stratified_only_as_a_whole() const override { return false; }
 
 protected:
     enum class Randomization { None, PermuteDigits, Owen };
