@@ -43,7 +43,6 @@ Instance::Instance(const Properties& props) : Shape(props, true) {
                                    "every interval would need more than " + std::to_string(MaxKeyframes) + " keyframes");
         motion_ = equal;
     }
-    motion_location_ = props.location_of("to_world");
     identity_ = !motion_.is_animated() && to_world_.is_identity();
     bbox_ = motion_.bounds(group_->bbox());
 }
@@ -74,7 +73,7 @@ void Instance::set_embree_motion(RTCGeometry g) const {
     float before = std::ceil((motion_.begin_time() - shutter_open_) / step), after = std::ceil((shutter_close_ - motion_.end_time()) / step);
     int pad_before = int(std::max(before, 0.0f)), pad_after = int(std::max(after, 0.0f));
     if (!(before <= MaxPadding && after <= MaxPadding))
-        throw SceneError(motion_location_, "the shutter lies too far outside an instance's keyframes: give keyframes nearer the shutter");
+        throw SceneError(motion_location(), "the shutter lies too far outside an instance's keyframes: give keyframes nearer the shutter");
     const unsigned count = unsigned(pad_before + int(keys.size()) + pad_after);
     const EmbreeTime time(shutter_open_, shutter_close_);
     rtcSetGeometryTimeStepCount(g, count);

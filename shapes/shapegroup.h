@@ -69,7 +69,6 @@ private:
     Ref<ShapeGroup> group_;
     bool identity_ = true;
     float shutter_open_ = 0.0f, shutter_close_ = 0.0f;
-    SourceLocation motion_location_;  // where to_world is given
     BoundingBox bbox_;
 };
 
