@@ -122,7 +122,7 @@ void report_render(const RenderArgs& a, const RenderStats& stats, const std::str
         warn(SourceLocation{}, "--spp " + std::to_string(a.spp) + " rounded up to " + std::to_string(stats.spp) + " by the " + stats.sampler +
                                    " sampler");
     if (!a.quiet) std::cerr << render_summary(stats, output) << suffix << "\n";
-    if (stats.nonfinite > 0) std::cerr << "warning: " << stats.nonfinite << " samples were NaN or infinite and were dropped\n";
+    if (stats.nonfinite > 0) std::cerr << "warning: " << stats.nonfinite << " samples were NaN, infinite or beyond 1e30 and were dropped\n";
 }
 
 // A Monte Carlo render through the sums (farm/resumable_render.h): the image when it is whole and

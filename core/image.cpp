@@ -13,9 +13,12 @@
 #include <OpenImageIO/imageio.h>
 
 #include <atomic>
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
+#include <memory>
 #include <unistd.h>
 
 namespace fs = std::filesystem;
@@ -48,30 +51,57 @@ Image Image::select_channels(const std::vector<std::string>& names) const {
 }
 
 namespace {
-// The formats Mitsuba 3's Bitmap reads (OpenImageIO's names: "pnm" covers PPM and PFM, "hdr" is
-// RGBE). OpenImageIO also reads DDS, TIFF, raw camera files, DICOM, video frames ... and some of
-// those readers hang or misbehave on malformed files (OpenImageIO 2.4's DDS reader spins for
-// minutes on a 293-byte cube map, found by fuzz_image), so only these are read.
-bool readable_format(const std::string& format) {
-    for (const char* name : {"openexr", "png", "jpeg", "hdr", "pnm", "targa", "bmp"})
-        if (format == name) return true;
-    return false;
+// The formats Mitsuba 3's Bitmap reads, told apart as it does: by the file's first bytes, and TGA
+// (which has no signature) by its extension. The value names the OpenImageIO reader (by an
+// extension it reads).
+//
+// Only that one reader ever sees the file. OpenImageIO's ImageInput::open(path) tries every reader
+// it has (DDS, TIFF, IFF, SGI, RLA, raw camera files, ...) when the first one fails, and some of
+// those act on malformed headers before anything can be checked: OpenImageIO 2.4's DDS reader
+// spins for minutes on a 293-byte cube map, and one of them allocated 36 GB for a fuzzed input
+// (fuzz_image in CI).
+std::string image_format_of(const std::string& path) {
+    unsigned char head[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+    std::ifstream in(path, std::ios::binary);
+    in.read(reinterpret_cast<char*>(head), sizeof head);
+    auto starts_with = [&](std::initializer_list<unsigned char> bytes) {
+        size_t i = 0;
+        for (unsigned char b : bytes)
+            if (head[i++] != b) return false;
+        return true;
+    };
+    if (starts_with({0x76, 0x2f, 0x31, 0x01})) return "exr";
+    if (starts_with({0x89, 'P', 'N', 'G', 0x0d, 0x0a, 0x1a, 0x0a})) return "png";
+    if (starts_with({0xff, 0xd8, 0xff})) return "jpg";
+    if (starts_with({'#', '?'})) return "hdr";
+    if (head[0] == 'P' && (head[1] == 'F' || head[1] == 'f' || (head[1] >= '1' && head[1] <= '6'))) return "pnm";
+    if (starts_with({'B', 'M'})) return "bmp";
+    std::string ext = fs::path(path).extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    if (ext == ".tga" || ext == ".targa" || ext == ".vda" || ext == ".icb" || ext == ".vst") return "tga";
+    return "";
 }
 
-[[noreturn]] void refuse_format(const std::string& path, const std::string& format) {
-    throw InputError(path + ": is a " + format + " image; Candela reads the formats Mitsuba 3 does: OpenEXR, PNG, JPEG, RGBE (.hdr), PFM, PPM, TGA, BMP");
+// The file opened by the reader of its format, or InputError.
+std::unique_ptr<OIIO::ImageInput> open_image(const std::string& path) {
+    if (!fs::exists(path)) throw InputError(path + ": file not found");
+    const std::string format = image_format_of(path);
+    if (format.empty()) {
+        std::string what = "is not an image Candela reads";
+        // Name the format when OpenImageIO knows the extension (creating a reader opens nothing).
+        if (auto by_name = OIIO::ImageInput::create(path, false)) what = "is a " + std::string(by_name->format_name()) + " image";
+        throw InputError(path + ": " + what + "; Candela reads the formats Mitsuba 3 does: OpenEXR, PNG, JPEG, RGBE (.hdr), PFM, PPM, TGA, BMP");
+    }
+    auto in = OIIO::ImageInput::create(format, false);
+    if (!in) throw InputError(path + ": cannot read image: no " + format + " reader: " + OIIO::geterror());
+    OIIO::ImageSpec spec;
+    if (!in->open(path, spec)) throw InputError(path + ": cannot read image: " + in->geterror());
+    return in;
 }
 }  // namespace
 
 Image read_image(const std::string& path) {
-    if (!fs::exists(path)) throw InputError(path + ": file not found");
-    // By the extension first (without reading the file), then by what OpenImageIO found the
-    // content to be: it tries every reader when the extension's one fails.
-    if (auto by_name = OIIO::ImageInput::create(path, false); by_name && !readable_format(by_name->format_name()))
-        refuse_format(path, by_name->format_name());
-    auto in = OIIO::ImageInput::open(path);
-    if (!in) throw InputError(path + ": cannot read image: " + OIIO::geterror());
-    if (!readable_format(in->format_name())) refuse_format(path, in->format_name());
+    auto in = open_image(path);
     const OIIO::ImageSpec& spec = in->spec();
     // The size comes from the file: check it before allocating. A volume image (DDS volume
     // textures, ...) would also fill depth times the buffer of a 2D one.
@@ -97,8 +127,7 @@ Image read_image(const std::string& path) {
 bool image_is_integer_format(const std::string& path) { return image_integer_bits(path) > 0; }
 
 int image_integer_bits(const std::string& path) {
-    auto in = OIIO::ImageInput::open(path);
-    if (!in) throw InputError(path + ": cannot read image: " + OIIO::geterror());
+    auto in = open_image(path);
     OIIO::TypeDesc f = in->spec().format;
     if (f.basetype == OIIO::TypeDesc::UINT8 || f.basetype == OIIO::TypeDesc::INT8) return 8;
     if (f.basetype == OIIO::TypeDesc::UINT16 || f.basetype == OIIO::TypeDesc::INT16) return 16;

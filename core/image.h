@@ -45,10 +45,11 @@ private:
     std::vector<float> data_;
 };
 
-// Reads any 2D image format OpenImageIO knows. Channels come back as the file names them; 8- and
+// Reads a 2D image in one of the formats Mitsuba 3 reads (OpenEXR, PNG, JPEG, RGBE, PFM, PPM, TGA,
+// BMP; told apart by content, TGA by extension). Channels come back as the file names them; 8- and
 // 16-bit integer images are returned in [0, 1] without colour conversion. Throws InputError, also
-// for volume images and for images of more than MaxImageValues values (a 16384 x 16384 RGBA
-// image has exactly that many; a corrupt header must not make us allocate without bound).
+// for other formats, volume images and images of more than MaxImageValues values (an 8192 x 8192
+// RGBA image has exactly that many; a corrupt header must not make us allocate without bound).
 constexpr uint64_t MaxImageValues = uint64_t(1) << 28;
 Image read_image(const std::string& path);
 // True when the file stores integer (display-referred, usually sRGB-encoded) values.

@@ -61,7 +61,7 @@ struct RenderStats {
     double seconds = 0.0;
     uint64_t samples = 0;      // camera samples taken
     uint64_t rays = 0;         // closest-hit and shadow rays traced
-    uint64_t nonfinite = 0;    // samples dropped because they were NaN or infinite
+    uint64_t nonfinite = 0;    // samples dropped because they were NaN, infinite or beyond 1e30 (storable_sample_value)
     int spp = 0;               // samples per pixel requested (after the sampler's rounding)
     uint64_t seed = 0;
     std::string sampler;       // the sampler's plugin name

@@ -75,7 +75,7 @@ bool SampleLayout::fill(const Spectrum& L, bool valid, const float* integrator_v
     if (alpha_) out[c++] = valid ? 1.0f : 0.0f;
     for (int k = 0; k < extras(); ++k) out[c++] = integrator_values[k];
     for (int k = 0; k < c; ++k)
-        if (!std::isfinite(out[k])) return false;
+        if (!storable_sample_value(out[k])) return false;
     return true;
 }
 

@@ -10,6 +10,7 @@
 #include "core/image.h"
 #include "core/spectrum.h"
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -71,6 +72,16 @@ struct PixelStats {
     double variance_of_mean(int c) const;
 };
 
+// A sample value is stored only when finite and at most MaxSampleMagnitude in size. Image blocks
+// sum filtered samples in float: with values up to 1e30, 3.4e8 samples fit in a pixel before the
+// sum overflows to infinity (found by fuzz_image: a PFM texture of 3.4e38 values). No physical
+// radiance comes near it; such samples are dropped and counted as the non-finite ones are.
+constexpr float MaxSampleMagnitude = 1e30f;
+inline bool storable_sample_value(float v) { return std::fabs(v) <= MaxSampleMagnitude; }
+inline bool storable_sample_value(const Spectrum& v) {
+    return storable_sample_value(v.x) && storable_sample_value(v.y) && storable_sample_value(v.z);
+}
+
 // What each sample splats into the image, filtered like the radiance (as Mitsuba films its alpha
 // and AOVs): R, G, B, then alpha (1 for a valid sample, 0 otherwise) when the film's pixel format
 // has one, then the integrator's channels; and how the image's first channels come from them.
@@ -86,7 +97,7 @@ public:
     // The splatted values' names: R, G, B, A (with alpha), then the integrator's channels.
     std::vector<std::string> value_names() const;
 
-    // The splatted values of one sample; false when any is NaN or infinite.
+    // The splatted values of one sample; false when any is not storable (storable_sample_value).
     bool fill(const Spectrum& L, bool valid, const float* integrator_values, float* out) const;
     // The image's first channels: the film's pixel format, then the integrator's channels.
     std::vector<std::string> channels() const;

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 
 namespace candela {
@@ -239,8 +240,12 @@ void write_part(const std::string& path, const PixelSums& sums, const PartHeader
 }
 
 PartHeader read_part_header(const std::string& path) {
-    auto in = OIIO::ImageInput::open(path);
-    if (!in) throw InputError(path + ": cannot read: " + OIIO::geterror());
+    // Parts are OpenEXR files: only the OpenEXR reader opens them (ImageInput::open would try
+    // every reader OpenImageIO has on a file that is not one; see core/image.cpp).
+    if (!std::filesystem::exists(path)) throw InputError(path + ": cannot read: file not found");
+    auto in = OIIO::ImageInput::create("exr", false);
+    OIIO::ImageSpec opened;
+    if (!in || !in->open(path, opened)) throw InputError(path + ": cannot read: " + (in ? in->geterror() : OIIO::geterror()));
     const OIIO::ImageSpec& spec = in->spec();
     if (!spec.find_attribute("candela.partFormat"))
         throw InputError(path + ": not a part of a split render (no candela.partFormat metadata; parts come from "

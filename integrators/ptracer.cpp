@@ -29,6 +29,7 @@
 
 #include "core/bsdf.h"
 #include "core/film.h"
+#include "core/pixel_sums.h"
 #include "core/progress.h"
 #include "core/random_2d.h"
 #include "core/properties.h"
@@ -161,7 +162,7 @@ void ParticleTracerIntegrator::connect_vertex(const Scene& scene, const LightVer
 }
 
 void ParticleTracerIntegrator::splat(const Scene& scene, const Vec2& film_pos, const Spectrum& value, ChunkSplats& out) const {
-    if (!all_finite(value)) {
+    if (!storable_sample_value(value)) {
         ++out.nonfinite;
         return;
     }

@@ -295,6 +295,20 @@ TEST_CASE("robustness: non-finite samples are dropped and counted, never written
     CHECK(r.image.at(8, 8, 0) == 1.0f);
 }
 
+TEST_CASE("robustness: finite samples too large to sum in a pixel are dropped, and the image stays finite", "[robustness][nonfinite]") {
+    // Every sample sees an emitter of 3e38, a finite float: 16 of them summed into one pixel of
+    // a float image block overflow to infinity (fuzz_image found it with a PFM texture of such
+    // values). Samples beyond MaxSampleMagnitude (1e30) are dropped and counted instead.
+    Ref<Scene> scene = load_scene_xml("huge", pinhole_camera("0, 0, 1", "0, 0, 0", 8, 8) +
+                                                  "<shape type=\"rectangle\"><transform name=\"to_world\"><scale value=\"10\"/></transform>"
+                                                  "<emitter type=\"area\"><rgb name=\"radiance\" value=\"3e38\"/></emitter></shape>");
+    RenderOptions options;
+    options.spp = 16;
+    RenderResult r = scene->integrator().render(*scene, options);
+    CHECK(r.stats.nonfinite == 8 * 8 * 16);
+    for (float v : r.image.data()) REQUIRE(std::isfinite(v));
+}
+
 TEST_CASE("robustness: the count of dropped samples is printed and kept in the EXR", "[robustness][nonfinite][cli]") {
     auto dir = scratch_dir("robust-overflow");
     // A light at the largest float radiance close above a white floor: direct lighting
@@ -310,7 +324,7 @@ TEST_CASE("robustness: the count of dropped samples is printed and kept in the E
     std::string log = read_text(dir / "log.txt");
     INFO(log);
     REQUIRE(code == 0);
-    CHECK_THAT(log, Catch::Contains("samples were NaN or infinite and were dropped"));
+    CHECK_THAT(log, Catch::Contains("samples were NaN, infinite or beyond 1e30 and were dropped"));
     Image img = read_image((dir / "out.exr").string());
     REQUIRE(img.metadata.count("candela.nonfiniteSamples") == 1);
     CHECK(std::stoll(img.metadata["candela.nonfiniteSamples"]) > 0);

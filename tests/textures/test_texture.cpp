@@ -203,6 +203,27 @@ TEST_CASE("bitmap and envmap: volume images and images too large to read are err
     }
 }
 
+TEST_CASE("bitmap: the reader is chosen by the file's content (TGA by extension), as Mitsuba's Bitmap does", "[texture][errors]") {
+    // Only the chosen reader sees the file: OpenImageIO's own open would try all of its readers on
+    // a file the first one fails on, and one of those allocated 36 GB for a fuzzed input.
+    auto dir = scratch_dir("bitmap-by-content");
+    write_test_image(dir / "png_named.exr", true);
+    write_test_image(dir / "exr_named.png", false);
+    for (const char* name : {"png_named.exr", "exr_named.png"}) {
+        INFO(name);
+        Ref<Texture> t = load_bitmap(dir, name, "nearest raw");
+        // Texel (2, 0): red 0.5 (8-bit in the PNG: 128/255 or 127/255 after rounding).
+        CHECK(t->eval(Vec2(2.5f / 4, 0.25f)).x == Approx(0.5f).margin(1.0f / 255));
+    }
+    write_text(dir / "picture.gif", "GIF89a" + std::string(64, '\0'));
+    try {
+        load_bitmap(dir, "picture.gif");
+        FAIL("expected an error");
+    } catch (const SceneError& e) {
+        CHECK_THAT(std::string(e.what()), Catch::Contains("picture.gif: is ") && Catch::Contains("Candela reads the formats Mitsuba 3 does"));
+    }
+}
+
 namespace {
 Ref<Texture> load_with(const std::filesystem::path& dir, const std::string& file, const std::string& format) {
     Properties props("bitmap", SourceLocation{(dir / "virtual.xml").string(), 1});
