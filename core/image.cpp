@@ -98,6 +98,22 @@ std::unique_ptr<OIIO::ImageInput> open_image(const std::string& path) {
     if (!in->open(path, spec)) throw InputError(path + ": cannot read image: " + in->geterror());
     return in;
 }
+
+// The fewest bytes a PFM or PNM file of this size can hold its pixels in, after the header: its
+// pixels are stored uncompressed (P1 and P4 one bit per pixel, P2 and P3 at least one digit per
+// value, P5, P6 and PFM as binary samples). Other formats compress, and are not bounded here.
+uint64_t least_pnm_pixel_bytes(const std::string& path, const OIIO::ImageSpec& spec) {
+    char head[2] = {0, 0};
+    std::ifstream(path, std::ios::binary).read(head, 2);
+    const uint64_t pixels = uint64_t(spec.width) * uint64_t(spec.height);
+    switch (head[1]) {
+        case '4': return (uint64_t(spec.width) + 7) / 8 * uint64_t(spec.height);
+        case '1': return pixels / 8;
+        case '2':
+        case '3': return pixels * uint64_t(spec.nchannels);
+        default: return uint64_t(spec.image_bytes(true));
+    }
+}
 }  // namespace
 
 Image read_image(const std::string& path) {
@@ -111,6 +127,13 @@ Image read_image(const std::string& path) {
     if (values > MaxImageValues)
         throw InputError(path + ": image of " + std::to_string(spec.width) + " x " + std::to_string(spec.height) + " pixels and " +
                          std::to_string(spec.nchannels) + " channels is larger than the 2^28 values Candela reads");
+    // A header promising more pixels than the file holds would have us allocate for them first.
+    if (in->format_name() == std::string("pnm")) {
+        const uint64_t least = least_pnm_pixel_bytes(path, spec), size = fs::file_size(path);
+        if (size < least)
+            throw InputError(path + ": header promises " + std::to_string(spec.width) + " x " + std::to_string(spec.height) + " pixels (at least " +
+                             std::to_string(least) + " bytes), but the file has " + std::to_string(size) + " bytes");
+    }
     std::vector<std::string> names;
     for (int c = 0; c < spec.nchannels; ++c) {
         std::string n = c < int(spec.channelnames.size()) ? spec.channelnames[c] : "";

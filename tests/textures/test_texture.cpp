@@ -178,13 +178,17 @@ TEST_CASE("bitmap and envmap: volume images and images too large to read are err
     auto dir = scratch_dir("bitmap-size");
     write_text(dir / "volume.dds", dds_volume());
     write_text(dir / "huge.pfm", "PF\n100000 100000\n-1.0\n" + std::string(64, '\0'));
+    // Within the size limit, but promising more than the file holds: 8000 x 8000 pixels made
+    // read_image allocate 768 MB before OpenImageIO found the data missing (fuzz_image).
+    write_text(dir / "short.pfm", "PF\n8000 8000\n-1.0\n" + std::string(64, '\0'));
+    write_text(dir / "short.ppm", "P6\n8000 8000\n255\n" + std::string(64, '\0'));
     // A 293-byte DDS cube map on which OpenImageIO 2.4's DDS reader spins for minutes (found by
     // fuzz_image; the corpus file's first byte chose the extension): DDS is not read at all now.
     // Neither is a DDS file named .png (OpenImageIO tries every reader by content).
     std::string cube = read_text(source_path("fuzz/corpus/image/regression-dds-cube-hang")).substr(1);
     write_text(dir / "cube.dds", cube);
     write_text(dir / "cube.png", cube);
-    for (const char* name : {"volume.dds", "huge.pfm", "cube.dds", "cube.png"}) {
+    for (const char* name : {"volume.dds", "huge.pfm", "short.pfm", "short.ppm", "cube.dds", "cube.png"}) {
         for (const char* use : {"texture", "envmap"}) {
             INFO(name << " as " << use);
             std::string body = std::string(use) == "texture"
@@ -198,6 +202,8 @@ TEST_CASE("bitmap and envmap: volume images and images too large to read are err
             } catch (const SceneError& e) {
                 CHECK(e.location.line == 3);
                 CHECK_THAT(std::string(e.what()), Catch::Contains(name));
+                // Refused from the header, before anything is allocated for the pixels.
+                if (std::string(name).rfind("short", 0) == 0) CHECK_THAT(std::string(e.what()), Catch::Contains("header promises 8000 x 8000 pixels"));
             }
         }
     }
