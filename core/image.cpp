@@ -12,6 +12,7 @@
 #include <Imath/half.h>
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cctype>
 #include <cstdio>
@@ -123,10 +124,20 @@ Image read_image(const std::string& path) {
     // textures, ...) would also fill depth times the buffer of a 2D one.
     if (spec.depth != 1) throw InputError(path + ": is a volume image (depth " + std::to_string(spec.depth) + "); only 2D images are read");
     if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) throw InputError(path + ": image has no pixels");
-    const uint64_t values = uint64_t(spec.width) * uint64_t(spec.height) * uint64_t(spec.nchannels);
-    if (values > MaxImageValues)
-        throw InputError(path + ": image of " + std::to_string(spec.width) + " x " + std::to_string(spec.height) + " pixels and " +
-                         std::to_string(spec.nchannels) + " channels is larger than the 2^28 values Candela reads");
+    // OpenImageIO reads in whole blocks and allocates for a block before reading it: tiles, or
+    // an OpenEXR file's scanline blocks of up to 256 lines (DWAB compression) however few lines
+    // the image has. A 3-line OpenEXR 4 million pixels wide had it allocate 6 GB (fuzz_image).
+    uint64_t block_width = uint64_t(spec.width), block_height = uint64_t(spec.height);
+    if (spec.tile_width > 0 && spec.tile_height > 0) {
+        block_width = (block_width + spec.tile_width - 1) / spec.tile_width * spec.tile_width;
+        block_height = (block_height + spec.tile_height - 1) / spec.tile_height * spec.tile_height;
+    } else if (in->format_name() == std::string("openexr")) {
+        block_height = std::max<uint64_t>(block_height, 256);
+    }
+    if (block_width * block_height * uint64_t(spec.nchannels) > MaxImageValues)
+        throw InputError(path + ": image of " + std::to_string(spec.width) + " x " + std::to_string(spec.height) + " pixels (read as " +
+                         std::to_string(block_width) + " x " + std::to_string(block_height) + ") and " + std::to_string(spec.nchannels) +
+                         " channels is larger than the 2^28 values Candela reads");
     // A header promising more pixels than the file holds would have us allocate for them first.
     if (in->format_name() == std::string("pnm")) {
         const uint64_t least = least_pnm_pixel_bytes(path, spec), size = fs::file_size(path);
