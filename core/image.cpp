@@ -124,14 +124,14 @@ Image read_image(const std::string& path) {
     // textures, ...) would also fill depth times the buffer of a 2D one.
     if (spec.depth != 1) throw InputError(path + ": is a volume image (depth " + std::to_string(spec.depth) + "); only 2D images are read");
     if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) throw InputError(path + ": image has no pixels");
-    // OpenImageIO reads in whole blocks and allocates for a block before reading it: tiles, or
-    // an OpenEXR file's scanline blocks of up to 256 lines (DWAB compression) however few lines
-    // the image has. A 3-line OpenEXR 4 million pixels wide had it allocate 6 GB (fuzz_image).
+    // OpenImageIO reads in whole blocks and allocates for a block before reading it: whole
+    // tiles, or 256 scanlines however few lines the image has (OpenImageIO 2.4's read_scanlines).
+    // 3-line OpenEXR and BMP files 4 million pixels wide had it allocate 6 and 2.9 GB (fuzz_image).
     uint64_t block_width = uint64_t(spec.width), block_height = uint64_t(spec.height);
     if (spec.tile_width > 0 && spec.tile_height > 0) {
         block_width = (block_width + spec.tile_width - 1) / spec.tile_width * spec.tile_width;
         block_height = (block_height + spec.tile_height - 1) / spec.tile_height * spec.tile_height;
-    } else if (in->format_name() == std::string("openexr")) {
+    } else {
         block_height = std::max<uint64_t>(block_height, 256);
     }
     if (block_width * block_height * uint64_t(spec.nchannels) > MaxImageValues)

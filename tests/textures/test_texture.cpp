@@ -188,10 +188,11 @@ TEST_CASE("bitmap and envmap: volume images and images too large to read are err
     std::string cube = read_text(source_path("fuzz/corpus/image/regression-dds-cube-hang")).substr(1);
     write_text(dir / "cube.dds", cube);
     write_text(dir / "cube.png", cube);
-    // A 3-line OpenEXR 3997700 pixels wide, compressed in 256-line blocks: OpenImageIO allocates
-    // a whole block (6 GB) before reading (found by fuzz_image).
+    // A 3-line OpenEXR 3997700 pixels wide and a 3-line BMP 3801092 wide: OpenImageIO allocates
+    // 256 lines at a time (6 and 2.9 GB) before reading (found by fuzz_image).
     write_text(dir / "wide.exr", read_text(source_path("fuzz/corpus/image/regression-exr-wide-blocks")).substr(1));
-    for (const char* name : {"volume.dds", "huge.pfm", "short.pfm", "short.ppm", "cube.dds", "cube.png", "wide.exr"}) {
+    write_text(dir / "wide.bmp", read_text(source_path("fuzz/corpus/image/regression-bmp-wide-blocks")).substr(1));
+    for (const char* name : {"volume.dds", "huge.pfm", "short.pfm", "short.ppm", "cube.dds", "cube.png", "wide.exr", "wide.bmp"}) {
         for (const char* use : {"texture", "envmap"}) {
             INFO(name << " as " << use);
             std::string body = std::string(use) == "texture"
@@ -208,6 +209,7 @@ TEST_CASE("bitmap and envmap: volume images and images too large to read are err
                 // Refused from the header, before anything is allocated for the pixels.
                 if (std::string(name).rfind("short", 0) == 0) CHECK_THAT(std::string(e.what()), Catch::Contains("header promises 8000 x 8000 pixels"));
                 if (std::string(name) == "wide.exr") CHECK_THAT(std::string(e.what()), Catch::Contains("(read as 3997700 x 256)"));
+                if (std::string(name) == "wide.bmp") CHECK_THAT(std::string(e.what()), Catch::Contains("(read as 3801092 x 256)"));
             }
         }
     }
