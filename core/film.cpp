@@ -59,6 +59,17 @@ void ImageBlock::put(const Vec2& pos, const float* values) {
     int x1 = std::min(stored_size_.x - 1, int(std::floor(local.x - 0.5f + r)));
     int y0 = std::max(0, int(std::ceil(local.y - 0.5f - r)));
     int y1 = std::min(stored_size_.y - 1, int(std::floor(local.y - 0.5f + r)));
+    // The common case, a footprint of one pixel (the box filter of radius 1/2 away from pixel
+    // edges): one weight, no weight tables. Same products and sums as the loops below, so the
+    // image is bit-identical.
+    if (x0 == x1 && y0 == y1) {
+        float w = filter_->eval(float(x0) + 0.5f - local.x) * filter_->eval(float(y0) + 0.5f - local.y);
+        if (w == 0.0f) return;
+        float* px = &data_[(size_t(y0) * stored_size_.x + x0) * stride];
+        for (int c = 0; c < channels_; ++c) px[c] += w * values[c];
+        px[channels_] += w;
+        return;
+    }
     // Filter weights per column and row (the filter is separable); radius <= 4 keeps this small.
     float wx[16], wy[16];
     int nx = std::min(x1 - x0 + 1, 16), ny = std::min(y1 - y0 + 1, 16);
