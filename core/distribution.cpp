@@ -108,12 +108,13 @@ template <typename Below> size_t find_interval(size_t size, const Below& below) 
     return std::min(lo, size - 2);
 }
 
-// Solves integral_0^t (a (1 - x) + b x) dx = v for t in [0, 1]: the inverse CDF of a linear
-// density on one interval (Mitsuba's formula; the constant case separately, where the quadratic's
-// solution loses its precision).
+// Solves integral_0^t (a (1 - x) + b x) dx = a t + (b - a) t^2 / 2 = v for t in [0, 1]: the
+// inverse CDF of a linear density on one interval. Mitsuba writes the root as
+// (a - sqrt(a^2 + 2 v (b - a))) / (a - b), which cancels badly when a and b are close; the same
+// root as 2 v / (a + sqrt(...)) does not (a, b >= 0), and needs no case for a = b.
 float invert_linear(float a, float b, float v) {
-    if (std::abs(a - b) < 1e-4f * (a + b)) return a + b > 0.0f ? 2.0f * v / (a + b) : 0.5f;
-    return (a - std::sqrt(std::max(a * a - 2.0f * v * (a - b), 0.0f))) / (a - b);
+    float denominator = a + std::sqrt(std::max(a * a + 2.0f * v * (b - a), 0.0f));
+    return denominator > 0.0f ? 2.0f * v / denominator : 0.5f;
 }
 
 }  // namespace

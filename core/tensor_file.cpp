@@ -3,8 +3,10 @@
 #include "core/error.h"
 #include "core/memory_budget.h"
 
+#include <algorithm>
 #include <cstring>
 #include <fstream>
+#include <tuple>
 
 namespace candela {
 
@@ -29,6 +31,7 @@ public:
         return s;
     }
     size_t remaining() const { return data_.size() - pos_; }
+    size_t position() const { return pos_; }
 
 private:
     void need(size_t bytes, const char* what) {
@@ -114,6 +117,20 @@ TensorFile::TensorFile(const std::string& path) : path_(path) {
         }
         if (!fields_.emplace(name, std::move(f)).second) fail("field \"" + name + "\" appears twice");
     }
+    // The data of each field lies after the header and apart from the others': a shape larger
+    // than its data would read another field's values.
+    std::vector<std::tuple<uint64_t, uint64_t, std::string>> extents;
+    for (const auto& [name, f] : fields_) {
+        uint64_t bytes = f.count() * tensor_type_size(f.dtype);
+        if (bytes == 0) continue;
+        if (f.offset < r.position()) fail("field \"" + name + "\" starts at offset " + std::to_string(f.offset) + ", inside the header");
+        extents.emplace_back(f.offset, f.offset + bytes, name);
+    }
+    std::sort(extents.begin(), extents.end());
+    for (size_t i = 1; i < extents.size(); ++i)
+        if (std::get<0>(extents[i]) < std::get<1>(extents[i - 1]))
+            fail("field \"" + std::get<2>(extents[i - 1]) + "\" (" + std::to_string(std::get<1>(extents[i - 1]) - std::get<0>(extents[i - 1])) +
+                 " bytes at offset " + std::to_string(std::get<0>(extents[i - 1])) + ") overlaps field \"" + std::get<2>(extents[i]) + "\"");
 }
 
 const TensorField& TensorFile::field(const std::string& name) const {

@@ -24,8 +24,8 @@
 // (symmetric under mirroring in x and in y), and wi is first turned or mirrored into that range.
 //
 // eval: h = normalize(wi + wo); s = vndf^-1(u(h)); f cos(wo) = rgb(s) [* D(h) / (4 sigma(wi))].
-// sample: s from the luminance density, h from the vndf warp, wo = reflect(wi, h); the density in
-// wo is p_lum(s) p_vndf(u) / (2 pi^2 u_theta sin(theta_h) * 4 <wi, h>) (the Jacobians of
+// sample: s from the luminance density, h from the vndf warp, wo = reflect(wi, h); pdf: the
+// density in wo is p_lum(s) p_vndf(u) / (2 pi^2 u_theta sin(theta_h) * 4 <wi, h>) (the Jacobians of
 // u -> (theta, phi) -> h -> wo). Every table is interpolated bilinearly and blended linearly
 // between the slices (core/distribution.h: Marginal2D).
 //
@@ -85,15 +85,13 @@ public:
         float sin_theta_m = std::sin(theta_m);
         Vec3 m(std::cos(phi_m) * sin_theta_m, std::sin(phi_m) * sin_theta_m, std::cos(theta_m));
         Vec3 wo = reflect(wi, m);
-        float pdf = vndf_pdf * lum_pdf / jacobian(u_m.x, sin_theta_m, glm::dot(wi, m));
-        if (wo.z <= 0.0f || !(pdf > 0.0f) || !std::isfinite(pdf)) return bs;
-        Spectrum f = reflectance(s, u_m, in);
+        if (wo.z <= 0.0f || !(vndf_pdf * lum_pdf > 0.0f)) return bs;
         bs.wo = sym.apply(wo);  // each flip is its own inverse
-        bs.pdf = pdf;
         bs.lobe = GlossyReflection;
-        bs.weight = f / pdf;
-        if (!all_finite(bs.weight)) return BSDFSample();
-        return bs;
+        // pdf and weight from pdf() and eval() of the direction drawn (Mitsuba computes them from
+        // the warp's own values, which equal these but for rounding: near the pole, where
+        // theta_m is tiny, the half vector recomputed from wo differs by up to 1% in theta_m).
+        return weighted_by_pdf(ctx, si, bs);
     }
 
     Spectrum eval(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
@@ -116,7 +114,10 @@ public:
         Vec2 u_m = half_vector_u(wi, sym.apply(wo), in);
         float vndf_pdf = 0.0f;
         Vec2 s = vndf_.invert(u_m, in.params, &vndf_pdf);
-        float pdf = vndf_pdf * luminance_.eval(s, in.params) / jacobian(u_m.x, Frame::sin_theta(m), glm::dot(wi, m));
+        // sin(theta_m) from m's x and y: Mitsuba's sqrt(1 - cos^2) loses all precision near the
+        // pole (the mirror direction), where it made pdf() several times too large.
+        float sin_theta_m = std::sqrt(m.x * m.x + m.y * m.y);
+        float pdf = vndf_pdf * luminance_.eval(s, in.params) / jacobian(u_m.x, sin_theta_m, glm::dot(wi, m));
         return pdf > 0.0f && std::isfinite(pdf) ? pdf : 0.0f;
     }
 
