@@ -66,8 +66,13 @@ class MeasuredBSDF final : public BSDF {
 public:
     explicit MeasuredBSDF(const Properties& props) {
         path_ = props.get_file_path("filename");
-        TensorFile file(path_);
-        load(file, props.location_of("filename"));
+        SourceLocation where = props.location_of("filename");
+        try {
+            TensorFile file(path_);
+            load(file, where);
+        } catch (const InputError& e) {
+            throw SceneError(where, e.what());  // at the filename's line, as "file not found" is
+        }
         flags_ = GlossyReflection;
         albedo_ = normal_incidence_albedo();
     }
