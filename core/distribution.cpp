@@ -200,15 +200,26 @@ float Marginal2D::lookup(const std::vector<float>& array, size_t stride, const B
     return v;
 }
 
-float Marginal2D::eval(const Vec2& p, const float* params) const {
-    Blend b = blend(params);
-    size_t n = size_t(width_) * size_t(height_), w = size_t(width_);
+void Marginal2D::values_at_height(const Blend& b, size_t row, size_t col, float t, float& c0, float& c1) const {
+    size_t n = size_t(width_) * size_t(height_), w = size_t(width_), i = row * w + col;
+    c0 = (1.0f - t) * lookup(data_, n, b, i) + t * lookup(data_, n, b, i + w);
+    c1 = (1.0f - t) * lookup(data_, n, b, i + 1) + t * lookup(data_, n, b, i + w + 1);
+}
+
+Marginal2D::Patch Marginal2D::patch_at(const Vec2& p, const Blend& b) const {
+    Patch q;
     float x = std::clamp(p.x, 0.0f, 1.0f) * float(width_ - 1), y = std::clamp(p.y, 0.0f, 1.0f) * float(height_ - 1);
-    size_t col = std::min(size_t(x), size_t(width_ - 2)), row = std::min(size_t(y), size_t(height_ - 2));
-    float s = x - float(col), t = y - float(row);
-    size_t i = row * w + col;
-    float v00 = lookup(data_, n, b, i), v10 = lookup(data_, n, b, i + 1), v01 = lookup(data_, n, b, i + w), v11 = lookup(data_, n, b, i + w + 1);
-    float value = (1.0f - t) * ((1.0f - s) * v00 + s * v10) + t * ((1.0f - s) * v01 + s * v11);
+    q.col = std::min(size_t(x), size_t(width_ - 2));
+    q.row = std::min(size_t(y), size_t(height_ - 2));
+    q.s = x - float(q.col);
+    q.t = y - float(q.row);
+    values_at_height(b, q.row, q.col, q.t, q.c0, q.c1);
+    return q;
+}
+
+float Marginal2D::eval(const Vec2& p, const float* params) const {
+    Patch q = patch_at(p, blend(params));
+    float value = (1.0f - q.s) * q.c0 + q.s * q.c1;
     return mode_ == Mode::Distribution ? value * float(width_ - 1) * float(height_ - 1) : value;
 }
 
@@ -227,9 +238,8 @@ Vec2 Marginal2D::sample(Vec2 u, const float* params, float* pdf) const {
         return (1.0f - t) * lookup(conditional_cdf_, n, b, row * w + k) + t * lookup(conditional_cdf_, n, b, (row + 1) * w + k);
     };
     size_t col = find_interval(w, [&](size_t k) { return conditional(k) < target; });
-    size_t i = row * w + col;
-    float v00 = lookup(data_, n, b, i), v10 = lookup(data_, n, b, i + 1), v01 = lookup(data_, n, b, i + w), v11 = lookup(data_, n, b, i + w + 1);
-    float c0 = (1.0f - t) * v00 + t * v01, c1 = (1.0f - t) * v10 + t * v11;
+    float c0, c1;
+    values_at_height(b, row, col, t, c0, c1);
     float s = std::clamp(invert_linear(c0, c1, target - conditional(col)), 0.0f, 1.0f);
     *pdf = ((1.0f - s) * c0 + s * c1) * float(width_ - 1) * float(height_ - 1);
     return Vec2((float(col) + s) / float(width_ - 1), (float(row) + t) / float(height_ - 1));
@@ -238,19 +248,16 @@ Vec2 Marginal2D::sample(Vec2 u, const float* params, float* pdf) const {
 Vec2 Marginal2D::invert(Vec2 p, const float* params, float* pdf) const {
     Blend b = blend(params);
     size_t n = size_t(width_) * size_t(height_), w = size_t(width_);
-    float x = std::clamp(p.x, 0.0f, 1.0f) * float(width_ - 1), y = std::clamp(p.y, 0.0f, 1.0f) * float(height_ - 1);
-    size_t col = std::min(size_t(x), size_t(width_ - 2)), row = std::min(size_t(y), size_t(height_ - 2));
-    float s = x - float(col), t = y - float(row);
-    size_t i = row * w + col;
-    float v00 = lookup(data_, n, b, i), v10 = lookup(data_, n, b, i + 1), v01 = lookup(data_, n, b, i + w), v11 = lookup(data_, n, b, i + w + 1);
-    float c0 = (1.0f - t) * v00 + t * v01, c1 = (1.0f - t) * v10 + t * v11;
-    *pdf = ((1.0f - s) * c0 + s * c1) * float(width_ - 1) * float(height_ - 1);
-    float r0 = lookup(conditional_cdf_, n, b, row * w + w - 1), r1 = lookup(conditional_cdf_, n, b, (row + 1) * w + w - 1);
+    Patch q = patch_at(p, b);
+    float s = q.s, t = q.t;
+    *pdf = ((1.0f - s) * q.c0 + s * q.c1) * float(width_ - 1) * float(height_ - 1);
+    size_t i = q.row * w + q.col;
+    float r0 = lookup(conditional_cdf_, n, b, q.row * w + w - 1), r1 = lookup(conditional_cdf_, n, b, (q.row + 1) * w + w - 1);
     // The conditional CDF at x: the row's integral up to the patch, then within it.
-    float ux = (1.0f - t) * lookup(conditional_cdf_, n, b, i) + t * lookup(conditional_cdf_, n, b, i + w) + s * (c0 + 0.5f * s * (c1 - c0));
+    float ux = (1.0f - t) * lookup(conditional_cdf_, n, b, i) + t * lookup(conditional_cdf_, n, b, i + w) + s * (q.c0 + 0.5f * s * (q.c1 - q.c0));
     float total = (1.0f - t) * r0 + t * r1;
     ux = total > 0.0f ? ux / total : 0.0f;
-    float uy = lookup(marginal_cdf_, size_t(height_), b, row) + t * (r0 + 0.5f * t * (r1 - r0));
+    float uy = lookup(marginal_cdf_, size_t(height_), b, q.row) + t * (r0 + 0.5f * t * (r1 - r0));
     return Vec2(ux, uy);
 }
 

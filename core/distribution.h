@@ -97,6 +97,14 @@ private:
     Blend blend(const float* params) const;
     // Element i of every blended grid of `array` (grids of `stride` elements), weighted.
     static float lookup(const std::vector<float>& array, size_t stride, const Blend& b, size_t i);
+    // The values at height t (in [0, 1] between rows `row` and `row` + 1) of columns col, col + 1.
+    void values_at_height(const Blend& b, size_t row, size_t col, float t, float& c0, float& c1) const;
+    // The patch holding p, p's position in it (s, t) and the values at height t of its columns.
+    struct Patch {
+        size_t col = 0, row = 0;
+        float s = 0.0f, t = 0.0f, c0 = 0.0f, c1 = 0.0f;
+    };
+    Patch patch_at(const Vec2& p, const Blend& b) const;
 
     int width_ = 0, height_ = 0;
     Mode mode_ = Mode::Interpolant;
