@@ -597,24 +597,31 @@ TEST_CASE("measured: malformed tensor files are InputErrors naming the file and 
 TEST_CASE("measured: a scene with a measured BSDF loads and renders finite pixels", "[bsdf][measured][render]") {
     std::filesystem::path dir = scratch_dir("measured-scene");
     write_bytes(dir / "material.bsdf", tensor_bytes(quarter_table().fields()));
-    write_text(dir / "scene.xml", scene_xml(R"(
-        <integrator type="path"><integer name="max_depth" value="4"/></integrator>
-        <sensor type="perspective"><float name="fov" value="40"/>
-            <transform name="to_world"><lookat origin="0, -4, 1" target="0, 0, 0" up="0, 0, 1"/></transform>
-            <sampler type="independent"><integer name="sample_count" value="4"/></sampler>
-            <film type="hdrfilm"><integer name="width" value="24"/><integer name="height" value="24"/><rfilter type="box"/></film></sensor>
-        <emitter type="constant"><rgb name="radiance" value="0.5"/></emitter>
-        <emitter type="point"><point name="position" x="2" y="-3" z="3"/><rgb name="intensity" value="20"/></emitter>
-        <shape type="sphere"><bsdf type="measured"><string name="filename" value="material.bsdf"/></bsdf></shape>)"));
-    Image image = render_file((dir / "scene.xml").string(), {}).image;
-    double centre = 0.0;
-    for (int y = 0; y < image.height(); ++y)
-        for (int x = 0; x < image.width(); ++x) {
-            Spectrum v = image.rgb_at(x, y);
-            REQUIRE(all_finite(v));
-            REQUIRE(min_component(v) >= 0.0f);
-        }
-    for (int y = 9; y < 15; ++y)
-        for (int x = 9; x < 15; ++x) centre += luminance(image.rgb_at(x, y));
-    CHECK(centre > 0.0);  // the sphere reflects
+    auto render = [&](const std::string& integrator) {
+        write_text(dir / "scene.xml", scene_xml(integrator + R"(
+            <sensor type="perspective"><float name="fov" value="40"/>
+                <transform name="to_world"><lookat origin="0, -4, 1" target="0, 0, 0" up="0, 0, 1"/></transform>
+                <sampler type="independent"><integer name="sample_count" value="4"/></sampler>
+                <film type="hdrfilm"><integer name="width" value="24"/><integer name="height" value="24"/><rfilter type="box"/></film></sensor>
+            <emitter type="constant"><rgb name="radiance" value="0.5"/></emitter>
+            <emitter type="point"><point name="position" x="2" y="-3" z="3"/><rgb name="intensity" value="20"/></emitter>
+            <shape type="sphere"><bsdf type="measured"><string name="filename" value="material.bsdf"/></bsdf></shape>)"));
+        return render_file((dir / "scene.xml").string(), {}).image;
+    };
+    // The path tracer, and the raster mode (its local model: a Lambertian of the albedo at
+    // normal incidence).
+    for (const char* integrator : {R"(<integrator type="path"><integer name="max_depth" value="4"/></integrator>)", R"(<integrator type="raster"/>)"}) {
+        INFO(integrator);
+        Image image = render(integrator);
+        for (int y = 0; y < image.height(); ++y)
+            for (int x = 0; x < image.width(); ++x) {
+                Spectrum v = image.rgb_at(x, y);
+                REQUIRE(all_finite(v));
+                REQUIRE(min_component(v) >= 0.0f);
+            }
+        double centre = 0.0;
+        for (int y = 9; y < 15; ++y)
+            for (int x = 9; x < 15; ++x) centre += luminance(image.rgb_at(x, y));
+        CHECK(centre > 0.0);  // the sphere reflects
+    }
 }
