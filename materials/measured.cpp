@@ -31,8 +31,13 @@
 //
 // Differences from Mitsuba 3: negative rgb values (colours outside sRGB) are clamped to zero, as
 // RGL's own reader (powitacq) does; spectral files are converted to RGB instead of refused (an
-// RGB variant of Mitsuba refuses them). Local model: a Lambertian of the albedo at normal
-// incidence (BSDF::local_shading); albedo() is that constant, computed once.
+// RGB variant of Mitsuba refuses them); pdf() takes sin(theta_h) from h's x and y (Mitsuba's
+// sqrt(1 - cos^2) in float made it several times too large at the mirror direction); a sample's
+// pdf and weight come from pdf() and eval() of its direction (the same values but for rounding);
+// negative vndf or luminance values are read as 0 (with a warning), and a slice whose density
+// integrates to zero, a non-finite value or slice positions that do not increase are errors
+// (Mitsuba would divide by zero). Local model: a Lambertian of the albedo at normal incidence
+// (BSDF::local_shading); albedo() is that constant, computed once.
 
 #include "core/bsdf.h"
 #include "core/distribution.h"
