@@ -4,6 +4,7 @@
 
 #include "core/math.h"
 
+#include <array>
 #include <vector>
 
 namespace candela {
@@ -50,6 +51,68 @@ private:
     int width_ = 0, height_ = 0;
     std::vector<Distribution1D> rows_;
     Distribution1D marginal_;
+};
+
+// A density on [0, 1]^2 that interpolates a width x height grid of values bilinearly (node (i, j)
+// at (i / (width - 1), j / (height - 1))), sampled by inverting its marginal CDF over y and then
+// its conditional CDF over x, both exactly for the bilinear interpolant (Mitsuba 3's
+// Marginal2D<Float, Dimension, Continuous = true>, include/mitsuba/core/distr_2d.h).
+//
+// It may depend on up to three parameters: the data is then a stack of grids, N0 x N1 x N2 x
+// height x width (last fastest), one per combination of the parameter values given, and a query
+// between them blends the neighbouring grids (and their CDFs) linearly, clamped at the ends. As
+// each grid is normalised on its own, the blend is again a normalised density, and sample() draws
+// exactly from the density that eval() returns.
+//
+// As an Interpolant (not normalised, no CDFs) eval() returns the blended bilinear interpolation
+// of the values as given.
+class Marginal2D {
+public:
+    enum class Mode { Distribution, Interpolant };
+    static constexpr int MaxParams = 3;
+
+    Marginal2D() = default;
+    // `data` has params' sizes x height x width values; width, height >= 2; each parameter's values
+    // strictly increase. Throws std::invalid_argument when a grid of a Distribution has a negative
+    // or non-finite value or integrates to zero.
+    Marginal2D(const float* data, int width, int height, std::vector<std::vector<float>> params, Mode mode);
+
+    // The interpolated value at p in [0, 1]^2 (a density in Distribution mode).
+    float eval(const Vec2& p, const float* params = nullptr) const;
+    // Distribution mode: maps u in [0, 1)^2 to a point with density *pdf.
+    Vec2 sample(Vec2 u, const float* params, float* pdf) const;
+    // The inverse of sample(): the u that sample() maps to p, and the density at p.
+    Vec2 invert(Vec2 p, const float* params, float* pdf) const;
+
+    int width() const { return width_; }
+    int height() const { return height_; }
+
+private:
+    // The grids a query blends (2^k for k parameters with more than one value) and their weights.
+    struct Blend {
+        int count = 1;
+        std::array<size_t, 1 << MaxParams> slice{};
+        std::array<float, 1 << MaxParams> weight{};
+    };
+    Blend blend(const float* params) const;
+    // Element i of every blended grid of `array` (grids of `stride` elements), weighted.
+    static float lookup(const std::vector<float>& array, size_t stride, const Blend& b, size_t i);
+    // The values at height t (in [0, 1] between rows `row` and `row` + 1) of columns col, col + 1.
+    void values_at_height(const Blend& b, size_t row, size_t col, float t, float& c0, float& c1) const;
+    // The patch holding p, p's position in it (s, t) and the values at height t of its columns.
+    struct Patch {
+        size_t col = 0, row = 0;
+        float s = 0.0f, t = 0.0f, c0 = 0.0f, c1 = 0.0f;
+    };
+    Patch patch_at(const Vec2& p, const Blend& b) const;
+
+    int width_ = 0, height_ = 0;
+    Mode mode_ = Mode::Interpolant;
+    std::vector<std::vector<float>> params_;
+    std::vector<size_t> param_strides_;  // in grids
+    std::vector<float> data_;            // normalised (Distribution) or as given
+    std::vector<float> conditional_cdf_; // per row, running integral along x (index units)
+    std::vector<float> marginal_cdf_;    // per grid, running integral over rows
 };
 
 }  // namespace candela

@@ -178,18 +178,36 @@ SampledSpectrum parse_spd(const std::string& text) {
     return s;
 }
 
+namespace {
+// The sampled spectrum's value at x: the last sample at or below x (Mitsuba's find_interval),
+// then linear interpolation.
+double interpolate_samples(const std::vector<double>& w, const std::vector<double>& v, double x) {
+    size_t i = size_t(std::upper_bound(w.begin(), w.end(), x) - w.begin());
+    i = std::clamp<size_t>(i == 0 ? 0 : i - 1, 0, w.size() - 2);
+    double w0 = w[i], w1 = w[i + 1];
+    if (w1 == w0) return v[i + 1];
+    return ((x - w1) * v[i] + (w0 - x) * v[i + 1]) / (w0 - w1);
+}
+}  // namespace
+
 Spectrum spectrum_to_rgb(const SampledSpectrum& s, bool weight_by_d65, bool bounded, bool* clamped) {
-    const std::vector<double>& w = s.wavelengths;
-    const std::vector<double>& v = s.values;
-    auto value = [&](double x) {
-        // The last sample at or below x (Mitsuba's find_interval), then linear interpolation.
-        size_t i = size_t(std::upper_bound(w.begin(), w.end(), x) - w.begin());
-        i = std::clamp<size_t>(i == 0 ? 0 : i - 1, 0, w.size() - 2);
-        double w0 = w[i], w1 = w[i + 1];
-        if (w1 == w0) return v[i + 1];
-        return ((x - w1) * v[i] + (w0 - x) * v[i + 1]) / (w0 - w1);
-    };
-    return finish(integrate_xyz(value, weight_by_d65, w.front(), w.back()), bounded, clamped);
+    auto value = [&](double x) { return interpolate_samples(s.wavelengths, s.values, x); };
+    return finish(integrate_xyz(value, weight_by_d65, s.wavelengths.front(), s.wavelengths.back()), bounded, clamped);
+}
+
+std::vector<Vec3d> spectrum_to_rgb_weights(const std::vector<double>& wavelengths, bool weight_by_d65) {
+    check_spectrum(SampledSpectrum{wavelengths, std::vector<double>(wavelengths.size(), 0.0)});
+    std::vector<Vec3d> weights(wavelengths.size());
+    std::vector<double> basis(wavelengths.size(), 0.0);
+    for (size_t j = 0; j < wavelengths.size(); ++j) {
+        // The conversion is linear in the sample values: sample j's weight is the colour of the
+        // spectrum that is 1 at sample j and 0 at the others, before any clamping.
+        basis[j] = 1.0;
+        auto value = [&](double x) { return interpolate_samples(wavelengths, basis, x); };
+        weights[j] = xyz_to_linear_srgb(integrate_xyz(value, weight_by_d65, wavelengths.front(), wavelengths.back()));
+        basis[j] = 0.0;
+    }
+    return weights;
 }
 
 Spectrum uniform_emission_rgb(double value) { return Spectrum(xyz_to_linear_srgb(Vec3d(1.0)) * value); }

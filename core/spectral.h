@@ -45,6 +45,11 @@ void check_spectrum(const SampledSpectrum& s);
 //   emission, and named-conductor data: weight_by_d65 = false, bounded = false
 Spectrum spectrum_to_rgb(const SampledSpectrum& s, bool weight_by_d65, bool bounded, bool* clamped = nullptr);
 
+// The same conversion as a linear map, before clamping: the linear sRGB of sample values v_j at
+// `wavelengths` is sum_j weights[j] * v_j. For tabulated spectra converted many times (the
+// measured BSDF's). Throws SpectrumFormatError for wavelengths check_spectrum refuses.
+std::vector<Vec3d> spectrum_to_rgb_weights(const std::vector<double>& wavelengths, bool weight_by_d65);
+
 // A single-valued spectrum in an emitter: the equal-energy white, v * xyz_to_srgb(1, 1, 1),
 // slightly pink against sRGB's D65 white point (Mitsuba does this so that RGB and spectral
 // variants agree). A single value anywhere else is simply grey.

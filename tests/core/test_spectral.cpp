@@ -214,3 +214,19 @@ TEST_CASE("named conductors: every name of Mitsuba 3's table, integrated as Mits
         CHECK(ag.k[c] == Approx(k_ag[c]).epsilon(2e-5));
     }
 }
+
+TEST_CASE("spectra: the linear weights reproduce spectrum_to_rgb", "[spectral]") {
+    // A smooth reflectance whose colour lies inside sRGB (no clamping), on an uneven grid
+    // reaching past the CIE range (as RGL's 360-1000 nm measurements do).
+    std::vector<double> w = {360, 380, 430, 455, 500, 560, 600, 700, 780, 900, 1000};
+    SampledSpectrum s{w, {}};
+    for (double x : w) s.values.push_back(0.4 + 0.3 * std::sin(x / 70.0));
+    bool clamped = true;
+    Spectrum reference = spectrum_to_rgb(s, true, false, &clamped);
+    REQUIRE(!clamped);
+    std::vector<Vec3d> weights = spectrum_to_rgb_weights(w, true);
+    Vec3d sum(0.0);
+    for (size_t j = 0; j < w.size(); ++j) sum += weights[j] * s.values[j];
+    for (int c = 0; c < 3; ++c) CHECK(sum[c] == Approx(reference[c]).epsilon(1e-6));
+    CHECK_THROWS_AS(spectrum_to_rgb_weights({500.0}, true), SpectrumFormatError);
+}
