@@ -154,12 +154,11 @@ public:
     }
     bool flip_normals() const { return flip_normals_; }
 
-protected:
     // A point sampled uniformly by area (`ps`, pdf per unit area) as seen from `ref`: its
     // direction, distance and pdf per unit solid angle (pdf_area * dist^2 / |cos| at the point).
     // What the default sample_direction does; shapes that fall back to area sampling call it with
-    // their own sample_position, sparing a virtual call and a copy per light sample.
-public:
+    // their own sample_position, sparing a virtual call and a copy per light sample (and a moving
+    // area light, with a sample it moved).
     static DirectionSample direction_from_position(const SurfaceInteraction& ref, const PositionSample& ps);
 
 protected:

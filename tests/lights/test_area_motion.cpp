@@ -26,11 +26,6 @@ using namespace candela::test;
 
 namespace {
 
-const Emitter& only_emitter(const Ref<Scene>& scene) {
-    REQUIRE(scene->emitters().size() == 1);
-    return *scene->emitters()[0];
-}
-
 std::string light(const std::string& placement) {
     return R"(<shape type="rectangle"><emitter type="area"><rgb name="radiance" value="4, 3, 2"/></emitter>)" + placement + "</shape>";
 }
@@ -64,12 +59,14 @@ TEST_CASE("area motion: at time t a moving area light samples as the static one 
     // A rigid motion with a uniform scale: solid angles are kept, samples agree one for one.
     const std::string uniform = R"(<scale value="0.3"/>)";
     Ref<Scene> moving = load_scene_xml("area-moving", moving_light(uniform));
-    const Emitter& m = only_emitter(moving);
+    REQUIRE(moving->emitters().size() == 1);
+    const Emitter& m = *moving->emitters()[0];
     CHECK(m.is_animated());
     CHECK(moving->is_animated());
     for (float t : {0.0f, 0.3f, 1.0f}) {
         Ref<Scene> still = load_scene_xml("area-still", light("<transform name=\"to_world\">" + pose(-1.0f + 2.0f * t, uniform) + "</transform>"));
-        const Emitter& s = only_emitter(still);
+        REQUIRE(still->emitters().size() == 1);
+        const Emitter& s = *still->emitters()[0];
         for (Vec3 p : {Vec3(0.0f), Vec3(0.3f, -0.2f, 0.0f), Vec3(-1.5f, 0.4f, -0.1f)})
             for (Vec2 u : {Vec2(0.5f), Vec2(0.1f, 0.8f), Vec2(0.9f, 0.3f)}) {
                 INFO("t " << t << ", reference " << p.x << ", " << p.y << ", " << p.z << ", u " << u.x << ", " << u.y);
@@ -87,7 +84,8 @@ TEST_CASE("area motion: at time t a moving area light samples as the static one 
     }
     // A non-uniform scale: each sample's pdf is pdf_direction's.
     Ref<Scene> squashed = load_scene_xml("area-squashed", moving_light(R"(<scale x="0.25" y="0.15"/>)"));
-    const Emitter& q = only_emitter(squashed);
+    REQUIRE(squashed->emitters().size() == 1);
+    const Emitter& q = *squashed->emitters()[0];
     int inconsistent = 0;
     for (int i = 0; i < 200; ++i) {
         SurfaceInteraction ref;

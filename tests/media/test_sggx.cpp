@@ -74,19 +74,7 @@ std::vector<float> repeated(const std::vector<float>& six, int voxels) {
     return out;
 }
 
-MeanAndError channel_mean(const Image& img, int ch, int x0 = 0, int y0 = 0, int size = -1) {
-    int w = size < 0 ? img.width() : size, h = size < 0 ? img.height() : size;
-    std::vector<double> v;
-    for (int y = y0; y < y0 + h; ++y)
-        for (int x = x0; x < x0 + w; ++x) v.push_back(img.at(x, y, ch));
-    return mean_and_error(v);
-}
-
-std::string film(int size, int spp) {
-    return R"(<film type="hdrfilm"><integer name="width" value=")" + std::to_string(size) + R"("/><integer name="height" value=")" +
-           std::to_string(size) + R"("/><rfilter type="box"/><string name="component_format" value="float32"/></film>
-        <sampler type="independent"><integer name="sample_count" value=")" + std::to_string(spp) + R"("/></sampler>)";
-}
+std::string film(int size, int spp) { return box_film(size, spp); }
 
 RenderResult render_in(const std::filesystem::path& dir, const std::string& xml) {
     write_text(dir / "scene.xml", xml);
@@ -249,16 +237,10 @@ TEST_CASE("sggx: S = identity renders as the isotropic medium, a grid S renders 
     Image iso = render_in(dir, scattering_scene(R"(<phase type="isotropic"/>)")).image;
     Image sggx = render_in(dir, scattering_scene(std::string(R"(<phase type="sggx"><volume type="constvolume" name="S"><string name="value" value=")") +
                                                  Identity + R"("/></volume></phase>)")).image;
-    for (int ch = 0; ch < 3; ++ch)
-        for (int block = -1; block < 16; ++block) {
-            int x0 = block < 0 ? 0 : 8 * (block % 4), y0 = block < 0 ? 0 : 8 * (block / 4), size = block < 0 ? 32 : 8;
-            std::vector<double> diff;
-            for (int y = y0; y < y0 + size; ++y)
-                for (int x = x0; x < x0 + size; ++x) diff.push_back(double(iso.at(x, y, ch)) - sggx.at(x, y, ch));
-            MeanAndError d = mean_and_error(diff);
-            INFO("channel " << ch << ", block " << block << ": difference " << d.mean << " +- " << d.std_error);
-            CHECK(std::abs(d.mean) <= Z * d.std_error);
-        }
+    std::string where;
+    double z = largest_block_z(iso, sggx, &where);
+    INFO(where);
+    CHECK(z <= Z);
     // A skewed S that varies over a grid (two matrices), in a heterogeneous medium.
     std::vector<float> values = repeated({1.0f, 0.35f, 0.32f, 0.52f, 0.44f, 0.2f}, 4);
     std::vector<float> flat = repeated({0.05f, 1.0f, 0.05f, 0.01f, 0.0f, 0.02f}, 4);
