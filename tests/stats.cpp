@@ -98,8 +98,11 @@ double largest_block_z(const Image& a, const Image& b, std::string* where) {
                 for (int x = x0; x < x0 + size; ++x) diff.push_back(double(a.at(x, y, ch)) - b.at(x, y, ch));
             MeanAndError d = mean_and_error(diff);
             // A difference with no spread at all is 0 (equal images) or infinitely significant.
+            // A NaN counts as infinitely significant, so that no later block hides it.
             double z = d.std_error > 0.0 ? std::abs(d.mean) / d.std_error : (d.mean == 0.0 ? 0.0 : INFINITY);
-            if (z < largest || (z == largest && where && !where->empty())) continue;
+            if (std::isnan(z)) z = INFINITY;
+            bool first = block == -1 && ch == 0;
+            if (!first && z <= largest) continue;
             largest = z;
             if (where)
                 *where = "channel " + std::to_string(ch) + ", block " + std::to_string(block) + ": difference " + std::to_string(d.mean) + " +- " +
