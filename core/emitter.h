@@ -76,10 +76,20 @@ public:
     // Spatial and directional bounds of the emission; infinite emitters have none.
     virtual std::optional<LightBounds> bounds() const { return std::nullopt; }
 
-    // Whether the emitter moves (an animated to_world: point and spot lights); it then takes its
-    // pose at the reference point's time (SurfaceInteraction::time).
+    // Whether the emitter moves (an animated to_world: point and spot lights, and area lights on
+    // a moving shape); it then takes its pose at the reference point's time
+    // (SurfaceInteraction::time).
     virtual bool is_animated() const { return false; }
     virtual SourceLocation motion_location() const { return {}; }
+
+    // An area emitter on a shape with an animated to_world: the loader builds the shape still, as
+    // the only member of a shape group moved by an instance (create_moving_shape in
+    // core/xml.cpp). move_with_instance() lets that group hold it (shape groups refuse emitters
+    // otherwise); set_motion gives it the instance's motion, by which it places its shape, which
+    // lives in the group's space, at each reference point's time.
+    void move_with_instance() { moves_with_instance_ = true; }
+    bool moves_with_instance() const { return moves_with_instance_; }
+    virtual void set_motion(const AnimatedTransform* motion) {}
 
     EmitterType type() const { return type_; }
     bool is_delta() const { return type_ == EmitterType::DeltaPosition || type_ == EmitterType::DeltaDirection; }
@@ -94,6 +104,7 @@ public:
 protected:
     EmitterType type_ = EmitterType::Area;
     const Shape* shape_ = nullptr;
+    bool moves_with_instance_ = false;
 };
 
 }  // namespace candela

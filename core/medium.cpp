@@ -12,6 +12,22 @@ Medium::Medium(const Properties& props) {
     if (phases.size() > 1) props.fail("a medium has at most one phase function");
     phase_ = phases.empty() ? create_plugin_as<PhaseFunction>(ObjectKind::Phase, Properties("isotropic", props.location()))
                             : std::static_pointer_cast<PhaseFunction>(phases[0]);
+    microflake_ = phase_->is_microflake();
+}
+
+MediumPoint Medium::eval(const Vec3& p, const Vec3& d) const {
+    MediumPoint mp = coefficients(p);
+    if (!microflake_) return mp;
+    float area = phase_->projected_area(MediumInteraction{p, -d});
+    mp.sigma_t *= area;
+    mp.sigma_s *= area;
+    return mp;
+}
+
+MajorantIterator Medium::majorants(const Ray& ray, float tmax) const {
+    MajorantIterator it = coefficient_majorants(ray, tmax);
+    if (microflake_) it.scale_by(phase_->max_projected_area(ray.d));
+    return it;
 }
 
 Spectrum Medium::transmittance(const Ray& ray, float tmax, PCG32& rng) const { return ratio_tracking_transmittance(*this, ray, tmax, rng); }
@@ -75,13 +91,13 @@ MajorantIterator::MajorantIterator(const MajorantGrid& grid, const Ray& ray, flo
 bool MajorantIterator::next(MajorantSegment& segment) {
     if (done_) return false;
     if (!grid_) {
-        segment = MajorantSegment{t0_, t1_, sigma_};
+        segment = MajorantSegment{t0_, t1_, sigma_ * factor_};
         done_ = true;
         return true;
     }
     int axis = next_t_.x < next_t_.y ? (next_t_.x < next_t_.z ? 0 : 2) : (next_t_.y < next_t_.z ? 1 : 2);
     float t_exit = std::min(next_t_[axis], t1_);
-    segment = MajorantSegment{t0_, std::max(t_exit, t0_), grid_->at(cell_)};
+    segment = MajorantSegment{t0_, std::max(t_exit, t0_), grid_->at(cell_) * factor_};
     t0_ = t_exit;
     cell_[axis] += step_[axis];
     next_t_[axis] += delta_t_[axis];
@@ -129,7 +145,7 @@ bool sample_free_flight(const Medium& medium, const Ray& ray, float tmax, PCG32&
             // (f sigma_s, pdf sigma_t / mu) or null (f sigma_n, pdf sigma_n / mu).
             t0 += step;
             Spectrum decay = relative_decay(majorant, mu_c, step);
-            point = medium.eval(ray(t0));
+            point = medium.eval(ray(t0), ray.d);
             Spectrum sigma_n = glm::max(majorant - point.sigma_t, Spectrum(0.0f));
             float p_real = std::clamp(point.sigma_t[c] / mu_c, 0.0f, 1.0f);
             if (rng.next_float() < p_real) {
@@ -154,7 +170,7 @@ Spectrum ratio_tracking_transmittance(const Medium& medium, const Ray& ray, floa
         float mu = max_component(seg.sigma_maj);
         if (!(mu > 0.0f)) continue;
         for (float t = seg.t0 + exponential_step(rng, mu); t < seg.t1; t += exponential_step(rng, mu)) {
-            T *= glm::max(Spectrum(1.0f) - medium.eval(ray(t)).sigma_t / mu, Spectrum(0.0f));
+            T *= glm::max(Spectrum(1.0f) - medium.eval(ray(t), ray.d).sigma_t / mu, Spectrum(0.0f));
             // Russian roulette once little is left: unbiased, and it ends long walks early.
             if (max_component(T) < 0.1f) {
                 if (rng.next_float() < 0.5f) return Spectrum(0.0f);

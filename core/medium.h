@@ -65,12 +65,15 @@ public:
     MajorantIterator(const MajorantGrid& grid, const Ray& ray, float tmin, float tmax);
     // The next segment; false when there is none.
     bool next(MajorantSegment& segment);
+    // Multiplies every segment's majorant by `factor` (a microflake phase function's bound).
+    void scale_by(float factor) { factor_ = factor; }
 
 private:
     const MajorantGrid* grid_ = nullptr;
     bool done_ = true;
     float t0_ = 0.0f, t1_ = 0.0f;  // the current position and the end of the walk
     Spectrum sigma_{0.0f};          // for a single segment
+    float factor_ = 1.0f;
     glm::ivec3 cell_{0}, step_{0};
     Vec3 next_t_{0.0f}, delta_t_{0.0f};
 };
@@ -83,9 +86,15 @@ public:
     explicit Medium(const Properties& props);
     ObjectKind kind() const override { return ObjectKind::Medium; }
 
-    virtual MediumPoint eval(const Vec3& p) const = 0;
-    // The majorant segments of the ray between ray.tmin and tmax (tmax may be infinite).
-    virtual MajorantIterator majorants(const Ray& ray, float tmax) const = 0;
+    // The coefficients the medium holds at p, whatever the direction.
+    virtual MediumPoint coefficients(const Vec3& p) const = 0;
+    // The coefficients at p for light travelling along d (either way): coefficients(p), times
+    // the projected area along d when the phase function is a microflake one (sggx), as Mitsuba
+    // 3's media scale sigma_t by PhaseFunction::projected_area.
+    MediumPoint eval(const Vec3& p, const Vec3& d) const;
+    // The majorant segments of the ray between ray.tmin and tmax (tmax may be infinite): they
+    // bound eval(p, ray.d) along it.
+    MajorantIterator majorants(const Ray& ray, float tmax) const;
     // The transmittance from ray.tmin to tmax. By default ratio tracking with one majorant for
     // all channels (the largest), which is unbiased; homogeneous media answer exactly.
     virtual Spectrum transmittance(const Ray& ray, float tmax, PCG32& rng) const;
@@ -93,6 +102,12 @@ public:
 
     const PhaseFunction& phase() const { return *phase_; }
     bool sample_emitters() const { return sample_emitters_; }
+
+protected:
+    // Majorants of coefficients() along the ray (majorants() adds the microflake factor).
+    virtual MajorantIterator coefficient_majorants(const Ray& ray, float tmax) const = 0;
+    // The phase function scales the extinction (cached is_microflake()).
+    bool microflake_ = false;
 
 private:
     Ref<PhaseFunction> phase_;

@@ -16,14 +16,13 @@ Scene::Scene(const Properties& props) {
         if (!shape->is_shape_group()) shapes_.push_back(shape);
     }
     // Area emitters first (in shape order), then the scene's own emitters.
-    for (auto& shape : shapes_)
-        if (shape->emitter()) emitters_.push_back(shape->emitter_ref());
+    for (auto& shape : shapes_) shape->collect_emitters(emitters_);
     for (auto& obj : props.get_objects(ObjectKind::Emitter)) {
         auto emitter = std::static_pointer_cast<Emitter>(obj);
         if (emitter->type() == EmitterType::Area) {
             // An area emitter declared at the top with an id and referenced from its shape (as
             // Mitsuba allows) is already in the list; one that no shape names is an error.
-            bool attached = std::any_of(shapes_.begin(), shapes_.end(), [&](const Ref<Shape>& s) { return s->emitter() == emitter.get(); });
+            bool attached = std::find(emitters_.begin(), emitters_.end(), emitter) != emitters_.end();
             if (!attached) throw SceneError(props.location_of(emitter->id), "an area emitter must be nested inside a shape");
             continue;
         }

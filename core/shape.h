@@ -113,6 +113,7 @@ public:
     // motion blur).
     bool is_animated() const { return motion_.is_animated(); }
     const SourceLocation& motion_location() const { return motion_.where; }
+    const AnimatedTransform& motion() const { return motion_; }
     // Told by the scene before its BVH is built: the sensor's exposure [open, close]. A moving
     // shape shows its pose at `open` to the views that have no time (the rasterizer's
     // tessellation) and holds its first and last poses before and after its keyframes.
@@ -146,15 +147,21 @@ public:
     const BSDF* bsdf() const { return bsdf_.get(); }
     const Emitter* emitter() const { return emitter_.get(); }
     const Ref<Emitter>& emitter_ref() const { return emitter_; }
+    // The emitters this shape brings to the scene: its own, and for an instance the moving
+    // emitter of its group's shape (see Emitter::move_with_instance).
+    virtual void collect_emitters(std::vector<Ref<Emitter>>& out) const {
+        if (emitter_) out.push_back(emitter_);
+    }
     bool flip_normals() const { return flip_normals_; }
 
-protected:
     // A point sampled uniformly by area (`ps`, pdf per unit area) as seen from `ref`: its
     // direction, distance and pdf per unit solid angle (pdf_area * dist^2 / |cos| at the point).
     // What the default sample_direction does; shapes that fall back to area sampling call it with
-    // their own sample_position, sparing a virtual call and a copy per light sample.
+    // their own sample_position, sparing a virtual call and a copy per light sample (and a moving
+    // area light, with a sample it moved).
     static DirectionSample direction_from_position(const SurfaceInteraction& ref, const PositionSample& ps);
 
+protected:
     Transform to_world_;
     AnimatedTransform motion_;  // to_world_ at its keyframes (static unless constructed with may_move)
     bool flip_normals_ = false;

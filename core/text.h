@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,17 @@ inline std::vector<std::string> split_list(const std::string& text) {
     }
     if (!item.empty()) items.push_back(item);
     return items;
+}
+
+// One item of such a list as a finite number: false when it is not one, whole.
+inline bool parse_finite_float(const std::string& item, float& v) {
+    size_t used = 0;
+    try {
+        v = std::stof(item, &used);
+    } catch (...) {
+        return false;
+    }
+    return used == item.size() && std::isfinite(v);
 }
 
 // ASCII lower case (Mitsuba's string::to_lower).

@@ -44,4 +44,13 @@ private:
     Mat4 inv_{1.0f};
 };
 
+// A bound on the error of each coordinate of to_world applied to a point p that already
+// carries error `p_error`: a few roundings of sum_j |M_ij p_j| + |t_i|, plus sum_j |M_ij| e.
+inline float transformed_point_error(const Transform& to_world, const Vec3& p, float p_error) {
+    const Mat4& m = to_world.matrix();
+    Mat3 abs_m(glm::abs(Vec3(m[0])), glm::abs(Vec3(m[1])), glm::abs(Vec3(m[2])));
+    Vec3 magnitude = abs_m * glm::abs(p) + glm::abs(Vec3(m[3]));
+    return gamma_bound(4) * max_component(magnitude) + max_component(abs_m * Vec3(p_error)) * (1.0f + gamma_bound(4));
+}
+
 }  // namespace candela

@@ -24,7 +24,12 @@ Ref<Volume> get_volume(const Properties& props, const std::string& name, const S
         const Properties::Value& raw = props.get_raw(name, &type);
         if (type == Properties::Type::Object) {
             auto object = std::get<Ref<Object>>(raw);
-            if (object && object->kind() == ObjectKind::Volume) return std::static_pointer_cast<Volume>(object);
+            if (object && object->kind() == ObjectKind::Volume) {
+                auto volume = std::static_pointer_cast<Volume>(object);
+                if (volume->channel_count() == 6)
+                    props.fail(name, "a volume of six channels holds a matrix (SGGX's S), not a value for \"" + name + "\"");
+                return volume;
+            }
         }
     }
     // A constant (float, rgb, or a <spectrum> constant texture), read as an rgb.

@@ -3,6 +3,10 @@
 // Mitsuba 3's Volume. A volume's local coordinates are the unit cube [0, 1]^3, placed in the
 // world by `to_world` (default: the identity); constvolume has one value everywhere, gridvolume
 // interpolates a voxel grid (Mitsuba's .vol files).
+//
+// A volume holds 1 (grey), 3 (rgb) or 6 values per point. Six are not a colour but the
+// entries S_xx, S_yy, S_zz, S_xy, S_xz, S_yz of a symmetric 3x3 matrix (SGGX's S, Mitsuba's
+// eval_6): only eval_channels reads them, and get_volume refuses them where a colour is meant.
 
 #include "core/object.h"
 #include "core/properties.h"
@@ -16,8 +20,14 @@ public:
     explicit Volume(const Properties& props);
     ObjectKind kind() const override { return ObjectKind::Volume; }
 
-    // The value at a world-space point.
+    // The value at a world-space point (a grey volume's value in all three channels).
     virtual Spectrum eval(const Vec3& p_world) const = 0;
+    // Values per point: 1, 3 or 6.
+    int channel_count() const { return channels_; }
+    // All channel_count() values at a world-space point, into out[0 .. channel_count()).
+    virtual void eval_channels(const Vec3& p_world, float* out) const = 0;
+    // Each channel's largest value anywhere in the volume, into out[0 .. channel_count()).
+    virtual void max_channels(float* out) const = 0;
     // A bound, channel by channel, on every value eval() can return at a point whose local
     // coordinates lie in the box [lo, hi] (a majorant grid's cell).
     virtual Spectrum max_in_local_box(const Vec3& lo, const Vec3& hi) const = 0;
@@ -38,10 +48,12 @@ protected:
     void set_to_world(const Transform& to_world);
     Transform to_world_, to_local_;
     BoundingBox bbox_;
+    int channels_ = 3;
 };
 
 // A volume-valued parameter as Mitsuba's props.volume(): a nested <volume>, or a float or rgb
-// (or <spectrum>) constant made into a constvolume; `def` when absent.
+// (or <spectrum>) constant made into a constvolume; `def` when absent. A 6-channel volume is
+// refused here: these values are colours or numbers.
 Ref<Volume> get_volume(const Properties& props, const std::string& name, const Spectrum& def);
 
 }  // namespace candela

@@ -1,4 +1,5 @@
 #include "core/xml.h"
+#include "core/emitter.h"
 
 #include "core/file_resolver.h"
 #include "core/registry.h"
@@ -88,6 +89,7 @@ bool parse_srgb(const std::string& text, const std::vector<double>& numbers, Spe
 // instance of the group, so that it moves by Embree's instance motion, as animated instances do.
 // The shape's own parameters (a sphere's center and radius, ...) place it inside the group, the
 // animation places the group: to_world(t) applied after them, as Mitsuba composes a to_world.
+// An area emitter stays on the still shape and learns the instance's motion (Emitter::set_motion).
 bool moves_through_instance(ObjectKind kind, const Properties& props) {
     const std::string& type = props.plugin_type();
     if (kind != ObjectKind::Shape || type == "instance" || type == "shapegroup" || !props.has("to_world")) return false;
@@ -101,12 +103,14 @@ Ref<Object> create_moving_shape(const Properties& props) {
     Properties still(props.plugin_type(), where), group("shapegroup", where), instance("instance", where);
     still.set_file_resolver(props.file_resolver());
     Properties::Type tag;
+    Ref<Emitter> emitter;  // an area light moves with the instance (Emitter::move_with_instance)
     for (const std::string& name : props.names()) {
         if (name == "to_world") continue;
         const Properties::Value& value = props.get_raw(name, &tag);
-        // Instances draw no emitters (as in Mitsuba): a moving area light is not supported.
-        if (tag == Properties::Type::Object && std::get<Ref<Object>>(value)->kind() == ObjectKind::Emitter)
-            throw SceneError(props.location_of("to_world"), "an animated to_world (motion blur) is not supported on a shape with an area emitter");
+        if (tag == Properties::Type::Object && std::get<Ref<Object>>(value)->kind() == ObjectKind::Emitter) {
+            emitter = std::static_pointer_cast<Emitter>(std::get<Ref<Object>>(value));
+            emitter->move_with_instance();
+        }
         still.set(name, tag, value, props.location_of(name));
     }
     group.set_object("shape", create_plugin(ObjectKind::Shape, still), where);
@@ -114,7 +118,9 @@ Ref<Object> create_moving_shape(const Properties& props) {
     const Properties::Value& animation = props.get_raw("to_world", &tag);
     instance.set("to_world", tag, animation, props.location_of("to_world"));
     instance.set_object("group", create_plugin(ObjectKind::Shape, group), where);
-    return create_plugin(ObjectKind::Shape, instance);
+    auto moving = std::static_pointer_cast<Shape>(create_plugin(ObjectKind::Shape, instance));
+    if (emitter) emitter->set_motion(&moving->motion());
+    return moving;
 }
 
 class XmlLoader {

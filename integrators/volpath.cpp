@@ -141,7 +141,7 @@ Spectrum VolPathIntegrator::trace(const Scene& scene, Sampler& sampler, Ray ray,
                     L += w.estimate_weight() * sample_light(scene, sampler, at, medium, nullptr, &phase, -ray.d, rng);
                 }
                 sampler.set_dimension(dims + SampleDimensions::Direction);
-                PhaseSample ps = phase.sample(-ray.d, sampler.next_2d());
+                PhaseSample ps = phase.sample(MediumInteraction{at.p, -ray.d}, sampler.next_2d());
                 if (!ps.valid()) break;
                 w.beta *= ps.weight;
                 from = ScatterVertex{at, ps.pdf, !medium->sample_emitters()};
@@ -213,8 +213,9 @@ Spectrum VolPathIntegrator::sample_light(const Scene& scene, Sampler& sampler, c
         scatter_pdf = bsdf->pdf(BSDFContext(), at, wo);
         if (at.shape->is_medium_transition()) medium = at.shape->target_medium(at, ds.d);
     } else {
-        f = Spectrum(phase->eval(wi, ds.d));
-        scatter_pdf = phase->pdf(wi, ds.d);
+        MediumInteraction mi{at.p, wi};
+        f = Spectrum(phase->eval(mi, ds.d));
+        scatter_pdf = phase->pdf(mi, ds.d);
     }
     if (is_black(f)) return Spectrum(0.0f);
     Spectrum T = scene.transmittance(shadow_ray(at, ds), medium, rng);  // through media and null surfaces

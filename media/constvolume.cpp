@@ -1,27 +1,56 @@
 // constvolume: one value everywhere in its unit cube (Mitsuba 3's `constvolume`).
 //
 // Parameters:
-//   value      float or rgb   the value (default 1)
+//   value      float, rgb, or a string of six numbers
+//                             the value (default 1). Six numbers "S_xx, S_yy, S_zz, S_xy, S_xz,
+//                             S_yz" give the symmetric matrix of an `sggx` phase function (the
+//                             form of Mitsuba 2's constvolume and of Mitsuba's sggx tests; Mitsuba
+//                             3 itself takes six values only from a gridvolume)
 //   to_world   transform      places the unit cube [0, 1]^3 (default identity); it bounds a
 //                             heterogeneous medium whose sigma_t is this volume, as in Mitsuba
 
 #include "core/registry.h"
+#include "core/text.h"
 #include "core/volume.h"
 
 namespace candela {
 
 class ConstVolume : public Volume {
 public:
-    explicit ConstVolume(const Properties& props) : Volume(props), value_(props.get_rgb("value", Spectrum(1.0f))) {
-        if (!all_finite(value_)) props.fail("value", "the value must be finite");
+    explicit ConstVolume(const Properties& props) : Volume(props) {
+        Properties::Type type = Properties::Type::Float;
+        if (props.has("value")) props.get_raw("value", &type);
+        if (type == Properties::Type::String) {
+            read_numbers(props);
+        } else {
+            value_ = props.get_rgb("value", Spectrum(1.0f));
+            if (!all_finite(value_)) props.fail("value", "the value must be finite");
+            for (int k = 0; k < 3; ++k) values_[k] = value_[k];
+        }
     }
     Spectrum eval(const Vec3&) const override { return value_; }
+    void eval_channels(const Vec3&, float* out) const override { max_channels(out); }
+    void max_channels(float* out) const override {
+        for (int k = 0; k < channels_; ++k) out[k] = values_[k];
+    }
     Spectrum max_in_local_box(const Vec3&, const Vec3&) const override { return value_; }
     bool is_constant() const override { return true; }
     std::string to_string() const override { return "constvolume"; }
 
 private:
+    // A string value: one, three or six numbers.
+    void read_numbers(const Properties& props) {
+        std::vector<std::string> items = split_list(props.get_string("value"));
+        if (items.size() != 1 && items.size() != 3 && items.size() != 6)
+            props.fail("value", "constvolume: a value of " + std::to_string(items.size()) + " numbers (1, 3 or 6 are meant)");
+        channels_ = int(items.size());
+        for (size_t k = 0; k < items.size(); ++k)
+            if (!parse_finite_float(items[k], values_[k])) props.fail("value", "constvolume: \"" + items[k] + "\" is not a finite number");
+        value_ = channels_ == 1 ? Spectrum(values_[0]) : Spectrum(values_[0], values_[1], values_[2]);
+    }
+
     Spectrum value_;
+    float values_[6] = {};
 };
 
 CANDELA_REGISTER(ConstVolume, ObjectKind::Volume, "constvolume");

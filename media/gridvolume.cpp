@@ -15,7 +15,8 @@
 //
 // The .vol format (little endian): bytes 1-3 "VOL", byte 4 the version (3), bytes 5-8 the
 // encoding (int32; 1 = float32, the only one), then the int32 resolutions x, y, z, the int32
-// channel count (1 or 3 here; Mitsuba's 6-channel grids are not colours), the bounding box as six
+// channel count (1, 3, or 6 for the matrix S of an `sggx` phase function: S_xx, S_yy, S_zz, S_xy,
+// S_xz, S_yz; a colour parameter refuses 6), the bounding box as six
 // float32 (xmin, ymin, zmin, xmax, ymax, zmax), and the data, x fastest:
 // data[((z * yres + y) * xres + x) * channels + channel].
 
@@ -49,19 +50,33 @@ public:
     }
 
     Spectrum eval(const Vec3& p_world) const override {
+        float v[6];
+        eval_channels(p_world, v);
+        return channels_ == 1 ? Spectrum(v[0]) : Spectrum(v[0], v[1], v[2]);
+    }
+
+    void eval_channels(const Vec3& p_world, float* out) const override {
         Vec3 p = to_local(p_world) * Vec3(resolution_);
-        if (nearest_) return voxel(glm::ivec3(glm::floor(p)));
+        if (nearest_) {
+            const float* v = voxel_values(glm::ivec3(glm::floor(p)));
+            for (int k = 0; k < channels_; ++k) out[k] = v[k];
+            return;
+        }
         Vec3 x = p - Vec3(0.5f);
         Vec3 base = glm::floor(x);
         Vec3 f = x - base;
         glm::ivec3 i0(base);
-        Spectrum result(0.0f);
+        for (int k = 0; k < channels_; ++k) out[k] = 0.0f;
         for (int corner = 0; corner < 8; ++corner) {
             glm::ivec3 offset(corner & 1, (corner >> 1) & 1, (corner >> 2) & 1);
             float weight = (offset.x ? f.x : 1.0f - f.x) * (offset.y ? f.y : 1.0f - f.y) * (offset.z ? f.z : 1.0f - f.z);
-            if (weight > 0.0f) result += weight * voxel(i0 + offset);
+            if (!(weight > 0.0f)) continue;
+            const float* v = voxel_values(i0 + offset);
+            for (int k = 0; k < channels_; ++k) out[k] += weight * v[k];
         }
-        return result;
+    }
+    void max_channels(float* out) const override {
+        for (int k = 0; k < channels_; ++k) out[k] = max_[size_t(k)];
     }
 
     Spectrum max_in_local_box(const Vec3& lo, const Vec3& hi) const override {
@@ -94,10 +109,13 @@ private:
         }
         return 0;
     }
-    Spectrum voxel(const glm::ivec3& i) const {
+    const float* voxel_values(const glm::ivec3& i) const {
         size_t index = (size_t(wrap_index(i.z, resolution_.z)) * size_t(resolution_.y) + size_t(wrap_index(i.y, resolution_.y))) *
                            size_t(resolution_.x) + size_t(wrap_index(i.x, resolution_.x));
-        const float* v = &data_[index * size_t(channels_)];
+        return &data_[index * size_t(channels_)];
+    }
+    Spectrum voxel(const glm::ivec3& i) const {
+        const float* v = voxel_values(i);
         return channels_ == 1 ? Spectrum(v[0]) : Spectrum(v[0], v[1], v[2]);
     }
 
@@ -115,8 +133,8 @@ private:
         resolution_ = glm::ivec3(ints[1], ints[2], ints[3]);
         channels_ = ints[4];
         if (min_component(Vec3(resolution_)) < 1.0f) fail("the resolution must be positive in every axis");
-        if (channels_ != 1 && channels_ != 3)
-            fail(std::to_string(channels_) + " channels: a medium's values need 1 (grey) or 3 (rgb)");
+        if (channels_ != 1 && channels_ != 3 && channels_ != 6)
+            fail(std::to_string(channels_) + " channels: a volume has 1 (grey), 3 (rgb) or 6 (SGGX's S)");
         float box[6];
         std::memcpy(box, header + 24, sizeof box);
         file_bbox_.min = Vec3(box[0], box[1], box[2]);
@@ -132,16 +150,19 @@ private:
         data_.resize(count);
         in.seekg(48);
         if (!in.read(reinterpret_cast<char*>(data_.data()), std::streamsize(count * sizeof(float)))) fail("cannot read the voxels");
-        for (float v : data_)
-            if (!std::isfinite(v)) fail("a voxel value is not finite");
+        max_.assign(size_t(channels_), -Infinity);
+        for (size_t i = 0; i < data_.size(); ++i) {
+            if (!std::isfinite(data_[i])) fail("a voxel value is not finite");
+            max_[i % size_t(channels_)] = std::max(max_[i % size_t(channels_)], data_[i]);
+        }
     }
 
     glm::ivec3 resolution_{1};
-    int channels_ = 1;
     bool nearest_ = false;
     Wrap wrap_ = Wrap::Clamp;
     BoundingBox file_bbox_;
     std::vector<float> data_;
+    std::vector<float> max_;  // per channel, over all voxels
 };
 
 CANDELA_REGISTER(GridVolume, ObjectKind::Volume, "gridvolume");

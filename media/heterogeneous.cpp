@@ -9,7 +9,8 @@
 //                             handle coloured sigma_t in any case (default true)
 //   majorant_resolution_factor  integer  one majorant cell per this many voxels along each axis
 //                             of sigma_t (default 8; 0: one global majorant, as Mitsuba 3 uses)
-//   (nested phase)            the phase function (default isotropic)
+//   (nested phase)            the phase function (default isotropic); a microflake one (sggx)
+//                             multiplies sigma_t by its projected area along the ray
 // The medium exists only inside sigma_t's bounding box (its unit cube placed by to_world), as in
 // Mitsuba; outside, rays cross it as vacuum. Free flights and transmittance walk the majorant
 // grid with a DDA, so empty regions of the volume cost a few cell steps and no lookups.
@@ -38,15 +39,19 @@ public:
         majorants_ = MajorantGrid(*sigma_t_, cells, scale_);
     }
 
-    MediumPoint eval(const Vec3& p) const override {
+    MediumPoint coefficients(const Vec3& p) const override {
         MediumPoint mp;
         mp.sigma_t = scale_ * sigma_t_->eval(p);
         mp.sigma_s = mp.sigma_t * albedo_->eval(p);
         return mp;
     }
-    MajorantIterator majorants(const Ray& ray, float tmax) const override { return MajorantIterator(majorants_, ray, ray.tmin, tmax); }
     const MajorantGrid& majorant_grid() const { return majorants_; }
     std::string to_string() const override { return "heterogeneous"; }
+
+protected:
+    MajorantIterator coefficient_majorants(const Ray& ray, float tmax) const override {
+        return MajorantIterator(majorants_, ray, ray.tmin, tmax);
+    }
 
 private:
     Ref<Volume> sigma_t_, albedo_;

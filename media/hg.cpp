@@ -19,10 +19,10 @@ public:
         if (!(g_ > -1.0f && g_ < 1.0f)) props.fail("g", "the asymmetry parameter g must lie strictly between -1 and 1");
     }
 
-    float eval(const Vec3& wi, const Vec3& wo) const override { return density(glm::dot(-wi, wo)); }
-    float pdf(const Vec3& wi, const Vec3& wo) const override { return density(glm::dot(-wi, wo)); }
+    float eval(const MediumInteraction& mi, const Vec3& wo) const override { return density(glm::dot(-mi.wi, wo)); }
+    float pdf(const MediumInteraction& mi, const Vec3& wo) const override { return density(glm::dot(-mi.wi, wo)); }
 
-    PhaseSample sample(const Vec3& wi, const Vec2& u) const override {
+    PhaseSample sample(const MediumInteraction& mi, const Vec2& u) const override {
         float mu;
         if (std::abs(g_) < 1e-3f) {
             mu = 1.0f - 2.0f * u.x;
@@ -32,7 +32,7 @@ public:
         }
         mu = std::clamp(mu, -1.0f, 1.0f);
         PhaseSample ps;
-        ps.wo = direction_around(-wi, mu, TwoPi * u.y);
+        ps.wo = direction_around(-mi.wi, mu, TwoPi * u.y);
         ps.pdf = density(mu);
         ps.weight = 1.0f;
         return ps;

@@ -9,9 +9,12 @@
 //                                              medium_homogeneous_sss_textured)
 //   scale             float     multiplies sigma_t, e.g. to change units (default 1)
 //   sample_emitters   boolean   next-event estimation from inside the medium (default true)
-//   (nested phase)              the phase function (default isotropic)
+//   (nested phase)              the phase function (default isotropic); a microflake one (sggx)
+//                               multiplies sigma_t by its projected area along the ray, so
+//                               sigma_t depends on the direction (and on the point, where S does)
 // It fills whatever region refers to it (a shape's interior or exterior, a sensor's
-// surroundings), without bounds of its own. Transmittance is exact: exp(-sigma_t * distance),
+// surroundings), without bounds of its own. Transmittance is exact: exp(-sigma_t * distance)
+// (ratio tracking only for an sggx phase function whose S varies),
 // since only the albedo may vary; a grid albedo is looked up where the path collides (beyond the
 // grid's box by its wrap_mode, clamp by default, as Mitsuba's grid lookup does).
 
@@ -36,19 +39,24 @@ public:
         if (!albedo->is_constant()) albedo_ = albedo;
     }
 
-    MediumPoint eval(const Vec3& p) const override {
+    MediumPoint coefficients(const Vec3& p) const override {
         if (!albedo_) return point_;
         return MediumPoint{point_.sigma_t, point_.sigma_t * albedo_->eval(p)};
     }
-    MajorantIterator majorants(const Ray& ray, float tmax) const override { return MajorantIterator(ray.tmin, tmax, point_.sigma_t); }
-    Spectrum transmittance(const Ray& ray, float tmax, PCG32&) const override {
+    Spectrum transmittance(const Ray& ray, float tmax, PCG32& rng) const override {
+        // A microflake S that varies in space makes sigma_t vary: ratio tracking then.
+        if (microflake_ && phase().varies_in_space()) return Medium::transmittance(ray, tmax, rng);
+        Spectrum sigma_t = point_.sigma_t * (microflake_ ? phase().max_projected_area(ray.d) : 1.0f);
         float distance = tmax - ray.tmin;
         Spectrum T;
-        for (int k = 0; k < 3; ++k) T[k] = point_.sigma_t[k] == 0.0f ? 1.0f : std::exp(-point_.sigma_t[k] * distance);
+        for (int k = 0; k < 3; ++k) T[k] = sigma_t[k] == 0.0f ? 1.0f : std::exp(-sigma_t[k] * distance);
         return T;
     }
     bool is_homogeneous() const override { return true; }
     std::string to_string() const override { return "homogeneous"; }
+
+protected:
+    MajorantIterator coefficient_majorants(const Ray& ray, float tmax) const override { return MajorantIterator(ray.tmin, tmax, point_.sigma_t); }
 
 private:
     MediumPoint point_;     // sigma_t, and sigma_s for a constant albedo

@@ -10,9 +10,9 @@ namespace candela {
 class IsotropicPhase : public PhaseFunction {
 public:
     explicit IsotropicPhase(const Properties&) {}
-    float eval(const Vec3&, const Vec3&) const override { return InvFourPi; }
-    float pdf(const Vec3&, const Vec3&) const override { return InvFourPi; }
-    PhaseSample sample(const Vec3&, const Vec2& u) const override {
+    float eval(const MediumInteraction&, const Vec3&) const override { return InvFourPi; }
+    float pdf(const MediumInteraction&, const Vec3&) const override { return InvFourPi; }
+    PhaseSample sample(const MediumInteraction&, const Vec2& u) const override {
         PhaseSample ps;
         ps.wo = direction_around(Vec3(0.0f, 0.0f, 1.0f), 1.0f - 2.0f * u.x, TwoPi * u.y);
         ps.pdf = InvFourPi;

@@ -15,14 +15,14 @@ namespace candela {
 class RayleighPhase : public PhaseFunction {
 public:
     explicit RayleighPhase(const Properties&) {}
-    float eval(const Vec3& wi, const Vec3& wo) const override { return density(glm::dot(wi, wo)); }
-    float pdf(const Vec3& wi, const Vec3& wo) const override { return density(glm::dot(wi, wo)); }
-    PhaseSample sample(const Vec3& wi, const Vec2& u) const override {
+    float eval(const MediumInteraction& mi, const Vec3& wo) const override { return density(glm::dot(mi.wi, wo)); }
+    float pdf(const MediumInteraction& mi, const Vec3& wo) const override { return density(glm::dot(mi.wi, wo)); }
+    PhaseSample sample(const MediumInteraction& mi, const Vec2& u) const override {
         float q = 4.0f * u.x - 2.0f;
         float c = std::cbrt(q + std::sqrt(q * q + 1.0f));
         float mu = std::clamp(c - 1.0f / c, -1.0f, 1.0f);
         PhaseSample ps;
-        ps.wo = direction_around(-wi, mu, TwoPi * u.y);
+        ps.wo = direction_around(-mi.wi, mu, TwoPi * u.y);
         ps.pdf = density(mu);
         ps.weight = 1.0f;
         return ps;

@@ -25,14 +25,8 @@ class TabulatedPhase : public PhaseFunction {
 public:
     explicit TabulatedPhase(const Properties& props) {
         for (const std::string& item : split_list(props.get_string("values"))) {
-            size_t used = 0;
             float v = 0.0f;
-            try {
-                v = std::stof(item, &used);
-            } catch (...) {
-                used = 0;
-            }
-            if (used != item.size() || !std::isfinite(v)) props.fail("values", "tabphase: \"" + item + "\" is not a number");
+            if (!parse_finite_float(item, v)) props.fail("values", "tabphase: \"" + item + "\" is not a number");
             if (v < 0.0f) props.fail("values", "tabphase: the values must not be negative");
             values_.push_back(v);
         }
@@ -49,13 +43,13 @@ public:
         }
     }
 
-    float eval(const Vec3& wi, const Vec3& wo) const override { return density(glm::dot(-wi, wo)); }
-    float pdf(const Vec3& wi, const Vec3& wo) const override { return density(glm::dot(-wi, wo)); }
+    float eval(const MediumInteraction& mi, const Vec3& wo) const override { return density(glm::dot(-mi.wi, wo)); }
+    float pdf(const MediumInteraction& mi, const Vec3& wo) const override { return density(glm::dot(-mi.wi, wo)); }
 
-    PhaseSample sample(const Vec3& wi, const Vec2& u) const override {
+    PhaseSample sample(const MediumInteraction& mi, const Vec2& u) const override {
         float mu = sample_mu(u.x);
         PhaseSample ps;
-        ps.wo = direction_around(-wi, mu, TwoPi * u.y);
+        ps.wo = direction_around(-mi.wi, mu, TwoPi * u.y);
         ps.pdf = density(mu);
         ps.weight = ps.pdf > 0.0f ? 1.0f : 0.0f;
         return ps;

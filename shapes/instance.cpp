@@ -47,6 +47,11 @@ Instance::Instance(const Properties& props) : Shape(props, true) {
     bbox_ = motion_.bounds(group_->bbox());
 }
 
+void Instance::collect_emitters(std::vector<Ref<Emitter>>& out) const {
+    for (const Ref<Shape>& member : group_->members())
+        if (member->emitter()) out.push_back(member->emitter_ref());
+}
+
 void Instance::set_shutter(float open, float close) {
     shutter_open_ = open;
     shutter_close_ = close;
@@ -113,12 +118,7 @@ void Instance::fill_interaction(const Ray& ray, const RayHit& hit, SurfaceIntera
 }
 
 void Instance::to_world_space(const Transform& to_world, SurfaceInteraction& si) const {
-    const Mat4& m = to_world.matrix();
-    // Error of the affine map applied to a point that already carries error e: a few roundings
-    // of sum_j |M_ij p_j| + |t_i|, plus sum_j |M_ij| e.
-    Mat3 abs_m(glm::abs(Vec3(m[0])), glm::abs(Vec3(m[1])), glm::abs(Vec3(m[2])));
-    Vec3 magnitude = abs_m * glm::abs(si.p) + glm::abs(Vec3(m[3]));
-    si.p_error = gamma_bound(4) * max_component(magnitude) + max_component(abs_m * Vec3(si.p_error)) * (1.0f + gamma_bound(4));
+    si.p_error = transformed_point_error(to_world, si.p, si.p_error);
     si.p = to_world.apply_point(si.p);
     si.n = glm::normalize(to_world.apply_normal(si.n));
     Vec3 ns = glm::normalize(to_world.apply_normal(si.shading.n));

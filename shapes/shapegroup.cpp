@@ -9,6 +9,7 @@
 // flip_normals and no BSDF of its own. Each instance shades with its group's BSDFs.
 
 #include "shapes/shapegroup.h"
+#include "core/emitter.h"
 #include "core/registry.h"
 
 #include <stdexcept>
@@ -33,7 +34,9 @@ ShapeGroup::ShapeGroup(const Properties& props) : Shape(props) {
         auto shape = std::static_pointer_cast<Shape>(object);
         if (shape->is_shape_group()) throw SceneError(where, "nested shapegroups are not permitted");
         if (dynamic_cast<const Instance*>(shape.get())) throw SceneError(where, "nested instancing is not permitted");
-        if (shape->emitter())
+        // (A moving area light's still shape is let in: the loader's group of one, see
+        // Emitter::move_with_instance.)
+        if (shape->emitter() && !shape->emitter()->moves_with_instance())
             throw SceneError(where, "instancing of emitters is not supported (as in Mitsuba): this shape has an area emitter");
         members_.push_back(shape);
         bbox_.expand(shape->bbox());

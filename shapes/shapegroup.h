@@ -52,6 +52,8 @@ public:
     void tessellate(TriangleSoup& out, int detail) const override;
     void tessellate_parts(std::vector<TessellatedPart>& parts, int detail) const override;
     void set_shutter(float open, float close) override;
+    // The area emitter of a moving shape (the group's only member; see Emitter::move_with_instance).
+    void collect_emitters(std::vector<Ref<Emitter>>& out) const override;
 
     // Instances carry no emitter (Mitsuba forbids emitters in shape groups): never called.
     float surface_area() const override;

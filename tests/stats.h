@@ -7,6 +7,7 @@
 #include "core/image.h"
 
 #include <functional>
+#include <string>
 #include <vector>
 
 namespace candela::test {
@@ -29,5 +30,12 @@ struct MeanAndVariance {
 // The mean of channel `ch` (R, G or B) over a block of size x size pixels, and its variance from
 // the render's variance AOV (the pixels of a box-filtered render are independent).
 MeanAndVariance block_mean(const Image& img, int ch, int x0, int y0, int size);
+// The mean of channel `ch` over a w x h block of pixels (the whole image by default) and its
+// standard error from the pixels' spread (independent pixels: a box-filtered render).
+MeanAndError channel_mean(const Image& img, int ch, int x0 = 0, int y0 = 0, int w = -1, int h = -1);
+// Two independent 32 x 32 renders of one expectation: per channel, the mean pixel difference
+// over the whole image and over each of 16 blocks of 8 x 8 pixels, in units of its standard
+// error; the largest |z| of those 51 (3 x 17) z-tests, and where it was (`where`).
+double largest_block_z(const Image& a, const Image& b, std::string* where = nullptr);
 
 }  // namespace candela::test

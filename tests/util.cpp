@@ -74,6 +74,12 @@ std::string pinhole_camera(const std::string& origin, const std::string& target,
            "\"/><integer name=\"height\" value=\"" + std::to_string(h) + "\"/><rfilter type=\"box\"/></film><sampler type=\"independent\"/></sensor>";
 }
 
+std::string box_film(int size, int spp) {
+    return R"(<film type="hdrfilm"><integer name="width" value=")" + std::to_string(size) + R"("/><integer name="height" value=")" +
+           std::to_string(size) + R"("/><rfilter type="box"/><string name="component_format" value="float32"/></film>
+        <sampler type="independent"><integer name="sample_count" value=")" + std::to_string(spp) + R"("/></sampler>)";
+}
+
 }  // namespace candela::test
 
 namespace candela::test {

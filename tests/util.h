@@ -43,6 +43,9 @@ Ref<Scene> load_scene_xml(const std::string& name, const std::string& body);
 // A perspective sensor at `origin` looking at `target` (up +y, fov in degrees along x) with a
 // box-filtered w x h film, as XML.
 std::string pinhole_camera(const std::string& origin, const std::string& target, int w, int h, float fov = 60);
+// A size x size float32 hdrfilm with a box filter and an independent sampler of `spp`, as XML
+// (inside a <sensor>).
+std::string box_film(int size, int spp);
 
 // What the camera sees over the whole of pixel (x, y) of the crop window, judged by the camera
 // rays through its four corners (right for convex shapes with nothing in front): the shape all

@@ -19,7 +19,9 @@ namespace candela::raster {
 void fog_pass(const FrameSetup& f, FrameBuffers& b) {
     const Medium* medium = f.scene.sensor().medium();
     if (!medium) return;
-    const MediumPoint mp = medium->eval(f.camera.eye);
+    // The coefficients without a microflake phase function's projected area, which depends on
+    // the view direction: one fog colour and density for the whole frame is the approximation.
+    const MediumPoint mp = medium->coefficients(f.camera.eye);
     Spectrum albedo(0.0f);
     for (int k = 0; k < 3; ++k) albedo[k] = mp.sigma_t[k] > 0.0f ? mp.sigma_s[k] / mp.sigma_t[k] : 0.0f;
     const Spectrum fog = albedo * f.ambient;
