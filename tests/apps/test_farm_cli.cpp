@@ -39,7 +39,7 @@ bool same_render(const std::filesystem::path& a, const std::filesystem::path& b,
 
 }  // namespace
 
-TEST_CASE("farm cli: parts merge into the render; merge names what is missing and how to render it", "[farm][cli]") {
+TEST_CASE("farm cli: parts merge into the render, merge names what is missing and how to render it", "[farm][cli]") {
     auto dir = scratch_dir("farm-cli-merge");
     REQUIRE(run_command(program("render " + Render + " -q -o " + q(dir / "single.exr")), dir / "log.txt") == 0);
     REQUIRE(run_command(program("render " + Render + " -q --samples 0:3 -o " + q(dir / "adaptive.exr")), dir / "log.txt") == 0);
@@ -205,7 +205,7 @@ TEST_CASE("farm cli: SIGTERM writes a resumable partial render, --resume gives t
     INFO(read_text(dir / "ck-compare.txt"));
 }
 
-TEST_CASE("farm cli: plan's commands run by a shell loop give the render; status follows the parts", "[farm][cli]") {
+TEST_CASE("farm cli: plan's commands run by a shell loop give the render, status follows the parts", "[farm][cli]") {
     auto dir = scratch_dir("farm-cli-plan");
     // -a is passed on, absolute, so that a part run anywhere finds the scene's files.
     const std::string options = "'" + Cbox + "' -D res=20 --spp 7 --seed 5 --aov variance -a " + q(dir);

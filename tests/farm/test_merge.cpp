@@ -194,7 +194,7 @@ TEST_CASE("farm: parts of volpath merge into the single render (its tracking num
     check_splits(s, "volpath", {{0, 5, 16}, {0, 1, 3, 4, 9, 10, 15, 16}});
 }
 
-TEST_CASE("farm: the same part rendered twice is bit-identical; its sums are those of the whole render", "[farm]") {
+TEST_CASE("farm: the same part rendered twice is bit-identical, its sums are those of the whole render", "[farm]") {
     Splitter s = make_splitter("path", "split-twice");
     const ImageRect region{Vec2i(3, 4), Vec2i(9, 8)};
     std::string a = s.part({5, 12}, region), b = s.part({5, 12}, region);

@@ -81,7 +81,7 @@ TEST_CASE("ao: at the foot of an infinite wall half the cosine-weighted hemisphe
     CHECK(m.std_error < 0.003);  // power: a bias of 1.5% would show
 }
 
-TEST_CASE("ao: a disk overhead hides sin^2 of its half-angle (cosine weighting); ray_length bounds the reach", "[ao]") {
+TEST_CASE("ao: a disk overhead hides sin^2 of its half-angle (cosine weighting), ray_length bounds the reach", "[ao]") {
     // A disk of radius 1 at height sqrt(3) above the point: half-angle 30 degrees, so the open
     // fraction is 1 - sin^2(30) = 0.75 (uniform weighting would give cos 30 = 0.866).
     auto scene_with = [](const std::string& props, float floor_scale) {
@@ -112,7 +112,7 @@ TEST_CASE("ao: a disk overhead hides sin^2 of its half-angle (cosine weighting);
     CHECK(ao_at(*scene_with(R"(<float name="ray_length" value="1.7"/>)", 10.0f), eye, point, 2000).mean == 1.0);
 }
 
-TEST_CASE("ao: bit-identical images with 1 and 2 threads; parameters are checked", "[ao][determinism]") {
+TEST_CASE("ao: bit-identical images with 1 and 2 threads, parameters are checked", "[ao][determinism]") {
     auto dir = scratch_dir("ao-determinism");
     std::string scene = read_text(source_path("scenes/validation/cbox.xml"));
     std::string path = "<integrator type=\"path\">\n        <integer name=\"max_depth\" value=\"-1\"/>\n    </integrator>";

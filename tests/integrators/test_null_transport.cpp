@@ -161,7 +161,7 @@ TEST_CASE("null transport: a black mask of opacity a scales light from an area l
     check_scaled_equal(nulled.image, open.image, 1.0, "null plane under an area light");
 }
 
-TEST_CASE("null transport: in the Cornell box a null sphere and a clear mask in front of the camera render as nothing; an opaque mask as its BSDF",
+TEST_CASE("null transport: in the Cornell box a null sphere and a clear mask in front of the camera render as nothing, an opaque mask as its BSDF",
           "[render][null]") {
     std::string box = read_text(source_path("scenes/validation/cbox.xml"));
     auto with = [&](const std::string& shapes) {

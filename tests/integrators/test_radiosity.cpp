@@ -252,7 +252,7 @@ TEST_CASE("radiosity: a solution file is reused, and refused when stale or damag
     CHECK_THAT(err.text, Catch::Contains("damaged"));
 }
 
-TEST_CASE("radiosity: non-diffuse BSDFs are named as approximated; bad parameters fail", "[radiosity]") {
+TEST_CASE("radiosity: non-diffuse BSDFs are named as approximated, bad parameters fail", "[radiosity]") {
     auto dir = scratch_dir("radiosity-bsdfs");
     std::string scene = radiosity_cbox();
     std::string white = R"(<bsdf type="diffuse" id="white"><rgb name="reflectance" value="0.725, 0.71, 0.68"/></bsdf>)";

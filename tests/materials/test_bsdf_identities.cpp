@@ -114,7 +114,7 @@ TEST_CASE("principled: spec_trans 1 with a white base is roughdielectric (ggx, a
                rough, true);
 }
 
-TEST_CASE("principled: with metallic 0 and specular 0 only Burley's diffuse remains; it is Lambertian where its Fresnel weights vanish", "[bsdf][principled]") {
+TEST_CASE("principled: with metallic 0 and specular 0 only Burley's diffuse remains, it is Lambertian where its Fresnel weights vanish", "[bsdf][principled]") {
     // There is no exact Lambertian limit: Burley's retro-reflection term (1 + (F_D90 - 1) F_i)
     // (1 + (F_D90 - 1) F_o) is 1 only at normal incidence or normal exitance with F_D90 != 1.
     // So: pointwise against the 2012 factored form, and equal to `diffuse` at normal incidence.
@@ -140,7 +140,7 @@ TEST_CASE("principled: with metallic 0 and specular 0 only Burley's diffuse rema
     }
 }
 
-TEST_CASE("principledthin: its diffuse lobe is principled's; diff_trans 2 is a Lambertian transmitter; it is the same from both sides", "[bsdf][principled]") {
+TEST_CASE("principledthin: its diffuse lobe is principled's, diff_trans 2 is a Lambertian transmitter, it is the same from both sides", "[bsdf][principled]") {
     const char* base = R"(<rgb name="base_color" value="0.3, 0.6, 0.9"/><float name="roughness" value="0.7"/><float name="sheen" value="0.4"/>
                           <float name="sheen_tint" value="0.5"/><float name="flatness" value="0.3"/>)";
     // (With specular 0, principled's specular lobe is zero; sampling rate 0 stops sampling it too.)
@@ -200,7 +200,7 @@ TEST_CASE("blendbsdf: weight 0 and 1 are its parts, sample by sample", "[bsdf]")
     CHECK(half.bsdf->pdf(ctx, si, wo) == Approx(0.75f * a.bsdf->pdf(ctx, si, wo) + 0.25f * c.bsdf->pdf(ctx, si, wo)).epsilon(1e-6));
 }
 
-TEST_CASE("mask: opacity 1 is its nested BSDF sample by sample; opacity 0 passes everything; a texture sets it per point", "[bsdf]") {
+TEST_CASE("mask: opacity 1 is its nested BSDF sample by sample, opacity 0 passes everything, a texture sets it per point", "[bsdf]") {
     const char* nested = R"(<bsdf type="roughplastic"><float name="alpha" value="0.3"/></bsdf>)";
     BSDFUnderTest opaque = make_bsdf(std::string("<bsdf type=\"mask\"><float name=\"opacity\" value=\"1\"/>") + nested + "</bsdf>");
     BSDFUnderTest plain = make_bsdf(nested);
@@ -277,7 +277,7 @@ TEST_CASE("textured roughness equal to a constant gives exactly the constant's B
     CHECK(smooth.bsdf->eval(ctx, si, wo) != rough.bsdf->eval(ctx, si, wo));
 }
 
-TEST_CASE("pplastic: its specular lobe is roughplastic's; its diffuse lobe is plastic's without the coating's internal reflections", "[bsdf]") {
+TEST_CASE("pplastic: its specular lobe is roughplastic's, its diffuse lobe is plastic's without the coating's internal reflections", "[bsdf]") {
     BSDFContext glossy;
     glossy.lobes = GlossyReflection;
     check_same(R"(<bsdf type="pplastic"><float name="alpha" value="0.15"/><rgb name="specular_reflectance" value="0.9, 0.7, 0.5"/></bsdf>)",
@@ -301,7 +301,7 @@ TEST_CASE("pplastic: its specular lobe is roughplastic's; its diffuse lobe is pl
     CHECK(worst < Tolerance);
 }
 
-TEST_CASE("hair: the closed-form albedo sum A_p equals the mean sample weight; lossless fibres reflect everything", "[bsdf][hair]") {
+TEST_CASE("hair: the closed-form albedo sum A_p equals the mean sample weight, lossless fibres reflect everything", "[bsdf][hair]") {
     // Two estimators of the directional albedo: albedo() sums the attenuations A_p (M_p and N_p
     // are normalised), sample() draws directions and returns f cos / pdf. Six z-tests (three
     // directions, two fibres) at a 1% family-wise level.

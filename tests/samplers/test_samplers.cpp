@@ -227,7 +227,7 @@ TEST_CASE("samplers: the first two Sobol' dimensions form a (0, 2)-sequence", "[
     CHECK(is_02_net(pts));
 }
 
-TEST_CASE("samplers: sobol's samples in a pixel are a (0, m, 2)-net over the pixel; zsobol's in every 2D dimension", "[sampler]") {
+TEST_CASE("samplers: sobol's samples in a pixel are a (0, m, 2)-net over the pixel, zsobol's in every 2D dimension", "[sampler]") {
     for (int spp : {8, 16, 64}) {
         for (Vec2i pixel : {Vec2i(0, 0), Vec2i(13, 2), Vec2i(19, 30)}) {
             Ref<Sampler> sobol = make_sampler("sobol", spp, Vec2i(20, 32));

@@ -108,7 +108,7 @@ TEST_CASE("camera: focus_distance and shutter times are accepted, srf is refused
                       Catch::Contains("fov_axis"));
 }
 
-TEST_CASE("camera: jitter false puts every sample at its pixel's centre; cone_scale is accepted", "[camera]") {
+TEST_CASE("camera: jitter false puts every sample at its pixel's centre, cone_scale is accepted", "[camera]") {
     // A disk light of radiance 1 seen through a box filter: jittered samples give its edge pixels
     // fractions of 1 (the share of the pixel it covers), centred samples give 0 or 1 exactly.
     auto image = [](const std::string& jitter) {
