@@ -208,7 +208,10 @@ void Marginal2D::values_at_height(const Blend& b, size_t row, size_t col, float 
 
 Marginal2D::Patch Marginal2D::patch_at(const Vec2& p, const Blend& b) const {
     Patch q;
-    float x = std::clamp(p.x, 0.0f, 1.0f) * float(width_ - 1), y = std::clamp(p.y, 0.0f, 1.0f) * float(height_ - 1);
+    // Clamped to the square, NaN to 0 (std::clamp passes NaN through, and NaN to size_t is
+    // undefined: fuzz_measured's tables gave a NaN point).
+    auto unit = [](float v) { return v > 0.0f ? std::min(v, 1.0f) : 0.0f; };
+    float x = unit(p.x) * float(width_ - 1), y = unit(p.y) * float(height_ - 1);
     q.col = std::min(size_t(x), size_t(width_ - 2));
     q.row = std::min(size_t(y), size_t(height_ - 2));
     q.s = x - float(q.col);

@@ -9,6 +9,9 @@
 
 #include <catch2/catch.hpp>
 
+#include <cmath>
+#include <limits>
+
 using namespace candela;
 using namespace candela::test;
 
@@ -191,4 +194,13 @@ TEST_CASE("distributions: Marginal2D samples its bilinear, parameter-blended den
     CHECK(raw.eval(Vec2(0.25f, 0.5f), &beyond) == Approx(0.5 * data[size_t(2 * W * H + 2 * W + 1)] + 0.5 * data[size_t(2 * W * H + 2 * W + 2)]).epsilon(1e-6));
     std::vector<float> zero(size_t(W * H), 0.0f);
     CHECK_THROWS_AS(Marginal2D(zero.data(), W, H, {}, Marginal2D::Mode::Distribution), std::invalid_argument);
+    // A NaN point reads as the corner (0, 0), as a NaN parameter reads as the first slice: NaN
+    // made a table index (undefined behaviour; UBSan stopped fuzz_measured there).
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    float first = 0.0f;
+    CHECK(raw.eval(Vec2(nan, nan), &nan) == raw.eval(Vec2(0.0f, 0.0f), &first));
+    float pdf = -1.0f;
+    Vec2 u = m.invert(Vec2(nan, 0.5f), &first, &pdf);
+    CHECK(std::isfinite(u.x));
+    CHECK(std::isfinite(pdf));
 }
