@@ -205,6 +205,20 @@ TEST_CASE("ply: a face corner one past the last vertex is an error, also in a po
     }
 }
 
+TEST_CASE("ply: an element without properties is skipped at once, however many it counts", "[mesh][errors]") {
+    // Found by fuzz_ply (a time-out in CI): 444444444444444 elements of no properties were
+    // skipped one by one. The file holds no faces, which is the error it must reach at once.
+    auto dir = scratch_dir("ply-empty-element");
+    write_text(dir / "found.ply", read_text(source_path("fuzz/corpus/ply/regression-empty-element-count")));
+    write_text(dir / "scene.xml", scene_xml("<shape type=\"ply\">\n<string name=\"filename\" value=\"found.ply\"/>\n</shape>"));
+    try {
+        load_scene((dir / "scene.xml").string());
+        FAIL("expected an error");
+    } catch (const SceneError& e) {
+        CHECK_THAT(std::string(e.what()), Catch::Contains("has no faces"));
+    }
+}
+
 TEST_CASE("ply: values outside their declared type, bad list types and huge counts are errors", "[mesh][errors]") {
     // Found by fuzz_ply: an ascii index beyond every integer type reached undefined behaviour
     // (a double converted to an integer it does not fit) instead of an error. Every case names
