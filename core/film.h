@@ -6,6 +6,7 @@
 #include "core/object.h"
 #include "core/spectrum.h"
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -42,6 +43,16 @@ public:
 // "film 1920 x 1080", or "film crop window 640 x 480" when a crop window is rendered: how the
 // memory checks name the image they size.
 std::string film_description(const Film& film);
+
+// A sample value is stored only when finite and at most MaxSampleMagnitude in size. Image blocks
+// sum filtered samples in float: with values up to 1e30, 3.4e8 samples fit in a pixel before the
+// sum overflows to infinity (found by fuzz_image: a PFM texture of 3.4e38 values). No physical
+// radiance comes near it; such samples are dropped and counted as the non-finite ones are.
+constexpr float MaxSampleMagnitude = 1e30f;
+inline bool storable_sample_value(float v) { return std::fabs(v) <= MaxSampleMagnitude; }
+inline bool storable_sample_value(const Spectrum& v) {
+    return storable_sample_value(v.x) && storable_sample_value(v.y) && storable_sample_value(v.z);
+}
 
 // A rectangle of the film that accumulates sum(w * v) for each of `channels` values per sample
 // and sum(w) per pixel, with a border of the filter's radius so that samples near the edge can

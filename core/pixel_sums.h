@@ -10,7 +10,6 @@
 #include "core/image.h"
 #include "core/spectrum.h"
 
-#include <cmath>
 #include <string>
 #include <vector>
 
@@ -71,16 +70,6 @@ struct PixelStats {
     // Unbiased sample variance divided by n: the variance of the pixel mean.
     double variance_of_mean(int c) const;
 };
-
-// A sample value is stored only when finite and at most MaxSampleMagnitude in size. Image blocks
-// sum filtered samples in float: with values up to 1e30, 3.4e8 samples fit in a pixel before the
-// sum overflows to infinity (found by fuzz_image: a PFM texture of 3.4e38 values). No physical
-// radiance comes near it; such samples are dropped and counted as the non-finite ones are.
-constexpr float MaxSampleMagnitude = 1e30f;
-inline bool storable_sample_value(float v) { return std::fabs(v) <= MaxSampleMagnitude; }
-inline bool storable_sample_value(const Spectrum& v) {
-    return storable_sample_value(v.x) && storable_sample_value(v.y) && storable_sample_value(v.z);
-}
 
 // What each sample splats into the image, filtered like the radiance (as Mitsuba films its alpha
 // and AOVs): R, G, B, then alpha (1 for a valid sample, 0 otherwise) when the film's pixel format

@@ -29,7 +29,6 @@
 
 #include "core/bsdf.h"
 #include "core/film.h"
-#include "core/pixel_sums.h"
 #include "core/progress.h"
 #include "core/random_2d.h"
 #include "core/properties.h"
