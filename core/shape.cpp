@@ -45,18 +45,6 @@ DirectionSample Shape::sample_direction(const SurfaceInteraction& ref, const Vec
     return direction_from_position(ref, sample_position(u));
 }
 
-DirectionSample Shape::direction_from_position(const SurfaceInteraction& ref, const PositionSample& ps) {
-    DirectionSample ds;
-    static_cast<PositionSample&>(ds) = ps;
-    Vec3 to = ds.p - ref.p;
-    float dist2 = squared_length(to);
-    ds.dist = std::sqrt(dist2);
-    ds.d = to / ds.dist;
-    float cos_light = std::abs(glm::dot(ds.n, ds.d));
-    ds.pdf = (cos_light > 0.0f && dist2 > 0.0f) ? ds.pdf * dist2 / cos_light : 0.0f;
-    return ds;
-}
-
 float Shape::pdf_direction(const SurfaceInteraction& ref, const DirectionSample& ds) const {
     float cos_light = std::abs(glm::dot(ds.n, ds.d));
     if (cos_light == 0.0f) return 0.0f;

@@ -27,6 +27,8 @@ struct PositionSample {
     float pdf = 0.0f;
     bool delta = false;
 };
+// Shape::direction_from_position copies these fields one by one.
+static_assert(sizeof(PositionSample) == 44, "a new PositionSample field must be copied in direction_from_position");
 
 // A point sampled as seen from a reference point: `d` is the unit direction from the reference
 // to `p`, `dist` the distance, and `pdf` per unit solid angle (or the probability of a delta).
@@ -159,7 +161,26 @@ public:
     // What the default sample_direction does; shapes that fall back to area sampling call it with
     // their own sample_position, sparing a virtual call and a copy per light sample (and a moving
     // area light, with a sample it moved).
-    static DirectionSample direction_from_position(const SurfaceInteraction& ref, const PositionSample& ps);
+    // Inline: the sample's fields then stay in registers from sample_position to here; out of
+    // line, the fields stored one by one and reloaded as a block stalled store forwarding, which
+    // perf measured at 5% of a Cornell box render's time.
+    static DirectionSample direction_from_position(const SurfaceInteraction& ref, const PositionSample& ps) {
+        DirectionSample ds;
+        // Field by field: a block copy of `ps` went through the stack with the same stall.
+        ds.p = ps.p;
+        ds.n = ps.n;
+        ds.p_error = ps.p_error;
+        ds.uv = ps.uv;
+        ds.pdf = ps.pdf;
+        ds.delta = ps.delta;
+        Vec3 to = ds.p - ref.p;
+        float dist2 = squared_length(to);
+        ds.dist = std::sqrt(dist2);
+        ds.d = to / ds.dist;
+        float cos_light = std::abs(glm::dot(ds.n, ds.d));
+        ds.pdf = (cos_light > 0.0f && dist2 > 0.0f) ? ds.pdf * dist2 / cos_light : 0.0f;
+        return ds;
+    }
 
 protected:
     Transform to_world_;

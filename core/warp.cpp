@@ -2,20 +2,6 @@
 
 namespace candela::warp {
 
-Vec2 square_to_uniform_disk_concentric(const Vec2& u) {
-    float x = 2.0f * u.x - 1.0f, y = 2.0f * u.y - 1.0f;
-    if (x == 0.0f && y == 0.0f) return Vec2(0.0f);
-    float r, phi;
-    if (std::abs(x) > std::abs(y)) {
-        r = x;
-        phi = (Pi / 4.0f) * (y / x);
-    } else {
-        r = y;
-        phi = (Pi / 2.0f) - (Pi / 4.0f) * (x / y);
-    }
-    return Vec2(r * std::cos(phi), r * std::sin(phi));
-}
-
 Vec2 square_to_uniform_disk(const Vec2& u) {
     float r = std::sqrt(u.x), phi = TwoPi * u.y;
     return Vec2(r * std::cos(phi), r * std::sin(phi));
@@ -33,12 +19,6 @@ Vec3 square_to_uniform_hemisphere(const Vec2& u) {
     float r = safe_sqrt(1.0f - z * z);
     float phi = TwoPi * u.y;
     return Vec3(r * std::cos(phi), r * std::sin(phi), z);
-}
-
-Vec3 square_to_cosine_hemisphere(const Vec2& u) {
-    Vec2 d = square_to_uniform_disk_concentric(u);
-    float z = safe_sqrt(1.0f - d.x * d.x - d.y * d.y);
-    return Vec3(d.x, d.y, z);
 }
 
 Vec3 square_to_uniform_cone(const Vec2& u, float cos_cutoff) {

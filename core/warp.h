@@ -6,7 +6,21 @@
 
 namespace candela::warp {
 
-Vec2 square_to_uniform_disk_concentric(const Vec2& u);
+// Inline, as the two below: BSDF sampling calls them once per bounce, and out of line their
+// results went through memory.
+inline Vec2 square_to_uniform_disk_concentric(const Vec2& u) {
+    float x = 2.0f * u.x - 1.0f, y = 2.0f * u.y - 1.0f;
+    if (x == 0.0f && y == 0.0f) return Vec2(0.0f);
+    float r, phi;
+    if (std::abs(x) > std::abs(y)) {
+        r = x;
+        phi = (Pi / 4.0f) * (y / x);
+    } else {
+        r = y;
+        phi = (Pi / 2.0f) - (Pi / 4.0f) * (x / y);
+    }
+    return Vec2(r * std::cos(phi), r * std::sin(phi));
+}
 inline float square_to_uniform_disk_concentric_pdf() { return InvPi; }
 
 Vec3 square_to_uniform_sphere(const Vec2& u);
@@ -16,7 +30,11 @@ Vec3 square_to_uniform_hemisphere(const Vec2& u);
 inline float square_to_uniform_hemisphere_pdf(const Vec3& v) { return v.z >= 0.0f ? InvTwoPi : 0.0f; }
 
 // Density cos(theta) / pi over the upper hemisphere (Malley's method).
-Vec3 square_to_cosine_hemisphere(const Vec2& u);
+inline Vec3 square_to_cosine_hemisphere(const Vec2& u) {
+    Vec2 d = square_to_uniform_disk_concentric(u);
+    float z = safe_sqrt(1.0f - d.x * d.x - d.y * d.y);
+    return Vec3(d.x, d.y, z);
+}
 inline float square_to_cosine_hemisphere_pdf(const Vec3& v) { return v.z > 0.0f ? v.z * InvPi : 0.0f; }
 
 // Uniform over the cone of directions within acos(cos_cutoff) of +z.

@@ -5,13 +5,15 @@
 
 namespace candela {
 
-bool draw_light_sample(const LightSampler& lights, Sampler& sampler, const SurfaceInteraction& at, LightSample& out) {
+LightSample draw_light_sample(const LightSampler& lights, Sampler& sampler, const SurfaceInteraction& at) {
     float u_pick = sampler.next_1d();
     Vec2 u = sampler.next_2d();
-    out.emitter = lights.sample(at, u_pick, out.pick_prob);
-    if (!out.emitter || !(out.pick_prob > 0.0f)) return false;
-    out.ds = out.emitter->sample_direction(at, u, out.weight);
-    return out.ds.pdf > 0.0f && !is_black(out.weight);
+    float pick_prob = 0.0f;
+    const Emitter* emitter = lights.sample(at, u_pick, pick_prob);
+    if (!emitter || !(pick_prob > 0.0f)) return LightSample{};
+    Spectrum weight(0.0f);
+    // Braced initialisers run in order: sample_direction sets `weight` before it is copied.
+    return LightSample{emitter, pick_prob, emitter->sample_direction(at, u, weight), weight};
 }
 
 Ray shadow_ray(const SurfaceInteraction& at, const DirectionSample& ds) {
@@ -20,8 +22,8 @@ Ray shadow_ray(const SurfaceInteraction& at, const DirectionSample& ds) {
 
 Spectrum sample_emitter_mis(const Scene& scene, const LightSampler& lights, Sampler& sampler, const SurfaceInteraction& si,
                             const BSDF& bsdf, const BSDFContext& ctx, StrategyShares shares) {
-    LightSample light;
-    if (!draw_light_sample(lights, sampler, si, light)) return Spectrum(0.0f);
+    const LightSample light = draw_light_sample(lights, sampler, si);
+    if (!light.valid()) return Spectrum(0.0f);
     const DirectionSample& ds = light.ds;
     Vec3 wo = si.to_local(ds.d);
     Spectrum f = bsdf.eval(ctx, si, wo);

@@ -26,9 +26,13 @@ struct LightSample {
     float pick_prob = 0.0f;
     DirectionSample ds;
     Spectrum weight{0.0f};
+    // False when nothing could be sampled (no light, zero probability, pdf or weight).
+    bool valid() const { return emitter && ds.pdf > 0.0f && !is_black(weight); }
 };
-// False when nothing can be sampled (no light, zero probability, pdf or weight).
-bool draw_light_sample(const LightSampler& lights, Sampler& sampler, const SurfaceInteraction& at, LightSample& out);
+// Returned by value and built in place: the emitter writes its DirectionSample straight into
+// the result (assigning it to an existing LightSample copied it through memory, and the reloads
+// stalled store forwarding).
+LightSample draw_light_sample(const LightSampler& lights, Sampler& sampler, const SurfaceInteraction& at);
 
 // The shadow ray from `at` to a sampled light point: a direction for an infinitely distant
 // light, else a segment that stops short of the point's surface (its normal and error bound).

@@ -221,8 +221,8 @@ private:
 
     // One light sample, its shadow ray traced through the patches.
     Spectrum direct_light(Sampler& sampler, const SurfaceInteraction& si, const BSDF& bsdf) const {
-        LightSample light;
-        if (!draw_light_sample(*lights_, sampler, si, light)) return Spectrum(0.0f);
+        const LightSample light = draw_light_sample(*lights_, sampler, si);
+        if (!light.valid()) return Spectrum(0.0f);
         Spectrum f = bsdf.eval(BSDFContext(), si, si.to_local(light.ds.d));
         if (is_black(f)) return Spectrum(0.0f);
         if (patches_->occluded_except(shadow_ray(si, light.ds), light.emitter->shape())) return Spectrum(0.0f);

@@ -202,8 +202,8 @@ Spectrum VolPathIntegrator::trace(const Scene& scene, Sampler& sampler, Ray ray,
 // phase sampling by the power heuristic. `medium` is the medium the path is in.
 Spectrum VolPathIntegrator::sample_light(const Scene& scene, Sampler& sampler, const SurfaceInteraction& at, const Medium* medium,
                                          const BSDF* bsdf, const PhaseFunction* phase, const Vec3& wi, PCG32& rng) const {
-    LightSample light;
-    if (!draw_light_sample(*lights_, sampler, at, light)) return Spectrum(0.0f);
+    const LightSample light = draw_light_sample(*lights_, sampler, at);
+    if (!light.valid()) return Spectrum(0.0f);
     const DirectionSample& ds = light.ds;
     Spectrum f;
     float scatter_pdf;

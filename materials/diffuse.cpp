@@ -22,11 +22,15 @@ public:
     }
 
     BSDFSample sample(const BSDFContext& ctx, const SurfaceInteraction& si, float, const Vec2& u) const override {
+        // One named result on every path, so that it is built in the caller's storage (a second
+        // `return BSDFSample()` made a copy whose reloads stalled store forwarding).
         BSDFSample bs;
         if (!ctx.allows(DiffuseReflection) || Frame::cos_theta(si.wi) <= 0.0f) return bs;
-        bs.wo = warp::square_to_cosine_hemisphere(u);
-        bs.pdf = warp::square_to_cosine_hemisphere_pdf(bs.wo);
-        if (bs.pdf <= 0.0f) return BSDFSample();
+        Vec3 wo = warp::square_to_cosine_hemisphere(u);
+        float pdf = warp::square_to_cosine_hemisphere_pdf(wo);
+        if (pdf <= 0.0f) return bs;
+        bs.wo = wo;
+        bs.pdf = pdf;
         bs.lobe = DiffuseReflection;
         bs.weight = reflectance_->eval(si);
         return bs;

@@ -56,9 +56,30 @@ public:
         return ps;
     }
 
+    // Both returns build the result in the caller's storage (a named result returned on one path
+    // only is copied, and the copy's reloads stalled store forwarding).
     DirectionSample sample_direction(const SurfaceInteraction& ref, const Vec2& u) const override {
         SphericalRectangle sr;
         if (!spherical(ref.p, sr)) return direction_from_position(ref, sample_position(u));
+        return sample_spherical(ref, sr, u);
+    }
+
+    float pdf_direction(const SurfaceInteraction& ref, const DirectionSample& ds) const override {
+        SphericalRectangle sr;
+        if (!spherical(ref.p, sr)) return Shape::pdf_direction(ref, ds);
+        return 1.0f / sr.solid_angle;
+    }
+
+private:
+    // The rectangle as seen from a point: its local frame (x along an edge, z away from the
+    // point), corner coordinates, and the quantities the sampling needs.
+    struct SphericalRectangle {
+        Vec3 x, z;
+        float x0, x1, y0, y1, z0;
+        float b0, b1, k, solid_angle;
+    };
+
+    DirectionSample sample_spherical(const SurfaceInteraction& ref, const SphericalRectangle& sr, const Vec2& u) const {
         // Invert the solid-angle CDF along x (u.x), then along y within the column (u.y).
         float au = u.x * sr.solid_angle + sr.k;
         float fu = (std::cos(au) * sr.b0 - sr.b1) / std::sin(au);
@@ -81,21 +102,6 @@ public:
         ds.pdf = 1.0f / sr.solid_angle;
         return ds;
     }
-
-    float pdf_direction(const SurfaceInteraction& ref, const DirectionSample& ds) const override {
-        SphericalRectangle sr;
-        if (!spherical(ref.p, sr)) return Shape::pdf_direction(ref, ds);
-        return 1.0f / sr.solid_angle;
-    }
-
-private:
-    // The rectangle as seen from a point: its local frame (x along an edge, z away from the
-    // point), corner coordinates, and the quantities the sampling needs.
-    struct SphericalRectangle {
-        Vec3 x, z;
-        float x0, x1, y0, y1, z0;
-        float b0, b1, k, solid_angle;
-    };
 
     bool spherical(const Vec3& o, SphericalRectangle& sr) const {
         if (!orthogonal_) return false;
