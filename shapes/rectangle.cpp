@@ -126,7 +126,10 @@ private:
         // A |z0| / r^3 from the rectangle's centre is such a function.
         float cx = sr.x0 + 0.5f * len_x_, cy = sr.y0 + 0.5f * len_y_;
         float r2 = cx * cx + cy * cy + sr.z0 * sr.z0;
-        if (len_x_ * len_y_ * std::abs(sr.z0) < kSphericalMinSolidAngle * r2 * std::sqrt(r2)) return false;
+        // Squared, A^2 z0^2 < k^2 r^6, to keep a square root's latency off every light sample
+        // (beyond float range r^6 is infinite and the point, that far away, samples by area).
+        float a = len_x_ * len_y_ * sr.z0;
+        if (a * a < kSphericalMinSolidAngle * kSphericalMinSolidAngle * (r2 * r2 * r2)) return false;
         // The normals of the four edge planes through the point, n_i = normalize(v_i x v_i+1),
         // have closed forms in these coordinates (Urena et al. 2013, section 3.1):
         //   n0 = (0, z0, -y0) / r(y0)   n1 = (-z0, 0, x1) / r(x1)
