@@ -38,6 +38,15 @@ constexpr float gamma_bound(int n) {
 inline float sqr(float x) { return x * x; }
 inline float safe_sqrt(float x) { return std::sqrt(std::max(x, 0.0f)); }
 inline float safe_acos(float x) { return std::acos(std::clamp(x, -1.0f, 1.0f)); }
+
+// sin x and cos x for |x| <= pi/4 by the minimax polynomials of Moshier's Cephes sinf/cosf, which
+// need no argument reduction there: within 2 ulp of the exact values (tests/core/test_math.cpp),
+// without libm's range reduction and out-of-line call (the concentric disk warp, at every bounce).
+inline void sincos_quarter_pi(float x, float& s, float& c) {
+    float x2 = x * x;
+    s = x + x * x2 * (-1.6666654611e-1f + x2 * (8.3321608736e-3f + x2 * -1.9515295891e-4f));
+    c = 1.0f - 0.5f * x2 + x2 * x2 * (4.166664568298827e-2f + x2 * (-1.388731625493765e-3f + x2 * 2.443315711809948e-5f));
+}
 inline float safe_asin(float x) { return std::asin(std::clamp(x, -1.0f, 1.0f)); }
 inline float radians(float deg) { return deg * (Pi / 180.0f); }
 inline float degrees(float rad) { return rad * (180.0f / Pi); }

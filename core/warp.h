@@ -11,15 +11,15 @@ namespace candela::warp {
 inline Vec2 square_to_uniform_disk_concentric(const Vec2& u) {
     float x = 2.0f * u.x - 1.0f, y = 2.0f * u.y - 1.0f;
     if (x == 0.0f && y == 0.0f) return Vec2(0.0f);
-    float r, phi;
+    // phi = (pi/4) y/x with radius x, or pi/2 - (pi/4) x/y with radius y: both angles within
+    // pi/4 of an axis, so cos and sin come from sincos_quarter_pi (cos(pi/2 - a) = sin a).
+    float s, c;
     if (std::abs(x) > std::abs(y)) {
-        r = x;
-        phi = (Pi / 4.0f) * (y / x);
-    } else {
-        r = y;
-        phi = (Pi / 2.0f) - (Pi / 4.0f) * (x / y);
+        sincos_quarter_pi((Pi / 4.0f) * (y / x), s, c);
+        return Vec2(x * c, x * s);
     }
-    return Vec2(r * std::cos(phi), r * std::sin(phi));
+    sincos_quarter_pi((Pi / 4.0f) * (x / y), s, c);
+    return Vec2(y * s, y * c);
 }
 inline float square_to_uniform_disk_concentric_pdf() { return InvPi; }
 
