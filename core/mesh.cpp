@@ -195,6 +195,12 @@ void Mesh::fill_interaction(const Ray& ray, const RayHit& hit, SurfaceInteractio
         si.shading = f.shading;
         return;
     }
+    fill_smooth_frame(t, b0, b1, b2, si);
+}
+
+// Out of fill_interaction() so that hits on flat meshes, the common case, do not pay on entry
+// for the registers and stack this part needs.
+void Mesh::fill_smooth_frame(const glm::uvec3& t, float b0, float b1, float b2, SurfaceInteraction& si) const {
     FlatTriangle f = flat_triangle(t);
     // The shading normal interpolates the vertex normals (on the geometric normal's side, which
     // flip_normals turns).
