@@ -55,12 +55,12 @@ void ImageBlock::put(const Vec2& pos, const float* values) {
     const int stride = channels_ + 1;
     // Position relative to the stored area's first pixel.
     Vec2 local = pos - Vec2(offset_) + Vec2(float(border_));
-    int x0 = std::max(0, int(std::ceil(local.x - 0.5f - r)));
-    int x1 = std::min(stored_size_.x - 1, int(std::floor(local.x - 0.5f + r)));
-    int y0 = std::max(0, int(std::ceil(local.y - 0.5f - r)));
-    int y1 = std::min(stored_size_.y - 1, int(std::floor(local.y - 0.5f + r)));
+    int x0 = std::max(0, ceil_to_int(local.x - 0.5f - r));
+    int x1 = std::min(stored_size_.x - 1, floor_to_int(local.x - 0.5f + r));
+    int y0 = std::max(0, ceil_to_int(local.y - 0.5f - r));
+    int y1 = std::min(stored_size_.y - 1, floor_to_int(local.y - 0.5f + r));
     // The common case, a footprint of one pixel (the box filter of radius 1/2 away from pixel
-    // edges): one weight, no weight tables. Same products and sums as the loops below, so the
+    // edges): one weight, no weight tables. Same products and sums as put_footprint(), so the
     // image is bit-identical.
     if (x0 == x1 && y0 == y1) {
         float w = filter_->eval(float(x0) + 0.5f - local.x) * filter_->eval(float(y0) + 0.5f - local.y);
@@ -70,6 +70,14 @@ void ImageBlock::put(const Vec2& pos, const float* values) {
         px[channels_] += w;
         return;
     }
+    put_footprint(local, Vec2i(x0, y0), Vec2i(x1, y1), values);
+}
+
+// Kept apart from put() so that the one-pixel case does not pay for this one's weight tables
+// and registers on entry.
+void ImageBlock::put_footprint(const Vec2& local, const Vec2i& first, const Vec2i& last, const float* values) {
+    const int stride = channels_ + 1;
+    const int x0 = first.x, y0 = first.y, x1 = last.x, y1 = last.y;
     // Filter weights per column and row (the filter is separable); radius <= 4 keeps this small.
     float wx[16], wy[16];
     int nx = std::min(x1 - x0 + 1, 16), ny = std::min(y1 - y0 + 1, 16);

@@ -80,6 +80,10 @@ public:
     int channels() const { return channels_; }
 
 private:
+    // put() for a sample whose filter reaches more than one pixel: pixels first..last (stored
+    // area coordinates) around `local`.
+    void put_footprint(const Vec2& local, const Vec2i& first, const Vec2i& last, const float* values);
+
     Vec2i offset_{0}, size_{0};
     int border_ = 0, channels_ = 3;
     Vec2i stored_size_{0};

@@ -61,6 +61,18 @@ inline bool all_finite(const Vec3& v) {
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 inline float squared_length(const Vec3& v) { return glm::dot(v, v); }
+// int(std::ceil(x)) and int(std::floor(x)) for x within int's range, by truncation and one
+// correction: without SSE4.1 std::ceil and std::floor expand to about fifteen instructions each
+// (a range test and a masked rounding), these to about five. Exact: the truncation is exact
+// in float whenever it fits in 24 bits, and above that every float is an integer already.
+inline int ceil_to_int(float x) {
+    int i = int(x);
+    return float(i) < x ? i + 1 : i;
+}
+inline int floor_to_int(float x) {
+    int i = int(x);
+    return float(i) > x ? i - 1 : i;
+}
 
 // The neighbouring floats of v toward +infinity and -infinity: std::nextafter's results
 // (zero of either sign steps to the smallest subnormal), by stepping the bit pattern, since libm's

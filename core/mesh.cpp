@@ -179,9 +179,13 @@ void Mesh::fill_interaction(const Ray& ray, const RayHit& hit, SurfaceInteractio
     const glm::uvec3& t = triangles_[hit.prim_index];
     const Vec3 &p0 = positions_[t.x], &p1 = positions_[t.y], &p2 = positions_[t.z];
     float b1 = hit.u, b2 = hit.v, b0 = 1.0f - b1 - b2;
-    // Barycentric interpolation is more accurate than o + t d far from the origin.
-    si.p = b0 * p0 + b1 * p1 + b2 * p2;
-    si.p_error = gamma_bound(7) * max_component(abs_components(b0 * p0) + abs_components(b1 * p1) + abs_components(b2 * p2));
+    // Barycentric interpolation is more accurate than o + t d far from the origin. The weighted
+    // vertices are kept in locals: p and its error bound both use them, and once a store into si
+    // has happened the compiler must assume it changed the vertices (si could alias them) and
+    // would load and multiply them again.
+    const Vec3 w0 = b0 * p0, w1 = b1 * p1, w2 = b2 * p2;
+    si.p = w0 + w1 + w2;
+    si.p_error = gamma_bound(7) * max_component(abs_components(w0) + abs_components(w1) + abs_components(w2));
     si.uv = uvs_.empty() ? Vec2(b1, b2) : b0 * uvs_[t.x] + b1 * uvs_[t.y] + b2 * uvs_[t.z];
     if (!flat_.empty()) {
         const FlatTriangle& f = flat_[hit.prim_index];
@@ -191,6 +195,12 @@ void Mesh::fill_interaction(const Ray& ray, const RayHit& hit, SurfaceInteractio
         si.shading = f.shading;
         return;
     }
+    fill_smooth_frame(t, b0, b1, b2, si);
+}
+
+// Out of fill_interaction() so that hits on flat meshes, the common case, do not pay on entry
+// for the registers and stack this part needs.
+void Mesh::fill_smooth_frame(const glm::uvec3& t, float b0, float b1, float b2, SurfaceInteraction& si) const {
     FlatTriangle f = flat_triangle(t);
     // The shading normal interpolates the vertex normals (on the geometric normal's side, which
     // flip_normals turns).

@@ -92,6 +92,9 @@ private:
         Frame shading;
     };
     FlatTriangle flat_triangle(const glm::uvec3& t) const;
+    // fill_interaction()'s normals and frames for a mesh with vertex normals: triangle t hit at
+    // barycentrics (b0, b1, b2).
+    void fill_smooth_frame(const glm::uvec3& t, float b0, float b1, float b2, SurfaceInteraction& si) const;
     std::vector<FlatTriangle> flat_;  // per entry of triangles_; empty with vertex normals
 
     Distribution1D area_distribution_;

@@ -70,13 +70,17 @@ std::vector<std::string> SampleLayout::value_names() const {
 }
 
 bool SampleLayout::fill(const Spectrum& L, bool valid, const float* integrator_values, float* out) const {
+    // Each value is checked as it is written (the alpha, 0 or 1, needs no check), rather than
+    // read back from `out` afterwards.
+    bool storable = storable_sample_value(L);
     int c = 0;
     for (int k = 0; k < 3; ++k) out[c++] = L[k];
     if (alpha_) out[c++] = valid ? 1.0f : 0.0f;
-    for (int k = 0; k < extras(); ++k) out[c++] = integrator_values[k];
-    for (int k = 0; k < c; ++k)
-        if (!storable_sample_value(out[k])) return false;
-    return true;
+    for (int k = 0; k < extras(); ++k) {
+        out[c++] = integrator_values[k];
+        storable = storable && storable_sample_value(integrator_values[k]);
+    }
+    return storable;
 }
 
 std::vector<std::string> SampleLayout::channels() const {

@@ -78,3 +78,27 @@ TEST_CASE("math: sincos_quarter_pi is within 2 ulp of sin and cos on [-pi/4, pi/
     CHECK(same_bits(s0, 0.0f));
     CHECK(c0 == 1.0f);
 }
+
+TEST_CASE("math: ceil_to_int and floor_to_int are int(std::ceil) and int(std::floor)", "[math]") {
+    // Integers, halves, the neighbours of integers and of zero, large floats (every float from
+    // 2^23 on is an integer), and random values of every magnitude that fits in an int.
+    std::vector<float> values = {0.0f, -0.0f, 0.5f, -0.5f, 1.0f, -1.0f, 2.5f, -2.5f, 0x1p23f, -0x1p23f, 0x1p30f, -0x1p30f,
+                                 std::numeric_limits<float>::denorm_min(), -std::numeric_limits<float>::denorm_min()};
+    for (float k : {0.0f, 1.0f, -1.0f, 7.0f, -7.0f, 8388607.0f, -8388607.0f}) {
+        values.push_back(next_float_up(k));
+        values.push_back(next_float_down(k));
+    }
+    PCG32 rng(3, 5);
+    for (int i = 0; i < 100000; ++i) {
+        float magnitude = std::ldexp(1.0f, int(rng.next_uint() % 31u) - 1);  // 2^-1 .. 2^29
+        values.push_back((rng.next_float() * 2.0f - 1.0f) * magnitude);
+    }
+    int wrong = 0;
+    float first_wrong = 0.0f;
+    for (float v : values) {
+        bool ok = ceil_to_int(v) == int(std::ceil(v)) && floor_to_int(v) == int(std::floor(v));
+        if (!ok && wrong++ == 0) first_wrong = v;
+    }
+    INFO("first wrong value " << first_wrong);
+    CHECK(wrong == 0);
+}
