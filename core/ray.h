@@ -47,6 +47,16 @@ inline Vec3 offset_ray_origin(const Vec3& p, float p_error, const Vec3& n, const
     return po;
 }
 
+// The same segment as `ray` (spawn_ray_to's shadow rays have no unit direction), with a unit
+// direction and tmax measured in its units.
+inline Ray unit_direction(const Ray& ray) {
+    float length = glm::length(ray.d);
+    Ray r(ray.o, ray.d / length, ray.tmax * length);
+    r.tmin = ray.tmin * length;
+    r.time = ray.time;
+    return r;
+}
+
 // A point on a surface, as found by a ray or produced by sampling.
 struct SurfaceInteraction {
     Vec3 p{0.0f};
@@ -72,14 +82,15 @@ struct SurfaceInteraction {
         r.time = time;
         return r;
     }
-    // A shadow ray toward `target`, stopping just short of it. A target on a surface (normal not
-    // zero) is offset off that surface by its own error bound.
+    // A shadow ray toward `target`, stopping just short of it. As in Mitsuba 3 its direction is
+    // target - origin, not a unit vector, and tmax is 1 - ShadowEpsilon: a visibility query needs
+    // no more, and the square root and divisions of a normalisation stood between every light
+    // sample and its query. Whatever measures distance along it takes unit_direction() first. A
+    // target on a surface (normal not zero) is offset off that surface by its own error bound.
     Ray spawn_ray_to(const Vec3& target, const Vec3& target_normal = Vec3(0.0f), float target_error = 0.0f) const {
         Vec3 o = offset_ray_origin(p, p_error, n, target - p);
         Vec3 t = target_normal == Vec3(0.0f) ? target : offset_ray_origin(target, target_error, target_normal, o - target);
-        Vec3 dir = t - o;
-        float dist = glm::length(dir);
-        Ray r(o, dir / dist, dist * (1.0f - ShadowEpsilon));
+        Ray r(o, t - o, 1.0f - ShadowEpsilon);
         r.time = time;
         return r;
     }

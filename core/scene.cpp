@@ -99,7 +99,7 @@ Spectrum Scene::transmittance(const Ray& shadow_ray, const Medium* medium, PCG32
     // (coplanar layers that the offsets cannot separate) is taken as blocked rather than looping.
     const int MaxCrossings = 256;
     Spectrum T(1.0f);
-    Ray ray = shadow_ray;
+    Ray ray = unit_direction(shadow_ray);  // distances along it are measured below
     for (int crossed = 0; crossed < MaxCrossings; ++crossed) {
         SurfaceInteraction si;
         bool found = intersect(ray, si);
