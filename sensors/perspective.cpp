@@ -40,7 +40,8 @@ public:
     }
 
     Ray sample_ray(const Vec2& film_pos, const Vec2&, float time) const override {
-        Vec3 d_local = glm::normalize(projection_.direction(film_fraction(film_pos)));
+        // Camera space, scaled to depth 1: one normalisation, after to_world (which may scale).
+        Vec3 d_local = projection_.direction(film_fraction(film_pos));
         Ray ray;
         ray.time = time;
         if (motion_.is_animated()) {
@@ -51,10 +52,11 @@ public:
             ray.o = origin_;
             ray.d = glm::normalize(to_world_.apply_vector(d_local));
         }
-        // Clip planes are at camera-space depths, so the ray parameter depends on the angle.
-        float inv_z = 1.0f / d_local.z;
-        ray.tmin = near_clip_ * inv_z;
-        ray.tmax = far_clip_ * inv_z;
+        // Clip planes are at camera-space depths, so the ray parameter depends on the angle: depth
+        // z lies at distance z |d_local| along the ray, as d_local has depth 1.
+        float length_per_depth = glm::length(d_local);
+        ray.tmin = near_clip_ * length_per_depth;
+        ray.tmax = far_clip_ * length_per_depth;
         return ray;
     }
 
