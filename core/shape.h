@@ -65,11 +65,15 @@ struct TessellatedPart {
 };
 
 // What Embree reports for a closest hit; shapes turn it into a SurfaceInteraction.
+// The fields are not in RTCRayHit's order on purpose: Embree stores its hit fields one by one,
+// and where two neighbours there were neighbours here too, the copy read them back as one 8-byte
+// load that had to wait for both stores to reach the cache (store forwarding cannot merge them).
 struct RayHit {
     float t = Infinity;
-    float u = 0.0f, v = 0.0f;  // barycentrics for triangles, shape-defined otherwise
     unsigned prim_index = 0;
+    float u = 0.0f;                    // barycentrics (u, v) for triangles, shape-defined otherwise
     unsigned instance_geometry = ~0u;  // for a hit on an instance: the geometry hit inside its group
+    float v = 0.0f;
 };
 
 class Shape : public Object {
