@@ -1,11 +1,13 @@
 // bench_throughput: how close the path tracer comes to Embree's raw ray throughput.
 //
-//   bench_throughput [SCENE.xml] [--threads N] [--spp N] [--rays N]
+//   bench_throughput [SCENE.xml] [--threads N] [--spp N] [--rays N] [--rounds N]
 //
 // On one scene and one thread count it reports (1) raw Embree closest-hit throughput on
 // incoherent rays (random points inside the scene's bounds, uniformly random directions),
 // (2) the path tracer's rays per second and samples per second on the same scene, and (3) the
-// ratio of the two. A second render of the same scene is sampled by a profiling timer (SIGPROF
+// ratio of the two. It measures the two in turn, `rounds` times (default 5), and prints every
+// round's ratio and their median: on a shared machine a neighbour's load that lands on one half
+// of a single pair moves its ratio by 10% and more either way, while each pair is side by side. A second render of the same scene is sampled by a profiling timer (SIGPROF
 // every millisecond of CPU time) to give (4) the share of the path tracer's time spent inside
 // Embree, and from it the rate at which Embree traces the path tracer's own rays. It prints
 // figures and asserts nothing.
@@ -22,6 +24,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <algorithm>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
@@ -57,13 +60,14 @@ double embree_share(const Scene& scene, const RenderOptions& options) {
 
 int main(int argc, char** argv) {
     std::string scene_path = std::string(CANDELA_SOURCE_DIR) + "/scenes/cbox.xml";
-    int threads = 0, spp = 64;
+    int threads = 0, spp = 64, rounds = 5;
     long long ray_count = 20000000;
     for (int i = 1; i < argc; ++i) {
         std::string a = argv[i];
         if (a == "--threads" && i + 1 < argc) threads = std::atoi(argv[++i]);
         else if (a == "--spp" && i + 1 < argc) spp = std::atoi(argv[++i]);
         else if (a == "--rays" && i + 1 < argc) ray_count = std::atoll(argv[++i]);
+        else if (a == "--rounds" && i + 1 < argc) rounds = std::max(1, std::atoi(argv[++i]));
         else scene_path = a;
     }
     Ref<Scene> scene = load_scene(scene_path);
@@ -84,35 +88,44 @@ int main(int argc, char** argv) {
             rays[i] = Ray(o, warp::square_to_uniform_sphere(Vec2(a, rng.next_float())));
         }
     });
-    std::atomic<long long> hits{0};
-    auto t0 = std::chrono::steady_clock::now();
-    arena.execute([&] {
-        parallel_chunks(rays.size(), 4096, [&](size_t begin, size_t end) {
-            long long local = 0;
-            RayHit hit;
-            for (size_t i = begin; i != end; ++i) local += scene->accel().intersect(rays[i], hit) != nullptr;
-            hits += local;
-        });
-    });
-    double embree_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    double embree_mrays = double(ray_count) / embree_s * 1e-6;
-
     RenderOptions options;
     options.spp = spp;
     options.threads = threads;
-    RenderResult result = scene->integrator().render(*scene, options);
-    double path_mrays = double(result.stats.rays) / result.stats.seconds * 1e-6;
-    double samples_per_s = double(result.stats.samples) / result.stats.seconds;
-
     std::printf("scene                     %s\n", scene_path.c_str());
     std::printf("threads                   %d\n", used_threads);
-    std::printf("embree closest-hit rays   %lld incoherent, %.1f%% hit, %.3f s\n", ray_count, 100.0 * double(hits) / double(ray_count), embree_s);
-    std::printf("embree Mrays/s            %.2f\n", embree_mrays);
-    std::printf("path tracer               %d spp, %.3f s, %llu rays (%.2f per sample)\n", result.stats.spp, result.stats.seconds,
+    std::printf("round  embree Mrays/s  path Mrays/s  path samples/s  ratio path/embree\n");
+    std::vector<double> ratios;
+    long long hits = 0;
+    RenderResult result;
+    for (int round = 0; round < rounds; ++round) {
+        std::atomic<long long> round_hits{0};
+        auto t0 = std::chrono::steady_clock::now();
+        arena.execute([&] {
+            parallel_chunks(rays.size(), 4096, [&](size_t begin, size_t end) {
+                long long local = 0;
+                RayHit hit;
+                for (size_t i = begin; i != end; ++i) local += scene->accel().intersect(rays[i], hit) != nullptr;
+                round_hits += local;
+            });
+        });
+        double embree_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        double embree_mrays = double(ray_count) / embree_s * 1e-6;
+        hits = round_hits;
+
+        result = scene->integrator().render(*scene, options);
+        double path_mrays = double(result.stats.rays) / result.stats.seconds * 1e-6;
+        double samples_per_s = double(result.stats.samples) / result.stats.seconds;
+        ratios.push_back(path_mrays / embree_mrays);
+        std::printf("%5d  %14.2f  %12.2f  %14.0f  %17.3f\n", round + 1, embree_mrays, path_mrays, samples_per_s, ratios.back());
+    }
+    std::printf("embree closest-hit rays   %lld incoherent per round, %.1f%% hit\n", ray_count, 100.0 * double(hits) / double(ray_count));
+    std::printf("path tracer               %d spp, %llu rays per round (%.2f per sample)\n", result.stats.spp,
                 (unsigned long long)result.stats.rays, double(result.stats.rays) / double(result.stats.samples));
-    std::printf("path tracer Mrays/s       %.2f\n", path_mrays);
-    std::printf("path tracer samples/s     %.0f\n", samples_per_s);
-    std::printf("ratio path/embree Mrays   %.3f\n", path_mrays / embree_mrays);
+    std::vector<double> sorted = ratios;
+    std::sort(sorted.begin(), sorted.end());
+    double median = sorted.size() % 2 ? sorted[sorted.size() / 2] : 0.5 * (sorted[sorted.size() / 2 - 1] + sorted[sorted.size() / 2]);
+    std::printf("ratio path/embree Mrays   median %.3f of %d rounds (lowest %.3f, highest %.3f)\n", median, rounds, sorted.front(), sorted.back());
+    double path_mrays = double(result.stats.rays) / result.stats.seconds * 1e-6;
     double share = embree_share(*scene, options);
     std::printf("share of time inside Embree %.1f%% (%ld profiler ticks)\n", 100.0 * share, g_samples_total.load());
     std::printf("embree Mrays/s on its rays  %.2f (path tracer rays / time inside Embree)\n", path_mrays / share);
