@@ -29,6 +29,7 @@ public:
         if (to_world_.determinant3() < 0.0f) flip_normals_ = !flip_normals_;
         finalize(props, false);
         corner_ = to_world_.apply_point(Vec3(-1, -1, 0));
+        centre_ = to_world_.apply_point(Vec3(0, 0, 0));
         Vec3 ex = to_world_.apply_vector(Vec3(2, 0, 0)), ey = to_world_.apply_vector(Vec3(0, 2, 0));
         len_x_ = glm::length(ex);
         len_y_ = glm::length(ey);
@@ -105,6 +106,19 @@ private:
 
     bool spherical(const Vec3& o, SphericalRectangle& sr) const {
         if (!orthogonal_) return false;
+        // Seen from afar the rectangle's solid angle is nearly A |cos| / r^2 everywhere on it and
+        // area sampling is almost as good, at a fraction of the cost (no acos, sin, cos). The
+        // choice must depend on the point only, as pdf_direction repeats it: the estimate
+        // A |z0| / r^3 from the rectangle's centre is such a function. It is decided first, from
+        // the centre alone, as most points of a scene sample by area.
+        Vec3 to_centre = centre_ - o;
+        float z0 = glm::dot(to_centre, z_), r2 = squared_length(to_centre);
+        // Too close to the plane: the spherical rectangle degenerates.
+        if (std::abs(z0) < 1e-4f * std::max(len_x_, len_y_)) return false;
+        // Squared, A^2 z0^2 < k^2 r^6, to keep a square root's latency off every light sample
+        // (beyond float range r^6 is infinite and the point, that far away, samples by area).
+        float a = len_x_ * len_y_ * z0;
+        if (a * a < kSphericalMinSolidAngle * kSphericalMinSolidAngle * (r2 * r2 * r2)) return false;
         Vec3 d = corner_ - o;
         sr.x = x_;
         sr.z = z_;
@@ -117,19 +131,6 @@ private:
         sr.y0 = glm::dot(d, y_);
         sr.x1 = sr.x0 + len_x_;
         sr.y1 = sr.y0 + len_y_;
-        // Too close to the plane: the spherical rectangle degenerates.
-        float scale = std::max(len_x_, len_y_);
-        if (std::abs(sr.z0) < 1e-4f * scale) return false;
-        // Seen from afar the rectangle's solid angle is nearly A |cos| / r^2 everywhere on it and
-        // area sampling is almost as good, at a fraction of the cost (no acos, sin, cos). The
-        // choice must depend on the point only, as pdf_direction repeats it: the estimate
-        // A |z0| / r^3 from the rectangle's centre is such a function.
-        float cx = sr.x0 + 0.5f * len_x_, cy = sr.y0 + 0.5f * len_y_;
-        float r2 = cx * cx + cy * cy + sr.z0 * sr.z0;
-        // Squared, A^2 z0^2 < k^2 r^6, to keep a square root's latency off every light sample
-        // (beyond float range r^6 is infinite and the point, that far away, samples by area).
-        float a = len_x_ * len_y_ * sr.z0;
-        if (a * a < kSphericalMinSolidAngle * kSphericalMinSolidAngle * (r2 * r2 * r2)) return false;
         // The normals of the four edge planes through the point, n_i = normalize(v_i x v_i+1),
         // have closed forms in these coordinates (Urena et al. 2013, section 3.1):
         //   n0 = (0, z0, -y0) / r(y0)   n1 = (-z0, 0, x1) / r(x1)
@@ -155,7 +156,7 @@ private:
     // sampling everywhere (bench: the light's relMSE and time at 0, 0.02 ... 0.5 and "always").
     static constexpr float kSphericalMinSolidAngle = 0.1f;
 
-    Vec3 corner_, ex_, ey_, x_, y_, z_, normal_;
+    Vec3 corner_, centre_, ex_, ey_, x_, y_, z_, normal_;
     float len_x_ = 0.0f, len_y_ = 0.0f;
     float position_error_ = 0.0f;  // the error bound of every point sample_position() returns
     bool orthogonal_ = false;
