@@ -74,19 +74,27 @@ inline int floor_to_int(float x) {
     return float(i) > x ? i - 1 : i;
 }
 
-// The neighbouring floats of v toward +infinity and -infinity: std::nextafter's results
-// (zero of either sign steps to the smallest subnormal), by stepping the bit pattern, since libm's
-// nextafterf is an out-of-line call and ray offsets take up to three per ray (pbrt-v4, 6.8.5).
-inline float next_float_up(float v) {
-    if (v == Infinity) return v;
-    if (v == 0.0f) return std::numeric_limits<float>::denorm_min();
+// The neighbouring float of v toward the sign of `direction` (v itself when direction is 0 or
+// NaN): std::nextafter(v, direction * infinity), with zero of either sign stepping to the
+// smallest subnormal of the direction's sign. By stepping the bit pattern, since libm's
+// nextafterf is an out-of-line call and ray offsets take up to six per ray (pbrt-v4, 6.8.5);
+// with integer selects only, because which way each coordinate of an offset ray origin moves
+// depends on the surface and a branch on it was often mispredicted.
+inline float next_float_toward(float v, float direction) {
     uint32_t bits;
     std::memcpy(&bits, &v, sizeof bits);
-    bits = v > 0.0f ? bits + 1 : bits - 1;
-    std::memcpy(&v, &bits, sizeof v);
+    const uint32_t magnitude = bits & 0x7fffffffu;
+    const bool up = direction > 0.0f, keep = !(up || direction < 0.0f);
+    const uint32_t from = magnitude == 0 ? (up ? 0u : 0x80000000u) : bits;  // zero takes the direction's sign
+    const bool away_from_zero = up == ((from >> 31) == 0);
+    // An infinity stepping further out stays where it is.
+    const bool stays = keep || (magnitude == 0x7f800000u && away_from_zero);
+    const uint32_t result = stays ? bits : (away_from_zero ? from + 1 : from - 1);
+    std::memcpy(&v, &result, sizeof v);
     return v;
 }
-inline float next_float_down(float v) { return -next_float_up(-v); }
+inline float next_float_up(float v) { return next_float_toward(v, 1.0f); }
+inline float next_float_down(float v) { return next_float_toward(v, -1.0f); }
 
 // Veach's power heuristic (beta = 2) for combining two sampling strategies; the weight of the
 // strategy with density `pdf_a`. An infinite density (a delta) takes all the weight.

@@ -40,10 +40,7 @@ inline Vec3 offset_ray_origin(const Vec3& p, float p_error, const Vec3& n, const
     if (glm::dot(d, n) < 0.0f) offset = -offset;
     Vec3 po = p + offset;
     // Round away from p so that the rounding of the addition cannot undo the offset.
-    for (int i = 0; i < 3; ++i) {
-        if (offset[i] > 0.0f) po[i] = next_float_up(po[i]);
-        else if (offset[i] < 0.0f) po[i] = next_float_down(po[i]);
-    }
+    for (int i = 0; i < 3; ++i) po[i] = next_float_toward(po[i], offset[i]);
     return po;
 }
 

@@ -19,7 +19,7 @@ bool same_bits(float a, float b) {
 }
 }  // namespace
 
-TEST_CASE("math: next_float_up and next_float_down are std::nextafter toward +-infinity", "[math]") {
+TEST_CASE("math: next_float_up, next_float_down and next_float_toward are std::nextafter toward +-infinity", "[math]") {
     const float denorm = std::numeric_limits<float>::denorm_min(), largest = std::numeric_limits<float>::max();
     std::vector<float> values = {0.0f, -0.0f, denorm, -denorm, 1.0f, -1.0f, 0x1p-126f, -0x1p-126f, largest, -largest, Infinity, -Infinity};
     // Random bit patterns cover every exponent and sign; NaNs are left out (no ray offset sees one).
@@ -33,7 +33,10 @@ TEST_CASE("math: next_float_up and next_float_down are std::nextafter toward +-i
     int wrong = 0;
     float first_wrong = 0.0f;
     for (float v : values) {
-        bool ok = same_bits(next_float_up(v), std::nextafter(v, Infinity)) && same_bits(next_float_down(v), std::nextafter(v, -Infinity));
+        bool ok = same_bits(next_float_up(v), std::nextafter(v, Infinity)) && same_bits(next_float_down(v), std::nextafter(v, -Infinity)) &&
+                  same_bits(next_float_toward(v, 0.25f), std::nextafter(v, Infinity)) &&
+                  same_bits(next_float_toward(v, -3.0f), std::nextafter(v, -Infinity)) && same_bits(next_float_toward(v, 0.0f), v) &&
+                  same_bits(next_float_toward(v, -0.0f), v) && same_bits(next_float_toward(v, std::nanf("")), v);
         if (!ok && wrong++ == 0) first_wrong = v;
     }
     INFO("first wrong value " << first_wrong);
