@@ -7,10 +7,10 @@
 // (2) the path tracer's rays per second and samples per second on the same scene, and (3) the
 // ratio of the two. It measures the two in turn, `rounds` times (default 5), and prints every
 // round's ratio and their median: on a shared machine a neighbour's load that lands on one half
-// of a single pair moves its ratio by 10% and more either way, while each pair is side by side. A second render of the same scene is sampled by a profiling timer (SIGPROF
-// every millisecond of CPU time) to give (4) the share of the path tracer's time spent inside
-// Embree, and from it the rate at which Embree traces the path tracer's own rays. It prints
-// figures and asserts nothing.
+// of a single pair moves its ratio by 10% and more either way, while each pair is side by side.
+// A second render of the same scene is sampled by a profiling timer (SIGPROF every millisecond of
+// CPU time) to give (4) the share of the path tracer's time spent inside Embree, and from it the
+// rate at which Embree traces the path tracer's own rays. It prints figures and asserts nothing.
 
 #include "core/parallel.h"
 #include "core/profiling.h"
@@ -22,9 +22,9 @@
 
 #include <sys/time.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <algorithm>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
@@ -96,6 +96,7 @@ int main(int argc, char** argv) {
     std::printf("round  embree Mrays/s  path Mrays/s  path samples/s  ratio path/embree\n");
     std::vector<double> ratios;
     long long hits = 0;
+    double path_mrays = 0.0;  // the last round's, for the Embree-share line
     RenderResult result;
     for (int round = 0; round < rounds; ++round) {
         std::atomic<long long> round_hits{0};
@@ -113,7 +114,7 @@ int main(int argc, char** argv) {
         hits = round_hits;
 
         result = scene->integrator().render(*scene, options);
-        double path_mrays = double(result.stats.rays) / result.stats.seconds * 1e-6;
+        path_mrays = double(result.stats.rays) / result.stats.seconds * 1e-6;
         double samples_per_s = double(result.stats.samples) / result.stats.seconds;
         ratios.push_back(path_mrays / embree_mrays);
         std::printf("%5d  %14.2f  %12.2f  %14.0f  %17.3f\n", round + 1, embree_mrays, path_mrays, samples_per_s, ratios.back());
@@ -125,7 +126,6 @@ int main(int argc, char** argv) {
     std::sort(sorted.begin(), sorted.end());
     double median = sorted.size() % 2 ? sorted[sorted.size() / 2] : 0.5 * (sorted[sorted.size() / 2 - 1] + sorted[sorted.size() / 2]);
     std::printf("ratio path/embree Mrays   median %.3f of %d rounds (lowest %.3f, highest %.3f)\n", median, rounds, sorted.front(), sorted.back());
-    double path_mrays = double(result.stats.rays) / result.stats.seconds * 1e-6;
     double share = embree_share(*scene, options);
     std::printf("share of time inside Embree %.1f%% (%ld profiler ticks)\n", 100.0 * share, g_samples_total.load());
     std::printf("embree Mrays/s on its rays  %.2f (path tracer rays / time inside Embree)\n", path_mrays / share);

@@ -93,8 +93,6 @@ inline float next_float_toward(float v, float direction) {
     std::memcpy(&v, &result, sizeof v);
     return v;
 }
-inline float next_float_up(float v) { return next_float_toward(v, 1.0f); }
-inline float next_float_down(float v) { return next_float_toward(v, -1.0f); }
 
 // Veach's power heuristic (beta = 2) for combining two sampling strategies; the weight of the
 // strategy with density `pdf_a`. An infinite density (a delta) takes all the weight.
