@@ -5,8 +5,8 @@
 #   2. asan      clang build with AddressSanitizer + UndefinedBehaviorSanitizer (and libFuzzer's
 #                coverage, so that the fuzzers come from the same build): the unit and CLI tests
 #                under them, the statistical ones at CANDELA_TEST_EFFORT=0.1 (tests/util.h), the
-#                end-to-end verification against references (validate, converge: renders at the
-#                sample counts their fixed tolerances need) left to stage 1;
+#                end-to-end verification against references (renders at the sample counts their
+#                fixed tolerances need) and the real-Slurm farm left to stage 1 (release_only);
 #   3. tsan      clang build with ThreadSanitizer: the tests of the parallel paths (parallel_paths
 #                below);
 #   4. fuzz      every libFuzzer target for FUZZ_SECONDS (default 45) each, two at a time.
