@@ -94,15 +94,23 @@ int main(int argc, char** argv) {
     std::printf("scene                     %s\n", scene_path.c_str());
     std::printf("threads                   %d\n", used_threads);
     std::printf("round  embree Mrays/s  path Mrays/s  path samples/s  ratio path/embree\n");
+    // Closest hits for the first `count` rays, traced by the arena's threads; how many hit.
+    auto trace = [&](size_t count) {
+        std::atomic<long long> hits{0};
+        arena.execute([&] {
+            parallel_chunks(count, 4096, [&](size_t begin, size_t end) {
+                long long local = 0;
+                RayHit hit;
+                for (size_t i = begin; i != end; ++i) local += scene->accel().intersect(rays[i], hit) != nullptr;
+                hits += local;
+            });
+        });
+        return hits.load();
+    };
     // One untimed pass over a slice of the rays and a small render first: the first timed round
     // otherwise caught the arena's threads and Embree's data cold (9.45 Mrays/s against 14.8 in
     // the rounds after it, 2026-12-02).
-    arena.execute([&] {
-        parallel_chunks(std::min<size_t>(rays.size(), 1000000), 4096, [&](size_t begin, size_t end) {
-            RayHit hit;
-            for (size_t i = begin; i != end; ++i) scene->accel().intersect(rays[i], hit);
-        });
-    });
+    trace(std::min<size_t>(rays.size(), 1000000));
     RenderOptions warm_up = options;
     warm_up.spp = 1;
     scene->integrator().render(*scene, warm_up);
@@ -111,19 +119,10 @@ int main(int argc, char** argv) {
     double path_mrays = 0.0;  // the last round's, for the Embree-share line
     RenderResult result;
     for (int round = 0; round < rounds; ++round) {
-        std::atomic<long long> round_hits{0};
         auto t0 = std::chrono::steady_clock::now();
-        arena.execute([&] {
-            parallel_chunks(rays.size(), 4096, [&](size_t begin, size_t end) {
-                long long local = 0;
-                RayHit hit;
-                for (size_t i = begin; i != end; ++i) local += scene->accel().intersect(rays[i], hit) != nullptr;
-                round_hits += local;
-            });
-        });
+        hits = trace(rays.size());
         double embree_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         double embree_mrays = double(ray_count) / embree_s * 1e-6;
-        hits = round_hits;
 
         result = scene->integrator().render(*scene, options);
         path_mrays = double(result.stats.rays) / result.stats.seconds * 1e-6;

@@ -36,14 +36,13 @@ release() {
     ctest --test-dir build --output-on-failure --timeout 1500 -j"$jobs"
 }
 
-# Whole-scene verification against references with fixed tolerances (and the error trends that
-# come with them), run in the release stage only: they need their full sample counts, and the
-# sanitizers see the same code in smaller tests ("light paths:" runs sppm and photonmapper with 1
-# and 2 threads, "radiosity: bit-identical" the solver and its final gather).
-long_verification='^(validate|converge|sppm: agrees|photonmapper: the Cornell box|radiosity: the Cornell box agrees|radiosity: the smooth display)'
-# The real-Slurm farm test drives the candela program through sbatch; the sanitizers see the
-# program's farm code in the "farm cli:" tests, so it too runs in the release stage only.
-release_only="$long_verification|^farm\.slurm\$"
+# Run in the release stage only: the whole-scene verification against references with fixed
+# tolerances (and the error trends that come with them), which needs its full sample counts while
+# the sanitizers see the same code in smaller tests ("light paths:" runs sppm and photonmapper with
+# 1 and 2 threads, "radiosity: bit-identical" the solver and its final gather); and the real-Slurm
+# farm test, which drives the candela program through sbatch while the sanitizers see the
+# program's farm code in the "farm cli:" tests.
+release_only='^(validate|converge|sppm: agrees|photonmapper: the Cornell box|radiosity: the Cornell box agrees|radiosity: the smooth display)|^farm\.slurm$'
 
 asan() {
     CXX=clang++ cmake -S . -B build-asan -DCANDELA_FUZZ=ON -DBUILD_TESTING=ON
