@@ -103,10 +103,10 @@ struct FrameBuffers {
     std::vector<Spectrum> color;  // the radiance so far
     // Per light (lights): its shadow map, when shadows are mapped.
     std::vector<ShadowMap> shadow_maps;
-    // Scratch of the lights pass: per chunk of samples, the shadow-map resolution each cube face
-    // needs; the resolution chosen per face; per sample, the view depth and the shadow-volume
+    // Scratch of the lights pass: per chunk of samples, what each shadow-map face needs
+    // (resolution and window); the resolution chosen per face; per sample, the view depth and the shadow-volume
     // mask; per vertex, Gouraud's lighting.
-    std::vector<std::array<float, 6>> shadow_map_needs;
+    std::vector<ShadowMapNeeds> shadow_map_needs;
     std::vector<int> shadow_map_resolution;
     std::vector<float> view_depth;
     std::vector<uint8_t> lit;

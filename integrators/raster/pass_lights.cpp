@@ -92,40 +92,41 @@ Spectrum sample_light(const FrameSetup& f, const FrameBuffers& b, size_t i, cons
 bool receives_light(const FrameBuffers& b, size_t i) { return b.triangle[i] != NoTriangle && b.surface[i].lit_side; }
 
 // The shadow map of `light` for this frame. A face that no receiving sample looks up is left
-// out. Each face's resolution is the setting's, or, when the settings leave it to the view, the
-// finest that a sample looking it up needs: a texel no larger than the spacing of the camera's
-// samples there (at most AutoShadowMapLimit texels per side).
+// out, and of the others only the window that samples look up is rendered. Each face's
+// resolution is the setting's, or, when the settings leave it to the view, the finest that a
+// sample looking it up needs: a texel no larger than the spacing of the camera's samples there
+// (at most AutoShadowMapLimit texels per side).
 void render_shadow_map(const FrameSetup& f, FrameBuffers& b, const LocalLight& light, ShadowMap& map) {
     constexpr int AutoShadowMapLimit = 1024;
     map.place(light, f.geometry);
-    using Needs = std::array<float, 6>;  // per face: 0 unused, else the resolution it needs
-    // Per chunk of samples, then combined: max is exact in any order.
+    // Per chunk of samples, then combined: max and min are exact in any order.
     const size_t chunk = 4096, chunks = (f.sample_count() + chunk - 1) / chunk;
-    std::vector<Needs>& chunk_needs = b.shadow_map_needs;
-    chunk_needs.assign(chunks, Needs{});
+    std::vector<ShadowMapNeeds>& chunk_needs = b.shadow_map_needs;
+    chunk_needs.assign(chunks, ShadowMapNeeds{});
+    const float spacing_per_depth = f.sample_spacing(1.0f);  // proportional to view depth
     parallel_for(chunks, [&](size_t c) {
-        Needs& acc = chunk_needs[c];
+        ShadowMapNeeds& acc = chunk_needs[c];
         for (size_t i = c * chunk; i != std::min(f.sample_count(), (c + 1) * chunk); ++i) {
             if (!receives_light(b, i)) continue;
             const Vec3& p = b.surface[i].p;
             int face = map.face_of(p);
-            float need = map.resolution_needed(face, p, f.sample_spacing(b.depth[i]));
-            acc[size_t(face)] = std::max(acc[size_t(face)], std::isfinite(need) ? std::max(need, 1.0f) : float(AutoShadowMapLimit));
+            float need = map.resolution_needed(face, p, spacing_per_depth * b.depth[i]);
+            acc[size_t(face)].add(std::isfinite(need) ? std::max(need, 1.0f) : float(AutoShadowMapLimit), map.face_position(face, p));
         }
     });
-    Needs needs{};
-    for (const Needs& c : chunk_needs)
-        for (size_t k = 0; k < needs.size(); ++k) needs[k] = std::max(needs[k], c[k]);
+    ShadowMapNeeds needs{};
+    for (const ShadowMapNeeds& c : chunk_needs)
+        for (size_t k = 0; k < needs.size(); ++k) needs[k].merge(c[k]);
     std::vector<int>& resolution = b.shadow_map_resolution;
     resolution.assign(map.face_count(), 0);
     for (size_t k = 0; k < resolution.size(); ++k) {
-        if (needs[k] <= 0.0f) continue;
+        if (needs[k].resolution <= 0.0f) continue;
         int fixed = f.settings.shadow_map_resolution;
         // Rounded up to whole rasterizer tiles: the size changes only in steps as the view moves.
-        int chosen = std::min(AutoShadowMapLimit, (int(std::ceil(needs[k])) + TileSize - 1) / TileSize * TileSize);
+        int chosen = std::min(AutoShadowMapLimit, (int(std::ceil(needs[k].resolution)) + TileSize - 1) / TileSize * TileSize);
         resolution[k] = fixed > 0 ? fixed : chosen;
     }
-    map.render(f.geometry, resolution);
+    map.render(f.geometry, resolution, needs.data(), f.settings.pcf);
 }
 
 // One light: its shadow, then visibility times lighting added to every lit sample.

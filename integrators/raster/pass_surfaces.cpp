@@ -4,11 +4,9 @@
 // environment seen by reflection and refraction; where no surface is, the environment itself.
 
 #include "core/bsdf.h"
-#include "core/mesh.h"
 #include "core/parallel.h"
 #include "integrators/raster/environment.h"
 #include "integrators/raster/frame.h"
-
 
 namespace candela::raster {
 
@@ -47,8 +45,9 @@ SurfaceSample reconstruct(const FrameSetup& f, uint32_t t, const Vec3& b) {
     const RasterShape& rs = g.shapes[g.triangle_shape[t]];
     const Vec3 &p0 = g.positions[v.x], &p1 = g.positions[v.y], &p2 = g.positions[v.z];
     SurfaceSample ss;
+    const TriangleFrame& frame = g.triangle_frames[t];
     ss.p = b.x * p0 + b.y * p1 + b.z * p2;
-    ss.n_geo = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+    ss.n_geo = frame.n;
     ss.uv = b.x * g.uvs[v.x] + b.y * g.uvs[v.y] + b.z * g.uvs[v.z];
     ss.v = glm::normalize(f.camera.eye - ss.p);
     const RasterSettings::Shading shading = f.settings.shading;
@@ -58,7 +57,8 @@ SurfaceSample reconstruct(const FrameSetup& f, uint32_t t, const Vec3& b) {
         si.p = ss.p;
         si.n = ss.n_geo;
         si.uv = ss.uv;
-        triangle_tangents(p0, p1, p2, g.uvs[v.x], g.uvs[v.y], g.uvs[v.z], ss.n_geo, si.dpdu, si.dpdv);
+        si.dpdu = frame.dpdu;
+        si.dpdv = frame.dpdv;
         si.shading = Frame::from_normal_tangent(n, si.dpdu);
         n = rs.bsdf->shading_frame(si).n;
     }
@@ -76,6 +76,8 @@ SurfaceSample reconstruct(const FrameSetup& f, uint32_t t, const Vec3& b) {
 // projected from the position), filtered over the footprint of the sample at `pos`: the
 // derivatives per pixel come from the triangle's homogeneous setup.
 Spectrum filtered_albedo(const FrameSetup& f, const Texture& texture, const HomogeneousSetup& h, uint32_t t, const Vec2& surface_uv, const Vec3& p, const Vec2& pos) {
+    // A constant texture is the same everywhere: no mapping, no footprint.
+    if (texture.is_constant()) return texture.eval(surface_uv);
     const RasterGeometry& g = f.geometry;
     const glm::uvec3& v = g.triangles[t];
     const TextureMapping& mapping = texture.mapping();
@@ -127,8 +129,9 @@ void surface_pass(const FrameSetup& f, FrameBuffers& b) {
     parallel_for(g.triangles.size(), [&](size_t i) { setups[i] = homogeneous_setup(b.clip[i].data(), f.full, f.offset); });
     const RasterSettings& s = f.settings;
     EnvironmentLookup environment(f.scene, s.cube_mapping ? EnvironmentLookup::Mode::Cube : EnvironmentLookup::Mode::LatLong, s.cube_resolution, s.cube_map);
-    b.surface.assign(f.sample_count(), SurfaceSample{});
-    b.color.assign(f.sample_count(), Spectrum(0.0f));
+    // Every sample's surface and colour is written below (in parallel, not cleared first).
+    b.surface.resize(f.sample_count());
+    b.color.resize(f.sample_count());
     parallel_for(size_t(f.height), [&](int y) {
         for (int x = 0; x < f.width; ++x)
             for (int k = 0; k < f.samples_per_pixel(); ++k) {
@@ -136,10 +139,12 @@ void surface_pass(const FrameSetup& f, FrameBuffers& b) {
                 Vec2 pos = f.sample_position(x, y, k);
                 uint32_t t = b.triangle[i];
                 if (t == NoTriangle) {
+                    b.surface[i] = SurfaceSample{};
                     b.color[i] = background(f, pos);
                     continue;
                 }
                 SurfaceSample& ss = b.surface[i] = reconstruct(f, t, b.bary[i]);
+                b.color[i] = Spectrum(0.0f);
                 if (!ss.lit_side) continue;  // one-sided materials are black from behind
                 const RasterShape& rs = g.shapes[g.triangle_shape[t]];
                 if (rs.material.diffuse) ss.kd = filtered_albedo(f, *rs.material.diffuse, setups[t], t, ss.uv, ss.p, pos);

@@ -1,5 +1,6 @@
 #include "integrators/raster/raster_scene.h"
 
+#include "core/mesh.h"
 #include "core/texture.h"
 #include "integrators/radiosity.h"
 
@@ -83,6 +84,19 @@ void add_shape(RasterGeometry& g, const Shape* shape, const TriangleSoup& soup, 
     g.shapes.push_back(rs);
 }
 
+// What both builders finish with: the bounding box and every triangle's frame.
+void finish(RasterGeometry& g) {
+    for (const Vec3& p : g.positions) g.bbox.expand(p);
+    g.triangle_frames.resize(g.triangles.size());
+    for (size_t i = 0; i < g.triangles.size(); ++i) {
+        const glm::uvec3& t = g.triangles[i];
+        const Vec3 &p0 = g.positions[t.x], &p1 = g.positions[t.y], &p2 = g.positions[t.z];
+        TriangleFrame& frame = g.triangle_frames[i];
+        frame.n = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+        triangle_tangents(p0, p1, p2, g.uvs[t.x], g.uvs[t.y], g.uvs[t.z], frame.n, frame.dpdu, frame.dpdv);
+    }
+}
+
 }  // namespace
 
 RasterGeometry build_geometry(const Scene& scene, int detail, bool displacement, int subdivisions) {
@@ -93,7 +107,7 @@ RasterGeometry build_geometry(const Scene& scene, int detail, bool displacement,
         shape->tessellate_parts(parts, detail);
         for (const TessellatedPart& part : parts) add_shape(g, part.shape, part.triangles, displacement, subdivisions);
     }
-    for (const Vec3& p : g.positions) g.bbox.expand(p);
+    finish(g);
     return g;
 }
 
@@ -106,7 +120,7 @@ RasterGeometry build_baked_geometry(const std::vector<RadiosityMesh>& meshes) {
         if (m.irradiance_back.empty()) g.baked_back.resize(g.baked_front.size(), Spectrum(0.0f));
         else g.baked_back.insert(g.baked_back.end(), m.irradiance_back.begin(), m.irradiance_back.end());
     }
-    for (const Vec3& p : g.positions) g.bbox.expand(p);
+    finish(g);
     return g;
 }
 

@@ -25,10 +25,17 @@ struct RasterShape {
     uint32_t first_triangle = 0, triangle_count = 0;
 };
 
+// A triangle's own frame: its unit face normal (the counter-clockwise side) and the tangents
+// dp/du, dp/dv of its uvs (triangle_tangents).
+struct TriangleFrame {
+    Vec3 n, dpdu, dpdv;
+};
+
 struct RasterGeometry {
     std::vector<Vec3> positions, normals;
     std::vector<Vec2> uvs;
     std::vector<glm::uvec3> triangles;
+    std::vector<TriangleFrame> triangle_frames;  // per triangle, computed once with the geometry
     std::vector<uint32_t> triangle_shape;  // index into shapes
     std::vector<uint32_t> vertex_shape;    // index into shapes: every vertex belongs to one shape
     std::vector<RasterShape> shapes;

@@ -60,6 +60,25 @@ void Rasterizer::setup(const std::vector<std::array<Vec4, 3>>& triangles, bool p
     }
 }
 
+void Rasterizer::clip_span(int64_t value_at_0, int64_t slope, int& first, int& last) {
+    // value_at_0 + x * step >= 0 with step the change per pixel, solved in exact integers:
+    // x >= ceil(-value_at_0 / step) for a positive step, x <= floor(value_at_0 / -step) for a
+    // negative one; a zero step keeps the row or empties it.
+    const int64_t step = slope * (int64_t(1) << SubpixelBits);
+    auto floor_div = [](int64_t n, int64_t d) { return n / d - (n % d != 0 && n < 0 ? 1 : 0); };  // d > 0
+    if (step == 0) {
+        if (value_at_0 < 0) last = first - 1;
+        return;
+    }
+    if (step > 0) {
+        int64_t lowest = -floor_div(value_at_0, step);  // ceil(-value_at_0 / step)
+        if (lowest > int64_t(first)) first = int(std::min<int64_t>(lowest, int64_t(last) + 1));
+    } else {
+        int64_t highest = floor_div(value_at_0, -step);
+        if (highest < int64_t(last)) last = int(std::max<int64_t>(highest, int64_t(first) - 1));
+    }
+}
+
 void Rasterizer::clip_and_add(const std::array<Vec4, 3>& tri, uint32_t id) {
     // Sutherland-Hodgman clipping in homogeneous coordinates against the six frustum planes
     // (plane value >= 0 inside); each vertex carries its barycentrics in the original triangle.

@@ -81,6 +81,9 @@ public:
 private:
     void clip_and_add(const std::array<Vec4, 3>& tri, uint32_t id);
     void add_screen_triangle(const Vec4 clip[3], const Vec3 bary[3], uint32_t id);
+    // Narrows the pixel columns [first, last] to those where value_at_0 + x * slope * 2^SubpixelBits
+    // >= 0 (an edge function plus its fill-rule bias along a row); empty when first > last.
+    static void clip_span(int64_t value_at_0, int64_t slope, int& first, int& last);
     template <typename Op> void raster_in_tile(const ScreenTriangle& t, int tx0, int ty0, int tx1, int ty1, Op& op) const;
 
     int width_ = 0, height_ = 0;
@@ -127,11 +130,18 @@ template <typename Op> void Rasterizer::raster_in_tile(const ScreenTriangle& t, 
     Fragment f;
     f.triangle = &t;
     for (int y = y0; y <= y1; ++y)
-        for (int x = x0; x <= x1; ++x)
-            for (int s = 0; s < ns; ++s) {
-                int64_t sx = (int64_t(x) << SubpixelBits) + offset_fx_[size_t(s)], sy = (int64_t(y) << SubpixelBits) + offset_fy_[size_t(s)];
+        for (int s = 0; s < ns; ++s) {
+            const int64_t sy = (int64_t(y) << SubpixelBits) + offset_fy_[size_t(s)], sx_at_0 = offset_fx_[size_t(s)];
+            // Along a row each edge function is affine in the pixel column x, so the samples
+            // inside all three edges form one span, solved for exactly: no sample outside the
+            // triangle is visited (its bounding box can be mostly empty).
+            int first = x0, last = x1;
+            clip_span(edge(b, c, sx_at_0, sy) + bias0, -(c.y - b.y), first, last);
+            clip_span(edge(c, a, sx_at_0, sy) + bias1, -(a.y - c.y), first, last);
+            clip_span(edge(a, b, sx_at_0, sy) + bias2, -(b.y - a.y), first, last);
+            for (int x = first; x <= last; ++x) {
+                int64_t sx = (int64_t(x) << SubpixelBits) + sx_at_0;
                 int64_t e0 = edge(b, c, sx, sy), e1 = edge(c, a, sx, sy), e2 = edge(a, b, sx, sy);
-                if (e0 + bias0 < 0 || e1 + bias1 < 0 || e2 + bias2 < 0) continue;
                 // Screen-space barycentrics; depth is affine in screen space.
                 double l0 = double(e0) * inv_area, l1 = double(e1) * inv_area, l2 = double(e2) * inv_area;
                 f.x = x;
@@ -149,6 +159,7 @@ template <typename Op> void Rasterizer::raster_in_tile(const ScreenTriangle& t, 
                 f.bary = Vec3(float(w0)) * a.bary + Vec3(float(w1)) * b.bary + Vec3(float(w2)) * c.bary;
                 op(f);
             }
+        }
 }
 
 }  // namespace candela::raster

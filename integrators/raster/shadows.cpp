@@ -71,12 +71,30 @@ float ShadowMap::resolution_needed(int face, const Vec3& p, float footprint) con
     return side / footprint;
 }
 
-void ShadowMap::render(const RasterGeometry& g, const std::vector<int>& resolution) {
+Vec2 ShadowMap::face_position(int face, const Vec3& p) const {
+    Vec4 c = faces_[size_t(face)].camera.clip(p);
+    if (!(c.w > 0.0f)) return Vec2(0.0f);  // behind the face: visibility() does not look it up
+    return glm::clamp(Vec2(c.x, c.y) / c.w, Vec2(-1.0f), Vec2(1.0f));
+}
+
+void ShadowMap::render(const RasterGeometry& g, const std::vector<int>& resolution, const FaceNeeds* needs, int pcf) {
     int skip = light_shape(light_, g);
     for (size_t i = 0; i < faces_.size(); ++i) {
-        faces_[i].resolution = resolution[i];
-        faces_[i].texel_scale = faces_[i].extent / float(std::max(resolution[i], 1));
-        if (resolution[i] > 0) render_depth(faces_[i], g, skip);
+        Face& f = faces_[i];
+        f.resolution = resolution[i];
+        f.texel_scale = f.extent / float(std::max(resolution[i], 1));
+        if (resolution[i] <= 0) continue;
+        // The window the samples look up, widened by the filter's half width and two texels for
+        // the normal offset, which moves a lookup by about one texel (face_visibility).
+        const int res = resolution[i], margin = std::max(pcf, 1) / 2 + 2;
+        auto texel_of = [&](float ndc) { return (ndc + 1.0f) * 0.5f * float(res); };
+        Vec2i lo(int(std::floor(texel_of(needs[i].lo.x))) - margin, int(std::floor(texel_of(needs[i].lo.y))) - margin);
+        Vec2i hi(int(std::ceil(texel_of(needs[i].hi.x))) + margin, int(std::ceil(texel_of(needs[i].hi.y))) + margin);
+        lo = glm::clamp(lo, Vec2i(0), Vec2i(res));
+        hi = glm::clamp(hi, Vec2i(0), Vec2i(res));
+        f.window_min = lo;
+        f.window_size = glm::max(hi - lo, Vec2i(1));
+        render_depth(f, g, skip);
     }
 }
 
@@ -87,13 +105,15 @@ void ShadowMap::render_depth(Face& f, const RasterGeometry& g, int skip_shape) {
         const glm::uvec3& t = g.triangles[i];
         f.clip.push_back({f.camera.clip(g.positions[t.x]), f.camera.clip(g.positions[t.y]), f.camera.clip(g.positions[t.z])});
     }
-    const int res = f.resolution;
-    f.rasterizer.set_target(res, res, Vec2i(res));
+    // The window is a crop of the whole face (the rasterizer's offset): texel (x, y) of the
+    // window is texel window_min + (x, y) of the face.
+    const int width = f.window_size.x;
+    f.rasterizer.set_target(width, f.window_size.y, Vec2i(f.resolution), f.window_min);
     f.rasterizer.setup(f.clip, true);
-    f.depth.assign(size_t(res) * res, Infinity);
+    f.depth.assign(size_t(width) * size_t(f.window_size.y), Infinity);
     bool ortho = f.camera.orthographic;
     f.rasterizer.run([&](const Fragment& frag) {
-        float& d = f.depth[size_t(frag.y) * res + frag.x];
+        float& d = f.depth[size_t(frag.y) * width + frag.x];
         float view = float(ortho ? linear_depth(f.camera, float(frag.depth)) : frag.w);
         if (view < d) d = view;
     });
@@ -113,13 +133,16 @@ float ShadowMap::face_visibility(const Face& f, const Vec3& p_surface, const Vec
     float tan_theta = std::min(safe_sqrt(1.0f - cos_theta * cos_theta) / std::max(cos_theta, 1e-3f), 10.0f);
     float bias = f.texel(depth) * (1.5f + 2.0f * tan_theta);
     int k = std::max(pcf, 1), half = k / 2;
-    int cx = int(std::floor(px)), cy = int(std::floor(py));
+    // In the window's texels; a lookup beyond it (a larger filter than the margin allows for)
+    // reads its edge, as one beyond the face reads the face's edge.
+    int cx = int(std::floor(px)) - f.window_min.x, cy = int(std::floor(py)) - f.window_min.y;
+    const int width = f.window_size.x, height = f.window_size.y;
     int lit = 0, total = 0;
     for (int dy = -half; dy < k - half; ++dy)
         for (int dx = -half; dx < k - half; ++dx) {
-            int x = std::clamp(cx + dx, 0, res - 1), y = std::clamp(cy + dy, 0, res - 1);
+            int x = std::clamp(cx + dx, 0, width - 1), y = std::clamp(cy + dy, 0, height - 1);
             ++total;
-            if (depth - bias <= f.depth[size_t(y) * res + x]) ++lit;
+            if (depth - bias <= f.depth[size_t(y) * width + x]) ++lit;
         }
     return float(lit) / float(total);
 }
