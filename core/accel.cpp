@@ -77,6 +77,16 @@ void Accel::build(const std::vector<Ref<Shape>>& shapes) {
     embree_build_hand_off().after_loop();
 }
 
+void write_padded_bounds(const BoundingBox& b, RTCBounds* out) {
+    Vec3 pad = (Vec3(1.0f) + glm::abs(b.min) + glm::abs(b.max)) * 1e-6f;
+    out->lower_x = b.min.x - pad.x;
+    out->lower_y = b.min.y - pad.y;
+    out->lower_z = b.min.z - pad.z;
+    out->upper_x = b.max.x + pad.x;
+    out->upper_y = b.max.y + pad.y;
+    out->upper_z = b.max.z + pad.z;
+}
+
 const Shape* Accel::intersect(const Ray& ray, RayHit& hit) const {
     ++g_rays_traced;
     RTCIntersectContext context;

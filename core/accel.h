@@ -70,6 +70,10 @@ private:
     std::atomic<int64_t> bytes_{0};
 };
 
+// A user geometry's bounds callback's answer: box b, padded by a relative epsilon so that hits
+// exactly on the box survive Embree's culling.
+void write_padded_bounds(const BoundingBox& b, RTCBounds* out);
+
 // Embree builds BVHs on threads of its own (TBB's workers) and calls Candela's callbacks there
 // (shape bounds, the memory monitor). Each such callback holds one of these for its duration: in
 // a ThreadSanitizer build it tells TSan that what the committing thread wrote before the build

@@ -29,11 +29,7 @@ class PerspectiveCamera final : public ProjectiveCamera {
 public:
     explicit PerspectiveCamera(const Properties& props) : ProjectiveCamera(props) {
         refuse_scaling(props);
-        projection_.to_world = to_world_;
-        projection_.tan_half_x = read_tan_half_fov_x(props, aspect_);
-        projection_.aspect = aspect_;
-        projection_.near_clip = near_clip_;
-        projection_.far_clip = far_clip_;
+        projection_ = pinhole_projection(props);
         projection_.principal_point_offset =
             Vec2(props.get_float("principal_point_offset_x", 0.0f), props.get_float("principal_point_offset_y", 0.0f));
         origin_ = to_world_.apply_point(Vec3(0.0f));

@@ -42,6 +42,16 @@ ProjectiveCamera::ProjectiveCamera(const Properties& props) {
         props.fail("srf", "a sensor response function (srf) needs a spectral variant; Candela renders in RGB, where Mitsuba rejects it too");
 }
 
+PinholeProjection ProjectiveCamera::pinhole_projection(const Properties& props) const {
+    PinholeProjection p;
+    p.to_world = to_world_;
+    p.tan_half_x = read_tan_half_fov_x(props, aspect_);
+    p.aspect = aspect_;
+    p.near_clip = near_clip_;
+    p.far_clip = far_clip_;
+    return p;
+}
+
 void ProjectiveCamera::refuse_scaling(const Properties& props) const {
     for (const auto& key : motion_.keyframes())
         if (key.transform.has_scale()) props.fail("to_world", "the camera's to_world must not scale");

@@ -50,6 +50,9 @@ protected:
     Transform pose_at(float time) const { return motion_.is_animated() ? motion_.eval(time) : to_world_; }
     // Stops at to_world when some keyframe scales (the pinhole cameras' requirement).
     void refuse_scaling(const Properties& props) const;
+    // The pinhole of a perspective or thin-lens camera: its pose, the field of view read from
+    // props (fov, fov_axis or focal_length), the film's aspect and the clip distances.
+    PinholeProjection pinhole_projection(const Properties& props) const;
 
     AnimatedTransform motion_;
     Transform world_to_local_;

@@ -25,11 +25,7 @@ class ThinLensCamera final : public ProjectiveCamera {
 public:
     explicit ThinLensCamera(const Properties& props) : ProjectiveCamera(props) {
         refuse_scaling(props);
-        projection_.to_world = to_world_;
-        projection_.tan_half_x = read_tan_half_fov_x(props, aspect_);
-        projection_.aspect = aspect_;
-        projection_.near_clip = near_clip_;
-        projection_.far_clip = far_clip_;
+        projection_ = pinhole_projection(props);
         aperture_radius_ = props.get_float("aperture_radius");
         if (!(aperture_radius_ >= 0.0f) || !std::isfinite(aperture_radius_)) props.fail("aperture_radius", "aperture_radius must be non-negative");
     }

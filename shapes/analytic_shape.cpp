@@ -8,15 +8,7 @@ namespace {
 void bounds_callback(const RTCBoundsFunctionArguments* args) {
     EmbreeCallbackScope scope;
     auto* shape = static_cast<const AnalyticShape*>(args->geometryUserPtr);
-    BoundingBox b = shape->bbox();
-    // Pad by a relative epsilon so that hits exactly on the box survive Embree's culling.
-    Vec3 pad = (Vec3(1.0f) + glm::abs(b.min) + glm::abs(b.max)) * 1e-6f;
-    args->bounds_o->lower_x = b.min.x - pad.x;
-    args->bounds_o->lower_y = b.min.y - pad.y;
-    args->bounds_o->lower_z = b.min.z - pad.z;
-    args->bounds_o->upper_x = b.max.x + pad.x;
-    args->bounds_o->upper_y = b.max.y + pad.y;
-    args->bounds_o->upper_z = b.max.z + pad.z;
+    write_padded_bounds(shape->bbox(), args->bounds_o);
 }
 
 void intersect_callback(const RTCIntersectFunctionNArguments* args) {

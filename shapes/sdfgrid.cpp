@@ -294,14 +294,7 @@ namespace {
 void sdf_bounds(const RTCBoundsFunctionArguments* args) {
     EmbreeCallbackScope scope;
     auto* grid = static_cast<const SdfGrid*>(args->geometryUserPtr);
-    BoundingBox b = grid->voxel_bounds(args->primID);
-    Vec3 pad = (Vec3(1.0f) + glm::abs(b.min) + glm::abs(b.max)) * 1e-6f;
-    args->bounds_o->lower_x = b.min.x - pad.x;
-    args->bounds_o->lower_y = b.min.y - pad.y;
-    args->bounds_o->lower_z = b.min.z - pad.z;
-    args->bounds_o->upper_x = b.max.x + pad.x;
-    args->bounds_o->upper_y = b.max.y + pad.y;
-    args->bounds_o->upper_z = b.max.z + pad.z;
+    write_padded_bounds(grid->voxel_bounds(args->primID), args->bounds_o);
 }
 
 void sdf_intersect(const RTCIntersectFunctionNArguments* args) {
