@@ -73,6 +73,7 @@ void ambient_pass(const FrameSetup& f, FrameBuffers& b) {
     const bool baked = s.lighting == RasterSettings::Lighting::Baked && !f.geometry.baked_front.empty();
     const float reach = s.ao_ray_length > 0.0f ? s.ao_ray_length : 0.5f * f.scene.bbox().bounding_radius();
     const Spectrum extra = Pi * s.ambient;
+    if (!baked && !f.image_lighting && is_black(f.ambient)) return;  // no ambient light to add
     parallel_for(size_t(f.height), [&](int y) {
         for (int x = 0; x < f.width; ++x)
             for (int k = 0; k < f.samples_per_pixel(); ++k) {
