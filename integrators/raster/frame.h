@@ -104,8 +104,8 @@ struct FrameBuffers {
     // Per light (lights): its shadow map, when shadows are mapped.
     std::vector<ShadowMap> shadow_maps;
     // Scratch of the lights pass: per chunk of samples, what each shadow-map face needs
-    // (resolution and window); the resolution chosen per face; per sample, the view depth and the shadow-volume
-    // mask; per vertex, Gouraud's lighting.
+    // (resolution and window); the resolution chosen per face; per sample, the view depth and
+    // the shadow-volume mask; per vertex, Gouraud's lighting.
     std::vector<ShadowMapNeeds> shadow_map_needs;
     std::vector<int> shadow_map_resolution;
     std::vector<float> view_depth;
