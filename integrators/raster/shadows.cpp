@@ -87,11 +87,9 @@ void ShadowMap::render(const RasterGeometry& g, const std::vector<int>& resoluti
         // The window the samples look up, widened by the filter's half width and two texels for
         // the normal offset, which moves a lookup by about one texel (face_visibility).
         const int res = resolution[i], margin = std::max(pcf, 1) / 2 + 2;
-        auto texel_of = [&](float ndc) { return (ndc + 1.0f) * 0.5f * float(res); };
-        Vec2i lo(int(std::floor(texel_of(needs[i].lo.x))) - margin, int(std::floor(texel_of(needs[i].lo.y))) - margin);
-        Vec2i hi(int(std::ceil(texel_of(needs[i].hi.x))) + margin, int(std::ceil(texel_of(needs[i].hi.y))) + margin);
-        lo = glm::clamp(lo, Vec2i(0), Vec2i(res));
-        hi = glm::clamp(hi, Vec2i(0), Vec2i(res));
+        auto texels = [&](const Vec2& ndc) { return (ndc + 1.0f) * 0.5f * float(res); };  // as face_visibility maps
+        Vec2i lo = glm::clamp(Vec2i(glm::floor(texels(needs[i].lo))) - margin, Vec2i(0), Vec2i(res));
+        Vec2i hi = glm::clamp(Vec2i(glm::ceil(texels(needs[i].hi))) + margin, Vec2i(0), Vec2i(res));
         f.window_min = lo;
         f.window_size = glm::max(hi - lo, Vec2i(1));
         render_depth(f, g, skip);

@@ -26,18 +26,14 @@ namespace candela::raster {
 struct FaceNeeds {
     float resolution = 0.0f;
     Vec2 lo{1.0f}, hi{-1.0f};  // empty until a sample is added
-    // Adds a sample that needs `resolution` at normalised position `at`.
-    void add(float sample_resolution, const Vec2& at) {
-        resolution = std::max(resolution, sample_resolution);
-        lo = glm::min(lo, at);
-        hi = glm::max(hi, at);
-    }
     // Both: what two sets of samples need together (exact in any order).
     void merge(const FaceNeeds& other) {
         resolution = std::max(resolution, other.resolution);
         lo = glm::min(lo, other.lo);
         hi = glm::max(hi, other.hi);
     }
+    // Adds a sample that needs `sample_resolution` at normalised position `at`.
+    void add(float sample_resolution, const Vec2& at) { merge(FaceNeeds{sample_resolution, at, at}); }
 };
 
 // Per face of a shadow map (a cube has six).
