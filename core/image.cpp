@@ -2,7 +2,10 @@
 
 #include "core/error.h"
 #include "core/file_output.h"
+#include "core/image_codecs.h"
 #include "core/spectral.h"
+
+#include <candela/image_module.h>
 
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
@@ -10,12 +13,12 @@
 #include <OpenEXR/ImfOutputFile.h>
 #include <OpenEXR/ImfStringAttribute.h>
 #include <Imath/half.h>
-#include <OpenImageIO/imageio.h>
 
 #include <algorithm>
 #include <atomic>
 #include <cctype>
 #include <cstdio>
+#include <dlfcn.h>
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
@@ -29,6 +32,11 @@ namespace candela {
 Image::Image(int width, int height, std::vector<std::string> channels)
     : width_(width), height_(height), channels_(std::move(channels)),
       data_(size_t(width) * size_t(height) * channels_.size(), 0.0f) {}
+
+Image::Image(int width, int height, std::vector<std::string> channels, std::vector<float> values)
+    : width_(width), height_(height), channels_(std::move(channels)), data_(std::move(values)) {
+    if (data_.size() != size_t(width) * size_t(height) * channels_.size()) throw std::logic_error("Image: values do not match the size");
+}
 
 int Image::channel_index(const std::string& name) const {
     for (size_t i = 0; i < channels_.size(); ++i)
@@ -82,90 +90,59 @@ std::string image_format_of(const std::string& path) {
     return "";
 }
 
-// The file opened by the reader of its format, or InputError.
-std::unique_ptr<OIIO::ImageInput> open_image(const std::string& path) {
+// The module is where the build put it (CANDELA_IMAGE_MODULE); a program copied elsewhere looks
+// for it beside itself.
+const ImageCodecs* load_image_codecs() {
+    std::vector<fs::path> candidates = {fs::path(CANDELA_IMAGE_MODULE)};
+    std::error_code ec;
+    const fs::path program = fs::read_symlink("/proc/self/exe", ec);
+    if (!ec) candidates.push_back(program.parent_path() / candidates[0].filename());
+    std::string failures;
+    for (const fs::path& candidate : candidates) {
+        void* module = ::dlopen(candidate.c_str(), RTLD_LAZY | RTLD_LOCAL);
+        const char* why = module ? nullptr : ::dlerror();
+        auto entry = module ? reinterpret_cast<decltype(&candela_image_codecs)>(::dlsym(module, CANDELA_IMAGE_CODECS_ENTRY)) : nullptr;
+        if (const ImageCodecs* codecs = entry ? entry(ImageCodecsAbi) : nullptr) return codecs;
+        failures += "; " + (why ? std::string(why) : candidate.string() + ": not the image module of this build");
+    }
+    throw InputError("cannot load Candela's image module (OpenImageIO's readers and PNG writer)" + failures);
+}
+
+// Loaded once, by the first caller; the module stays loaded.
+const ImageCodecs& image_codecs() {
+    static const ImageCodecs* codecs = load_image_codecs();
+    return *codecs;
+}
+
+// The file read by the reader of its format (the pixels too when `pixels`), or InputError.
+DecodedImage decode_image(const std::string& path, bool pixels) {
     if (!fs::exists(path)) throw InputError(path + ": file not found");
     const std::string format = image_format_of(path);
     if (format.empty()) {
         std::string what = "is not an image Candela reads";
-        // Name the format when OpenImageIO knows the extension (creating a reader opens nothing).
-        if (auto by_name = OIIO::ImageInput::create(path, false)) what = "is a " + std::string(by_name->format_name()) + " image";
+        // Name the format when OpenImageIO knows the extension.
+        if (std::string known = image_codecs().format_by_extension(path); !known.empty()) what = "is a " + known + " image";
         throw InputError(path + ": " + what + "; Candela reads the formats Mitsuba 3 does: OpenEXR, PNG, JPEG, RGBE (.hdr), PFM, PPM, TGA, BMP");
     }
-    auto in = OIIO::ImageInput::create(format, false);
-    if (!in) throw InputError(path + ": cannot read image: no " + format + " reader: " + OIIO::geterror());
-    OIIO::ImageSpec spec;
-    if (!in->open(path, spec)) throw InputError(path + ": cannot read image: " + in->geterror());
-    return in;
-}
-
-// The fewest bytes a PFM or PNM file of this size can hold its pixels in, after the header: its
-// pixels are stored uncompressed (P1 and P4 one bit per pixel, P2 and P3 at least one digit per
-// value, P5, P6 and PFM as binary samples). Other formats compress, and are not bounded here.
-uint64_t least_pnm_pixel_bytes(const std::string& path, const OIIO::ImageSpec& spec) {
-    char head[2] = {0, 0};
-    std::ifstream(path, std::ios::binary).read(head, 2);
-    const uint64_t pixels = uint64_t(spec.width) * uint64_t(spec.height);
-    switch (head[1]) {
-        case '4': return (uint64_t(spec.width) + 7) / 8 * uint64_t(spec.height);
-        case '1': return pixels / 8;
-        case '2':
-        case '3': return pixels * uint64_t(spec.nchannels);
-        default: return uint64_t(spec.image_bytes(true));
-    }
+    DecodedImage decoded;
+    if (std::string error = image_codecs().read(path, format, pixels, decoded); !error.empty()) throw InputError(error);
+    return decoded;
 }
 }  // namespace
 
 Image read_image(const std::string& path) {
-    auto in = open_image(path);
-    const OIIO::ImageSpec& spec = in->spec();
-    // The size comes from the file: check it before allocating. A volume image (DDS volume
-    // textures, ...) would also fill depth times the buffer of a 2D one.
-    if (spec.depth != 1) throw InputError(path + ": is a volume image (depth " + std::to_string(spec.depth) + "); only 2D images are read");
-    if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) throw InputError(path + ": image has no pixels");
-    // OpenImageIO reads in whole blocks and allocates for a block before reading it: whole
-    // tiles, or 256 scanlines however few lines the image has (OpenImageIO 2.4's read_scanlines).
-    // 3-line OpenEXR and BMP files 4 million pixels wide had it allocate 6 and 2.9 GB (fuzz_image).
-    uint64_t block_width = uint64_t(spec.width), block_height = uint64_t(spec.height);
-    if (spec.tile_width > 0 && spec.tile_height > 0) {
-        block_width = (block_width + spec.tile_width - 1) / spec.tile_width * spec.tile_width;
-        block_height = (block_height + spec.tile_height - 1) / spec.tile_height * spec.tile_height;
-    } else {
-        block_height = std::max<uint64_t>(block_height, 256);
-    }
-    if (block_width * block_height * uint64_t(spec.nchannels) > MaxImageValues)
-        throw InputError(path + ": image of " + std::to_string(spec.width) + " x " + std::to_string(spec.height) + " pixels (read as " +
-                         std::to_string(block_width) + " x " + std::to_string(block_height) + ") and " + std::to_string(spec.nchannels) +
-                         " channels is larger than the 2^28 values Candela reads");
-    // A header promising more pixels than the file holds would have us allocate for them first.
-    if (in->format_name() == std::string("pnm")) {
-        const uint64_t least = least_pnm_pixel_bytes(path, spec), size = fs::file_size(path);
-        if (size < least)
-            throw InputError(path + ": header promises " + std::to_string(spec.width) + " x " + std::to_string(spec.height) + " pixels (at least " +
-                             std::to_string(least) + " bytes), but the file has " + std::to_string(size) + " bytes");
-    }
-    std::vector<std::string> names;
-    for (int c = 0; c < spec.nchannels; ++c) {
-        std::string n = c < int(spec.channelnames.size()) ? spec.channelnames[c] : "";
-        names.push_back(n.empty() ? "C" + std::to_string(c) : n);
-    }
-    Image image(spec.width, spec.height, names);
-    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.data().data()))
-        throw InputError(path + ": cannot read image: " + in->geterror());
-    for (const auto& p : spec.extra_attribs) image.metadata[p.name().string()] = p.get_string();
-    in->close();
+    DecodedImage decoded = decode_image(path, true);
+    ImageHeader& h = decoded.header;
+    Image image(h.width, h.height, std::move(h.channels), std::move(decoded.values));
+    image.metadata = std::move(h.metadata);
     return image;
 }
 
+ImageHeader read_image_header(const std::string& path) { return decode_image(path, false).header; }
+
 bool image_is_integer_format(const std::string& path) { return image_integer_bits(path) > 0; }
 
-int image_integer_bits(const std::string& path) {
-    auto in = open_image(path);
-    OIIO::TypeDesc f = in->spec().format;
-    if (f.basetype == OIIO::TypeDesc::UINT8 || f.basetype == OIIO::TypeDesc::INT8) return 8;
-    if (f.basetype == OIIO::TypeDesc::UINT16 || f.basetype == OIIO::TypeDesc::INT16) return 16;
-    return 0;
-}
+int image_integer_bits(const std::string& path) { return read_image_header(path).integer_bits; }
 
 namespace {
 // No write permission for anyone. Checked on the mode bits as well as with access(), which
@@ -235,10 +212,8 @@ void write_png_display(const Image& image, const std::string& path) {
                 bytes[(size_t(y) * image.width() + x) * nch + c] = static_cast<unsigned char>(std::lround(v * 255.0f));
             }
     write_atomically(path, [&](const std::string& tmp) {
-        auto out = OIIO::ImageOutput::create(tmp);
-        OIIO::ImageSpec spec(image.width(), image.height(), nch, OIIO::TypeDesc::UINT8);
-        if (!out || !out->open(tmp, spec) || !out->write_image(OIIO::TypeDesc::UINT8, bytes.data()) || !out->close())
-            throw InputError("cannot write PNG: " + OIIO::geterror());
+        if (std::string error = image_codecs().write_png(tmp, image.width(), image.height(), nch, bytes.data()); !error.empty())
+            throw InputError("cannot write PNG: " + error);
     });
 }
 

@@ -1,6 +1,6 @@
 #pragma once
-// Float images with named channels, read through OpenImageIO and written as OpenEXR (with
-// metadata) or as a tonemapped sRGB PNG. Every file is written whole or not at all: to a
+// Float images with named channels, read through OpenImageIO (loaded on first use: see
+// core/image_codecs.h) and written as OpenEXR (with metadata) or as a tonemapped sRGB PNG. Every file is written whole or not at all: to a
 // temporary beside the target, then renamed.
 
 #include "core/spectrum.h"
@@ -16,6 +16,8 @@ class Image {
 public:
     Image() = default;
     Image(int width, int height, std::vector<std::string> channels);
+    // Takes `values` (width x height x channels, interleaved) as its pixels.
+    Image(int width, int height, std::vector<std::string> channels, std::vector<float> values);
     static Image rgb(int width, int height) { return Image(width, height, {"R", "G", "B"}); }
 
     int width() const { return width_; }
@@ -45,6 +47,14 @@ private:
     std::vector<float> data_;
 };
 
+// What an image file says about its image, without the pixels.
+struct ImageHeader {
+    int width = 0, height = 0;
+    std::vector<std::string> channels;            // as the file names them; "C0", "C1", ... where it does not
+    std::map<std::string, std::string> metadata;  // the file's other attributes, as text
+    int integer_bits = 0;                         // 8 or 16 for integer formats, 0 for floating point
+};
+
 // Reads a 2D image in one of the formats Mitsuba 3 reads (OpenEXR, PNG, JPEG, RGBE, PFM, PPM, TGA,
 // BMP; told apart by content, TGA by extension). Channels come back as the file names them; 8- and
 // 16-bit integer images are returned in [0, 1] without colour conversion. Throws InputError, also
@@ -52,6 +62,8 @@ private:
 // RGBA image has exactly that many; a corrupt header must not make us allocate without bound).
 constexpr uint64_t MaxImageValues = uint64_t(1) << 28;
 Image read_image(const std::string& path);
+// The header of such an image, checked as read_image checks it; the pixels are not read.
+ImageHeader read_image_header(const std::string& path);
 // True when the file stores integer (display-referred, usually sRGB-encoded) values.
 bool image_is_integer_format(const std::string& path);
 // Bits per channel of an integer-format file (8 or 16), 0 for floating-point files.

@@ -43,19 +43,16 @@ CANDELA_SANITIZER_HOOK const char* __lsan_default_suppressions() {
 
 #ifdef CANDELA_TSAN
 #include <OpenEXR/ImfThreading.h>
-#include <OpenImageIO/imageio.h>
 
 namespace {
 // OpenEXR compresses and decompresses on a pool of its own threads (IlmThread), uninstrumented,
 // whose semaphore locks a mutex on one thread and unlocks it on another: TSan reports that as
 // misuse inside Candela's frames, where OpenEXR's calls return. Candela does not depend on that
-// pool, so this build does its EXR work on the calling thread (OpenImageIO's exr_threads -1: no
-// pool; Imf::setGlobalThreadCount(0): single-threaded). Other builds keep the pool.
+// pool, so this build does its EXR work on the calling thread (Imf::setGlobalThreadCount(0):
+// single-threaded; the image module turns OpenImageIO's exr_threads off when it is loaded, see
+// imageio/oiio_codecs.cpp). Other builds keep the pool.
 struct SingleThreadedExr {
-    SingleThreadedExr() {
-        OIIO::attribute("exr_threads", -1);
-        Imf::setGlobalThreadCount(0);
-    }
+    SingleThreadedExr() { Imf::setGlobalThreadCount(0); }
 } single_threaded_exr;
 }  // namespace
 

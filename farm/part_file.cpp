@@ -4,7 +4,6 @@
 #include "core/scene.h"
 #include "core/text.h"
 
-#include <OpenImageIO/imageio.h>
 #include <candela/version.h>
 
 #include <algorithm>
@@ -77,17 +76,17 @@ std::string format_seconds(double s) {
 // The metadata value `key` of a part, InputError naming the file when absent.
 struct HeaderReader {
     const std::string& path;
-    const OIIO::ImageSpec& spec;
+    const ImageHeader& header;
 
     std::string text(const std::string& key) const {
-        const OIIO::ParamValue* p = spec.find_attribute(key);
-        if (!p) throw InputError(path + ": part metadata lacks " + key);
-        return p->get_string();
+        auto p = header.metadata.find(key);
+        if (p == header.metadata.end()) throw InputError(path + ": part metadata lacks " + key);
+        return p->second;
     }
     // For values that may be empty: an empty string attribute does not survive the file.
     std::string text_or_empty(const std::string& key) const {
-        const OIIO::ParamValue* p = spec.find_attribute(key);
-        return p ? p->get_string() : std::string();
+        auto p = header.metadata.find(key);
+        return p == header.metadata.end() ? std::string() : p->second;
     }
     template <typename T> T number(const std::string& key) const {
         std::string s = text(key);
@@ -240,17 +239,12 @@ void write_part(const std::string& path, const PixelSums& sums, const PartHeader
 }
 
 PartHeader read_part_header(const std::string& path) {
-    // Parts are OpenEXR files: only the OpenEXR reader opens them (ImageInput::open would try
-    // every reader OpenImageIO has on a file that is not one; see core/image.cpp).
-    if (!std::filesystem::exists(path)) throw InputError(path + ": cannot read: file not found");
-    auto in = OIIO::ImageInput::create("exr", false);
-    OIIO::ImageSpec opened;
-    if (!in || !in->open(path, opened)) throw InputError(path + ": cannot read: " + (in ? in->geterror() : OIIO::geterror()));
-    const OIIO::ImageSpec& spec = in->spec();
-    if (!spec.find_attribute("candela.partFormat"))
+    // Parts are OpenEXR files; a file of another format has no part metadata.
+    const ImageHeader file = read_image_header(path);
+    if (!file.metadata.count("candela.partFormat"))
         throw InputError(path + ": not a part of a split render (no candela.partFormat metadata; parts come from "
                                 "`candela render --samples START:END` or `--crop`)");
-    HeaderReader r{path, spec};
+    HeaderReader r{path, file};
     if (r.text("candela.partFormat") != PartFormat)
         throw InputError(path + ": part format " + r.text("candela.partFormat") + ", this Candela reads format " + PartFormat);
     PartHeader h;
@@ -278,7 +272,7 @@ PartHeader read_part_header(const std::string& path) {
     }
     if (std::sscanf(r.text("candela.origin").c_str(), "%d,%d", &h.rect.offset.x, &h.rect.offset.y) != 2)
         throw InputError(path + ": part metadata candela.origin is not X,Y");
-    h.rect.size = Vec2i(spec.width, spec.height);
+    h.rect.size = Vec2i(file.width, file.height);
     h.render_seconds = r.number<double>("candela.renderTime");
     h.started = r.number<double>("candela.started");
     h.finished = r.number<double>("candela.finished");
@@ -293,7 +287,7 @@ PartHeader read_part_header(const std::string& path) {
     } catch (const InputError& e) {
         throw InputError(path + ": part metadata: " + e.what());
     }
-    std::vector<std::string> expected = part_channels(values, id.layout()), found = spec.channelnames;
+    std::vector<std::string> expected = part_channels(values, id.layout()), found = file.channels;
     std::sort(expected.begin(), expected.end());
     std::sort(found.begin(), found.end());
     if (found != expected)
