@@ -39,6 +39,26 @@ TEST_CASE("cli: render writes an EXR with metadata, -D and --spp apply, --png wr
     CHECK(read_text(dir / "quiet.txt").empty());
 }
 
+TEST_CASE("cli: OpenImageIO is loaded only when a program reads an image or writes a PNG", "[cli][images]") {
+    // Its ~250 libraries took about 0.25 s at every start (core/image_codecs.h). The dynamic
+    // loader's own log (LD_DEBUG=files) names every library it loads and every dlopen.
+    auto dir = scratch_dir("cli-image-module");
+    auto out = (dir / "box.exr").string();
+    const std::string render = "LD_DEBUG=files " + render_cmd("'" + Cbox + "' -o '" + out + "' -D res=8 --spp 1 --quiet");
+    REQUIRE(run_command(render, dir / "exr.txt") == 0);
+    std::string log = read_text(dir / "exr.txt");
+    CHECK_THAT(log, Catch::Contains("libembree3"));  // the log is there
+    CHECK_THAT(log, !Catch::Contains("libOpenImageIO") && !Catch::Contains("libcandela_images"));
+    // A PNG preview loads the module, and OpenImageIO with it.
+    REQUIRE(run_command(render + " --png", dir / "png.txt") == 0);
+    log = read_text(dir / "png.txt");
+    CHECK_THAT(log, Catch::Contains("libcandela_images") && Catch::Contains("libOpenImageIO"));
+    CHECK(std::filesystem::exists(dir / "box.png"));
+    // So does reading an image: compare reads two EXRs.
+    REQUIRE(run_command("LD_DEBUG=files '" + candela_binary() + "' compare '" + out + "' '" + out + "'", dir / "compare.txt") == 0);
+    CHECK_THAT(read_text(dir / "compare.txt"), Catch::Contains("libOpenImageIO") && Catch::Contains("RMSE            0"));
+}
+
 TEST_CASE("cli: bad input exits with code 2, names file:line, and leaves outputs alone", "[cli][errors]") {
     auto dir = scratch_dir("cli-errors");
     write_text(dir / "unused.xml", "<scene version=\"3.0.0\">\n<shape type=\"sphere\">\n<float name=\"radios\" value=\"1\"/>\n</shape>\n</scene>\n");
