@@ -140,6 +140,8 @@ Image read_image(const std::string& path) {
 
 ImageHeader read_image_header(const std::string& path) { return decode_image(path, false).header; }
 
+void load_image_module() { image_codecs(); }
+
 bool image_is_integer_format(const std::string& path) { return image_integer_bits(path) > 0; }
 
 int image_integer_bits(const std::string& path) { return read_image_header(path).integer_bits; }

@@ -18,6 +18,7 @@
 
 #include "core/error.h"
 #include "core/file_resolver.h"
+#include "core/image.h"
 #include "core/integrator.h"
 #include "core/scene.h"
 #include "core/xml.h"
@@ -117,6 +118,9 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
     }
     t.extensions = split_commas(CANDELA_FUZZ_EXTENSIONS);
     make_work_dir();
+    // Scenes may name images; the module that reads them is loaded once, here, not inside the
+    // first input that needs it (core/image.h).
+    load_image_module();
     return 0;
 }
 
