@@ -53,6 +53,7 @@ Image Image::select_channels(const std::vector<std::string>& names) const {
     }
     Image out(width_, height_, names);
     out.metadata = metadata;
+    out.integer_bits = integer_bits;
     for (int y = 0; y < height_; ++y)
         for (int x = 0; x < width_; ++x)
             for (size_t c = 0; c < src.size(); ++c) out.at(x, y, int(c)) = at(x, y, src[c]);
@@ -135,16 +136,13 @@ Image read_image(const std::string& path) {
     ImageHeader& h = decoded.header;
     Image image(h.width, h.height, std::move(h.channels), std::move(decoded.values));
     image.metadata = std::move(h.metadata);
+    image.integer_bits = h.integer_bits;
     return image;
 }
 
 ImageHeader read_image_header(const std::string& path) { return decode_image(path, false).header; }
 
 void load_image_module() { image_codecs(); }
-
-bool image_is_integer_format(const std::string& path) { return image_integer_bits(path) > 0; }
-
-int image_integer_bits(const std::string& path) { return read_image_header(path).integer_bits; }
 
 namespace {
 // No write permission for anyone. Checked on the mode bits as well as with access(), which

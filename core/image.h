@@ -40,6 +40,9 @@ public:
     Image select_channels(const std::vector<std::string>& names) const;
 
     std::map<std::string, std::string> metadata;
+    // For an image read from a file: 8 or 16 when the file stores integers (display-referred,
+    // usually sRGB-encoded values), 0 when it stores floating point.
+    int integer_bits = 0;
 
 private:
     int width_ = 0, height_ = 0;
@@ -68,10 +71,6 @@ ImageHeader read_image_header(const std::string& path);
 // write. The fuzzers do, in their set-up: under AddressSanitizer, loading OpenImageIO's ~250
 // libraries took longer than the 15 s an input is given, and it is no input's cost.
 void load_image_module();
-// True when the file stores integer (display-referred, usually sRGB-encoded) values.
-bool image_is_integer_format(const std::string& path);
-// Bits per channel of an integer-format file (8 or 16), 0 for floating-point files.
-int image_integer_bits(const std::string& path);
 
 // Fails with InputError if `path` cannot be created or replaced (missing or read-only directory,
 // a read-only file, a directory, device, pipe or symbolic link in the way). Creates nothing.

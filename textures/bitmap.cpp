@@ -79,13 +79,12 @@ public:
         if (props.get_int("max_anisotropy", 16) < 1) props.fail("max_anisotropy", "max_anisotropy must be at least 1");
 
         Image img;
-        int integer_bits = 0;
         try {
             img = read_image(path);
-            integer_bits = image_integer_bits(path);
         } catch (const InputError& e) {
             props.fail("filename", e.what());
         }
+        const int integer_bits = img.integer_bits;
         bool srgb = !raw && integer_bits > 0;
         TexelFormat format = parse_format(props, integer_bits);
         int nch = img.channel_count();
