@@ -104,6 +104,7 @@ const ImageCodecs* load_image_codecs() {
         const char* why = module ? nullptr : ::dlerror();
         auto entry = module ? reinterpret_cast<decltype(&candela_image_codecs)>(::dlsym(module, CANDELA_IMAGE_CODECS_ENTRY)) : nullptr;
         if (const ImageCodecs* codecs = entry ? entry(ImageCodecsAbi) : nullptr) return codecs;
+        if (module) ::dlclose(module);  // another build's module (or another library): not kept
         failures += "; " + (why ? std::string(why) : candidate.string() + ": not the image module of this build");
     }
     throw InputError("cannot load Candela's image module (OpenImageIO's readers and PNG writer)" + failures);
