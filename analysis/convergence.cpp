@@ -121,7 +121,8 @@ ConvergenceStudy study_convergence(const Scene& scene, const ConvergenceTarget& 
         c.seconds = r.stats.seconds;
         study.counts.push_back(c);
         if (on_count) on_count(c, study.bias_z);
-        if (std::abs(c.bias) > study.bias_z * c.bias_se + BiasAllowance * target.scale) study.failures.push_back(bias_failure(c, study.bias_z));
+        if (std::abs(c.bias) > study.bias_z * c.bias_se + BiasAllowance * target.scale)
+            study.failures.push_back(bias_failure(c, study.bias_z));
     }
     study.slope = fit_convergence_slope(study.counts, target);
     const SlopeFit& s = study.slope;
@@ -130,7 +131,8 @@ ConvergenceStudy study_convergence(const Scene& scene, const ConvergenceTarget& 
     } else if (s.status == SlopeFit::Status::Fitted &&
                (s.slope < criteria.slope_low - study.slope_z * s.slope_se || s.slope > criteria.slope_high + study.slope_z * s.slope_se)) {
         char buf[256];
-        std::snprintf(buf, sizeof buf, "slope %.4f +- %.4f lies outside [%g, %g]", s.slope, s.slope_se, criteria.slope_low, criteria.slope_high);
+        std::snprintf(buf, sizeof buf, "slope %.4f +- %.4f lies outside [%g, %g]", s.slope, s.slope_se, criteria.slope_low,
+                      criteria.slope_high);
         study.failures.push_back(buf);
     }
     return study;
@@ -141,7 +143,8 @@ void write_convergence_plot(const std::vector<CountError>& counts, const std::st
     plot.title = "Convergence";
     plot.x_label = "samples per pixel";
     plot.y_label = "RMSE";
-    PlotSeries measured{"measured RMSE", {}, {}, Spectrum(0.1f, 0.3f, 0.8f)}, ideal{"ideal N^-1/2", {}, {}, Spectrum(0.8f, 0.2f, 0.1f), true, false};
+    PlotSeries measured{"measured RMSE", {}, {}, Spectrum(0.1f, 0.3f, 0.8f)},
+        ideal{"ideal N^-1/2", {}, {}, Spectrum(0.8f, 0.2f, 0.1f), true, false};
     for (const auto& c : counts) {
         measured.x.push_back(c.spp);
         measured.y.push_back(c.rmse);

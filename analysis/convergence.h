@@ -20,8 +20,8 @@ class Scene;
 struct ConvergenceTarget {
     const Image* reference = nullptr;  // when null, every pixel and channel converges to `value`
     double value = 0.0;
-    double scale = 0.0;                // magnitude of the answer, for float32 allowances
-    double reference_noise = 0.0;      // mean variance of the reference's pixels (its variance layers), else 0
+    double scale = 0.0;            // magnitude of the answer, for float32 allowances
+    double reference_noise = 0.0;  // mean variance of the reference's pixels (its variance layers), else 0
 };
 ConvergenceTarget constant_target(double value);
 // The reference must stay alive while the target is used.
@@ -47,15 +47,15 @@ struct SlopeFit {
 SlopeFit fit_convergence_slope(const std::vector<CountError>& counts, const ConvergenceTarget& target);
 
 struct ConvergenceCriteria {
-    double alpha = 0.01;                     // family-wise significance of the bias tests
+    double alpha = 0.01;  // family-wise significance of the bias tests
     double slope_low = -0.55, slope_high = -0.45;
 };
 
 struct ConvergenceStudy {
     std::vector<CountError> counts;
     SlopeFit slope;
-    double bias_z = 0.0;   // |bias| / SE beyond which a bias is significant (Sidak over the counts)
-    double slope_z = 0.0;  // standard errors by which the slope must leave the accepted range
+    double bias_z = 0.0;                // |bias| / SE beyond which a bias is significant (Sidak over the counts)
+    double slope_z = 0.0;               // standard errors by which the slope must leave the accepted range
     std::vector<std::string> failures;  // empty when the render converges as it should
 };
 

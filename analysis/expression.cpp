@@ -45,17 +45,23 @@ private:
     double sum() {
         double v = product();
         for (;;) {
-            if (accept('+')) v += product();
-            else if (accept('-')) v -= product();
-            else return v;
+            if (accept('+'))
+                v += product();
+            else if (accept('-'))
+                v -= product();
+            else
+                return v;
         }
     }
     double product() {
         double v = unary();
         for (;;) {
-            if (accept('*')) v *= unary();
-            else if (accept('/')) v /= unary();
-            else return v;
+            if (accept('*'))
+                v *= unary();
+            else if (accept('/'))
+                v /= unary();
+            else
+                return v;
         }
     }
     double unary() {
@@ -105,7 +111,8 @@ private:
     static constexpr int MaxNesting = 1000;  // signs, "^" and "(" count one or two each
     struct Nesting {
         explicit Nesting(Parser& p) : parser(p) {
-            if (++parser.depth_ > MaxNesting) parser.fail("nested too deeply (more than " + std::to_string(MaxNesting) + " levels of signs, powers and parentheses)");
+            if (++parser.depth_ > MaxNesting)
+                parser.fail("nested too deeply (more than " + std::to_string(MaxNesting) + " levels of signs, powers and parentheses)");
         }
         ~Nesting() { --parser.depth_; }
         Parser& parser;

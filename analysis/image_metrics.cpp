@@ -1,8 +1,8 @@
 #include "analysis/image_metrics.h"
 
+#include "analysis/statistics.h"
 #include "core/error.h"
 #include "core/image_draw.h"
-#include "analysis/statistics.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -141,8 +141,8 @@ Image relative_difference_heatmap(const Image& test, const Image& ref, float ran
 PixelDifference max_pixel_relative_difference(const Image& test, const Image& reference) {
     if (test.width() != reference.width() || test.height() != reference.height() || test.channels() != reference.channels())
         throw InputError("images differ in size or channels: " + std::to_string(test.width()) + " x " + std::to_string(test.height()) +
-                         " with " + std::to_string(test.channel_count()) + " channels against " + std::to_string(reference.width()) + " x " +
-                         std::to_string(reference.height()) + " with " + std::to_string(reference.channel_count()));
+                         " with " + std::to_string(test.channel_count()) + " channels against " + std::to_string(reference.width()) +
+                         " x " + std::to_string(reference.height()) + " with " + std::to_string(reference.channel_count()));
     // Channels grouped by layer: the name up to its last dot.
     std::map<std::string, std::vector<int>> layers;
     for (int c = 0; c < test.channel_count(); ++c) {

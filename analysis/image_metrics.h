@@ -11,9 +11,9 @@ struct ImageComparison {
     int width = 0, height = 0;
     Spectrum mean_test{0.0f}, mean_reference{0.0f};
     Spectrum mean_relative_difference{0.0f};  // (mean_test - mean_ref) / mean_ref per channel
-    double rmse = 0.0;    // sqrt(mean over pixels and channels of (t - r)^2)
-    double relmse = 0.0;  // mean of (t - r)^2 / (r^2 + 0.01)
-    double mare = 0.0;    // mean of |t - r| / (|r| + 0.01), per pixel and channel
+    double rmse = 0.0;                        // sqrt(mean over pixels and channels of (t - r)^2)
+    double relmse = 0.0;                      // mean of (t - r)^2 / (r^2 + 0.01)
+    double mare = 0.0;                        // mean of |t - r| / (|r| + 0.01), per pixel and channel
     // Mean absolute relative difference of 16x16 block luminances, over blocks whose reference
     // luminance is at least 1% of the image's mean luminance.
     double block_mare = 0.0;
@@ -41,7 +41,7 @@ bool images_agree(const ImageComparison& c, const AgreementThresholds& t, std::s
 // cannot see paths its samples missed; the test therefore rejects more often than its nominal
 // level even between two correct renderers. Treat it as a map of where to look.
 struct PixelZTest {
-    double threshold = 0.0;   // |z| beyond which a pixel is rejected
+    double threshold = 0.0;  // |z| beyond which a pixel is rejected
     long long tested = 0, rejected = 0;
     double max_abs_z = 0.0;
     double fraction_beyond_3 = 0.0;  // share of |z| > 3 (0.27% for Gaussian noise)

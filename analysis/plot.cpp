@@ -53,22 +53,26 @@ std::string LogLogPlot::svg() const {
         return std::string(buf);
     };
     std::ostringstream o;
-    o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << w << "\" height=\"" << h << "\" font-family=\"sans-serif\" font-size=\"12\">\n";
+    o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << w << "\" height=\"" << h
+      << "\" font-family=\"sans-serif\" font-size=\"12\">\n";
     o << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
     o << "<text x=\"" << w / 2 << "\" y=\"22\" text-anchor=\"middle\" font-size=\"15\">" << escape_markup(title) << "</text>\n";
     for (int e = int(rx.lo); e <= int(rx.hi); ++e) {
         double x = px(std::pow(10.0, e));
         o << "<line x1=\"" << x << "\" y1=\"" << Top << "\" x2=\"" << x << "\" y2=\"" << Top + ph << "\" stroke=\"#ddd\"/>\n";
-        o << "<text x=\"" << x << "\" y=\"" << Top + ph + 16 << "\" text-anchor=\"middle\">10<tspan dy=\"-6\" font-size=\"9\">" << e << "</tspan></text>\n";
+        o << "<text x=\"" << x << "\" y=\"" << Top + ph + 16 << "\" text-anchor=\"middle\">10<tspan dy=\"-6\" font-size=\"9\">" << e
+          << "</tspan></text>\n";
     }
     for (int e = int(ry.lo); e <= int(ry.hi); ++e) {
         double y = py(std::pow(10.0, e));
         o << "<line x1=\"" << Left << "\" y1=\"" << y << "\" x2=\"" << Left + pw << "\" y2=\"" << y << "\" stroke=\"#ddd\"/>\n";
-        o << "<text x=\"" << Left - 6 << "\" y=\"" << y + 4 << "\" text-anchor=\"end\">10<tspan dy=\"-6\" font-size=\"9\">" << e << "</tspan></text>\n";
+        o << "<text x=\"" << Left - 6 << "\" y=\"" << y + 4 << "\" text-anchor=\"end\">10<tspan dy=\"-6\" font-size=\"9\">" << e
+          << "</tspan></text>\n";
     }
     o << "<rect x=\"" << Left << "\" y=\"" << Top << "\" width=\"" << pw << "\" height=\"" << ph << "\" fill=\"none\" stroke=\"black\"/>\n";
     o << "<text x=\"" << Left + pw / 2 << "\" y=\"" << h - 12 << "\" text-anchor=\"middle\">" << escape_markup(x_label) << "</text>\n";
-    o << "<text x=\"16\" y=\"" << Top + ph / 2 << "\" text-anchor=\"middle\" transform=\"rotate(-90 16 " << Top + ph / 2 << ")\">" << escape_markup(y_label) << "</text>\n";
+    o << "<text x=\"16\" y=\"" << Top + ph / 2 << "\" text-anchor=\"middle\" transform=\"rotate(-90 16 " << Top + ph / 2 << ")\">"
+      << escape_markup(y_label) << "</text>\n";
     int legend_y = Top + 10;
     for (const auto& s : series) {
         std::ostringstream pts;
@@ -78,9 +82,10 @@ std::string LogLogPlot::svg() const {
           << (s.dashed ? " stroke-dasharray=\"6,4\"" : "") << "/>\n";
         if (s.markers)
             for (size_t i = 0; i < s.x.size(); ++i)
-                if (s.x[i] > 0 && s.y[i] > 0) o << "<circle cx=\"" << px(s.x[i]) << "\" cy=\"" << py(s.y[i]) << "\" r=\"3.5\" fill=\"" << rgb(s.color) << "\"/>\n";
-        o << "<line x1=\"" << Left + pw + 10 << "\" y1=\"" << legend_y << "\" x2=\"" << Left + pw + 30 << "\" y2=\"" << legend_y << "\" stroke=\"" << rgb(s.color)
-          << "\" stroke-width=\"2\"" << (s.dashed ? " stroke-dasharray=\"6,4\"" : "") << "/>\n";
+                if (s.x[i] > 0 && s.y[i] > 0)
+                    o << "<circle cx=\"" << px(s.x[i]) << "\" cy=\"" << py(s.y[i]) << "\" r=\"3.5\" fill=\"" << rgb(s.color) << "\"/>\n";
+        o << "<line x1=\"" << Left + pw + 10 << "\" y1=\"" << legend_y << "\" x2=\"" << Left + pw + 30 << "\" y2=\"" << legend_y
+          << "\" stroke=\"" << rgb(s.color) << "\" stroke-width=\"2\"" << (s.dashed ? " stroke-dasharray=\"6,4\"" : "") << "/>\n";
         o << "<text x=\"" << Left + pw + 34 << "\" y=\"" << legend_y + 4 << "\">" << escape_markup(s.label) << "</text>\n";
         legend_y += 18;
     }
@@ -111,8 +116,10 @@ Image LogLogPlot::image(int w, int h) const {
         std::string l = power_label(e);
         draw::text(img, Left - 6 - draw::text_width(l), y - 3, l, black);
     }
-    for (auto [x0, y0, x1, y1] : {std::array<int, 4>{Left, Top, Left + pw, Top}, {Left + pw, Top, Left + pw, Top + ph},
-                                  {Left + pw, Top + ph, Left, Top + ph}, {Left, Top + ph, Left, Top}})
+    for (auto [x0, y0, x1, y1] : {std::array<int, 4>{Left, Top, Left + pw, Top},
+                                  {Left + pw, Top, Left + pw, Top + ph},
+                                  {Left + pw, Top + ph, Left, Top + ph},
+                                  {Left, Top + ph, Left, Top}})
         raster2d::line_bresenham(x0, y0, x1, y1, [&](int a, int b) { put(a, b, black); });
     draw::text(img, w / 2 - draw::text_width(title) / 2, 14, title, black);
     draw::text(img, Left + pw / 2 - draw::text_width(x_label) / 2, h - 18, x_label, black);
@@ -134,7 +141,8 @@ Image LogLogPlot::image(int w, int h) const {
         if (s.markers)
             for (size_t i = 0; i < s.x.size(); ++i)
                 if (s.x[i] > 0 && s.y[i] > 0)
-                    for (int r = 0; r <= 3; ++r) raster2d::circle_midpoint(px(s.x[i]), py(s.y[i]), r, [&](int a, int b) { put(a, b, s.color); });
+                    for (int r = 0; r <= 3; ++r)
+                        raster2d::circle_midpoint(px(s.x[i]), py(s.y[i]), r, [&](int a, int b) { put(a, b, s.color); });
         step = 0;
         raster2d::line_bresenham(Left + pw + 10, legend_y, Left + pw + 30, legend_y, plot_line);
         draw::text(img, Left + pw + 34, legend_y - 3, s.label, black);
@@ -144,8 +152,10 @@ Image LogLogPlot::image(int w, int h) const {
 }
 
 void LogLogPlot::write(const std::string& path) const {
-    if (std::filesystem::path(path).extension() == ".svg") write_file_atomically(path, svg());
-    else write_png_display(image(), path);
+    if (std::filesystem::path(path).extension() == ".svg")
+        write_file_atomically(path, svg());
+    else
+        write_png_display(image(), path);
 }
 
 }  // namespace candela

@@ -68,8 +68,9 @@ void write_head(std::ostringstream& o) {
 void write_summary(std::ostringstream& o, const std::vector<SceneValidation>& scenes, const ValidationSettings& a) {
     int passed = 0;
     for (const auto& s : scenes) passed += s.pass;
-    o << "<h1>Candela validation report</h1>\n<p>" << passed << " of " << scenes.size() << " scenes pass. Criteria: every channel's whole-image mean within "
-      << a.thresholds.mean * 100 << "% of the reference's; 16x16-block luminance within " << a.thresholds.block * 100
+    o << "<h1>Candela validation report</h1>\n<p>" << passed << " of " << scenes.size()
+      << " scenes pass. Criteria: every channel's whole-image mean within " << a.thresholds.mean * 100
+      << "% of the reference's; 16x16-block luminance within " << a.thresholds.block * 100
       << "% mean absolute relative difference (blocks darker than 1% of the image mean left out). The per-pixel z-test uses Candela's own variance "
          "(reference variance estimated for "
       << a.reference_spp << " spp, plus a float32 rounding floor of 1e-4 relative) with Sidak-corrected significance " << a.alpha
@@ -79,37 +80,40 @@ void write_summary(std::ostringstream& o, const std::vector<SceneValidation>& sc
     o << "<table><tr><th>scene</th><th>verdict</th><th>spp</th><th>mean R</th><th>mean G</th><th>mean B</th><th>block MARE</th><th>z-test rejections</th><th>max |z|</th><th>time</th></tr>\n";
     for (size_t i = 0; i < scenes.size(); ++i) {
         const SceneValidation& s = scenes[i];
-        o << "<tr><td class=\"name\"><a href=\"#" << section_id(i) << "\">" << escape_markup(s.name) << "</a></td><td class=\"" << (s.pass ? "pass\">pass" : "fail\">FAIL") << "</td><td>"
-          << s.spp << "</td>";
+        o << "<tr><td class=\"name\"><a href=\"#" << section_id(i) << "\">" << escape_markup(s.name) << "</a></td><td class=\""
+          << (s.pass ? "pass\">pass" : "fail\">FAIL") << "</td><td>" << s.spp << "</td>";
         for (int c = 0; c < 3; ++c) o << "<td>" << fmt("%+.3f%%", 100.0 * s.metrics.mean_relative_difference[c]) << "</td>";
-        o << "<td>" << fmt("%.3f%%", 100.0 * s.metrics.block_mare) << "</td><td>" << s.z.rejected << " / " << s.z.tested << "</td><td>" << fmt("%.2f", s.z.max_abs_z)
-          << "</td><td>" << fmt("%.1f s", s.seconds) << "</td></tr>\n";
+        o << "<td>" << fmt("%.3f%%", 100.0 * s.metrics.block_mare) << "</td><td>" << s.z.rejected << " / " << s.z.tested << "</td><td>"
+          << fmt("%.2f", s.z.max_abs_z) << "</td><td>" << fmt("%.1f s", s.seconds) << "</td></tr>\n";
     }
     o << "</table>\n";
 }
 
 void write_scene_section(std::ostringstream& o, const SceneValidation& s, size_t index) {
-    o << "<section id=\"" << section_id(index) << "\"><h2>" << escape_markup(s.name) << " <span class=\"" << (s.pass ? "pass\">pass" : "fail\">FAIL") << "</span></h2>\n";
+    o << "<section id=\"" << section_id(index) << "\"><h2>" << escape_markup(s.name) << " <span class=\""
+      << (s.pass ? "pass\">pass" : "fail\">FAIL") << "</span></h2>\n";
     if (!s.pass) o << "<p class=\"fail\">" << escape_markup(s.reason) << "</p>\n";
-    o << "<figure>" << img_tag(s.render_png, s.name + " rendered by Candela") << "<figcaption>Candela, " << s.spp << " spp</figcaption></figure>\n";
+    o << "<figure>" << img_tag(s.render_png, s.name + " rendered by Candela") << "<figcaption>Candela, " << s.spp
+      << " spp</figcaption></figure>\n";
     o << "<figure>" << img_tag(s.reference_png, s.name + " reference") << "<figcaption>reference</figcaption></figure>\n";
-    o << "<figure>" << img_tag(s.heatmap_png, s.name + " relative difference") << "<figcaption>relative luminance difference (Candela - reference) / reference</figcaption></figure>\n";
+    o << "<figure>" << img_tag(s.heatmap_png, s.name + " relative difference")
+      << "<figcaption>relative luminance difference (Candela - reference) / reference</figcaption></figure>\n";
     o << "<figure>" << img_tag(s.zmap_png, s.name + " z map") << "<figcaption>per-pixel |z| (largest over RGB)</figcaption></figure>\n";
     o << "<table><tr><th></th><th>R</th><th>G</th><th>B</th></tr>\n";
-    o << "<tr><td class=\"name\">mean, Candela</td><td>" << fmt("%.6g", s.metrics.mean_test.x) << "</td><td>" << fmt("%.6g", s.metrics.mean_test.y) << "</td><td>"
-      << fmt("%.6g", s.metrics.mean_test.z) << "</td></tr>\n";
-    o << "<tr><td class=\"name\">mean, reference</td><td>" << fmt("%.6g", s.metrics.mean_reference.x) << "</td><td>" << fmt("%.6g", s.metrics.mean_reference.y)
-      << "</td><td>" << fmt("%.6g", s.metrics.mean_reference.z) << "</td></tr>\n";
+    o << "<tr><td class=\"name\">mean, Candela</td><td>" << fmt("%.6g", s.metrics.mean_test.x) << "</td><td>"
+      << fmt("%.6g", s.metrics.mean_test.y) << "</td><td>" << fmt("%.6g", s.metrics.mean_test.z) << "</td></tr>\n";
+    o << "<tr><td class=\"name\">mean, reference</td><td>" << fmt("%.6g", s.metrics.mean_reference.x) << "</td><td>"
+      << fmt("%.6g", s.metrics.mean_reference.y) << "</td><td>" << fmt("%.6g", s.metrics.mean_reference.z) << "</td></tr>\n";
     o << "<tr><td class=\"name\">relative difference</td>";
     for (int c = 0; c < 3; ++c) o << "<td>" << fmt("%+.3f%%", 100.0 * s.metrics.mean_relative_difference[c]) << "</td>";
     o << "</tr></table>\n<table>";
-    o << "<tr><td class=\"name\">block MARE (16x16 luminance)</td><td>" << fmt("%.3f%%", 100.0 * s.metrics.block_mare) << " over " << s.metrics.blocks_used << " of "
-      << s.metrics.blocks_total << " blocks</td></tr>\n";
-    o << "<tr><td class=\"name\">RMSE / relMSE / MARE</td><td>" << fmt("%.4g", s.metrics.rmse) << " / " << fmt("%.4g", s.metrics.relmse) << " / "
-      << fmt("%.4g", s.metrics.mare) << "</td></tr>\n";
-    o << "<tr><td class=\"name\">per-pixel z-test</td><td>" << s.z.rejected << " of " << s.z.tested << " pixel channels beyond |z| = " << fmt("%.2f", s.z.threshold)
-      << "; max |z| " << fmt("%.2f", s.z.max_abs_z) << "; " << fmt("%.3f%%", 100.0 * s.z.fraction_beyond_3)
-      << " beyond |z| = 3 (0.27% for Gaussian noise)</td></tr>\n";
+    o << "<tr><td class=\"name\">block MARE (16x16 luminance)</td><td>" << fmt("%.3f%%", 100.0 * s.metrics.block_mare) << " over "
+      << s.metrics.blocks_used << " of " << s.metrics.blocks_total << " blocks</td></tr>\n";
+    o << "<tr><td class=\"name\">RMSE / relMSE / MARE</td><td>" << fmt("%.4g", s.metrics.rmse) << " / " << fmt("%.4g", s.metrics.relmse)
+      << " / " << fmt("%.4g", s.metrics.mare) << "</td></tr>\n";
+    o << "<tr><td class=\"name\">per-pixel z-test</td><td>" << s.z.rejected << " of " << s.z.tested
+      << " pixel channels beyond |z| = " << fmt("%.2f", s.z.threshold) << "; max |z| " << fmt("%.2f", s.z.max_abs_z) << "; "
+      << fmt("%.3f%%", 100.0 * s.z.fraction_beyond_3) << " beyond |z| = 3 (0.27% for Gaussian noise)</td></tr>\n";
     o << "<tr><td class=\"name\">render time</td><td>" << fmt("%.2f s", s.seconds) << "</td></tr></table>\n</section>\n";
 }
 
@@ -125,7 +129,8 @@ std::vector<ValidationCase> find_validation_cases(const std::string& dir) {
     if (cases.empty()) throw InputError(dir + ": no NAME.xml or scenes/NAME.xml with a refs/NAME.exr");
     for (size_t i = 1; i < cases.size(); ++i)
         if (cases[i].name == cases[i - 1].name)
-            throw InputError(dir + ": " + cases[i].name + ".xml is both in the directory and in scenes/; which one does refs/" + cases[i].name + ".exr belong to?");
+            throw InputError(dir + ": " + cases[i].name + ".xml is both in the directory and in scenes/; which one does refs/" +
+                             cases[i].name + ".exr belong to?");
     return cases;
 }
 

@@ -26,7 +26,7 @@ struct ValidationSettings {
     int reference_spp = 2048;  // the references' sample count, for their variance in the z-test
     int threads = 0;
     AgreementThresholds thresholds;
-    double alpha = 0.01;       // family-wise significance of the per-pixel z-test
+    double alpha = 0.01;  // family-wise significance of the per-pixel z-test
 };
 
 struct SceneValidation {

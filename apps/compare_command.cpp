@@ -7,8 +7,8 @@
 
 #include "apps/commands.h"
 
-#include "core/error.h"
 #include "analysis/image_metrics.h"
+#include "core/error.h"
 
 #include <cstdio>
 

@@ -113,8 +113,9 @@ RenderResult reference_render(Scene& scene, const CompareModesArgs& a) {
         r.image = read_image(a.reference);
         const Vec2i size = scene.sensor().film().crop_size();
         if (r.image.width() != size.x || r.image.height() != size.y)
-            throw InputError(a.reference + ": the reference is " + std::to_string(r.image.width()) + "x" + std::to_string(r.image.height()) + ", the scene renders " +
-                             std::to_string(size.x) + "x" + std::to_string(size.y));
+            throw InputError(a.reference + ": the reference is " + std::to_string(r.image.width()) + "x" +
+                             std::to_string(r.image.height()) + ", the scene renders " + std::to_string(size.x) + "x" +
+                             std::to_string(size.y));
         return r;
     }
     Ref<Integrator> own = scene.integrator().to_string() == "path" ? nullptr : std::make_shared<PathIntegrator>(PathSettings{});
@@ -127,7 +128,8 @@ RenderResult reference_render(Scene& scene, const CompareModesArgs& a) {
     return r;
 }
 
-MethodRun run_method(const std::string& spec, const Ref<Integrator>& integrator, Scene& scene, const CompareModesArgs& a, const Image& reference) {
+MethodRun run_method(const std::string& spec, const Ref<Integrator>& integrator, Scene& scene, const CompareModesArgs& a,
+                     const Image& reference) {
     RenderOptions options;
     options.threads = a.threads;
     options.spp = a.spp;
@@ -152,13 +154,16 @@ double mean_luminance_difference(const ImageComparison& c) {
 }
 
 std::string results_table(const std::vector<MethodRun>& runs, const RenderResult& reference, const CompareModesArgs& a) {
-    std::string t = "| method | time (s) | of which baking (s) | mean luminance vs reference | relMSE | MARE | block MARE |\n|---|---|---|---|---|---|---|\n";
+    std::string t =
+        "| method | time (s) | of which baking (s) | mean luminance vs reference | relMSE | MARE | block MARE |\n|---|---|---|---|---|---|---|\n";
     for (const MethodRun& r : runs)
-        t += "| " + r.label + " | " + format("%.3f", r.result.stats.seconds) + " | " + (r.bake_seconds > 0.0 ? format("%.3f", r.bake_seconds) : "") + " | " +
-             format("%+.2f%%", 100.0 * mean_luminance_difference(r.c)) + " | " + format("%.4g", r.c.relmse) + " | " + format("%.2f%%", 100.0 * r.c.mare) +
-             " | " + format("%.2f%%", 100.0 * r.c.block_mare) + " |\n";
-    t += a.reference.empty() ? "\nReference: path tracer, " + std::to_string(a.reference_spp) + " spp, " + format("%.1f s", reference.stats.seconds) + ".\n"
-                             : "\nReference: " + a.reference + ".\n";
+        t += "| " + r.label + " | " + format("%.3f", r.result.stats.seconds) + " | " +
+             (r.bake_seconds > 0.0 ? format("%.3f", r.bake_seconds) : "") + " | " +
+             format("%+.2f%%", 100.0 * mean_luminance_difference(r.c)) + " | " + format("%.4g", r.c.relmse) + " | " +
+             format("%.2f%%", 100.0 * r.c.mare) + " | " + format("%.2f%%", 100.0 * r.c.block_mare) + " |\n";
+    t += a.reference.empty()
+             ? "\nReference: path tracer, " + std::to_string(a.reference_spp) + " spp, " + format("%.1f s", reference.stats.seconds) + ".\n"
+             : "\nReference: " + a.reference + ".\n";
     return t;
 }
 
@@ -175,13 +180,15 @@ int caption(Image& sheet, int x, int y, const std::vector<std::string>& lines) {
 Image contact_sheet(const std::vector<MethodRun>& runs, const RenderResult& reference, const CompareModesArgs& a) {
     const int pad = 8, line = draw::GlyphHeight + 4;
     std::vector<Image> images{tonemap_srgb(reference.image)}, heatmaps{Image()};
-    std::vector<std::vector<std::string>> top{{"REFERENCE", a.reference.empty() ? "PATH " + std::to_string(a.reference_spp) + " SPP" : "FROM FILE",
+    std::vector<std::vector<std::string>> top{{"REFERENCE",
+                                               a.reference.empty() ? "PATH " + std::to_string(a.reference_spp) + " SPP" : "FROM FILE",
                                                a.reference.empty() ? format("%.2f S", reference.stats.seconds) : ""}},
         bottom{{}};
     for (const MethodRun& r : runs) {
         images.push_back(tonemap_srgb(r.result.image));
         heatmaps.push_back(relative_difference_heatmap(r.result.image, reference.image, float(a.range)));
-        top.push_back({r.label, format("%.3f S", r.result.stats.seconds), r.bake_seconds > 0.0 ? format("(BAKE %.3f S)", r.bake_seconds) : ""});
+        top.push_back(
+            {r.label, format("%.3f S", r.result.stats.seconds), r.bake_seconds > 0.0 ? format("(BAKE %.3f S)", r.bake_seconds) : ""});
         bottom.push_back({"RELMSE " + format("%.4g", r.c.relmse), "BLOCK MARE " + format("%.1f%%", 100.0 * r.c.block_mare),
                           "MEAN " + format("%+.1f%%", 100.0 * mean_luminance_difference(r.c))});
     }
@@ -240,7 +247,8 @@ void add_compare_modes_command(CLI::App& app, std::function<int()>& run) {
                     "(default raster,raster-gi,baked,radiosity,path)");
     cmd->add_option("--spp", a->spp, "Samples per pixel of the sampling methods (default: the scene's)")->check(CLI::PositiveNumber);
     cmd->add_option("--reference", a->reference, "A converged reference EXR instead of rendering one");
-    cmd->add_option("--reference-spp", a->reference_spp, "Samples per pixel of the path-traced reference (default 1024)")->check(CLI::PositiveNumber);
+    cmd->add_option("--reference-spp", a->reference_spp, "Samples per pixel of the path-traced reference (default 1024)")
+        ->check(CLI::PositiveNumber);
     cmd->add_option("--table", a->table, "Also write the table (Markdown) to this file");
     cmd->add_option("-D", a->defines, "Set a scene parameter: -D name=value (repeatable)")->take_all();
     add_search_path_option(cmd, a->search_path);

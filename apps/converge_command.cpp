@@ -42,7 +42,8 @@ std::vector<int> parse_counts(const std::string& text) {
     for (std::string item; std::getline(ss, item, ',');) {
         char* end = nullptr;
         long v = std::strtol(item.c_str(), &end, 10);
-        if (item.empty() || *end != '\0' || v <= 0) throw InputError("--spp expects positive integers separated by commas, got \"" + text + "\"");
+        if (item.empty() || *end != '\0' || v <= 0)
+            throw InputError("--spp expects positive integers separated by commas, got \"" + text + "\"");
         counts.push_back(int(v));
     }
     if (counts.size() < 2) throw InputError("--spp needs at least two sample counts to fit a slope");
@@ -79,7 +80,8 @@ ConvergenceTarget target_from(const ConvergeArgs& a, const Scene& scene, Image& 
         return constant_target(a.expect);
     }
     auto it = scene.parameters.find("expected");
-    if (it == scene.parameters.end()) throw InputError(a.scene + ": no --expect or --reference given, and the scene states no `expected` parameter");
+    if (it == scene.parameters.end())
+        throw InputError(a.scene + ": no --expect or --reference given, and the scene states no `expected` parameter");
     double value = evaluate_expression(it->second);
     description = "exact value " + it->second + " = " + std::to_string(value);
     return constant_target(value);
@@ -87,14 +89,16 @@ ConvergenceTarget target_from(const ConvergeArgs& a, const Scene& scene, Image& 
 
 void print_slope(const SlopeFit& s, const ConvergenceCriteria& c, double slope_z) {
     if (s.status == SlopeFit::Status::NoVariance)
-        std::printf("slope            not applicable: the error is at float32 rounding level (below %.3g) at every sample count; "
-                    "the estimator has no Monte Carlo variance here\n", s.rounding_floor);
+        std::printf(
+            "slope            not applicable: the error is at float32 rounding level (below %.3g) at every sample count; "
+            "the estimator has no Monte Carlo variance here\n",
+            s.rounding_floor);
     else if (s.status == SlopeFit::Status::Fitted) {
-        std::printf("slope            %.4f +- %.4f (weighted fit of log RMSE vs log spp; accepted [%g, %g] within %.2f standard errors)\n", s.slope,
-                    s.slope_se, c.slope_low, c.slope_high, slope_z);
+        std::printf("slope            %.4f +- %.4f (weighted fit of log RMSE vs log spp; accepted [%g, %g] within %.2f standard errors)\n",
+                    s.slope, s.slope_se, c.slope_low, c.slope_high, slope_z);
         bool faster = s.slope + slope_z * s.slope_se < -0.5;
         std::printf("faster than 1/2  %s\n", faster ? "yes: the slope lies below -0.5 by more than its standard errors allow"
-                                                     : "no: the slope is -0.5 or slower within its standard errors");
+                                                    : "no: the slope is -0.5 or slower within its standard errors");
     }
 }
 
@@ -141,7 +145,8 @@ void add_converge_command(CLI::App& app, std::function<int()>& run) {
     auto a = std::make_shared<ConvergeArgs>();
     CLI::App* cmd = app.add_subcommand("converge", "Convergence test against an exact value or a reference image");
     cmd->add_option("scene", a->scene, "Scene file (Mitsuba 3 XML)")->required();
-    auto* expect = cmd->add_option("--expect", a->expect, "Exact value every pixel should converge to (default: the scene's `expected` parameter)");
+    auto* expect =
+        cmd->add_option("--expect", a->expect, "Exact value every pixel should converge to (default: the scene's `expected` parameter)");
     cmd->add_option("--reference", a->reference, "Reference image to converge to instead")->excludes(expect);
     cmd->add_option("--spp", a->spp_list, "Sample counts, comma separated (default 1,4,16,64,256,1024)");
     cmd->add_option("--plot", a->plot, "Write a log-log convergence plot (.svg or .png)");

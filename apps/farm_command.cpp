@@ -77,7 +77,8 @@ FarmRequest make_request(const FarmArgs& a) {
     r.seed = planned.seed;
     r.image = scene->sensor().film().crop_size();
     r.parts = a.parts;
-    if (std::sscanf(a.regions.c_str(), "%dx%d", &r.regions.x, &r.regions.y) != 2) throw InputError("--regions expects CxR, got \"" + a.regions + "\"");
+    if (std::sscanf(a.regions.c_str(), "%dx%d", &r.regions.x, &r.regions.y) != 2)
+        throw InputError("--regions expects CxR, got \"" + a.regions + "\"");
     r.threads_per_task = a.threads_per_task;
     return r;
 }
@@ -101,7 +102,8 @@ std::string sbatch(const std::vector<std::string>& args) {
     // The last line is "<job id>" or "<job id>;<cluster>".
     std::string id = out.substr(out.find_last_of('\n') + 1);
     id = id.substr(0, id.find(';'));
-    if (id.empty() || id.find_first_not_of("0123456789") != std::string::npos) throw InputError(shell_join(words) + " printed no job id: " + out);
+    if (id.empty() || id.find_first_not_of("0123456789") != std::string::npos)
+        throw InputError(shell_join(words) + " printed no job id: " + out);
     return id;
 }
 
@@ -123,8 +125,8 @@ int run_slurm(const FarmArgs& a) {
     const std::string render = render_script_path(plan.workdir), merge = merge_script_path(plan.workdir);
     std::cout << "wrote " << render << " (a job array of " << plan.tasks.size() << " tasks) and " << merge << "\n";
     if (!a.submit) {
-        std::cout << "submit with: job=$(sbatch --parsable " << shell_quote(render) << ") && sbatch --dependency=afterok:$job " << shell_quote(merge)
-                  << "\n";
+        std::cout << "submit with: job=$(sbatch --parsable " << shell_quote(render) << ") && sbatch --dependency=afterok:$job "
+                  << shell_quote(merge) << "\n";
         return ExitOk;
     }
     const std::string render_job = sbatch({render});

@@ -40,8 +40,8 @@ void add_merge_command(CLI::App& app, std::function<int()>& run) {
                 return ExitOk;
             }
             if (!set.missing.empty() && !args->allow_partial) {
-                std::cerr << "error: the parts do not make the whole render (" << set.identity.spp << " spp of " << set.identity.image.x << " x "
-                          << set.identity.image.y << " pixels); nothing written:\n"
+                std::cerr << "error: the parts do not make the whole render (" << set.identity.spp << " spp of " << set.identity.image.x
+                          << " x " << set.identity.image.y << " pixels); nothing written:\n"
                           << describe_missing(set) << "(--allow-partial writes the image of what there is)\n";
                 return ExitBadInput;
             }

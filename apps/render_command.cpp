@@ -10,29 +10,29 @@
 
 #include "apps/commands.h"
 
+#include "apps/render_output.h"
 #include "core/file_resolver.h"
 #include "core/integrator.h"
 #include "core/memory_budget.h"
 #include "core/progress.h"
 #include "core/registry.h"
 #include "core/warning.h"
-#include "apps/render_output.h"
 #include "core/xml.h"
-#include "integrators/path.h"
-#include "integrators/raster/raster.h"
 #include "farm/coverage.h"
 #include "farm/part_file.h"
 #include "farm/plan.h"
 #include "farm/resumable_render.h"
 #include "farm/shell.h"
+#include "integrators/path.h"
+#include "integrators/raster/raster.h"
 
+#include <unistd.h>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <map>
-#include <unistd.h>
 
 namespace candela::app {
 
@@ -119,8 +119,8 @@ std::string parts_refusal(const Scene& scene, const RenderOptions& options) {
 // dropped non-finite samples.
 void report_render(const RenderArgs& a, const RenderStats& stats, const std::string& output, const char* suffix) {
     if (a.spp > 0 && stats.spp != a.spp && !stats.single_frame)
-        warn(SourceLocation{}, "--spp " + std::to_string(a.spp) + " rounded up to " + std::to_string(stats.spp) + " by the " + stats.sampler +
-                                   " sampler");
+        warn(SourceLocation{},
+             "--spp " + std::to_string(a.spp) + " rounded up to " + std::to_string(stats.spp) + " by the " + stats.sampler + " sampler");
     if (!a.quiet) std::cerr << render_summary(stats, output) << suffix << "\n";
     if (stats.nonfinite > 0) std::cerr << "warning: " << stats.nonfinite << " samples were NaN, infinite or beyond 1e30 and were dropped\n";
 }
@@ -181,7 +181,8 @@ void apply_mode(Scene& scene, const RenderArgs& a) {
     bool raster = a.mode == "raster" || (a.mode.empty() && existing);
     if (!raster) {
         if (options_given) throw InputError("raster options (--shading, --aa, ...) need --mode raster");
-        if (a.mode == "path" && scene.integrator().to_string() != "path") scene.set_integrator(std::make_shared<PathIntegrator>(PathSettings{}));
+        if (a.mode == "path" && scene.integrator().to_string() != "path")
+            scene.set_integrator(std::make_shared<PathIntegrator>(PathSettings{}));
         return;
     }
     RasterSettings settings = existing ? existing->settings() : RasterSettings{};
@@ -197,14 +198,19 @@ void add_sampler_option(CLI::App* cmd, std::string& sampler) {
 }
 
 void add_adaptive_options(CLI::App* cmd, AdaptiveSampling& adaptive) {
-    auto* threshold = cmd->add_option("--adaptive-threshold", adaptive.threshold,
-                                      "Adaptive sampling: stop a pixel with n samples once its noise estimate (Cycles', pooled over 3x3 pixels) is below this "
-                                      "times sqrt(n / min-spp) (e.g. 0.01; default off; use the independent sampler)")
-                          ->check(CLI::PositiveNumber);
-    cmd->add_option("--adaptive-min-spp", adaptive.min_spp, "Adaptive sampling: samples before a pixel's first check (default max(16, spp/16), a power of two)")
+    auto* threshold =
+        cmd->add_option(
+               "--adaptive-threshold", adaptive.threshold,
+               "Adaptive sampling: stop a pixel with n samples once its noise estimate (Cycles', pooled over 3x3 pixels) is below this "
+               "times sqrt(n / min-spp) (e.g. 0.01; default off; use the independent sampler)")
+            ->check(CLI::PositiveNumber);
+    cmd->add_option("--adaptive-min-spp", adaptive.min_spp,
+                    "Adaptive sampling: samples before a pixel's first check (default max(16, spp/16), a power of two)")
         ->check(CLI::PositiveNumber)
         ->needs(threshold);
-    cmd->add_option("--adaptive-step", adaptive.step, "Adaptive sampling: samples between checks (default: the minimum)")->check(CLI::PositiveNumber)->needs(threshold);
+    cmd->add_option("--adaptive-step", adaptive.step, "Adaptive sampling: samples between checks (default: the minimum)")
+        ->check(CLI::PositiveNumber)
+        ->needs(threshold);
 }
 
 Vec3 parse_triple(const std::string& text, const std::string& option) {
@@ -254,7 +260,8 @@ void use_search_folders(const std::vector<std::string>& folders) { FileResolver:
 
 std::vector<std::string> absolute_search_folders(const std::vector<std::string>& folders) {
     std::vector<std::string> out;
-    for (const std::filesystem::path& f : split_search_folders(folders)) out.push_back(std::filesystem::absolute(f).lexically_normal().string());
+    for (const std::filesystem::path& f : split_search_folders(folders))
+        out.push_back(std::filesystem::absolute(f).lexically_normal().string());
     return out;
 }
 
@@ -290,7 +297,8 @@ void add_render_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("--crop", args->crop, "Render only the image region x,y,width,height (pixels), as one part for `candela merge`");
     cmd->add_option("--resume", args->resume, "Continue the render that wrote this partial EXR (after Ctrl-C, SIGTERM or a checkpoint)");
     cmd->add_option("--checkpoint", args->checkpoint_minutes, "Write a resumable partial render to the output every MINUTES (atomically)");
-    cmd->add_option("--mode", args->mode, "path (Monte Carlo global illumination) or raster (local illumination); default: the scene's integrator")
+    cmd->add_option("--mode", args->mode,
+                    "path (Monte Carlo global illumination) or raster (local illumination); default: the scene's integrator")
         ->check(CLI::IsMember({"path", "raster"}));
     args->raster.add_to(cmd);
     cmd->callback([args, &run] {
@@ -301,7 +309,8 @@ void add_render_command(CLI::App& app, std::function<int()>& run) {
             std::string png = std::filesystem::path(output).replace_extension(".png").string();
             check_output_path(output);
             if (args->png) check_output_path(png);
-            if (args->part() && args->png) throw InputError("--png needs the whole image: a part (--samples, --crop) holds sums; merge the parts first");
+            if (args->part() && args->png)
+                throw InputError("--png needs the whole image: a part (--samples, --crop) holds sums; merge the parts first");
             if (args->checkpoint_minutes < 0.0) throw InputError("--checkpoint expects minutes > 0");
 
             // From here on Ctrl-C or SIGTERM stops the render and writes what there is.

@@ -21,9 +21,8 @@ std::string render_summary(const RenderStats& s, const std::string& output) {
         return buf;
     }
     double t = std::max(s.seconds, 1e-9);
-    std::snprintf(buf, sizeof buf, "wrote %s: %s, %d spp, %s samples/s, %.2f Mrays/s%s", output.c_str(),
-                  format_duration(s.seconds).c_str(), s.spp, format_count(double(s.samples) / t).c_str(),
-                  double(s.rays) / t * 1e-6, s.partial ? " (partial)" : "");
+    std::snprintf(buf, sizeof buf, "wrote %s: %s, %d spp, %s samples/s, %.2f Mrays/s%s", output.c_str(), format_duration(s.seconds).c_str(),
+                  s.spp, format_count(double(s.samples) / t).c_str(), double(s.rays) / t * 1e-6, s.partial ? " (partial)" : "");
     return buf;
 }
 

@@ -26,10 +26,10 @@ struct ValidateArgs {
 };
 
 void print_scene(const SceneValidation& r) {
-    std::printf("%-12s %s  means %+.3f%% %+.3f%% %+.3f%%, block %.3f%%, z-test %lld/%lld beyond %.2f (max %.1f), %.1fs%s%s\n", r.name.c_str(),
-                r.pass ? "pass" : "FAIL", 100 * r.metrics.mean_relative_difference.x, 100 * r.metrics.mean_relative_difference.y,
-                100 * r.metrics.mean_relative_difference.z, 100 * r.metrics.block_mare, r.z.rejected, r.z.tested, r.z.threshold, r.z.max_abs_z, r.seconds,
-                r.pass ? "" : ": ", r.reason.c_str());
+    std::printf("%-12s %s  means %+.3f%% %+.3f%% %+.3f%%, block %.3f%%, z-test %lld/%lld beyond %.2f (max %.1f), %.1fs%s%s\n",
+                r.name.c_str(), r.pass ? "pass" : "FAIL", 100 * r.metrics.mean_relative_difference.x,
+                100 * r.metrics.mean_relative_difference.y, 100 * r.metrics.mean_relative_difference.z, 100 * r.metrics.block_mare,
+                r.z.rejected, r.z.tested, r.z.threshold, r.z.max_abs_z, r.seconds, r.pass ? "" : ": ", r.reason.c_str());
 }
 
 int validate(const ValidateArgs& a) {
@@ -57,7 +57,8 @@ void add_validate_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("-o,--output", a->report, "HTML report to write (default validation-report.html)");
     cmd->add_option("--spp", s.spp, "Samples per pixel (default: each scene's own)")->check(CLI::PositiveNumber);
     add_sampler_option(cmd, s.sampler);
-    cmd->add_option("--reference-spp", s.reference_spp, "Samples per pixel of the references, for their variance (default 2048)")->check(CLI::PositiveNumber);
+    cmd->add_option("--reference-spp", s.reference_spp, "Samples per pixel of the references, for their variance (default 2048)")
+        ->check(CLI::PositiveNumber);
     cmd->add_option("--mean-tolerance", s.thresholds.mean, "Channel mean tolerance (default 0.01)")->check(CLI::PositiveNumber);
     cmd->add_option("--block-tolerance", s.thresholds.block, "Block luminance tolerance (default 0.02)")->check(CLI::PositiveNumber);
     cmd->add_option("--threads,-t", s.threads, "Worker threads (default: all cores)")->check(CLI::NonNegativeNumber);

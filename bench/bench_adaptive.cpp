@@ -99,23 +99,34 @@ int main(int argc, char** argv) {
     int spp = 256, threads = 0, min_spp = 0, step = 0;
     for (int i = 1; i + 1 < argc; ++i) {
         std::string a = argv[i];
-        if (a == "--scene") scene_path = argv[++i];
-        else if (a == "--reference") reference_path = argv[++i];
-        else if (a == "--spp") spp = std::atoi(argv[++i]);
-        else if (a == "--uniform") uniform_counts = argv[++i];
-        else if (a == "--thresholds") thresholds = argv[++i];
-        else if (a == "--min-spp") min_spp = std::atoi(argv[++i]);
-        else if (a == "--step") step = std::atoi(argv[++i]);
-        else if (a == "--sampler") sampler = argv[++i];
-        else if (a == "--threads") threads = std::atoi(argv[++i]);
+        if (a == "--scene")
+            scene_path = argv[++i];
+        else if (a == "--reference")
+            reference_path = argv[++i];
+        else if (a == "--spp")
+            spp = std::atoi(argv[++i]);
+        else if (a == "--uniform")
+            uniform_counts = argv[++i];
+        else if (a == "--thresholds")
+            thresholds = argv[++i];
+        else if (a == "--min-spp")
+            min_spp = std::atoi(argv[++i]);
+        else if (a == "--step")
+            step = std::atoi(argv[++i]);
+        else if (a == "--sampler")
+            sampler = argv[++i];
+        else if (a == "--threads")
+            threads = std::atoi(argv[++i]);
     }
     Ref<Scene> scene = load_scene(scene_path);
     const Image reference = read_image(reference_path);
     RenderOptions base;
     base.sampler = sampler;
     base.threads = threads;
-    std::printf("%s, sampler %s, reference %s\n", scene_path.c_str(), sampler.empty() ? "(the scene's)" : sampler.c_str(), reference_path.c_str());
-    std::printf("%-9s  %9s  %9s  %12s  %9s  %13s  %13s\n", "mode", "threshold", "mean spp", "relMSE", "time (s)", "uniform spp*", "samples ratio");
+    std::printf("%s, sampler %s, reference %s\n", scene_path.c_str(), sampler.empty() ? "(the scene's)" : sampler.c_str(),
+                reference_path.c_str());
+    std::printf("%-9s  %9s  %9s  %12s  %9s  %13s  %13s\n", "mode", "threshold", "mean spp", "relMSE", "time (s)", "uniform spp*",
+                "samples ratio");
 
     std::vector<Row> uniform;
     for (double n : numbers(uniform_counts)) {
@@ -135,14 +146,17 @@ int main(int argc, char** argv) {
         o.adaptive.step = step;
         const Row r = render(*scene, reference, o);
         const double equivalent = equivalent_uniform_spp(uniform, r.relmse);
-        std::printf("%-9s  %9.4g  %9.2f  %12.5g  %9.3f  %13.1f  %13.3f\n", "adaptive", t, r.spp, r.relmse, r.seconds, equivalent, r.spp / equivalent);
+        std::printf("%-9s  %9.4g  %9.2f  %12.5g  %9.3f  %13.1f  %13.3f\n", "adaptive", t, r.spp, r.relmse, r.seconds, equivalent,
+                    r.spp / equivalent);
         std::fflush(stdout);
     }
     if (!uniform.empty())
-        std::printf("\nthe best allocation of samples to pixels (n_i ~ sqrt(v_i), from the %.0f-spp render's variance) would reach uniform's "
-                    "relMSE with %.3f of the samples\n",
-                    uniform.back().spp, uniform.back().best_allocation);
-    std::printf("\n* the uniform sample count with the same relMSE; samples ratio = mean spp / that count (below 1: fewer samples "
-                "for the same error)\n");
+        std::printf(
+            "\nthe best allocation of samples to pixels (n_i ~ sqrt(v_i), from the %.0f-spp render's variance) would reach uniform's "
+            "relMSE with %.3f of the samples\n",
+            uniform.back().spp, uniform.back().best_allocation);
+    std::printf(
+        "\n* the uniform sample count with the same relMSE; samples ratio = mean spp / that count (below 1: fewer samples "
+        "for the same error)\n");
     return 0;
 }

@@ -24,16 +24,20 @@ namespace {
 std::string scene_with_lights(int count, int res, const std::string& strategy) {
     PCG32 rng(1234, 7);
     std::string s = "<scene version=\"3.0.0\">\n<default name=\"spp\" value=\"16\"/>\n";
-    s += "<integrator type=\"path\"><integer name=\"max_depth\" value=\"4\"/><string name=\"light_sampler\" value=\"" + strategy + "\"/></integrator>\n";
-    s += "<sensor type=\"perspective\"><float name=\"fov\" value=\"55\"/><transform name=\"to_world\"><lookat origin=\"0, 9, 11\" target=\"0, 0, 0\" up=\"0, 1, 0\"/></transform>"
-         "<sampler type=\"independent\"><integer name=\"sample_count\" value=\"$spp\"/></sampler><film type=\"hdrfilm\"><integer name=\"width\" value=\"" +
-         std::to_string(res) + "\"/><integer name=\"height\" value=\"" + std::to_string(res) + "\"/><rfilter type=\"box\"/></film></sensor>\n";
+    s += "<integrator type=\"path\"><integer name=\"max_depth\" value=\"4\"/><string name=\"light_sampler\" value=\"" + strategy +
+         "\"/></integrator>\n";
+    s +=
+        "<sensor type=\"perspective\"><float name=\"fov\" value=\"55\"/><transform name=\"to_world\"><lookat origin=\"0, 9, 11\" target=\"0, 0, 0\" up=\"0, 1, 0\"/></transform>"
+        "<sampler type=\"independent\"><integer name=\"sample_count\" value=\"$spp\"/></sampler><film type=\"hdrfilm\"><integer name=\"width\" value=\"" +
+        std::to_string(res) + "\"/><integer name=\"height\" value=\"" + std::to_string(res) +
+        "\"/><rfilter type=\"box\"/></film></sensor>\n";
     s += "<shape type=\"rectangle\"><transform name=\"to_world\"><scale value=\"12\"/><rotate x=\"1\" angle=\"-90\"/></transform>"
          "<bsdf type=\"diffuse\"><rgb name=\"reflectance\" value=\"0.6\"/></bsdf></shape>\n";
     for (int i = 0; i < 6; ++i) {
         float x = -6 + 12 * rng.next_float(), z = -6 + 12 * rng.next_float(), h = 0.3f + rng.next_float();
-        s += "<shape type=\"cube\"><transform name=\"to_world\"><scale x=\"0.7\" y=\"" + std::to_string(h) + "\" z=\"0.7\"/><translate x=\"" + std::to_string(x) +
-             "\" y=\"" + std::to_string(h) + "\" z=\"" + std::to_string(z) + "\"/></transform></shape>\n";
+        s += "<shape type=\"cube\"><transform name=\"to_world\"><scale x=\"0.7\" y=\"" + std::to_string(h) +
+             "\" z=\"0.7\"/><translate x=\"" + std::to_string(x) + "\" y=\"" + std::to_string(h) + "\" z=\"" + std::to_string(z) +
+             "\"/></transform></shape>\n";
     }
     // Total emitted power stays about the same whatever the count, so images are comparable.
     float scale = 40.0f / float(count);
@@ -42,13 +46,18 @@ std::string scene_with_lights(int count, int res, const std::string& strategy) {
         float power = scale * (0.2f + 1.8f * rng.next_float());
         std::string pos = std::to_string(x) + ", " + std::to_string(y) + ", " + std::to_string(z);
         if (i % 3 == 0) {
-            s += "<emitter type=\"point\"><point name=\"position\" value=\"" + pos + "\"/><rgb name=\"intensity\" value=\"" + std::to_string(power) + "\"/></emitter>\n";
+            s += "<emitter type=\"point\"><point name=\"position\" value=\"" + pos + "\"/><rgb name=\"intensity\" value=\"" +
+                 std::to_string(power) + "\"/></emitter>\n";
         } else if (i % 3 == 1) {
-            s += "<emitter type=\"spot\"><transform name=\"to_world\"><lookat origin=\"" + pos + "\" target=\"" + std::to_string(x) + ", 0, " + std::to_string(z) +
-                 "\"/></transform><float name=\"cutoff_angle\" value=\"35\"/><rgb name=\"intensity\" value=\"" + std::to_string(3 * power) + "\"/></emitter>\n";
+            s += "<emitter type=\"spot\"><transform name=\"to_world\"><lookat origin=\"" + pos + "\" target=\"" + std::to_string(x) +
+                 ", 0, " + std::to_string(z) +
+                 "\"/></transform><float name=\"cutoff_angle\" value=\"35\"/><rgb name=\"intensity\" value=\"" + std::to_string(3 * power) +
+                 "\"/></emitter>\n";
         } else {
-            s += "<shape type=\"rectangle\"><transform name=\"to_world\"><scale value=\"0.15\"/><rotate x=\"1\" angle=\"90\"/><translate value=\"" + pos +
-                 "\"/></transform><emitter type=\"area\"><rgb name=\"radiance\" value=\"" + std::to_string(power * 15) + "\"/></emitter></shape>\n";
+            s +=
+                "<shape type=\"rectangle\"><transform name=\"to_world\"><scale value=\"0.15\"/><rotate x=\"1\" angle=\"90\"/><translate value=\"" +
+                pos + "\"/></transform><emitter type=\"area\"><rgb name=\"radiance\" value=\"" + std::to_string(power * 15) +
+                "\"/></emitter></shape>\n";
         }
     }
     return s + "</scene>\n";
@@ -60,10 +69,14 @@ int main(int argc, char** argv) {
     int res = 128, spp = 16, ref_spp = 1024, threads = 0;
     for (int i = 1; i + 1 < argc; ++i) {
         std::string a = argv[i];
-        if (a == "--res") res = std::atoi(argv[++i]);
-        else if (a == "--spp") spp = std::atoi(argv[++i]);
-        else if (a == "--reference-spp") ref_spp = std::atoi(argv[++i]);
-        else if (a == "--threads") threads = std::atoi(argv[++i]);
+        if (a == "--res")
+            res = std::atoi(argv[++i]);
+        else if (a == "--spp")
+            spp = std::atoi(argv[++i]);
+        else if (a == "--reference-spp")
+            ref_spp = std::atoi(argv[++i]);
+        else if (a == "--threads")
+            threads = std::atoi(argv[++i]);
     }
     std::filesystem::path dir = std::filesystem::temp_directory_path() / "candela-bench-many-lights";
     std::filesystem::create_directories(dir);

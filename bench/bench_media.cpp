@@ -14,13 +14,13 @@
 #include "core/scene.h"
 #include "core/xml.h"
 
+#include <unistd.h>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
-#include <unistd.h>
 
 using namespace candela;
 
@@ -31,7 +31,8 @@ std::string scene_text(const std::string& integrator, const std::string& media, 
         <sensor type="perspective"><float name="fov" value="45"/>SENSOR_MEDIUM
             <transform name="to_world"><lookat origin="0, 1.5, 4" target="0, 0.5, 0" up="0, 1, 0"/></transform>
             <film type="hdrfilm"><integer name="width" value="64"/><integer name="height" value="64"/><rfilter type="box"/></film>
-            <sampler type="independent"><integer name="sample_count" value=")" + std::to_string(spp) + R"("/></sampler></sensor>
+            <sampler type="independent"><integer name="sample_count" value=")" +
+           std::to_string(spp) + R"("/></sampler></sensor>
         <shape type="rectangle"><transform name="to_world"><scale value="3"/><rotate x="1" angle="-90"/></transform>
             <bsdf type="diffuse"/></shape>
         <shape type="sphere"><point name="center" value="0.6, 0.5, 0"/><float name="radius" value="0.4"/></shape>
@@ -63,8 +64,10 @@ std::string replace(std::string s, const std::string& what, const std::string& w
 int main(int argc, char** argv) {
     int threads = 0, spp = 16;
     for (int i = 1; i + 1 < argc; i += 2) {
-        if (!std::strcmp(argv[i], "--threads")) threads = std::atoi(argv[i + 1]);
-        else if (!std::strcmp(argv[i], "--spp")) spp = std::atoi(argv[i + 1]);
+        if (!std::strcmp(argv[i], "--threads"))
+            threads = std::atoi(argv[i + 1]);
+        else if (!std::strcmp(argv[i], "--spp"))
+            spp = std::atoi(argv[i + 1]);
     }
     auto dir = std::filesystem::temp_directory_path() / ("bench_media_" + std::to_string(::getpid()));
     std::filesystem::create_directories(dir);
@@ -80,10 +83,12 @@ int main(int argc, char** argv) {
             }
     write_vol(dir / "blob.vol", glm::ivec3(n), 1, density);
 
-    const std::string fog = R"(<medium type="homogeneous" id="fog"><float name="sigma_t" value="0.3"/><float name="albedo" value="0.8"/></medium>)";
+    const std::string fog =
+        R"(<medium type="homogeneous" id="fog"><float name="sigma_t" value="0.3"/><float name="albedo" value="0.8"/></medium>)";
     auto smoke = [](int factor) {
         return R"(<medium type="heterogeneous" id="smoke"><float name="albedo" value="0.9"/>
-            <integer name="majorant_resolution_factor" value=")" + std::to_string(factor) + R"("/>
+            <integer name="majorant_resolution_factor" value=")" +
+               std::to_string(factor) + R"("/>
             <volume type="gridvolume" name="sigma_t"><string name="filename" value="blob.vol"/>
                 <transform name="to_world"><scale value="2"/><translate x="-1" y="0.01" z="-1"/></transform></volume></medium>
             <shape type="cube"><transform name="to_world"><translate x="0" y="1.01" z="0"/></transform>
@@ -96,8 +101,8 @@ int main(int argc, char** argv) {
         Rate global = render(dir, replace(scene_text(integrator, smoke(0), spp), "SENSOR_MEDIUM", ""), threads);
         std::printf("%-10s homogeneous fog:          %10.0f samples/s\n", integrator, homogeneous.samples_per_second);
         std::printf("%-10s heterogeneous, grid:      %10.0f samples/s\n", integrator, grid.samples_per_second);
-        std::printf("%-10s heterogeneous, global:    %10.0f samples/s   (majorant grid gain %.2fx)\n", integrator, global.samples_per_second,
-                    grid.samples_per_second / global.samples_per_second);
+        std::printf("%-10s heterogeneous, global:    %10.0f samples/s   (majorant grid gain %.2fx)\n", integrator,
+                    global.samples_per_second, grid.samples_per_second / global.samples_per_second);
     }
 
     // Ratio tracking alone, through the volume along random rays.

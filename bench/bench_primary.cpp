@@ -11,10 +11,10 @@
 // primary rays pay enough to restructure the pixel loop around them.
 
 #include "core/accel.h"
+#include "core/film.h"
 #include "core/rng.h"
 #include "core/scene.h"
 #include "core/sensor.h"
-#include "core/film.h"
 #include "core/xml.h"
 
 #include <embree3/rtcore.h>
@@ -77,9 +77,12 @@ int main(int argc, char** argv) {
     int spp = 8, repeats = 3;
     for (int i = 1; i < argc; ++i) {
         std::string a = argv[i];
-        if (a == "--spp" && i + 1 < argc) spp = std::atoi(argv[++i]);
-        else if (a == "--repeats" && i + 1 < argc) repeats = std::atoi(argv[++i]);
-        else scene_path = a;
+        if (a == "--spp" && i + 1 < argc)
+            spp = std::atoi(argv[++i]);
+        else if (a == "--repeats" && i + 1 < argc)
+            repeats = std::atoi(argv[++i]);
+        else
+            scene_path = a;
     }
     Ref<Scene> scene = load_scene(scene_path);
     const Sensor& sensor = scene->sensor();
@@ -115,7 +118,8 @@ int main(int argc, char** argv) {
     long differ = 0;
     for (size_t i = 0; i < n; ++i) differ += !(single_t[i] == packet_t[i]);
     std::printf("scene                         %s\n", scene_path.c_str());
-    std::printf("camera rays                   %zu (%d x %d pixels, %d per pixel), 1 thread, best of %d\n", n, size.x, size.y, spp, repeats);
+    std::printf("camera rays                   %zu (%d x %d pixels, %d per pixel), 1 thread, best of %d\n", n, size.x, size.y, spp,
+                repeats);
     std::printf("one at a time Mrays/s         %.2f\n", double(n) / best_single * 1e-6);
     std::printf("8-packets of a pixel Mrays/s  %.2f (%.2fx)\n", double(n) / best_packet * 1e-6, best_single / best_packet);
     std::printf("8-packets of a row Mrays/s    %.2f (%.2fx)\n", double(n) / best_row * 1e-6, best_single / best_row);

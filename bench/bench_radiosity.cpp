@@ -14,10 +14,10 @@
 #include "core/xml.h"
 #include "integrators/radiosity.h"
 
+#include <unistd.h>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <unistd.h>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -48,11 +48,16 @@ int main(int argc, char** argv) {
     int spp = 64, smooth_spp = 4, threads = 0;
     std::string tolerance = "0.001";
     for (int i = 1; i + 1 < argc; i += 2) {
-        if (!std::strcmp(argv[i], "--areas")) areas = parse_list(argv[i + 1]);
-        else if (!std::strcmp(argv[i], "--spp")) spp = std::atoi(argv[i + 1]);
-        else if (!std::strcmp(argv[i], "--smooth-spp")) smooth_spp = std::atoi(argv[i + 1]);
-        else if (!std::strcmp(argv[i], "--threads")) threads = std::atoi(argv[i + 1]);
-        else if (!std::strcmp(argv[i], "--tolerance")) tolerance = argv[i + 1];
+        if (!std::strcmp(argv[i], "--areas"))
+            areas = parse_list(argv[i + 1]);
+        else if (!std::strcmp(argv[i], "--spp"))
+            spp = std::atoi(argv[i + 1]);
+        else if (!std::strcmp(argv[i], "--smooth-spp"))
+            smooth_spp = std::atoi(argv[i + 1]);
+        else if (!std::strcmp(argv[i], "--threads"))
+            threads = std::atoi(argv[i + 1]);
+        else if (!std::strcmp(argv[i], "--tolerance"))
+            tolerance = argv[i + 1];
     }
     const std::string dir = std::string(CANDELA_SOURCE_DIR) + "/scenes/validation/";
     std::string scene = read_file(dir + "cbox.xml");
@@ -62,15 +67,18 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "cbox.xml no longer has the expected integrator\n");
         return 1;
     }
-    scene.replace(at, path.size(),
-                  "<integrator type=\"radiosity\"><float name=\"max_patch_area\" value=\"$area\"/><boolean name=\"final_gather\" value=\"$gather\"/>"
-                  "<float name=\"tolerance\" value=\"" + tolerance + "\"/><string name=\"solution\" value=\"$solution\"/></integrator>");
-    const std::string solution = (std::filesystem::temp_directory_path() / ("bench_radiosity_" + std::to_string(::getpid()) + ".bin")).string();
+    scene.replace(
+        at, path.size(),
+        "<integrator type=\"radiosity\"><float name=\"max_patch_area\" value=\"$area\"/><boolean name=\"final_gather\" value=\"$gather\"/>"
+        "<float name=\"tolerance\" value=\"" +
+            tolerance + "\"/><string name=\"solution\" value=\"$solution\"/></integrator>");
+    const std::string solution =
+        (std::filesystem::temp_directory_path() / ("bench_radiosity_" + std::to_string(::getpid()) + ".bin")).string();
     Image reference = read_image(dir + "refs/cbox.exr");
 
     std::printf("radiosity on the validation Cornell box (256 x 256), against Mitsuba 3 at 2048 spp; tolerance %s\n", tolerance.c_str());
-    std::printf("%-8s %-7s %8s %7s %9s %8s %9s %10s %10s\n", "area", "display", "patches", "shots", "unshot", "solve s", "total s", "mean diff",
-                "block MARE");
+    std::printf("%-8s %-7s %8s %7s %9s %8s %9s %10s %10s\n", "area", "display", "patches", "shots", "unshot", "solve s", "total s",
+                "mean diff", "block MARE");
     for (float area : areas) {
         double solve_seconds = 0.0;
         std::filesystem::remove(solution);
@@ -86,8 +94,9 @@ int main(int argc, char** argv) {
             ImageComparison c = compare_images(r.image, reference);
             float worst_mean = 0.0f;
             for (int k = 0; k < 3; ++k) worst_mean = std::max(worst_mean, std::abs(c.mean_relative_difference[k]));
-            std::printf("%-8.4g %-7s %8zu %7d %8.2g%% %8.2f %9.2f %9.2f%% %9.2f%%\n", double(area), gather ? "gather" : "smooth", st.patches, st.shots,
-                        100.0 * st.unshot_fraction, solve_seconds, r.stats.seconds, 100.0 * worst_mean, 100.0 * c.block_mare);
+            std::printf("%-8.4g %-7s %8zu %7d %8.2g%% %8.2f %9.2f %9.2f%% %9.2f%%\n", double(area), gather ? "gather" : "smooth",
+                        st.patches, st.shots, 100.0 * st.unshot_fraction, solve_seconds, r.stats.seconds, 100.0 * worst_mean,
+                        100.0 * c.block_mare);
             std::fflush(stdout);
         }
     }

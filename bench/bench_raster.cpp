@@ -40,8 +40,8 @@ double seconds_per_frame(const Ref<Scene>& scene, RasterSettings s) {
 }
 
 std::string film() {
-    return "<film type=\"hdrfilm\"><integer name=\"width\" value=\"" + std::to_string(g_res) + "\"/><integer name=\"height\" value=\"" + std::to_string(g_res) +
-           "\"/></film>";
+    return "<film type=\"hdrfilm\"><integer name=\"width\" value=\"" + std::to_string(g_res) + "\"/><integer name=\"height\" value=\"" +
+           std::to_string(g_res) + "\"/></film>";
 }
 
 Ref<Scene> load_text(const std::string& name, const std::string& xml) {
@@ -53,15 +53,17 @@ Ref<Scene> load_text(const std::string& name, const std::string& xml) {
 // A sphere of about a million triangles (tessellation 1000 gives 1000 x 500 quads) on a floor,
 // with `lights` point lights.
 Ref<Scene> big_mesh_scene(int lights) {
-    std::string s = "<scene version=\"3.0.0\"><sensor type=\"perspective\"><float name=\"fov\" value=\"45\"/><transform name=\"to_world\"><lookat origin=\"0, 2, 5\" "
-                    "target=\"0, 0.8, 0\" up=\"0, 1, 0\"/></transform>" +
-                    film() +
-                    "</sensor><shape type=\"sphere\"><point name=\"center\" x=\"0\" y=\"1\" z=\"0\"/><bsdf type=\"roughplastic\"/></shape>"
-                    "<shape type=\"rectangle\"><transform name=\"to_world\"><scale value=\"4\"/><rotate x=\"1\" angle=\"-90\"/></transform></shape>";
+    std::string s =
+        "<scene version=\"3.0.0\"><sensor type=\"perspective\"><float name=\"fov\" value=\"45\"/><transform name=\"to_world\"><lookat origin=\"0, 2, 5\" "
+        "target=\"0, 0.8, 0\" up=\"0, 1, 0\"/></transform>" +
+        film() +
+        "</sensor><shape type=\"sphere\"><point name=\"center\" x=\"0\" y=\"1\" z=\"0\"/><bsdf type=\"roughplastic\"/></shape>"
+        "<shape type=\"rectangle\"><transform name=\"to_world\"><scale value=\"4\"/><rotate x=\"1\" angle=\"-90\"/></transform></shape>";
     PCG32 rng(7, 1);
     for (int i = 0; i < lights; ++i)
-        s += "<emitter type=\"point\"><point name=\"position\" x=\"" + std::to_string(6 * rng.next_float() - 3) + "\" y=\"" + std::to_string(2.5f + rng.next_float()) +
-             "\" z=\"" + std::to_string(6 * rng.next_float() - 3) + "\"/><rgb name=\"intensity\" value=\"" + std::to_string(10.0 / lights) + "\"/></emitter>";
+        s += "<emitter type=\"point\"><point name=\"position\" x=\"" + std::to_string(6 * rng.next_float() - 3) + "\" y=\"" +
+             std::to_string(2.5f + rng.next_float()) + "\" z=\"" + std::to_string(6 * rng.next_float() - 3) +
+             "\"/><rgb name=\"intensity\" value=\"" + std::to_string(10.0 / lights) + "\"/></emitter>";
     return load_text("mesh" + std::to_string(lights), s + "</scene>");
 }
 
@@ -129,10 +131,14 @@ int main(int argc, char** argv) {
     bool res_given = false, frames_given = false;
     for (int i = 1; i < argc; ++i) {
         std::string a = argv[i];
-        if (a == "--quick") g_quick = true;
-        else if (a == "--res" && i + 1 < argc) g_res = std::atoi(argv[++i]), res_given = true;
-        else if (a == "--frames" && i + 1 < argc) g_frames = std::atoi(argv[++i]), frames_given = true;
-        else if (a == "--threads" && i + 1 < argc) g_threads = std::atoi(argv[++i]);
+        if (a == "--quick")
+            g_quick = true;
+        else if (a == "--res" && i + 1 < argc)
+            g_res = std::atoi(argv[++i]), res_given = true;
+        else if (a == "--frames" && i + 1 < argc)
+            g_frames = std::atoi(argv[++i]), frames_given = true;
+        else if (a == "--threads" && i + 1 < argc)
+            g_threads = std::atoi(argv[++i]);
     }
     if (g_quick) {
         if (!res_given) g_res = 256;
@@ -171,7 +177,9 @@ int main(int argc, char** argv) {
 
     std::printf("\nshadow maps against shadow volumes, ms/frame (phong)\n");
     std::printf("%-34s %10s %10s %10s\n", "scene", "none", "maps", "volumes");
-    for (auto [name, scene] : {std::pair<const char*, Ref<Scene>>{"cbox", cbox}, {"1M-triangle sphere, 1 light", mesh}, {"1M-triangle sphere, 10 lights", big_mesh_scene(10)}}) {
+    for (auto [name, scene] : {std::pair<const char*, Ref<Scene>>{"cbox", cbox},
+                               {"1M-triangle sphere, 1 light", mesh},
+                               {"1M-triangle sphere, 10 lights", big_mesh_scene(10)}}) {
         double t[3];
         int k = 0;
         for (auto shadows : {RasterSettings::Shadows::None, RasterSettings::Shadows::Map, RasterSettings::Shadows::Volume}) {

@@ -42,16 +42,21 @@ std::vector<std::string> split(const std::string& text) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    std::string dir = std::string(CANDELA_SOURCE_DIR) + "/scenes/validation", scenes, samplers = "independent,stratified,multijitter,orthogonal,ldsampler,sobol,zsobol",
-                counts = "16,64,256";
+    std::string dir = std::string(CANDELA_SOURCE_DIR) + "/scenes/validation", scenes,
+                samplers = "independent,stratified,multijitter,orthogonal,ldsampler,sobol,zsobol", counts = "16,64,256";
     int threads = 0;
     for (int i = 1; i + 1 < argc; ++i) {
         std::string a = argv[i];
-        if (a == "--dir") dir = argv[++i];
-        else if (a == "--scenes") scenes = argv[++i];
-        else if (a == "--samplers") samplers = argv[++i];
-        else if (a == "--spp") counts = argv[++i];
-        else if (a == "--threads") threads = std::atoi(argv[++i]);
+        if (a == "--dir")
+            dir = argv[++i];
+        else if (a == "--scenes")
+            scenes = argv[++i];
+        else if (a == "--samplers")
+            samplers = argv[++i];
+        else if (a == "--spp")
+            counts = argv[++i];
+        else if (a == "--threads")
+            threads = std::atoi(argv[++i]);
     }
     const std::vector<std::string> wanted = split(scenes), sampler_names = split(samplers), spp_texts = split(counts);
     std::printf("%-11s  %-12s  %5s  %9s  %12s  %14s\n", "scene", "sampler", "spp", "time (s)", "relMSE", "relMSE x time");
@@ -73,7 +78,8 @@ int main(int argc, char** argv) {
                 RenderResult r = scene->integrator().render(*scene, o);
                 ImageComparison m = compare_images(r.image, reference);
                 double cost = m.relmse * r.stats.seconds;
-                std::printf("%-11s  %-12s  %5d  %9.3f  %12.5g  %14.5g\n", c.name.c_str(), sampler.c_str(), r.stats.spp, r.stats.seconds, m.relmse, cost);
+                std::printf("%-11s  %-12s  %5d  %9.3f  %12.5g  %14.5g\n", c.name.c_str(), sampler.c_str(), r.stats.spp, r.stats.seconds,
+                            m.relmse, cost);
                 std::fflush(stdout);
                 if (sampler == "independent") independent_cost = cost;
                 if (independent_cost > 0.0) {

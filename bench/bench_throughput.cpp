@@ -64,11 +64,16 @@ int main(int argc, char** argv) {
     long long ray_count = 20000000;
     for (int i = 1; i < argc; ++i) {
         std::string a = argv[i];
-        if (a == "--threads" && i + 1 < argc) threads = std::atoi(argv[++i]);
-        else if (a == "--spp" && i + 1 < argc) spp = std::atoi(argv[++i]);
-        else if (a == "--rays" && i + 1 < argc) ray_count = std::atoll(argv[++i]);
-        else if (a == "--rounds" && i + 1 < argc) rounds = std::max(1, std::atoi(argv[++i]));
-        else scene_path = a;
+        if (a == "--threads" && i + 1 < argc)
+            threads = std::atoi(argv[++i]);
+        else if (a == "--spp" && i + 1 < argc)
+            spp = std::atoi(argv[++i]);
+        else if (a == "--rays" && i + 1 < argc)
+            ray_count = std::atoll(argv[++i]);
+        else if (a == "--rounds" && i + 1 < argc)
+            rounds = std::max(1, std::atoi(argv[++i]));
+        else
+            scene_path = a;
     }
     Ref<Scene> scene = load_scene(scene_path);
     tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
@@ -136,7 +141,8 @@ int main(int argc, char** argv) {
     std::vector<double> sorted = ratios;
     std::sort(sorted.begin(), sorted.end());
     double median = sorted.size() % 2 ? sorted[sorted.size() / 2] : 0.5 * (sorted[sorted.size() / 2 - 1] + sorted[sorted.size() / 2]);
-    std::printf("ratio path/embree Mrays   median %.3f of %d rounds (lowest %.3f, highest %.3f)\n", median, rounds, sorted.front(), sorted.back());
+    std::printf("ratio path/embree Mrays   median %.3f of %d rounds (lowest %.3f, highest %.3f)\n", median, rounds, sorted.front(),
+                sorted.back());
     double share = embree_share(*scene, options);
     std::printf("share of time inside Embree %.1f%% (%ld profiler ticks)\n", 100.0 * share, g_samples_total.load());
     std::printf("embree Mrays/s on its rays  %.2f (path tracer rays / time inside Embree)\n", path_mrays / share);

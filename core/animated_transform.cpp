@@ -143,8 +143,7 @@ BoundingBox AnimatedTransform::bounds(const BoundingBox& local) const {
     add_pose(keys_.front().transform);
     const int Steps = 32;
     for (size_t i = 1; i < keys_.size(); ++i)
-        for (int s = 1; s <= Steps; ++s)
-            add_pose(eval(keys_[i - 1].time + (keys_[i].time - keys_[i - 1].time) * float(s) / Steps));
+        for (int s = 1; s <= Steps; ++s) add_pose(eval(keys_[i - 1].time + (keys_[i].time - keys_[i - 1].time) * float(s) / Steps));
     return out;
 }
 

@@ -21,7 +21,7 @@ public:
         Transform transform;
         Vec3 translation{0.0f};
         Vec4 rotation{0.0f, 0.0f, 0.0f, 1.0f};  // unit quaternion (x, y, z, w)
-        Mat3 scale_shear{1.0f};                  // upper triangular
+        Mat3 scale_shear{1.0f};                 // upper triangular
     };
 
     AnimatedTransform() : AnimatedTransform(Transform()) {}

@@ -47,10 +47,10 @@ struct BSDFContext {
 
 struct BSDFSample {
     Vec3 wo{0.0f};
-    float pdf = 0.0f;       // 0 marks a failed sample
-    float eta = 1.0f;       // relative IOR along the sampled direction (1 for reflection)
+    float pdf = 0.0f;          // 0 marks a failed sample
+    float eta = 1.0f;          // relative IOR along the sampled direction (1 for reflection)
     uint32_t lobe = BSDFNone;  // the one lobe that was chosen
-    Spectrum weight{0.0f};  // f * |cos wo| / pdf
+    Spectrum weight{0.0f};     // f * |cos wo| / pdf
     bool valid() const { return pdf > 0.0f; }
 };
 

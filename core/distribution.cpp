@@ -63,8 +63,7 @@ float Distribution1D::pdf_continuous(float x) const {
     return pdf_[i] * float(n);
 }
 
-Distribution2D::Distribution2D(const std::vector<float>& weights, int width, int height)
-    : width_(width), height_(height) {
+Distribution2D::Distribution2D(const std::vector<float>& weights, int width, int height) : width_(width), height_(height) {
     rows_.reserve(height);
     std::vector<float> row_sums(height);
     for (int y = 0; y < height; ++y) {
@@ -98,12 +97,15 @@ namespace {
 
 // The largest i in [0, size - 2] with below(i) true (0 when none is), by bisection; `below` must
 // be monotone (true, then false).
-template <typename Below> size_t find_interval(size_t size, const Below& below) {
+template <typename Below>
+size_t find_interval(size_t size, const Below& below) {
     size_t lo = 0, hi = size - 1;  // below(lo) is assumed; the answer lies in [lo, hi)
     while (hi - lo > 1) {
         size_t mid = (lo + hi) / 2;
-        if (below(mid)) lo = mid;
-        else hi = mid;
+        if (below(mid))
+            lo = mid;
+        else
+            hi = mid;
     }
     return std::min(lo, size - 2);
 }
@@ -129,7 +131,8 @@ Marginal2D::Marginal2D(const float* data, int width, int height, std::vector<std
         const std::vector<float>& v = params_[d];
         if (v.empty()) throw std::invalid_argument("a parameter without values");
         for (size_t i = 0; i < v.size(); ++i)
-            if (!std::isfinite(v[i]) || (i > 0 && !(v[i] > v[i - 1]))) throw std::invalid_argument("parameter values must be finite and increase");
+            if (!std::isfinite(v[i]) || (i > 0 && !(v[i] > v[i - 1])))
+                throw std::invalid_argument("parameter values must be finite and increase");
         param_strides_[d] = slices;
         slices *= v.size();
     }
@@ -257,7 +260,8 @@ Vec2 Marginal2D::invert(Vec2 p, const float* params, float* pdf) const {
     size_t i = q.row * w + q.col;
     float r0 = lookup(conditional_cdf_, n, b, q.row * w + w - 1), r1 = lookup(conditional_cdf_, n, b, (q.row + 1) * w + w - 1);
     // The conditional CDF at x: the row's integral up to the patch, then within it.
-    float ux = (1.0f - t) * lookup(conditional_cdf_, n, b, i) + t * lookup(conditional_cdf_, n, b, i + w) + s * (q.c0 + 0.5f * s * (q.c1 - q.c0));
+    float ux =
+        (1.0f - t) * lookup(conditional_cdf_, n, b, i) + t * lookup(conditional_cdf_, n, b, i + w) + s * (q.c0 + 0.5f * s * (q.c1 - q.c0));
     float total = (1.0f - t) * r0 + t * r1;
     ux = total > 0.0f ? ux / total : 0.0f;
     float uy = lookup(marginal_cdf_, size_t(height_), b, q.row) + t * (r0 + 0.5f * t * (r1 - r0));

@@ -29,7 +29,7 @@ public:
     float pdf_continuous(float x) const;
 
 private:
-    std::vector<float> pdf_;  // normalised bin probabilities
+    std::vector<float> pdf_;   // normalised bin probabilities
     std::vector<double> cdf_;  // size n + 1, cdf_[0] = 0, cdf_[n] = 1
     float total_ = 0.0f;
 };
@@ -109,10 +109,10 @@ private:
     int width_ = 0, height_ = 0;
     Mode mode_ = Mode::Interpolant;
     std::vector<std::vector<float>> params_;
-    std::vector<size_t> param_strides_;  // in grids
-    std::vector<float> data_;            // normalised (Distribution) or as given
-    std::vector<float> conditional_cdf_; // per row, running integral along x (index units)
-    std::vector<float> marginal_cdf_;    // per grid, running integral over rows
+    std::vector<size_t> param_strides_;   // in grids
+    std::vector<float> data_;             // normalised (Distribution) or as given
+    std::vector<float> conditional_cdf_;  // per row, running integral along x (index units)
+    std::vector<float> marginal_cdf_;     // per grid, running integral over rows
 };
 
 }  // namespace candela

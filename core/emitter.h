@@ -32,10 +32,10 @@ struct LightBounds {
 // A ray of emitted light, sampled by position and direction (Mitsuba's Emitter::sample_ray,
 // pbrt-v4's SampleLe), to start the light paths of particle tracing and photon mapping.
 struct EmitterRay {
-    Ray ray;                  // starts exactly on the emitter (not offset); unit direction
-    Vec3 n{0.0f};             // the emitter's normal at the origin (zero for point and infinite emitters)
-    float p_error = 0.0f;     // bound on the error of each coordinate of the origin
-    Vec2 uv{0.0f};            // surface uv of the origin (area emitters)
+    Ray ray;                     // starts exactly on the emitter (not offset); unit direction
+    Vec3 n{0.0f};                // the emitter's normal at the origin (zero for point and infinite emitters)
+    float p_error = 0.0f;        // bound on the error of each coordinate of the origin
+    Vec2 uv{0.0f};               // surface uv of the origin (area emitters)
     float pdf_position = 0.0f;   // per unit area (1 for a delta in position; infinite emitters:
                                  // per unit area of the disk the rays start from)
     float pdf_direction = 0.0f;  // per unit solid angle (1 for a delta in direction)

@@ -3,9 +3,9 @@
 #include "core/error.h"
 #include "core/image.h"
 
+#include <unistd.h>
 #include <filesystem>
 #include <fstream>
-#include <unistd.h>
 
 namespace fs = std::filesystem;
 

@@ -60,7 +60,8 @@ void FileResolver::append(const fs::path& folder) {
     folders_.push_back(folder);
 }
 
-template <typename Test> std::optional<fs::path> FileResolver::find(const std::string& name, Test test) const {
+template <typename Test>
+std::optional<fs::path> FileResolver::find(const std::string& name, Test test) const {
     fs::path p(name);
     std::error_code ec;
     if (p.is_absolute()) return test(p, ec) && allowed(p) ? std::optional<fs::path>(p) : std::nullopt;

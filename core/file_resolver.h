@@ -44,7 +44,8 @@ public:
     std::string describe() const;
 
 private:
-    template <typename Test> std::optional<std::filesystem::path> find(const std::string& name, Test test) const;
+    template <typename Test>
+    std::optional<std::filesystem::path> find(const std::string& name, Test test) const;
     std::vector<std::filesystem::path> folders_;
     std::shared_ptr<std::vector<std::filesystem::path>> found_files_ = std::make_shared<std::vector<std::filesystem::path>>();
 };

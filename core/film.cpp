@@ -6,12 +6,12 @@ namespace candela {
 
 std::vector<std::string> pixel_format_channels(PixelFormat format) {
     switch (format) {
-    case PixelFormat::Luminance: return {"Y"};
-    case PixelFormat::LuminanceAlpha: return {"Y", "A"};
-    case PixelFormat::RGB: return {"R", "G", "B"};
-    case PixelFormat::RGBA: return {"R", "G", "B", "A"};
-    case PixelFormat::XYZ: return {"X", "Y", "Z"};
-    case PixelFormat::XYZA: return {"X", "Y", "Z", "A"};
+        case PixelFormat::Luminance: return {"Y"};
+        case PixelFormat::LuminanceAlpha: return {"Y", "A"};
+        case PixelFormat::RGB: return {"R", "G", "B"};
+        case PixelFormat::RGBA: return {"R", "G", "B", "A"};
+        case PixelFormat::XYZ: return {"X", "Y", "Z"};
+        case PixelFormat::XYZA: return {"X", "Y", "Z", "A"};
     }
     return {};
 }
@@ -26,7 +26,8 @@ void write_pixel_format(PixelFormat format, const Spectrum& rgb, float alpha, fl
         for (int k = 0; k < 3; ++k) out[c++] = rgb[k];
     } else {
         Vec3d xyz = linear_srgb_to_xyz(Vec3d(rgb));
-        if (format == PixelFormat::Luminance || format == PixelFormat::LuminanceAlpha) out[c++] = float(xyz.y);
+        if (format == PixelFormat::Luminance || format == PixelFormat::LuminanceAlpha)
+            out[c++] = float(xyz.y);
         else
             for (int k = 0; k < 3; ++k) out[c++] = float(xyz[k]);
     }

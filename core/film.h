@@ -27,11 +27,11 @@ void write_pixel_format(PixelFormat format, const Spectrum& rgb, float alpha, fl
 class Film : public Object {
 public:
     ObjectKind kind() const override { return ObjectKind::Film; }
-    virtual Vec2i full_size() const = 0;   // width, height of the whole film
+    virtual Vec2i full_size() const = 0;  // width, height of the whole film
     virtual Vec2i crop_offset() const = 0;
-    virtual Vec2i crop_size() const = 0;   // the size of the image that is written
+    virtual Vec2i crop_size() const = 0;  // the size of the image that is written
     virtual const ReconstructionFilter& filter() const = 0;
-    virtual bool float32() const = 0;      // component_format: float32 or float16
+    virtual bool float32() const = 0;  // component_format: float32 or float16
     virtual PixelFormat pixel_format() const = 0;
     // Mitsuba's sample_border: pixels within the filter's reach outside the crop window are
     // sampled too, so that edge pixels get their full filter support.

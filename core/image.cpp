@@ -7,31 +7,30 @@
 
 #include <candela/image_module.h>
 
+#include <Imath/half.h>
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfOutputFile.h>
 #include <OpenEXR/ImfStringAttribute.h>
-#include <Imath/half.h>
 
+#include <dlfcn.h>
+#include <unistd.h>
 #include <algorithm>
 #include <atomic>
 #include <cctype>
 #include <cstdio>
-#include <dlfcn.h>
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
 #include <memory>
-#include <unistd.h>
 
 namespace fs = std::filesystem;
 
 namespace candela {
 
 Image::Image(int width, int height, std::vector<std::string> channels)
-    : width_(width), height_(height), channels_(std::move(channels)),
-      data_(size_t(width) * size_t(height) * channels_.size(), 0.0f) {}
+    : width_(width), height_(height), channels_(std::move(channels)), data_(size_t(width) * size_t(height) * channels_.size(), 0.0f) {}
 
 Image::Image(int width, int height, std::vector<std::string> channels, std::vector<float> values)
     : width_(width), height_(height), channels_(std::move(channels)), data_(std::move(values)) {
@@ -124,7 +123,8 @@ DecodedImage decode_image(const std::string& path, bool pixels) {
         std::string what = "is not an image Candela reads";
         // Name the format when OpenImageIO knows the extension.
         if (std::string known = image_codecs().format_by_extension(path); !known.empty()) what = "is a " + known + " image";
-        throw InputError(path + ": " + what + "; Candela reads the formats Mitsuba 3 does: OpenEXR, PNG, JPEG, RGBE (.hdr), PFM, PPM, TGA, BMP");
+        throw InputError(path + ": " + what +
+                         "; Candela reads the formats Mitsuba 3 does: OpenEXR, PNG, JPEG, RGBE (.hdr), PFM, PPM, TGA, BMP");
     }
     DecodedImage decoded;
     if (std::string error = image_codecs().read(path, format, pixels, decoded); !error.empty()) throw InputError(error);
@@ -194,7 +194,8 @@ void write_exr(const Image& image, const std::string& path, bool float32) {
             header.channels().insert(image.channels()[c], Imf::Channel(float32 ? Imf::FLOAT : Imf::HALF));
             char* base = float32 ? reinterpret_cast<char*>(data.data() + c) : reinterpret_cast<char*>(halves.data() + c);
             size_t size = float32 ? sizeof(float) : sizeof(Imath::half);
-            fb.insert(image.channels()[c], Imf::Slice(float32 ? Imf::FLOAT : Imf::HALF, base, size * nch, size * nch * size_t(image.width())));
+            fb.insert(image.channels()[c],
+                      Imf::Slice(float32 ? Imf::FLOAT : Imf::HALF, base, size * nch, size * nch * size_t(image.width())));
         }
         Imf::OutputFile file(tmp.c_str(), header);
         file.setFrameBuffer(fb);

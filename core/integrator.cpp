@@ -1,12 +1,12 @@
 #include "core/integrator.h"
 
+#include "core/bsdf.h"
 #include "core/memory_budget.h"
 #include "core/parallel.h"
 #include "core/progress.h"
 #include "core/registry.h"
 #include "core/sampler.h"
 #include "core/scene.h"
-#include "core/bsdf.h"
 #include "core/shape.h"
 #include "core/warning.h"
 
@@ -128,7 +128,8 @@ void check_film_memory(const Film& film, const RenderWindow& window, const Sampl
     const uint64_t border = uint64_t(ImageBlock::reach(film.filter()));
     const uint64_t tiles_x = (w + TileSize - 1) / TileSize, tiles_y = (h + TileSize - 1) / TileSize;
     // A block holds each splatted value and the filter weight per pixel.
-    uint64_t blocks = saturating_mul(saturating_mul(w + 2 * border * tiles_x, h + 2 * border * tiles_y), uint64_t(values.values() + 1) * sizeof(float));
+    uint64_t blocks =
+        saturating_mul(saturating_mul(w + 2 * border * tiles_x, h + 2 * border * tiles_y), uint64_t(values.values() + 1) * sizeof(float));
     blocks = saturating_add(blocks, saturating_mul(tiles_x * tiles_y, sizeof(Tile)));
     uint64_t stats = layout.pixel_stats() ? saturating_mul(pixels, sizeof(PixelStats)) : 0;
     uint64_t image = saturating_mul(stored, (values.channels().size() + layout.channels().size()) * sizeof(float));
@@ -202,9 +203,13 @@ class TileSampler {
 public:
     TileSampler(const SamplingIntegrator& integrator, const Scene& scene, const SampleLayout& values, const AovLayout& layers,
                 const RenderWindow& window, int spp)
-        : integrator_(integrator), scene_(scene), sensor_(scene.sensor()),
+        : integrator_(integrator),
+          scene_(scene),
+          sensor_(scene.sensor()),
           region_origin_(scene.sensor().film().crop_offset() + window.region.offset),
-          block_origin_(scene.sensor().film().crop_offset() + window.stored.offset), values_(values), first_hit_(layers.first_hit()),
+          block_origin_(scene.sensor().film().crop_offset() + window.stored.offset),
+          values_(values),
+          first_hit_(layers.first_hit()),
           differential_scale_(1.0f / std::sqrt(float(std::max(spp, 1)))) {}
 
     // Samples `samples` of every pixel the tile samples, unless the render was interrupted before.
@@ -226,7 +231,8 @@ private:
     // The samples of one pixel (tile coordinates): each positions the sampler at (pixel, index),
     // so its random numbers depend on nothing else. Samples with a non-finite value are counted
     // and dropped.
-    void sample_pixel(Tile& tile, const Vec2i& local, const SampleRange& samples, Sampler& sampler, uint64_t& taken, uint64_t& nonfinite) const {
+    void sample_pixel(Tile& tile, const Vec2i& local, const SampleRange& samples, Sampler& sampler, uint64_t& taken,
+                      uint64_t& nonfinite) const {
         const Vec2i pixel = region_origin_ + tile.offset + local;
         const bool own = local.x >= 0 && local.y >= 0 && local.x < tile.size.x && local.y < tile.size.y;
         PixelStats* ps = tile.stats.empty() || !own ? nullptr : &tile.stats[size_t(local.y) * tile.size.x + local.x];
@@ -293,7 +299,8 @@ void stop_converged(std::vector<Tile>& tiles, const Vec2i& crop, float threshold
     std::vector<double> error(size_t(crop.x) * crop.y, 0.0);
     for (const Tile& t : tiles)
         for (int y = 0; y < t.size.y; ++y)
-            for (int x = 0; x < t.size.x; ++x) error[size_t(t.offset.y + y) * crop.x + t.offset.x + x] = t.stats[size_t(y) * t.size.x + x].adaptive_error();
+            for (int x = 0; x < t.size.x; ++x)
+                error[size_t(t.offset.y + y) * crop.x + t.offset.x + x] = t.stats[size_t(y) * t.size.x + x].adaptive_error();
     auto pooled_error = [&](int px, int py) {
         double sum = 0.0;
         int count = 0;
@@ -308,7 +315,8 @@ void stop_converged(std::vector<Tile>& tiles, const Vec2i& crop, float threshold
         for (int y = 0; y < t.size.y; ++y)
             for (int x = 0; x < t.size.x; ++x) {
                 PixelStats& ps = t.stats[size_t(y) * t.size.x + x];
-                if (ps.active && pooled_error(t.offset.x + x, t.offset.y + y) < threshold * std::sqrt(double(ps.n) / min_spp)) ps.active = false;
+                if (ps.active && pooled_error(t.offset.x + x, t.offset.y + y) < threshold * std::sqrt(double(ps.n) / min_spp))
+                    ps.active = false;
             }
 }
 
@@ -447,14 +455,16 @@ RenderResult SamplingIntegrator::render(const Scene& scene, const RenderOptions&
     // Whether a pixel takes a sample depends on its earlier samples and on its neighbours': a part
     // could not know, so adaptive renders are whole (see farm/resumable_render.h).
     if (adaptive.enabled && (samples.begin != 0 || samples.end != prototype->sample_count() || !window.whole(film.crop_size())))
-        throw InputError("adaptive sampling renders every sample index of the whole image: whether a pixel takes a sample depends on "
-                         "its earlier samples and its neighbours', so it cannot render a part (--samples, --crop) or resume");
+        throw InputError(
+            "adaptive sampling renders every sample index of the whole image: whether a pixel takes a sample depends on "
+            "its earlier samples and its neighbours', so it cannot render a part (--samples, --crop) or resume");
     // Measured on the validation Cornell box (bench/bench_adaptive): with `stratified`, adaptive
     // sampling needed more samples than uniform sampling for the same error.
     if (adaptive.enabled && prototype->stratified_only_as_a_whole())
-        warn(SourceLocation{scene.source_file, 0}, "adaptive sampling with a sampler whose pixel samples are stratified only as a whole "
-                                                   "(stratified, multijitter, orthogonal, ldsampler): pixels that stop early lose the "
-                                                   "stratification; --sampler independent or sobol suits adaptive sampling");
+        warn(SourceLocation{scene.source_file, 0},
+             "adaptive sampling with a sampler whose pixel samples are stratified only as a whole "
+             "(stratified, multijitter, orthogonal, ldsampler): pixels that stop early lose the "
+             "stratification; --sampler independent or sobol suits adaptive sampling");
     prepare(scene);
 
     std::vector<Tile> tiles = make_tiles(film, window, values.values(), layers.pixel_stats() || adaptive.enabled, samples.begin);
@@ -471,10 +481,12 @@ RenderResult SamplingIntegrator::render(const Scene& scene, const RenderOptions&
         if (interruption.stopped()) break;
         arena.execute([&] {
             parallel_chunks(tiles.size(), 1, [&](size_t begin, size_t end) {
-                for (size_t i = begin; i != end; ++i) tile_sampler.sample_tile(tiles[i], pass, *samplers.local(), interruption, counters, progress);
+                for (size_t i = begin; i != end; ++i)
+                    tile_sampler.sample_tile(tiles[i], pass, *samplers.local(), interruption, counters, progress);
             });
         });
-        if (adaptive.checks_at(pass.end) && !interruption.stopped()) stop_converged(tiles, window.region.size, adaptive.threshold, adaptive.min_spp);
+        if (adaptive.checks_at(pass.end) && !interruption.stopped())
+            stop_converged(tiles, window.region.size, adaptive.threshold, adaptive.min_spp);
         // A checkpoint after a whole pass, and only when more passes follow.
         const auto now = std::chrono::steady_clock::now();
         if (options.checkpoint && options.checkpoint_seconds > 0.0 && !interruption.stopped() && pass.end < samples.end &&

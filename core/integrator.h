@@ -36,11 +36,11 @@ struct AdaptiveSampling {
 };
 
 struct RenderOptions {
-    int spp = 0;                        // 0: the scene's sampler sample_count
-    std::optional<uint64_t> seed;       // default: the sampler's seed
-    std::string sampler;                // a sampler plugin to use instead of the scene's ("" keeps it)
-    int threads = 0;                    // 0: all hardware threads
-    bool progress = false;              // progress bar on stderr
+    int spp = 0;                                   // 0: the scene's sampler sample_count
+    std::optional<uint64_t> seed;                  // default: the sampler's seed
+    std::string sampler;                           // a sampler plugin to use instead of the scene's ("" keeps it)
+    int threads = 0;                               // 0: all hardware threads
+    bool progress = false;                         // progress bar on stderr
     const std::atomic<bool>* interrupt = nullptr;  // set (e.g. by SIGINT) to stop early
     // Extra EXR layers: "albedo", "normal", "depth", "variance", "samples" (samples per pixel).
     std::vector<std::string> aovs;
@@ -59,13 +59,13 @@ struct RenderOptions {
 
 struct RenderStats {
     double seconds = 0.0;
-    uint64_t samples = 0;      // camera samples taken
-    uint64_t rays = 0;         // closest-hit and shadow rays traced
-    uint64_t nonfinite = 0;    // samples dropped because they were NaN, infinite or beyond 1e30 (storable_sample_value)
-    int spp = 0;               // samples per pixel requested (after the sampler's rounding)
+    uint64_t samples = 0;    // camera samples taken
+    uint64_t rays = 0;       // closest-hit and shadow rays traced
+    uint64_t nonfinite = 0;  // samples dropped because they were NaN, infinite or beyond 1e30 (storable_sample_value)
+    int spp = 0;             // samples per pixel requested (after the sampler's rounding)
     uint64_t seed = 0;
-    std::string sampler;       // the sampler's plugin name
-    bool partial = false;      // interrupted before all samples were taken
+    std::string sampler;   // the sampler's plugin name
+    bool partial = false;  // interrupted before all samples were taken
     // `seconds` timed one rasterized frame, not Monte Carlo sampling: a summary reports the
     // frame time rather than sample and ray rates.
     bool single_frame = false;

@@ -15,15 +15,15 @@ class Texture;
 // How the local model approximates a BSDF. Each BSDF documents its own mapping in
 // local_shading(); the default (BSDF::local_shading) is a Lambertian of the BSDF's albedo.
 struct LocalShading {
-    Ref<Texture> diffuse;          // Lambertian albedo kd (the model uses kd / pi); null: none
-    Spectrum specular{0.0f};       // weight ks of the glossy highlight (normalised by the model)
-    float shininess = 0.0f;        // exponent n of the highlight; 0: no highlight
-    Spectrum mirror{0.0f};         // weight of the environment seen in the mirror direction
-    Spectrum transmission{0.0f};   // weight of the environment seen through by refraction
-    float eta = 1.0f;              // relative IOR for that refraction (1: straight through)
-    float roughness = 0.0f;        // microfacet alpha: blurs the environment reflections
-    bool two_sided = false;        // lit from both sides
-    Ref<Texture> height;           // bump height field (bumpmap): displacement mapping uses it
+    Ref<Texture> diffuse;         // Lambertian albedo kd (the model uses kd / pi); null: none
+    Spectrum specular{0.0f};      // weight ks of the glossy highlight (normalised by the model)
+    float shininess = 0.0f;       // exponent n of the highlight; 0: no highlight
+    Spectrum mirror{0.0f};        // weight of the environment seen in the mirror direction
+    Spectrum transmission{0.0f};  // weight of the environment seen through by refraction
+    float eta = 1.0f;             // relative IOR for that refraction (1: straight through)
+    float roughness = 0.0f;       // microfacet alpha: blurs the environment reflections
+    bool two_sided = false;       // lit from both sides
+    Ref<Texture> height;          // bump height field (bumpmap): displacement mapping uses it
     float height_scale = 1.0f;
 };
 

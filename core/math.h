@@ -57,9 +57,7 @@ inline float min_component(const Vec3& v) { return std::min(v.x, std::min(v.y, v
 // five instructions each without SSE4.1). Error bounds of hit points take nine per hit.
 inline Vec3 abs_components(const Vec3& v) { return Vec3(std::abs(v.x), std::abs(v.y), std::abs(v.z)); }
 inline float max_abs_component(const Vec3& v) { return max_component(abs_components(v)); }
-inline bool all_finite(const Vec3& v) {
-    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
+inline bool all_finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 inline float squared_length(const Vec3& v) { return glm::dot(v, v); }
 // int(std::ceil(x)) and int(std::floor(x)) for x within int's range, by truncation and one
 // correction: without SSE4.1 std::ceil and std::floor expand to about fifteen instructions each

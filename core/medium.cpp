@@ -47,7 +47,8 @@ MajorantGrid::MajorantGrid(const Volume& volume, const glm::ivec3& resolution, f
             }
 }
 
-MajorantIterator::MajorantIterator(float t0, float t1, const Spectrum& sigma_maj) : done_(!(t1 > t0)), t0_(t0), t1_(t1), sigma_(sigma_maj) {}
+MajorantIterator::MajorantIterator(float t0, float t1, const Spectrum& sigma_maj)
+    : done_(!(t1 > t0)), t0_(t0), t1_(t1), sigma_(sigma_maj) {}
 
 MajorantIterator::MajorantIterator(const MajorantGrid& grid, const Ray& ray, float tmin, float tmax) : grid_(&grid) {
     // The ray in the volume's local coordinates: an affine map keeps the ray parameter t.

@@ -72,7 +72,7 @@ private:
     const MajorantGrid* grid_ = nullptr;
     bool done_ = true;
     float t0_ = 0.0f, t1_ = 0.0f;  // the current position and the end of the walk
-    Spectrum sigma_{0.0f};          // for a single segment
+    Spectrum sigma_{0.0f};         // for a single segment
     float factor_ = 1.0f;
     glm::ivec3 cell_{0}, step_{0};
     Vec3 next_t_{0.0f}, delta_t_{0.0f};

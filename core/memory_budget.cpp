@@ -86,8 +86,10 @@ std::string format_bytes(uint64_t bytes) {
         ++u;
     }
     char buf[32];
-    if (u == 0 || v >= 10.0) std::snprintf(buf, sizeof buf, "%.0f %s", std::floor(v + 0.5), units[u]);
-    else std::snprintf(buf, sizeof buf, "%.1f %s", v, units[u]);
+    if (u == 0 || v >= 10.0)
+        std::snprintf(buf, sizeof buf, "%.0f %s", std::floor(v + 0.5), units[u]);
+    else
+        std::snprintf(buf, sizeof buf, "%.1f %s", v, units[u]);
     return buf;
 }
 

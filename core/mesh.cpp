@@ -14,7 +14,8 @@ void Mesh::check_mesh_memory(uint64_t vertices, uint64_t triangles, uint64_t fil
     // area and its table entry, and Embree's BVH, about 100 bytes per triangle at high quality;
     // a flat mesh's triangle frames (FlatTriangle, 72 bytes) on top.
     const uint64_t per_vertex = 64, per_triangle = 232;
-    uint64_t bytes = saturating_add(saturating_add(saturating_mul(vertices, per_vertex), saturating_mul(triangles, per_triangle)), file_bytes);
+    uint64_t bytes =
+        saturating_add(saturating_add(saturating_mul(vertices, per_vertex), saturating_mul(triangles, per_triangle)), file_bytes);
     check_memory(bytes, "mesh of " + std::to_string(vertices) + " vertices and " + std::to_string(triangles) + " triangles", where);
 }
 namespace {
@@ -30,8 +31,7 @@ void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
         if (t.x >= positions_.size() || t.y >= positions_.size() || t.z >= positions_.size())
             fail_mesh(props, "a face refers to a vertex that does not exist");
     if (!uvs_.empty() && uvs_.size() != positions_.size()) fail_mesh(props, "the uv count differs from the vertex count");
-    if (!normals_.empty() && normals_.size() != positions_.size())
-        fail_mesh(props, "the normal count differs from the vertex count");
+    if (!normals_.empty() && normals_.size() != positions_.size()) fail_mesh(props, "the normal count differs from the vertex count");
     for (const MeshAttribute& a : attributes_) {
         size_t rows = a.per_face ? triangles_.size() : positions_.size();
         if (a.channels < 1 || a.channels > 4 || a.values.size() != rows * size_t(a.channels))
@@ -89,8 +89,10 @@ void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
             Vec3 n = glm::normalize(glm::cross(positions_[t.y] - positions_[t.x], positions_[t.z] - positions_[t.x]));
             cone_cos_ = std::min(cone_cos_, glm::dot(flip_normals_ ? -n : n, cone_axis_));
         }
-        if (cone_cos_ < 1e-4f) cone_cos_ = -1.0f;  // beyond a hemisphere: treat as all directions
-        else cone_cos_ = std::max(-1.0f, cone_cos_ - 1e-5f);
+        if (cone_cos_ < 1e-4f)
+            cone_cos_ = -1.0f;  // beyond a hemisphere: treat as all directions
+        else
+            cone_cos_ = std::max(-1.0f, cone_cos_ - 1e-5f);
     }
     area_distribution_ = Distribution1D(std::move(areas));
     if (normals_.empty() && smooth_if_missing) recompute_vertex_normals();
@@ -169,8 +171,10 @@ Mesh::FlatTriangle Mesh::flat_triangle(const glm::uvec3& t) const {
     const Vec3 &p0 = positions_[t.x], &p1 = positions_[t.y], &p2 = positions_[t.z];
     FlatTriangle f;
     f.n = glm::normalize(glm::cross(p1 - p0, p2 - p0));
-    if (!uvs_.empty()) triangle_tangents(p0, p1, p2, uvs_[t.x], uvs_[t.y], uvs_[t.z], f.n, f.dpdu, f.dpdv);
-    else coordinate_system(f.n, f.dpdu, f.dpdv);
+    if (!uvs_.empty())
+        triangle_tangents(p0, p1, p2, uvs_[t.x], uvs_[t.y], uvs_[t.z], f.n, f.dpdu, f.dpdv);
+    else
+        coordinate_system(f.n, f.dpdu, f.dpdv);
     if (flip_normals_) f.n = -f.n;
     return f;
 }
@@ -235,7 +239,8 @@ void Mesh::tessellate(TriangleSoup& out, int) const {
         for (auto& n : normals) n = squared_length(n) > 0.0f ? glm::normalize(n) : Vec3(0, 0, 1);
     }
     for (const Vec3& n : normals) out.normals.push_back(flip_normals_ ? -n : n);
-    for (const auto& t : triangles_) out.triangles.push_back(flip_normals_ ? glm::uvec3(base + t.x, base + t.z, base + t.y) : t + glm::uvec3(base));
+    for (const auto& t : triangles_)
+        out.triangles.push_back(flip_normals_ ? glm::uvec3(base + t.x, base + t.z, base + t.y) : t + glm::uvec3(base));
     // Closed when, with coincident vertices welded, every edge has exactly one opposite twin.
     std::map<std::tuple<float, float, float>, unsigned> weld;
     auto id = [&](unsigned v) {
@@ -270,8 +275,7 @@ bool Mesh::eval_attribute(const std::string& name, const SurfaceInteraction& si,
         } else {
             const glm::uvec3& t = triangles_[si.prim_index];
             float b1 = si.prim_uv.x, b2 = si.prim_uv.y, b0 = 1.0f - b1 - b2;
-            for (size_t c = 0; c < n; ++c)
-                v[c] = b0 * a.values[t.x * n + c] + b1 * a.values[t.y * n + c] + b2 * a.values[t.z * n + c];
+            for (size_t c = 0; c < n; ++c) v[c] = b0 * a.values[t.x * n + c] + b1 * a.values[t.y * n + c] + b2 * a.values[t.z * n + c];
         }
         // One channel is grey; two fill red and green; a fourth (alpha) is not a colour.
         value = a.channels == 1 ? Spectrum(v[0]) : Spectrum(v[0], v[1], v[2]);

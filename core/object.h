@@ -20,6 +20,7 @@ public:
     std::string id;  // the scene file's id attribute, if any
 };
 
-template <typename T> using Ref = std::shared_ptr<T>;
+template <typename T>
+using Ref = std::shared_ptr<T>;
 
 }  // namespace candela

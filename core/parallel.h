@@ -62,7 +62,8 @@ private:
     char start_ = 0, end_ = 0;
 };
 
-template <typename Body> void parallel_chunks(size_t count, size_t grain, const Body& body) {
+template <typename Body>
+void parallel_chunks(size_t count, size_t grain, const Body& body) {
     ParallelHandOff hand_off;
     hand_off.before_loop();
     tbb::parallel_for(tbb::blocked_range<size_t>(0, count, std::max<size_t>(grain, 1)), [&](const tbb::blocked_range<size_t>& r) {
@@ -73,7 +74,8 @@ template <typename Body> void parallel_chunks(size_t count, size_t grain, const 
     hand_off.after_loop();
 }
 
-template <typename Body> void parallel_for(size_t count, const Body& body) {
+template <typename Body>
+void parallel_for(size_t count, const Body& body) {
     parallel_chunks(count, 1, [&](size_t begin, size_t end) {
         for (size_t i = begin; i != end; ++i) body(i);
     });

@@ -98,12 +98,18 @@ void SampleLayout::write(const double* v, float* out) const {
 
 AovLayout::AovLayout(const std::vector<std::string>& names) {
     for (const auto& a : names) {
-        if (a == "albedo") albedo_ = true;
-        else if (a == "normal") normal_ = true;
-        else if (a == "depth") depth_ = true;
-        else if (a == "variance") variance_ = true;
-        else if (a == "samples") samples_ = true;
-        else throw InputError("unknown AOV \"" + a + "\" (known: albedo, normal, depth, variance, samples)");
+        if (a == "albedo")
+            albedo_ = true;
+        else if (a == "normal")
+            normal_ = true;
+        else if (a == "depth")
+            depth_ = true;
+        else if (a == "variance")
+            variance_ = true;
+        else if (a == "samples")
+            samples_ = true;
+        else
+            throw InputError("unknown AOV \"" + a + "\" (known: albedo, normal, depth, variance, samples)");
     }
 }
 

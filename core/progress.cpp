@@ -1,8 +1,8 @@
 #include "core/progress.h"
 
+#include <unistd.h>
 #include <cmath>
 #include <cstdio>
-#include <unistd.h>
 
 namespace candela {
 
@@ -11,18 +11,25 @@ bool stderr_is_terminal() { return ::isatty(STDERR_FILENO) != 0; }
 std::string format_duration(double s) {
     char buf[64];
     if (!std::isfinite(s) || s < 0) return "--";
-    if (s < 60.0) std::snprintf(buf, sizeof buf, "%.1fs", s);
-    else if (s < 3600.0) std::snprintf(buf, sizeof buf, "%dm%02ds", int(s / 60), int(s) % 60);
-    else std::snprintf(buf, sizeof buf, "%dh%02dm%02ds", int(s / 3600), (int(s) / 60) % 60, int(s) % 60);
+    if (s < 60.0)
+        std::snprintf(buf, sizeof buf, "%.1fs", s);
+    else if (s < 3600.0)
+        std::snprintf(buf, sizeof buf, "%dm%02ds", int(s / 60), int(s) % 60);
+    else
+        std::snprintf(buf, sizeof buf, "%dh%02dm%02ds", int(s / 3600), (int(s) / 60) % 60, int(s) % 60);
     return buf;
 }
 
 std::string format_count(double v) {
     char buf[64];
-    if (v >= 1e9) std::snprintf(buf, sizeof buf, "%.2fG", v / 1e9);
-    else if (v >= 1e6) std::snprintf(buf, sizeof buf, "%.2fM", v / 1e6);
-    else if (v >= 1e3) std::snprintf(buf, sizeof buf, "%.1fk", v / 1e3);
-    else std::snprintf(buf, sizeof buf, "%.0f", v);
+    if (v >= 1e9)
+        std::snprintf(buf, sizeof buf, "%.2fG", v / 1e9);
+    else if (v >= 1e6)
+        std::snprintf(buf, sizeof buf, "%.2fM", v / 1e6);
+    else if (v >= 1e3)
+        std::snprintf(buf, sizeof buf, "%.1fk", v / 1e3);
+    else
+        std::snprintf(buf, sizeof buf, "%.0f", v);
     return buf;
 }
 

@@ -12,35 +12,35 @@ namespace candela {
 
 const char* kind_tag(ObjectKind kind) {
     switch (kind) {
-    case ObjectKind::Scene: return "scene";
-    case ObjectKind::Shape: return "shape";
-    case ObjectKind::BSDF: return "bsdf";
-    case ObjectKind::Emitter: return "emitter";
-    case ObjectKind::Texture: return "texture";
-    case ObjectKind::Sensor: return "sensor";
-    case ObjectKind::Film: return "film";
-    case ObjectKind::Filter: return "rfilter";
-    case ObjectKind::Sampler: return "sampler";
-    case ObjectKind::Integrator: return "integrator";
-    case ObjectKind::Medium: return "medium";
-    case ObjectKind::Phase: return "phase";
-    case ObjectKind::Volume: return "volume";
+        case ObjectKind::Scene: return "scene";
+        case ObjectKind::Shape: return "shape";
+        case ObjectKind::BSDF: return "bsdf";
+        case ObjectKind::Emitter: return "emitter";
+        case ObjectKind::Texture: return "texture";
+        case ObjectKind::Sensor: return "sensor";
+        case ObjectKind::Film: return "film";
+        case ObjectKind::Filter: return "rfilter";
+        case ObjectKind::Sampler: return "sampler";
+        case ObjectKind::Integrator: return "integrator";
+        case ObjectKind::Medium: return "medium";
+        case ObjectKind::Phase: return "phase";
+        case ObjectKind::Volume: return "volume";
     }
     return "object";
 }
 
 const char* type_name(Properties::Type t) {
     switch (t) {
-    case Properties::Type::Integer: return "integer";
-    case Properties::Type::Float: return "float";
-    case Properties::Type::Boolean: return "boolean";
-    case Properties::Type::String: return "string";
-    case Properties::Type::Point: return "point";
-    case Properties::Type::Vector: return "vector";
-    case Properties::Type::RGB: return "rgb";
-    case Properties::Type::Transform: return "transform";
-    case Properties::Type::Object: return "object";
-    case Properties::Type::Animation: return "animation";
+        case Properties::Type::Integer: return "integer";
+        case Properties::Type::Float: return "float";
+        case Properties::Type::Boolean: return "boolean";
+        case Properties::Type::String: return "string";
+        case Properties::Type::Point: return "point";
+        case Properties::Type::Vector: return "vector";
+        case Properties::Type::RGB: return "rgb";
+        case Properties::Type::Transform: return "transform";
+        case Properties::Type::Object: return "object";
+        case Properties::Type::Animation: return "animation";
     }
     return "?";
 }
@@ -52,9 +52,7 @@ void Properties::set(const std::string& name, Type type, Value value, const Sour
     entries_.emplace(name, Entry{type, std::move(value), where, entries_.size()});
 }
 
-void Properties::fail(const std::string& name, const std::string& message) const {
-    throw SceneError(location_of(name), message);
-}
+void Properties::fail(const std::string& name, const std::string& message) const { throw SceneError(location_of(name), message); }
 
 void Properties::fail(const std::string& message) const { throw SceneError(location_, message); }
 
@@ -71,8 +69,8 @@ const Properties::Entry* Properties::find(const std::string& name, Type expected
               (expected == Type::RGB && (e.type == Type::Float || e.type == Type::Integer)) ||
               (expected == Type::Point && e.type == Type::Vector) || (expected == Type::Vector && e.type == Type::Point);
     if (!ok)
-        throw SceneError(e.where, "property \"" + name + "\" of " + plugin_type_ + " has type " + type_name(e.type) +
-                                      ", expected " + type_name(expected));
+        throw SceneError(e.where, "property \"" + name + "\" of " + plugin_type_ + " has type " + type_name(e.type) + ", expected " +
+                                      type_name(expected));
     e.used = true;
     return &e;
 }
@@ -189,8 +187,8 @@ Ref<Texture> Properties::get_texture(const std::string& name, const Spectrum& de
         auto obj = std::get<Ref<Object>>(it->second.value);
         auto tex = std::dynamic_pointer_cast<Texture>(obj);
         if (!tex)
-            throw SceneError(it->second.where, "property \"" + name + "\" of " + plugin_type_ + " must be a texture or rgb, not a " +
-                                                   kind_tag(obj->kind()));
+            throw SceneError(it->second.where,
+                             "property \"" + name + "\" of " + plugin_type_ + " must be a texture or rgb, not a " + kind_tag(obj->kind()));
         it->second.used = true;
         return tex;
     }
@@ -205,7 +203,8 @@ Ref<Texture> Properties::get_reflectance(const std::string& name, const Spectrum
     std::snprintf(value, sizeof value, "(%g, %g, %g)", v.x, v.y, v.z);
     if (!all_finite(v) || min_component(v) < 0.0f) fail(name, name + " " + value + " is not a reflectance: it must lie between 0 and 1");
     if (max_component(v) > 1.0f)
-        warn(location_of(name), name + " " + value + " exceeds 1, which is physically impossible (more light out than in); rendered as given");
+        warn(location_of(name),
+             name + " " + value + " exceeds 1, which is physically impossible (more light out than in); rendered as given");
     return texture;
 }
 

@@ -3,10 +3,10 @@
 // the property as used; a property that no plugin reads is an error naming its file and line,
 // as in Mitsuba 3 (a typo like "reflectence" must not be silently ignored).
 
+#include "core/animated_transform.h"
 #include "core/error.h"
 #include "core/object.h"
 #include "core/spectrum.h"
-#include "core/animated_transform.h"
 #include "core/transform.h"
 
 #include <map>
@@ -29,8 +29,7 @@ public:
     enum class Type { Integer, Float, Boolean, String, Point, Vector, RGB, Transform, Object, Animation };
 
     Properties() = default;
-    Properties(std::string plugin_type, SourceLocation where)
-        : plugin_type_(std::move(plugin_type)), location_(std::move(where)) {}
+    Properties(std::string plugin_type, SourceLocation where) : plugin_type_(std::move(plugin_type)), location_(std::move(where)) {}
 
     const std::string& plugin_type() const { return plugin_type_; }
     const SourceLocation& location() const { return location_; }
@@ -46,9 +45,7 @@ public:
     void set_vector(const std::string& name, const Vec3& v) { set(name, Type::Vector, v, location_); }
     void set_rgb(const std::string& name, const Spectrum& v) { set(name, Type::RGB, v, location_); }
     void set_transform(const std::string& name, const Transform& v) { set(name, Type::Transform, v, location_); }
-    void set_object(const std::string& name, Ref<Object> v, const SourceLocation& where) {
-        set(name, Type::Object, std::move(v), where);
-    }
+    void set_object(const std::string& name, Ref<Object> v, const SourceLocation& where) { set(name, Type::Object, std::move(v), where); }
 
     bool has(const std::string& name) const { return entries_.count(name) != 0; }
 

@@ -15,9 +15,7 @@ std::map<std::pair<ObjectKind, std::string>, PluginFactory>& registry() {
 }
 }  // namespace
 
-void register_plugin(ObjectKind kind, const std::string& type, PluginFactory factory) {
-    registry()[{kind, type}] = std::move(factory);
-}
+void register_plugin(ObjectKind kind, const std::string& type, PluginFactory factory) { registry()[{kind, type}] = std::move(factory); }
 
 bool plugin_exists(ObjectKind kind, const std::string& type) { return registry().count({kind, type}) != 0; }
 
@@ -101,8 +99,8 @@ Ref<Object> create_plugin(ObjectKind kind, const Properties& props) {
         // case-insensitive file systems (macOS, Windows) and some published scenes rely on it.
         for (auto candidate = registry().begin(); candidate != registry().end(); ++candidate)
             if (candidate->first.first == kind && equal_ignoring_case(candidate->first.second, props.plugin_type())) {
-                warn(props.location(), std::string(kind_tag(kind)) + " type \"" + props.plugin_type() + "\" read as \"" + candidate->first.second +
-                                           "\" (plugin names are case-sensitive in Mitsuba 3 on Linux)");
+                warn(props.location(), std::string(kind_tag(kind)) + " type \"" + props.plugin_type() + "\" read as \"" +
+                                           candidate->first.second + "\" (plugin names are case-sensitive in Mitsuba 3 on Linux)");
                 it = candidate;
                 break;
             }

@@ -26,11 +26,13 @@ std::string nearest_name(const std::string& word, const std::vector<std::string>
 // Mitsuba plugins that Candela deliberately lacks (polarisation, differentiable ones) say why.
 Ref<Object> create_plugin(ObjectKind kind, const Properties& props);
 
-template <typename T> Ref<T> create_plugin_as(ObjectKind kind, const Properties& props) {
+template <typename T>
+Ref<T> create_plugin_as(ObjectKind kind, const Properties& props) {
     return std::static_pointer_cast<T>(create_plugin(kind, props));
 }
 
-template <typename T> struct PluginRegistration {
+template <typename T>
+struct PluginRegistration {
     PluginRegistration(ObjectKind kind, const char* type) {
         register_plugin(kind, type, [](const Properties& p) -> Ref<Object> { return std::make_shared<T>(p); });
     }

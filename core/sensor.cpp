@@ -15,7 +15,8 @@ float read_tan_half_fov_x(const Properties& props, float aspect) {
         if (!(fov > 0.0f && fov < 180.0f)) props.fail("fov", "fov must be in (0, 180) degrees");
         axis = props.get_string("fov_axis", "x");
     } else {
-        if (props.has("fov_axis")) props.fail("fov_axis", "fov_axis applies to fov only (a focal_length always spans the diagonal, as in Mitsuba)");
+        if (props.has("fov_axis"))
+            props.fail("fov_axis", "fov_axis applies to fov only (a focal_length always spans the diagonal, as in Mitsuba)");
         std::string f = props.get_string("focal_length", "50mm");
         float mm = 0.0f;
         try {
@@ -34,10 +35,14 @@ float read_tan_half_fov_x(const Properties& props, float aspect) {
     if (axis == "smaller") axis = aspect > 1.0f ? "y" : "x";
     if (axis == "larger") axis = aspect > 1.0f ? "x" : "y";
     float tan_half_x = 0.0f;
-    if (axis == "x") tan_half_x = t;
-    else if (axis == "y") tan_half_x = t * aspect;
-    else if (axis == "diagonal") tan_half_x = t * aspect / std::sqrt(1.0f + aspect * aspect);
-    else props.fail("fov_axis", "fov_axis must be x, y, diagonal, smaller or larger, not \"" + axis + "\"");
+    if (axis == "x")
+        tan_half_x = t;
+    else if (axis == "y")
+        tan_half_x = t * aspect;
+    else if (axis == "diagonal")
+        tan_half_x = t * aspect / std::sqrt(1.0f + aspect * aspect);
+    else
+        props.fail("fov_axis", "fov_axis must be x, y, diagonal, smaller or larger, not \"" + axis + "\"");
     if (!(tan_half_x > 0.0f && std::isfinite(tan_half_x))) props.fail("fov", "the horizontal field of view must be in (0, 180) degrees");
     return tan_half_x;
 }

@@ -20,9 +20,12 @@ Shape::Shape(const Properties& props, bool may_move) {
         emitter_->set_shape(this);
     }
     for (auto& [name, medium] : props.get_named_objects(ObjectKind::Medium)) {
-        if (name == "interior") interior_ = std::static_pointer_cast<Medium>(medium);
-        else if (name == "exterior") exterior_ = std::static_pointer_cast<Medium>(medium);
-        else props.fail(name, "a shape's medium must be named \"interior\" or \"exterior\", not \"" + name + "\"");
+        if (name == "interior")
+            interior_ = std::static_pointer_cast<Medium>(medium);
+        else if (name == "exterior")
+            exterior_ = std::static_pointer_cast<Medium>(medium);
+        else
+            props.fail(name, "a shape's medium must be named \"interior\" or \"exterior\", not \"" + name + "\"");
     }
     auto bsdfs = props.get_objects(ObjectKind::BSDF);
     if (bsdfs.size() > 1) props.fail("a shape can have only one bsdf");

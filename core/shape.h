@@ -2,9 +2,9 @@
 // Shapes: geometry that Embree intersects, and that area lights sample. Every shape reads
 // `to_world` and `flip_normals` and may hold one BSDF and one area emitter (nested or by ref).
 
+#include "core/animated_transform.h"
 #include "core/object.h"
 #include "core/properties.h"
-#include "core/animated_transform.h"
 #include "core/ray.h"
 #include "core/spectrum.h"
 

@@ -52,16 +52,24 @@ constexpr size_t FileHeader = 12 + 2 + 4;
 
 size_t tensor_type_size(TensorType type) {
     switch (type) {
-    case TensorType::UInt8: case TensorType::Int8: return 1;
-    case TensorType::UInt16: case TensorType::Int16: case TensorType::Float16: return 2;
-    case TensorType::UInt32: case TensorType::Int32: case TensorType::Float32: return 4;
-    case TensorType::UInt64: case TensorType::Int64: case TensorType::Float64: return 8;
-    default: return 0;
+        case TensorType::UInt8:
+        case TensorType::Int8: return 1;
+        case TensorType::UInt16:
+        case TensorType::Int16:
+        case TensorType::Float16: return 2;
+        case TensorType::UInt32:
+        case TensorType::Int32:
+        case TensorType::Float32: return 4;
+        case TensorType::UInt64:
+        case TensorType::Int64:
+        case TensorType::Float64: return 8;
+        default: return 0;
     }
 }
 
 const char* tensor_type_name(TensorType type) {
-    static const char* names[] = {"invalid", "uint8", "int8", "uint16", "int16", "uint32", "int32", "uint64", "int64", "float16", "float32", "float64"};
+    static const char* names[] = {"invalid", "uint8",  "int8",  "uint16",  "int16",   "uint32",
+                                  "int32",   "uint64", "int64", "float16", "float32", "float64"};
     size_t i = size_t(type);
     return i < sizeof(names) / sizeof(names[0]) ? names[i] : "invalid";
 }
@@ -129,8 +137,9 @@ TensorFile::TensorFile(const std::string& path) : path_(path) {
     std::sort(extents.begin(), extents.end());
     for (size_t i = 1; i < extents.size(); ++i)
         if (std::get<0>(extents[i]) < std::get<1>(extents[i - 1]))
-            fail("field \"" + std::get<2>(extents[i - 1]) + "\" (" + std::to_string(std::get<1>(extents[i - 1]) - std::get<0>(extents[i - 1])) +
-                 " bytes at offset " + std::to_string(std::get<0>(extents[i - 1])) + ") overlaps field \"" + std::get<2>(extents[i]) + "\"");
+            fail("field \"" + std::get<2>(extents[i - 1]) + "\" (" +
+                 std::to_string(std::get<1>(extents[i - 1]) - std::get<0>(extents[i - 1])) + " bytes at offset " +
+                 std::to_string(std::get<0>(extents[i - 1])) + ") overlaps field \"" + std::get<2>(extents[i]) + "\"");
 }
 
 const TensorField& TensorFile::field(const std::string& name) const {

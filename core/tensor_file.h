@@ -30,9 +30,9 @@ const char* tensor_type_name(TensorType type);
 
 struct TensorField {
     TensorType dtype = TensorType::Invalid;
-    uint64_t offset = 0;           // of the data, from the start of the file
-    std::vector<uint64_t> shape;   // row-major, the last dimension fastest
-    uint64_t count() const;        // product of the shape (1 for ndim 0)
+    uint64_t offset = 0;          // of the data, from the start of the file
+    std::vector<uint64_t> shape;  // row-major, the last dimension fastest
+    uint64_t count() const;       // product of the shape (1 for ndim 0)
 };
 
 class TensorFile {

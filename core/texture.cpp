@@ -6,11 +6,16 @@ namespace candela {
 
 TextureMapping::TextureMapping(const Properties& props) {
     std::string name = props.get_string("mapping", "uv");
-    if (name == "uv") kind = Kind::UV;
-    else if (name == "planar") kind = Kind::Planar;
-    else if (name == "cylindrical") kind = Kind::Cylindrical;
-    else if (name == "spherical") kind = Kind::Spherical;
-    else props.fail("mapping", "mapping must be uv, planar, cylindrical or spherical, not \"" + name + "\"");
+    if (name == "uv")
+        kind = Kind::UV;
+    else if (name == "planar")
+        kind = Kind::Planar;
+    else if (name == "cylindrical")
+        kind = Kind::Cylindrical;
+    else if (name == "spherical")
+        kind = Kind::Spherical;
+    else
+        props.fail("mapping", "mapping must be uv, planar, cylindrical or spherical, not \"" + name + "\"");
     if (props.has("mapping_to_world")) {
         if (kind == Kind::UV) props.fail("mapping_to_world", "mapping_to_world needs a planar, cylindrical or spherical mapping");
         Transform to_world = props.get_transform("mapping_to_world");

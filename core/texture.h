@@ -98,9 +98,7 @@ struct UVTransform {
         m[0][0] = a[0][0], m[0][1] = a[1][0], m[0][2] = a[3][0];
         m[1][0] = a[0][1], m[1][1] = a[1][1], m[1][2] = a[3][1];
     }
-    Vec2 apply(const Vec2& uv) const {
-        return Vec2(m[0][0] * uv.x + m[0][1] * uv.y + m[0][2], m[1][0] * uv.x + m[1][1] * uv.y + m[1][2]);
-    }
+    Vec2 apply(const Vec2& uv) const { return Vec2(m[0][0] * uv.x + m[0][1] * uv.y + m[0][2], m[1][0] * uv.x + m[1][1] * uv.y + m[1][2]); }
 };
 
 class ConstantTexture final : public Texture {

@@ -19,8 +19,10 @@ WarningSink& current_sink() {
 void warn(const SourceLocation& where, const std::string& message) {
     std::string line = where.str() + ": warning: " + message;
     std::lock_guard<std::mutex> lock(sink_mutex());
-    if (current_sink()) current_sink()(line);
-    else std::cerr << line << "\n";
+    if (current_sink())
+        current_sink()(line);
+    else
+        std::cerr << line << "\n";
 }
 
 WarningSink set_warning_sink(WarningSink sink) {

@@ -159,8 +159,9 @@ private:
         for (size_t i = 0; i < text.size(); ++i)
             if (text[i] == '\n') doc->line_starts.push_back(i + 1);
         pugi::xml_parse_result result = doc->xml.load_buffer(doc->text.data(), doc->text.size(), pugi::parse_default, pugi::encoding_utf8);
-        if (!result) throw SceneError(SourceLocation{path, line_of(*doc, size_t(result.offset))},
-                                      std::string("malformed XML: ") + result.description());
+        if (!result)
+            throw SceneError(SourceLocation{path, line_of(*doc, size_t(result.offset))},
+                             std::string("malformed XML: ") + result.description());
         pugi::xml_node root = doc->xml.document_element();
         if (!root) throw SceneError(SourceLocation{path, 1}, "malformed XML: no root element");
         docs_.push_back(std::move(doc));
@@ -228,8 +229,7 @@ private:
         std::string t = trim(text);
         char* end = nullptr;
         double v = std::strtod(t.c_str(), &end);
-        if (t.empty() || end != t.c_str() + t.size())
-            throw SceneError(where(doc, node), "\"" + text + "\" is not a number");
+        if (t.empty() || end != t.c_str() + t.size()) throw SceneError(where(doc, node), "\"" + text + "\" is not a number");
         if (!std::isfinite(v)) throw SceneError(where(doc, node), "\"" + text + "\" is not a finite number");
         return v;
     }
@@ -280,8 +280,7 @@ private:
 
     void read_child(Document& doc, const pugi::xml_node& child, Properties& props, bool in_scene, int depth) {
         if (child.type() == pugi::node_pcdata || child.type() == pugi::node_cdata) {
-            if (!trim(child.value()).empty())
-                throw SceneError(where(doc, child), "unexpected text \"" + trim(child.value()) + "\"");
+            if (!trim(child.value()).empty()) throw SceneError(where(doc, child), "unexpected text \"" + trim(child.value()) + "\"");
             return;
         }
         if (child.type() != pugi::node_element) return;
@@ -383,11 +382,9 @@ private:
         auto it = ids_.find(id);
         if (it != ids_.end()) return it->second;
         auto later = declared_.find(id);
-        if (later == declared_.end())
-            throw SceneError(where(doc, ref), "reference to unknown id \"" + id + "\"");
+        if (later == declared_.end()) throw SceneError(where(doc, ref), "reference to unknown id \"" + id + "\"");
         auto& [decl_doc, decl_node] = later->second;
-        if (building_.count(decl_node.internal_object()))
-            throw SceneError(where(doc, ref), "circular reference to id \"" + id + "\"");
+        if (building_.count(decl_node.internal_object())) throw SceneError(where(doc, ref), "circular reference to id \"" + id + "\"");
         return read_object(*decl_doc, decl_node, object_tags().at(decl_node.name()));
     }
 
@@ -467,9 +464,12 @@ private:
             texture->id = id;
             ids_[id] = texture;
         }
-        if (name.empty()) parent.set_object(next_arg_name(), texture, loc);
-        else if (std::dynamic_pointer_cast<ConstantTexture>(texture)) parent.set(name, Properties::Type::RGB, rgb, loc);
-        else parent.set_object(name, texture, loc);
+        if (name.empty())
+            parent.set_object(next_arg_name(), texture, loc);
+        else if (std::dynamic_pointer_cast<ConstantTexture>(texture))
+            parent.set(name, Properties::Type::RGB, rgb, loc);
+        else
+            parent.set_object(name, texture, loc);
     }
 
     void read_property(Document& doc, const pugi::xml_node& node, Properties& props) {
@@ -483,7 +483,7 @@ private:
         for (pugi::xml_node c : node.children())
             if (c.type() == pugi::node_element) throw SceneError(where(doc, c), "<" + tag + "> cannot contain <" + c.name() + ">");
         if (tag == "translate" || tag == "rotate" || tag == "scale" || tag == "matrix" || tag == "lookat" ||
-                   (doc.upgrade && tag == "lookAt")) {
+            (doc.upgrade && tag == "lookAt")) {
             throw SceneError(loc, "<" + tag + "> must be inside a <transform>");
         } else if (tag == "rgb" || tag == "spectrum" || tag == "srgb" || tag == "blackbody") {
             read_colour(doc, node, props);
@@ -528,21 +528,28 @@ private:
     void read_colour(Document& doc, const pugi::xml_node& node, Properties& props) {
         std::string tag = node.name();
         SourceLocation loc = where(doc, node);
-        if (tag == "rgb") check_attributes(doc, node, {"name", "value", "intent"});
-        else if (tag == "spectrum") check_attributes(doc, node, {"name", "value", "filename", "intent"});
-        else if (tag == "srgb") check_attributes(doc, node, {"name", "value", "intent"});
-        else check_attributes(doc, node, {"name", "temperature", "scale"});
+        if (tag == "rgb")
+            check_attributes(doc, node, {"name", "value", "intent"});
+        else if (tag == "spectrum")
+            check_attributes(doc, node, {"name", "value", "filename", "intent"});
+        else if (tag == "srgb")
+            check_attributes(doc, node, {"name", "value", "intent"});
+        else
+            check_attributes(doc, node, {"name", "temperature", "scale"});
         if (!doc.upgrade && (tag == "srgb" || tag == "blackbody" || has_attr(node, "intent")))
             throw SceneError(loc, (has_attr(node, "intent") && tag != "srgb" && tag != "blackbody" ? std::string("the intent attribute")
-                                                                                                     : "<" + tag + ">") +
+                                                                                                   : "<" + tag + ">") +
                                       " is Mitsuba 0.6 syntax, read only in scenes of version below 2.0 (write " +
                                       (tag == "blackbody" ? "<spectrum type=\"blackbody\">" : "<rgb> with linear values") + ")");
         std::string name = property_name(doc, node);
         SpectrumRole role = spectrum_role(std::strcmp(node.parent().name(), "emitter") == 0, name);
         std::string intent = attr_or(doc, node, "intent", "");
-        if (intent == "illuminant") role = SpectrumRole::Emission;
-        else if (intent == "reflectance") role = role == SpectrumRole::Emission ? SpectrumRole::Reflectance : role;
-        else if (!intent.empty()) throw SceneError(loc, "intent must be reflectance or illuminant, not \"" + intent + "\"");
+        if (intent == "illuminant")
+            role = SpectrumRole::Emission;
+        else if (intent == "reflectance")
+            role = role == SpectrumRole::Emission ? SpectrumRole::Reflectance : role;
+        else if (!intent.empty())
+            throw SceneError(loc, "intent must be reflectance or illuminant, not \"" + intent + "\"");
         props.set(name, Properties::Type::RGB, colour_value(doc, node, role), loc);
     }
 
@@ -675,8 +682,8 @@ private:
     SceneParameters params_;
     std::map<std::string, Ref<Object>> ids_;
     std::map<std::string, std::pair<Document*, pugi::xml_node>> declared_;  // ids declared anywhere in the files read
-    std::map<const void*, Ref<Object>> built_;                                // object elements built so far
-    std::set<const void*> building_;                                          // object elements being built
+    std::map<const void*, Ref<Object>> built_;                              // object elements built so far
+    std::set<const void*> building_;                                        // object elements being built
     int arg_counter_ = 0;
 };
 

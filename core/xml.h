@@ -16,7 +16,6 @@ using SceneParameters = std::map<std::string, std::string>;
 
 Ref<Scene> load_scene(const std::string& path, const SceneParameters& defines = {});
 // Parses XML text as if it were the file `virtual_path` (relative paths resolve beside it).
-Ref<Scene> load_scene_from_string(const std::string& xml, const std::string& virtual_path,
-                                  const SceneParameters& defines = {});
+Ref<Scene> load_scene_from_string(const std::string& xml, const std::string& virtual_path, const SceneParameters& defines = {});
 
 }  // namespace candela

@@ -132,20 +132,25 @@ std::vector<CoverageBox> uncovered(const std::vector<CoverageBox>& covered, cons
                 int i1 = i;
                 while (i1 < nx && mask[size_t(j) * nx + i1]) ++i1;
                 int j1 = j + 1;
-                while (j1 < ny && std::all_of(mask.begin() + size_t(j1) * nx + i, mask.begin() + size_t(j1) * nx + i1, [](char c) { return c; }))
+                while (j1 < ny &&
+                       std::all_of(mask.begin() + size_t(j1) * nx + i, mask.begin() + size_t(j1) * nx + i1, [](char c) { return c; }))
                     ++j1;
                 for (int jj = j; jj < j1; ++jj) std::fill(mask.begin() + size_t(jj) * nx + i, mask.begin() + size_t(jj) * nx + i1, 0);
-                boxes.push_back(CoverageBox{ImageRect{Vec2i(xs[i], ys[j]), Vec2i(xs[i1] - xs[i], ys[j1] - ys[j])}, SampleRange{range.first, range.second}});
+                boxes.push_back(CoverageBox{ImageRect{Vec2i(xs[i], ys[j]), Vec2i(xs[i1] - xs[i], ys[j1] - ys[j])},
+                                            SampleRange{range.first, range.second}});
             }
     return boxes;
 }
 
 std::vector<CoverageBox> coalesce(std::vector<CoverageBox> boxes) {
-    auto key = [](const CoverageBox& b) { return std::make_tuple(b.rect.offset.y, b.rect.offset.x, b.rect.size.y, b.rect.size.x, b.samples.begin); };
+    auto key = [](const CoverageBox& b) {
+        return std::make_tuple(b.rect.offset.y, b.rect.offset.x, b.rect.size.y, b.rect.size.x, b.samples.begin);
+    };
     std::sort(boxes.begin(), boxes.end(), [&](const CoverageBox& a, const CoverageBox& b) { return key(a) < key(b); });
     std::vector<CoverageBox> out;
     for (const CoverageBox& b : boxes) {
-        if (!out.empty() && out.back().rect.offset == b.rect.offset && out.back().rect.size == b.rect.size && out.back().samples.end == b.samples.begin)
+        if (!out.empty() && out.back().rect.offset == b.rect.offset && out.back().rect.size == b.rect.size &&
+            out.back().samples.end == b.samples.begin)
             out.back().samples.end = b.samples.end;
         else
             out.push_back(b);

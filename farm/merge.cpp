@@ -135,8 +135,8 @@ std::string describe_missing(const MergeSet& set) {
     for (const CoverageBox& b : set.missing) {
         std::string name = "part-" + std::to_string(b.samples.begin) + "-" + std::to_string(b.samples.end);
         if (b.rect.offset != Vec2i(0) || b.rect.size != set.identity.image)
-            name += "-" + std::to_string(b.rect.offset.x) + "-" + std::to_string(b.rect.offset.y) + "-" + std::to_string(b.rect.size.x) + "-" +
-                    std::to_string(b.rect.size.y);
+            name += "-" + std::to_string(b.rect.offset.x) + "-" + std::to_string(b.rect.offset.y) + "-" + std::to_string(b.rect.size.x) +
+                    "-" + std::to_string(b.rect.size.y);
         out += "  missing " + describe(b, set.identity.image) + "; render it with:\n    " +
                render_command_for(set.identity, b, set.identity.image, (folder / (name + ".exr")).string()) + "\n";
     }

@@ -88,17 +88,20 @@ struct HeaderReader {
         auto p = header.metadata.find(key);
         return p == header.metadata.end() ? std::string() : p->second;
     }
-    template <typename T> T number(const std::string& key) const {
+    template <typename T>
+    T number(const std::string& key) const {
         std::string s = text(key);
         try {
             size_t used = 0;
             T v;
-            if constexpr (std::is_same_v<T, double>) v = std::stod(s, &used);
-            else if constexpr (std::is_same_v<T, uint64_t>) v = std::stoull(s, &used);
-            else v = T(std::stoi(s, &used));
+            if constexpr (std::is_same_v<T, double>)
+                v = std::stod(s, &used);
+            else if constexpr (std::is_same_v<T, uint64_t>)
+                v = std::stoull(s, &used);
+            else
+                v = T(std::stoi(s, &used));
             if (used == s.size()) return v;
-        } catch (const std::exception&) {
-        }
+        } catch (const std::exception&) {}
         throw InputError(path + ": part metadata " + key + " is not a number: \"" + s + "\"");
     }
 };
@@ -114,7 +117,8 @@ std::string join_names(const std::vector<std::string>& names) {
 AovLayout RenderIdentity::layout() const { return AovLayout(split_list(aovs)); }
 
 SampleLayout RenderIdentity::values() const {
-    for (PixelFormat f : {PixelFormat::Luminance, PixelFormat::LuminanceAlpha, PixelFormat::RGB, PixelFormat::RGBA, PixelFormat::XYZ, PixelFormat::XYZA})
+    for (PixelFormat f :
+         {PixelFormat::Luminance, PixelFormat::LuminanceAlpha, PixelFormat::RGB, PixelFormat::RGBA, PixelFormat::XYZ, PixelFormat::XYZA})
         if (join_names(pixel_format_channels(f)) == film_channels) return SampleLayout(f, split_list(integrator_channels));
     throw InputError("film channels \"" + film_channels + "\" name no pixel format");
 }
@@ -132,7 +136,8 @@ std::string RenderIdentity::difference(const RenderIdentity& o) const {
     check("seed", std::to_string(seed), std::to_string(o.seed));
     check("sampler", sampler, o.sampler);
     check("samples per pixel", std::to_string(spp), std::to_string(o.spp));
-    check("resolution", std::to_string(image.x) + "x" + std::to_string(image.y), std::to_string(o.image.x) + "x" + std::to_string(o.image.y));
+    check("resolution", std::to_string(image.x) + "x" + std::to_string(image.y),
+          std::to_string(o.image.x) + "x" + std::to_string(o.image.y));
     check("integrator", integrator, o.integrator);
     check("film channels", "\"" + film_channels + "\"", "\"" + o.film_channels + "\"");
     check("integrator channels", "\"" + integrator_channels + "\"", "\"" + o.integrator_channels + "\"");
@@ -194,7 +199,8 @@ void write_part(const std::string& path, const PixelSums& sums, const PartHeader
             if (!layout.pixel_stats()) continue;
             const PixelStats& ps = sums.stats_at(x, y);
             if (ps.taken > MaxExactCount)
-                throw InputError(path + ": a pixel holds " + std::to_string(ps.taken) + " samples, more than a part can count exactly (2^24)");
+                throw InputError(path + ": a pixel holds " + std::to_string(ps.taken) +
+                                 " samples, more than a part can count exactly (2^24)");
             put(ps.n);
             if (layout.samples()) put(ps.taken);
             if (layout.albedo())
@@ -242,8 +248,9 @@ PartHeader read_part_header(const std::string& path) {
     // Parts are OpenEXR files; a file of another format has no part metadata.
     const ImageHeader file = read_image_header(path);
     if (!file.metadata.count("candela.partFormat"))
-        throw InputError(path + ": not a part of a split render (no candela.partFormat metadata; parts come from "
-                                "`candela render --samples START:END` or `--crop`)");
+        throw InputError(path +
+                         ": not a part of a split render (no candela.partFormat metadata; parts come from "
+                         "`candela render --samples START:END` or `--crop`)");
     HeaderReader r{path, file};
     if (r.text("candela.partFormat") != PartFormat)
         throw InputError(path + ": part format " + r.text("candela.partFormat") + ", this Candela reads format " + PartFormat);
@@ -291,8 +298,8 @@ PartHeader read_part_header(const std::string& path) {
     std::sort(expected.begin(), expected.end());
     std::sort(found.begin(), found.end());
     if (found != expected)
-        throw InputError(path + ": its channels are not those of a part with film channels \"" + id.film_channels + "\", integrator channels \"" +
-                         id.integrator_channels + "\" and AOVs \"" + id.aovs + "\"");
+        throw InputError(path + ": its channels are not those of a part with film channels \"" + id.film_channels +
+                         "\", integrator channels \"" + id.integrator_channels + "\" and AOVs \"" + id.aovs + "\"");
     const Vec2i end = h.rect.offset + h.rect.size;
     bool inside = h.rect.offset.x >= 0 && h.rect.offset.y >= 0 && end.x <= id.image.x && end.y <= id.image.y;
     for (const CoverageBox& b : h.coverage) {

@@ -43,15 +43,15 @@ struct RenderIdentity {
     std::string scene;       // the scene file as given (informative; the hash decides)
     std::string scene_hash;  // the scene file, every file it read, and its parameters
     uint64_t seed = 0;
-    std::string sampler;     // the sampler plugin
-    int spp = 0;             // samples per pixel of the whole render
-    Vec2i image{0};          // the image size (the film's crop window)
+    std::string sampler;  // the sampler plugin
+    int spp = 0;          // samples per pixel of the whole render
+    Vec2i image{0};       // the image size (the film's crop window)
     std::string integrator;
     std::string film_channels;        // the film's pixel format as its channels ("R,G,B,A")
     std::string integrator_channels;  // SamplingIntegrator::channel_names(), joined by ','
-    std::string aovs;        // AovLayout::names()
-    std::string version;     // Candela's
-    bool float32 = true;     // the film's component format, which the final image takes
+    std::string aovs;                 // AovLayout::names()
+    std::string version;              // Candela's
+    bool float32 = true;              // the film's component format, which the final image takes
     // The render command without --samples, --crop, -o and --threads; a missing piece is this
     // plus those options.
     std::string command;
@@ -77,9 +77,9 @@ struct PartHeader {
     std::string path;
     RenderIdentity identity;
     std::vector<CoverageBox> coverage;
-    bool partial = false;         // interrupted: it holds less than it was asked to
-    ImageRect rect;               // where the file's pixels lie in the image (write_part: sums.rect())
-    double render_seconds = 0.0;  // summed over the rendered parts it holds
+    bool partial = false;                  // interrupted: it holds less than it was asked to
+    ImageRect rect;                        // where the file's pixels lie in the image (write_part: sums.rect())
+    double render_seconds = 0.0;           // summed over the rendered parts it holds
     double started = 0.0, finished = 0.0;  // seconds since the epoch: first start, last finish
     std::string host;
     int rendered_parts = 1;

@@ -82,7 +82,8 @@ FarmPlan plan_farm(const FarmRequest& r) {
         throw InputError("--regions " + std::to_string(r.regions.x) + "x" + std::to_string(r.regions.y) + " does not fit the " +
                          std::to_string(r.image.x) + " x " + std::to_string(r.image.y) + " image");
     for (const std::string& name : {r.candela, r.scene, r.workdir, r.output})
-        if (name.find_first_of("\t\n") != std::string::npos) throw InputError("\"" + name + "\": a farm cannot use names with tabs or line breaks");
+        if (name.find_first_of("\t\n") != std::string::npos)
+            throw InputError("\"" + name + "\": a farm cannot use names with tabs or line breaks");
     FarmPlan plan;
     plan.workdir = r.workdir;
     plan.output = r.output;
@@ -111,14 +112,15 @@ void write_plan(const FarmPlan& plan) {
         fs::create_directories(fs::path(plan.workdir) / sub, ec);
         if (ec) throw InputError(plan.workdir + ": cannot create the work folder: " + ec.message());
     }
-    std::string text = std::string(PlanHeader) + "\n# One line per field, tab-separated; one task line per part: index, samples, region (- for the "
-                                                 "whole image), part file, command.\n";
+    std::string text = std::string(PlanHeader) +
+                       "\n# One line per field, tab-separated; one task line per part: index, samples, region (- for the "
+                       "whole image), part file, command.\n";
     text += "output\t" + plan.output + "\n";
     text += "merge\t" + plan.merge_command + "\n";
     for (size_t i = 0; i < plan.tasks.size(); ++i) {
         const FarmTask& t = plan.tasks[i];
-        text += "task\t" + std::to_string(i) + "\t" + format_sample_range(t.samples) + "\t" + (t.region.empty() ? "-" : format_rect(t.region)) +
-                "\t" + t.part + "\t" + t.command + "\n";
+        text += "task\t" + std::to_string(i) + "\t" + format_sample_range(t.samples) + "\t" +
+                (t.region.empty() ? "-" : format_rect(t.region)) + "\t" + t.part + "\t" + t.command + "\n";
     }
     write_file_atomically((fs::path(plan.workdir) / "plan.txt").string(), text);
 }

@@ -14,25 +14,25 @@
 namespace candela {
 
 struct FarmRequest {
-    std::string candela;               // the program, absolute
-    std::string scene;                 // absolute
-    std::vector<std::string> defines;  // name=value
+    std::string candela;                   // the program, absolute
+    std::string scene;                     // absolute
+    std::vector<std::string> defines;      // name=value
     std::vector<std::string> search_path;  // -a folders, absolute
     std::vector<std::string> aovs;
-    std::string sampler;               // render --sampler, when given
-    std::string mode;                  // render --mode, when given
-    int spp = 0;                       // the render's (resolved from the scene when not given)
-    uint64_t seed = 0;                 // likewise
-    Vec2i image{0};                    // the image size, for the regions
-    int parts = 1;                     // sample ranges
-    Vec2i regions{1, 1};               // columns x rows of image regions
+    std::string sampler;  // render --sampler, when given
+    std::string mode;     // render --mode, when given
+    int spp = 0;          // the render's (resolved from the scene when not given)
+    uint64_t seed = 0;    // likewise
+    Vec2i image{0};       // the image size, for the regions
+    int parts = 1;        // sample ranges
+    Vec2i regions{1, 1};  // columns x rows of image regions
     int threads_per_task = 1;
-    std::string workdir, output;       // absolute
+    std::string workdir, output;  // absolute
 };
 
 struct FarmTask {
     SampleRange samples;
-    ImageRect region;  // empty: the whole image
+    ImageRect region;     // empty: the whole image
     std::string part;     // the part file it writes
     std::string command;  // the render command, as a shell line
 };

@@ -5,8 +5,8 @@
 #include "core/scene.h"
 #include "farm/coverage.h"
 
-#include <chrono>
 #include <unistd.h>
+#include <chrono>
 
 namespace candela {
 
@@ -90,8 +90,8 @@ void write_checkpoint(const ResumableResult& so_far, const PixelSums& running, c
 void check_target(const CoverageBox& t, const Vec2i& image, int spp) {
     const Vec2i end = t.rect.offset + t.rect.size;
     if (t.rect.empty() || t.rect.offset.x < 0 || t.rect.offset.y < 0 || end.x > image.x || end.y > image.y)
-        throw InputError("region " + format_rect(t.rect) + " is not inside the " + std::to_string(image.x) + " x " + std::to_string(image.y) +
-                         " image");
+        throw InputError("region " + format_rect(t.rect) + " is not inside the " + std::to_string(image.x) + " x " +
+                         std::to_string(image.y) + " image");
     if (t.samples.begin < 0 || t.samples.empty() || t.samples.end > spp)
         throw InputError("sample range " + format_sample_range(t.samples) + " is not a non-empty part of [0, " + std::to_string(spp) + ")");
 }

@@ -51,7 +51,8 @@ std::string time_left(const std::vector<PartHeader>& done, size_t missing) {
         end = std::max(end, h.finished);
     }
     const double mean = total / double(done.size());
-    std::string s = "render time per part: mean " + format_duration(mean) + " (" + format_duration(lo) + " to " + format_duration(hi) + ")\n";
+    std::string s =
+        "render time per part: mean " + format_duration(mean) + " (" + format_duration(lo) + " to " + format_duration(hi) + ")\n";
     if (missing == 0) return s;
     s += "time left: " + format_duration(mean * double(missing)) + " of rendering (" + std::to_string(missing) + " parts at the mean)";
     if (done.size() >= 2 && end > start) {
@@ -90,7 +91,8 @@ std::string farm_status(const std::string& workdir) {
     if (!problems.empty()) s += "parts that cannot be used (their tasks, below, render them again):\n" + problems;
     if (!missing.empty()) {
         s += "missing: task" + std::string(missing.size() > 1 ? "s " : " ") + array_spec(missing) + "\n";
-        for (size_t i : missing) s += "  task " + std::to_string(i) + " (" + task_label(plan.tasks[i]) + "): " + plan.tasks[i].command + "\n";
+        for (size_t i : missing)
+            s += "  task " + std::to_string(i) + " (" + task_label(plan.tasks[i]) + "): " + plan.tasks[i].command + "\n";
         std::error_code ec;
         if (fs::exists(render_script_path(workdir), ec)) {
             s += "on Slurm: sbatch --array=" + array_spec(missing) + " " + render_script_path(workdir) + "\n";

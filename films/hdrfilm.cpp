@@ -31,9 +31,12 @@ namespace candela {
 namespace {
 
 PixelFormat read_pixel_format(const Properties& props) {
-    static const std::pair<const char*, PixelFormat> formats[] = {
-        {"luminance", PixelFormat::Luminance}, {"luminance_alpha", PixelFormat::LuminanceAlpha}, {"rgb", PixelFormat::RGB},
-        {"rgba", PixelFormat::RGBA},           {"xyz", PixelFormat::XYZ},                        {"xyza", PixelFormat::XYZA}};
+    static const std::pair<const char*, PixelFormat> formats[] = {{"luminance", PixelFormat::Luminance},
+                                                                  {"luminance_alpha", PixelFormat::LuminanceAlpha},
+                                                                  {"rgb", PixelFormat::RGB},
+                                                                  {"rgba", PixelFormat::RGBA},
+                                                                  {"xyz", PixelFormat::XYZ},
+                                                                  {"xyza", PixelFormat::XYZA}};
     std::string name = to_lower(props.get_string("pixel_format", "rgb"));
     for (const auto& [known, format] : formats)
         if (name == known) return format;
@@ -49,8 +52,8 @@ public:
         if (size_.x <= 0 || size_.y <= 0) props.fail("width", "film width and height must be positive");
         crop_offset_ = Vec2i(props.get_int("crop_offset_x", 0), props.get_int("crop_offset_y", 0));
         crop_size_ = Vec2i(props.get_int("crop_width", size_.x - crop_offset_.x), props.get_int("crop_height", size_.y - crop_offset_.y));
-        if (crop_offset_.x < 0 || crop_offset_.y < 0 || crop_size_.x <= 0 || crop_size_.y <= 0 ||
-            crop_offset_.x + crop_size_.x > size_.x || crop_offset_.y + crop_size_.y > size_.y)
+        if (crop_offset_.x < 0 || crop_offset_.y < 0 || crop_size_.x <= 0 || crop_size_.y <= 0 || crop_offset_.x + crop_size_.x > size_.x ||
+            crop_offset_.y + crop_size_.y > size_.y)
             props.fail("crop window lies outside the film");
         std::string format = to_lower(props.get_string("component_format", "float16"));
         if (format == "uint32") props.fail("component_format", "component_format uint32 is not supported (use float16 or float32)");
@@ -63,7 +66,8 @@ public:
             props.fail("file_format", "file_format \"" + file_format + "\" is not supported: Candela writes OpenEXR only (openexr)");
         if (props.has("sample_border") && props.has("high_quality_edges"))
             props.fail("high_quality_edges", "give sample_border or its old name high_quality_edges, not both");
-        sample_border_ = props.has("high_quality_edges") ? props.get_bool("high_quality_edges", false) : props.get_bool("sample_border", false);
+        sample_border_ =
+            props.has("high_quality_edges") ? props.get_bool("high_quality_edges", false) : props.get_bool("sample_border", false);
         props.get_bool("banner", false);  // no banner in Mitsuba 3 either
 
         auto filters = props.get_objects(ObjectKind::Filter);

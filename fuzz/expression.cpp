@@ -19,7 +19,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             std::fprintf(stderr, "candela fuzz: the expression evaluated to a non-finite value\n");
             std::abort();
         }
-    } catch (const candela::InputError&) {
-    }
+    } catch (const candela::InputError&) {}
     return 0;
 }

@@ -42,9 +42,9 @@ namespace {
 constexpr long MaxRenderPixels = 32 * 32;
 
 struct Target {
-    std::string scene_template;       // empty: the input is the scene
+    std::string scene_template;  // empty: the input is the scene
     std::vector<std::string> extensions;
-    fs::path work_dir;                // where the input file is written
+    fs::path work_dir;  // where the input file is written
 };
 
 Target& target() {
@@ -140,11 +140,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         } else {
             std::string name = "input." + extension;
             std::ofstream(t.work_dir / name, std::ios::binary | std::ios::trunc) << bytes;
-            scene = load_scene_from_string(t.scene_template, (t.work_dir / "scene.xml").string(), {{"file", name}, {"extension", extension}});
+            scene =
+                load_scene_from_string(t.scene_template, (t.work_dir / "scene.xml").string(), {{"file", name}, {"extension", extension}});
         }
         render_if_small(*scene);
     } catch (const SceneError&) {
-    } catch (const InputError&) {
-    }
+    } catch (const InputError&) {}
     return 0;
 }

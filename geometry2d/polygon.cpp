@@ -59,8 +59,10 @@ std::vector<std::array<int, 3>> triangulate_polygon(const std::vector<glm::dvec2
     while (v.size() > 1 && input[v.front()] == input[v.back()]) v.pop_back();
 
     auto emit = [&](int a, int b, int c) {
-        if (ccw) tris.push_back({a, b, c});
-        else tris.push_back({c, b, a});
+        if (ccw)
+            tris.push_back({a, b, c});
+        else
+            tris.push_back({c, b, a});
     };
 
     // Scale-aware tolerance for "collinear".
@@ -122,8 +124,10 @@ std::vector<std::array<int, 3>> triangulate_polygon_3d(const std::vector<Vec3>& 
     // polygon's winding in 3D.
     int axis = 2;
     glm::dvec3 an = glm::abs(normal);
-    if (an.x > an.y && an.x > an.z) axis = 0;
-    else if (an.y > an.z) axis = 1;
+    if (an.x > an.y && an.x > an.z)
+        axis = 0;
+    else if (an.y > an.z)
+        axis = 1;
     std::vector<glm::dvec2> flat(n);
     for (size_t i = 0; i < n; ++i) {
         glm::dvec3 p(pts[i]);

@@ -25,8 +25,10 @@ void line_dda(int x0, int y0, int x1, int y1, const Plot& plot) {
     int start_minor = x_major ? y0 : x0, major = x_major ? x0 : y0;
     for (int i = 0; i <= steps; ++i) {
         int minor = round_half_up(double(start_minor) + double(numerator) / steps);
-        if (x_major) plot(major, minor);
-        else plot(minor, major);
+        if (x_major)
+            plot(major, minor);
+        else
+            plot(minor, major);
         major += major_step;
         numerator += delta;
     }
@@ -45,8 +47,10 @@ void line_bresenham(int x0, int y0, int x1, int y1, const Plot& plot) {
     // not step, when stepping positively it must.
     int err = 2 * minor - major;  // decision for the first step
     for (int i = 0; i <= major; ++i) {
-        if (steep) plot(b, a);
-        else plot(a, b);
+        if (steep)
+            plot(b, a);
+        else
+            plot(a, b);
         if (i == major) break;
         bool step = s_minor > 0 ? err >= 0 : err > 0;
         if (step) {

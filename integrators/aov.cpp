@@ -51,11 +51,12 @@ struct AovTypeInfo {
     const char* suffixes;  // one letter per channel
 };
 
-constexpr AovTypeInfo AovTypes[] = {
-    {"albedo", AovType::Albedo, "RGB"},    {"depth", AovType::Depth, "T"},           {"position", AovType::Position, "XYZ"},
-    {"uv", AovType::UV, "UV"},             {"geo_normal", AovType::GeoNormal, "XYZ"}, {"sh_normal", AovType::ShNormal, "XYZ"},
-    {"dp_du", AovType::DpDu, "XYZ"},       {"dp_dv", AovType::DpDv, "XYZ"},          {"duv_dx", AovType::DuvDx, "UV"},
-    {"duv_dy", AovType::DuvDy, "UV"},      {"prim_index", AovType::PrimIndex, "I"},  {"shape_index", AovType::ShapeIndex, "I"}};
+constexpr AovTypeInfo AovTypes[] = {{"albedo", AovType::Albedo, "RGB"},        {"depth", AovType::Depth, "T"},
+                                    {"position", AovType::Position, "XYZ"},    {"uv", AovType::UV, "UV"},
+                                    {"geo_normal", AovType::GeoNormal, "XYZ"}, {"sh_normal", AovType::ShNormal, "XYZ"},
+                                    {"dp_du", AovType::DpDu, "XYZ"},           {"dp_dv", AovType::DpDv, "XYZ"},
+                                    {"duv_dx", AovType::DuvDx, "UV"},          {"duv_dy", AovType::DuvDy, "UV"},
+                                    {"prim_index", AovType::PrimIndex, "I"},   {"shape_index", AovType::ShapeIndex, "I"}};
 
 std::string aov_type_list() {
     std::string list;
@@ -103,8 +104,8 @@ public:
             for (const char* c = info->suffixes; *c; ++c) names_.push_back(name + "." + *c);
         }
         if (names_.size() > size_t(MaxSampleChannels))
-            props.fail("aovs", "these AOVs need " + std::to_string(names_.size()) + " channels, more than the " + std::to_string(MaxSampleChannels) +
-                                   " Candela supports");
+            props.fail("aovs", "these AOVs need " + std::to_string(names_.size()) + " channels, more than the " +
+                                   std::to_string(MaxSampleChannels) + " Candela supports");
         if (names_.empty()) warn(props.location(), "aov has no AOV and no nested integrator: the image will be black");
     }
 
@@ -151,27 +152,29 @@ private:
             for (int k = 0; k < 2; ++k) *out++ = hit ? v[k] : 0.0f;
         };
         switch (type) {
-        case AovType::Albedo: put3(hit ? si.shape->bsdf()->albedo(si) : Spectrum(0.0f)); break;
-        case AovType::Depth: *out++ = hit ? si.t : 0.0f; break;
-        case AovType::Position: put3(si.p); break;
-        case AovType::UV: put2(si.uv); break;
-        case AovType::GeoNormal: put3(si.n); break;
-        case AovType::ShNormal: put3(si.shading.n); break;
-        case AovType::DpDu: put3(si.dpdu); break;
-        case AovType::DpDv: put3(si.dpdv); break;
-        case AovType::DuvDx:
-        case AovType::DuvDy: {
-            Vec2 dx(0.0f), dy(0.0f);
-            if (hit) uv_partials(si, differential_ray(scene, ray, record, Vec2(1, 0)), differential_ray(scene, ray, record, Vec2(0, 1)), dx, dy);
-            put2(type == AovType::DuvDx ? dx : dy);
-            break;
-        }
-        case AovType::PrimIndex: *out++ = hit ? float(si.prim_index) : 0.0f; break;
-        case AovType::ShapeIndex: {
-            auto it = hit ? shape_index_.find(si.shape) : shape_index_.end();
-            *out++ = it == shape_index_.end() ? 0.0f : float(it->second);
-            break;
-        }
+            case AovType::Albedo: put3(hit ? si.shape->bsdf()->albedo(si) : Spectrum(0.0f)); break;
+            case AovType::Depth: *out++ = hit ? si.t : 0.0f; break;
+            case AovType::Position: put3(si.p); break;
+            case AovType::UV: put2(si.uv); break;
+            case AovType::GeoNormal: put3(si.n); break;
+            case AovType::ShNormal: put3(si.shading.n); break;
+            case AovType::DpDu: put3(si.dpdu); break;
+            case AovType::DpDv: put3(si.dpdv); break;
+            case AovType::DuvDx:
+            case AovType::DuvDy: {
+                Vec2 dx(0.0f), dy(0.0f);
+                if (hit)
+                    uv_partials(si, differential_ray(scene, ray, record, Vec2(1, 0)), differential_ray(scene, ray, record, Vec2(0, 1)), dx,
+                                dy);
+                put2(type == AovType::DuvDx ? dx : dy);
+                break;
+            }
+            case AovType::PrimIndex: *out++ = hit ? float(si.prim_index) : 0.0f; break;
+            case AovType::ShapeIndex: {
+                auto it = hit ? shape_index_.find(si.shape) : shape_index_.end();
+                *out++ = it == shape_index_.end() ? 0.0f : float(it->second);
+                break;
+            }
         }
         return out;
     }

@@ -40,10 +40,13 @@ public:
         emitter_samples_ = props.get_int("emitter_samples", shading);
         bsdf_samples_ = props.get_int("bsdf_samples", shading);
         if (shading < 0 || emitter_samples_ < 0 || bsdf_samples_ < 0)
-            props.fail(props.has("shading_samples") ? "shading_samples" : emitter_samples_ < 0 ? "emitter_samples" : "bsdf_samples",
+            props.fail(props.has("shading_samples") ? "shading_samples"
+                       : emitter_samples_ < 0       ? "emitter_samples"
+                                                    : "bsdf_samples",
                        "sample counts must not be negative");
         if (emitter_samples_ + bsdf_samples_ == 0)
-            props.fail(props.has("shading_samples") ? "shading_samples" : "emitter_samples", "direct needs at least one emitter or BSDF sample");
+            props.fail(props.has("shading_samples") ? "shading_samples" : "emitter_samples",
+                       "direct needs at least one emitter or BSDF sample");
         hide_emitters_ = props.get_bool("hide_emitters", false);
         PathSettings lights;
         lights.light_sampler = props.get_string("light_sampler", "tree");

@@ -53,7 +53,8 @@ Ref<Sampler> estimator_sampler(uint64_t seed) {
 
 // Runs `one(sampler)` for every sample in fixed chunks and combines the chunks in order, so the
 // result does not depend on the thread count.
-template <typename F> Estimate run(const EstimatorOptions& options, F one) {
+template <typename F>
+Estimate run(const EstimatorOptions& options, F one) {
     const uint64_t chunk = 4096, chunks = (options.samples + chunk - 1) / chunk;
     std::vector<Sums> partial(chunks);
     tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);

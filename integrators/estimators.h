@@ -14,7 +14,7 @@ namespace candela {
 struct Estimate {
     Spectrum mean{0.0f}, std_error{0.0f};
     double luminance = 0.0, luminance_std_error = 0.0;  // of the Rec.709 luminance per sample
-    double luminance_kurtosis = 0.0;  // E[(Y - mean)^4] / var^2 of the per-sample luminance
+    double luminance_kurtosis = 0.0;                    // E[(Y - mean)^4] / var^2 of the per-sample luminance
     uint64_t samples = 0;
     uint64_t nonfinite = 0;  // samples dropped as NaN or infinite
     static constexpr double Z95 = 1.959963984540054;

@@ -54,7 +54,8 @@ public:
             }
         float top = max_value_;
         if (top <= 0.0f) {
-            if (lum.empty()) top = 1.0f;
+            if (lum.empty())
+                top = 1.0f;
             else {
                 std::nth_element(lum.begin(), lum.begin() + long(0.99 * double(lum.size() - 1)), lum.end());
                 top = lum[size_t(0.99 * double(lum.size() - 1))];

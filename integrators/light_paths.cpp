@@ -23,7 +23,9 @@ float shading_normal_correction(const SurfaceInteraction& si, const Vec3& wo_loc
 }
 
 LightPathTracer::LightPathTracer(const Scene& scene, int max_hits, int rr_depth)
-    : scene_(scene), lights_(create_light_sampler("power", scene)), max_hits_(max_hits < 0 ? UINT32_MAX : uint32_t(max_hits)),
+    : scene_(scene),
+      lights_(create_light_sampler("power", scene)),
+      max_hits_(max_hits < 0 ? UINT32_MAX : uint32_t(max_hits)),
       rr_depth_(uint32_t(std::max(rr_depth, 1))) {}
 
 bool LightPathTracer::start(PCG32& rng, LightPathStart& s) const {
@@ -37,7 +39,8 @@ bool LightPathTracer::start(PCG32& rng, LightPathStart& s) const {
     return true;
 }
 
-bool LightPathTracer::scatter(PCG32& rng, const SurfaceInteraction& si, const BSDF& bsdf, Spectrum& beta, Vec3& wo_world, bool& delta) const {
+bool LightPathTracer::scatter(PCG32& rng, const SurfaceInteraction& si, const BSDF& bsdf, Spectrum& beta, Vec3& wo_world,
+                              bool& delta) const {
     BSDFContext ctx;
     ctx.mode = TransportMode::Importance;
     float u_lobe = rng.next_float();

@@ -118,8 +118,8 @@ void LightPathTracer::follow(PCG32& rng, const LightPathStart& start, Visit&& vi
 // Returns false when `interrupt` was set before every chunk ran; outputs of chunks that did not
 // run are left empty. `rays` accumulates the rays traced.
 template <typename Output, typename Trace>
-bool trace_in_chunks(tbb::task_arena& arena, uint64_t count, uint64_t chunk, std::vector<Output>& outputs, const std::atomic<bool>* interrupt,
-                     std::atomic<uint64_t>& rays, Trace&& trace) {
+bool trace_in_chunks(tbb::task_arena& arena, uint64_t count, uint64_t chunk, std::vector<Output>& outputs,
+                     const std::atomic<bool>* interrupt, std::atomic<uint64_t>& rays, Trace&& trace) {
     const size_t chunks = size_t((count + chunk - 1) / chunk);
     outputs.resize(chunks);
     std::atomic<bool> skipped{false};

@@ -50,7 +50,9 @@ PathSettings read_path_settings(const Properties& props, bool hide_emitters) {
 PathIntegrator::PathIntegrator(const Properties& props) : PathIntegrator(read_path_settings(props, true)) {}
 
 PathIntegrator::PathIntegrator(const PathSettings& s)
-    : max_depth_(s.max_depth < 0 ? UINT32_MAX : uint32_t(s.max_depth)), rr_depth_(uint32_t(s.rr_depth)), hide_emitters_(s.hide_emitters),
+    : max_depth_(s.max_depth < 0 ? UINT32_MAX : uint32_t(s.max_depth)),
+      rr_depth_(uint32_t(s.rr_depth)),
+      hide_emitters_(s.hide_emitters),
       light_strategy_(s.light_sampler) {
     if (auto problem = check_path_settings(s)) throw InputError(problem->message);
 }

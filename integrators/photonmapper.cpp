@@ -187,8 +187,10 @@ void PhotonMapIntegrator::check_map_memory(bool caustic) const {
     const uint64_t per_photon = 2 * sizeof(Photon) + grid_per_point, per_irradiance = 2 * sizeof(IrradiancePoint) + grid_per_point;
     const uint64_t bytes = saturating_add(saturating_mul(saturating_add(global_.target, caustic_photons), per_photon),
                                           saturating_mul(global_.target / 4, per_irradiance));
-    check_memory(bytes, "photonmapper's maps of " + std::to_string(global_.target) + " global and " + std::to_string(caustic_photons) + " caustic photons",
-                 location_);
+    check_memory(
+        bytes,
+        "photonmapper's maps of " + std::to_string(global_.target) + " global and " + std::to_string(caustic_photons) + " caustic photons",
+        location_);
 }
 
 // Irradiance at every fourth global photon from its lookup_size nearest photons on surfaces
@@ -201,7 +203,8 @@ void PhotonMapIntegrator::precompute_irradiance() {
             thread_local Neighbours near;
             for (size_t i = begin; i != end; ++i) {
                 const Photon& at = global_.photons[4 * i];
-                float r2 = nearest_photons(global_, at.p, [&](const Photon& ph) { return glm::dot(ph.n, at.n) > 0.9f; }, near);
+                float r2 = nearest_photons(
+                    global_, at.p, [&](const Photon& ph) { return glm::dot(ph.n, at.n) > 0.9f; }, near);
                 Spectrum E(0.0f);
                 for (const auto& entry : near) E += entry.second->beta;
                 irradiance_[i] = {at.p, at.n, r2 > 0.0f ? E / float(Pi * r2 * global_.emitted) : Spectrum(0.0f)};
@@ -237,7 +240,8 @@ void PhotonMapIntegrator::build_map(const LightPathTracer& tracer, bool caustic,
                 tracer.follow(rng, start, [&](const LightVertex& v) {
                     if (!within_depth(v.depth + 1)) return false;
                     bool gathers = gathers_photons(*v.bsdf);
-                    if (gathers && (!caustic || v.caustic) && all_finite(v.beta)) out.photons.push_back(make_photon(*v.si, v.beta, v.depth));
+                    if (gathers && (!caustic || v.caustic) && all_finite(v.beta))
+                        out.photons.push_back(make_photon(*v.si, v.beta, v.depth));
                     return !(caustic && gathers);  // a caustic path ends at its first diffuse surface
                 });
             }
@@ -275,7 +279,8 @@ float PhotonMapIntegrator::nearest_photons(const PhotonMap& map, const Vec3& p, 
 // Jensen's radiance estimate: sum f beta / (pi r^2 emitted) over the nearest photons.
 Spectrum PhotonMapIntegrator::radiance_estimate(const PhotonMap& map, const GatherPoint& at) const {
     thread_local Neighbours near;  // reused: no allocation per lookup
-    float r2 = nearest_photons(map, at.si.p, [&](const Photon& ph) { return within_depth(at.depth + ph.depth); }, near);
+    float r2 = nearest_photons(
+        map, at.si.p, [&](const Photon& ph) { return within_depth(at.depth + ph.depth); }, near);
     if (!(r2 > 0.0f)) return Spectrum(0.0f);
     const BSDFContext ctx;
     Spectrum sum(0.0f);

@@ -5,7 +5,8 @@
 
 namespace candela {
 
-GatherPoint walk_to_gather_point(const Scene& scene, Sampler& sampler, Ray ray, Spectrum beta, uint32_t depth, const WalkSettings& settings) {
+GatherPoint walk_to_gather_point(const Scene& scene, Sampler& sampler, Ray ray, Spectrum beta, uint32_t depth,
+                                 const WalkSettings& settings) {
     GatherPoint end;
     const uint32_t start = depth;
     float eta = 1.0f;

@@ -45,7 +45,8 @@ struct WalkSettings {
 // delta and glossy-only surfaces by BSDF sampling, with Russian roulette as `path` applies it, to
 // the first surface that gathers photons. Environment light along an escaping ray counts as
 // emission.
-GatherPoint walk_to_gather_point(const Scene& scene, Sampler& sampler, Ray ray, Spectrum beta, uint32_t depth, const WalkSettings& settings);
+GatherPoint walk_to_gather_point(const Scene& scene, Sampler& sampler, Ray ray, Spectrum beta, uint32_t depth,
+                                 const WalkSettings& settings);
 
 struct Photon {
     Vec3 p{0.0f};

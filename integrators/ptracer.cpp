@@ -30,8 +30,8 @@
 #include "core/bsdf.h"
 #include "core/film.h"
 #include "core/progress.h"
-#include "core/random_2d.h"
 #include "core/properties.h"
+#include "core/random_2d.h"
 #include "core/registry.h"
 #include "core/scene.h"
 #include "integrators/light_paths.h"
@@ -94,8 +94,10 @@ void ParticleTracerIntegrator::trace_path(const LightPathTracer& tracer, PCG32& 
     LightPathStart start;
     if (!tracer.start(rng, start)) return;
     if (!hide_emitters_ && within_depth(1)) {
-        if (start.emitter->is_infinite()) connect_environment(scene, start, rng, out);
-        else if (!start.emitter->is_delta() && !start.ray.delta_direction) connect_area_emitter(scene, start, rng, out);
+        if (start.emitter->is_infinite())
+            connect_environment(scene, start, rng, out);
+        else if (!start.emitter->is_delta() && !start.ray.delta_direction)
+            connect_area_emitter(scene, start, rng, out);
     }
     tracer.follow(rng, start, [&](const LightVertex& v) {
         if (!within_depth(v.depth + 1)) return false;
@@ -174,7 +176,8 @@ RenderResult ParticleTracerIntegrator::render(const Scene& scene, const RenderOp
     auto t_start = std::chrono::steady_clock::now();
     bool variance = false;
     for (const std::string& a : options.aovs) {
-        if (a != "variance") throw InputError("ptracer renders no \"" + a + "\" AOV (only variance: its light paths have no first hit per pixel)");
+        if (a != "variance")
+            throw InputError("ptracer renders no \"" + a + "\" AOV (only variance: its light paths have no first hit per pixel)");
         variance = true;
     }
     const SampleSettings samples = sample_settings(scene, options);
@@ -197,16 +200,17 @@ RenderResult ParticleTracerIntegrator::render(const Scene& scene, const RenderOp
         // A pass's paths in batches: trace a batch in parallel, then apply its splats in order.
         for (uint64_t first = 0; first < pixels && !interrupted; first += ChunkPaths * BatchChunks) {
             uint64_t count = std::min(pixels - first, ChunkPaths * BatchChunks), base = uint64_t(pass) * pixels + first;
-            interrupted = !trace_in_chunks(arena, count, ChunkPaths, chunks, options.interrupt, rays, [&](uint64_t b, uint64_t e, ChunkSplats& out) {
-                out.splats.clear();
-                out.paths = e - b;
-                out.nonfinite = 0;
-                for (uint64_t i = b; i < e; ++i) {
-                    PCG32 rng = light_path_rng(samples.seed, 0, base + i);
-                    trace_path(tracer, rng, out);
-                }
-                progress.add(e - b);
-            });
+            interrupted =
+                !trace_in_chunks(arena, count, ChunkPaths, chunks, options.interrupt, rays, [&](uint64_t b, uint64_t e, ChunkSplats& out) {
+                    out.splats.clear();
+                    out.paths = e - b;
+                    out.nonfinite = 0;
+                    for (uint64_t i = b; i < e; ++i) {
+                        PCG32 rng = light_path_rng(samples.seed, 0, base + i);
+                        trace_path(tracer, rng, out);
+                    }
+                    progress.add(e - b);
+                });
             for (const ChunkSplats& c : chunks)
                 for (const Splat& s : c.splats) block.put(s.pos, s.value);
             for (const ChunkSplats& c : chunks) paths += c.paths, nonfinite += c.nonfinite;
@@ -234,7 +238,8 @@ RenderResult ParticleTracerIntegrator::render(const Scene& scene, const RenderOp
         for (int c = 0; c < 3; ++c) {
             double s = sum[i * 3 + c], k = passes;
             result.image.at(x, y, c) = passes > 0 ? float(s / k) : 0.0f;
-            if (variance) result.image.at(x, y, 3 + c) = passes > 1 ? float(std::max(0.0, (sum_sq[i * 3 + c] - s * s / k) / (k - 1) / k)) : 0.0f;
+            if (variance)
+                result.image.at(x, y, 3 + c) = passes > 1 ? float(std::max(0.0, (sum_sq[i * 3 + c] - s * s / k) / (k - 1) / k)) : 0.0f;
         }
     }
     RenderStats& st = result.stats;

@@ -34,11 +34,11 @@
 
 #include "core/bsdf.h"
 #include "core/emitter.h"
+#include "core/mesh.h"
 #include "core/properties.h"
 #include "core/registry.h"
 #include "core/sampler.h"
 #include "core/scene.h"
-#include "core/mesh.h"
 #include "integrators/direct_lighting.h"
 #include "integrators/estimators.h"
 #include "integrators/radiosity_solver.h"
@@ -76,7 +76,8 @@ VertexSolution vertex_solution(const RadiosityPatches& patches, const std::vecto
 
 }  // namespace
 
-std::vector<RadiosityMesh> bake_radiosity(const Scene& scene, const RadiositySettings& settings, const RenderOptions& options, RadiosityStats* stats) {
+std::vector<RadiosityMesh> bake_radiosity(const Scene& scene, const RadiositySettings& settings, const RenderOptions& options,
+                                          RadiosityStats* stats) {
     RadiosityPatches patches(scene, settings);
     RadiosityStats local;
     RadiosityStats& st = stats ? *stats : local;
@@ -85,7 +86,8 @@ std::vector<RadiosityMesh> bake_radiosity(const Scene& scene, const RadiositySet
     return patches.meshes(v.irradiance[0], v.irradiance[1], v.radiosity[0]);
 }
 
-std::vector<RadiosityMesh> bake_path_irradiance(const Scene& scene, const RadiositySettings& settings, int samples, const RenderOptions& options) {
+std::vector<RadiosityMesh> bake_path_irradiance(const Scene& scene, const RadiositySettings& settings, int samples,
+                                                const RenderOptions& options) {
     RadiosityPatches patches(scene, settings);
     const std::vector<Spectrum> none(patches.vertex_count(), Spectrum(0.0f));
     const std::vector<RadiosityMesh> geometry = patches.meshes(none, none, none);
@@ -95,7 +97,8 @@ std::vector<RadiosityMesh> bake_path_irradiance(const Scene& scene, const Radios
         const RadiosityElement& e = elements[i];
         const TriangleSoup& soup = geometry[e.mesh].patches;
         const glm::uvec3& t = soup.triangles[e.triangle];
-        float gap = tessellation_gap(soup.positions[t.x], soup.positions[t.y], soup.positions[t.z], soup.normals[t.x], soup.normals[t.y], soup.normals[t.z]);
+        float gap = tessellation_gap(soup.positions[t.x], soup.positions[t.y], soup.positions[t.z], soup.normals[t.x], soup.normals[t.y],
+                                     soup.normals[t.z]);
         points[i] = e.centroid + e.normal * gap;
         normals[i] = e.normal;
     }
@@ -113,8 +116,10 @@ public:
     explicit RadiosityIntegrator(const Properties& props) {
         settings_.max_patch_area = props.get_float("max_patch_area", 0.0f);
         settings_.subdivisions = props.get_int("subdivisions", 0);
-        if (props.has("max_patch_area") && props.has("subdivisions")) props.fail("subdivisions", "give max_patch_area or subdivisions, not both");
-        if (props.has("max_patch_area") && !(settings_.max_patch_area > 0.0f)) props.fail("max_patch_area", "max_patch_area must be positive");
+        if (props.has("max_patch_area") && props.has("subdivisions"))
+            props.fail("subdivisions", "give max_patch_area or subdivisions, not both");
+        if (props.has("max_patch_area") && !(settings_.max_patch_area > 0.0f))
+            props.fail("max_patch_area", "max_patch_area must be positive");
         if (props.has("subdivisions") && settings_.subdivisions <= 0) props.fail("subdivisions", "subdivisions must be positive");
         settings_.tolerance = props.get_float("tolerance", 1e-3f);
         if (!(settings_.tolerance > 0.0f && settings_.tolerance < 1.0f)) props.fail("tolerance", "tolerance must lie between 0 and 1");

@@ -15,8 +15,12 @@ const char Magic[18] = "CANDELA-RADIOSITY";  // with its terminating zero: 18 by
 constexpr uint32_t Version = 1;
 constexpr size_t HeaderSize = sizeof Magic + 4 + 8 + 8 + 4 + 4;
 
-template <typename T> void put(std::string& out, const T& value) { out.append(reinterpret_cast<const char*>(&value), sizeof value); }
-template <typename T> T take(const std::string& in, size_t& offset) {
+template <typename T>
+void put(std::string& out, const T& value) {
+    out.append(reinterpret_cast<const char*>(&value), sizeof value);
+}
+template <typename T>
+T take(const std::string& in, size_t& offset) {
     T value;
     std::memcpy(&value, in.data() + offset, sizeof value);
     offset += sizeof value;

@@ -82,7 +82,8 @@ void fnv1a(uint64_t& h, const void* data, size_t size) {
 // A scene shape's patches as a triangle mesh in world space (its front side is the shape's).
 class RadiosityPatches::PatchMesh final : public Mesh {
 public:
-    PatchMesh(const Properties& props, const Shape* source, uint32_t index, TriangleSoup soup) : Mesh(props), source_(source), index_(index) {
+    PatchMesh(const Properties& props, const Shape* source, uint32_t index, TriangleSoup soup)
+        : Mesh(props), source_(source), index_(index) {
         positions_ = std::move(soup.positions);
         normals_ = std::move(soup.normals);
         uvs_ = std::move(soup.uvs);
@@ -114,7 +115,8 @@ RadiosityPatches::RadiosityPatches(const Scene& scene, const RadiositySettings& 
     double estimate = 0.0;
     for (const auto& soup : soups)
         for (const auto& t : soup.triangles)
-            estimate += sqr(float(subdivision_for(triangle_area(soup.positions[t.x], soup.positions[t.y], soup.positions[t.z]), settings, default_patch_area)));
+            estimate += sqr(float(subdivision_for(triangle_area(soup.positions[t.x], soup.positions[t.y], soup.positions[t.z]), settings,
+                                                  default_patch_area)));
     if (estimate > double(MaxPatches))
         throw InputError("radiosity: " + std::to_string(size_t(estimate)) + " patches are too many (at most " + std::to_string(MaxPatches) +
                          "); raise max_patch_area or lower subdivisions");
@@ -123,7 +125,8 @@ RadiosityPatches::RadiosityPatches(const Scene& scene, const RadiositySettings& 
     for (size_t i = 0; i < soups.size(); ++i) {
         vertex_offset_.push_back(uint32_t(vertex_count_));
         triangle_offset_.push_back(uint32_t(patch_count_));
-        auto mesh = std::make_shared<PatchMesh>(props, scene.shapes()[i].get(), uint32_t(i), subdivide(soups[i], settings, default_patch_area));
+        auto mesh =
+            std::make_shared<PatchMesh>(props, scene.shapes()[i].get(), uint32_t(i), subdivide(soups[i], settings, default_patch_area));
         vertex_count_ += mesh->positions().size();
         patch_count_ += mesh->triangle_count();
         meshes_.push_back(mesh);
@@ -149,7 +152,8 @@ void RadiosityPatches::build_elements(const Scene& scene) {
         if (is_invisible(*shape)) continue;
         const BSDF& bsdf = *shape->bsdf();
         bool two_sided = bsdf.local_shading().two_sided;
-        if (bsdf.flags() != DiffuseReflection && std::find(approximated_.begin(), approximated_.end(), bsdf.to_string()) == approximated_.end())
+        if (bsdf.flags() != DiffuseReflection &&
+            std::find(approximated_.begin(), approximated_.end(), bsdf.to_string()) == approximated_.end())
             approximated_.push_back(bsdf.to_string());
         for (uint32_t t = 0; t < mesh.triangle_count(); ++t) {
             // The patch's centre as a ray hit would describe it: uv, shading frame, error bound.
@@ -268,7 +272,8 @@ uint64_t RadiosityPatches::hash() const {
     return h;
 }
 
-std::vector<RadiosityMesh> RadiosityPatches::meshes(const std::vector<Spectrum>& irradiance_front, const std::vector<Spectrum>& irradiance_back,
+std::vector<RadiosityMesh> RadiosityPatches::meshes(const std::vector<Spectrum>& irradiance_front,
+                                                    const std::vector<Spectrum>& irradiance_back,
                                                     const std::vector<Spectrum>& radiosity_front) const {
     std::vector<RadiosityMesh> out;
     for (size_t m = 0; m < meshes_.size(); ++m) {

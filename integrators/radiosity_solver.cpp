@@ -8,6 +8,7 @@
 // two elements: deterministic and independent of the thread count). The irradiance that a patch
 // of radiosity B sends to a point is B x F(point -> patch), so shooting needs no reciprocity.
 
+#include "integrators/radiosity_solver.h"
 #include "core/emitter.h"
 #include "core/parallel.h"
 #include "core/progress.h"
@@ -17,7 +18,6 @@
 #include "core/warp.h"
 #include "integrators/direct_lighting.h"
 #include "integrators/form_factor.h"
-#include "integrators/radiosity_solver.h"
 
 #include <tbb/task_arena.h>
 
@@ -85,7 +85,8 @@ float form_factor(const RadiosityPatches& patches, const RadiositySettings& sett
 // to the tolerance.
 class SolveProgress {
 public:
-    SolveProgress(bool enabled, float tolerance) : reporter_("Radiosity", Steps, enabled, "steps"), log_tolerance_(std::log(double(tolerance))) {}
+    SolveProgress(bool enabled, float tolerance)
+        : reporter_("Radiosity", Steps, enabled, "steps"), log_tolerance_(std::log(double(tolerance))) {}
     void update(double unshot_fraction) {
         double f = unshot_fraction > 0.0 ? std::log(unshot_fraction) / log_tolerance_ : 1.0;
         uint64_t level = uint64_t(std::clamp(f, 0.0, 1.0) * double(Steps));
@@ -133,8 +134,8 @@ std::vector<Spectrum> direct_irradiance(const RadiosityPatches& patches, const S
     return irradiance;
 }
 
-std::vector<Spectrum> shoot_radiosity(const RadiosityPatches& patches, const RadiositySettings& settings, const std::vector<Spectrum>& initial,
-                                      const RenderOptions& options, RadiosityStats& stats) {
+std::vector<Spectrum> shoot_radiosity(const RadiosityPatches& patches, const RadiositySettings& settings,
+                                      const std::vector<Spectrum>& initial, const RenderOptions& options, RadiosityStats& stats) {
     auto start = std::chrono::steady_clock::now();
     const auto& elements = patches.elements();
     const size_t n = elements.size();

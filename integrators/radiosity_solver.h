@@ -69,7 +69,8 @@ public:
     // A hash of the patches' geometry, reflectances and emission (FNV-1a over their bytes).
     uint64_t hash() const;
     // Each scene shape's patches with per-vertex values (see RadiosityMesh).
-    std::vector<RadiosityMesh> meshes(const std::vector<Spectrum>& vertex_irradiance_front, const std::vector<Spectrum>& vertex_irradiance_back,
+    std::vector<RadiosityMesh> meshes(const std::vector<Spectrum>& vertex_irradiance_front,
+                                      const std::vector<Spectrum>& vertex_irradiance_back,
                                       const std::vector<Spectrum>& vertex_radiosity_front) const;
 
 private:
@@ -80,7 +81,7 @@ private:
     std::vector<Ref<Shape>> meshes_;  // PatchMesh, one per scene shape
     std::vector<uint32_t> vertex_offset_, triangle_offset_;
     std::vector<int32_t> front_element_, back_element_;  // by global triangle
-    std::vector<uint32_t> weld_;                          // global vertex -> its welded representative
+    std::vector<uint32_t> weld_;                         // global vertex -> its welded representative
     std::vector<RadiosityElement> elements_;
     std::vector<std::string> approximated_;
     size_t patch_count_ = 0, vertex_count_ = 0;
@@ -97,8 +98,8 @@ std::vector<Spectrum> direct_irradiance(const RadiosityPatches& patches, const S
 // shoots it to every other element, until the unshot power falls below `tolerance` times the
 // emitted power, max_iterations shots were made, or options.interrupt is set. Returns each
 // element's irradiance (W m^-2); its radiosity is emitted + reflectance x irradiance.
-std::vector<Spectrum> shoot_radiosity(const RadiosityPatches& patches, const RadiositySettings& settings, const std::vector<Spectrum>& initial,
-                                      const RenderOptions& options, RadiosityStats& stats);
+std::vector<Spectrum> shoot_radiosity(const RadiosityPatches& patches, const RadiositySettings& settings,
+                                      const std::vector<Spectrum>& initial, const RenderOptions& options, RadiosityStats& stats);
 
 // The whole solve: initial light, then the solution file when `solution_file` names one that
 // matches (same patches, reflectances, emission, light and settings), else shooting, saving the

@@ -212,8 +212,10 @@ void SPPMIntegrator::check_render_memory(const LightPathTracer& tracer, uint64_t
     const uint64_t bytes = saturating_add(saturating_mul(pixels, per_pixel), saturating_mul(photons, per_photon));
     char rate[32];
     std::snprintf(rate, sizeof(rate), "%.2f", per_path);
-    check_memory(bytes, "sppm with " + std::to_string(photon_count_) + " light paths per pass (" + rate + " photons stored per path) on " +
-                            std::to_string(pixels) + " pixels", photon_count_location_);
+    check_memory(bytes,
+                 "sppm with " + std::to_string(photon_count_) + " light paths per pass (" + rate + " photons stored per path) on " +
+                     std::to_string(pixels) + " pixels",
+                 photon_count_location_);
 }
 
 RenderResult SPPMIntegrator::render(const Scene& scene, const RenderOptions& options) {

@@ -200,8 +200,8 @@ private:
 
     Ref<Texture> radiance_;
     const ConstantTexture* constant_radiance_ = nullptr;  // radiance_, when it is constant
-    const AnimatedTransform* motion_ = nullptr;  // the instance's motion, on a moving shape
-    Transform open_pose_;                        // its pose at the shutter's opening
+    const AnimatedTransform* motion_ = nullptr;           // the instance's motion, on a moving shape
+    Transform open_pose_;                                 // its pose at the shutter's opening
 };
 
 CANDELA_REGISTER(AreaEmitter, ObjectKind::Emitter, "area");

@@ -36,8 +36,9 @@ public:
     void set_scene(const Scene& scene) override {
         scene_ = &scene;
         if (!shape_->is_planar(normal_))
-            throw SceneError(location_, "directionalarea needs a planar shape (rectangle, disk or a flat mesh): the beams of a curved "
-                                        "shape cross, and only a particle tracer could render them");
+            throw SceneError(location_,
+                             "directionalarea needs a planar shape (rectangle, disk or a flat mesh): the beams of a curved "
+                             "shape cross, and only a particle tracer could render them");
     }
 
     // The point that lights `ref`: trace from ref against the emission direction; it must hit

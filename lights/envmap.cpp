@@ -14,9 +14,9 @@
 
 #include "core/distribution.h"
 #include "core/emitter.h"
-#include "core/local_model.h"
 #include "core/error.h"
 #include "core/image.h"
+#include "core/local_model.h"
 #include "core/registry.h"
 #include "core/scene.h"
 #include "lights/scene_disk.h"

@@ -24,9 +24,9 @@ public:
 private:
     struct Node {
         LightBounds bounds;
-        int child1 = -1;     // interior: second child (the first is the next node, and its
-                             // subtree is the nodes before child1)
-        int light = -1;      // leaf: index into bounded_
+        int child1 = -1;  // interior: second child (the first is the next node, and its
+                          // subtree is the nodes before child1)
+        int light = -1;   // leaf: index into bounded_
     };
     void build(const std::vector<LightBounds>& all);
 

@@ -46,7 +46,8 @@ public:
         cos_beam_ = std::cos(beam_);
         if (props.has("texture")) {
             texture_ = props.get_texture("texture");
-            if (texture_->is_constant()) props.fail("texture", "a spot light's texture must vary in space (e.g. a bitmap); use intensity for a colour");
+            if (texture_->is_constant())
+                props.fail("texture", "a spot light's texture must vary in space (e.g. a bitmap); use intensity for a colour");
         }
         attenuation_ = Attenuation::read(props);
         set_pose(motion_.first());
@@ -73,7 +74,8 @@ public:
         return sample_from(position_, world_to_local_, ref, weight);
     }
     // The sample toward the apex at `position`, with the falloff of the pose `world_to_local`.
-    DirectionSample sample_from(const Vec3& position, const Transform& world_to_local, const SurfaceInteraction& ref, Spectrum& weight) const {
+    DirectionSample sample_from(const Vec3& position, const Transform& world_to_local, const SurfaceInteraction& ref,
+                                Spectrum& weight) const {
         DirectionSample ds = sample_point_source(position, ref, this);
         Vec3 local = glm::normalize(world_to_local.apply_vector(-ds.d));
         float f = ds.dist > 0.0f ? falloff(local) : 0.0f;

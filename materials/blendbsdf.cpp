@@ -71,7 +71,9 @@ public:
         return (1.0f - w) * nested_[0]->null_transmission(si) + w * nested_[1]->null_transmission(si);
     }
     // Local model: the two nested models blended by the weight (see mix_local_shading).
-    LocalShading local_shading() const override { return mix_local_shading(nested_[0]->local_shading(), nested_[1]->local_shading(), weight_); }
+    LocalShading local_shading() const override {
+        return mix_local_shading(nested_[0]->local_shading(), nested_[1]->local_shading(), weight_);
+    }
     std::string to_string() const override { return "blendbsdf"; }
 
 private:

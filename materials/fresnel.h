@@ -31,7 +31,7 @@ float fresnel_diffuse_reflectance(float eta);
 // weight it by R or 1 - R.
 struct FresnelChoice {
     bool reflect = true;
-    float pdf = 0.0f;           // 0: nothing can be sampled
+    float pdf = 0.0f;  // 0: nothing can be sampled
     float weight_factor = 1.0f;
 };
 inline FresnelChoice choose_fresnel_lobe(bool allow_reflection, bool allow_transmission, float R, float u) {

@@ -229,7 +229,8 @@ private:
         for (int p = 0; p < PMax; ++p) {
             float sin_ip = in.sin_theta, cos_ip = in.cos_theta;
             tilt(p, sin_ip, cos_ip);
-            values[p] = longitudinal(sin_ip, cos_ip, sin_o, cos_o, v_[p], log_norm_[p]) * trimmed_logistic(wrap_angle(dphi - specular_azimuth(p, in)), s_);
+            values[p] = longitudinal(sin_ip, cos_ip, sin_o, cos_o, v_[p], log_norm_[p]) *
+                        trimmed_logistic(wrap_angle(dphi - specular_azimuth(p, in)), s_);
         }
         values[PMax] = longitudinal(in.sin_theta, in.cos_theta, sin_o, cos_o, v_[PMax], log_norm_[PMax]) * InvTwoPi;
         return values;

@@ -8,7 +8,8 @@ public:
     MixTexture(Ref<Texture> a, Ref<Texture> b, Ref<Texture> weight) : a_(std::move(a)), b_(std::move(b)), weight_(std::move(weight)) {}
     Spectrum eval(const Vec2& uv) const override { return mix(value(a_, uv), value(b_, uv), std::clamp(weight_->eval_1(uv), 0.0f, 1.0f)); }
     Spectrum eval_filtered(const Vec2& uv, const Vec2& dx, const Vec2& dy, TextureFilter filter) const override {
-        Spectrum va = a_ ? a_->eval_filtered(uv, dx, dy, filter) : Spectrum(0.0f), vb = b_ ? b_->eval_filtered(uv, dx, dy, filter) : Spectrum(0.0f);
+        Spectrum va = a_ ? a_->eval_filtered(uv, dx, dy, filter) : Spectrum(0.0f),
+                 vb = b_ ? b_->eval_filtered(uv, dx, dy, filter) : Spectrum(0.0f);
         return mix(va, vb, std::clamp(luminance(weight_->eval_filtered(uv, dx, dy, filter)), 0.0f, 1.0f));
     }
     // Exact for a constant weight; otherwise the product of means (the textures are independent

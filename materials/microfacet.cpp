@@ -172,8 +172,10 @@ Vec2 MicrofacetDistribution::sample_visible_slope(float cos_theta_i, const Vec2&
     for (int i = 0; i < 64; ++i) {
         double f = cdf(x) - ux;
         if (std::abs(f) < 1e-9) break;
-        if (f > 0.0) hi = x;
-        else lo = x;
+        if (f > 0.0)
+            hi = x;
+        else
+            lo = x;
         double deriv = 2.0 * inv_sqrt_pi * std::exp(-x * x) * (1.0 - x * tan_theta) / norm;
         double next = x - f / deriv;
         x = (deriv > 0.0 && next > lo && next < hi) ? next : 0.5 * (lo + hi);

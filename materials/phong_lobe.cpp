@@ -10,8 +10,7 @@ PhongFamilyBSDF::PhongFamilyBSDF(const Properties& props) {
     exponent_ = props.get_float("exponent", 30.0f);
     if (!(exponent_ >= 0.0f)) props.fail("exponent", "exponent must be non-negative");
     // Energy conservation: the lobes are normalised, so their weights must sum to at most one.
-    if (kd_->max_value() + ks_->max_value() > 1.0f + 1e-6f)
-        props.fail("kd + ks exceeds 1 (the BSDF would create energy); scale them down");
+    if (kd_->max_value() + ks_->max_value() > 1.0f + 1e-6f) props.fail("kd + ks exceeds 1 (the BSDF would create energy); scale them down");
     flags_ = DiffuseReflection | GlossyReflection;
 }
 

@@ -39,8 +39,8 @@
 #include "core/registry.h"
 #include "core/warp.h"
 #include "materials/fresnel.h"
-#include "materials/microfacet.h"
 #include "materials/local_mix.h"
+#include "materials/microfacet.h"
 #include "materials/principled_lobes.h"
 
 namespace candela {
@@ -135,7 +135,8 @@ public:
             float cos_d = glm::dot(h, wo);
             value += p.base * (brdf * InvPi * burley_diffuse(cos_i, cos_o, cos_d, p.roughness, p.flatness) * std::abs(cos_o));
             if (p.sheen > 0.0f && p.metallic < 1.0f)
-                value += sheen_color(p.base, p.sheen_tint) * (p.sheen * (1.0f - p.metallic) * schlick_weight(std::abs(cos_d)) * std::abs(cos_o));
+                value +=
+                    sheen_color(p.base, p.sheen_tint) * (p.sheen * (1.0f - p.metallic) * schlick_weight(std::abs(cos_d)) * std::abs(cos_o));
         }
         return value;
     }

@@ -72,9 +72,7 @@ Spectrum tint_color(const Spectrum& base) {
     return lum > 0.0f ? base / lum : Spectrum(1.0f);
 }
 
-Spectrum sheen_color(const Spectrum& base, float sheen_tint) {
-    return Spectrum(1.0f) + sheen_tint * (tint_color(base) - Spectrum(1.0f));
-}
+Spectrum sheen_color(const Spectrum& base, float sheen_tint) { return Spectrum(1.0f) + sheen_tint * (tint_color(base) - Spectrum(1.0f)); }
 
 float GTR1::D(const Vec3& m) const {
     float a2 = alpha * alpha, c2 = m.z * m.z;

@@ -139,7 +139,8 @@ public:
     // transmission (means of textured parameters).
     LocalShading local_shading() const override {
         LocalShading s;
-        float st = luminance(common_.spec_trans->mean()), t = 0.5f * luminance(diff_trans_->mean()), r = luminance(common_.roughness->mean());
+        float st = luminance(common_.spec_trans->mean()), t = 0.5f * luminance(diff_trans_->mean()),
+              r = luminance(common_.roughness->mean());
         float alpha = std::max(0.001f, r * r), r0 = schlick_r0(luminance(eta_->mean()));
         Spectrum base = common_.base_color->mean();
         s.diffuse = scaled_texture(common_.base_color, (1.0f - st) * (1.0f - t));

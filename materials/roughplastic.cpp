@@ -15,7 +15,6 @@
 // cosines; the integrals over visible normals are evaluated with Gauss-Legendre quadrature.
 
 #include "core/bsdf.h"
-#include "materials/quadrature.h"
 #include "core/local_model.h"
 #include "core/registry.h"
 #include "core/texture.h"
@@ -23,6 +22,7 @@
 #include "materials/fresnel.h"
 #include "materials/ior.h"
 #include "materials/microfacet.h"
+#include "materials/quadrature.h"
 
 #include <array>
 
@@ -132,7 +132,8 @@ private:
 
     // Expected value over normals visible from wi of g(m): an integral over [0, 1]^2 through the
     // visible-normal sampling map, by n x n Gauss-Legendre quadrature.
-    template <typename G> double over_visible_normals(const Vec3& wi, int n, G g) const {
+    template <typename G>
+    double over_visible_normals(const Vec3& wi, int n, G g) const {
         std::vector<double> x, w;
         gauss_legendre(n, x, w);
         double sum = 0.0;

@@ -28,8 +28,10 @@ public:
         if (props.has("weight")) props.get_raw("weight", &type);
         if (type == Properties::Type::Object) {
             weight_volume_ = get_volume(props, "weight", Spectrum(0.5f));
-            if (weight_volume_->is_constant()) weight_ = weight_at(Vec3(0.0f));
-            else constant_ = false;
+            if (weight_volume_->is_constant())
+                weight_ = weight_at(Vec3(0.0f));
+            else
+                constant_ = false;
         } else {
             weight_ = props.get_float("weight", 0.5f);
             if (!(weight_ >= 0.0f && weight_ <= 1.0f)) props.fail("weight", "blendphase: the weight must lie in [0, 1]");

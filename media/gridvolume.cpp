@@ -33,13 +33,18 @@ class GridVolume : public Volume {
 public:
     explicit GridVolume(const Properties& props) : Volume(props) {
         std::string filter = props.get_string("filter_type", "trilinear");
-        if (filter != "trilinear" && filter != "nearest") props.fail("filter_type", "filter_type must be trilinear or nearest, not \"" + filter + "\"");
+        if (filter != "trilinear" && filter != "nearest")
+            props.fail("filter_type", "filter_type must be trilinear or nearest, not \"" + filter + "\"");
         nearest_ = filter == "nearest";
         std::string wrap = props.get_string("wrap_mode", "clamp");
-        if (wrap == "clamp") wrap_ = Wrap::Clamp;
-        else if (wrap == "repeat") wrap_ = Wrap::Repeat;
-        else if (wrap == "mirror") wrap_ = Wrap::Mirror;
-        else props.fail("wrap_mode", "wrap_mode must be clamp, repeat or mirror, not \"" + wrap + "\"");
+        if (wrap == "clamp")
+            wrap_ = Wrap::Clamp;
+        else if (wrap == "repeat")
+            wrap_ = Wrap::Repeat;
+        else if (wrap == "mirror")
+            wrap_ = Wrap::Mirror;
+        else
+            props.fail("wrap_mode", "wrap_mode must be clamp, repeat or mirror, not \"" + wrap + "\"");
         props.get_bool("raw", false);
         read_file(props.get_file_path("filename"), props.location_of("filename"));
         if (props.get_bool("use_grid_bbox", false)) {
@@ -100,18 +105,19 @@ private:
 
     int wrap_index(int i, int n) const {
         switch (wrap_) {
-        case Wrap::Clamp: return std::clamp(i, 0, n - 1);
-        case Wrap::Repeat: return ((i % n) + n) % n;
-        case Wrap::Mirror: {
-            int m = ((i % (2 * n)) + 2 * n) % (2 * n);
-            return m < n ? m : 2 * n - 1 - m;
-        }
+            case Wrap::Clamp: return std::clamp(i, 0, n - 1);
+            case Wrap::Repeat: return ((i % n) + n) % n;
+            case Wrap::Mirror: {
+                int m = ((i % (2 * n)) + 2 * n) % (2 * n);
+                return m < n ? m : 2 * n - 1 - m;
+            }
         }
         return 0;
     }
     const float* voxel_values(const glm::ivec3& i) const {
         size_t index = (size_t(wrap_index(i.z, resolution_.z)) * size_t(resolution_.y) + size_t(wrap_index(i.y, resolution_.y))) *
-                           size_t(resolution_.x) + size_t(wrap_index(i.x, resolution_.x));
+                           size_t(resolution_.x) +
+                       size_t(wrap_index(i.x, resolution_.x));
         return &data_[index * size_t(channels_)];
     }
     Spectrum voxel(const glm::ivec3& i) const {
@@ -139,8 +145,8 @@ private:
         std::memcpy(box, header + 24, sizeof box);
         file_bbox_.min = Vec3(box[0], box[1], box[2]);
         file_bbox_.max = Vec3(box[3], box[4], box[5]);
-        uint64_t count = saturating_mul(saturating_mul(saturating_mul(uint64_t(resolution_.x), uint64_t(resolution_.y)), uint64_t(resolution_.z)),
-                                        uint64_t(channels_));
+        uint64_t count = saturating_mul(
+            saturating_mul(saturating_mul(uint64_t(resolution_.x), uint64_t(resolution_.y)), uint64_t(resolution_.z)), uint64_t(channels_));
         in.seekg(0, std::ios::end);
         uint64_t size = uint64_t(in.tellg());
         if (size != 48 + saturating_mul(count, 4))

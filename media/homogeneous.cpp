@@ -28,7 +28,8 @@ class HomogeneousMedium : public Medium {
 public:
     explicit HomogeneousMedium(const Properties& props) : Medium(props) {
         Ref<Volume> sigma_t = get_volume(props, "sigma_t", Spectrum(1.0f)), albedo = get_volume(props, "albedo", Spectrum(0.75f));
-        if (!sigma_t->is_constant()) props.fail("sigma_t", "a homogeneous medium needs a constant sigma_t (use a heterogeneous medium for a grid)");
+        if (!sigma_t->is_constant())
+            props.fail("sigma_t", "a homogeneous medium needs a constant sigma_t (use a heterogeneous medium for a grid)");
         float scale = props.get_float("scale", 1.0f);
         point_.sigma_t = sigma_t->max() * scale;
         Spectrum a = albedo->max();
@@ -56,11 +57,13 @@ public:
     std::string to_string() const override { return "homogeneous"; }
 
 protected:
-    MajorantIterator coefficient_majorants(const Ray& ray, float tmax) const override { return MajorantIterator(ray.tmin, tmax, point_.sigma_t); }
+    MajorantIterator coefficient_majorants(const Ray& ray, float tmax) const override {
+        return MajorantIterator(ray.tmin, tmax, point_.sigma_t);
+    }
 
 private:
-    MediumPoint point_;     // sigma_t, and sigma_s for a constant albedo
-    Ref<Volume> albedo_;    // a varying albedo (null when constant)
+    MediumPoint point_;   // sigma_t, and sigma_s for a constant albedo
+    Ref<Volume> albedo_;  // a varying albedo (null when constant)
 };
 
 CANDELA_REGISTER(HomogeneousMedium, ObjectKind::Medium, "homogeneous");

@@ -93,7 +93,8 @@ public:
         if (!object || object->kind() != ObjectKind::Volume) props.fail("S", "sggx: S must be a volume of six values");
         S_ = std::static_pointer_cast<Volume>(object);
         if (S_->channel_count() != 6)
-            props.fail("S", "sggx: S must have six values (S_xx, S_yy, S_zz, S_xy, S_xz, S_yz), not " + std::to_string(S_->channel_count()));
+            props.fail("S",
+                       "sggx: S must have six values (S_xx, S_yy, S_zz, S_xy, S_xz, S_yz), not " + std::to_string(S_->channel_count()));
         float max[6];
         S_->max_channels(max);
         if (S_->is_constant()) {

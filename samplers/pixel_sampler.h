@@ -43,8 +43,8 @@ protected:
         return Vec2(bits_to_unit(uint32_t(h)), bits_to_unit(uint32_t(h >> 32)));
     }
 
-    uint64_t sequence_ = 0;  // the pixel's sequence
-    uint32_t index_ = 0;     // the sample index within the pixel
+    uint64_t sequence_ = 0;    // the pixel's sequence
+    uint32_t index_ = 0;       // the sample index within the pixel
     uint64_t sample_key_ = 0;  // hash_combine(sequence_, index_), hashed once per sample, not per number
 };
 

@@ -35,9 +35,9 @@ protected:
     // The digits `bits` of one dimension randomized with `hash` (a per-dimension seed).
     uint32_t randomize(uint32_t bits, uint32_t hash) const {
         switch (randomization_) {
-        case Randomization::None: return bits;
-        case Randomization::PermuteDigits: return bits ^ hash;
-        default: return owen_scramble(bits, hash);
+            case Randomization::None: return bits;
+            case Randomization::PermuteDigits: return bits ^ hash;
+            default: return owen_scramble(bits, hash);
         }
     }
 

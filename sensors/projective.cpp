@@ -39,7 +39,8 @@ ProjectiveCamera::ProjectiveCamera(const Properties& props) {
     if (!(props.get_float("cone_scale", 1.0f) > 0.0f)) props.fail("cone_scale", "cone_scale must be positive");
 
     if (props.has("srf"))
-        props.fail("srf", "a sensor response function (srf) needs a spectral variant; Candela renders in RGB, where Mitsuba rejects it too");
+        props.fail("srf",
+                   "a sensor response function (srf) needs a spectral variant; Candela renders in RGB, where Mitsuba rejects it too");
 }
 
 PinholeProjection ProjectiveCamera::pinhole_projection(const Properties& props) const {

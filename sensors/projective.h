@@ -36,7 +36,9 @@ protected:
     // Film position in pixels of the full film -> fractions in [0,1]^2, and back.
     Vec2 film_fraction(const Vec2& film_pos) const { return film_pos * inv_size_; }
     Vec2 film_pixels(const Vec2& fraction) const { return fraction / inv_size_; }
-    static bool on_film(const Vec2& fraction) { return fraction.x >= 0.0f && fraction.x <= 1.0f && fraction.y >= 0.0f && fraction.y <= 1.0f; }
+    static bool on_film(const Vec2& fraction) {
+        return fraction.x >= 0.0f && fraction.x <= 1.0f && fraction.y >= 0.0f && fraction.y <= 1.0f;
+    }
     // The full film's area in pixels: importance is measured per pixel.
     float film_area() const { return 1.0f / (inv_size_.x * inv_size_.y); }
     // A lens camera's connection from camera-space point `local` through lens point `lens`

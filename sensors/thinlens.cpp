@@ -27,7 +27,8 @@ public:
         refuse_scaling(props);
         projection_ = pinhole_projection(props);
         aperture_radius_ = props.get_float("aperture_radius");
-        if (!(aperture_radius_ >= 0.0f) || !std::isfinite(aperture_radius_)) props.fail("aperture_radius", "aperture_radius must be non-negative");
+        if (!(aperture_radius_ >= 0.0f) || !std::isfinite(aperture_radius_))
+            props.fail("aperture_radius", "aperture_radius must be non-negative");
     }
 
     Ray sample_ray(const Vec2& film_pos, const Vec2& aperture_u, float time) const override {

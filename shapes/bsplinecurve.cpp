@@ -14,8 +14,8 @@
 // (v + segment index) / segment count), the angle measured in Mitsuba's frame (see
 // linearcurve.cpp). Rays starting inside a tube do not hit it. Curves cannot be area emitters.
 
-#include "shapes/curve.h"
 #include "core/registry.h"
+#include "shapes/curve.h"
 
 namespace candela {
 

@@ -13,8 +13,10 @@ namespace {
 // v_rad toward v_rot.
 void curve_frame(const Vec3& tangent, Vec3& v_rot, Vec3& v_rad) {
     const Vec3 guide(0.0f, 0.0f, 1.0f);
-    if (std::abs(glm::dot(guide, tangent)) >= 1.0f) v_rot = Vec3(0.0f, 1.0f, 0.0f);
-    else v_rot = glm::normalize(guide - tangent * glm::dot(tangent, guide));
+    if (std::abs(glm::dot(guide, tangent)) >= 1.0f)
+        v_rot = Vec3(0.0f, 1.0f, 0.0f);
+    else
+        v_rot = glm::normalize(guide - tangent * glm::dot(tangent, guide));
     v_rad = glm::cross(v_rot, tangent);
 }
 
@@ -89,7 +91,8 @@ RTCGeometry CurveShape::create_embree_geometry(RTCDevice device) const {
     RTCGeometry g = rtcNewGeometry(device, embree_type_);
     auto* v = static_cast<Vec4*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, sizeof(Vec4), points_.size()));
     std::copy(points_.begin(), points_.end(), v);
-    auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, sizeof(unsigned), first_point_.size()));
+    auto* idx = static_cast<unsigned*>(
+        rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, sizeof(unsigned), first_point_.size()));
     std::copy(first_point_.begin(), first_point_.end(), idx);
     rtcSetGeometryIntersectFilterFunction(g, cull_back_faces);
     rtcSetGeometryOccludedFilterFunction(g, cull_back_faces);

@@ -36,7 +36,7 @@ protected:
     // The unit normal at p, a point on the surface above centre point `cp`.
     virtual Vec3 surface_normal(const Vec3& p, const CurvePoint& cp) const = 0;
 
-    std::vector<Vec4> points_;         // x, y, z (world), radius
+    std::vector<Vec4> points_;           // x, y, z (world), radius
     std::vector<unsigned> first_point_;  // per segment: the index of its first control point
 
 private:

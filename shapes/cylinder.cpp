@@ -16,8 +16,8 @@
 // uniformly by area. With the default one-sided BSDFs the inside is black; wrap the BSDF in
 // `twosided` to see it.
 
-#include "shapes/analytic_shape.h"
 #include "core/registry.h"
+#include "shapes/analytic_shape.h"
 
 namespace candela {
 
@@ -46,7 +46,8 @@ public:
         if (std::abs(glm::length(a1) - radius_) > tol * radius_ || std::abs(glm::dot(a0, a1)) > tol * radius_ * radius_ ||
             std::abs(glm::dot(a0, a2)) > tol * radius_ * length_ || std::abs(glm::dot(a1, a2)) > tol * radius_ * length_ ||
             !(radius_ > 0.0f) || !(length_ > 0.0f))
-            props.fail("to_world", "a cylinder's to_world must not shear it or scale its cross-section unevenly (use a mesh for elliptic tubes)");
+            props.fail("to_world",
+                       "a cylinder's to_world must not shear it or scale its cross-section unevenly (use a mesh for elliptic tubes)");
         world_to_object_ = glm::inverse(glm::dmat4(m));
         // The two end circles bound the tube.
         Vec3 c0(m[3]), c1 = c0 + a2, ext = glm::sqrt(a0 * a0 + a1 * a1);

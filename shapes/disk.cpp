@@ -6,9 +6,9 @@
 //   flip_normals   boolean     make -z the front side (default false)
 // uv = (r, phi / 2pi) with r the object-space radius and phi measured from +x (Mitsuba 3).
 
-#include "shapes/analytic_shape.h"
 #include "core/registry.h"
 #include "core/warp.h"
+#include "shapes/analytic_shape.h"
 
 namespace candela {
 

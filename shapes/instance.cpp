@@ -13,9 +13,9 @@
 // emitter and no flip_normals). A hit is computed in the group's space and moved to world space:
 // the position and tangents by to_world, the normals by its inverse transpose.
 
-#include "shapes/shapegroup.h"
 #include "core/error.h"
 #include "core/registry.h"
+#include "shapes/shapegroup.h"
 
 #include <algorithm>
 #include <cmath>
@@ -39,8 +39,10 @@ Instance::Instance(const Properties& props) : Shape(props, true) {
     AnimatedTransform equal;
     if (!motion_.equally_spaced()) {
         if (!motion_.resampled_equally(MaxKeyframes, equal))
-            props.fail("to_world", "keyframe times too unevenly spaced: Embree's motion blur takes equal time steps, and a step that divides "
-                                   "every interval would need more than " + std::to_string(MaxKeyframes) + " keyframes");
+            props.fail("to_world",
+                       "keyframe times too unevenly spaced: Embree's motion blur takes equal time steps, and a step that divides "
+                       "every interval would need more than " +
+                           std::to_string(MaxKeyframes) + " keyframes");
         motion_ = equal;
     }
     identity_ = !motion_.is_animated() && to_world_.is_identity();
@@ -75,7 +77,8 @@ void Instance::set_embree_motion(RTCGeometry g) const {
     const float step = (motion_.end_time() - motion_.begin_time()) / float(keys.size() - 1);
     // Steps of copies before the first and after the last keyframe so the range covers the shutter.
     const int MaxPadding = 1024;
-    float before = std::ceil((motion_.begin_time() - shutter_open_) / step), after = std::ceil((shutter_close_ - motion_.end_time()) / step);
+    float before = std::ceil((motion_.begin_time() - shutter_open_) / step),
+          after = std::ceil((shutter_close_ - motion_.end_time()) / step);
     int pad_before = int(std::max(before, 0.0f)), pad_after = int(std::max(after, 0.0f));
     if (!(before <= MaxPadding && after <= MaxPadding))
         throw SceneError(motion_location(), "the shutter lies too far outside an instance's keyframes: give keyframes nearer the shutter");

@@ -13,8 +13,8 @@
 // +z orthogonal to the tangent). Rays starting inside a tube do not hit it. Curves cannot be
 // area emitters.
 
-#include "shapes/curve.h"
 #include "core/registry.h"
+#include "shapes/curve.h"
 
 namespace candela {
 

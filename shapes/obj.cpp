@@ -11,8 +11,8 @@
 // normals in the file, angle-weighted smooth normals are computed (not across uv seams).
 
 #include "core/mesh.h"
-#include "geometry2d/polygon.h"
 #include "core/registry.h"
+#include "geometry2d/polygon.h"
 
 #include <tiny_obj_loader.h>
 
@@ -32,8 +32,7 @@ public:
         config.triangulate = false;  // we triangulate ourselves (tinyobjloader fans concave faces)
         config.vertex_color = false;
         tinyobj::ObjReader reader;
-        if (!reader.ParseFromFile(path, config))
-            props.fail("filename", "cannot read OBJ file \"" + path + "\": " + reader.Error());
+        if (!reader.ParseFromFile(path, config)) props.fail("filename", "cannot read OBJ file \"" + path + "\": " + reader.Error());
         const tinyobj::attrib_t& attrib = reader.GetAttrib();
         bool file_has_normals = !attrib.normals.empty() && !face_normals;
 

@@ -21,9 +21,9 @@
 
 #include "core/memory_budget.h"
 #include "core/mesh.h"
-#include "geometry2d/polygon.h"
 #include "core/registry.h"
 #include "core/warning.h"
+#include "geometry2d/polygon.h"
 
 #include <cmath>
 #include <cstring>
@@ -55,25 +55,29 @@ bool is_integer_type(PlyType t) { return t != PlyType::Float32 && t != PlyType::
 // in their range, float32 a value in its range (infinities and NaN pass; the mesh rejects them).
 bool representable(double v, PlyType t) {
     switch (t) {
-    case PlyType::Int8: return v == std::floor(v) && v >= -128.0 && v <= 127.0;
-    case PlyType::UInt8: return v == std::floor(v) && v >= 0.0 && v <= 255.0;
-    case PlyType::Int16: return v == std::floor(v) && v >= -32768.0 && v <= 32767.0;
-    case PlyType::UInt16: return v == std::floor(v) && v >= 0.0 && v <= 65535.0;
-    case PlyType::Int32: return v == std::floor(v) && v >= -2147483648.0 && v <= 2147483647.0;
-    case PlyType::UInt32: return v == std::floor(v) && v >= 0.0 && v <= 4294967295.0;
-    case PlyType::Float32: return !std::isfinite(v) || std::abs(v) <= double(std::numeric_limits<float>::max());
-    case PlyType::Float64: return true;
-    default: return false;
+        case PlyType::Int8: return v == std::floor(v) && v >= -128.0 && v <= 127.0;
+        case PlyType::UInt8: return v == std::floor(v) && v >= 0.0 && v <= 255.0;
+        case PlyType::Int16: return v == std::floor(v) && v >= -32768.0 && v <= 32767.0;
+        case PlyType::UInt16: return v == std::floor(v) && v >= 0.0 && v <= 65535.0;
+        case PlyType::Int32: return v == std::floor(v) && v >= -2147483648.0 && v <= 2147483647.0;
+        case PlyType::UInt32: return v == std::floor(v) && v >= 0.0 && v <= 4294967295.0;
+        case PlyType::Float32: return !std::isfinite(v) || std::abs(v) <= double(std::numeric_limits<float>::max());
+        case PlyType::Float64: return true;
+        default: return false;
     }
 }
 
 size_t type_size(PlyType t) {
     switch (t) {
-    case PlyType::Int8: case PlyType::UInt8: return 1;
-    case PlyType::Int16: case PlyType::UInt16: return 2;
-    case PlyType::Int32: case PlyType::UInt32: case PlyType::Float32: return 4;
-    case PlyType::Float64: return 8;
-    default: return 0;
+        case PlyType::Int8:
+        case PlyType::UInt8: return 1;
+        case PlyType::Int16:
+        case PlyType::UInt16: return 2;
+        case PlyType::Int32:
+        case PlyType::UInt32:
+        case PlyType::Float32: return 4;
+        case PlyType::Float64: return 8;
+        default: return 0;
     }
 }
 
@@ -145,7 +149,8 @@ std::vector<PlyAttribute> group_attributes(const PlyElement& e, const std::strin
         bool suffixed = underscore != std::string::npos && underscore + 2 == p.name.size();
         std::string pre = suffixed ? p.name.substr(0, underscore) : "";
         char c = suffixed ? p.name.back() : 0;
-        if (sequence >= 0 && suffixed && pre == prefix && (current.properties.size() >= 4 || c != sequences[sequence][current.properties.size()]))
+        if (sequence >= 0 && suffixed && pre == prefix &&
+            (current.properties.size() >= 4 || c != sequences[sequence][current.properties.size()]))
             broken = true;
         if (sequence >= 0 && (!suffixed || pre != prefix || broken)) flush();
         if (!suffixed || std::find(seen.begin(), seen.end(), pre) != seen.end()) {
@@ -171,13 +176,13 @@ std::vector<PlyAttribute> group_attributes(const PlyElement& e, const std::strin
 double attribute_value(double v, PlyType type) {
     double max = 0.0;
     switch (type) {
-    case PlyType::Int8: max = 127.0; break;
-    case PlyType::UInt8: max = 255.0; break;
-    case PlyType::Int16: max = 32767.0; break;
-    case PlyType::UInt16: max = 65535.0; break;
-    case PlyType::Int32: max = 2147483647.0; break;
-    case PlyType::UInt32: max = 4294967295.0; break;
-    default: return v;
+        case PlyType::Int8: max = 127.0; break;
+        case PlyType::UInt8: max = 255.0; break;
+        case PlyType::Int16: max = 32767.0; break;
+        case PlyType::UInt16: max = 65535.0; break;
+        case PlyType::Int32: max = 2147483647.0; break;
+        case PlyType::UInt32: max = 4294967295.0; break;
+        default: return v;
     }
     return srgb_to_linear(float(v / max));
 }
@@ -202,15 +207,43 @@ public:
         bool host_big = *reinterpret_cast<const unsigned char*>(&probe) == 0;
         if (file_big != host_big) std::reverse(buf, buf + n);
         switch (type) {
-        case PlyType::Int8: { int8_t v; std::memcpy(&v, buf, 1); return v; }
-        case PlyType::UInt8: return buf[0];
-        case PlyType::Int16: { int16_t v; std::memcpy(&v, buf, 2); return v; }
-        case PlyType::UInt16: { uint16_t v; std::memcpy(&v, buf, 2); return v; }
-        case PlyType::Int32: { int32_t v; std::memcpy(&v, buf, 4); return v; }
-        case PlyType::UInt32: { uint32_t v; std::memcpy(&v, buf, 4); return v; }
-        case PlyType::Float32: { float v; std::memcpy(&v, buf, 4); return v; }
-        case PlyType::Float64: { double v; std::memcpy(&v, buf, 8); return v; }
-        default: throw PlyError("invalid property type");
+            case PlyType::Int8: {
+                int8_t v;
+                std::memcpy(&v, buf, 1);
+                return v;
+            }
+            case PlyType::UInt8: return buf[0];
+            case PlyType::Int16: {
+                int16_t v;
+                std::memcpy(&v, buf, 2);
+                return v;
+            }
+            case PlyType::UInt16: {
+                uint16_t v;
+                std::memcpy(&v, buf, 2);
+                return v;
+            }
+            case PlyType::Int32: {
+                int32_t v;
+                std::memcpy(&v, buf, 4);
+                return v;
+            }
+            case PlyType::UInt32: {
+                uint32_t v;
+                std::memcpy(&v, buf, 4);
+                return v;
+            }
+            case PlyType::Float32: {
+                float v;
+                std::memcpy(&v, buf, 4);
+                return v;
+            }
+            case PlyType::Float64: {
+                double v;
+                std::memcpy(&v, buf, 8);
+                return v;
+            }
+            default: throw PlyError("invalid property type");
         }
     }
     // ascii: each element instance sits on its own line.
@@ -240,7 +273,8 @@ private:
         char* end = nullptr;
         double v = std::strtod(t.c_str(), &end);
         if (end == t.c_str() || *end != '\0') throw PlyError("bad number \"" + t + "\" on line " + std::to_string(line_));
-        if (!representable(v, type)) throw PlyError("\"" + t + "\" on line " + std::to_string(line_) + " is not a value of the property's type");
+        if (!representable(v, type))
+            throw PlyError("\"" + t + "\" on line " + std::to_string(line_) + " is not a value of the property's type");
         return v;
     }
 
@@ -268,7 +302,9 @@ public:
         if (!ignored_.empty()) {  // as Mitsuba warns
             std::string names;
             for (const std::string& n : ignored_) names += (names.empty() ? "" : ", ") + n;
-            warn(props.location_of("filename"), "PLY properties that form no mesh attribute (<prefix>_<x y z | r g b | 0 1 2 | 1 2 3>, 1 or 3 of them) are ignored: " + names);
+            warn(props.location_of("filename"),
+                 "PLY properties that form no mesh attribute (<prefix>_<x y z | r g b | 0 1 2 | 1 2 3>, 1 or 3 of them) are ignored: " +
+                     names);
         }
         finalize(props, !face_normals);
     }
@@ -302,10 +338,14 @@ private:
             if (word == "format") {
                 std::string f, version;
                 ss >> f >> version;
-                if (f == "ascii") format = 0;
-                else if (f == "binary_little_endian") format = 1;
-                else if (f == "binary_big_endian") format = 2;
-                else throw PlyError("unknown format \"" + f + "\"" + where);
+                if (f == "ascii")
+                    format = 0;
+                else if (f == "binary_little_endian")
+                    format = 1;
+                else if (f == "binary_big_endian")
+                    format = 2;
+                else
+                    throw PlyError("unknown format \"" + f + "\"" + where);
             } else if (word == "element") {
                 PlyElement e;
                 long long count = -1;
@@ -347,9 +387,12 @@ private:
 
         PlyBodyReader body(in, format, line_no);
         for (const PlyElement& e : elements) {
-            if (e.name == "vertex") read_vertices(e, body, face_normals);
-            else if (e.name == "face") read_faces(e, body);
-            else skip(e, body);
+            if (e.name == "vertex")
+                read_vertices(e, body, face_normals);
+            else if (e.name == "face")
+                read_faces(e, body);
+            else
+                skip(e, body);
         }
     }
 
@@ -367,8 +410,7 @@ private:
         std::string promised;
         for (const PlyElement& e : elements) {
             uint64_t per_element = 0;
-            for (const PlyProperty& p : e.properties)
-                per_element += format == 0 ? 2 : type_size(p.is_list ? p.count_type : p.type);
+            for (const PlyProperty& p : e.properties) per_element += format == 0 ? 2 : type_size(p.is_list ? p.count_type : p.type);
             needed = saturating_add(needed, saturating_mul(e.count, per_element));
             promised += (promised.empty() ? "" : ", ") + std::to_string(e.count) + " " + e.name + (e.count == 1 ? "" : "s");
         }
@@ -422,7 +464,8 @@ private:
                            size_t first_attribute) {
         for (size_t a = 0; a < attributes.size(); ++a)
             for (int k : attributes[a].properties)
-                attributes_[first_attribute + a].values.push_back(to_float(attribute_value(values[size_t(k)], e.properties[size_t(k)].type)));
+                attributes_[first_attribute + a].values.push_back(
+                    to_float(attribute_value(values[size_t(k)], e.properties[size_t(k)].type)));
     }
 
     void read_faces(const PlyElement& e, PlyBodyReader& body) {

@@ -100,7 +100,8 @@ public:
     explicit SdfGrid(const Properties& props) : Shape(props) {
         std::string path = props.get_file_path("filename");
         std::string normals = props.get_string("normals", "smooth");
-        if (normals != "smooth" && normals != "analytic") props.fail("normals", "normals must be smooth or analytic, not \"" + normals + "\"");
+        if (normals != "smooth" && normals != "analytic")
+            props.fail("normals", "normals must be smooth or analytic, not \"" + normals + "\"");
         smooth_ = normals == "smooth";
         if (emitter()) props.fail("an sdfgrid cannot be an area emitter (nor can it in Mitsuba)");
         if (!to_world_.all_finite() || to_world_.determinant3() == 0.0f) props.fail("to_world", "sdfgrid transform is degenerate");
@@ -188,8 +189,7 @@ void SdfGrid::find_surface_voxels() {
 BoundingBox SdfGrid::voxel_bounds(unsigned slot) const {
     Vec3 size = 1.0f / Vec3(res_ - 1), lo = Vec3(voxels_[slot]) * size;
     BoundingBox b;
-    for (int c = 0; c < 8; ++c)
-        b.expand(to_world_.apply_point(lo + size * Vec3(float(c & 1), float((c >> 1) & 1), float((c >> 2) & 1))));
+    for (int c = 0; c < 8; ++c) b.expand(to_world_.apply_point(lo + size * Vec3(float(c & 1), float((c >> 1) & 1), float((c >> 2) & 1))));
     return b;
 }
 
@@ -242,8 +242,10 @@ glm::dvec3 SdfGrid::smooth_normal(const glm::dvec3& p) const {
     for (int axis = 0; axis < 3; ++axis) {
         bool low = false, high = false;
         for (int c = 0; c < 8; ++c) {
-            if ((c >> axis) & 1) high = high || valid[c];
-            else low = low || valid[c];
+            if ((c >> axis) & 1)
+                high = high || valid[c];
+            else
+                low = low || valid[c];
         }
         if (!low) w[axis] = 1.0;
         if (!high) w[axis] = 0.0;
@@ -302,8 +304,8 @@ void sdf_intersect(const RTCIntersectFunctionNArguments* args) {
     auto* grid = static_cast<const SdfGrid*>(args->geometryUserPtr);
     auto* rh = reinterpret_cast<RTCRayHit*>(args->rayhit);  // N == 1 for rtcIntersect1
     float t;
-    if (!grid->intersect_voxel(args->primID, Vec3(rh->ray.org_x, rh->ray.org_y, rh->ray.org_z), Vec3(rh->ray.dir_x, rh->ray.dir_y, rh->ray.dir_z),
-                               rh->ray.tnear, rh->ray.tfar, t))
+    if (!grid->intersect_voxel(args->primID, Vec3(rh->ray.org_x, rh->ray.org_y, rh->ray.org_z),
+                               Vec3(rh->ray.dir_x, rh->ray.dir_y, rh->ray.dir_z), rh->ray.tnear, rh->ray.tfar, t))
         return;
     rh->ray.tfar = t;
     rh->hit.u = rh->hit.v = 0.0f;

@@ -145,7 +145,8 @@ public:
         try {
             read(path, size_t(shape_index), face_normals, props.location_of("filename"));
         } catch (const SerializedError& e) {
-            props.fail("filename", "cannot read serialized mesh \"" + path + "\" (shape_index " + std::to_string(shape_index) + "): " + e.what());
+            props.fail("filename",
+                       "cannot read serialized mesh \"" + path + "\" (shape_index " + std::to_string(shape_index) + "): " + e.what());
         }
         finalize(props, !face_normals);
     }
@@ -188,7 +189,8 @@ private:
         auto bytes = [&](size_t at) { return reinterpret_cast<const unsigned char*>(file.data() + at); };
         if (file.size() < 4 || read_le(bytes(0), 2) != FileMagic) throw SerializedError("not a serialized mesh (no 0x041C header)");
         int version = int(read_le(bytes(2), 2));
-        if (version != 3 && version != 4) throw SerializedError("unsupported format version " + std::to_string(version) + " (3 and 4 are read)");
+        if (version != 3 && version != 4)
+            throw SerializedError("unsupported format version " + std::to_string(version) + " (3 and 4 are read)");
 
         size_t offset = 0;
         if (index > 0) {
@@ -197,7 +199,8 @@ private:
             uint64_t count = read_le(bytes(file.size() - 4), 4);
             size_t entry = version == 4 ? 8 : 4;
             if (count > (file.size() - 4) / entry) throw SerializedError("the mesh dictionary at the end of the file is corrupt");
-            if (index >= count) throw SerializedError("the file holds " + std::to_string(count) + " meshes, so there is no index " + std::to_string(index));
+            if (index >= count)
+                throw SerializedError("the file holds " + std::to_string(count) + " meshes, so there is no index " + std::to_string(index));
             uint64_t at = read_le(bytes(file.size() - 4 - entry * size_t(count - index)), int(entry));
             if (at + 4 > file.size() || read_le(bytes(size_t(at)), 2) != FileMagic)
                 throw SerializedError("the dictionary's offset of this mesh does not point at a mesh header");
@@ -229,7 +232,8 @@ private:
             uvs_.resize(size_t(vertex_count));
             for (size_t i = 0; i < uvs_.size(); ++i) uvs_[i] = Vec2(t[2 * i], t[2 * i + 1]);
         }
-        if (flags & HasColors) attributes_.push_back(MeshAttribute{"vertex_color", false, 3, r.reals(vertex_count * 3, dbl, "vertex colours")});
+        if (flags & HasColors)
+            attributes_.push_back(MeshAttribute{"vertex_color", false, 3, r.reals(vertex_count * 3, dbl, "vertex colours")});
         int index_bytes = vertex_count > 0xFFFFFFFFull ? 8 : 4;
         r.check_count(triangle_count * 3, size_t(index_bytes), "triangle indices");
         triangles_.resize(size_t(triangle_count));
@@ -237,7 +241,8 @@ private:
             uint64_t a = r.integer(index_bytes, "triangle indices"), b = r.integer(index_bytes, "triangle indices"),
                      c = r.integer(index_bytes, "triangle indices");
             if (a >= vertex_count || b >= vertex_count || c >= vertex_count)
-                throw SerializedError("a triangle refers to vertex " + std::to_string(std::max(a, std::max(b, c))) + " of " + std::to_string(vertex_count));
+                throw SerializedError("a triangle refers to vertex " + std::to_string(std::max(a, std::max(b, c))) + " of " +
+                                      std::to_string(vertex_count));
             t = glm::uvec3(unsigned(a), unsigned(b), unsigned(c));
         }
         if (triangles_.empty()) throw SerializedError("the mesh has no triangles");

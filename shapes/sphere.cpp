@@ -9,9 +9,9 @@
 // As an area light it is sampled by the cone it subtends (uniform solid angle) when seen from
 // outside, and by area from inside.
 
-#include "shapes/analytic_shape.h"
 #include "core/registry.h"
 #include "core/warp.h"
+#include "shapes/analytic_shape.h"
 
 namespace candela {
 

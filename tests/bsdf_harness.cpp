@@ -5,8 +5,8 @@
 #include "core/xml.h"
 #include "tests/util.h"
 
-#include <sstream>
 #include <unistd.h>
+#include <sstream>
 
 namespace candela::test {
 

@@ -51,7 +51,8 @@ std::string encode_mesh(const TestMesh& m, int version) {
         for (int k = 0; k < 3; ++k) put(raw, t[k], 4);
     uLongf size = compressBound(uLong(raw.size()));
     std::string packed(size, '\0');
-    REQUIRE(compress2(reinterpret_cast<Bytef*>(packed.data()), &size, reinterpret_cast<const Bytef*>(raw.data()), uLong(raw.size()), 9) == Z_OK);
+    REQUIRE(compress2(reinterpret_cast<Bytef*>(packed.data()), &size, reinterpret_cast<const Bytef*>(raw.data()), uLong(raw.size()), 9) ==
+            Z_OK);
     packed.resize(size);
     std::string out;
     put(out, 0x041C, 2);

@@ -105,8 +105,8 @@ double largest_block_z(const Image& a, const Image& b, std::string* where) {
             if (!first && z <= largest) continue;
             largest = z;
             if (where)
-                *where = "channel " + std::to_string(ch) + ", block " + std::to_string(block) + ": difference " + std::to_string(d.mean) + " +- " +
-                         std::to_string(d.std_error);
+                *where = "channel " + std::to_string(ch) + ", block " + std::to_string(block) + ": difference " + std::to_string(d.mean) +
+                         " +- " + std::to_string(d.std_error);
         }
     return largest;
 }

@@ -2,13 +2,13 @@
 
 #include "core/scene.h"
 
+#include <sys/wait.h>
+#include <unistd.h>
 #include <algorithm>
 #include <cstdlib>
 #include <fstream>
-#include <stdexcept>
 #include <sstream>
-#include <sys/wait.h>
-#include <unistd.h>
+#include <stdexcept>
 
 namespace candela::test {
 
@@ -69,15 +69,18 @@ Ref<Scene> load_scene_xml(const std::string& name, const std::string& body) {
 }
 
 std::string pinhole_camera(const std::string& origin, const std::string& target, int w, int h, float fov) {
-    return "<sensor type=\"perspective\"><float name=\"fov\" value=\"" + std::to_string(fov) + "\"/><transform name=\"to_world\"><lookat origin=\"" + origin +
-           "\" target=\"" + target + "\" up=\"0, 1, 0\"/></transform><film type=\"hdrfilm\"><integer name=\"width\" value=\"" + std::to_string(w) +
-           "\"/><integer name=\"height\" value=\"" + std::to_string(h) + "\"/><rfilter type=\"box\"/></film><sampler type=\"independent\"/></sensor>";
+    return "<sensor type=\"perspective\"><float name=\"fov\" value=\"" + std::to_string(fov) +
+           "\"/><transform name=\"to_world\"><lookat origin=\"" + origin + "\" target=\"" + target +
+           "\" up=\"0, 1, 0\"/></transform><film type=\"hdrfilm\"><integer name=\"width\" value=\"" + std::to_string(w) +
+           "\"/><integer name=\"height\" value=\"" + std::to_string(h) +
+           "\"/><rfilter type=\"box\"/></film><sampler type=\"independent\"/></sensor>";
 }
 
 std::string box_film(int size, int spp) {
     return R"(<film type="hdrfilm"><integer name="width" value=")" + std::to_string(size) + R"("/><integer name="height" value=")" +
            std::to_string(size) + R"("/><rfilter type="box"/><string name="component_format" value="float32"/></film>
-        <sampler type="independent"><integer name="sample_count" value=")" + std::to_string(spp) + R"("/></sampler>)";
+        <sampler type="independent"><integer name="sample_count" value=")" +
+           std::to_string(spp) + R"("/></sampler>)";
 }
 
 }  // namespace candela::test
@@ -99,8 +102,10 @@ PixelView pixel_view(const Scene& scene, int x, int y) {
     for (Vec2 corner : {Vec2(1e-3f, 1e-3f), Vec2(0.999f, 1e-3f), Vec2(1e-3f, 0.999f), Vec2(0.999f, 0.999f)}) {
         SurfaceInteraction si;
         const Shape* hit = scene.intersect(scene.sensor().sample_ray(origin + corner, Vec2(0.5f)), si) ? si.shape : nullptr;
-        if (first) view.shape = hit;
-        else if (hit != view.shape) view.mixed = true;
+        if (first)
+            view.shape = hit;
+        else if (hit != view.shape)
+            view.mixed = true;
         first = false;
     }
     if (view.mixed) view.shape = nullptr;

@@ -26,10 +26,10 @@
 
 #include "core/error.h"
 #include "core/image.h"
-#include "textures/mipmap.h"
 #include "core/properties.h"
 #include "core/registry.h"
 #include "core/texture.h"
+#include "textures/mipmap.h"
 
 #include <Imath/half.h>
 
@@ -51,9 +51,9 @@ TexelFormat parse_format(const Properties& props, int integer_bits) {
 // A value as the texel format stores it.
 float quantize(float v, TexelFormat format) {
     switch (format) {
-    case TexelFormat::Float32: return v;
-    case TexelFormat::Float16: return float(half(v));
-    case TexelFormat::UInt8: return std::round(std::clamp(v, 0.0f, 1.0f) * 255.0f) / 255.0f;
+        case TexelFormat::Float32: return v;
+        case TexelFormat::Float16: return float(half(v));
+        case TexelFormat::UInt8: return std::round(std::clamp(v, 0.0f, 1.0f) * 255.0f) / 255.0f;
     }
     return v;
 }
@@ -66,7 +66,8 @@ public:
         std::string path = props.get_file_path("filename");
         std::string filter = props.get_string("filter_type", "bilinear");
         if (filter == "trilinear" || filter == "anisotropic")
-            props.fail("filter_type", "filter_type \"" + filter + "\" needs ray-cone footprints, which Candela does not track; use bilinear or nearest");
+            props.fail("filter_type",
+                       "filter_type \"" + filter + "\" needs ray-cone footprints, which Candela does not track; use bilinear or nearest");
         if (!parse_texture_filter(filter, filter_) || filter_ == TextureFilter::Trilinear)
             props.fail("filter_type", "filter_type must be bilinear or nearest, not \"" + filter + "\"");
         std::string wrap = props.get_string("wrap_mode", "repeat");
@@ -116,13 +117,15 @@ public:
     Spectrum eval_filtered(const Vec2& uv_in, const Vec2& dx, const Vec2& dy, TextureFilter filter) const override {
         Vec2 uv = to_uv_.apply(uv_in);
         switch (filter) {
-        case TextureFilter::Nearest: return mip_.nearest(0, uv);
-        case TextureFilter::Bilinear: return mip_.bilinear(0, uv);
-        case TextureFilter::Trilinear: {
-            auto linear = [&](const Vec2& d) { return Vec2(to_uv_.m[0][0] * d.x + to_uv_.m[0][1] * d.y, to_uv_.m[1][0] * d.x + to_uv_.m[1][1] * d.y); };
-            float footprint = std::max(glm::length(linear(dx)), glm::length(linear(dy)));
-            return mip_.trilinear(uv, footprint);
-        }
+            case TextureFilter::Nearest: return mip_.nearest(0, uv);
+            case TextureFilter::Bilinear: return mip_.bilinear(0, uv);
+            case TextureFilter::Trilinear: {
+                auto linear = [&](const Vec2& d) {
+                    return Vec2(to_uv_.m[0][0] * d.x + to_uv_.m[0][1] * d.y, to_uv_.m[1][0] * d.x + to_uv_.m[1][1] * d.y);
+                };
+                float footprint = std::max(glm::length(linear(dx)), glm::length(linear(dy)));
+                return mip_.trilinear(uv, footprint);
+            }
         }
         return eval(uv_in);
     }

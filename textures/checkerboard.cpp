@@ -26,8 +26,12 @@ public:
     Spectrum eval(const Vec2& uv_in) const override { return first_color(uv_in) ? color0_->eval(uv_in) : color1_->eval(uv_in); }
     float eval_1(const Vec2& uv_in) const override { return first_color(uv_in) ? color1_->eval_1(uv_in) : color0_->eval_1(uv_in); }
     // At a surface point the nested textures see the whole point (their own mappings apply; a mesh_attribute needs the whole point).
-    Spectrum eval(const SurfaceInteraction& si) const override { return first_color(texture_uv(si)) ? color0_->eval(si) : color1_->eval(si); }
-    float eval_1(const SurfaceInteraction& si) const override { return first_color(texture_uv(si)) ? color1_->eval_1(si) : color0_->eval_1(si); }
+    Spectrum eval(const SurfaceInteraction& si) const override {
+        return first_color(texture_uv(si)) ? color0_->eval(si) : color1_->eval(si);
+    }
+    float eval_1(const SurfaceInteraction& si) const override {
+        return first_color(texture_uv(si)) ? color1_->eval_1(si) : color0_->eval_1(si);
+    }
     Spectrum mean() const override { return 0.5f * (color0_->mean() + color1_->mean()); }
     float max_value() const override { return std::max(color0_->max_value(), color1_->max_value()); }
     std::string to_string() const override { return "checkerboard"; }

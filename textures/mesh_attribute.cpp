@@ -32,7 +32,8 @@ public:
         if (!si.shape) uv_only("a value away from any shape");
         Spectrum value;
         if (!si.shape->eval_attribute(name_, si, value))
-            throw SceneError(where_, "mesh_attribute: the " + si.shape->to_string() + " it is evaluated on has no attribute \"" + name_ + "\"");
+            throw SceneError(where_,
+                             "mesh_attribute: the " + si.shape->to_string() + " it is evaluated on has no attribute \"" + name_ + "\"");
         return value * scale_;
     }
     float eval_1(const SurfaceInteraction& si) const override { return luminance(eval(si)); }

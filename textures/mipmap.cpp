@@ -3,18 +3,26 @@
 namespace candela {
 
 bool parse_wrap_mode(const std::string& s, WrapMode& mode) {
-    if (s == "repeat") mode = WrapMode::Repeat;
-    else if (s == "mirror") mode = WrapMode::Mirror;
-    else if (s == "clamp") mode = WrapMode::Clamp;
-    else return false;
+    if (s == "repeat")
+        mode = WrapMode::Repeat;
+    else if (s == "mirror")
+        mode = WrapMode::Mirror;
+    else if (s == "clamp")
+        mode = WrapMode::Clamp;
+    else
+        return false;
     return true;
 }
 
 bool parse_texture_filter(const std::string& s, TextureFilter& filter) {
-    if (s == "nearest") filter = TextureFilter::Nearest;
-    else if (s == "bilinear") filter = TextureFilter::Bilinear;
-    else if (s == "trilinear") filter = TextureFilter::Trilinear;
-    else return false;
+    if (s == "nearest")
+        filter = TextureFilter::Nearest;
+    else if (s == "bilinear")
+        filter = TextureFilter::Bilinear;
+    else if (s == "trilinear")
+        filter = TextureFilter::Trilinear;
+    else
+        return false;
     return true;
 }
 
@@ -80,17 +88,17 @@ MipMap::Level MipMap::downsample(const Level& prev) {
 
 int MipMap::wrap(int i, int n) const {
     switch (wrap_) {
-    case WrapMode::Repeat: {
-        int r = i % n;
-        return r < 0 ? r + n : r;
-    }
-    case WrapMode::Clamp: return std::clamp(i, 0, n - 1);
-    case WrapMode::Mirror: {
-        int period = 2 * n;
-        int r = i % period;
-        if (r < 0) r += period;
-        return r < n ? r : period - 1 - r;
-    }
+        case WrapMode::Repeat: {
+            int r = i % n;
+            return r < 0 ? r + n : r;
+        }
+        case WrapMode::Clamp: return std::clamp(i, 0, n - 1);
+        case WrapMode::Mirror: {
+            int period = 2 * n;
+            int r = i % period;
+            if (r < 0) r += period;
+            return r < n ? r : period - 1 - r;
+        }
     }
     return 0;
 }

@@ -35,12 +35,12 @@ void EnvironmentLookup::direction_to_face(const Vec3& d, int& face, float& s, fl
 Vec3 EnvironmentLookup::face_to_direction(int face, float s, float t) {
     float sc = 2.0f * s - 1.0f, tc = 2.0f * t - 1.0f;
     switch (face) {
-    case 0: return glm::normalize(Vec3(1.0f, -tc, -sc));
-    case 1: return glm::normalize(Vec3(-1.0f, -tc, sc));
-    case 2: return glm::normalize(Vec3(sc, 1.0f, tc));
-    case 3: return glm::normalize(Vec3(sc, -1.0f, -tc));
-    case 4: return glm::normalize(Vec3(sc, -tc, 1.0f));
-    default: return glm::normalize(Vec3(-sc, -tc, -1.0f));
+        case 0: return glm::normalize(Vec3(1.0f, -tc, -sc));
+        case 1: return glm::normalize(Vec3(-1.0f, -tc, sc));
+        case 2: return glm::normalize(Vec3(sc, 1.0f, tc));
+        case 3: return glm::normalize(Vec3(sc, -1.0f, -tc));
+        case 4: return glm::normalize(Vec3(sc, -tc, 1.0f));
+        default: return glm::normalize(Vec3(-sc, -tc, -1.0f));
     }
 }
 
@@ -51,7 +51,8 @@ std::string EnvironmentLookup::face_file(const std::string& pattern, int face) {
     return path.replace(at, 6, FaceNames[face]);
 }
 
-EnvironmentLookup::EnvironmentLookup(const Scene& scene, Mode mode, int resolution, const std::string& pattern) : scene_(scene), mode_(mode) {
+EnvironmentLookup::EnvironmentLookup(const Scene& scene, Mode mode, int resolution, const std::string& pattern)
+    : scene_(scene), mode_(mode) {
     empty_ = scene.infinite_emitters().empty() && pattern.empty();
     if (mode != Mode::Cube || empty_) return;
     for (int f = 0; f < 6; ++f) {

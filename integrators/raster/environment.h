@@ -4,8 +4,8 @@
 // a cube map of six faces (OpenGL's face layout) built from that environment or loaded from
 // images. Rough reflections read coarser MIP levels of the cube faces (level ~ alpha * levels).
 
-#include "textures/mipmap.h"
 #include "core/scene.h"
+#include "textures/mipmap.h"
 
 #include <array>
 #include <string>

@@ -39,13 +39,13 @@ struct FrameSetup {
     const RasterGeometry& geometry;
     RasterCamera camera;
     LocalLights lights;
-    Spectrum ambient;            // of the environments plus the `ambient` setting
+    Spectrum ambient;  // of the environments plus the `ambient` setting
     // The environment as image-based light, null without an environment or when the settings
     // ask for its average (`ambient` then holds it).
     const ImageBasedLighting* image_lighting;
-    Vec2i full, offset;          // the film's size and the crop window's corner in it
-    int width, height;           // the crop window: the image rendered
-    std::vector<Vec2> pattern;   // sample positions within a pixel
+    Vec2i full, offset;         // the film's size and the crop window's corner in it
+    int width, height;          // the crop window: the image rendered
+    std::vector<Vec2> pattern;  // sample positions within a pixel
 
     int samples_per_pixel() const { return int(pattern.size()); }
     size_t sample_count() const { return size_t(width) * size_t(height) * pattern.size(); }
@@ -93,7 +93,7 @@ struct FrameBuffers {
     // Per triangle (geometry): clip-space vertices; culled back faces lie behind the eye.
     std::vector<std::array<Vec4, 3>> clip;
     std::vector<HomogeneousSetup> setups;  // per triangle (surfaces): for texture footprints
-    Rasterizer camera_rasterizer;  // geometry: the camera's samples; shadow volumes: their layout
+    Rasterizer camera_rasterizer;          // geometry: the camera's samples; shadow volumes: their layout
     // Per camera sample (geometry): the nearest surface.
     std::vector<float> depth;        // its view depth (w); +inf where there is none
     std::vector<uint32_t> triangle;  // its triangle, NoTriangle where there is none
@@ -114,7 +114,6 @@ struct FrameBuffers {
     // Per pixel (resolve, then overlays).
     Image image;
     std::vector<float> coverage;  // the filtered fraction of samples that found a surface
-
 };
 
 void geometry_pass(const FrameSetup& frame, FrameBuffers& buffers);

@@ -11,7 +11,6 @@
 #include "core/parallel.h"
 #include "materials/microfacet.h"
 
-
 namespace candela::raster {
 
 namespace {
@@ -29,7 +28,9 @@ constexpr float LobeCutoff = 1e-4f;
 
 float theta_of_row(int j, int height) { return (float(j) + 0.5f) * Pi / float(height); }
 float phi_of_column(int i, int width) { return (float(i) + 0.5f) * TwoPi / float(width); }
-Vec3 latlong_direction(float theta, float phi) { return Vec3(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi)); }
+Vec3 latlong_direction(float theta, float phi) {
+    return Vec3(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi));
+}
 void latlong_angles(const Vec3& d, float& theta, float& phi) {
     theta = safe_acos(d.y);
     phi = std::atan2(d.z, d.x);
@@ -75,7 +76,8 @@ std::vector<Spectrum> downsample_energy(const std::vector<Spectrum>& energy, int
     const int w = BaseWidth / factor, h = BaseHeight / factor;
     std::vector<Spectrum> out(size_t(w) * size_t(h), Spectrum(0.0f));
     for (int y = 0; y < BaseHeight; ++y)
-        for (int x = 0; x < BaseWidth; ++x) out[size_t(y / factor) * size_t(w) + size_t(x / factor)] += energy[size_t(y) * BaseWidth + size_t(x)];
+        for (int x = 0; x < BaseWidth; ++x)
+            out[size_t(y / factor) * size_t(w) + size_t(x / factor)] += energy[size_t(y) * BaseWidth + size_t(x)];
     return out;
 }
 
@@ -136,7 +138,8 @@ Spectrum prefiltered_texel(const SourceGrid& src, float theta_r, float phi_r, fl
         columns_in_reach(theta, theta_r, phi_r, std::cos(reach), w, first, count);
         for (int k = 0; k < count; ++k) {
             int i = ((first + k) % w + w) % w;
-            float c = src.sin_theta[size_t(j)] * (src.cos_phi[size_t(i)] * r.x + src.sin_phi[size_t(i)] * r.z) + src.cos_theta[size_t(j)] * r.y;
+            float c =
+                src.sin_theta[size_t(j)] * (src.cos_phi[size_t(i)] * r.x + src.sin_phi[size_t(i)] * r.z) + src.cos_theta[size_t(j)] * r.y;
             if (c <= 0.0f) continue;
             float lobe = std::pow(c, exponent);
             sum += lobe * energy[size_t(j) * size_t(w) + size_t(i)];
@@ -182,7 +185,8 @@ ImageBasedLighting::ImageBasedLighting(const Scene& scene) : scene_(scene) {
         int j = std::min(BaseHeight - 1, int(theta / Pi * BaseHeight)), i = std::min(BaseWidth - 1, int(phi / TwoPi * BaseWidth));
         energy[size_t(j) * BaseWidth + size_t(i)] += w;
     }
-    for (int i = 0; i < 9; ++i) coefficients_[size_t(i)] = Spectrum(float(sh[size_t(3 * i)]), float(sh[size_t(3 * i + 1)]), float(sh[size_t(3 * i + 2)]));
+    for (int i = 0; i < 9; ++i)
+        coefficients_[size_t(i)] = Spectrum(float(sh[size_t(3 * i)]), float(sh[size_t(3 * i + 1)]), float(sh[size_t(3 * i + 2)]));
 
     for (int level = 0; level < LevelCount; ++level) {
         const int out_w = LevelWidths[level], out_h = out_w / 2, src_w = SourceWidths[level], src_h = src_w / 2;

@@ -23,7 +23,6 @@
 #include "core/warp.h"
 #include "integrators/raster/frame.h"
 
-
 namespace candela::raster {
 
 namespace {

@@ -13,7 +13,6 @@
 #include "core/scene.h"
 #include "integrators/raster/frame.h"
 
-
 namespace candela::raster {
 
 void fog_pass(const FrameSetup& f, FrameBuffers& b) {

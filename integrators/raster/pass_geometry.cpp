@@ -5,7 +5,6 @@
 #include "core/parallel.h"
 #include "integrators/raster/frame.h"
 
-
 namespace candela::raster {
 
 namespace {

@@ -42,7 +42,9 @@ Spectrum direct_light(const LocalLight& light, const LocalShading& m, const Spec
 }
 
 // With baked lighting the bake holds every light's diffuse light: the lights add highlights only.
-bool baked_diffuse(const FrameSetup& f) { return f.settings.lighting == RasterSettings::Lighting::Baked && !f.geometry.baked_front.empty(); }
+bool baked_diffuse(const FrameSetup& f) {
+    return f.settings.lighting == RasterSettings::Lighting::Baked && !f.geometry.baked_front.empty();
+}
 
 // Whether any surface has a highlight.
 bool has_highlights(const RasterGeometry& g) {
@@ -73,17 +75,17 @@ Spectrum sample_light(const FrameSetup& f, const FrameBuffers& b, size_t i, cons
     const LocalShading& m = g.shapes[g.triangle_shape[t]].material;
     const glm::uvec3& v = g.triangles[t];
     switch (f.settings.shading) {
-    case RasterSettings::Shading::Gouraud: {
-        const Vec3& w = b.bary[i];
-        return w.x * b.vertex_light[v.x] + w.y * b.vertex_light[v.y] + w.z * b.vertex_light[v.z];
-    }
-    case RasterSettings::Shading::Flat: {
-        Vec3 c = (g.positions[v.x] + g.positions[v.y] + g.positions[v.z]) / 3.0f;
-        Vec2 uvc = (g.uvs[v.x] + g.uvs[v.y] + g.uvs[v.z]) / 3.0f;
-        Spectrum kd = m.diffuse && !baked_diffuse(f) ? m.diffuse->eval(m.diffuse->mapping().map(uvc, c)) : Spectrum(0.0f);
-        return direct_light(light, m, kd, c, ss.n_geo, glm::normalize(f.camera.eye - c), f.settings.reflection);
-    }
-    case RasterSettings::Shading::Phong: break;
+        case RasterSettings::Shading::Gouraud: {
+            const Vec3& w = b.bary[i];
+            return w.x * b.vertex_light[v.x] + w.y * b.vertex_light[v.y] + w.z * b.vertex_light[v.z];
+        }
+        case RasterSettings::Shading::Flat: {
+            Vec3 c = (g.positions[v.x] + g.positions[v.y] + g.positions[v.z]) / 3.0f;
+            Vec2 uvc = (g.uvs[v.x] + g.uvs[v.y] + g.uvs[v.z]) / 3.0f;
+            Spectrum kd = m.diffuse && !baked_diffuse(f) ? m.diffuse->eval(m.diffuse->mapping().map(uvc, c)) : Spectrum(0.0f);
+            return direct_light(light, m, kd, c, ss.n_geo, glm::normalize(f.camera.eye - c), f.settings.reflection);
+        }
+        case RasterSettings::Shading::Phong: break;
     }
     return direct_light(light, m, baked_diffuse(f) ? Spectrum(0.0f) : ss.kd, ss.p, ss.n, ss.v, f.settings.reflection);
 }
@@ -138,7 +140,8 @@ void add_light(const FrameSetup& f, FrameBuffers& b, size_t light_index) {
         render_shadow_map(f, b, light, b.shadow_maps[light_index]);
         map = &b.shadow_maps[light_index];
     }
-    if (s.shadows == RasterSettings::Shadows::Volume) shadow_volume_mask(light, f.geometry, f.camera, b.camera_rasterizer, b.view_depth, b.lit);
+    if (s.shadows == RasterSettings::Shadows::Volume)
+        shadow_volume_mask(light, f.geometry, f.camera, b.camera_rasterizer, b.view_depth, b.lit);
     if (s.shading == RasterSettings::Shading::Gouraud) light_vertices(f, light, b.vertex_light);
     parallel_for(f.sample_count(), [&](size_t i) {
         if (!receives_light(b, i)) return;

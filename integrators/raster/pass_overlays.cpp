@@ -16,7 +16,8 @@ bool project(const FrameSetup& f, const Vec3& p, Vec2& px, float& view_z) {
     Vec4 c = f.camera.clip(p);
     view_z = f.camera.view_depth(p);
     if (!(c.w > f.camera.near_clip * 0.5f)) return false;
-    px = Vec2((c.x / c.w + 1.0f) * 0.5f * float(f.full.x) - float(f.offset.x), (c.y / c.w + 1.0f) * 0.5f * float(f.full.y) - float(f.offset.y));
+    px = Vec2((c.x / c.w + 1.0f) * 0.5f * float(f.full.x) - float(f.offset.x),
+              (c.y / c.w + 1.0f) * 0.5f * float(f.full.y) - float(f.offset.y));
     return true;
 }
 
@@ -66,7 +67,8 @@ void draw_light_gizmos(const FrameSetup& f, FrameBuffers& b) {
         if (!project(f, light.position, a, za)) continue;
         raster2d::circle_midpoint(int(a.x), int(a.y), 6, dot);
         bool axis = light.kind == LocalLight::Kind::Spot || light.kind == LocalLight::Kind::AreaPoint;
-        if (axis && project(f, light.position + light.direction * (0.25f * radius), e, ze)) raster2d::line_bresenham(int(a.x), int(a.y), int(e.x), int(e.y), dot);
+        if (axis && project(f, light.position + light.direction * (0.25f * radius), e, ze))
+            raster2d::line_bresenham(int(a.x), int(a.y), int(e.x), int(e.y), dot);
     }
 }
 

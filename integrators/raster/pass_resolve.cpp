@@ -5,7 +5,6 @@
 #include "core/parallel.h"
 #include "integrators/raster/frame.h"
 
-
 namespace candela::raster {
 
 namespace {
@@ -14,9 +13,10 @@ namespace {
 float resolve_weight(RasterSettings::AAFilter f, float d) {
     d = std::abs(d);
     switch (f) {
-    case RasterSettings::AAFilter::Box: return d < 0.5f ? 1.0f : 0.0f;
-    case RasterSettings::AAFilter::Tent: return std::max(0.0f, 1.0f - d);
-    case RasterSettings::AAFilter::Gaussian: return d < 1.5f ? std::exp(-d * d / (2.0f * 0.25f)) - std::exp(-1.5f * 1.5f / (2.0f * 0.25f)) : 0.0f;
+        case RasterSettings::AAFilter::Box: return d < 0.5f ? 1.0f : 0.0f;
+        case RasterSettings::AAFilter::Tent: return std::max(0.0f, 1.0f - d);
+        case RasterSettings::AAFilter::Gaussian:
+            return d < 1.5f ? std::exp(-d * d / (2.0f * 0.25f)) - std::exp(-1.5f * 1.5f / (2.0f * 0.25f)) : 0.0f;
     }
     return 0.0f;
 }
@@ -24,9 +24,9 @@ float resolve_weight(RasterSettings::AAFilter f, float d) {
 // How many neighbouring pixels the filter reaches on each side.
 int resolve_reach(RasterSettings::AAFilter f) {
     switch (f) {
-    case RasterSettings::AAFilter::Box: return 0;
-    case RasterSettings::AAFilter::Tent: return 1;
-    case RasterSettings::AAFilter::Gaussian: return 2;
+        case RasterSettings::AAFilter::Box: return 0;
+        case RasterSettings::AAFilter::Tent: return 1;
+        case RasterSettings::AAFilter::Gaussian: return 2;
     }
     return 0;
 }

@@ -16,8 +16,8 @@ HomogeneousSetup homogeneous_setup(const Vec4 c[3], Vec2i full, Vec2i offset) {
     HomogeneousSetup h;
     Mat3 m;  // columns: vertices; rows: X, Y, W in pixel-homogeneous coordinates
     for (int i = 0; i < 3; ++i)
-        m[i] = Vec3((c[i].x + c[i].w) * 0.5f * float(full.x) - float(offset.x) * c[i].w, (c[i].y + c[i].w) * 0.5f * float(full.y) - float(offset.y) * c[i].w,
-                    c[i].w);
+        m[i] = Vec3((c[i].x + c[i].w) * 0.5f * float(full.x) - float(offset.x) * c[i].w,
+                    (c[i].y + c[i].w) * 0.5f * float(full.y) - float(offset.y) * c[i].w, c[i].w);
     float det = glm::determinant(m);
     if (std::abs(det) > 1e-30f && std::isfinite(det)) {
         h.inverse = glm::inverse(m);
@@ -51,7 +51,8 @@ void reconstruct(const FrameSetup& f, uint32_t t, const Vec3& b, SurfaceSample& 
     ss.uv = b.x * g.uvs[v.x] + b.y * g.uvs[v.y] + b.z * g.uvs[v.z];
     ss.v = glm::normalize(f.camera.eye - ss.p);
     const RasterSettings::Shading shading = f.settings.shading;
-    Vec3 n = shading == RasterSettings::Shading::Flat ? ss.n_geo : glm::normalize(b.x * g.normals[v.x] + b.y * g.normals[v.y] + b.z * g.normals[v.z]);
+    Vec3 n = shading == RasterSettings::Shading::Flat ? ss.n_geo
+                                                      : glm::normalize(b.x * g.normals[v.x] + b.y * g.normals[v.y] + b.z * g.normals[v.z]);
     if (shading == RasterSettings::Shading::Phong) {
         SurfaceInteraction si;
         si.p = ss.p;
@@ -75,7 +76,8 @@ void reconstruct(const FrameSetup& f, uint32_t t, const Vec3& b, SurfaceSample& 
 // The diffuse texture at the surface point (uv, p), through the texture's mapping (uv or
 // projected from the position), filtered over the footprint of the sample at `pos`: the
 // derivatives per pixel come from the triangle's homogeneous setup.
-Spectrum filtered_albedo(const FrameSetup& f, const Texture& texture, const HomogeneousSetup& h, uint32_t t, const Vec2& surface_uv, const Vec3& p, const Vec2& pos) {
+Spectrum filtered_albedo(const FrameSetup& f, const Texture& texture, const HomogeneousSetup& h, uint32_t t, const Vec2& surface_uv,
+                         const Vec3& p, const Vec2& pos) {
     // A constant texture is the same everywhere: no mapping, no footprint.
     if (texture.is_constant()) return texture.eval(surface_uv);
     const RasterGeometry& g = f.geometry;
@@ -110,7 +112,8 @@ Spectrum unlit_radiance(const FrameSetup& f, const EnvironmentLookup& environmen
     Spectrum L(0.0f);
     if (ss.front) L += rs.emission;
     if (!is_black(m.mirror)) L += m.mirror * environment_seen(f, environment, 2.0f * glm::dot(ss.n, ss.v) * ss.n - ss.v, m.roughness);
-    if (!is_black(m.transmission)) L += m.transmission * environment_seen(f, environment, refracted(ss.v, ss.n, ss.front ? m.eta : 1.0f / m.eta), m.roughness);
+    if (!is_black(m.transmission))
+        L += m.transmission * environment_seen(f, environment, refracted(ss.v, ss.n, ss.front ? m.eta : 1.0f / m.eta), m.roughness);
     return L;
 }
 
@@ -128,7 +131,8 @@ void surface_pass(const FrameSetup& f, FrameBuffers& b) {
     setups.resize(g.triangles.size());
     parallel_for(g.triangles.size(), [&](size_t i) { setups[i] = homogeneous_setup(b.clip[i].data(), f.full, f.offset); });
     const RasterSettings& s = f.settings;
-    EnvironmentLookup environment(f.scene, s.cube_mapping ? EnvironmentLookup::Mode::Cube : EnvironmentLookup::Mode::LatLong, s.cube_resolution, s.cube_map);
+    EnvironmentLookup environment(f.scene, s.cube_mapping ? EnvironmentLookup::Mode::Cube : EnvironmentLookup::Mode::LatLong,
+                                  s.cube_resolution, s.cube_map);
     // Every sample's surface and colour is written below (in parallel, not cleared first).
     b.surface.resize(f.sample_count());
     b.color.resize(f.sample_count());

@@ -79,8 +79,8 @@
 #include "core/registry.h"
 #include "core/scene.h"
 #include "core/warning.h"
-#include "integrators/raster/environment.h"
 #include "integrators/radiosity.h"
+#include "integrators/raster/environment.h"
 #include "integrators/raster/frame.h"
 
 #include <tbb/task_arena.h>
@@ -99,47 +99,153 @@ const std::vector<RasterOption>& raster_options() {
     using S = RasterSettings;
     using K = RasterOption::Kind;
     static const std::vector<RasterOption> options = {
-        {"shading", K::Choice, {"flat", "gouraud", "phong"}, 0, true, "where lighting is computed: per face, per vertex or per sample",
+        {"shading",
+         K::Choice,
+         {"flat", "gouraud", "phong"},
+         0,
+         true,
+         "where lighting is computed: per face, per vertex or per sample",
          [](S& s, int v, const std::string&) { s.shading = S::Shading(v); }},
-        {"reflection", K::Choice, {"phong", "blinn"}, 0, true, "the highlight lobe: R.V (Phong) or N.H (Blinn-Phong)",
+        {"reflection",
+         K::Choice,
+         {"phong", "blinn"},
+         0,
+         true,
+         "the highlight lobe: R.V (Phong) or N.H (Blinn-Phong)",
          [](S& s, int v, const std::string&) { s.reflection = S::Reflection(v); }},
-        {"shadows", K::Choice, {"none", "map", "volume"}, 0, true, "no shadows, shadow maps or shadow volumes",
+        {"shadows",
+         K::Choice,
+         {"none", "map", "volume"},
+         0,
+         true,
+         "no shadows, shadow maps or shadow volumes",
          [](S& s, int v, const std::string&) { s.shadows = S::Shadows(v); }},
         {"aa", K::Integer, {}, 1, true, "supersamples per pixel", [](S& s, int v, const std::string&) { s.aa = v; }},
-        {"aa_filter", K::Choice, {"box", "tent", "gaussian"}, 0, true, "the filter that resolves the supersamples",
+        {"aa_filter",
+         K::Choice,
+         {"box", "tent", "gaussian"},
+         0,
+         true,
+         "the filter that resolves the supersamples",
          [](S& s, int v, const std::string&) { s.aa_filter = S::AAFilter(v); }},
-        {"texture_filter", K::Choice, {"nearest", "bilinear", "trilinear"}, 0, true, "texture lookups (trilinear: MIP-mapped)",
+        {"texture_filter",
+         K::Choice,
+         {"nearest", "bilinear", "trilinear"},
+         0,
+         true,
+         "texture lookups (trilinear: MIP-mapped)",
          [](S& s, int v, const std::string&) { s.texture_filter = TextureFilter(v); }},
         {"wireframe", K::Boolean, {}, 0, true, "draw the visible triangle edges", [](S& s, int v, const std::string&) { s.wireframe = v; }},
         {"light_gizmos", K::Boolean, {}, 0, true, "draw the lights", [](S& s, int v, const std::string&) { s.light_gizmos = v; }},
-        {"affine", K::Boolean, {}, 0, true, "affine (not perspective-correct) interpolation", [](S& s, int v, const std::string&) { s.affine = v; }},
+        {"affine",
+         K::Boolean,
+         {},
+         0,
+         true,
+         "affine (not perspective-correct) interpolation",
+         [](S& s, int v, const std::string&) { s.affine = v; }},
         {"backface_culling", K::Boolean, {}, 0, true, "cull back faces", [](S& s, int v, const std::string&) { s.backface_culling = v; }},
-        {"environment_mapping", K::Choice, {"latlong", "cube"}, 0, true, "look the environment up directly or in a cube map",
+        {"environment_mapping",
+         K::Choice,
+         {"latlong", "cube"},
+         0,
+         true,
+         "look the environment up directly or in a cube map",
          [](S& s, int v, const std::string&) { s.cube_mapping = v == 1; }},
-        {"cube_map", K::FacePattern, {}, 0, false, "six cube-face images, {face} = px, nx, py, ny, pz, nz",
+        {"cube_map",
+         K::FacePattern,
+         {},
+         0,
+         false,
+         "six cube-face images, {face} = px, nx, py, ny, pz, nz",
          [](S& s, int, const std::string& text) {
              s.cube_map = text;
              s.cube_mapping = true;
          }},
-        {"cube_resolution", K::Integer, {}, 1, false, "texels per side of the cube faces", [](S& s, int v, const std::string&) { s.cube_resolution = v; }},
-        {"shadow_map_resolution", K::Integer, {}, 16, false, "texels per side of the shadow maps",
+        {"cube_resolution",
+         K::Integer,
+         {},
+         1,
+         false,
+         "texels per side of the cube faces",
+         [](S& s, int v, const std::string&) { s.cube_resolution = v; }},
+        {"shadow_map_resolution",
+         K::Integer,
+         {},
+         16,
+         false,
+         "texels per side of the shadow maps",
          [](S& s, int v, const std::string&) { s.shadow_map_resolution = v; }},
         {"pcf", K::Integer, {}, 1, false, "percentage-closer filter width in texels", [](S& s, int v, const std::string&) { s.pcf = v; }},
-        {"displacement", K::Boolean, {}, 0, false, "displace bump-mapped surfaces", [](S& s, int v, const std::string&) { s.displacement = v; }},
-        {"subdivisions", K::Integer, {}, 0, false, "4^n refinement of displaced shapes", [](S& s, int v, const std::string&) { s.subdivisions = v; }},
-        {"tessellation", K::Integer, {}, 8, false, "segments per turn of spheres and disks", [](S& s, int v, const std::string&) { s.tessellation = v; }},
-        {"ao", K::Integer, {}, 0, true, "ambient occlusion rays per sample, ray-cast with Embree (0: none)", [](S& s, int v, const std::string&) { s.ao = v; }},
-        {"ao_ray_length", K::Float, {}, 0, false, "reach of the ambient occlusion rays",
+        {"displacement",
+         K::Boolean,
+         {},
+         0,
+         false,
+         "displace bump-mapped surfaces",
+         [](S& s, int v, const std::string&) { s.displacement = v; }},
+        {"subdivisions",
+         K::Integer,
+         {},
+         0,
+         false,
+         "4^n refinement of displaced shapes",
+         [](S& s, int v, const std::string&) { s.subdivisions = v; }},
+        {"tessellation",
+         K::Integer,
+         {},
+         8,
+         false,
+         "segments per turn of spheres and disks",
+         [](S& s, int v, const std::string&) { s.tessellation = v; }},
+        {"ao",
+         K::Integer,
+         {},
+         0,
+         true,
+         "ambient occlusion rays per sample, ray-cast with Embree (0: none)",
+         [](S& s, int v, const std::string&) { s.ao = v; }},
+        {"ao_ray_length",
+         K::Float,
+         {},
+         0,
+         false,
+         "reach of the ambient occlusion rays",
          [](S& s, int, const std::string& text) { s.ao_ray_length = std::stof(text); }},
-        {"environment_lighting", K::Choice, {"ibl", "average"}, 0, true, "the environment as image-based light (SH irradiance, prefiltered glossy) or its average",
+        {"environment_lighting",
+         K::Choice,
+         {"ibl", "average"},
+         0,
+         true,
+         "the environment as image-based light (SH irradiance, prefiltered glossy) or its average",
          [](S& s, int v, const std::string&) { s.environment_lighting = S::EnvironmentLighting(v); }},
-        {"lighting", K::Choice, {"local", "baked"}, 0, true, "light the surfaces by the local model or by baked irradiance",
+        {"lighting",
+         K::Choice,
+         {"local", "baked"},
+         0,
+         true,
+         "light the surfaces by the local model or by baked irradiance",
          [](S& s, int v, const std::string&) { s.lighting = S::Lighting(v); }},
-        {"bake", K::Choice, {"radiosity", "path"}, 0, true, "what bakes the irradiance: radiosity or the path tracer",
+        {"bake",
+         K::Choice,
+         {"radiosity", "path"},
+         0,
+         true,
+         "what bakes the irradiance: radiosity or the path tracer",
          [](S& s, int v, const std::string&) { s.bake = S::BakeSource(v); }},
-        {"bake_samples", K::Integer, {}, 1, true, "path-traced irradiance samples per patch when baking with path",
+        {"bake_samples",
+         K::Integer,
+         {},
+         1,
+         true,
+         "path-traced irradiance samples per patch when baking with path",
          [](S& s, int v, const std::string&) { s.bake_samples = v; }},
-        {"bake_patch_area", K::Float, {}, 0, false, "largest baked patch in m^2",
+        {"bake_patch_area",
+         K::Float,
+         {},
+         0,
+         false,
+         "largest baked patch in m^2",
          [](S& s, int, const std::string& text) { s.bake_patch_area = std::stof(text); }},
     };
     return options;
@@ -147,15 +253,15 @@ const std::vector<RasterOption>& raster_options() {
 
 std::string RasterOption::accepted() const {
     switch (kind) {
-    case Kind::Choice: {
-        std::string out;
-        for (const char* c : choices) out += (out.empty() ? "" : "|") + std::string(c);
-        return out;
-    }
-    case Kind::Integer: return "integer >= " + std::to_string(minimum);
-    case Kind::Boolean: return "true|false";
-    case Kind::FacePattern: return "file pattern with {face}";
-    case Kind::Float: return "number > 0";
+        case Kind::Choice: {
+            std::string out;
+            for (const char* c : choices) out += (out.empty() ? "" : "|") + std::string(c);
+            return out;
+        }
+        case Kind::Integer: return "integer >= " + std::to_string(minimum);
+        case Kind::Boolean: return "true|false";
+        case Kind::FacePattern: return "file pattern with {face}";
+        case Kind::Float: return "number > 0";
     }
     return "";
 }
@@ -171,43 +277,43 @@ const RasterOption* find_option(const std::string& name) {
 // The number a valid value stands for (see RasterOption::store); false with a message if invalid.
 bool parse_option(const RasterOption& o, const std::string& value, int& number, std::string& error) {
     switch (o.kind) {
-    case RasterOption::Kind::Choice:
-        for (size_t i = 0; i < o.choices.size(); ++i)
-            if (value == o.choices[i]) {
-                number = int(i);
-                return true;
+        case RasterOption::Kind::Choice:
+            for (size_t i = 0; i < o.choices.size(); ++i)
+                if (value == o.choices[i]) {
+                    number = int(i);
+                    return true;
+                }
+            error = std::string(o.name) + " must be one of";
+            for (const char* c : o.choices) error += std::string(" ") + c;
+            error += ", not \"" + value + "\"";
+            return false;
+        case RasterOption::Kind::Integer: {
+            char* end = nullptr;
+            long v = std::strtol(value.c_str(), &end, 10);
+            if (value.empty() || *end || v < o.minimum || v > std::numeric_limits<int>::max()) {
+                error = std::string(o.name) + " must be an integer >= " + std::to_string(o.minimum);
+                return false;
             }
-        error = std::string(o.name) + " must be one of";
-        for (const char* c : o.choices) error += std::string(" ") + c;
-        error += ", not \"" + value + "\"";
-        return false;
-    case RasterOption::Kind::Integer: {
-        char* end = nullptr;
-        long v = std::strtol(value.c_str(), &end, 10);
-        if (value.empty() || *end || v < o.minimum || v > std::numeric_limits<int>::max()) {
-            error = std::string(o.name) + " must be an integer >= " + std::to_string(o.minimum);
-            return false;
+            number = int(v);
+            return true;
         }
-        number = int(v);
-        return true;
-    }
-    case RasterOption::Kind::Boolean:
-        if (value != "true" && value != "false") {
-            error = std::string(o.name) + " must be true or false";
-            return false;
+        case RasterOption::Kind::Boolean:
+            if (value != "true" && value != "false") {
+                error = std::string(o.name) + " must be true or false";
+                return false;
+            }
+            number = value == "true";
+            return true;
+        case RasterOption::Kind::FacePattern: return true;
+        case RasterOption::Kind::Float: {
+            char* end = nullptr;
+            float v = std::strtof(value.c_str(), &end);
+            if (value.empty() || *end || !(v > 0.0f) || !std::isfinite(v)) {
+                error = std::string(o.name) + " must be a number > 0";
+                return false;
+            }
+            return true;
         }
-        number = value == "true";
-        return true;
-    case RasterOption::Kind::FacePattern: return true;
-    case RasterOption::Kind::Float: {
-        char* end = nullptr;
-        float v = std::strtof(value.c_str(), &end);
-        if (value.empty() || *end || !(v > 0.0f) || !std::isfinite(v)) {
-            error = std::string(o.name) + " must be a number > 0";
-            return false;
-        }
-        return true;
-    }
     }
     return false;
 }
@@ -216,15 +322,15 @@ bool parse_option(const RasterOption& o, const std::string& value, int& number, 
 // scene file, and each of its six files must exist.
 std::string property_text(const Properties& props, const RasterOption& o) {
     switch (o.kind) {
-    case RasterOption::Kind::Choice: return props.get_string(o.name);
-    case RasterOption::Kind::Integer: return std::to_string(props.get_int(o.name));
-    case RasterOption::Kind::Boolean: return props.get_bool(o.name, false) ? "true" : "false";
-    case RasterOption::Kind::Float: {
-        char buf[32];
-        std::snprintf(buf, sizeof buf, "%.9g", double(props.get_float(o.name)));
-        return buf;
-    }
-    case RasterOption::Kind::FacePattern: break;
+        case RasterOption::Kind::Choice: return props.get_string(o.name);
+        case RasterOption::Kind::Integer: return std::to_string(props.get_int(o.name));
+        case RasterOption::Kind::Boolean: return props.get_bool(o.name, false) ? "true" : "false";
+        case RasterOption::Kind::Float: {
+            char buf[32];
+            std::snprintf(buf, sizeof buf, "%.9g", double(props.get_float(o.name)));
+            return buf;
+        }
+        case RasterOption::Kind::FacePattern: break;
     }
     std::string pattern = props.get_path(o.name);
     if (pattern.find("{face}") == std::string::npos) props.fail(o.name, std::string(o.name) + " must contain {face}");
@@ -246,7 +352,8 @@ void check_frame_memory(const Film& film, const RasterSettings& s) {
     const uint64_t per_sample = sizeof(float) + sizeof(uint32_t) + sizeof(Vec3) + sizeof(raster::SurfaceSample) + sizeof(Spectrum) +
                                 sizeof(float) + sizeof(uint8_t);
     const uint64_t per_pixel = 2 * sizeof(Spectrum) + 3 * sizeof(uint16_t) + sizeof(float);  // image, its copy and halves, overlay depth
-    uint64_t bytes = saturating_add(saturating_mul(saturating_mul(pixels, uint64_t(std::max(s.aa, 1))), per_sample), saturating_mul(pixels, per_pixel));
+    uint64_t bytes =
+        saturating_add(saturating_mul(saturating_mul(pixels, uint64_t(std::max(s.aa, 1))), per_sample), saturating_mul(pixels, per_pixel));
     if (s.shadows == RasterSettings::Shadows::Map) {
         uint64_t texels = saturating_mul(uint64_t(s.shadow_map_resolution), uint64_t(s.shadow_map_resolution));
         bytes = saturating_add(bytes, saturating_mul(texels, 6 * sizeof(float)));
@@ -255,7 +362,8 @@ void check_frame_memory(const Film& film, const RasterSettings& s) {
         uint64_t texels = saturating_mul(uint64_t(s.cube_resolution), uint64_t(s.cube_resolution));
         bytes = saturating_add(bytes, saturating_mul(texels, 6 * sizeof(Spectrum) * 4 / 3 + 1));
     }
-    std::string what = film_description(film) + " rasterized with " + std::to_string(s.aa) + (s.aa == 1 ? " sample" : " samples") + " per pixel";
+    std::string what =
+        film_description(film) + " rasterized with " + std::to_string(s.aa) + (s.aa == 1 ? " sample" : " samples") + " per pixel";
     check_memory(bytes, what, film.location());
 }
 
@@ -286,13 +394,23 @@ namespace raster {
 
 FrameSetup::FrameSetup(const Scene& scene, const RasterSettings& settings, const RasterGeometry& geometry, const PinholeProjection& pinhole,
                        const ImageBasedLighting* image_lighting)
-    : scene(scene), settings(settings), geometry(geometry), camera(RasterCamera::from_pinhole(pinhole)), lights(collect_lights(scene)),
-      ambient(lights.ambient + settings.ambient), image_lighting(image_lighting), full(scene.sensor().film().full_size()), offset(scene.sensor().film().crop_offset()),
-      width(scene.sensor().film().crop_size().x), height(scene.sensor().film().crop_size().y), pattern(sample_pattern(settings.aa)) {}
+    : scene(scene),
+      settings(settings),
+      geometry(geometry),
+      camera(RasterCamera::from_pinhole(pinhole)),
+      lights(collect_lights(scene)),
+      ambient(lights.ambient + settings.ambient),
+      image_lighting(image_lighting),
+      full(scene.sensor().film().full_size()),
+      offset(scene.sensor().film().crop_offset()),
+      width(scene.sensor().film().crop_size().x),
+      height(scene.sensor().film().crop_size().y),
+      pattern(sample_pattern(settings.aa)) {}
 
 float FrameSetup::sample_spacing(float view_depth) const {
     // A pixel spans 2 / (|P00| W) by 2 / (|P11| H) per unit of view depth (projection rows 0, 1).
-    float per_depth = std::min(2.0f / (std::abs(camera.projection[0][0]) * float(full.x)), 2.0f / (std::abs(camera.projection[1][1]) * float(full.y)));
+    float per_depth =
+        std::min(2.0f / (std::abs(camera.projection[0][0]) * float(full.x)), 2.0f / (std::abs(camera.projection[1][1]) * float(full.y)));
     return per_depth * view_depth / std::sqrt(float(samples_per_pixel()));
 }
 
@@ -303,8 +421,13 @@ RasterIntegrator::~RasterIntegrator() = default;
 const raster::RasterGeometry& RasterIntegrator::geometry_for(const Scene& scene, const RenderOptions& options) {
     const RasterSettings& s = settings_;
     const bool baked = s.lighting == RasterSettings::Lighting::Baked;
-    const std::array<double, 7> key = {double(s.tessellation), double(s.displacement), double(s.subdivisions), double(baked),
-                                       baked ? double(s.bake) : 0.0, baked ? double(s.bake_samples) : 0.0, baked ? double(s.bake_patch_area) : 0.0};
+    const std::array<double, 7> key = {double(s.tessellation),
+                                       double(s.displacement),
+                                       double(s.subdivisions),
+                                       double(baked),
+                                       baked ? double(s.bake) : 0.0,
+                                       baked ? double(s.bake_samples) : 0.0,
+                                       baked ? double(s.bake_patch_area) : 0.0};
     bake_seconds_ = 0.0;
     if (geometry_ && geometry_scene_ == &scene && key == geometry_key_) return *geometry_;
     if (baked) {
@@ -313,8 +436,9 @@ const raster::RasterGeometry& RasterIntegrator::geometry_for(const Scene& scene,
         RadiositySettings bake;
         bake.max_patch_area = s.bake_patch_area;
         bake.default_area_fraction = 1.0f / 500.0f;  // coarser than radiosity's own: a bake is meant to be quick
-        std::vector<RadiosityMesh> meshes =
-            s.bake == RasterSettings::BakeSource::Radiosity ? bake_radiosity(scene, bake, options) : bake_path_irradiance(scene, bake, s.bake_samples, options);
+        std::vector<RadiosityMesh> meshes = s.bake == RasterSettings::BakeSource::Radiosity
+                                                ? bake_radiosity(scene, bake, options)
+                                                : bake_path_irradiance(scene, bake, s.bake_samples, options);
         geometry_ = std::make_shared<raster::RasterGeometry>(raster::build_baked_geometry(meshes));
         bake_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     } else {
@@ -326,7 +450,8 @@ const raster::RasterGeometry& RasterIntegrator::geometry_for(const Scene& scene,
 }
 
 const raster::ImageBasedLighting* RasterIntegrator::image_lighting_for(const Scene& scene) {
-    if (settings_.environment_lighting != RasterSettings::EnvironmentLighting::ImageBased || scene.infinite_emitters().empty()) return nullptr;
+    if (settings_.environment_lighting != RasterSettings::EnvironmentLighting::ImageBased || scene.infinite_emitters().empty())
+        return nullptr;
     if (!image_lighting_ || image_lighting_scene_ != &scene) {
         image_lighting_ = std::make_shared<raster::ImageBasedLighting>(scene);
         image_lighting_scene_ = &scene;
@@ -359,7 +484,8 @@ RenderResult RasterIntegrator::render(const Scene& scene, const RenderOptions& o
     if (scene.is_animated())
         warn(SourceLocation{scene.source_file, 0}, "the raster mode draws one instant, the pose at shutter_open: no motion blur");
     auto t_start = std::chrono::steady_clock::now();
-    if (!options.aovs.empty()) throw InputError("the raster mode renders no AOVs (albedo, normal, depth, variance come from sampling integrators)");
+    if (!options.aovs.empty())
+        throw InputError("the raster mode renders no AOVs (albedo, normal, depth, variance come from sampling integrators)");
     auto pinhole = scene.sensor().pinhole();
     if (!pinhole) throw InputError("the raster mode needs a perspective (pinhole) camera");
     check_frame_memory(scene.sensor().film(), settings_);

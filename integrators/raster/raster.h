@@ -15,7 +15,7 @@ namespace raster {
 struct RasterGeometry;
 struct FrameBuffers;
 class ImageBasedLighting;
-}
+}  // namespace raster
 
 struct RasterSettings {
     enum class Shading { Flat, Gouraud, Phong };
@@ -35,7 +35,7 @@ struct RasterSettings {
     Spectrum ambient{0.0f};
     bool cube_mapping = false;
     int cube_resolution = 256;
-    std::string cube_map;  // six images, "{face}" replaced by px, nx, py, ny, pz, nz
+    std::string cube_map;                    // six images, "{face}" replaced by px, nx, py, ny, pz, nz
     int shadow_map_resolution = 0, pcf = 3;  // resolution 0: chosen from the view
     bool displacement = false;
     int subdivisions = 3, tessellation = 96;

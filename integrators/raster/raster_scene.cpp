@@ -46,7 +46,8 @@ void displace(RasterGeometry& g, RasterShape& rs, unsigned first_vertex, int sub
         rs.triangle_count = uint32_t(refined.size());
     }
     for (unsigned v = first_vertex; v < g.positions.size(); ++v)
-        g.positions[v] += g.normals[v] * (rs.material.height->eval_1(rs.material.height->mapping().map(g.uvs[v], g.positions[v])) * rs.material.height_scale);
+        g.positions[v] += g.normals[v] * (rs.material.height->eval_1(rs.material.height->mapping().map(g.uvs[v], g.positions[v])) *
+                                          rs.material.height_scale);
     std::vector<Vec3> n(g.positions.size() - first_vertex, Vec3(0.0f));
     for (uint32_t i = rs.first_triangle; i < rs.first_triangle + rs.triangle_count; ++i) {
         const glm::uvec3& t = g.triangles[i];
@@ -117,8 +118,10 @@ RasterGeometry build_baked_geometry(const std::vector<RadiosityMesh>& meshes) {
         if (!m.shape || m.patches.triangles.empty()) continue;
         add_shape(g, m.shape, m.patches, false, 0);
         g.baked_front.insert(g.baked_front.end(), m.irradiance.begin(), m.irradiance.end());
-        if (m.irradiance_back.empty()) g.baked_back.resize(g.baked_front.size(), Spectrum(0.0f));
-        else g.baked_back.insert(g.baked_back.end(), m.irradiance_back.begin(), m.irradiance_back.end());
+        if (m.irradiance_back.empty())
+            g.baked_back.resize(g.baked_front.size(), Spectrum(0.0f));
+        else
+            g.baked_back.insert(g.baked_back.end(), m.irradiance_back.begin(), m.irradiance_back.end());
     }
     finish(g);
     return g;

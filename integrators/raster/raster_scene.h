@@ -36,8 +36,8 @@ struct RasterGeometry {
     std::vector<Vec2> uvs;
     std::vector<glm::uvec3> triangles;
     std::vector<TriangleFrame> triangle_frames;  // per triangle, computed once with the geometry
-    std::vector<uint32_t> triangle_shape;  // index into shapes
-    std::vector<uint32_t> vertex_shape;    // index into shapes: every vertex belongs to one shape
+    std::vector<uint32_t> triangle_shape;        // index into shapes
+    std::vector<uint32_t> vertex_shape;          // index into shapes: every vertex belongs to one shape
     std::vector<RasterShape> shapes;
     BoundingBox bbox;
     // Baked lighting (empty unless the geometry was built from a bake): the irradiance (W m^-2)

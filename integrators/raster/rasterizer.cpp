@@ -101,12 +101,12 @@ void Rasterizer::clip_and_add(const std::array<Vec4, 3>& tri, uint32_t id) {
     size_t count = 3;
     auto plane = [](const Vec4& p, int k) -> float {
         switch (k) {
-        case 0: return p.w + p.x;
-        case 1: return p.w - p.x;
-        case 2: return p.w + p.y;
-        case 3: return p.w - p.y;
-        case 4: return p.z;
-        default: return p.w - p.z;
+            case 0: return p.w + p.x;
+            case 1: return p.w - p.x;
+            case 2: return p.w + p.y;
+            case 3: return p.w - p.y;
+            case 4: return p.z;
+            default: return p.w - p.z;
         }
     };
     for (int k = 0; k < 6 && count > 0; ++k) {

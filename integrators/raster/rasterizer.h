@@ -13,7 +13,6 @@
 #include "core/math.h"
 #include "core/parallel.h"
 
-
 #include <array>
 #include <vector>
 
@@ -24,17 +23,17 @@ constexpr int SubpixelBits = 8;
 constexpr int TileSize = 32;
 
 struct ScreenVertex {
-    int64_t x, y;    // fixed-point pixel coordinates
-    double depth;    // z / w
-    double inv_w;    // 1 / w
-    Vec3 bary;       // barycentric coordinates with respect to the original triangle
+    int64_t x, y;  // fixed-point pixel coordinates
+    double depth;  // z / w
+    double inv_w;  // 1 / w
+    Vec3 bary;     // barycentric coordinates with respect to the original triangle
 };
 
 struct ScreenTriangle {
-    ScreenVertex v[3];  // oriented so that the signed area is positive
-    int64_t area2;      // twice the signed area in fixed point
-    uint32_t id;        // index of the original triangle
-    bool front;         // counter-clockwise as submitted (before reorientation), seen on screen
+    ScreenVertex v[3];       // oriented so that the signed area is positive
+    int64_t area2;           // twice the signed area in fixed point
+    uint32_t id;             // index of the original triangle
+    bool front;              // counter-clockwise as submitted (before reorientation), seen on screen
     int bx0, by0, bx1, by1;  // pixel bounding box, inclusive, within the target
 };
 
@@ -68,7 +67,8 @@ public:
 
     // Calls op(const Fragment&) for every covered sample, tile by tile in parallel; within a
     // tile, in triangle submission order.
-    template <typename Op> void run(Op op) const;
+    template <typename Op>
+    void run(Op op) const;
 
     int width() const { return width_; }
     int height() const { return height_; }
@@ -84,7 +84,8 @@ private:
     // Narrows the pixel columns [first, last] to those where value_at_0 + x * slope * 2^SubpixelBits
     // >= 0 (an edge function plus its fill-rule bias along a row); empty when first > last.
     static void clip_span(int64_t value_at_0, int64_t slope, int& first, int& last);
-    template <typename Op> void raster_in_tile(const ScreenTriangle& t, int tx0, int ty0, int tx1, int ty1, Op& op) const;
+    template <typename Op>
+    void raster_in_tile(const ScreenTriangle& t, int tx0, int ty0, int tx1, int ty1, Op& op) const;
 
     int width_ = 0, height_ = 0;
     std::vector<Vec2> offsets_;
@@ -102,7 +103,8 @@ std::vector<Vec2> sample_pattern(int n);
 
 // ---- implementation of the templates -----------------------------------------------------
 
-template <typename Op> void Rasterizer::run(Op op) const {
+template <typename Op>
+void Rasterizer::run(Op op) const {
     parallel_for(size_t(tiles_x_ * tiles_y_), [&](int tile) {
         int tx = tile % tiles_x_, ty = tile / tiles_x_;
         int x0 = tx * TileSize, y0 = ty * TileSize;
@@ -112,13 +114,16 @@ template <typename Op> void Rasterizer::run(Op op) const {
     });
 }
 
-template <typename Op> void Rasterizer::raster_in_tile(const ScreenTriangle& t, int tx0, int ty0, int tx1, int ty1, Op& op) const {
+template <typename Op>
+void Rasterizer::raster_in_tile(const ScreenTriangle& t, int tx0, int ty0, int tx1, int ty1, Op& op) const {
     int x0 = std::max(t.bx0, tx0), x1 = std::min(t.bx1, tx1), y0 = std::max(t.by0, ty0), y1 = std::min(t.by1, ty1);
     if (x0 > x1 || y0 > y1) return;
     const ScreenVertex &a = t.v[0], &b = t.v[1], &c = t.v[2];
     // Edge functions E_ab(p) = (b - a) x (p - a); a sample is inside when all three are positive,
     // or zero on a top or left edge (bias 0), else (bias -1) strictly positive.
-    auto edge = [](const ScreenVertex& p, const ScreenVertex& q, int64_t sx, int64_t sy) { return (q.x - p.x) * (sy - p.y) - (q.y - p.y) * (sx - p.x); };
+    auto edge = [](const ScreenVertex& p, const ScreenVertex& q, int64_t sx, int64_t sy) {
+        return (q.x - p.x) * (sy - p.y) - (q.y - p.y) * (sx - p.x);
+    };
     auto top_left = [](const ScreenVertex& p, const ScreenVertex& q) {
         bool top = p.y == q.y && q.x > p.x;  // horizontal, interior below (y down)
         bool left = q.y < p.y;               // going up: interior to its right

@@ -33,28 +33,28 @@ void ShadowMap::place(const LocalLight& light, const RasterGeometry& g) {
     float far_clip = 4.0f * radius + glm::length(light.position - center);
     float near_clip = far_clip * 1e-5f;
     switch (light.kind) {
-    case LocalLight::Kind::Directional:
-        faces_.resize(1);
-        faces_[0].camera = RasterCamera::orthographic_box(view_along(center - light.direction * (2.0f * radius), light.direction), radius, radius,
-                                                          0.0f, 4.0f * radius);
-        faces_[0].extent = 2.0f * radius;
-        break;
-    case LocalLight::Kind::Spot: {
-        faces_.resize(1);
-        float t = std::tan(std::min(light.cutoff, radians(85.0f)));
-        faces_[0].camera = RasterCamera::perspective(view_along(light.position, light.direction), t, t, near_clip, far_clip);
-        faces_[0].extent = 2.0f * t;
-        break;
-    }
-    default: {
-        // In the order face_of() numbers them.
-        const Vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-        faces_.resize(6);
-        for (int i = 0; i < 6; ++i) {
-            faces_[size_t(i)].camera = RasterCamera::perspective(view_along(light.position, axes[i]), 1.0f, 1.0f, near_clip, far_clip);
-            faces_[size_t(i)].extent = 2.0f;
+        case LocalLight::Kind::Directional:
+            faces_.resize(1);
+            faces_[0].camera = RasterCamera::orthographic_box(view_along(center - light.direction * (2.0f * radius), light.direction),
+                                                              radius, radius, 0.0f, 4.0f * radius);
+            faces_[0].extent = 2.0f * radius;
+            break;
+        case LocalLight::Kind::Spot: {
+            faces_.resize(1);
+            float t = std::tan(std::min(light.cutoff, radians(85.0f)));
+            faces_[0].camera = RasterCamera::perspective(view_along(light.position, light.direction), t, t, near_clip, far_clip);
+            faces_[0].extent = 2.0f * t;
+            break;
         }
-    }
+        default: {
+            // In the order face_of() numbers them.
+            const Vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+            faces_.resize(6);
+            for (int i = 0; i < 6; ++i) {
+                faces_[size_t(i)].camera = RasterCamera::perspective(view_along(light.position, axes[i]), 1.0f, 1.0f, near_clip, far_clip);
+                faces_[size_t(i)].extent = 2.0f;
+            }
+        }
     }
 }
 

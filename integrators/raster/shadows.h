@@ -64,11 +64,11 @@ public:
 private:
     struct Face {
         RasterCamera camera;
-        float extent = 0.0f;  // world size of the face's side per unit view depth (or constant, ortho)
-        int resolution = 0;   // texels per side of the whole face; 0 when left out
-        float texel_scale = 0.0f;  // extent / resolution: a texel's world size per unit depth (or constant)
-        Vec2i window_min{0}, window_size{0};  // the texels rendered: [min, min + size) of the face's
-        std::vector<float> depth;  // view depth (camera z) per texel of the window; +inf where nothing
+        float extent = 0.0f;                    // world size of the face's side per unit view depth (or constant, ortho)
+        int resolution = 0;                     // texels per side of the whole face; 0 when left out
+        float texel_scale = 0.0f;               // extent / resolution: a texel's world size per unit depth (or constant)
+        Vec2i window_min{0}, window_size{0};    // the texels rendered: [min, min + size) of the face's
+        std::vector<float> depth;               // view depth (camera z) per texel of the window; +inf where nothing
         std::vector<std::array<Vec4, 3>> clip;  // scratch: the triangles in the face's clip space
         Rasterizer rasterizer;                  // scratch, one sample per texel
         // World size of a texel at view depth d.

@@ -22,14 +22,18 @@ TEST_CASE("expression: numbers, precedence, right-associative power, functions",
 }
 
 TEST_CASE("expression: bad input is an InputError naming the position", "[expression][errors]") {
-    for (const std::string& text : std::vector<std::string>{"", "1 +", "(1", "foo", "bar(1)", "1 2", "1 / 0", "log(-1)", "sqrt(-1)", "nan", "1e999"}) {
+    for (const std::string& text :
+         std::vector<std::string>{"", "1 +", "(1", "foo", "bar(1)", "1 2", "1 / 0", "log(-1)", "sqrt(-1)", "nan", "1e999"}) {
         INFO(text);
         CHECK_THROWS_AS(evaluate_expression(text), InputError);
     }
     // Nesting beyond the limit (each level a stack frame or more): an error, not a stack
     // overflow. 100000 of each, as a fuzzer would write them.
-    for (const std::string& text : std::vector<std::string>{std::string(100000, '('), std::string(100000, '-') + "1",
-                                   [] { std::string s; for (int i = 0; i < 50000; ++i) s += "2^"; return s + "1"; }()}) {
+    for (const std::string& text : std::vector<std::string>{std::string(100000, '('), std::string(100000, '-') + "1", [] {
+                                                                std::string s;
+                                                                for (int i = 0; i < 50000; ++i) s += "2^";
+                                                                return s + "1";
+                                                            }()}) {
         CHECK_THROWS_WITH(evaluate_expression(text), Catch::Contains("nested too deeply"));
     }
 }

@@ -23,7 +23,8 @@ using namespace candela::test;
 namespace {
 
 int converge(const std::string& scene, const std::string& extra, const std::filesystem::path& log, const std::string& spp = "4,16,64,256") {
-    return run_command("'" + candela_binary() + "' converge '" + source_path("scenes/furnace/" + scene) + "' --spp " + spp + " " + extra, log);
+    return run_command("'" + candela_binary() + "' converge '" + source_path("scenes/furnace/" + scene) + "' --spp " + spp + " " + extra,
+                       log);
 }
 
 }  // namespace
@@ -79,7 +80,9 @@ TEST_CASE("converge: a wrong expected value fails as a significant bias", "[veri
 TEST_CASE("validate: the validation scenes agree with Mitsuba 3 and the report shows every image", "[verification][validation]") {
     auto dir = scratch_dir("validate");
     auto report = dir / "report.html";
-    int code = run_command("'" + candela_binary() + "' validate '" + source_path("scenes/validation") + "' --spp 256 -o '" + report.string() + "'", dir / "log.txt");
+    int code =
+        run_command("'" + candela_binary() + "' validate '" + source_path("scenes/validation") + "' --spp 256 -o '" + report.string() + "'",
+                    dir / "log.txt");
     std::string log = read_text(dir / "log.txt");
     INFO(log);
     CHECK(code == 0);
@@ -100,14 +103,17 @@ TEST_CASE("validate: the HTML report escapes every scene and file name", "[verif
     auto dir = scratch_dir("validate-escape");
     const std::string name = "<img src=x onerror=\"alert('&amp;')\">";
     std::filesystem::create_directories(dir / "refs");
-    write_text(dir / (name + ".xml"), scene_xml(
-        "<integrator type=\"path\"/>\n<sensor type=\"perspective\"><transform name=\"to_world\"><lookat origin=\"0,0,4\" target=\"0,0,0\" up=\"0,1,0\"/></transform>\n"
-        "<film type=\"hdrfilm\"><integer name=\"width\" value=\"16\"/><integer name=\"height\" value=\"16\"/></film></sensor>\n"
-        "<emitter type=\"constant\"/>\n<shape type=\"sphere\"><bsdf type=\"diffuse\"/></shape>"));
+    write_text(
+        dir / (name + ".xml"),
+        scene_xml(
+            "<integrator type=\"path\"/>\n<sensor type=\"perspective\"><transform name=\"to_world\"><lookat origin=\"0,0,4\" target=\"0,0,0\" up=\"0,1,0\"/></transform>\n"
+            "<film type=\"hdrfilm\"><integer name=\"width\" value=\"16\"/><integer name=\"height\" value=\"16\"/></film></sensor>\n"
+            "<emitter type=\"constant\"/>\n<shape type=\"sphere\"><bsdf type=\"diffuse\"/></shape>"));
     Image dark = Image::rgb(16, 16);
     write_exr(dark, (dir / "refs" / (name + ".exr")).string(), true);
     auto report = dir / "report.html";
-    int code = run_command("'" + candela_binary() + "' validate '" + dir.string() + "' --spp 2 -o '" + report.string() + "'", dir / "log.txt");
+    int code =
+        run_command("'" + candela_binary() + "' validate '" + dir.string() + "' --spp 2 -o '" + report.string() + "'", dir / "log.txt");
     INFO(read_text(dir / "log.txt"));
     CHECK(code == 1);  // the black reference disagrees
     std::string html = read_text(report);
@@ -148,7 +154,8 @@ TEST_CASE("validate: a reference scaled by 1.02 or mirrored left-right is a fail
         for (int x = 0; x < ref.width(); ++x) mirrored.set_rgb(x, y, ref.rgb_at(ref.width() - 1 - x, y));
     write_exr(scaled, (dir / "refs" / "cbox.exr").string(), true);
     write_exr(mirrored, (dir / "refs" / "cbox_mirrored.exr").string(), true);
-    int code = run_command("'" + candela_binary() + "' validate '" + dir.string() + "' --spp 64 -o '" + (dir / "report.html").string() + "'", dir / "log.txt");
+    int code = run_command(
+        "'" + candela_binary() + "' validate '" + dir.string() + "' --spp 64 -o '" + (dir / "report.html").string() + "'", dir / "log.txt");
     std::string log = read_text(dir / "log.txt");
     INFO(log);
     CHECK(code == 1);
@@ -166,7 +173,8 @@ TEST_CASE("validate: reads the shared set's layout DIR/scenes/NAME.xml with DIR/
     std::filesystem::create_directories(dir / "refs");
     std::filesystem::copy_file(source_path("scenes/validation/cbox.xml"), dir / "scenes" / "cbox.xml");
     std::filesystem::copy_file(source_path("scenes/validation/refs/cbox.exr"), dir / "refs" / "cbox.exr");
-    const std::string command = "'" + candela_binary() + "' validate '" + dir.string() + "' --spp 64 -o '" + (dir / "report.html").string() + "'";
+    const std::string command =
+        "'" + candela_binary() + "' validate '" + dir.string() + "' --spp 64 -o '" + (dir / "report.html").string() + "'";
     int code = run_command(command, dir / "log.txt");
     std::string log = read_text(dir / "log.txt");
     INFO(log);
@@ -185,7 +193,8 @@ TEST_CASE("validate: reads the shared set's layout DIR/scenes/NAME.xml with DIR/
 // significantly faster than -1/2 (its slope plus 2.58 standard errors below -0.5), as theory says
 // for a 2D integrand with a smooth discontinuity (-3/4) or none (down to -3/2). A deep-path
 // furnace (closed sphere, Russian roulette) checks the bias with every sampler too.
-TEST_CASE("converge: every sampler is unbiased, and the low-discrepancy ones converge faster than -1/2 on a smooth furnace", "[verification][furnace][sampler]") {
+TEST_CASE("converge: every sampler is unbiased, and the low-discrepancy ones converge faster than -1/2 on a smooth furnace",
+          "[verification][furnace][sampler]") {
     auto dir = scratch_dir("converge-samplers");
     // 14 runs (7 samplers x 2 scenes) each test their bias at every count: each run gets its share
     // (Sidak) of a 1% family-wise significance, so that this test case as a whole, not each run,
@@ -214,8 +223,8 @@ TEST_CASE("converge: every sampler is unbiased, and the low-discrepancy ones con
 // design.
 TEST_CASE("adaptive sampling: no bias, deterministic across thread counts, and a sample-count AOV", "[verification][adaptive]") {
     auto dir = scratch_dir("converge-adaptive");
-    int code = converge("convex_diffuse.xml", "--threads 2 --adaptive-threshold 0.05 --adaptive-min-spp 8 --slope-range -2,0", dir / "log.txt",
-                        "16,64,256");
+    int code = converge("convex_diffuse.xml", "--threads 2 --adaptive-threshold 0.05 --adaptive-min-spp 8 --slope-range -2,0",
+                        dir / "log.txt", "16,64,256");
     std::string log = read_text(dir / "log.txt");
     INFO(log);
     CHECK(code == 0);
@@ -290,7 +299,8 @@ double paired_t(const std::vector<double>& a, const std::vector<double>& b) {
 // so does one that also stops a pixel whose estimate came out 10% below its left neighbour's
 // (planted: channel means t -5.9 to -7.5 against the uniform render's, 2.9% below the reference).
 // Deterministic: fixed seeds, and the renders do not depend on the thread count.
-TEST_CASE("adaptive sampling: the uniform render's error at fewer samples on the Cornell box, converging to the same image", "[verification][adaptive]") {
+TEST_CASE("adaptive sampling: the uniform render's error at fewer samples on the Cornell box, converging to the same image",
+          "[verification][adaptive]") {
     Ref<Scene> scene = load_scene(source_path("scenes/validation/cbox.xml"), {{"res", "32"}});
     const Image reference = box_downsample(read_image(source_path("scenes/validation/refs/cbox.exr")), 8);
     const int seeds = effort_scaled(8, 4);
@@ -319,9 +329,10 @@ TEST_CASE("adaptive sampling: the uniform render's error at fewer samples on the
     const double dof = seeds - 1;
     const double t_relmse = paired_t(relmse_adaptive, relmse_uniform);
     const double p_relmse = t_relmse > 0.0 ? student_t_two_sided_p(t_relmse, dof) / 2.0 : 1.0;
-    INFO("samples: adaptive " << samples_adaptive << ", uniform " << samples_uniform << " (" << double(samples_adaptive) / samples_uniform << ")");
-    INFO("relMSE: adaptive " << mean_and_error(relmse_adaptive).mean << ", uniform " << mean_and_error(relmse_uniform).mean << ", t " << t_relmse
-                             << ", one-sided p " << p_relmse << ", per-test alpha " << alpha);
+    INFO("samples: adaptive " << samples_adaptive << ", uniform " << samples_uniform << " (" << double(samples_adaptive) / samples_uniform
+                              << ")");
+    INFO("relMSE: adaptive " << mean_and_error(relmse_adaptive).mean << ", uniform " << mean_and_error(relmse_uniform).mean << ", t "
+                             << t_relmse << ", one-sided p " << p_relmse << ", per-test alpha " << alpha);
     CHECK(samples_adaptive < samples_uniform);
     CHECK(p_relmse >= alpha);
     for (int c = 0; c < 3; ++c) {

@@ -61,11 +61,15 @@ TEST_CASE("cli: OpenImageIO is loaded only when a program reads an image or writ
 
 TEST_CASE("cli: bad input exits with code 2, names file:line, and leaves outputs alone", "[cli][errors]") {
     auto dir = scratch_dir("cli-errors");
-    write_text(dir / "unused.xml", "<scene version=\"3.0.0\">\n<shape type=\"sphere\">\n<float name=\"radios\" value=\"1\"/>\n</shape>\n</scene>\n");
+    write_text(dir / "unused.xml",
+               "<scene version=\"3.0.0\">\n<shape type=\"sphere\">\n<float name=\"radios\" value=\"1\"/>\n</shape>\n</scene>\n");
     write_text(dir / "malformed.xml", "<scene version=\"3.0.0\">\n<shape type=\"sphere\">\n</scene>\n");
     write_text(dir / "unknown.xml", "<scene version=\"3.0.0\">\n\n<bsdf type=\"velvet\"/>\n</scene>\n");
-    write_text(dir / "nan.xml", "<scene version=\"3.0.0\">\n<shape type=\"sphere\"><transform name=\"to_world\">\n\n<translate x=\"nan\"/>\n</transform></shape>\n</scene>\n");
-    write_text(dir / "nomesh.xml", "<scene version=\"3.0.0\">\n<shape type=\"ply\"><string name=\"filename\" value=\"missing.ply\"/></shape>\n</scene>\n");
+    write_text(
+        dir / "nan.xml",
+        "<scene version=\"3.0.0\">\n<shape type=\"sphere\"><transform name=\"to_world\">\n\n<translate x=\"nan\"/>\n</transform></shape>\n</scene>\n");
+    write_text(dir / "nomesh.xml",
+               "<scene version=\"3.0.0\">\n<shape type=\"ply\"><string name=\"filename\" value=\"missing.ply\"/></shape>\n</scene>\n");
     write_text(dir / "notexture.xml",
                "<scene version=\"3.0.0\">\n<shape type=\"sphere\"><bsdf type=\"diffuse\">\n<texture type=\"bitmap\" name=\"reflectance\">\n"
                "<string name=\"filename\" value=\"nope.png\"/>\n</texture></bsdf></shape>\n</scene>\n");
@@ -73,8 +77,12 @@ TEST_CASE("cli: bad input exits with code 2, names file:line, and leaves outputs
         const char* scene;
         std::string where;
     };
-    const Case cases[] = {{"unused.xml", "unused.xml:3: "},       {"malformed.xml", "malformed.xml:3: "}, {"unknown.xml", "unknown.xml:3: "},
-                          {"nan.xml", "nan.xml:4: "},             {"nomesh.xml", "nomesh.xml:2: "},       {"notexture.xml", "notexture.xml:4: "},
+    const Case cases[] = {{"unused.xml", "unused.xml:3: "},
+                          {"malformed.xml", "malformed.xml:3: "},
+                          {"unknown.xml", "unknown.xml:3: "},
+                          {"nan.xml", "nan.xml:4: "},
+                          {"nomesh.xml", "nomesh.xml:2: "},
+                          {"notexture.xml", "notexture.xml:4: "},
                           {"does-not-exist.xml", "does-not-exist.xml"}};
     for (const Case& c : cases) {
         INFO(c.scene);
@@ -108,8 +116,9 @@ TEST_CASE("cli: -a adds search folders for the scene's files (mitsuba -a)", "[cl
     CHECK(run_command(render_cmd(scene + " -o '" + out + "' --spp 1"), dir / "missing.txt") == 2);
     CHECK_THAT(read_text(dir / "missing.txt"), Catch::Contains("file not found: \"meshes/quad.obj\""));
     CHECK_FALSE(std::filesystem::exists(out));
-    int code = run_command(render_cmd(scene + " -o '" + out + "' --spp 1 -q -a '" + (dir / "empty").string() + ";" + (dir / "common").string() + "'"),
-                           dir / "found.txt");
+    int code = run_command(
+        render_cmd(scene + " -o '" + out + "' --spp 1 -q -a '" + (dir / "empty").string() + ";" + (dir / "common").string() + "'"),
+        dir / "found.txt");
     INFO(read_text(dir / "found.txt"));
     REQUIRE(code == 0);
     CHECK(read_image(out).at(1, 1, 0) == Approx(2.0f));
@@ -129,7 +138,8 @@ TEST_CASE("cli: an unwritable output path or a bad option exits with code 2 befo
     CHECK(!std::filesystem::exists(dir / "x.exr"));
 }
 
-TEST_CASE("cli: output paths that are directories, read-only, devices or on a full disk fail with exit code 2 and keep the earlier file", "[cli][errors]") {
+TEST_CASE("cli: output paths that are directories, read-only, devices or on a full disk fail with exit code 2 and keep the earlier file",
+          "[cli][errors]") {
     namespace fs = std::filesystem;
     auto dir = scratch_dir("cli-output-safety");
     const std::string scene = "'" + Cbox + "' -D res=32 --spp 2";
@@ -169,12 +179,15 @@ TEST_CASE("cli: output paths that are directories, read-only, devices or on a fu
     // A full disk, as the render sees it: the file-size limit makes every write past 1 KiB fail
     // (EFBIG; SIGXFSZ ignored, as a full disk sends no signal) while the render itself runs.
     write_text(dir / "earlier.exr", "precious");
-    expect_refused("( trap '' XFSZ; ulimit -f 1; exec " + render_cmd(scene + " -o '" + (dir / "earlier.exr").string() + "'") + " )", "cannot write");
+    expect_refused("( trap '' XFSZ; ulimit -f 1; exec " + render_cmd(scene + " -o '" + (dir / "earlier.exr").string() + "'") + " )",
+                   "cannot write");
     CHECK(read_text(dir / "earlier.exr") == "precious");
     // The HTML report of validate: refused before any scene renders.
     write_text(dir / "report.html", "precious");
     fs::permissions(dir / "report.html", fs::perms::owner_read);
-    expect_refused("'" + candela_binary() + "' validate '" + source_path("scenes/validation") + "' -o '" + (dir / "report.html").string() + "'", "read-only");
+    expect_refused(
+        "'" + candela_binary() + "' validate '" + source_path("scenes/validation") + "' -o '" + (dir / "report.html").string() + "'",
+        "read-only");
     expect_refused("'" + candela_binary() + "' validate '" + source_path("scenes/validation") + "' -o /dev/full", "not a regular file");
     CHECK(read_text(dir / "report.html") == "precious");
     for (auto& entry : fs::directory_iterator(dir)) CHECK(entry.path().filename().string().find(".tmp") == std::string::npos);
@@ -206,8 +219,9 @@ TEST_CASE("cli: compare reports metrics and its exit code says whether images ag
     std::string compare = "'" + candela_binary() + "' compare ";
     CHECK(run_command(compare + "'" + a.string() + "' '" + a.string() + "' --tolerance 0.01", dir / "same.txt") == 0);
     CHECK_THAT(read_text(dir / "same.txt"), Catch::Contains("RMSE            0\n"));
-    CHECK(run_command(compare + "'" + scaled.string() + "' '" + a.string() + "' --tolerance 0.01 --heatmap '" + (dir / "heat.png").string() + "'",
-                      dir / "scaled.txt") == 1);
+    CHECK(run_command(
+              compare + "'" + scaled.string() + "' '" + a.string() + "' --tolerance 0.01 --heatmap '" + (dir / "heat.png").string() + "'",
+              dir / "scaled.txt") == 1);
     std::string log = read_text(dir / "scaled.txt");
     CHECK_THAT(log, Catch::Contains("+5.000%") && Catch::Contains("agree           no"));
     CHECK(std::filesystem::exists(dir / "heat.png"));
@@ -221,10 +235,13 @@ TEST_CASE("cli: compare reports metrics and its exit code says whether images ag
 TEST_CASE("cli: estimate prints irradiance and radiance with error bars", "[cli][estimate]") {
     auto dir = scratch_dir("cli-estimate");
     std::string lights = source_path("scenes/validation/lights.xml");
-    REQUIRE(run_command("'" + candela_binary() + "' estimate irradiance '" + lights + "' --at 0,0,0 --normal 0,1,0 --samples 20000", dir / "irr.txt") == 0);
+    REQUIRE(run_command("'" + candela_binary() + "' estimate irradiance '" + lights + "' --at 0,0,0 --normal 0,1,0 --samples 20000",
+                        dir / "irr.txt") == 0);
     std::string irr = read_text(dir / "irr.txt");
-    CHECK_THAT(irr, Catch::Contains("standard error") && Catch::Contains("95% interval") && Catch::Contains("luminance") && Catch::Contains("W/m^2"));
-    REQUIRE(run_command("'" + candela_binary() + "' estimate radiance '" + lights + "' --origin 0,1,3 --direction 0,-0.3,-1 -n 5000", dir / "rad.txt") == 0);
+    CHECK_THAT(irr, Catch::Contains("standard error") && Catch::Contains("95% interval") && Catch::Contains("luminance") &&
+                        Catch::Contains("W/m^2"));
+    REQUIRE(run_command("'" + candela_binary() + "' estimate radiance '" + lights + "' --origin 0,1,3 --direction 0,-0.3,-1 -n 5000",
+                        dir / "rad.txt") == 0);
     CHECK_THAT(read_text(dir / "rad.txt"), Catch::Contains("W/m^2/sr"));
     CHECK(run_command("'" + candela_binary() + "' estimate irradiance '" + lights + "' --at 0,0 --normal 0,1,0", dir / "bad.txt") == 2);
     CHECK_THAT(read_text(dir / "bad.txt"), Catch::Contains("three numbers"));
@@ -238,8 +255,9 @@ TEST_CASE("cli: the irradiance integrator renders a false-colour map with a lege
     scene.replace(scene.find(from), from.size(), "<integrator type=\"irradiance\"/>");
     write_text(dir / "map.xml", scene);
     // Paths in the scene are relative: none here besides the scene itself.
-    REQUIRE(run_command(render_cmd("'" + (dir / "map.xml").string() + "' -o '" + (dir / "map.exr").string() + "' -D res=64 --spp 8 --png -q"),
-                        dir / "log.txt") == 0);
+    REQUIRE(
+        run_command(render_cmd("'" + (dir / "map.xml").string() + "' -o '" + (dir / "map.exr").string() + "' -D res=64 --spp 8 --png -q"),
+                    dir / "log.txt") == 0);
     Image png = read_image((dir / "map.png").string());
     CHECK(png.width() > 64);  // the legend is added on the right
     Image exr = read_image((dir / "map.exr").string());
@@ -253,7 +271,8 @@ TEST_CASE("cli: float16 and float32 films write EXRs of that pixel type", "[cli]
     REQUIRE(scene.find(f32) != std::string::npos);
     scene.replace(scene.find(f32), f32.size(), "");  // the default: float16
     write_text(dir / "half.xml", scene);
-    REQUIRE(run_command(render_cmd("'" + (dir / "half.xml").string() + "' -o '" + (dir / "half.exr").string() + "' -D res=16 --spp 2 -q"), dir / "log.txt") == 0);
+    REQUIRE(run_command(render_cmd("'" + (dir / "half.xml").string() + "' -o '" + (dir / "half.exr").string() + "' -D res=16 --spp 2 -q"),
+                        dir / "log.txt") == 0);
     CHECK_THAT(read_text(dir / "log.txt"), !Catch::Contains("error"));
     Image img = read_image((dir / "half.exr").string());
     CHECK(img.width() == 16);
@@ -264,7 +283,8 @@ TEST_CASE("cli: float16 and float32 films write EXRs of that pixel type", "[cli]
 TEST_CASE("cli: --mode raster with its options", "[cli][raster]") {
     auto dir = scratch_dir("cli-raster");
     auto out = dir / "raster.exr";
-    REQUIRE(run_command(render_cmd("'" + Cbox + "' -o '" + out.string() + "' --mode raster --shading gouraud --reflection phong --shadows volume --aa 4 "
+    REQUIRE(run_command(render_cmd("'" + Cbox + "' -o '" + out.string() +
+                                   "' --mode raster --shading gouraud --reflection phong --shadows volume --aa 4 "
                                    "--aa-filter tent --texture-filter bilinear --wireframe --light-gizmos --png -q"),
                         dir / "log.txt") == 0);
     Image img = read_image(out.string());
@@ -277,9 +297,10 @@ TEST_CASE("cli: --mode raster with its options", "[cli][raster]") {
     // --help lists the accepted values of every raster option.
     REQUIRE(run_command(render_cmd("--help"), dir / "help.txt") == 0);
     std::string help = read_text(dir / "help.txt");
-    for (const char* option : {"--shading flat|gouraud|phong", "--reflection phong|blinn", "--shadows none|map|volume", "--aa-filter box|tent|gaussian",
-                               "--texture-filter nearest|bilinear|trilinear", "--environment-mapping latlong|cube", "integer >= 1",
-                               "--ao N", "--environment-lighting ibl|average", "--lighting local|baked", "--bake radiosity|path"})
+    for (const char* option :
+         {"--shading flat|gouraud|phong", "--reflection phong|blinn", "--shadows none|map|volume", "--aa-filter box|tent|gaussian",
+          "--texture-filter nearest|bilinear|trilinear", "--environment-mapping latlong|cube", "integer >= 1", "--ao N",
+          "--environment-lighting ibl|average", "--lighting local|baked", "--bake radiosity|path"})
         CHECK_THAT(help, Catch::Contains(option));
     CHECK_THAT(help, !Catch::Contains("see integrators/raster"));
     // Raster options without raster mode, and bad values, are bad input.
@@ -291,7 +312,8 @@ TEST_CASE("cli: --mode raster with its options", "[cli][raster]") {
     std::string scene = read_text(Cbox);
     size_t begin = scene.find("<integrator type=\"path\">"), end = scene.find("</integrator>", begin) + 13;
     REQUIRE(begin != std::string::npos);
-    scene.replace(begin, end - begin, "<integrator type=\"raster\"><string name=\"shading\" value=\"flat\"/><integer name=\"aa\" value=\"4\"/></integrator>");
+    scene.replace(begin, end - begin,
+                  "<integrator type=\"raster\"><string name=\"shading\" value=\"flat\"/><integer name=\"aa\" value=\"4\"/></integrator>");
     write_text(dir / "raster.xml", scene);
     REQUIRE(run_command(render_cmd("'" + (dir / "raster.xml").string() + "' -o '" + out.string() + "' -q"), dir / "log2.txt") == 0);
     CHECK(read_image(out.string()).metadata["candela.integrator"] == "raster");
@@ -302,13 +324,16 @@ TEST_CASE("cli: compare-modes compares any list of methods with a path-traced re
     const std::string cmd = "'" + candela_binary() + "' compare-modes '" + Cbox + "' -D res=32 --spp 4 --reference-spp 16 ";
     // Every kind of method: raster with a command-line option, its shorthands with parameters,
     // registry integrators with parameters, the scene's own path tracer.
-    const std::string methods = "raster,raster-gi:ambient=0.1,baked:bake_patch_area=0.3,radiosity:max_patch_area=0.3:final_gather=false,path";
-    REQUIRE(run_command(cmd + "--aa 4 --methods '" + methods + "' -o '" + (dir / "cmp.png").string() + "' --table '" + (dir / "cmp.md").string() + "'",
+    const std::string methods =
+        "raster,raster-gi:ambient=0.1,baked:bake_patch_area=0.3,radiosity:max_patch_area=0.3:final_gather=false,path";
+    REQUIRE(run_command(cmd + "--aa 4 --methods '" + methods + "' -o '" + (dir / "cmp.png").string() + "' --table '" +
+                            (dir / "cmp.md").string() + "'",
                         dir / "cmp.txt") == 0);
     std::string log = read_text(dir / "cmp.txt"), table = read_text(dir / "cmp.md");
     CHECK_THAT(log, Catch::Contains("| method | time (s) |") && Catch::Contains("relMSE") && Catch::Contains("block MARE") &&
                         Catch::Contains("Reference: path tracer, 16 spp"));
-    for (const std::string m : {"| raster |", "| raster-gi:ambient=0.1 |", "| baked:bake_patch_area=0.3 |", "| radiosity:max_patch_area=0.3:final_gather=false |", "| path |"}) {
+    for (const std::string m : {"| raster |", "| raster-gi:ambient=0.1 |", "| baked:bake_patch_area=0.3 |",
+                                "| radiosity:max_patch_area=0.3:final_gather=false |", "| path |"}) {
         CHECK_THAT(log, Catch::Contains(m));
         CHECK_THAT(table, Catch::Contains(m));
     }
@@ -326,7 +351,8 @@ TEST_CASE("cli: compare-modes compares any list of methods with a path-traced re
     CHECK_THAT(read_text(dir / "bad.txt"), Catch::Contains("is not key=value"));
     CHECK_FALSE(std::filesystem::exists(dir / "bad.png"));
     // A reference from a file must match the film.
-    CHECK(run_command(cmd + "--methods raster --reference '" + source_path("scenes/validation/refs/cbox.exr") + "' -o '" + (dir / "bad.png").string() + "'",
+    CHECK(run_command(cmd + "--methods raster --reference '" + source_path("scenes/validation/refs/cbox.exr") + "' -o '" +
+                          (dir / "bad.png").string() + "'",
                       dir / "bad.txt") == 2);
     CHECK_THAT(read_text(dir / "bad.txt"), Catch::Contains("the reference is 256x256, the scene renders 32x32"));
 }

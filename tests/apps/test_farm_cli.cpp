@@ -55,7 +55,8 @@ TEST_CASE("farm cli: parts merge into the render, merge names what is missing an
     CHECK(part.metadata.count("candela.renderTime") == 1);
 
     // Samples 3:5 are missing: refused, with the command that renders them.
-    const std::string merge = "merge " + q(dir / "adaptive.exr") + " " + q(dir / "b.exr") + " " + q(dir / "c.exr") + " -o " + q(dir / "merged.exr");
+    const std::string merge =
+        "merge " + q(dir / "adaptive.exr") + " " + q(dir / "b.exr") + " " + q(dir / "c.exr") + " -o " + q(dir / "merged.exr");
     CHECK(run_command(program(merge), dir / "missing.txt") == 2);
     CHECK_FALSE(std::filesystem::exists(dir / "merged.exr"));
     std::string log = read_text(dir / "missing.txt");
@@ -77,7 +78,8 @@ TEST_CASE("farm cli: parts merge into the render, merge names what is missing an
     CHECK(merged.metadata["candela.spp"] == "8");
 
     // --allow-partial writes what there is, marked partial.
-    REQUIRE(run_command(program("merge " + q(dir / "adaptive.exr") + " -o " + q(dir / "partial.exr") + " --allow-partial"), dir / "partial.txt") == 0);
+    REQUIRE(run_command(program("merge " + q(dir / "adaptive.exr") + " -o " + q(dir / "partial.exr") + " --allow-partial"),
+                        dir / "partial.txt") == 0);
     CHECK(read_image((dir / "partial.exr").string()).metadata["candela.partial"] == "true");
 }
 
@@ -109,7 +111,8 @@ TEST_CASE("farm cli: merge refuses overlapping and foreign parts and non-parts w
         CHECK_FALSE(std::filesystem::exists(dir / "out.exr"));
     }
     // Parts need an integrator whose samples are independent; --png needs a whole image.
-    CHECK(run_command(program("render '" + Cbox + "' -D res=8 --mode raster --samples 0:1 -o " + q(dir / "r.exr")), dir / "raster.txt") == 2);
+    CHECK(run_command(program("render '" + Cbox + "' -D res=8 --mode raster --samples 0:1 -o " + q(dir / "r.exr")), dir / "raster.txt") ==
+          2);
     CHECK_THAT(read_text(dir / "raster.txt"), Catch::Contains("cannot render a part"));
     // Adaptive sampling takes a pixel's next samples by its earlier ones and its neighbours'; a
     // progressive photon map's passes depend on all earlier passes: neither splits.
@@ -126,9 +129,10 @@ TEST_CASE("farm cli: merge refuses overlapping and foreign parts and non-parts w
     REQUIRE(at != std::string::npos);
     sppm.replace(at, std::string("<integrator type=\"path\">").size(), "<integrator type=\"sppm\">");
     write_text(sppm_scene, sppm);
-    CHECK(run_command(program("render " + q(sppm_scene) + " -D res=8 --spp 2 --samples 0:1 -o " + q(dir / "sppm.exr")), dir / "sppm.txt") == 2);
-    CHECK_THAT(read_text(dir / "sppm.txt"), Catch::Contains("the sppm integrator cannot render a part") &&
-                                                Catch::Contains("photons of all earlier passes"));
+    CHECK(run_command(program("render " + q(sppm_scene) + " -D res=8 --spp 2 --samples 0:1 -o " + q(dir / "sppm.exr")), dir / "sppm.txt") ==
+          2);
+    CHECK_THAT(read_text(dir / "sppm.txt"),
+               Catch::Contains("the sppm integrator cannot render a part") && Catch::Contains("photons of all earlier passes"));
     CHECK_FALSE(std::filesystem::exists(dir / "adaptive.exr"));
     CHECK_FALSE(std::filesystem::exists(dir / "sppm.exr"));
     CHECK(run_command(program("render " + Render + " --samples 0:1 --png -o " + q(dir / "p.exr")), dir / "png.txt") == 2);
@@ -144,7 +148,8 @@ TEST_CASE("farm cli: merge refuses overlapping and foreign parts and non-parts w
 // signal sent before the handler is installed would be lost or kill the render outright.
 std::string wait_for_handler(int signal) {
     return " for i in $(seq 600); do mask=$(awk '/^SigCgt/ {print $2}' /proc/$pid/status 2>/dev/null);"
-           " [ -n \"$mask\" ] && [ $(( 0x$mask >> " + std::to_string(signal - 1) + " & 1 )) -ne 0 ] && break; sleep 0.05; done;";
+           " [ -n \"$mask\" ] && [ $(( 0x$mask >> " +
+           std::to_string(signal - 1) + " & 1 )) -ne 0 ] && break; sleep 0.05; done;";
 }
 
 // The resumable render: samples are deterministic per (seed, pixel, index), so an interrupted
@@ -172,14 +177,17 @@ TEST_CASE("farm cli: SIGTERM writes a resumable partial render, --resume gives t
     CHECK(partial.metadata.count("candela.partFormat") == 1);
     CHECK(std::stoll(partial.metadata["candela.samples"]) < 1024LL * 32 * 32);
     // The same command with --resume completes it.
-    REQUIRE(run_command(program("render " + options + " -q --resume " + q(part) + " -o " + q(dir / "resumed.exr")), dir / "resume.txt") == 0);
+    REQUIRE(run_command(program("render " + options + " -q --resume " + q(part) + " -o " + q(dir / "resumed.exr")), dir / "resume.txt") ==
+            0);
     Image resumed = read_image((dir / "resumed.exr").string());
     CHECK(resumed.metadata["candela.partial"] == "false");
     CHECK(resumed.metadata.count("candela.partFormat") == 0);
     CHECK(same_render(dir / "resumed.exr", dir / "reference.exr", dir / "compare.txt"));
     INFO(read_text(dir / "compare.txt"));
     // A part of another render is refused.
-    CHECK(run_command(program("render '" + Cbox + "' -D res=32 --spp 1024 --seed 10 --aov variance,albedo -q --resume " + q(part) + " -o " + q(dir / "x.exr")), dir / "foreign.txt") == 2);
+    CHECK(run_command(program("render '" + Cbox + "' -D res=32 --spp 1024 --seed 10 --aov variance,albedo -q --resume " + q(part) + " -o " +
+                              q(dir / "x.exr")),
+                      dir / "foreign.txt") == 2);
     CHECK_THAT(read_text(dir / "foreign.txt"), Catch::Contains("belongs to another render") && Catch::Contains("seed"));
 
     // kill -9 while a checkpoint is being written: stopped (SIGSTOP) once its temporary exists,
@@ -190,17 +198,21 @@ TEST_CASE("farm cli: SIGTERM writes a resumable partial render, --resume gives t
     cmd = program("render " + options + " -q --checkpoint 0.0002 -o " + q(ck)) + " & pid=$!; tmp=" + q(dir) +
           "/.ck.tmp$pid.exr; killed=no;"
           " for i in $(seq 200000); do"
-          "   if [ -e \"$tmp\" ] && [ -e " + q(ck) + " ]; then kill -STOP $pid;"
+          "   if [ -e \"$tmp\" ] && [ -e " +
+          q(ck) +
+          " ]; then kill -STOP $pid;"
           "     if [ -e \"$tmp\" ]; then kill -KILL $pid; killed=yes; break; fi; kill -CONT $pid; fi;"
           "   kill -0 $pid 2>/dev/null || break; done;"
-          " wait $pid; echo \"killed mid-write: $killed\"; ls -A " + q(dir);
+          " wait $pid; echo \"killed mid-write: $killed\"; ls -A " +
+          q(dir);
     run_command(cmd, dir / "kill.txt");
     log = read_text(dir / "kill.txt");
     INFO(log);
     REQUIRE_THAT(log, Catch::Contains("killed mid-write: yes"));
     Image checkpoint = read_image(ck.string());
     CHECK(checkpoint.metadata["candela.partial"] == "true");
-    REQUIRE(run_command(program("render " + options + " -q --resume " + q(ck) + " -o " + q(dir / "ck-resumed.exr")), dir / "ck-resume.txt") == 0);
+    REQUIRE(run_command(program("render " + options + " -q --resume " + q(ck) + " -o " + q(dir / "ck-resumed.exr")),
+                        dir / "ck-resume.txt") == 0);
     CHECK(same_render(dir / "ck-resumed.exr", dir / "reference.exr", dir / "ck-compare.txt"));
     INFO(read_text(dir / "ck-compare.txt"));
 }
@@ -240,8 +252,10 @@ TEST_CASE("farm cli: plan's commands run by a shell loop give the render, status
 
 TEST_CASE("farm cli: farm slurm writes a job array and a merge job without submitting", "[farm][cli]") {
     auto dir = scratch_dir("farm-cli-slurm");
-    REQUIRE(run_command(program("farm slurm '" + Cbox + "' -D res=16 --parts 4 --spp 8 --partition gpu --time 1:00:00 --mem 2G "
-                                "--threads-per-task 2 --workdir " + q(dir / "work") + " -o " + q(dir / "out.exr")),
+    REQUIRE(run_command(program("farm slurm '" + Cbox +
+                                "' -D res=16 --parts 4 --spp 8 --partition gpu --time 1:00:00 --mem 2G "
+                                "--threads-per-task 2 --workdir " +
+                                q(dir / "work") + " -o " + q(dir / "out.exr")),
                         dir / "log.txt") == 0);
     std::string render = read_text(dir / "work" / "render.sbatch"), merge = read_text(dir / "work" / "merge.sbatch");
     CHECK_THAT(render, Catch::Contains("#SBATCH --array=0-3") && Catch::Contains("#SBATCH --cpus-per-task=2") &&
@@ -249,7 +263,8 @@ TEST_CASE("farm cli: farm slurm writes a job array and a merge job without submi
                            Catch::Contains("#SBATCH --mem=2G") && Catch::Contains("--samples 6:8") && Catch::Contains("--threads 2"));
     CHECK_THAT(merge, Catch::Contains("#SBATCH --kill-on-invalid-dep=yes") && Catch::Contains(" merge "));
     CHECK_THAT(read_text(dir / "log.txt"), Catch::Contains("--dependency=afterok:"));
-    CHECK(run_command("bash -n " + q(dir / "work" / "render.sbatch") + " && bash -n " + q(dir / "work" / "merge.sbatch"), dir / "syntax.txt") == 0);
+    CHECK(run_command("bash -n " + q(dir / "work" / "render.sbatch") + " && bash -n " + q(dir / "work" / "merge.sbatch"),
+                      dir / "syntax.txt") == 0);
     // Task 1 of the array, run as Slurm would run it.
     REQUIRE(run_command("SLURM_ARRAY_TASK_ID=1 bash " + q(dir / "work" / "render.sbatch"), dir / "task.txt") == 0);
     CHECK(read_image((dir / "work" / "parts" / "part-00001.exr").string()).metadata["candela.coverage"] == "0,0,16,16@2:4");

@@ -16,7 +16,8 @@ namespace {
 
 std::string film_scene(int width, int height) {
     return scene_xml("<sensor type=\"perspective\">\n<film type=\"hdrfilm\">\n<integer name=\"width\" value=\"" + std::to_string(width) +
-                     "\"/><integer name=\"height\" value=\"" + std::to_string(height) + "\"/>\n</film>\n</sensor>\n<shape type=\"sphere\"/>");
+                     "\"/><integer name=\"height\" value=\"" + std::to_string(height) +
+                     "\"/>\n</film>\n</sensor>\n<shape type=\"sphere\"/>");
 }
 
 // A shell prefix that limits the command's memory to 3 GB: its address space (ulimit -v), or in
@@ -39,12 +40,13 @@ std::string render_cmd(const std::filesystem::path& scene, const std::filesystem
 // (on the file's line 6): light paths from the sky that reach the floor by the sphere store
 // photons there for both photon integrators.
 std::string photon_scene(const std::string& integrator) {
-    return scene_xml("<sensor type=\"perspective\"><transform name=\"to_world\"><lookat origin=\"0, 2, 6\" target=\"0, 0, 0\" up=\"0, 1, 0\"/></transform>\n"
-                     "<film type=\"hdrfilm\"><integer name=\"width\" value=\"16\"/><integer name=\"height\" value=\"16\"/></film></sensor>\n"
-                     "<emitter type=\"constant\"/>\n<shape type=\"sphere\"/>\n" +
-                     integrator +
-                     "\n<shape type=\"rectangle\"><transform name=\"to_world\"><rotate x=\"1\" angle=\"-90\"/><scale value=\"4\"/>"
-                     "<translate y=\"-1\"/></transform></shape>");
+    return scene_xml(
+        "<sensor type=\"perspective\"><transform name=\"to_world\"><lookat origin=\"0, 2, 6\" target=\"0, 0, 0\" up=\"0, 1, 0\"/></transform>\n"
+        "<film type=\"hdrfilm\"><integer name=\"width\" value=\"16\"/><integer name=\"height\" value=\"16\"/></film></sensor>\n"
+        "<emitter type=\"constant\"/>\n<shape type=\"sphere\"/>\n" +
+        integrator +
+        "\n<shape type=\"rectangle\"><transform name=\"to_world\"><rotate x=\"1\" angle=\"-90\"/><scale value=\"4\"/>"
+        "<translate y=\"-1\"/></transform></shape>");
 }
 
 }  // namespace
@@ -85,12 +87,14 @@ TEST_CASE("limits: --max-memory caps the film, and a bad size is an input error"
     CHECK_THAT(read_text(dir / "bad.txt"), Catch::Contains("--max-memory expects a size"));
 }
 
-TEST_CASE("limits: photon maps beyond --max-memory stop sppm and photonmapper at the integrator's line", "[cli][memory][sppm][photonmapper]") {
+TEST_CASE("limits: photon maps beyond --max-memory stop sppm and photonmapper at the integrator's line",
+          "[cli][memory][sppm][photonmapper]") {
     auto dir = scratch_dir("limits-photons");
     // 2e9 light paths per pass (sppm) or 2e9 stored photons (photonmapper) need tens of gigabytes
     // at over 50 bytes per photon; the same scenes with 20000 fit well within 512 MB.
     const std::string sppm = "<integrator type=\"sppm\"><integer name=\"photon_count\" value=\"";
-    const std::string photonmapper = "<integrator type=\"photonmapper\"><integer name=\"glossy_samples\" value=\"2\"/><integer name=\"global_photons\" value=\"";
+    const std::string photonmapper =
+        "<integrator type=\"photonmapper\"><integer name=\"glossy_samples\" value=\"2\"/><integer name=\"global_photons\" value=\"";
     const std::vector<std::tuple<std::string, std::string, std::string>> cases = {
         {"sppm", sppm, "sppm with 2000000000 light paths per pass ("},
         {"photonmapper", photonmapper, "photonmapper's maps of 2000000000 global and 0 caustic photons needs "}};
@@ -98,12 +102,14 @@ TEST_CASE("limits: photon maps beyond --max-memory stop sppm and photonmapper at
         INFO(name);
         write_text(dir / (name + "-huge.xml"), photon_scene(integrator + "2000000000\"/></integrator>"));
         write_text(dir / (name + "-small.xml"), photon_scene(integrator + "20000\"/></integrator>"));
-        int code = run_command(render_cmd(dir / (name + "-huge.xml"), dir / (name + "-huge.exr"), "--max-memory 512M"), dir / (name + "-huge.txt"));
+        int code = run_command(render_cmd(dir / (name + "-huge.xml"), dir / (name + "-huge.exr"), "--max-memory 512M"),
+                               dir / (name + "-huge.txt"));
         std::string log = read_text(dir / (name + "-huge.txt"));
         INFO(log);
         CHECK(code == 2);
         CHECK_THAT(log, Catch::Contains(name + "-huge.xml:6: " + message) && Catch::Contains("under --max-memory 512 MB"));
         CHECK_FALSE(std::filesystem::exists(dir / (name + "-huge.exr")));
-        CHECK(run_command(render_cmd(dir / (name + "-small.xml"), dir / (name + "-small.exr"), "--max-memory 512M"), dir / (name + "-small.txt")) == 0);
+        CHECK(run_command(render_cmd(dir / (name + "-small.xml"), dir / (name + "-small.exr"), "--max-memory 512M"),
+                          dir / (name + "-small.txt")) == 0);
     }
 }

@@ -88,7 +88,8 @@ TEST_CASE("animated transform: bounds cover the box along the whole motion", "[a
     unit.expand(Vec3(1.0f));
     // A quarter turn about z of a box offset along x: at 45 degrees its corner (2, 1) reaches
     // radius sqrt(5) along the diagonal, beyond both keyframes' boxes.
-    AnimatedTransform a({{0.0f, Transform::translate(Vec3(1, 0, 0))}, {1.0f, Transform::rotate(Vec3(0, 0, 1), 90.0f) * Transform::translate(Vec3(1, 0, 0))}});
+    AnimatedTransform a({{0.0f, Transform::translate(Vec3(1, 0, 0))},
+                         {1.0f, Transform::rotate(Vec3(0, 0, 1), 90.0f) * Transform::translate(Vec3(1, 0, 0))}});
     BoundingBox b = a.bounds(unit);
     for (float t = 0.0f; t <= 1.0f; t += 1.0f / 64.0f) {
         BoundingBox at = AnimatedTransform(a.eval(t)).bounds(unit);

@@ -39,8 +39,9 @@ TEST_CASE("film: a crop window renders exactly the same pixels as the full film"
     std::string scene = read_text(source_path("scenes/validation/cbox.xml"));
     std::string anchor = "<rfilter type=\"box\"/>";
     scene.replace(scene.find(anchor), anchor.size(),
-                  anchor + "<integer name=\"crop_offset_x\" value=\"10\"/><integer name=\"crop_offset_y\" value=\"20\"/>"
-                           "<integer name=\"crop_width\" value=\"30\"/><integer name=\"crop_height\" value=\"17\"/>");
+                  anchor +
+                      "<integer name=\"crop_offset_x\" value=\"10\"/><integer name=\"crop_offset_y\" value=\"20\"/>"
+                      "<integer name=\"crop_width\" value=\"30\"/><integer name=\"crop_height\" value=\"17\"/>");
     write_text(dir / "crop.xml", scene);
     SceneParameters p = {{"res", "64"}, {"spp", "4"}};
     RenderResult full = render_file(source_path("scenes/validation/cbox.xml"), p);
@@ -53,16 +54,16 @@ TEST_CASE("film: a crop window renders exactly the same pixels as the full film"
 
 TEST_CASE("render: AOVs and the variance of the pixel mean", "[render][aov]") {
     RenderResult r = render_file(source_path("scenes/furnace/closed_sphere.xml"), {{"rho", "0.5"}, {"res", "8"}}, 0,
-                            {"albedo", "normal", "depth", "variance"});
+                                 {"albedo", "normal", "depth", "variance"});
     const Image& img = r.image;
     REQUIRE(img.channel_index("albedo.R") == 3);
     REQUIRE(img.channel_index("variance.B") == img.channel_count() - 1);
     int depth = img.channel_index("depth.Z"), nz = img.channel_index("normal.Z"), var = img.channel_index("variance.R");
     for (int y = 0; y < 8; ++y)
         for (int x = 0; x < 8; ++x) {
-            CHECK(img.at(x, y, 3) == Approx(0.5f));         // albedo of the sphere
-            CHECK(img.at(x, y, depth) == Approx(1.0f));     // distance to the unit sphere
-            CHECK(img.at(x, y, nz) < 0.0f);                 // inward normals face the camera
+            CHECK(img.at(x, y, 3) == Approx(0.5f));      // albedo of the sphere
+            CHECK(img.at(x, y, depth) == Approx(1.0f));  // distance to the unit sphere
+            CHECK(img.at(x, y, nz) < 0.0f);              // inward normals face the camera
             CHECK(img.at(x, y, var) > 0.0f);
         }
 }

@@ -86,8 +86,20 @@ TEST_CASE("math: sincos_quarter_pi is within 2 ulp of sin and cos on [-pi/4, pi/
 TEST_CASE("math: ceil_to_int and floor_to_int are int(std::ceil) and int(std::floor)", "[math]") {
     // Integers, halves, the neighbours of integers and of zero, large floats (every float from
     // 2^23 on is an integer), and random values of every magnitude that fits in an int.
-    std::vector<float> values = {0.0f, -0.0f, 0.5f, -0.5f, 1.0f, -1.0f, 2.5f, -2.5f, 0x1p23f, -0x1p23f, 0x1p30f, -0x1p30f,
-                                 std::numeric_limits<float>::denorm_min(), -std::numeric_limits<float>::denorm_min()};
+    std::vector<float> values = {0.0f,
+                                 -0.0f,
+                                 0.5f,
+                                 -0.5f,
+                                 1.0f,
+                                 -1.0f,
+                                 2.5f,
+                                 -2.5f,
+                                 0x1p23f,
+                                 -0x1p23f,
+                                 0x1p30f,
+                                 -0x1p30f,
+                                 std::numeric_limits<float>::denorm_min(),
+                                 -std::numeric_limits<float>::denorm_min()};
     for (float k : {0.0f, 1.0f, -1.0f, 7.0f, -7.0f, 8388607.0f, -8388607.0f}) {
         values.push_back(next_float_toward(k, 1.0f));
         values.push_back(next_float_toward(k, -1.0f));

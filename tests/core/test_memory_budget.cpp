@@ -26,7 +26,8 @@ struct MemoryLimitScope {
 };
 
 std::string film_scene(const std::string& width, const std::string& height, const std::string& integrator = "path") {
-    return "<integrator type=\"" + integrator + "\"/>\n<sensor type=\"perspective\">\n<film type=\"hdrfilm\">\n<integer name=\"width\" value=\"" + width +
+    return "<integrator type=\"" + integrator +
+           "\"/>\n<sensor type=\"perspective\">\n<film type=\"hdrfilm\">\n<integer name=\"width\" value=\"" + width +
            "\"/><integer name=\"height\" value=\"" + height + "\"/>\n</film>\n</sensor>\n<shape type=\"sphere\"/>";
 }
 
@@ -101,7 +102,8 @@ TEST_CASE("memory budget: the cap counts what the process already holds", "[memo
         FAIL("expected an error");
     } catch (const SceneError& e) {
         CHECK(e.location.line == 7);
-        CHECK_THAT(std::string(e.what()), Catch::StartsWith("scene.xml:7: a large buffer needs 1.0 GB; ") && Catch::Contains("under --max-memory"));
+        CHECK_THAT(std::string(e.what()),
+                   Catch::StartsWith("scene.xml:7: a large buffer needs 1.0 GB; ") && Catch::Contains("under --max-memory"));
     }
     CHECK_THROWS_AS(check_memory(1ull << 30, "a large buffer"), InputError);  // no location: an input error
 }
@@ -113,7 +115,8 @@ TEST_CASE("memory budget: a film beyond memory stops at the film's line before a
     INFO(error);
     CHECK(line == 4);  // the <film> element
     // The estimate's exact size follows the per-pixel statistics' layout; terabytes it must be.
-    CHECK_THAT(error, Catch::Contains("film 2000000000 x 8 with 3 AOVs needs ") && Catch::Contains(" TB; ") && Catch::Contains(" available"));
+    CHECK_THAT(error,
+               Catch::Contains("film 2000000000 x 8 with 3 AOVs needs ") && Catch::Contains(" TB; ") && Catch::Contains(" available"));
     // The rasterizer's per-sample buffers are checked likewise.
     error = render_error("budget-raster", film_scene("2000000000", "8", "raster"), {}, &line);
     INFO(error);
@@ -128,7 +131,8 @@ TEST_CASE("memory budget: a film beyond memory stops at the film's line before a
 
 TEST_CASE("memory budget: a PLY header that promises more than the file holds is refused before reading", "[memory][ply]") {
     auto dir = scratch_dir("budget-ply");
-    const std::string header_end = "property float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+    const std::string header_end =
+        "property float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
     // Binary: three vertices and one face take 3 * 12 + 1 + 12 bytes; a billion vertices cannot fit.
     std::string body;
     for (float v : {0.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f}) body.append(reinterpret_cast<const char*>(&v), sizeof v);
@@ -151,8 +155,9 @@ TEST_CASE("memory budget: a mesh beyond the budget stops at its filename's line"
     auto dir = scratch_dir("budget-mesh");
     // An honest binary PLY of 200,000 vertices (2.4 MB) and one face: its mesh needs about 13 MB.
     const int n = 200000;
-    std::string bytes = "ply\nformat binary_little_endian 1.0\nelement vertex " + std::to_string(n) +
-                        "\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+    std::string bytes =
+        "ply\nformat binary_little_endian 1.0\nelement vertex " + std::to_string(n) +
+        "\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
     for (int i = 0; i < n; ++i) {
         float p[3] = {float(i % 3 == 1), float(i % 3 == 2), 0.0f};
         bytes.append(reinterpret_cast<const char*>(p), sizeof p);

@@ -37,14 +37,18 @@ void check_spherical_warp(const char* name, const std::function<Vec3(Vec2)>& war
 }  // namespace
 
 TEST_CASE("warps: spherical warps match their pdfs (chi-square)", "[sampling]") {
-    check_spherical_warp("uniform sphere", warp::square_to_uniform_sphere, [](const Vec3&) { return double(warp::square_to_uniform_sphere_pdf()); }, 1);
-    check_spherical_warp("uniform hemisphere", warp::square_to_uniform_hemisphere,
-                         [](const Vec3& v) { return double(warp::square_to_uniform_hemisphere_pdf(v)); }, 2);
-    check_spherical_warp("cosine hemisphere", warp::square_to_cosine_hemisphere,
-                         [](const Vec3& v) { return double(warp::square_to_cosine_hemisphere_pdf(v)); }, 3);
+    check_spherical_warp(
+        "uniform sphere", warp::square_to_uniform_sphere, [](const Vec3&) { return double(warp::square_to_uniform_sphere_pdf()); }, 1);
+    check_spherical_warp(
+        "uniform hemisphere", warp::square_to_uniform_hemisphere,
+        [](const Vec3& v) { return double(warp::square_to_uniform_hemisphere_pdf(v)); }, 2);
+    check_spherical_warp(
+        "cosine hemisphere", warp::square_to_cosine_hemisphere,
+        [](const Vec3& v) { return double(warp::square_to_cosine_hemisphere_pdf(v)); }, 3);
     const float cos_cutoff = std::cos(radians(35.0f));
-    check_spherical_warp("uniform cone", [&](Vec2 u) { return warp::square_to_uniform_cone(u, cos_cutoff); },
-                         [&](const Vec3& v) { return double(warp::square_to_uniform_cone_pdf(v, cos_cutoff)); }, 4);
+    check_spherical_warp(
+        "uniform cone", [&](Vec2 u) { return warp::square_to_uniform_cone(u, cos_cutoff); },
+        [&](const Vec3& v) { return double(warp::square_to_uniform_cone_pdf(v, cos_cutoff)); }, 4);
 }
 
 TEST_CASE("warps: planar warps are uniform over their domains (chi-square)", "[sampling]") {
@@ -191,7 +195,8 @@ TEST_CASE("distributions: Marginal2D samples its bilinear, parameter-blended den
     Marginal2D raw(data.data(), W, H, {{0.0f, 1.0f, 3.0f}}, Marginal2D::Mode::Interpolant);
     float at_node = 1.0f, beyond = 7.0f;
     CHECK(raw.eval(Vec2(2.0f / 6.0f, 3.0f / 4.0f), &at_node) == Approx(data[size_t(W * H + 3 * W + 2)]).epsilon(1e-6));
-    CHECK(raw.eval(Vec2(0.25f, 0.5f), &beyond) == Approx(0.5 * data[size_t(2 * W * H + 2 * W + 1)] + 0.5 * data[size_t(2 * W * H + 2 * W + 2)]).epsilon(1e-6));
+    CHECK(raw.eval(Vec2(0.25f, 0.5f), &beyond) ==
+          Approx(0.5 * data[size_t(2 * W * H + 2 * W + 1)] + 0.5 * data[size_t(2 * W * H + 2 * W + 2)]).epsilon(1e-6));
     std::vector<float> zero(size_t(W * H), 0.0f);
     CHECK_THROWS_AS(Marginal2D(zero.data(), W, H, {}, Marginal2D::Mode::Distribution), std::invalid_argument);
     // A NaN point reads as the corner (0, 0), as a NaN parameter reads as the first slice: NaN

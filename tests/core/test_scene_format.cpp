@@ -75,7 +75,8 @@ TEST_CASE("path: folders named by <path> are searched, the scene's own folder an
     write_text(dir / "common" / "grey.spd", "# flat\n400 0.25\n700 0.25\n");
     // The include is found beside the scene; its mesh through the scene's <path>; the include's
     // own mesh beside the include.
-    write_text(dir / "scenes" / "include" / "parts.xml", scene_xml(R"(<shape type="obj" id="from_path"><string name="filename" value="meshes/tri.obj"/></shape>
+    write_text(dir / "scenes" / "include" / "parts.xml",
+               scene_xml(R"(<shape type="obj" id="from_path"><string name="filename" value="meshes/tri.obj"/></shape>
 <shape type="obj" id="beside_include"><string name="filename" value="../sub/local.obj"/></shape>)"));
     write_text(dir / "scenes" / "main.xml", scene_xml(R"(<path value="../common"/>
 <include filename="include/parts.xml"/>
@@ -87,7 +88,8 @@ TEST_CASE("path: folders named by <path> are searched, the scene's own folder an
 
     // A <path> folder is searched before the scene's own folder (Mitsuba 3 prepends it).
     write_text(dir / "scenes" / "grey.spd", "400 0.75\n700 0.75\n");
-    write_text(dir / "scenes" / "order.xml", scene_xml(R"(<bsdf type="test_probe" id="order_before"><spectrum name="reflectance" filename="grey.spd"/></bsdf>
+    write_text(dir / "scenes" / "order.xml",
+               scene_xml(R"(<bsdf type="test_probe" id="order_before"><spectrum name="reflectance" filename="grey.spd"/></bsdf>
 <path value="../common"/>
 <bsdf type="test_probe" id="order_after"><spectrum name="reflectance" filename="grey.spd"/></bsdf>)"));
     load_scene((dir / "scenes" / "order.xml").string());
@@ -130,7 +132,8 @@ TEST_CASE("search folders: -a folders are searched after the scene's folder, the
     write_text(dir / "common" / "meshes" / "tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
     write_text(dir / "common" / "grey.spd", "400 0.25\n700 0.25\n");
     write_text(dir / "other" / "grey.spd", "400 0.5\n700 0.5\n");
-    write_text(dir / "scenes" / "include" / "parts.xml", scene_xml(R"(<shape type="obj"><string name="filename" value="meshes/tri.obj"/></shape>)"));
+    write_text(dir / "scenes" / "include" / "parts.xml",
+               scene_xml(R"(<shape type="obj"><string name="filename" value="meshes/tri.obj"/></shape>)"));
     write_text(dir / "scenes" / "main.xml", scene_xml(R"(<include filename="include/parts.xml"/>
 <bsdf type="test_probe" id="search_spd"><spectrum name="reflectance" filename="grey.spd"/></bsdf>)"));
     fs::path main = dir / "scenes" / "main.xml";
@@ -171,11 +174,13 @@ TEST_CASE("plugin names: a name that differs only in case is read with a warning
     // mitsuba-data's principled_blend_creation scenes say type="Rectangle" and "Sphere", which
     // Mitsuba 3 finds on case-insensitive file systems; the disney_blend_creation ones say "disney".
     WarningCapture warnings;
-    Image mixed = render_tiny(R"(<shape type="Rectangle"><transform name="to_world"><rotate y="1" angle="180"/><translate z="2"/></transform>
+    Image mixed =
+        render_tiny(R"(<shape type="Rectangle"><transform name="to_world"><rotate y="1" angle="180"/><translate z="2"/></transform>
   <emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>)");
     REQUIRE(warnings.lines.size() == 1);
     CHECK_THAT(warnings.lines[0], Catch::Contains("shape type \"Rectangle\" read as \"rectangle\""));
-    Image lower = render_tiny(R"(<shape type="rectangle"><transform name="to_world"><rotate y="1" angle="180"/><translate z="2"/></transform>
+    Image lower =
+        render_tiny(R"(<shape type="rectangle"><transform name="to_world"><rotate y="1" angle="180"/><translate z="2"/></transform>
   <emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>)");
     CHECK(warnings.lines.size() == 1);
     REQUIRE(mixed.data().size() == lower.data().size());
@@ -184,7 +189,8 @@ TEST_CASE("plugin names: a name that differs only in case is read with a warning
     SceneError disney = error_of(scene_xml("<bsdf type=\"disney\"/>"));
     CHECK(disney.location.line == 2);
     CHECK_THAT(disney.message(), Catch::Contains("unknown bsdf type \"disney\"") && Catch::Contains("\"principled\""));
-    CHECK_THAT(error_of(scene_xml("<sampler type=\"bush\"/>")).message(), Catch::Contains("unknown sampler type \"bush\"") && Catch::Contains("\"orthogonal\""));
+    CHECK_THAT(error_of(scene_xml("<sampler type=\"bush\"/>")).message(),
+               Catch::Contains("unknown sampler type \"bush\"") && Catch::Contains("\"orthogonal\""));
     // Case-insensitive only: a misspelt name is still an error with the nearest name.
     CHECK_THAT(error_of(scene_xml("<shape type=\"Rectangel\"/>")).message(), Catch::Contains("nearest supported: \"rectangle\""));
 }
@@ -215,7 +221,7 @@ TEST_CASE("spectrum: every form of <spectrum> as a reflectance", "[xml][spectral
         CHECK(c.y == Approx(c.x).epsilon(3e-4));
         CHECK(c.z == Approx(c.x).epsilon(3e-4));
     }
-    CHECK(p.get_rgb("file") == p.get_rgb("pairs"));  // the same data read two ways, bit for bit
+    CHECK(p.get_rgb("file") == p.get_rgb("pairs"));                     // the same data read two ways, bit for bit
     CHECK(p.get_rgb("published").x == Approx(0.380475f).margin(2e-6));  // Mitsuba 3's own test value
     CHECK(p.get_rgb("srgb") == Spectrum(0.1f, 0.2f, 0.3f));
     CHECK(p.get_rgb("d65") == Spectrum(1.0f, 0.5f, 2.0f));
@@ -226,9 +232,11 @@ TEST_CASE("spectrum: emission spectra, D65 white, black bodies, and spectra by r
     // law through the CIE curves. The camera sees the constant emitter directly.
     Image one = render_tiny(R"(<emitter type="constant"><spectrum name="radiance" value="1"/></emitter>)");
     CHECK(one.rgb_at(1, 2) == uniform_emission_rgb(1.0));
-    Image d65 = render_tiny(R"(<emitter type="constant"><spectrum type="d65" name="radiance"><float name="scale" value="3"/></spectrum></emitter>)");
+    Image d65 = render_tiny(
+        R"(<emitter type="constant"><spectrum type="d65" name="radiance"><float name="scale" value="3"/></spectrum></emitter>)");
     CHECK(d65.rgb_at(0, 0) == Spectrum(3.0f));
-    Image bb = render_tiny(R"(<emitter type="constant"><spectrum type="blackbody" name="radiance"><float name="temperature" value="5000"/></spectrum></emitter>)");
+    Image bb = render_tiny(
+        R"(<emitter type="constant"><spectrum type="blackbody" name="radiance"><float name="temperature" value="5000"/></spectrum></emitter>)");
     CHECK(bb.rgb_at(3, 3) == blackbody_rgb(5000.0));
     // The same pairs are a reflectance in a BSDF and an emission in an emitter (no D65 weight).
     WarningCapture out_of_gamut;  // this narrow spectrum is clamped (red < 0), with a warning
@@ -270,7 +278,8 @@ TEST_CASE("spectrum: malformed spectra are errors at their line", "[xml][spectra
     // A reflectance outside the gamut is clamped, with a warning naming the line.
     WarningCapture w;
     auto dir = scratch_dir("spectrum-warning");
-    write_text(dir / "scene.xml", scene_xml("<bsdf type=\"test_probe\" id=\"bright\">\n<spectrum name=\"c\" value=\"400:3, 700:3\"/>\n</bsdf>"));
+    write_text(dir / "scene.xml",
+               scene_xml("<bsdf type=\"test_probe\" id=\"bright\">\n<spectrum name=\"c\" value=\"400:3, 700:3\"/>\n</bsdf>"));
     load_scene((dir / "scene.xml").string());
     CHECK(probe("bright").get_rgb("c") == Spectrum(1.0f));
     REQUIRE(w.lines.size() == 1);
@@ -323,7 +332,8 @@ TEST_CASE("upgrade: pre-2.0 scenes are read as Mitsuba 3 upgrades them", "[xml][
     load_scene((dir / "new.xml").string());
     CHECK(probe("new").has("intIOR"));
     // Each file is upgraded by its own version: an old include in a new scene.
-    write_text(dir / "old_part.xml", "<scene version=\"0.6.0\"><bsdf type=\"test_probe\" id=\"old_part\"><float name=\"extIOR\" value=\"1\"/></bsdf></scene>");
+    write_text(dir / "old_part.xml",
+               "<scene version=\"0.6.0\"><bsdf type=\"test_probe\" id=\"old_part\"><float name=\"extIOR\" value=\"1\"/></bsdf></scene>");
     write_text(dir / "mixed.xml", scene_xml("<include filename=\"old_part.xml\"/>"));
     load_scene((dir / "mixed.xml").string());
     CHECK(probe("old_part").has("ext_ior"));
@@ -353,7 +363,8 @@ TEST_CASE("conductors: material names give the measured IOR of Mitsuba 3's table
     std::string by_name = R"(<emitter type="constant"/><shape type="sphere"><point name="center" x="0" y="0" z="-3"/>
 <bsdf type="roughconductor"><string name="material" value="Au"/><float name="alpha" value="0.3"/></bsdf></shape>)";
     std::string by_value = R"(<emitter type="constant"/><shape type="sphere"><point name="center" x="0" y="0" z="-3"/>
-<bsdf type="roughconductor"><rgb name="eta" value=")" + std::string(eta) + R"("/><rgb name="k" value=")" + std::string(k) +
+<bsdf type="roughconductor"><rgb name="eta" value=")" +
+                           std::string(eta) + R"("/><rgb name="k" value=")" + std::string(k) +
                            R"("/><float name="alpha" value="0.3"/></bsdf></shape>)";
     Image a = render_tiny(by_name), b = render_tiny(by_value);
     CHECK(std::memcmp(a.data().data(), b.data().data(), a.data().size() * sizeof(float)) == 0);
@@ -362,7 +373,8 @@ TEST_CASE("conductors: material names give the measured IOR of Mitsuba 3's table
     CHECK_THAT(e.message(), Catch::Contains("unknown conductor \"Cuu\" (nearest: \"Cu\")"));
 }
 
-TEST_CASE("unsupported: unknown plugins name the nearest supported one, polarisation and differentiable integrators say why", "[xml][errors]") {
+TEST_CASE("unsupported: unknown plugins name the nearest supported one, polarisation and differentiable integrators say why",
+          "[xml][errors]") {
     struct Case {
         std::string body;
         int line;
@@ -375,7 +387,8 @@ TEST_CASE("unsupported: unknown plugins name the nearest supported one, polarisa
         {"<integrator type=\"stokes\"/>", 2, "unsupported integrator type \"stokes\": polarisation is not supported"},
         {"<bsdf type=\"measured_polarized\"/>", 2, "unsupported bsdf type \"measured_polarized\": polarisation is not supported"},
         {"<medium type=\"homogenous\" id=\"fog\"/>", 2, "unknown medium type \"homogenous\" (nearest supported: \"homogeneous\")"},
-        {"<shape type=\"sphere\">\n<medium type=\"homogeneous\" name=\"inside\"/>\n</shape>", 3, "must be named \"interior\" or \"exterior\""},
+        {"<shape type=\"sphere\">\n<medium type=\"homogeneous\" name=\"inside\"/>\n</shape>", 3,
+         "must be named \"interior\" or \"exterior\""},
         {"<phase type=\"hg\"><float name=\"g\" value=\"1\"/></phase>", 2, "strictly between -1 and 1"},
         {"<shape type=\"sphere\">\n<animation name=\"to_world\"/>\n</shape>", 3, "<animation> needs at least one <transform time="},
         {"<shape type=\"sphere\">\n<animation name=\"to_world\">\n<transform time=\"1\"/>\n<transform time=\"1\"/></animation></shape>", 5,
@@ -409,8 +422,11 @@ TEST_CASE("references: an object may be declared after the <ref> that uses it", 
     CHECK(scene->shapes()[0]->bsdf()->id == "early");
     // A cycle is an error, and so is an id declared nowhere.
     CHECK_THAT(error_of(scene_xml(R"(<bsdf type="twosided" id="a"><ref id="b"/></bsdf>
-<bsdf type="twosided" id="b"><ref id="a"/></bsdf>)")).message(), Catch::Contains("circular reference to id \"a\""));
-    CHECK_THAT(error_of(scene_xml("<shape type=\"sphere\"><ref id=\"nowhere\"/></shape>")).message(), Catch::Contains("unknown id \"nowhere\""));
+<bsdf type="twosided" id="b"><ref id="a"/></bsdf>)"))
+                   .message(),
+               Catch::Contains("circular reference to id \"a\""));
+    CHECK_THAT(error_of(scene_xml("<shape type=\"sphere\"><ref id=\"nowhere\"/></shape>")).message(),
+               Catch::Contains("unknown id \"nowhere\""));
     // An area emitter that no shape uses is still an error.
     CHECK_THAT(error_of(scene_xml("<emitter type=\"area\" id=\"lonely\"/>")).message(), Catch::Contains("must be nested inside a shape"));
 }

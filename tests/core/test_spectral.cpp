@@ -172,12 +172,13 @@ TEST_CASE("spectra: .spd files with comments and malformed spectra", "[spectral]
 TEST_CASE("named conductors: every name of Mitsuba 3's table, integrated as Mitsuba does", "[spectral][ior]") {
     // The conductor presets listed in Mitsuba 3's conductor plugin documentation.
     const std::vector<std::string> mitsuba = {
-        "a-C", "Ag", "Al", "AlAs", "AlAs_palik", "AlSb", "AlSb_palik", "Au", "Be", "Be_palik", "Cr", "CsI", "CsI_palik", "Cu",
-        "Cu_palik", "Cu2O", "Cu2O_palik", "CuO", "CuO_palik", "d-C", "d-C_palik", "Hg", "Hg_palik", "HgTe", "HgTe_palik", "Ir",
-        "Ir_palik", "K", "K_palik", "Li", "Li_palik", "MgO", "MgO_palik", "Mo", "Mo_palik", "Na_palik", "Nb", "Nb_palik", "Ni_palik",
-        "Rh", "Rh_palik", "Se", "Se_palik", "SiC", "SiC_palik", "SnTe", "SnTe_palik", "Ta", "Ta_palik", "Te", "Te_palik", "ThF4",
-        "ThF4_palik", "TiC", "TiC_palik", "TiN", "TiN_palik", "TiO2", "TiO2_palik", "VC", "VC_palik", "V_palik", "VN", "VN_palik",
-        "W", "none"};
+        "a-C",       "Ag",      "Al",         "AlAs",     "AlAs_palik", "AlSb",     "AlSb_palik", "Au",       "Be",         "Be_palik",
+        "Cr",        "CsI",     "CsI_palik",  "Cu",       "Cu_palik",   "Cu2O",     "Cu2O_palik", "CuO",      "CuO_palik",  "d-C",
+        "d-C_palik", "Hg",      "Hg_palik",   "HgTe",     "HgTe_palik", "Ir",       "Ir_palik",   "K",        "K_palik",    "Li",
+        "Li_palik",  "MgO",     "MgO_palik",  "Mo",       "Mo_palik",   "Na_palik", "Nb",         "Nb_palik", "Ni_palik",   "Rh",
+        "Rh_palik",  "Se",      "Se_palik",   "SiC",      "SiC_palik",  "SnTe",     "SnTe_palik", "Ta",       "Ta_palik",   "Te",
+        "Te_palik",  "ThF4",    "ThF4_palik", "TiC",      "TiC_palik",  "TiN",      "TiN_palik",  "TiO2",     "TiO2_palik", "VC",
+        "VC_palik",  "V_palik", "VN",         "VN_palik", "W",          "none"};
     for (const std::string& name : mitsuba) {
         INFO(name);
         auto ior = named_conductor(name);

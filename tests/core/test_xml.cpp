@@ -102,8 +102,8 @@ TEST_CASE("xml: transforms compose in document order", "[xml][transform]") {
     const Properties& p = probe("tf");
     auto apply = [&](const char* name, Vec3 v) { return p.get_transform(name).apply_point(v); };
     auto near = [](Vec3 a, Vec3 b) { return glm::length(a - b) < 1e-5f; };
-    CHECK(near(apply("ts", Vec3(0.0f)), Vec3(2, 0, 0)));  // translate, then scale
-    CHECK(near(apply("st", Vec3(0.0f)), Vec3(1, 0, 0)));  // scale, then translate
+    CHECK(near(apply("ts", Vec3(0.0f)), Vec3(2, 0, 0)));      // translate, then scale
+    CHECK(near(apply("st", Vec3(0.0f)), Vec3(1, 0, 0)));      // scale, then translate
     CHECK(near(apply("rot", Vec3(1, 0, 0)), Vec3(0, 1, 0)));  // counter-clockwise about +z
     CHECK(near(apply("rot_value", Vec3(1, 0, 0)), Vec3(0, 1, 0)));
     CHECK(near(apply("scale_xyz", Vec3(1, 1, 1)), Vec3(2, 3, 1)));
@@ -181,10 +181,12 @@ TEST_CASE("xml: errors name the file and line", "[xml][errors]") {
          "unused property \"reflectence\""},
         {"missing mesh", scene_xml("<shape type=\"obj\">\n<string name=\"filename\" value=\"nothere.obj\"/>\n</shape>"), 3,
          "file not found: \"nothere.obj\""},
-        {"NaN in a matrix", scene_xml("<shape type=\"sphere\"><transform name=\"to_world\">\n<matrix value=\"1 0 0 0 0 nan 0 0 0 0 1 0 0 0 0 1\"/>\n</transform></shape>"),
+        {"NaN in a matrix",
+         scene_xml(
+             "<shape type=\"sphere\"><transform name=\"to_world\">\n<matrix value=\"1 0 0 0 0 nan 0 0 0 0 1 0 0 0 0 1\"/>\n</transform></shape>"),
          3, "not a finite number"},
-        {"singular transform", scene_xml("<shape type=\"rectangle\"><transform name=\"to_world\">\n<scale value=\"0\"/>\n</transform></shape>"), 3,
-         "singular"},
+        {"singular transform",
+         scene_xml("<shape type=\"rectangle\"><transform name=\"to_world\">\n<scale value=\"0\"/>\n</transform></shape>"), 3, "singular"},
         {"undefined parameter", scene_xml("<shape type=\"sphere\">\n<float name=\"radius\" value=\"$r\"/>\n</shape>"), 3,
          "undefined parameter $r"},
         {"unknown id", scene_xml("<shape type=\"sphere\">\n<ref id=\"nope\"/>\n</shape>"), 3, "unknown id \"nope\""},
@@ -194,13 +196,15 @@ TEST_CASE("xml: errors name the file and line", "[xml][errors]") {
          "is not an integer"},
         {"bad boolean", scene_xml("<integrator type=\"path\">\n<boolean name=\"hide_emitters\" value=\"yes\"/>\n</integrator>"), 3,
          "is not a boolean"},
-        {"wrong type", scene_xml("<shape type=\"sphere\">\n<string name=\"radius\" value=\"1\"/>\n</shape>"), 3, "has type string, expected float"},
+        {"wrong type", scene_xml("<shape type=\"sphere\">\n<string name=\"radius\" value=\"1\"/>\n</shape>"), 3,
+         "has type string, expected float"},
         {"unknown element", scene_xml("<shape type=\"sphere\">\n<color name=\"c\" value=\"1\"/>\n</shape>"), 3, "unknown element <color>"},
         {"unexpected attribute", scene_xml("<shape type=\"sphere\" colour=\"red\"/>"), 2, "unexpected attribute \"colour\""},
-        {"rotate without angle", scene_xml("<shape type=\"sphere\"><transform name=\"to_world\">\n<rotate x=\"1\"/>\n</transform></shape>"), 3,
-         "needs the attribute \"angle\""},
-        {"property twice", scene_xml("<shape type=\"sphere\">\n<float name=\"radius\" value=\"1\"/>\n<float name=\"radius\" value=\"2\"/>\n</shape>"),
-         4, "already specified"},
+        {"rotate without angle", scene_xml("<shape type=\"sphere\"><transform name=\"to_world\">\n<rotate x=\"1\"/>\n</transform></shape>"),
+         3, "needs the attribute \"angle\""},
+        {"property twice",
+         scene_xml("<shape type=\"sphere\">\n<float name=\"radius\" value=\"1\"/>\n<float name=\"radius\" value=\"2\"/>\n</shape>"), 4,
+         "already specified"},
         {"no version", "<scene>\n<shape type=\"sphere\"/>\n</scene>\n", 1, "needs the attribute \"version\""},
         {"not a scene", "<shape type=\"sphere\"/>\n", 1, "root element must be <scene>"},
         {"nested object nobody reads", scene_xml("<shape type=\"sphere\">\n<sampler type=\"independent\"/>\n</shape>"), 3,
@@ -240,7 +244,8 @@ TEST_CASE("xml: a confined file resolver finds nothing outside its folders, thro
         return load_scene((dir / "inside" / "scene.xml").string());
     };
     // Unconfined, every one of them loads.
-    for (const std::string& name : std::vector<std::string>{"sub/part.xml", "../outside/secret.xml", secret, "link.xml"}) CHECK_NOTHROW(load(name));
+    for (const std::string& name : std::vector<std::string>{"sub/part.xml", "../outside/secret.xml", secret, "link.xml"})
+        CHECK_NOTHROW(load(name));
     FileResolver::confine_to({dir / "inside"});
     CHECK_NOTHROW(load("sub/part.xml"));
     for (const std::string& name : std::vector<std::string>{"../outside/secret.xml", secret, "link.xml", "sub/../../outside/secret.xml"}) {
@@ -248,7 +253,8 @@ TEST_CASE("xml: a confined file resolver finds nothing outside its folders, thro
         CHECK_THROWS_WITH(load(name), Catch::Contains("scene.xml:2") && Catch::Contains("cannot open included file"));
     }
     // Mesh and texture names go through the same resolver.
-    write_text(dir / "inside" / "scene.xml", scene_xml("<shape type=\"obj\">\n<string name=\"filename\" value=\"" + (dir / "outside" / "m.obj").string() + "\"/>\n</shape>"));
+    write_text(dir / "inside" / "scene.xml", scene_xml("<shape type=\"obj\">\n<string name=\"filename\" value=\"" +
+                                                       (dir / "outside" / "m.obj").string() + "\"/>\n</shape>"));
     write_text(dir / "outside" / "m.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
     CHECK_THROWS_WITH(load_scene((dir / "inside" / "scene.xml").string()), Catch::Contains("file not found"));
     FileResolver::confine_to({});

@@ -45,10 +45,12 @@ std::string split_scene(const std::string& name, const std::string& integrator, 
     replace_once(xml, "<integrator type=\"path\">\n        <integer name=\"max_depth\" value=\"-1\"/>\n    </integrator>", integrator);
     replace_once(xml, "<rfilter type=\"box\"/>",
                  "<rfilter type=\"gaussian\"/>\n<integer name=\"crop_offset_x\" value=\"2\"/><integer name=\"crop_offset_y\" "
-                 "value=\"1\"/>\n<integer name=\"crop_width\" value=\"26\"/><integer name=\"crop_height\" value=\"20\"/>" + film);
+                 "value=\"1\"/>\n<integer name=\"crop_width\" value=\"26\"/><integer name=\"crop_height\" value=\"20\"/>" +
+                     film);
     xml = std::regex_replace(xml, std::regex("<integer name=\"width\" value=\"\\$res\"/>"), "<integer name=\"width\" value=\"29\"/>");
     xml = std::regex_replace(xml, std::regex("<integer name=\"height\" value=\"\\$res\"/>"), "<integer name=\"height\" value=\"23\"/>");
-    xml = std::regex_replace(xml, std::regex("<default name=\"spp\""), "<default name=\"integrator\" value=\"path\"/>\n<default name=\"spp\"");
+    xml = std::regex_replace(xml, std::regex("<default name=\"spp\""),
+                             "<default name=\"integrator\" value=\"path\"/>\n<default name=\"spp\"");
     const std::string path = (scratch_dir("split-scene-" + name) / (name + ".xml")).string();
     write_text(path, xml);
     // The scene reads no other file: it is self-contained in the scratch folder.
@@ -57,8 +59,8 @@ std::string split_scene(const std::string& name, const std::string& integrator, 
 
 // The split scene with the integrator as a parameter.
 std::string split_test_scene() {
-    static const std::string path =
-        split_scene("cbox_split", "<integrator type=\"$integrator\">\n        <integer name=\"max_depth\" value=\"-1\"/>\n    </integrator>", "");
+    static const std::string path = split_scene(
+        "cbox_split", "<integrator type=\"$integrator\">\n        <integer name=\"max_depth\" value=\"-1\"/>\n    </integrator>", "");
     return path;
 }
 
@@ -185,11 +187,12 @@ TEST_CASE("farm: parts of the photon mapper merge into the single render (every 
 TEST_CASE("farm: parts of volpath merge into the single render (its tracking numbers are seeded per sample)", "[farm][volpath]") {
     // A scattering sphere of fog behind null walls: delta and ratio tracking draw from a PCG32
     // seeded by the sample's film position and aperture, which a part reproduces exactly.
-    const std::string scene = split_scene("cbox_medium",
-                                          "<integrator type=\"volpath\"/>\n<shape type=\"sphere\"><point name=\"center\" x=\"0\" y=\"0.1\" "
-                                          "z=\"0.3\"/><float name=\"radius\" value=\"0.4\"/><bsdf type=\"null\"/><medium type=\"homogeneous\" "
-                                          "name=\"interior\"><rgb name=\"sigma_t\" value=\"3\"/><rgb name=\"albedo\" value=\"0.8\"/></medium></shape>",
-                                          "");
+    const std::string scene =
+        split_scene("cbox_medium",
+                    "<integrator type=\"volpath\"/>\n<shape type=\"sphere\"><point name=\"center\" x=\"0\" y=\"0.1\" "
+                    "z=\"0.3\"/><float name=\"radius\" value=\"0.4\"/><bsdf type=\"null\"/><medium type=\"homogeneous\" "
+                    "name=\"interior\"><rgb name=\"sigma_t\" value=\"3\"/><rgb name=\"albedo\" value=\"0.8\"/></medium></shape>",
+                    "");
     Splitter s = make_splitter("volpath", "split-medium", scene);
     check_splits(s, "volpath", {{0, 5, 16}, {0, 1, 3, 4, 9, 10, 15, 16}});
 }

@@ -28,8 +28,10 @@ std::string film_scene(const std::string& film, const std::string& filter = "box
             <sampler type="independent"><integer name="sample_count" value="8"/></sampler>
             <film type="hdrfilm"><integer name="width" value=")" +
                      std::to_string(width) + R"("/><integer name="height" value=")" + std::to_string(height) + R"("/>
-                <rfilter type=")" + filter + R"("/>)" +
-                     (film.find("component_format") == std::string::npos ? "<string name=\"component_format\" value=\"float32\"/>" : "") + film +
+                <rfilter type=")" +
+                     filter + R"("/>)" +
+                     (film.find("component_format") == std::string::npos ? "<string name=\"component_format\" value=\"float32\"/>" : "") +
+                     film +
                      R"(</film></sensor>
         <emitter type="point"><point name="position" value="1, 2, 3"/><rgb name="intensity" value="20"/></emitter>
         <shape type="sphere"><float name="radius" value="0.8"/>
@@ -122,13 +124,16 @@ TEST_CASE("hdrfilm: sample_border makes a crop window's edge pixels those of the
             for (int c = 0; c < 3; ++c) {
                 float f = full.at(x + 5, y + 4, c);
                 CHECK(bordered.at(x, y, c) == Approx(f).epsilon(1e-5).margin(1e-7));
-                if (interior) CHECK(plain.at(x, y, c) == Approx(f).epsilon(1e-5).margin(1e-7));
-                else if (std::abs(plain.at(x, y, c) - f) > 1e-3f * (1.0f + f)) ++edge_differs;
+                if (interior)
+                    CHECK(plain.at(x, y, c) == Approx(f).epsilon(1e-5).margin(1e-7));
+                else if (std::abs(plain.at(x, y, c) - f) > 1e-3f * (1.0f + f))
+                    ++edge_differs;
             }
         }
     CHECK(edge_differs > 20);  // without sample_border the edge pixels miss their outer samples
     // A box filter reaches no neighbour: sample_border changes nothing, bit for bit.
-    Image box = render_scene(film_scene(crop)), box_border = render_scene(film_scene(crop + "<boolean name=\"sample_border\" value=\"true\"/>"));
+    Image box = render_scene(film_scene(crop)),
+          box_border = render_scene(film_scene(crop + "<boolean name=\"sample_border\" value=\"true\"/>"));
     CHECK(std::memcmp(box.data().data(), box_border.data().data(), box.data().size() * sizeof(float)) == 0);
 }
 

@@ -3,9 +3,9 @@
 // fill against a per-pixel-centre crossing test (vertices exactly on scanlines included),
 // triangle fill without gaps or double hits on shared edges, and trapezoid decomposition.
 
+#include "core/rng.h"
 #include "geometry2d/polygon.h"
 #include "geometry2d/raster2d.h"
-#include "core/rng.h"
 
 #include <catch2/catch.hpp>
 
@@ -49,7 +49,8 @@ TEST_CASE("raster2d: DDA, Bresenham and midpoint lines equal the exact line in e
     PCG32 rng(1, 1);
     int octant_seen[8] = {0};
     for (int n = 0; n < 20000; ++n) {
-        int x0 = int(rng.next_bounded(41)) - 20, y0 = int(rng.next_bounded(41)) - 20, x1 = int(rng.next_bounded(41)) - 20, y1 = int(rng.next_bounded(41)) - 20;
+        int x0 = int(rng.next_bounded(41)) - 20, y0 = int(rng.next_bounded(41)) - 20, x1 = int(rng.next_bounded(41)) - 20,
+            y1 = int(rng.next_bounded(41)) - 20;
         int dx = x1 - x0, dy = y1 - y0;
         int octant = (dx < 0) * 4 + (dy < 0) * 2 + (std::abs(dy) > std::abs(dx));
         ++octant_seen[octant];
@@ -76,7 +77,8 @@ TEST_CASE("raster2d: the midpoint circle equals the exact circle", "[raster2d]")
             int y = 0;
             while ((2LL * (y + 1) - 1) * (2LL * (y + 1) - 1) <= rhs) ++y;
             if (x > y) break;
-            for (auto [a, b] : {std::pair{x, y}, {y, x}, {-x, y}, {-y, x}, {x, -y}, {y, -x}, {-x, -y}, {-y, -x}}) expected.insert({3 + a, -2 + b});
+            for (auto [a, b] : {std::pair{x, y}, {y, x}, {-x, y}, {-y, x}, {x, -y}, {y, -x}, {-x, -y}, {-y, -x}})
+                expected.insert({3 + a, -2 + b});
         }
         INFO("r = " << r);
         CHECK(got == expected);
@@ -89,8 +91,8 @@ TEST_CASE("raster2d: polygon fill equals the per-pixel-centre crossing test", "[
         // between two edges on one side, and a diamond with side vertices on scanlines.
         {{0, 0}, {10, 0}, {10, 6.5f}, {7, 6.5f}, {5, 3.5f}, {3, 6.5f}, {0, 6.5f}},
         {{5, 0.5f}, {9, 4.5f}, {5, 8.5f}, {1, 4.5f}},
-        {{1, 1}, {12, 2}, {3, 4}, {12, 7}, {1, 9}, {6, 5}},                       // concave
-        {{2.5f, 1.5f}, {8.5f, 1.5f}, {8.5f, 5.5f}, {5.5f, 2.5f}, {2.5f, 5.5f}},   // horizontal edges on scanlines
+        {{1, 1}, {12, 2}, {3, 4}, {12, 7}, {1, 9}, {6, 5}},                          // concave
+        {{2.5f, 1.5f}, {8.5f, 1.5f}, {8.5f, 5.5f}, {5.5f, 2.5f}, {2.5f, 5.5f}},      // horizontal edges on scanlines
         {{0.2f, 0.3f}, {15.7f, 3.1f}, {3.3f, 12.9f}, {9.9f, 0.1f}, {14.2f, 11.4f}},  // self-intersecting star: even-odd
     };
     PCG32 rng(3, 2);
@@ -143,7 +145,7 @@ TEST_CASE("raster2d: triangles sharing an edge cover every pixel once", "[raster
 TEST_CASE("raster2d: trapezoid decomposition covers the polygon exactly", "[raster2d]") {
     std::vector<std::vector<Vec2>> polygons = {
         {{0, 0}, {6, 0}, {6, 4}, {4, 4}, {3, 2}, {2, 4}, {0, 4}},
-        {{0, 0}, {8, 4}, {0, 8}, {3, 4}},                                   // arrow
+        {{0, 0}, {8, 4}, {0, 8}, {3, 4}},                                                                  // arrow
         {{0, 0}, {5, 0}, {5, 3}, {4, 3}, {4, 1}, {3, 1}, {3, 3}, {2, 3}, {2, 1}, {1, 1}, {1, 3}, {0, 3}},  // comb
         {{0, 0}, {4, 0}, {4, 3}},
     };

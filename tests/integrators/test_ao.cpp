@@ -24,7 +24,8 @@ Ref<Scene> ao_scene(const std::string& name, const std::string& ao_props, const 
     auto dir = scratch_dir("ao-" + name);
     write_text(dir / "scene.xml", scene_xml(R"(<integrator type="ao">)" + ao_props + R"(</integrator>
         <sensor type="perspective"><float name="fov" value="60"/>
-            <transform name="to_world"><lookat origin=")" + origin + R"(" target=")" + target + R"(" up="0, 1, 0"/></transform>
+            <transform name="to_world"><lookat origin=")" +
+                                            origin + R"(" target=")" + target + R"(" up="0, 1, 0"/></transform>
             <sampler type="independent"><integer name="sample_count" value="4"/></sampler>
             <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/><rfilter type="box"/></film>
         </sensor>)" + shapes));
@@ -53,16 +54,17 @@ const char* Big = R"(<transform name="to_world"><scale value="1000"/>)";
 
 TEST_CASE("ao: an unoccluded plane is 1 everywhere", "[ao]") {
     Ref<Scene> scene = ao_scene("plane", R"(<integer name="shading_samples" value="4"/>)",
-                                std::string(R"(<shape type="rectangle">)") + Big + R"(<rotate x="1" angle="-90"/></transform></shape>)", "0, 1, 0.5",
-                                "0, 0, -0.5");
+                                std::string(R"(<shape type="rectangle">)") + Big + R"(<rotate x="1" angle="-90"/></transform></shape>)",
+                                "0, 1, 0.5", "0, 0, -0.5");
     RenderResult r = scene->integrator().render(*scene, RenderOptions());
     for (float v : r.image.data()) REQUIRE(v == Approx(1.0f).margin(1e-6));
 }
 
 TEST_CASE("ao: the inside of a closed box is 0 with an unbounded ray length", "[ao]") {
-    Ref<Scene> scene = ao_scene("box", R"(<integer name="shading_samples" value="4"/><float name="ray_length" value="1e30"/>)",
-                                R"(<shape type="cube"><transform name="to_world"><scale value="2"/><rotate y="1" angle="20"/></transform></shape>)",
-                                "0.3, -0.5, 0.2", "1, 0.3, -1");
+    Ref<Scene> scene =
+        ao_scene("box", R"(<integer name="shading_samples" value="4"/><float name="ray_length" value="1e30"/>)",
+                 R"(<shape type="cube"><transform name="to_world"><scale value="2"/><rotate y="1" angle="20"/></transform></shape>)",
+                 "0.3, -0.5, 0.2", "1, 0.3, -1");
     RenderResult r = scene->integrator().render(*scene, RenderOptions());
     for (float v : r.image.data()) REQUIRE(v == 0.0f);
 }
@@ -72,7 +74,8 @@ TEST_CASE("ao: at the foot of an infinite wall half the cosine-weighted hemisphe
     // the hemisphere that misses a wall that wide is about 1e-5).
     Ref<Scene> scene = ao_scene("wall", R"(<float name="ray_length" value="1e30"/>)",
                                 std::string(R"(<shape type="rectangle">)") + Big + R"(<rotate x="1" angle="-90"/></transform></shape>
-                                    <shape type="rectangle">)" + Big + R"(<rotate y="1" angle="90"/></transform></shape>)",
+                                    <shape type="rectangle">)" +
+                                    Big + R"(<rotate y="1" angle="90"/></transform></shape>)",
                                 "1, 1, 0", "0.01, 0, 0");
     MeanAndError m = ao_at(*scene, Vec3(1, 1, 0), Vec3(0.01f, 0, 0), 40000);
     double z = two_sided_z(sidak(0.01, AoTests));

@@ -29,9 +29,11 @@ const Vec2 RectScale(0.6f, 0.4f), RectCentre(-0.2f, 0.5f);
 std::string aov_scene(const std::string& integrator) {
     return scene_xml(integrator + R"(
         <sensor type="orthographic"><transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
-            <sampler type="independent"><integer name="sample_count" value=")" + std::to_string(Spp) + R"("/></sampler>
-            <film type="hdrfilm"><integer name="width" value=")" + std::to_string(Size) + R"("/><integer name="height" value=")" +
-                       std::to_string(Size) + R"("/><rfilter type="box"/><string name="component_format" value="float32"/></film></sensor>
+            <sampler type="independent"><integer name="sample_count" value=")" +
+                     std::to_string(Spp) + R"("/></sampler>
+            <film type="hdrfilm"><integer name="width" value=")" +
+                     std::to_string(Size) + R"("/><integer name="height" value=")" + std::to_string(Size) +
+                     R"("/><rfilter type="box"/><string name="component_format" value="float32"/></film></sensor>
         <emitter type="point"><point name="position" value="0, 0, 3"/><rgb name="intensity" value="5"/></emitter>
         <shape type="rectangle"><transform name="to_world"><scale x="0.6" y="0.4"/><translate x="-0.2" y="0.5" z="-1"/></transform>
             <bsdf type="diffuse"><rgb name="reflectance" value="0.3, 0.5, 0.7"/></bsdf></shape>
@@ -39,8 +41,9 @@ std::string aov_scene(const std::string& integrator) {
             <bsdf type="diffuse"><rgb name="reflectance" value="0.8"/></bsdf></shape>)");
 }
 
-const std::string AllAovs = "al:albedo, dd:depth, pp:position, tex:uv, gn:geo_normal, sn:sh_normal, du:dp_du, dv:dp_dv, "
-                            "dx:duv_dx, dy:duv_dy, pi:prim_index, sh:shape_index";
+const std::string AllAovs =
+    "al:albedo, dd:depth, pp:position, tex:uv, gn:geo_normal, sn:sh_normal, du:dp_du, dv:dp_dv, "
+    "dx:duv_dx, dy:duv_dy, pi:prim_index, sh:shape_index";
 
 struct Channels {
     const Image& img;
@@ -84,9 +87,10 @@ TEST_CASE("aov: every AOV type against a rectangle and a sphere of known geometr
     options.seed = 3;
     Image img = scene->integrator().render(*scene, options).image;
     // Mitsuba's channel order: the film's, the nested image's R, G, B, A, then the AOVs in order.
-    std::vector<std::string> expected = {"R", "G", "B", "img.R", "img.G", "img.B", "img.A", "al.R", "al.G", "al.B", "dd.T", "pp.X", "pp.Y", "pp.Z",
-                                         "tex.U", "tex.V", "gn.X", "gn.Y", "gn.Z", "sn.X", "sn.Y", "sn.Z", "du.X", "du.Y", "du.Z", "dv.X", "dv.Y",
-                                         "dv.Z", "dx.U", "dx.V", "dy.U", "dy.V", "pi.I", "sh.I"};
+    std::vector<std::string> expected = {"R",    "G",    "B",    "img.R", "img.G", "img.B", "img.A", "al.R", "al.G",
+                                         "al.B", "dd.T", "pp.X", "pp.Y",  "pp.Z",  "tex.U", "tex.V", "gn.X", "gn.Y",
+                                         "gn.Z", "sn.X", "sn.Y", "sn.Z",  "du.X",  "du.Y",  "du.Z",  "dv.X", "dv.Y",
+                                         "dv.Z", "dx.U", "dx.V", "dy.U",  "dy.V",  "pi.I",  "sh.I"};
     REQUIRE(img.channels() == expected);
     Channels ch{img};
     const Shape* rect = scene->shapes()[0].get();
@@ -112,7 +116,8 @@ TEST_CASE("aov: every AOV type against a rectangle and a sphere of known geometr
                 for (int c = 7; c < img.channel_count(); ++c) CHECK(img.at(x, y, c) == 0.0f);
             } else if (view.shape == rect) {
                 ++counts[1];
-                CHECK(glm::length(ch.v3(x, y, "al", "RGB") - Vec3(0.3f, 0.5f, 0.7f)) < 1e-6f);  // a constant, up to float rounding of the filter sums
+                CHECK(glm::length(ch.v3(x, y, "al", "RGB") - Vec3(0.3f, 0.5f, 0.7f)) <
+                      1e-6f);  // a constant, up to float rounding of the filter sums
                 CHECK(ch.at(x, y, "dd.T") == Approx(NearPlaneZ - PlaneZ).epsilon(1e-6));
                 check_within(p, lo, hi);
                 CHECK(p.z == Approx(PlaneZ).epsilon(1e-6));
@@ -162,7 +167,8 @@ TEST_CASE("aov: every AOV type against a rectangle and a sphere of known geometr
 TEST_CASE("aov: the nested integrator's image is the image it renders alone, bit for bit", "[render][aov]") {
     std::string path = source_path("scenes/aov_test.xml");
     Ref<Scene> alone = load_scene_from_string(aov_scene("<integrator type=\"path\"/>"), path);
-    Ref<Scene> nested = load_scene_from_string(aov_scene("<integrator type=\"aov\"><string name=\"aovs\" value=\"d:depth\"/><integrator type=\"path\"/></integrator>"), path);
+    Ref<Scene> nested = load_scene_from_string(
+        aov_scene("<integrator type=\"aov\"><string name=\"aovs\" value=\"d:depth\"/><integrator type=\"path\"/></integrator>"), path);
     RenderOptions options;
     options.seed = 11;
     Image a = alone->integrator().render(*alone, options).image, b = nested->integrator().render(*nested, options).image;
@@ -173,13 +179,16 @@ TEST_CASE("aov: the nested integrator's image is the image it renders alone, bit
 TEST_CASE("aov: bad specifications are errors at the aovs property", "[render][aov][errors]") {
     for (const char* aovs : {"dd:depth, nn", "dd:deepness", ":depth", "a:b:c"}) {
         INFO(aovs);
-        CHECK_THROWS_AS(load_scene_from_string(aov_scene(std::string("<integrator type=\"aov\"><string name=\"aovs\" value=\"") + aovs + "\"/></integrator>"),
-                                               source_path("scenes/aov_errors.xml")),
+        CHECK_THROWS_AS(load_scene_from_string(
+                            aov_scene(std::string("<integrator type=\"aov\"><string name=\"aovs\" value=\"") + aovs + "\"/></integrator>"),
+                            source_path("scenes/aov_errors.xml")),
                         SceneError);
     }
-    CHECK_THROWS_WITH(load_scene_from_string(aov_scene(R"(<integrator type="aov"><string name="aovs" value="d:depth"/><integrator type="raster"/></integrator>)"),
-                                             source_path("scenes/aov_errors.xml")),
-                      Catch::Contains("only sampling integrators"));
+    CHECK_THROWS_WITH(
+        load_scene_from_string(
+            aov_scene(R"(<integrator type="aov"><string name="aovs" value="d:depth"/><integrator type="raster"/></integrator>)"),
+            source_path("scenes/aov_errors.xml")),
+        Catch::Contains("only sampling integrators"));
 }
 
 TEST_CASE("moment: second moment minus first squared is the variance the variance layer reports", "[render][moment]") {

@@ -27,9 +27,11 @@ std::string box_scene(const std::string& integrator, bool delta) {
     std::string s = integrator + R"(
         <sensor type="perspective"><float name="fov" value="45"/>
             <transform name="to_world"><lookat origin="0, 0, 3.2" target="0, 0, 0" up="0, 1, 0"/></transform>
-            <sampler type="independent"><integer name="sample_count" value=")" + std::to_string(Spp) + R"("/></sampler>
-            <film type="hdrfilm"><integer name="width" value=")" + std::to_string(Size) + R"("/><integer name="height" value=")" +
-                    std::to_string(Size) + R"("/><rfilter type="box"/><string name="component_format" value="float32"/></film>
+            <sampler type="independent"><integer name="sample_count" value=")" +
+                    std::to_string(Spp) + R"("/></sampler>
+            <film type="hdrfilm"><integer name="width" value=")" +
+                    std::to_string(Size) + R"("/><integer name="height" value=")" + std::to_string(Size) +
+                    R"("/><rfilter type="box"/><string name="component_format" value="float32"/></film>
         </sensor>
         <emitter type="constant"><rgb name="radiance" value="0.2, 0.25, 0.3"/></emitter>
         <shape type="rectangle"><transform name="to_world"><rotate x="1" angle="-90"/><translate y="-1"/></transform>
@@ -69,7 +71,8 @@ double check_agree(const Image& a, const Image& b, const std::string& what) {
             for (int ch = 0; ch < 3; ++ch) {
                 MeanAndVariance ma = block_mean(a, ch, bx, by, Block), mb = block_mean(b, ch, bx, by, Block);
                 double se = std::sqrt(ma.variance_of_mean + mb.variance_of_mean);
-                INFO(what << ": block (" << bx << ", " << by << ") channel " << "RGB"[ch] << ": " << ma.mean << " vs " << mb.mean << " +- " << se);
+                INFO(what << ": block (" << bx << ", " << by << ") channel "
+                          << "RGB"[ch] << ": " << ma.mean << " vs " << mb.mean << " +- " << se);
                 CHECK(std::abs(ma.mean - mb.mean) <= z * se);
                 if (mb.mean > 0.01) relative.push_back(se / mb.mean);
             }
@@ -82,7 +85,9 @@ double check_agree(const Image& a, const Image& b, const std::string& what) {
 TEST_CASE("direct: equals path at max_depth 2, with one or several samples per strategy", "[render][direct]") {
     RenderResult path = render_box(R"(<integrator type="path"><integer name="max_depth" value="2"/></integrator>)", true, 1);
     RenderResult direct = render_box(R"(<integrator type="direct"/>)", true, 2);
-    RenderResult several = render_box(R"(<integrator type="direct"><integer name="emitter_samples" value="3"/><integer name="bsdf_samples" value="2"/></integrator>)", true, 3);
+    RenderResult several = render_box(
+        R"(<integrator type="direct"><integer name="emitter_samples" value="3"/><integer name="bsdf_samples" value="2"/></integrator>)",
+        true, 3);
     double power = check_agree(direct.image, path.image, "direct vs path");
     CHECK(power < 0.05);  // a bias of 20% in a typical block would show at the threshold
     check_agree(several.image, path.image, "direct (3 emitter, 2 BSDF samples) vs path");
@@ -90,8 +95,12 @@ TEST_CASE("direct: equals path at max_depth 2, with one or several samples per s
 }
 
 TEST_CASE("direct: light sampling alone and BSDF sampling alone agree where both can see every light", "[render][direct]") {
-    RenderResult emitter_only = render_box(R"(<integrator type="direct"><integer name="emitter_samples" value="2"/><integer name="bsdf_samples" value="0"/></integrator>)", false, 4);
-    RenderResult bsdf_only = render_box(R"(<integrator type="direct"><integer name="emitter_samples" value="0"/><integer name="bsdf_samples" value="4"/></integrator>)", false, 5);
+    RenderResult emitter_only = render_box(
+        R"(<integrator type="direct"><integer name="emitter_samples" value="2"/><integer name="bsdf_samples" value="0"/></integrator>)",
+        false, 4);
+    RenderResult bsdf_only = render_box(
+        R"(<integrator type="direct"><integer name="emitter_samples" value="0"/><integer name="bsdf_samples" value="4"/></integrator>)",
+        false, 5);
     double power = check_agree(emitter_only.image, bsdf_only.image, "light sampling vs BSDF sampling");
     CHECK(power < 0.1);
 }
@@ -105,7 +114,8 @@ TEST_CASE("direct: its parameters are checked as Mitsuba checks them", "[render]
             CHECK_THAT(std::string(e.what()), Catch::Contains(message));
         }
     };
-    fails(R"(<integrator type="direct"><integer name="shading_samples" value="2"/><integer name="bsdf_samples" value="1"/></integrator>)", "not both");
+    fails(R"(<integrator type="direct"><integer name="shading_samples" value="2"/><integer name="bsdf_samples" value="1"/></integrator>)",
+          "not both");
     fails(R"(<integrator type="direct"><integer name="emitter_samples" value="0"/><integer name="bsdf_samples" value="0"/></integrator>)",
           "at least one");
     fails(R"(<integrator type="direct"><integer name="max_depth" value="2"/></integrator>)", "max_depth");

@@ -31,14 +31,18 @@ std::string scene_with(const std::string& integrator, bool hide, bool screen) {
             <sampler type="independent"><integer name="sample_count" value="16"/></sampler>
             <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/><rfilter type="box"/>
                 <string name="pixel_format" value="rgba"/><string name="component_format" value="float32"/></film></sensor>
-        <emitter type="constant"><rgb name="radiance" value=")" + std::to_string(Sky) + R"("/></emitter>
+        <emitter type="constant"><rgb name="radiance" value=")" +
+                    std::to_string(Sky) + R"("/></emitter>
         <emitter type="point"><point name="position" value="0.3, 0.2, 2"/><rgb name="intensity" value="3"/></emitter>
         <shape type="rectangle"><transform name="to_world"><scale value="0.5"/></transform>
             <bsdf type="diffuse"><rgb name="reflectance" value="0.6"/></bsdf>
-            <emitter type="area"><rgb name="radiance" value=")" + std::to_string(Le) + R"("/></emitter></shape>
+            <emitter type="area"><rgb name="radiance" value=")" +
+                    std::to_string(Le) + R"("/></emitter></shape>
         <shape type="rectangle"><transform name="to_world"><scale x="0.5" y="1"/><translate x="-0.5" z="-1"/></transform>
             <bsdf type="diffuse"><rgb name="reflectance" value="0.5"/></bsdf></shape>)";
-    if (screen) s += R"(<shape type="rectangle"><transform name="to_world"><scale value="3"/><translate z="2"/></transform><bsdf type="null"/></shape>)";
+    if (screen)
+        s +=
+            R"(<shape type="rectangle"><transform name="to_world"><scale value="3"/><translate z="2"/></transform><bsdf type="null"/></shape>)";
     return scene_xml(s);
 }
 
@@ -89,7 +93,8 @@ Counts check_hiding(const std::string& integrator, bool screen) {
 
 }  // namespace
 
-TEST_CASE("hide_emitters: path and direct leave out only the emission seen directly, through null surfaces too", "[render][hide_emitters]") {
+TEST_CASE("hide_emitters: path and direct leave out only the emission seen directly, through null surfaces too",
+          "[render][hide_emitters]") {
     for (const char* integrator : {"path", "direct"})
         for (bool screen : {false, true}) {
             Counts c = check_hiding(integrator, screen);

@@ -121,8 +121,9 @@ TEST_CASE("light paths: ptracer, sppm and photonmapper give the same image with 
 
 TEST_CASE("light paths: an interrupted render returns a partial, finite image", "[render][sppm][photonmapper][ptracer][interrupt]") {
     const std::atomic<bool> stop{true};
-    for (const std::string& integrator : {std::string("<integrator type=\"ptracer\"/>"), sppm(20000, 3),
-                                         std::string("<integrator type=\"photonmapper\"><integer name=\"global_photons\" value=\"20000\"/></integrator>")}) {
+    for (const std::string& integrator :
+         {std::string("<integrator type=\"ptracer\"/>"), sppm(20000, 3),
+          std::string("<integrator type=\"photonmapper\"><integer name=\"global_photons\" value=\"20000\"/></integrator>")}) {
         INFO(integrator);
         Ref<Scene> scene = validation_scene("cbox", integrator, {{"res", "16"}});
         RenderResult r = render(*scene, 0, 2, &stop);

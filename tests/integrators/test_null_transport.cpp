@@ -35,21 +35,25 @@ std::string floor_scene(const std::string& lighting, const std::string& floor_bs
     return scene_xml(lighting + R"(
         <sensor type="perspective"><float name="fov" value="30"/>
             <transform name="to_world"><lookat origin="0, -2, 0.8" target="0, 0.3, 0" up="0, 0, 1"/></transform>
-            <sampler type="independent"><integer name="sample_count" value=")" + std::to_string(spp) + R"("/></sampler>
+            <sampler type="independent"><integer name="sample_count" value=")" +
+                     std::to_string(spp) + R"("/></sampler>
             <film type="hdrfilm"><integer name="width" value="32"/><integer name="height" value="32"/><rfilter type="box"/>
                 <string name="component_format" value="float32"/></film>
         </sensor>
-        <shape type="rectangle"><transform name="to_world"><scale value="20"/></transform>)" + floor_bsdf + R"(</shape>)" + blockers);
+        <shape type="rectangle"><transform name="to_world"><scale value="20"/></transform>)" +
+                     floor_bsdf + R"(</shape>)" + blockers);
 }
 
 // A rectangle at height z over x in [x0, x1], y in [-2, 2], with the given BSDF.
 std::string blocker(const std::string& bsdf, float z, float x0 = -2.0f, float x1 = 0.3f) {
-    return "<shape type=\"rectangle\"><transform name=\"to_world\"><scale x=\"" + std::to_string(0.5f * (x1 - x0)) + "\" y=\"2\"/><translate x=\"" +
-           std::to_string(0.5f * (x0 + x1)) + "\" z=\"" + std::to_string(z) + "\"/></transform>" + bsdf + "</shape>";
+    return "<shape type=\"rectangle\"><transform name=\"to_world\"><scale x=\"" + std::to_string(0.5f * (x1 - x0)) +
+           "\" y=\"2\"/><translate x=\"" + std::to_string(0.5f * (x0 + x1)) + "\" z=\"" + std::to_string(z) + "\"/></transform>" + bsdf +
+           "</shape>";
 }
 // A plane at z = 1 that every path between the floor and a light above crosses.
 std::string ceiling(const std::string& bsdf) {
-    return "<shape type=\"rectangle\"><transform name=\"to_world\"><scale value=\"30\"/><translate z=\"1\"/></transform>" + bsdf + "</shape>";
+    return "<shape type=\"rectangle\"><transform name=\"to_world\"><scale value=\"30\"/><translate z=\"1\"/></transform>" + bsdf +
+           "</shape>";
 }
 
 const std::string PointLight = R"(<integrator type="path"><integer name="max_depth" value="2"/></integrator>
@@ -69,10 +73,14 @@ RatioCounts ratios(const Image& blocked, const Image& open, float k) {
                 float a = blocked.at(x, y, ch), b = open.at(x, y, ch);
                 REQUIRE(b > 0.0f);
                 float r = a / b;
-                if (std::abs(r - 1.0f) < 1e-5f) ++c.at_one;
-                else if (std::abs(r - k) < 1e-5f) ++c.at_k;
-                else if (r > std::min(k, 1.0f) - 1e-5f && r < std::max(k, 1.0f) + 1e-5f) ++c.between;
-                else ++c.outside;
+                if (std::abs(r - 1.0f) < 1e-5f)
+                    ++c.at_one;
+                else if (std::abs(r - k) < 1e-5f)
+                    ++c.at_k;
+                else if (r > std::min(k, 1.0f) - 1e-5f && r < std::max(k, 1.0f) + 1e-5f)
+                    ++c.between;
+                else
+                    ++c.outside;
             }
     return c;
 }
@@ -110,10 +118,16 @@ TEST_CASE("null transport: shadow rays keep each blocker's transmission, sample 
         {"mask 0.3", blocker(R"(<bsdf type="mask"><float name="opacity" value="0.3"/><bsdf type="diffuse"/></bsdf>)", 1.0f), 0.7f},
         {"null", blocker(R"(<bsdf type="null"/>)", 1.0f), 1.0f},
         {"polarizer", blocker(R"(<bsdf type="polarizer"/>)", 1.0f), 0.5f},
-        {"two polarizers (RGB: no crossing effect)", blocker(R"(<bsdf type="polarizer"/>)", 1.0f) + blocker(R"(<bsdf type="polarizer"><float name="theta" value="90"/></bsdf>)", 1.3f), 0.25f},
-        {"two masks", blocker(R"(<bsdf type="mask"><float name="opacity" value="0.2"/><bsdf type="diffuse"/></bsdf>)", 1.0f) +
-                          blocker(R"(<bsdf type="mask"><float name="opacity" value="0.5"/><bsdf type="conductor"/></bsdf>)", 1.4f), 0.8f * 0.5f},
-        {"blend of null and diffuse", blocker(R"(<bsdf type="blendbsdf"><float name="weight" value="0.4"/><bsdf type="null"/><bsdf type="diffuse"/></bsdf>)", 1.0f), 0.6f},
+        {"two polarizers (RGB: no crossing effect)",
+         blocker(R"(<bsdf type="polarizer"/>)", 1.0f) + blocker(R"(<bsdf type="polarizer"><float name="theta" value="90"/></bsdf>)", 1.3f),
+         0.25f},
+        {"two masks",
+         blocker(R"(<bsdf type="mask"><float name="opacity" value="0.2"/><bsdf type="diffuse"/></bsdf>)", 1.0f) +
+             blocker(R"(<bsdf type="mask"><float name="opacity" value="0.5"/><bsdf type="conductor"/></bsdf>)", 1.4f),
+         0.8f * 0.5f},
+        {"blend of null and diffuse",
+         blocker(R"(<bsdf type="blendbsdf"><float name="weight" value="0.4"/><bsdf type="null"/><bsdf type="diffuse"/></bsdf>)", 1.0f),
+         0.6f},
         {"opaque diffuse", blocker(Diffuse, 1.0f), 0.0f},
     };
     for (const Case& c : cases) {
@@ -125,16 +139,18 @@ TEST_CASE("null transport: shadow rays keep each blocker's transmission, sample 
             CHECK(r.at_one == 3 * 32 * 32);
             continue;
         }
-        CHECK(r.at_k > 3 * 32 * 32 / 5);    // the blocker shadows most of the view, ...
+        CHECK(r.at_k > 3 * 32 * 32 / 5);     // the blocker shadows most of the view, ...
         CHECK(r.at_one > 3 * 32 * 32 / 20);  // ... not all of it
-        CHECK(r.between < 3 * 32 * 3);      // only a column or so of pixels straddles the edge
+        CHECK(r.between < 3 * 32 * 3);       // only a column or so of pixels straddles the edge
     }
     // The floor seen through a null plane or a clear mask just in front of the camera: with
     // max_depth 2 (direct light only) the crossing must not count as a bounce, or the floor's
     // light would be cut off. The crossing moves ray origins by rounding, so 1e-5 (at_one).
-    for (const char* bsdf : {R"(<bsdf type="null"/>)", R"(<bsdf type="mask"><float name="opacity" value="0"/><bsdf type="diffuse"/></bsdf>)"}) {
+    for (const char* bsdf :
+         {R"(<bsdf type="null"/>)", R"(<bsdf type="mask"><float name="opacity" value="0"/><bsdf type="diffuse"/></bsdf>)"}) {
         std::string screen = std::string(R"(<shape type="rectangle"><transform name="to_world"><scale value="2"/>
-            <lookat origin="0, -1.53, 0.64" target="0, 0.3, 0" up="0, 0, 1"/></transform>)") + bsdf + "</shape>";
+            <lookat origin="0, -1.53, 0.64" target="0, 0.3, 0" up="0, 0, 1"/></transform>)") +
+                             bsdf + "</shape>";
         RenderResult through = render_string(floor_scene(PointLight, Diffuse, screen, 4), "null_screen");
         RatioCounts r = ratios(through.image, open.image, 1.0f);
         INFO(bsdf << ": " << r.at_one << " equal, " << r.outside << " different");
@@ -151,8 +167,10 @@ TEST_CASE("null transport: a black mask of opacity a scales light from an area l
     const std::string area = R"(<integrator type="path"/>
         <shape type="rectangle"><transform name="to_world"><scale value="1.5"/><rotate x="1" angle="180"/><translate z="2"/></transform>
             <emitter type="area"><rgb name="radiance" value="2"/></emitter></shape>)";
-    const std::string floor = R"(<bsdf type="roughplastic"><float name="alpha" value="0.15"/><rgb name="diffuse_reflectance" value="0.3"/></bsdf>)";
-    const std::string mask = ceiling(R"(<bsdf type="mask"><float name="opacity" value="0.6"/><bsdf type="diffuse"><rgb name="reflectance" value="0"/></bsdf></bsdf>)");
+    const std::string floor =
+        R"(<bsdf type="roughplastic"><float name="alpha" value="0.15"/><rgb name="diffuse_reflectance" value="0.3"/></bsdf>)";
+    const std::string mask = ceiling(
+        R"(<bsdf type="mask"><float name="opacity" value="0.6"/><bsdf type="diffuse"><rgb name="reflectance" value="0"/></bsdf></bsdf>)");
     RenderResult open = render_string(floor_scene(area, floor, "", 64), "null_area_open", {"variance"});
     RenderResult masked = render_string(floor_scene(area, floor, mask, 64), "null_area_masked", {"variance"});
     check_scaled_equal(masked.image, open.image, 0.4, "mask 0.6 under an area light");
@@ -161,8 +179,9 @@ TEST_CASE("null transport: a black mask of opacity a scales light from an area l
     check_scaled_equal(nulled.image, open.image, 1.0, "null plane under an area light");
 }
 
-TEST_CASE("null transport: in the Cornell box a null sphere and a clear mask in front of the camera render as nothing, an opaque mask as its BSDF",
-          "[render][null]") {
+TEST_CASE(
+    "null transport: in the Cornell box a null sphere and a clear mask in front of the camera render as nothing, an opaque mask as its BSDF",
+    "[render][null]") {
     std::string box = read_text(source_path("scenes/validation/cbox.xml"));
     auto with = [&](const std::string& shapes) {
         std::string s = box;
@@ -179,8 +198,10 @@ TEST_CASE("null transport: in the Cornell box a null sphere and a clear mask in 
     RenderResult plain = render(box, "cbox_plain");
     // A null sphere around the tall box's top and the light's neighbourhood, and a null plane
     // filling the view just in front of the camera (every camera ray crosses it).
-    const std::string null_sphere = R"(<shape type="sphere"><point name="center" value="0, 0.4, 0"/><float name="radius" value="0.5"/><bsdf type="null"/></shape>)";
-    const std::string null_plane = R"(<shape type="rectangle"><transform name="to_world"><translate z="3"/></transform><bsdf type="null"/></shape>)";
+    const std::string null_sphere =
+        R"(<shape type="sphere"><point name="center" value="0, 0.4, 0"/><float name="radius" value="0.5"/><bsdf type="null"/></shape>)";
+    const std::string null_plane =
+        R"(<shape type="rectangle"><transform name="to_world"><translate z="3"/></transform><bsdf type="null"/></shape>)";
     check_scaled_equal(render(with(null_sphere + null_plane), "cbox_null").image, plain.image, 1.0, "null shapes");
     const std::string clear_mask = R"(<shape type="sphere"><point name="center" value="0.2, -0.2, 0.3"/><float name="radius" value="0.45"/>
         <bsdf type="mask"><float name="opacity" value="0"/><bsdf type="diffuse"/></bsdf></shape>)";
@@ -192,7 +213,8 @@ TEST_CASE("null transport: in the Cornell box a null sphere and a clear mask in 
     size_t at = opaque.find(anchor);
     REQUIRE(at != std::string::npos);
     size_t ref = opaque.find("<ref id=\"white\"/>", at);
-    opaque.replace(ref, std::strlen("<ref id=\"white\"/>"), R"(<bsdf type="mask"><float name="opacity" value="1"/><ref id="white"/></bsdf>)");
+    opaque.replace(ref, std::strlen("<ref id=\"white\"/>"),
+                   R"(<bsdf type="mask"><float name="opacity" value="1"/><ref id="white"/></bsdf>)");
     RenderResult masked = render(opaque, "cbox_opaque_mask");
     CHECK(std::memcmp(masked.image.data().data(), plain.image.data().data(), plain.image.data().size() * sizeof(float)) == 0);
 }

@@ -9,7 +9,6 @@
 
 #include <catch2/catch.hpp>
 
-
 using namespace candela;
 using namespace candela::test;
 
@@ -75,7 +74,6 @@ TEST_CASE("furnace: lossless BSDFs under a uniform environment render exactly 1"
     }
 }
 
-
 TEST_CASE("integrator settings: path and irradiance report a bad light_sampler or rr_depth at its line", "[render][errors]") {
     auto dir = scratch_dir("path-settings");
     struct Case {
@@ -87,8 +85,8 @@ TEST_CASE("integrator settings: path and irradiance report a bad light_sampler o
     for (const char* type : {"path", "irradiance"})
         for (const Case& c : cases) {
             // scene_xml puts the body from line 2 on: the integrator, max_depth, then the bad property.
-            write_text(dir / "scene.xml", scene_xml(std::string("<integrator type=\"") + type + "\">\n<integer name=\"max_depth\" value=\"4\"/>\n" + c.property +
-                                                    "\n</integrator>"));
+            write_text(dir / "scene.xml", scene_xml(std::string("<integrator type=\"") + type +
+                                                    "\">\n<integer name=\"max_depth\" value=\"4\"/>\n" + c.property + "\n</integrator>"));
             INFO(type << ": " << c.property);
             try {
                 load_scene((dir / "scene.xml").string());

@@ -26,7 +26,8 @@ namespace {
 // its normal through a corner.
 double corner_rectangle_form_factor(double a, double b, double c) {
     double x = a / c, y = b / c;
-    return (x / std::sqrt(1 + x * x) * std::atan(y / std::sqrt(1 + x * x)) + y / std::sqrt(1 + y * y) * std::atan(x / std::sqrt(1 + y * y))) /
+    return (x / std::sqrt(1 + x * x) * std::atan(y / std::sqrt(1 + x * x)) +
+            y / std::sqrt(1 + y * y) * std::atan(x / std::sqrt(1 + y * y))) /
            (2.0 * 3.14159265358979323846);
 }
 
@@ -36,9 +37,10 @@ std::string radiosity_cbox(const std::string& extra = "") {
     std::string scene = read_text(source_path("scenes/validation/cbox.xml"));
     std::string path = "<integrator type=\"path\">\n        <integer name=\"max_depth\" value=\"-1\"/>\n    </integrator>";
     REQUIRE(scene.find(path) != std::string::npos);
-    scene.replace(scene.find(path), path.size(),
-                  R"(<integrator type="radiosity"><float name="max_patch_area" value="$area"/><boolean name="final_gather" value="$gather"/>)" + extra +
-                      "</integrator>");
+    scene.replace(
+        scene.find(path), path.size(),
+        R"(<integrator type="radiosity"><float name="max_patch_area" value="$area"/><boolean name="final_gather" value="$gather"/>)" +
+            extra + "</integrator>");
     return scene;
 }
 
@@ -57,11 +59,13 @@ RenderResult render_string(const std::string& xml, const std::filesystem::path& 
 // A closed box seen from inside, emitting Le = 1 from every wall, diffuse reflectance 0.5: the
 // radiance everywhere is Le / (1 - rho) = 2.
 std::string furnace_box(const std::string& display, int spp = 16) {
-    return scene_xml(R"(<integrator type="radiosity"><integer name="subdivisions" value="2"/><boolean name="final_gather" value=")" + display +
+    return scene_xml(R"(<integrator type="radiosity"><integer name="subdivisions" value="2"/><boolean name="final_gather" value=")" +
+                     display +
                      R"("/></integrator>
         <sensor type="perspective"><float name="fov" value="90"/>
             <transform name="to_world"><lookat origin="0.2, 0.1, 0.3" target="1, 0.5, -1" up="0, 1, 0"/></transform>
-            <sampler type="independent"><integer name="sample_count" value=")" + std::to_string(spp) + R"("/></sampler>
+            <sampler type="independent"><integer name="sample_count" value=")" +
+                     std::to_string(spp) + R"("/></sampler>
             <film type="hdrfilm"><integer name="width" value="24"/><integer name="height" value="24"/><rfilter type="box"/></film>
         </sensor>
         <shape type="cube"><boolean name="flip_normals" value="true"/>
@@ -78,7 +82,8 @@ MeanAndError pixel_mean(const Image& img) {
 }
 
 double worst_mean_difference(const ImageComparison& c) {
-    return std::max({std::abs(c.mean_relative_difference.x), std::abs(c.mean_relative_difference.y), std::abs(c.mean_relative_difference.z)});
+    return std::max(
+        {std::abs(c.mean_relative_difference.x), std::abs(c.mean_relative_difference.y), std::abs(c.mean_relative_difference.z)});
 }
 
 // Collects the warnings given while alive.
@@ -169,7 +174,7 @@ TEST_CASE("radiosity: per-vertex irradiance for baked lighting", "[radiosity]") 
     std::vector<RadiosityMesh> two = bake_radiosity(*panel, settings, RenderOptions());
     REQUIRE(two.size() == 2);
     CHECK(two[0].irradiance_back.size() == two[0].irradiance.size());
-    CHECK(two[0].irradiance[0].x > 0.0f);      // the front faces the light
+    CHECK(two[0].irradiance[0].x > 0.0f);        // the front faces the light
     CHECK(two[0].irradiance_back[0].x == 0.0f);  // the back sees nothing
 }
 
@@ -262,7 +267,8 @@ TEST_CASE("radiosity: non-diffuse BSDFs are named as approximated, bad parameter
     {
         CaptureWarnings err;
         render_string(scene, dir / "cbox.xml", {{"area", "0.32"}, {"gather", "true"}, {"res", "16"}, {"spp", "1"}}, 0, &stats);
-        CHECK_THAT(err.text, Catch::Contains("cbox.xml:") && Catch::Contains("warning: radiosity treats non-diffuse BSDFs by their diffuse albedo: plastic"));
+        CHECK_THAT(err.text, Catch::Contains("cbox.xml:") &&
+                                 Catch::Contains("warning: radiosity treats non-diffuse BSDFs by their diffuse albedo: plastic"));
     }
     CHECK(stats->approximated_bsdfs == std::vector<std::string>{"plastic"});
     {
@@ -290,8 +296,8 @@ TEST_CASE("radiosity and ao: Ctrl-C writes the image so far, marked partial", "[
     write_text(dir / "ao.xml", ao);
     for (const char* name : {"radiosity", "ao"}) {
         auto out = dir / (std::string(name) + ".exr");
-        std::string cmd = interrupt_after_start("'" + candela_binary() + "' render '" + (dir / (std::string(name) + ".xml")).string() + "' -o '" +
-                                                out.string() + "' -D area=0.0005 -D gather=true --spp 100000");
+        std::string cmd = interrupt_after_start("'" + candela_binary() + "' render '" + (dir / (std::string(name) + ".xml")).string() +
+                                                "' -o '" + out.string() + "' -D area=0.0005 -D gather=true --spp 100000");
         int code = run_command(cmd, dir / "log.txt");
         INFO(name << ": " << read_text(dir / "log.txt"));
         CHECK(code == 130);

@@ -43,27 +43,37 @@ std::string xyz(double x, double y, double z, double s) { return num(x * s) + ",
 
 // A small box: floor and back wall (diffuse), an area light above, and `object` (a shape's
 // inner XML: its bsdf) on a sphere of radius 0.5 standing on the floor; every length times `s`.
-std::string box_scene(double s, const std::string& object_bsdf, double radiance = 5.0, bool with_object = true, const std::string& floor = "") {
+std::string box_scene(double s, const std::string& object_bsdf, double radiance = 5.0, bool with_object = true,
+                      const std::string& floor = "") {
     // Unbounded paths (Russian roulette ends them): crossing an invisible interface still counts
     // as a bounce, so a depth limit would cut paths from one scene that it keeps in the other.
-    std::string x = "<integrator type=\"path\"><integer name=\"max_depth\" value=\"-1\"/></integrator>\n"
-                    "<sensor type=\"perspective\"><float name=\"fov\" value=\"45\"/>\n"
-                    // The clipping distances are lengths too (Mitsuba's defaults: 0.01 and 1e4).
-                    "<float name=\"near_clip\" value=\"" + num(0.01 * s) + "\"/><float name=\"far_clip\" value=\"" + num(1e4 * s) + "\"/>\n"
-                    "<transform name=\"to_world\"><lookat origin=\"" + xyz(0, 1, 3.5, s) + "\" target=\"" + xyz(0, 0.7, 0, s) + "\" up=\"0, 1, 0\"/></transform>\n"
-                    "<sampler type=\"independent\"><integer name=\"sample_count\" value=\"" + std::to_string(Spp) + "\"/></sampler>\n"
-                    "<film type=\"hdrfilm\"><integer name=\"width\" value=\"" + std::to_string(Res) + "\"/><integer name=\"height\" value=\"" +
-                    std::to_string(Res) + "\"/><rfilter type=\"box\"/></film></sensor>\n";
+    std::string x =
+        "<integrator type=\"path\"><integer name=\"max_depth\" value=\"-1\"/></integrator>\n"
+        "<sensor type=\"perspective\"><float name=\"fov\" value=\"45\"/>\n"
+        // The clipping distances are lengths too (Mitsuba's defaults: 0.01 and 1e4).
+        "<float name=\"near_clip\" value=\"" +
+        num(0.01 * s) + "\"/><float name=\"far_clip\" value=\"" + num(1e4 * s) +
+        "\"/>\n"
+        "<transform name=\"to_world\"><lookat origin=\"" +
+        xyz(0, 1, 3.5, s) + "\" target=\"" + xyz(0, 0.7, 0, s) +
+        "\" up=\"0, 1, 0\"/></transform>\n"
+        "<sampler type=\"independent\"><integer name=\"sample_count\" value=\"" +
+        std::to_string(Spp) +
+        "\"/></sampler>\n"
+        "<film type=\"hdrfilm\"><integer name=\"width\" value=\"" +
+        std::to_string(Res) + "\"/><integer name=\"height\" value=\"" + std::to_string(Res) +
+        "\"/><rfilter type=\"box\"/></film></sensor>\n";
     x += floor.empty() ? "<shape type=\"rectangle\"><transform name=\"to_world\"><scale value=\"" + num(2 * s) +
                              "\"/><rotate x=\"1\" angle=\"-90\"/></transform><bsdf type=\"diffuse\"/></shape>\n"
                        : floor;
-    x += "<shape type=\"rectangle\"><transform name=\"to_world\"><scale value=\"" + num(2 * s) + "\"/><translate value=\"" + xyz(0, 1, -1, s) +
-         "\"/></transform><bsdf type=\"diffuse\"><rgb name=\"reflectance\" value=\"0.6, 0.3, 0.2\"/></bsdf></shape>\n";
-    x += "<shape type=\"rectangle\"><transform name=\"to_world\"><scale value=\"" + num(0.5 * s) + "\"/><rotate x=\"1\" angle=\"90\"/><translate value=\"" +
-         xyz(0, 2, 0, s) + "\"/></transform><emitter type=\"area\"><rgb name=\"radiance\" value=\"" + num(radiance) + "\"/></emitter></shape>\n";
+    x += "<shape type=\"rectangle\"><transform name=\"to_world\"><scale value=\"" + num(2 * s) + "\"/><translate value=\"" +
+         xyz(0, 1, -1, s) + "\"/></transform><bsdf type=\"diffuse\"><rgb name=\"reflectance\" value=\"0.6, 0.3, 0.2\"/></bsdf></shape>\n";
+    x += "<shape type=\"rectangle\"><transform name=\"to_world\"><scale value=\"" + num(0.5 * s) +
+         "\"/><rotate x=\"1\" angle=\"90\"/><translate value=\"" + xyz(0, 2, 0, s) +
+         "\"/></transform><emitter type=\"area\"><rgb name=\"radiance\" value=\"" + num(radiance) + "\"/></emitter></shape>\n";
     if (with_object)
-        x += "<shape type=\"sphere\"><float name=\"radius\" value=\"" + num(0.5 * s) + "\"/><point name=\"center\" value=\"" + xyz(0, 0.5, 0, s) +
-             "\"/>\n" + object_bsdf + "</shape>\n";
+        x += "<shape type=\"sphere\"><float name=\"radius\" value=\"" + num(0.5 * s) + "\"/><point name=\"center\" value=\"" +
+             xyz(0, 0.5, 0, s) + "\"/>\n" + object_bsdf + "</shape>\n";
     return x;
 }
 
@@ -159,9 +169,11 @@ TEST_CASE("robustness: rough BSDFs with alpha = 0 render as their smooth counter
         std::string rough, smooth;
     };
     const Pair pairs[] = {
-        {"conductor-ggx", "<bsdf type=\"roughconductor\"><string name=\"distribution\" value=\"ggx\"/><float name=\"alpha\" value=\"0\"/></bsdf>",
+        {"conductor-ggx",
+         "<bsdf type=\"roughconductor\"><string name=\"distribution\" value=\"ggx\"/><float name=\"alpha\" value=\"0\"/></bsdf>",
          "<bsdf type=\"conductor\"/>"},
-        {"conductor-beckmann", "<bsdf type=\"roughconductor\"><float name=\"alpha_u\" value=\"0\"/><float name=\"alpha_v\" value=\"0\"/></bsdf>",
+        {"conductor-beckmann",
+         "<bsdf type=\"roughconductor\"><float name=\"alpha_u\" value=\"0\"/><float name=\"alpha_v\" value=\"0\"/></bsdf>",
          "<bsdf type=\"conductor\"/>"},
         {"dielectric", "<bsdf type=\"roughdielectric\"><float name=\"alpha\" value=\"0\"/></bsdf>", "<bsdf type=\"dielectric\"/>"},
         {"plastic", "<bsdf type=\"roughplastic\"><float name=\"alpha\" value=\"0\"/></bsdf>", "<bsdf type=\"plastic\"/>"},
@@ -181,8 +193,8 @@ TEST_CASE("robustness: dielectrics of index 1 are invisible", "[robustness][ior]
     const std::string matched = "<float name=\"int_ior\" value=\"1.33\"/><float name=\"ext_ior\" value=\"1.33\"/>";
     const std::string without = box_scene(1, "", 5.0, false), brighter = box_scene(1, "", 5.5, false);
     check_agrees("ior1-smooth", box_scene(1, "<bsdf type=\"dielectric\">" + matched + "</bsdf>"), without, brighter);
-    check_agrees("ior1-rough", box_scene(1, "<bsdf type=\"roughdielectric\"><float name=\"alpha\" value=\"0.3\"/>" + matched + "</bsdf>"), without,
-                 brighter);
+    check_agrees("ior1-rough", box_scene(1, "<bsdf type=\"roughdielectric\"><float name=\"alpha\" value=\"0.3\"/>" + matched + "</bsdf>"),
+                 without, brighter);
     check_agrees("ior1-thin", box_scene(1, "<bsdf type=\"thindielectric\">" + matched + "</bsdf>"), without, brighter);
 }
 
@@ -217,8 +229,10 @@ TEST_CASE("robustness: degenerate triangles are dropped, and a mesh of nothing e
     check_finite(lit_dirty);
     CHECK(lit_dirty.image.data() == lit_clean.image.data());
     int line = 0;
-    std::string error = load_error("degenerate-nothing", "<shape type=\"obj\">\n<string name=\"filename\" value=\"" + (dir / "nothing.obj").string() +
-                                                             "\"/><emitter type=\"area\"/></shape>", &line);
+    std::string error = load_error("degenerate-nothing",
+                                   "<shape type=\"obj\">\n<string name=\"filename\" value=\"" + (dir / "nothing.obj").string() +
+                                       "\"/><emitter type=\"area\"/></shape>",
+                                   &line);
     // Mesh data errors name the mesh file, at the line of its filename property.
     CHECK_THAT(error, Catch::Contains("nothing.obj\": no triangle has a non-zero area"));
     CHECK(line == 3);
@@ -233,7 +247,8 @@ TEST_CASE("robustness: shading normals that face away or graze give finite image
         const char* n;
     };
     const Normals cases[] = {{"backfacing", "0 -1 0"}, {"grazing", "1 0 0"}, {"near-grazing", "1 1e-6 0"}, {"zero", "0 0 0"}};
-    const char* bsdfs[] = {"<bsdf type=\"diffuse\"/>", "<bsdf type=\"plastic\"/>", "<bsdf type=\"roughconductor\"/>", "<bsdf type=\"dielectric\"/>",
+    const char* bsdfs[] = {"<bsdf type=\"diffuse\"/>",         "<bsdf type=\"plastic\"/>",
+                           "<bsdf type=\"roughconductor\"/>",  "<bsdf type=\"dielectric\"/>",
                            "<bsdf type=\"roughdielectric\"/>", "<bsdf type=\"twosided\"><bsdf type=\"roughplastic\"/></bsdf>"};
     for (const Normals& c : cases) {
         std::string obj = "v -1 0 -1\nv 1 0 -1\nv 1 0 1\nv -1 0 1\nvn " + std::string(c.n) + "\nf 1//1 3//1 2//1\nf 1//1 4//1 3//1\n";
@@ -250,7 +265,8 @@ TEST_CASE("robustness: shading normals that face away or graze give finite image
 TEST_CASE("robustness: a reflectance above 1 is a warning at its line, a negative one an error", "[robustness][reflectance]") {
     std::vector<std::string> warnings;
     WarningSink previous = set_warning_sink([&](const std::string& w) { warnings.push_back(w); });
-    std::string error = load_error("reflectance-high", "<bsdf type=\"diffuse\">\n<rgb name=\"reflectance\" value=\"1.5, 0.5, 0.5\"/></bsdf>");
+    std::string error =
+        load_error("reflectance-high", "<bsdf type=\"diffuse\">\n<rgb name=\"reflectance\" value=\"1.5, 0.5, 0.5\"/></bsdf>");
     set_warning_sink(previous);
     CHECK(error == "");
     REQUIRE(warnings.size() == 1);
@@ -313,14 +329,17 @@ TEST_CASE("robustness: the count of dropped samples is printed and kept in the E
     auto dir = scratch_dir("robust-overflow");
     // A light at the largest float radiance close above a white floor: direct lighting
     // overflows to infinity, which the pixel loop must drop, count and report.
-    write_text(dir / "scene.xml",
-               scene_xml(pinhole_camera("0, 0.02, 3", "0, 0, 0", 16, 16) +
-                         "<shape type=\"rectangle\"><transform name=\"to_world\"><rotate x=\"1\" angle=\"-90\"/></transform>"
-                         "<bsdf type=\"diffuse\"><rgb name=\"reflectance\" value=\"1\"/></bsdf></shape>\n"
-                         "<shape type=\"rectangle\"><transform name=\"to_world\"><scale value=\"3\"/><rotate x=\"1\" angle=\"90\"/><translate y=\"0.05\"/></transform>"
-                         "<emitter type=\"area\"><rgb name=\"radiance\" value=\"3.4e38\"/></emitter></shape>"));
-    int code = run_command("'" + candela_binary() + "' render '" + (dir / "scene.xml").string() + "' -o '" + (dir / "out.exr").string() + "' --spp 4",
-                           dir / "log.txt");
+    write_text(
+        dir / "scene.xml",
+        scene_xml(
+            pinhole_camera("0, 0.02, 3", "0, 0, 0", 16, 16) +
+            "<shape type=\"rectangle\"><transform name=\"to_world\"><rotate x=\"1\" angle=\"-90\"/></transform>"
+            "<bsdf type=\"diffuse\"><rgb name=\"reflectance\" value=\"1\"/></bsdf></shape>\n"
+            "<shape type=\"rectangle\"><transform name=\"to_world\"><scale value=\"3\"/><rotate x=\"1\" angle=\"90\"/><translate y=\"0.05\"/></transform>"
+            "<emitter type=\"area\"><rgb name=\"radiance\" value=\"3.4e38\"/></emitter></shape>"));
+    int code = run_command(
+        "'" + candela_binary() + "' render '" + (dir / "scene.xml").string() + "' -o '" + (dir / "out.exr").string() + "' --spp 4",
+        dir / "log.txt");
     std::string log = read_text(dir / "log.txt");
     INFO(log);
     REQUIRE(code == 0);

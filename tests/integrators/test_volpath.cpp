@@ -17,9 +17,9 @@
 // standard errors from the spread of the pixels; every comparison is a z-test, and all of them
 // together keep a 1% family-wise level (Sidak over the count below).
 
+#include "analysis/vol_writer.h"
 #include "core/scene.h"
 #include "core/xml.h"
-#include "analysis/vol_writer.h"
 #include "tests/stats.h"
 #include "tests/util.h"
 
@@ -47,8 +47,9 @@ std::string film(int size, int spp) { return box_film(size, spp); }
 // Looking down -z at an emitter of radiance (1, 2, 3) in the plane z = 0, through `between`.
 std::string beer_lambert_scene(const std::string& integrator, const std::string& between, float view_scale) {
     return scene_xml(R"(<integrator type=")" + integrator + R"("/>
-        <sensor type="orthographic"><transform name="to_world"><scale value=")" + std::to_string(view_scale) +
-                     R"("/><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>)" + film(16, 64) + R"(</sensor>
+        <sensor type="orthographic"><transform name="to_world"><scale value=")" +
+                     std::to_string(view_scale) + R"("/><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>)" +
+                     film(16, 64) + R"(</sensor>
         <shape type="rectangle"><transform name="to_world"><scale value="10"/></transform>
             <emitter type="area"><rgb name="radiance" value="1, 2, 3"/></emitter></shape>
         <medium type="homogeneous" id="absorber"><rgb name="sigma_t" value="0.5, 1, 2"/><float name="albedo" value="0"/></medium>)" +
@@ -65,7 +66,8 @@ TEST_CASE("volpath: Beer-Lambert through slabs and a sphere", "[volpath][stats]"
     };
     const std::string slab_transform = R"(<transform name="to_world"><scale x="10" y="10" z="0.5"/><translate z="2"/></transform>)";
     const std::vector<Case> cases = {
-        {"null slab", "<shape type=\"cube\">" + slab_transform + "<bsdf type=\"null\"/><ref name=\"interior\" id=\"absorber\"/></shape>", 1.0f, 1.0f},
+        {"null slab", "<shape type=\"cube\">" + slab_transform + "<bsdf type=\"null\"/><ref name=\"interior\" id=\"absorber\"/></shape>",
+         1.0f, 1.0f},
         {"index-matched dielectric slab",
          "<shape type=\"cube\">" + slab_transform +
              R"(<bsdf type="dielectric"><float name="int_ior" value="1"/><float name="ext_ior" value="1"/></bsdf><ref name="interior" id="absorber"/></shape>)",
@@ -92,7 +94,8 @@ TEST_CASE("volpath: Beer-Lambert through slabs and a sphere", "[volpath][stats]"
 TEST_CASE("volpath: furnace, a closed emitting sphere filled with a medium of albedo 1", "[volpath][stats]") {
     for (const char* integrator : {"volpath", "volpathmis"}) {
         INFO(integrator);
-        RenderResult r = render_file(source_path("scenes/furnace/medium_sphere.xml"), {{"integrator", integrator}, {"res", "16"}, {"spp", "64"}});
+        RenderResult r =
+            render_file(source_path("scenes/furnace/medium_sphere.xml"), {{"integrator", integrator}, {"res", "16"}, {"spp", "64"}});
         for (int ch = 0; ch < 3; ++ch) {
             MeanAndError m = channel_mean(r.image, ch);
             INFO("channel " << ch << ": " << m.mean << " +- " << m.std_error);
@@ -108,13 +111,15 @@ namespace {
 std::string small_scene(const std::string& integrator, const std::string& extra, int spp) {
     return scene_xml(R"(<integrator type=")" + integrator + R"("/>
         <sensor type="perspective"><float name="fov" value="45"/>
-            <transform name="to_world"><lookat origin="0, 1.5, 4" target="0, 0.5, 0" up="0, 1, 0"/></transform>)" + film(32, spp) + R"(</sensor>
+            <transform name="to_world"><lookat origin="0, 1.5, 4" target="0, 0.5, 0" up="0, 1, 0"/></transform>)" +
+                     film(32, spp) + R"(</sensor>
         <shape type="rectangle"><transform name="to_world"><scale value="3"/><rotate x="1" angle="-90"/></transform>
             <bsdf type="diffuse"><rgb name="reflectance" value="0.6, 0.5, 0.4"/></bsdf></shape>
         <shape type="sphere"><point name="center" value="0.3, 0.5, 0"/><float name="radius" value="0.5"/>
             <bsdf type="roughplastic"/></shape>
         <shape type="rectangle"><transform name="to_world"><scale value="0.5"/><rotate x="1" angle="90"/><translate y="2.5"/></transform>
-            <emitter type="area"><rgb name="radiance" value="10"/></emitter></shape>)" + extra);
+            <emitter type="area"><rgb name="radiance" value="10"/></emitter></shape>)" +
+                     extra);
 }
 
 // Two independent 32 x 32 renders of one expectation agree: 51 z-tests by blocks.
@@ -186,14 +191,16 @@ TEST_CASE("homogeneous: a grid albedo renders as the heterogeneous medium with t
     write_vol(dir / "sigma_t.vol", res, 3, uniform);
     // Both grids cover the cube that holds the medium (as in the volpath-vs-mis case).
     const std::string box = R"(<transform name="to_world"><scale value="1.4"/><translate x="-0.9" y="0.01" z="-0.5"/></transform>)";
-    const std::string grid_albedo = R"(<volume type="gridvolume" name="albedo"><string name="filename" value="albedo.vol"/>)" + box + "</volume>";
-    const std::string cube = R"(<shape type="cube"><transform name="to_world"><scale value="0.7"/><translate x="-0.2" y="0.71" z="0.2"/></transform>
+    const std::string grid_albedo =
+        R"(<volume type="gridvolume" name="albedo"><string name="filename" value="albedo.vol"/>)" + box + "</volume>";
+    const std::string cube =
+        R"(<shape type="cube"><transform name="to_world"><scale value="0.7"/><translate x="-0.2" y="0.71" z="0.2"/></transform>
             <bsdf type="null"/><ref name="interior" id="m"/></shape>)";
     const std::string media[2] = {
-        R"(<medium type="homogeneous" id="m"><rgb name="sigma_t" value="0.75, 0.375, 0.1875"/><float name="scale" value="4"/>)" + grid_albedo +
-            R"(<phase type="hg"><float name="g" value="0.5"/></phase></medium>)",
-        R"(<medium type="heterogeneous" id="m"><volume type="gridvolume" name="sigma_t"><string name="filename" value="sigma_t.vol"/>)" + box +
-            "</volume>" + grid_albedo + R"(<phase type="hg"><float name="g" value="0.5"/></phase></medium>)"};
+        R"(<medium type="homogeneous" id="m"><rgb name="sigma_t" value="0.75, 0.375, 0.1875"/><float name="scale" value="4"/>)" +
+            grid_albedo + R"(<phase type="hg"><float name="g" value="0.5"/></phase></medium>)",
+        R"(<medium type="heterogeneous" id="m"><volume type="gridvolume" name="sigma_t"><string name="filename" value="sigma_t.vol"/>)" +
+            box + "</volume>" + grid_albedo + R"(<phase type="hg"><float name="g" value="0.5"/></phase></medium>)"};
     Image images[2];
     for (int i = 0; i < 2; ++i) {
         write_text(dir / "scene.xml", small_scene("volpath", media[i] + cube, 32));
@@ -205,7 +212,8 @@ TEST_CASE("homogeneous: a grid albedo renders as the heterogeneous medium with t
 
 TEST_CASE("path refuses a scene with media and names volpath", "[volpath][errors]") {
     auto dir = scratch_dir("path-refuses-media");
-    write_text(dir / "scene.xml", beer_lambert_scene("path", R"(<shape type="sphere"><bsdf type="null"/><ref name="interior" id="absorber"/></shape>)", 1.0f));
+    write_text(dir / "scene.xml",
+               beer_lambert_scene("path", R"(<shape type="sphere"><bsdf type="null"/><ref name="interior" id="absorber"/></shape>)", 1.0f));
     Ref<Scene> scene = load_scene((dir / "scene.xml").string());
     try {
         scene->integrator().render(*scene, RenderOptions());

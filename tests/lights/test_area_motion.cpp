@@ -64,7 +64,8 @@ TEST_CASE("area motion: at time t a moving area light samples as the static one 
     CHECK(m.is_animated());
     CHECK(moving->is_animated());
     for (float t : {0.0f, 0.3f, 1.0f}) {
-        Ref<Scene> still = load_scene_xml("area-still", light("<transform name=\"to_world\">" + pose(-1.0f + 2.0f * t, uniform) + "</transform>"));
+        Ref<Scene> still =
+            load_scene_xml("area-still", light("<transform name=\"to_world\">" + pose(-1.0f + 2.0f * t, uniform) + "</transform>"));
         REQUIRE(still->emitters().size() == 1);
         const Emitter& s = *still->emitters()[0];
         for (Vec3 p : {Vec3(0.0f), Vec3(0.3f, -0.2f, 0.0f), Vec3(-1.5f, 0.4f, -0.1f)})
@@ -121,8 +122,10 @@ TEST_CASE("area motion: a light crossing above a plane lights it by its time ave
             <bsdf type="diffuse"><rgb name="reflectance" value="0.5"/></bsdf></shape>)" +
                                    moving_light(R"(<scale x="0.25" y="0.15"/>)");
     const double Z = two_sided_z(sidak(0.01, 4 * 3));
-    for (const char* integrator : {R"(<integrator type="direct"/>)", R"(<integrator type="direct"><integer name="bsdf_samples" value="0"/><integer name="emitter_samples" value="1"/></integrator>)",
-                                   R"(<integrator type="path"/>)", R"(<integrator type="volpath"/>)"}) {
+    for (const char* integrator :
+         {R"(<integrator type="direct"/>)",
+          R"(<integrator type="direct"><integer name="bsdf_samples" value="0"/><integer name="emitter_samples" value="1"/></integrator>)",
+          R"(<integrator type="path"/>)", R"(<integrator type="volpath"/>)"}) {
         INFO(integrator);
         auto dir = scratch_dir("area-motion");
         write_text(dir / "scene.xml", scene_xml(integrator + scene_body));

@@ -32,7 +32,9 @@ const int Samples = effort_scaled(200000, 20000);
 // A scene with one emitter and a unit cube (so that infinite emitters have bounds).
 Ref<Scene> scene_with(const std::string& emitter) {
     auto dir = scratch_dir("emitter_rays");
-    write_text(dir / "scene.xml", scene_xml(emitter + R"(<shape type="cube"><transform name="to_world"><translate x="0.5" y="-0.2" z="0.1"/></transform></shape>)"));
+    write_text(
+        dir / "scene.xml",
+        scene_xml(emitter + R"(<shape type="cube"><transform name="to_world"><translate x="0.5" y="-0.2" z="0.1"/></transform></shape>)"));
     return load_scene((dir / "scene.xml").string());
 }
 
@@ -73,7 +75,8 @@ void check_rays(const char* what, const Emitter& emitter, const RayModel& model,
             Vec2 q = glm::clamp(model.position(r), Vec2(0.0f), Vec2(0.99999f));
             positions[size_t(q.y * 16) * 16 + size_t(q.x * 16)] += 1.0;
         }
-        if (!model.consistent(r) && ++inconsistent < 4) WARN(what << ": inconsistent sample, pdfs " << r.pdf_position << ", " << r.pdf_direction);
+        if (!model.consistent(r) && ++inconsistent < 4)
+            WARN(what << ": inconsistent sample, pdfs " << r.pdf_position << ", " << r.pdf_direction);
     }
     INFO(what);
     CHECK(inconsistent == 0);
@@ -128,7 +131,8 @@ std::string write_texture(const std::string& name, int w, int h, const std::vect
     write_exr(img, path, true);
     return path;
 }
-const std::vector<Spectrum> Texels = {{1, 2, 3}, {4, 5, 6}, {7, 8, 9}, {10, 11, 12}, {0.5f, 0.25f, 2}, {3, 1, 0.5f}, {2, 2, 1}, {6, 0.5f, 4}};
+const std::vector<Spectrum> Texels = {{1, 2, 3},        {4, 5, 6},    {7, 8, 9}, {10, 11, 12},
+                                      {0.5f, 0.25f, 2}, {3, 1, 0.5f}, {2, 2, 1}, {6, 0.5f, 4}};
 std::string nearest_bitmap(const std::string& name, const std::string& path) {
     return R"(<texture type="bitmap" name=")" + name + R"("><string name="filename" value=")" + path +
            R"("/><string name="filter_type" value="nearest"/></texture>)";
@@ -137,7 +141,8 @@ std::string nearest_bitmap(const std::string& name, const std::string& path) {
 }  // namespace
 
 TEST_CASE("emitter rays: point and spot lights emit over the sphere and the cone", "[lights][rays]") {
-    Ref<Scene> point = scene_with(R"(<emitter type="point"><point name="position" x="0.2" y="1" z="-0.3"/><rgb name="intensity" value="2, 3, 5"/></emitter>)");
+    Ref<Scene> point = scene_with(
+        R"(<emitter type="point"><point name="position" x="0.2" y="1" z="-0.3"/><rgb name="intensity" value="2, 3, 5"/></emitter>)");
     RayModel m;
     m.direction_pdf = [](const Vec3&) { return 1.0 / (4.0 * Pi_d); };
     m.consistent = [](const EmitterRay& r) {
@@ -156,13 +161,15 @@ TEST_CASE("emitter rays: point and spot lights emit over the sphere and the cone
         return theta >= c ? 0.0 : theta <= b ? 1.0 : (c - theta) / (c - b);
     };
     const double cos_cut = std::cos(cutoff * Pi_d / 180), cone_pdf = 1.0 / (2 * Pi_d * (1 - cos_cut));
-    std::string spot_xml = R"(<emitter type="spot"><transform name="to_world"><lookat origin="0.1, 2, 0.3" target="0.6, 0, 0.1" up="0, 0, 1"/></transform>
+    std::string spot_xml =
+        R"(<emitter type="spot"><transform name="to_world"><lookat origin="0.1, 2, 0.3" target="0.6, 0, 0.1" up="0, 0, 1"/></transform>
         <float name="cutoff_angle" value="25"/><float name="beam_width" value="10"/><rgb name="intensity" value="4, 2, 1"/>)";
     Ref<Scene> spot = scene_with(spot_xml + "</emitter>");
     m.direction_pdf = [&](const Vec3& w) { return spot_local(w).z >= cos_cut ? cone_pdf : 0.0; };
     m.consistent = [&](const EmitterRay& r) {
         // (absolute tolerance: the ramp reaches 0 at the cutoff, where relative errors blow up)
-        return r.delta_position && close(r.pdf_direction, cone_pdf) && std::abs(r.weight.x - 4 * falloff(spot_local(r.ray.d)) / cone_pdf) < 1e-3 * 4 / cone_pdf;
+        return r.delta_position && close(r.pdf_direction, cone_pdf) &&
+               std::abs(r.weight.x - 4 * falloff(spot_local(r.ray.d)) / cone_pdf) < 1e-3 * 4 / cone_pdf;
     };
     check_rays("spot", only_emitter(*spot), m, 2);
 
@@ -176,8 +183,10 @@ TEST_CASE("emitter rays: point and spot lights emit over the sphere and the cone
 
 TEST_CASE("emitter rays: a projector emits through its image plane", "[lights][rays]") {
     std::string tex = write_texture("projector.exr", 4, 2, Texels);
-    Ref<Scene> scene = scene_with(R"(<emitter type="projector"><transform name="to_world"><lookat origin="0, 2, 1" target="0.3, 0, 0" up="0, 1, 0"/></transform>
-        <float name="fov" value="40"/><float name="scale" value="0.5"/>)" + nearest_bitmap("irradiance", tex) + "</emitter>");
+    Ref<Scene> scene = scene_with(
+        R"(<emitter type="projector"><transform name="to_world"><lookat origin="0, 2, 1" target="0.3, 0, 0" up="0, 1, 0"/></transform>
+        <float name="fov" value="40"/><float name="scale" value="0.5"/>)" +
+        nearest_bitmap("irradiance", tex) + "</emitter>");
     Transform to_local = Transform::look_at(Vec3(0, 2, 1), Vec3(0.3f, 0, 0), Vec3(0, 1, 0)).inverse();
     const double tx = std::tan(20.0 * Pi_d / 180), ty = tx / 2.0;  // a 4 x 2 image
     auto pdf = [&](const Vec3& w) {
@@ -194,23 +203,29 @@ TEST_CASE("emitter rays: a projector emits through its image plane", "[lights][r
 }
 
 TEST_CASE("emitter rays: directional, constant and envmap light enters through the scene's bounding disk", "[lights][rays]") {
-    Ref<Scene> directional = scene_with(R"(<emitter type="directional"><vector name="direction" x="1" y="-2" z="0.5"/><rgb name="irradiance" value="3, 2, 1"/></emitter>)");
+    Ref<Scene> directional = scene_with(
+        R"(<emitter type="directional"><vector name="direction" x="1" y="-2" z="0.5"/><rgb name="irradiance" value="3, 2, 1"/></emitter>)");
     Vec3 d = glm::normalize(Vec3(1, -2, 0.5f));
     RayModel m;
     m.position = [&](const EmitterRay& r) { return disk_coordinates(*directional, r); };
-    m.consistent = [&](const EmitterRay& r) { return r.delta_direction && glm::length(r.ray.d - d) < 1e-6f && on_disk_plane(*directional, r); };
+    m.consistent = [&](const EmitterRay& r) {
+        return r.delta_direction && glm::length(r.ray.d - d) < 1e-6f && on_disk_plane(*directional, r);
+    };
     check_rays("directional", only_emitter(*directional), m, 5);
 
     Ref<Scene> constant = scene_with(R"(<emitter type="constant"><rgb name="radiance" value="0.5, 1, 2"/></emitter>)");
     m.direction_pdf = [](const Vec3&) { return 1.0 / (4 * Pi_d); };
     m.position = [&](const EmitterRay& r) { return disk_coordinates(*constant, r); };
-    m.consistent = [&](const EmitterRay& r) { return !r.delta_direction && close(r.pdf_direction, 1 / (4 * Pi_d)) && on_disk_plane(*constant, r); };
+    m.consistent = [&](const EmitterRay& r) {
+        return !r.delta_direction && close(r.pdf_direction, 1 / (4 * Pi_d)) && on_disk_plane(*constant, r);
+    };
     check_rays("constant", only_emitter(*constant), m, 6);
 
     // The environment map's directions: the density next-event estimation uses toward the map,
     // reversed (the light travels inward).
-    Ref<Scene> envmap = scene_with(R"(<emitter type="envmap"><string name="filename" value=")" + source_path("scenes/validation/textures/sky.exr") +
-                                   R"("/><transform name="to_world"><rotate y="1" angle="60"/></transform></emitter>)");
+    Ref<Scene> envmap =
+        scene_with(R"(<emitter type="envmap"><string name="filename" value=")" + source_path("scenes/validation/textures/sky.exr") +
+                   R"("/><transform name="to_world"><rotate y="1" angle="60"/></transform></emitter>)");
     const Emitter& env = only_emitter(*envmap);
     auto env_pdf = [&](const Vec3& w) {
         DirectionSample ds;
@@ -221,14 +236,16 @@ TEST_CASE("emitter rays: directional, constant and envmap light enters through t
     m.direction_pdf = env_pdf;
     m.position = [&](const EmitterRay& r) { return disk_coordinates(*envmap, r); };
     m.consistent = [&](const EmitterRay& r) {
-        return close(r.pdf_direction, env_pdf(r.ray.d)) && on_disk_plane(*envmap, r) && close(r.weight.y, env.eval_environment(-r.ray.d).y / r.pdf_direction * (1.0 / r.pdf_position));
+        return close(r.pdf_direction, env_pdf(r.ray.d)) && on_disk_plane(*envmap, r) &&
+               close(r.weight.y, env.eval_environment(-r.ray.d).y / r.pdf_direction * (1.0 / r.pdf_position));
     };
     m.power_allowance = 2e-3;  // power() integrates the bilinear map by the midpoint rule
     check_rays("envmap", env, m, 7);
 }
 
 TEST_CASE("emitter rays: area lights emit cosine-weighted from points uniform by area", "[lights][rays]") {
-    const char* rect_transform = R"(<transform name="to_world"><scale x="0.8" y="0.3"/><rotate x="1" angle="70"/><rotate y="1" angle="20"/><translate x="0.2" y="1" z="-0.4"/></transform>)";
+    const char* rect_transform =
+        R"(<transform name="to_world"><scale x="0.8" y="0.3"/><rotate x="1" angle="70"/><rotate y="1" angle="20"/><translate x="0.2" y="1" z="-0.4"/></transform>)";
     auto rect_scene = [&](const std::string& emitter) {
         return scene_with(std::string(R"(<shape type="rectangle">)") + rect_transform + emitter + "</shape>");
     };
@@ -253,7 +270,9 @@ TEST_CASE("emitter rays: area lights emit cosine-weighted from points uniform by
     // A textured radiance: the same rays, weighted by the texture at the origin's uv.
     std::string tex = write_texture("area.exr", 4, 2, Texels);
     Ref<Scene> textured = rect_scene(R"(<emitter type="area">)" + nearest_bitmap("radiance", tex) + "</emitter>");
-    m.consistent = [&](const EmitterRay& r) { return close(r.pdf_position, 1 / area) && close(r.pdf_direction, glm::dot(r.ray.d, n) / Pi_d); };
+    m.consistent = [&](const EmitterRay& r) {
+        return close(r.pdf_position, 1 / area) && close(r.pdf_direction, glm::dot(r.ray.d, n) / Pi_d);
+    };
     check_rays("textured rectangle", only_emitter(*textured), m, 9);
 
     // A sphere: origins uniform on it; over all its normals the cosine lobes add up to uniform.
@@ -268,7 +287,8 @@ TEST_CASE("emitter rays: area lights emit cosine-weighted from points uniform by
     m.consistent = [](const EmitterRay& r) {
         Vec3 normal = (r.ray.o - Vec3(0.3f, 1.5f, 0.2f)) / 0.5f;
         double cos_theta = glm::dot(r.ray.d, normal);
-        return close(r.pdf_position, 1 / (Pi_d)) && cos_theta > 0 && close(r.pdf_direction, cos_theta / Pi_d) && glm::length(r.n - normal) < 1e-4f;
+        return close(r.pdf_position, 1 / (Pi_d)) && cos_theta > 0 && close(r.pdf_direction, cos_theta / Pi_d) &&
+               glm::length(r.n - normal) < 1e-4f;
     };
     check_rays("sphere", only_emitter(*sphere), m, 10);
 

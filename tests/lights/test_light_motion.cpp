@@ -39,7 +39,8 @@ void check_same_light(const Emitter& a, const Emitter& b, float time_a, float ti
 
 std::string spot(const std::string& to_world) {
     return R"(<emitter type="spot"><rgb name="intensity" value="5, 4, 3"/><float name="cutoff_angle" value="35"/>
-        <float name="beam_width" value="20"/>)" + to_world + "</emitter>";
+        <float name="beam_width" value="20"/>)" +
+           to_world + "</emitter>";
 }
 
 std::string lookat(const std::string& origin) { return "<lookat origin=\"" + origin + "\" target=\"0, 0, 0\" up=\"0, 0, 1\"/>"; }
@@ -49,9 +50,8 @@ std::string lookat(const std::string& origin) { return "<lookat origin=\"" + ori
 TEST_CASE("light motion: a spot light with equal keyframes lights as the static one", "[lights][animation]") {
     std::string pose = lookat("-1, -2, 3");
     Ref<Scene> still = load_scene_xml("spot-still", spot("<transform name=\"to_world\">" + pose + "</transform>"));
-    Ref<Scene> moving =
-        load_scene_xml("spot-moving", spot("<animation name=\"to_world\"><transform time=\"0\">" + pose + "</transform><transform time=\"1\">" + pose +
-                                           "</transform></animation>"));
+    Ref<Scene> moving = load_scene_xml("spot-moving", spot("<animation name=\"to_world\"><transform time=\"0\">" + pose +
+                                                           "</transform><transform time=\"1\">" + pose + "</transform></animation>"));
     CHECK(only_emitter(moving).is_animated());
     CHECK(moving->is_animated());
     CHECK_FALSE(still->is_animated());
@@ -62,8 +62,8 @@ TEST_CASE("light motion: at time t the spot and point lights are the ones interp
     // The spot's apex moves from (-2, -2, 3) to (2, -2, 3), aimed at the origin at both ends;
     // halfway it is the pose with the translation and the rotation interpolated (written out as
     // a matrix for a static spot).
-    std::string moving = "<animation name=\"to_world\"><transform time=\"0\">" + lookat("-2, -2, 3") + "</transform><transform time=\"1\">" +
-                         lookat("2, -2, 3") + "</transform></animation>";
+    std::string moving = "<animation name=\"to_world\"><transform time=\"0\">" + lookat("-2, -2, 3") +
+                         "</transform><transform time=\"1\">" + lookat("2, -2, 3") + "</transform></animation>";
     Ref<Scene> spot_moving = load_scene_xml("spot-arc", spot(moving));
     // Build the halfway pose by hand: translation lerp (0, -2, 3), rotation slerp of the two.
     const AnimatedTransform a({{0.0f, Transform::look_at(Vec3(-2, -2, 3), Vec3(0), Vec3(0, 0, 1))},
@@ -74,7 +74,8 @@ TEST_CASE("light motion: at time t the spot and point lights are the ones interp
     m.precision(9);
     for (int r = 0; r < 4; ++r)
         for (int c = 0; c < 4; ++c) m << half.matrix()[c][r] << " ";
-    Ref<Scene> spot_half = load_scene_xml("spot-half", spot("<transform name=\"to_world\"><matrix value=\"" + m.str() + "\"/></transform>"));
+    Ref<Scene> spot_half =
+        load_scene_xml("spot-half", spot("<transform name=\"to_world\"><matrix value=\"" + m.str() + "\"/></transform>"));
     check_same_light(only_emitter(spot_half), only_emitter(spot_moving), 0.0f, 0.5f);
     // A point light moving from (0, 0, 1) at time 2 to (2, 0, 1) at time 4 is at (0.5, 0, 1) at 2.5.
     Ref<Scene> point_moving = load_scene_xml("point-moving", R"(<emitter type="point"><rgb name="intensity" value="3"/>

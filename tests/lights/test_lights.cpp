@@ -38,20 +38,23 @@ void check_irradiance(const char* what, const std::string& body, Vec3 p, Vec3 n,
     o.seed = 3;
     Estimate e = estimate_irradiance(*scene, p, n, o);
     double z = two_sided_z(Alpha);
-    INFO(what << ": " << e.mean.x << " +- " << e.std_error.x << " (95% [" << e.ci95_low().x << ", " << e.ci95_high().x << "]), exact " << exact);
+    INFO(what << ": " << e.mean.x << " +- " << e.std_error.x << " (95% [" << e.ci95_low().x << ", " << e.ci95_high().x << "]), exact "
+              << exact);
     // Float32 evaluation allows a relative error of about 1e-5 where the estimator has no variance
     // (delta lights).
     CHECK(std::abs(e.mean.x - exact) <= z * e.std_error.x + 1e-5 * exact);
     CHECK(e.nonfinite == 0);
 }
 
-const char* Ground = R"(<shape type="rectangle"><transform name="to_world"><scale value="50"/><rotate x="1" angle="-90"/></transform></shape>)";
+const char* Ground =
+    R"(<shape type="rectangle"><transform name="to_world"><scale value="50"/><rotate x="1" angle="-90"/></transform></shape>)";
 
 }  // namespace
 
 TEST_CASE("irradiance: a point light gives I cos(theta) / r^2 (and the lecture's attenuation)", "[lights][estimate]") {
     double r2 = 1 + 4 + 1, cos_t = 2.0 / std::sqrt(r2);
-    check_irradiance("point", R"(<emitter type="point"><point name="position" x="1" y="2" z="-1"/><rgb name="intensity" value="5"/></emitter>)",
+    check_irradiance("point",
+                     R"(<emitter type="point"><point name="position" x="1" y="2" z="-1"/><rgb name="intensity" value="5"/></emitter>)",
                      Vec3(0.0f), Vec3(0, 1, 0), 5.0 * cos_t / r2);
     double d = std::sqrt(r2);
     check_irradiance("attenuated point",
@@ -62,21 +65,24 @@ TEST_CASE("irradiance: a point light gives I cos(theta) / r^2 (and the lecture's
 
 TEST_CASE("irradiance: a directional light gives E cos(theta)", "[lights][estimate]") {
     Vec3 dir = glm::normalize(Vec3(1, -2, 0.5f));
-    check_irradiance("directional", R"(<emitter type="directional"><vector name="direction" x="1" y="-2" z="0.5"/><rgb name="irradiance" value="3"/></emitter>)",
-                     Vec3(0.3f, 0, 0.2f), Vec3(0, 1, 0), 3.0 * -dir.y);
+    check_irradiance(
+        "directional",
+        R"(<emitter type="directional"><vector name="direction" x="1" y="-2" z="0.5"/><rgb name="irradiance" value="3"/></emitter>)",
+        Vec3(0.3f, 0, 0.2f), Vec3(0, 1, 0), 3.0 * -dir.y);
 }
 
 TEST_CASE("irradiance: a uniform sky over an open plane gives pi L", "[lights][estimate]") {
-    check_irradiance("sky", std::string(Ground) + R"(<emitter type="constant"><rgb name="radiance" value="0.7"/></emitter>)", Vec3(0.0f), Vec3(0, 1, 0),
-                     3.14159265358979 * 0.7);
+    check_irradiance("sky", std::string(Ground) + R"(<emitter type="constant"><rgb name="radiance" value="0.7"/></emitter>)", Vec3(0.0f),
+                     Vec3(0, 1, 0), 3.14159265358979 * 0.7);
 }
 
 TEST_CASE("irradiance: disk and sphere lights match their closed forms", "[lights][estimate]") {
     // A disk of radius R at height h, facing down, seen on its axis: E = pi L R^2 / (h^2 + R^2).
-    check_irradiance("disk",
-                     R"(<shape type="disk"><transform name="to_world"><scale value="0.5"/><rotate x="1" angle="90"/><translate y="1.5"/></transform>
+    check_irradiance(
+        "disk",
+        R"(<shape type="disk"><transform name="to_world"><scale value="0.5"/><rotate x="1" angle="90"/><translate y="1.5"/></transform>
                         <emitter type="area"><rgb name="radiance" value="3"/></emitter></shape>)",
-                     Vec3(0.0f), Vec3(0, 1, 0), 3.14159265358979 * 3 * 0.25 / (2.25 + 0.25));
+        Vec3(0.0f), Vec3(0, 1, 0), 3.14159265358979 * 3 * 0.25 / (2.25 + 0.25));
     // A sphere of radius R at distance d, wholly above the horizon: E = pi L (R / d)^2 cos(theta).
     const char* sphere = R"(<shape type="sphere"><point name="center" x="1" y="2" z="0"/><float name="radius" value="0.3"/>
                             <emitter type="area"><rgb name="radiance" value="2"/></emitter></shape>)";
@@ -182,7 +188,8 @@ double subtended_solid_angle(const Shape& shape, const Vec3& p) {
     shape.tessellate(soup, 0);
     double omega = 0.0;
     for (const glm::uvec3& t : soup.triangles) {
-        glm::dvec3 a = glm::dvec3(soup.positions[t.x] - p), b = glm::dvec3(soup.positions[t.y] - p), c = glm::dvec3(soup.positions[t.z] - p);
+        glm::dvec3 a = glm::dvec3(soup.positions[t.x] - p), b = glm::dvec3(soup.positions[t.y] - p),
+                   c = glm::dvec3(soup.positions[t.z] - p);
         double la = glm::length(a), lb = glm::length(b), lc = glm::length(c);
         double numerator = std::abs(glm::dot(a, glm::cross(b, c)));
         double denominator = la * lb * lc + glm::dot(a, b) * lc + glm::dot(a, c) * lb + glm::dot(b, c) * la;
@@ -223,7 +230,8 @@ void check_small_emitter_sampling(const char* what, const std::string& body, Vec
     }
     double mean = sum / n, se = std::sqrt(std::max(0.0, sum2 / n - mean * mean) / (n - 1));
     double omega = subtended_solid_angle(*scene->shapes()[0], ref_p);
-    INFO(what << ": mean 1/pdf " << mean << " +- " << se << ", solid angle " << omega << "; traced pdf disagreed " << inconsistent << " times");
+    INFO(what << ": mean 1/pdf " << mean << " +- " << se << ", solid angle " << omega << "; traced pdf disagreed " << inconsistent
+              << " times");
     CHECK(omega < 0.1);  // the area-sampled branch
     CHECK(std::abs(mean - omega) <= two_sided_z(Alpha) * se + 1e-6 * omega);
     CHECK(inconsistent == 0);
@@ -239,31 +247,44 @@ const char* AreaLight = R"(<emitter type="area"><rgb name="radiance" value="1"/>
 }  // namespace
 
 TEST_CASE("emitters: sampling matches pdf_direction for every kind of light", "[lights][sampling]") {
-    std::string sphere = std::string(R"(<shape type="sphere"><point name="center" x="0.3" y="1.5" z="0.2"/><float name="radius" value="0.5"/>)") + AreaLight + "</shape>";
+    std::string sphere =
+        std::string(R"(<shape type="sphere"><point name="center" x="0.3" y="1.5" z="0.2"/><float name="radius" value="0.5"/>)") +
+        AreaLight + "</shape>";
     check_emitter_sampling("sphere seen from outside (cone)", sphere, Vec3(0.0f), 1);
     check_emitter_sampling("sphere seen from inside (area)", sphere, Vec3(0.4f, 1.6f, 0.1f), 2);
-    std::string rect = std::string(R"(<shape type="rectangle"><transform name="to_world"><scale x="0.8" y="0.3"/><rotate x="1" angle="70"/><rotate y="1" angle="20"/><translate x="0.2" y="1" z="-0.4"/></transform>)") +
-                       AreaLight + "</shape>";
+    std::string rect =
+        std::string(
+            R"(<shape type="rectangle"><transform name="to_world"><scale x="0.8" y="0.3"/><rotate x="1" angle="70"/><rotate y="1" angle="20"/><translate x="0.2" y="1" z="-0.4"/></transform>)") +
+        AreaLight + "</shape>";
     check_emitter_sampling("rectangle (spherical rectangle)", rect, Vec3(0.0f), 3);
     check_emitter_sampling("rectangle seen from behind", rect, Vec3(0.5f, 3.0f, -1.0f), 4);
     check_small_emitter_sampling("rectangle seen from afar (area)", rect, Vec3(2.0f, -4.0f, 3.0f), 10);
     // A mirroring to_world: Mitsuba's rectangle then faces along the transformed normal, -z here.
-    std::string mirrored = std::string(R"(<shape type="rectangle"><transform name="to_world"><scale x="0.5" y="0.4" z="-1"/><translate z="1"/></transform>)") +
-                           AreaLight + "</shape>";
+    std::string mirrored =
+        std::string(R"(<shape type="rectangle"><transform name="to_world"><scale x="0.5" y="0.4" z="-1"/><translate z="1"/></transform>)") +
+        AreaLight + "</shape>";
     check_emitter_sampling("mirrored rectangle, near (spherical rectangle)", mirrored, Vec3(0.1f, 0.0f, 0.2f), 11);
     check_small_emitter_sampling("mirrored rectangle, far (area)", mirrored, Vec3(0.3f, 0.2f, -5.0f), 12);
-    std::string sheared = std::string(R"(<shape type="rectangle"><transform name="to_world"><matrix value="1 0.5 0 0  0 0 1 1  0 1 0 0  0 0 0 1"/></transform>)") +
-                          AreaLight + "</shape>";
+    std::string sheared =
+        std::string(
+            R"(<shape type="rectangle"><transform name="to_world"><matrix value="1 0.5 0 0  0 0 1 1  0 1 0 0  0 0 0 1"/></transform>)") +
+        AreaLight + "</shape>";
     check_emitter_sampling("sheared rectangle (area)", sheared, Vec3(0.0f), 5);
-    std::string disk = std::string(R"(<shape type="disk"><transform name="to_world"><scale x="0.6" y="0.3"/><rotate x="1" angle="90"/><translate y="1"/></transform>)") +
-                       AreaLight + "</shape>";
+    std::string disk =
+        std::string(
+            R"(<shape type="disk"><transform name="to_world"><scale x="0.6" y="0.3"/><rotate x="1" angle="90"/><translate y="1"/></transform>)") +
+        AreaLight + "</shape>";
     check_emitter_sampling("elliptic disk", disk, Vec3(0.2f, 0, 0.1f), 6);
-    std::string cube = std::string(R"(<shape type="cube"><transform name="to_world"><scale value="0.3"/><translate y="1.2"/></transform>)") + AreaLight + "</shape>";
+    std::string cube =
+        std::string(R"(<shape type="cube"><transform name="to_world"><scale value="0.3"/><translate y="1.2"/></transform>)") + AreaLight +
+        "</shape>";
     check_emitter_sampling("cube (mesh)", cube, Vec3(0.0f), 7);
     check_emitter_sampling("constant environment", R"(<emitter type="constant"/>)", Vec3(0.0f), 8);
-    check_emitter_sampling("environment map", R"(<emitter type="envmap"><string name="filename" value=")" + source_path("scenes/validation/textures/sky.exr") +
-                                                  R"("/><transform name="to_world"><rotate y="1" angle="60"/><rotate x="1" angle="20"/></transform></emitter>)",
-                           Vec3(0.0f), 9);
+    check_emitter_sampling(
+        "environment map",
+        R"(<emitter type="envmap"><string name="filename" value=")" + source_path("scenes/validation/textures/sky.exr") +
+            R"("/><transform name="to_world"><rotate y="1" angle="60"/><rotate x="1" angle="20"/></transform></emitter>)",
+        Vec3(0.0f), 9);
 }
 
 namespace {
@@ -276,18 +297,25 @@ std::string many_lights(int count, uint64_t seed) {
         float power = 0.1f + 5 * rng.next_float();
         std::string pos = std::to_string(x) + ", " + std::to_string(y) + ", " + std::to_string(z);
         switch (i % 4) {
-        case 0: body += "<emitter type=\"point\"><point name=\"position\" value=\"" + pos + "\"/><rgb name=\"intensity\" value=\"" + std::to_string(power) + "\"/></emitter>"; break;
-        case 1:
-            body += "<emitter type=\"spot\"><transform name=\"to_world\"><lookat origin=\"" + pos + "\" target=\"" + std::to_string(x + 0.3f) + ", 0, " +
-                    std::to_string(z) + "\"/></transform><rgb name=\"intensity\" value=\"" + std::to_string(power) + "\"/></emitter>";
-            break;
-        case 2:
-            body += "<shape type=\"rectangle\"><transform name=\"to_world\"><scale value=\"0.2\"/><rotate x=\"1\" angle=\"90\"/><translate value=\"" + pos +
-                    "\"/></transform><emitter type=\"area\"><rgb name=\"radiance\" value=\"" + std::to_string(power) + "\"/></emitter></shape>";
-            break;
-        default:
-            body += "<shape type=\"sphere\"><point name=\"center\" value=\"" + pos + "\"/><float name=\"radius\" value=\"0.1\"/><emitter type=\"area\"><rgb name=\"radiance\" value=\"" +
-                    std::to_string(power) + "\"/></emitter></shape>";
+            case 0:
+                body += "<emitter type=\"point\"><point name=\"position\" value=\"" + pos + "\"/><rgb name=\"intensity\" value=\"" +
+                        std::to_string(power) + "\"/></emitter>";
+                break;
+            case 1:
+                body += "<emitter type=\"spot\"><transform name=\"to_world\"><lookat origin=\"" + pos + "\" target=\"" +
+                        std::to_string(x + 0.3f) + ", 0, " + std::to_string(z) + "\"/></transform><rgb name=\"intensity\" value=\"" +
+                        std::to_string(power) + "\"/></emitter>";
+                break;
+            case 2:
+                body +=
+                    "<shape type=\"rectangle\"><transform name=\"to_world\"><scale value=\"0.2\"/><rotate x=\"1\" angle=\"90\"/><translate value=\"" +
+                    pos + "\"/></transform><emitter type=\"area\"><rgb name=\"radiance\" value=\"" + std::to_string(power) +
+                    "\"/></emitter></shape>";
+                break;
+            default:
+                body += "<shape type=\"sphere\"><point name=\"center\" value=\"" + pos +
+                        "\"/><float name=\"radius\" value=\"0.1\"/><emitter type=\"area\"><rgb name=\"radiance\" value=\"" +
+                        std::to_string(power) + "\"/></emitter></shape>";
         }
     }
     return body;
@@ -297,8 +325,9 @@ std::string many_lights(int count, uint64_t seed) {
 TEST_CASE("emitters: a mirrored rectangle emits on the side Mitsuba's transformed normal faces", "[lights][sampling]") {
     // scale z = -1 mirrors: the transformed normal of (0, 0, 1) is (0, 0, -1), while the
     // triangles' winding still turns counter-clockwise around +z.
-    Ref<Scene> scene = scene_from(std::string(R"(<shape type="rectangle"><transform name="to_world"><scale x="0.5" y="0.4" z="-1"/><translate z="1"/></transform>)") +
-                                  AreaLight + "</shape>");
+    Ref<Scene> scene = scene_from(
+        std::string(R"(<shape type="rectangle"><transform name="to_world"><scale x="0.5" y="0.4" z="-1"/><translate z="1"/></transform>)") +
+        AreaLight + "</shape>");
     const Emitter& emitter = *scene->emitters()[0];
     SurfaceInteraction from_below, from_above;
     REQUIRE(scene->intersect(Ray(Vec3(0.0f), Vec3(0, 0, 1)), from_below));
@@ -319,7 +348,8 @@ TEST_CASE("light tree: selection probabilities sum to one, match sampling, and m
     struct Point {
         Vec3 p, n;
     };
-    const Point points[] = {{{0, 0, 0}, {0, 1, 0}}, {{2, 1, -1}, {0, 1, 0}}, {{-3, 0.2f, 3}, {1, 0, 0}}, {{0, 5, 0}, {0, -1, 0}}, {{1, 1, 1}, {0, 0, 0}}};
+    const Point points[] = {
+        {{0, 0, 0}, {0, 1, 0}}, {{2, 1, -1}, {0, 1, 0}}, {{-3, 0.2f, 3}, {1, 0, 0}}, {{0, 5, 0}, {0, -1, 0}}, {{1, 1, 1}, {0, 0, 0}}};
     for (const Point& pt : points) {
         SurfaceInteraction ref;
         ref.p = pt.p;
@@ -375,8 +405,8 @@ std::string point_lights(int count, const std::function<Vec3(int)>& position) {
     std::string body;
     for (int i = 0; i < count; ++i) {
         Vec3 p = position(i);
-        body += "<emitter type=\"point\"><point name=\"position\" x=\"" + std::to_string(p.x) + "\" y=\"" + std::to_string(p.y) + "\" z=\"" +
-                std::to_string(p.z) + "\"/><rgb name=\"intensity\" value=\"" + std::to_string(1 + i % 7) + "\"/></emitter>";
+        body += "<emitter type=\"point\"><point name=\"position\" x=\"" + std::to_string(p.x) + "\" y=\"" + std::to_string(p.y) +
+                "\" z=\"" + std::to_string(p.z) + "\"/><rgb name=\"intensity\" value=\"" + std::to_string(1 + i % 7) + "\"/></emitter>";
     }
     return body;
 }
@@ -412,7 +442,8 @@ TEST_CASE("light tree: thousands of lights on a line or at one point are all pic
                 sum += pmf[i] = tree.pmf(ref, emitters[i].get());
                 unpickable += pmf[i] <= 0.0;
             }
-            INFO(config.what << ", receiver " << p.x << "," << p.y << "," << p.z << ": " << unpickable << " lights with pmf 0, pmf sum " << sum);
+            INFO(config.what << ", receiver " << p.x << "," << p.y << "," << p.z << ": " << unpickable << " lights with pmf 0, pmf sum "
+                             << sum);
             CHECK(unpickable == 0);
             CHECK(sum == Approx(1.0).epsilon(1e-4));
             // Sampling picks each light as often as its pmf says, and reports that pmf.
@@ -453,8 +484,10 @@ TEST_CASE("light samplers: every strategy renders the same expected image", "[li
     std::vector<MeanAndError> means;
     uint64_t seed = 100;
     for (const char* strategy : {"uniform", "power", "tree"}) {
-        write_text(dir / "scene.xml", scene_xml(body + R"(<integrator type="path"><integer name="max_depth" value="3"/><string name="light_sampler" value=")" + strategy +
-                                               R"("/></integrator><sensor type="perspective"><float name="fov" value="60"/>
+        write_text(dir / "scene.xml",
+                   scene_xml(body + R"(<integrator type="path"><integer name="max_depth" value="3"/><string name="light_sampler" value=")" +
+                             strategy +
+                             R"("/></integrator><sensor type="perspective"><float name="fov" value="60"/>
             <transform name="to_world"><lookat origin="0, 6, 6" target="0, 0, 0" up="0, 1, 0"/></transform>
             <sampler type="independent"><integer name="sample_count" value="96"/></sampler>
             <film type="hdrfilm"><integer name="width" value="48"/><integer name="height" value="48"/><rfilter type="box"/></film></sensor>)"));
@@ -485,9 +518,9 @@ TEST_CASE("light samplers: every strategy renders the same expected image", "[li
     for (int i = 1; i < 3; ++i) {
         double se = std::hypot(means[i].std_error, means[0].std_error), diff = means[i].mean - means[0].mean;
         const double detectable = detectable_of[i];
-        INFO("strategy " << i << ": " << means[i].mean << " +- " << means[i].std_error << " vs uniform " << means[0].mean << " +- " << means[0].std_error
-                         << "; |difference| " << std::abs(diff) / se << " standard errors, threshold " << z << "; a " << detectable * 100
-                         << "% error is " << detectable * means[0].mean / se << " standard errors");
+        INFO("strategy " << i << ": " << means[i].mean << " +- " << means[i].std_error << " vs uniform " << means[0].mean << " +- "
+                         << means[0].std_error << "; |difference| " << std::abs(diff) / se << " standard errors, threshold " << z << "; a "
+                         << detectable * 100 << "% error is " << detectable * means[0].mean / se << " standard errors");
         CHECK(std::abs(diff) <= z * se);
         CHECK(detectable * means[0].mean >= (z + z_power) * se);
         // And this very draw, off by that much, would have failed.

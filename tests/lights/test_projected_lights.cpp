@@ -41,12 +41,13 @@ std::string write_texture(const std::string& name, int w, int h, const std::vect
 }
 
 // Eight distinct texels in a 4 x 2 image.
-const std::vector<Spectrum> Texels = {{1, 2, 3}, {4, 5, 6}, {7, 8, 9}, {10, 11, 12}, {0.5f, 0.25f, 2}, {3, 1, 0.5f}, {2, 2, 1}, {6, 0.5f, 4}};
+const std::vector<Spectrum> Texels = {{1, 2, 3},        {4, 5, 6},    {7, 8, 9}, {10, 11, 12},
+                                      {0.5f, 0.25f, 2}, {3, 1, 0.5f}, {2, 2, 1}, {6, 0.5f, 4}};
 Spectrum texel(int x, int y) { return Texels[size_t(y) * 4 + x]; }
 
 std::string bitmap(const std::string& name, const std::string& path, const std::string& filter) {
-    return R"(<texture type="bitmap" name=")" + name + R"("><string name="filename" value=")" + path + R"("/><string name="filter_type" value=")" +
-           filter + R"("/></texture>)";
+    return R"(<texture type="bitmap" name=")" + name + R"("><string name="filename" value=")" + path +
+           R"("/><string name="filter_type" value=")" + filter + R"("/></texture>)";
 }
 
 // Irradiance from a delta light: the estimator has no variance, so all channels must agree
@@ -81,7 +82,8 @@ Spectrum flux_through_image_plane(const Emitter& e, const Transform& to_world, f
 TEST_CASE("projector: irradiance is pi scale T(uv) / z^2 on planes across the axis (Mitsuba's convention)", "[lights][projector]") {
     // A constant image: a plane at depth 3 is lit evenly inside the frustum (fov 60 along x, a
     // constant counts as a square image), nothing outside.
-    Ref<Scene> flat = scene_from(R"(<emitter type="projector"><rgb name="irradiance" value="2, 1, 0.5"/><float name="scale" value="1.5"/><float name="fov" value="60"/>
+    Ref<Scene> flat = scene_from(
+        R"(<emitter type="projector"><rgb name="irradiance" value="2, 1, 0.5"/><float name="scale" value="1.5"/><float name="fov" value="60"/>
         <transform name="to_world"><lookat origin="0, 3, 0" target="0, 0, 0" up="0, 0, 1"/></transform></emitter>)");
     Spectrum plane = Spectrum(2, 1, 0.5f) * float(Pi_d * 1.5 / 9.0);
     check_exact_irradiance("on the axis", *flat, Vec3(0.0f), Vec3(0, 1, 0), plane);
@@ -131,7 +133,8 @@ TEST_CASE("spot: a texture is projected over the cone as Mitsuba maps it", "[lig
     // Texel (0, 1) (uv (0.125, 0.75)): local (-0.75 t, 0.5 t, 1), 27.5 degrees, on the ramp.
     Vec3 d2 = Vec3(0.75f * t, 0.5f * t, -1.0f);
     float theta = degrees(std::acos(-d2.z / glm::length(d2)));
-    check_exact_irradiance("texel (0, 1) on the ramp", *scene, d2, -glm::normalize(d2), texel(0, 1) * (4.0f * (30.0f - theta) / 10.0f / squared_length(d2)));
+    check_exact_irradiance("texel (0, 1) on the ramp", *scene, d2, -glm::normalize(d2),
+                           texel(0, 1) * (4.0f * (30.0f - theta) / 10.0f / squared_length(d2)));
 
     // Power: intensity times falloff times texture over the cone, against a Monte Carlo estimate
     // (uniform directions in the cone) with its own error bar. A bilinear texture keeps the
@@ -175,14 +178,17 @@ TEST_CASE("area: a textured radiance is looked up by uv, in light sampling and i
     const Spectrum La(1.0f, 2.0f, 0.5f), Lb(5.0f, 1.0f, 3.0f);
     std::string tex = write_texture("area.exr", 2, 1, {La, Lb});
     const double w = 0.8, h = 0.5;
-    Ref<Scene> scene = scene_from(R"(<shape type="rectangle"><transform name="to_world"><scale x="0.8" y="0.5"/><rotate x="1" angle="90"/><translate y="1"/></transform>
-        <emitter type="area">)" + bitmap("radiance", tex, "nearest") + "</emitter></shape>");
+    Ref<Scene> scene = scene_from(
+        R"(<shape type="rectangle"><transform name="to_world"><scale x="0.8" y="0.5"/><rotate x="1" angle="90"/><translate y="1"/></transform>
+        <emitter type="area">)" +
+        bitmap("radiance", tex, "nearest") + "</emitter></shape>");
     for (double x0 : {0.0, 0.3}) {
         EstimatorOptions o;
         o.samples = 200000;
         o.seed = 17;
         Estimate e = estimate_irradiance(*scene, Vec3(float(x0), 0, 0), Vec3(0, 1, 0), o);
-        double left = corner_irradiance(w + x0, h) - corner_irradiance(x0, h), right = corner_irradiance(x0, h) + corner_irradiance(w - x0, h);
+        double left = corner_irradiance(w + x0, h) - corner_irradiance(x0, h),
+               right = corner_irradiance(x0, h) + corner_irradiance(w - x0, h);
         for (int c = 0; c < 3; ++c) {
             double exact = 2.0 * (La[c] * left + Lb[c] * right);
             INFO("x0 " << x0 << ", channel " << c << ": " << e.mean[c] << " +- " << e.std_error[c] << ", exact " << exact);
@@ -194,16 +200,20 @@ TEST_CASE("area: a textured radiance is looked up by uv, in light sampling and i
 TEST_CASE("directionalarea: a beam of irradiance L with the shape's cross-section, black to the eye", "[lights][directionalarea]") {
     // A 1 x 1 rectangle at height 2 facing down, its halves of radiance 1 and 4 (2 x 1 bitmap).
     std::string tex = write_texture("beam.exr", 2, 1, {Spectrum(1.0f), Spectrum(4.0f, 3.0f, 2.0f)});
-    std::string light = R"(<shape type="rectangle"><transform name="to_world"><scale value="0.5"/><rotate x="1" angle="90"/><translate y="2"/></transform>
-        <emitter type="directionalarea">)" + bitmap("radiance", tex, "nearest") + "</emitter></shape>";
+    std::string light =
+        R"(<shape type="rectangle"><transform name="to_world"><scale value="0.5"/><rotate x="1" angle="90"/><translate y="2"/></transform>
+        <emitter type="directionalarea">)" +
+        bitmap("radiance", tex, "nearest") + "</emitter></shape>";
     Ref<Scene> scene = scene_from(light);
     check_exact_irradiance("in the beam, left half", *scene, Vec3(-0.25f, 0, 0.1f), Vec3(0, 1, 0), Spectrum(1.0f));
     check_exact_irradiance("in the beam, right half", *scene, Vec3(0.3f, 0, -0.4f), Vec3(0, 1, 0), Spectrum(4.0f, 3.0f, 2.0f));
-    check_exact_irradiance("tilted receiver", *scene, Vec3(0.3f, 0, -0.4f), glm::normalize(Vec3(1, 1, 0)), Spectrum(4.0f, 3.0f, 2.0f) * std::sqrt(0.5f));
+    check_exact_irradiance("tilted receiver", *scene, Vec3(0.3f, 0, -0.4f), glm::normalize(Vec3(1, 1, 0)),
+                           Spectrum(4.0f, 3.0f, 2.0f) * std::sqrt(0.5f));
     check_exact_irradiance("far below, still in the beam", *scene, Vec3(-0.2f, -40.0f, 0.3f), Vec3(0, 1, 0), Spectrum(1.0f));
     check_exact_irradiance("beside the beam", *scene, Vec3(0.6f, 0, 0), Vec3(0, 1, 0), Spectrum(0.0f));
     check_exact_irradiance("above the light", *scene, Vec3(0.0f, 3.0f, 0.0f), Vec3(0, -1, 0), Spectrum(0.0f));
-    Ref<Scene> shadowed = scene_from(light + R"(<shape type="sphere"><point name="center" x="0.2" y="1" z="0"/><float name="radius" value="0.2"/></shape>)");
+    Ref<Scene> shadowed =
+        scene_from(light + R"(<shape type="sphere"><point name="center" x="0.2" y="1" z="0"/><float name="radius" value="0.2"/></shape>)");
     check_exact_irradiance("under an occluder", *shadowed, Vec3(0.2f, 0, 0), Vec3(0, 1, 0), Spectrum(0.0f));
 
     // Seen directly it is black (Mitsuba's eval is zero too); its flux is L times the area.

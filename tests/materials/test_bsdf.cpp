@@ -41,34 +41,65 @@ const std::vector<Config>& configs() {
     static const std::vector<Config> list = {
         {"diffuse", R"(<bsdf type="diffuse"><rgb name="reflectance" value="0.8, 0.5, 0.2"/></bsdf>)", Outside, {}},
         {"twosided diffuse from the back", R"(<bsdf type="twosided"><bsdf type="diffuse"/></bsdf>)", {-0.8f, -0.2f}, {}, false, false},
-        {"conductor", R"(<bsdf type="conductor"><rgb name="eta" value="0.2, 0.9, 1.1"/><rgb name="k" value="3.9, 2.4, 2.1"/></bsdf>)", Outside,
-         [](const Vec3&) { return std::vector<DeltaExpectation>{{DeltaReflection, 1.0}}; }, false, false},
+        {"conductor", R"(<bsdf type="conductor"><rgb name="eta" value="0.2, 0.9, 1.1"/><rgb name="k" value="3.9, 2.4, 2.1"/></bsdf>)",
+         Outside,
+         [](const Vec3&) {
+             return std::vector<DeltaExpectation>{{DeltaReflection, 1.0}};
+         },
+         false, false},
         {"conductor none", R"(<bsdf type="conductor"/>)", Outside,
-         [](const Vec3&) { return std::vector<DeltaExpectation>{{DeltaReflection, 1.0}}; }, true, false},
+         [](const Vec3&) {
+             return std::vector<DeltaExpectation>{{DeltaReflection, 1.0}};
+         },
+         true, false},
         {"conductor eta 0 k 0", R"(<bsdf type="conductor"><rgb name="eta" value="0"/><rgb name="k" value="0"/></bsdf>)", Outside,
-         [](const Vec3&) { return std::vector<DeltaExpectation>{{DeltaReflection, 1.0}}; }, true, false},
-        {"roughconductor beckmann", R"(<bsdf type="roughconductor"><float name="alpha" value="0.3"/><string name="material" value="Au"/></bsdf>)", Outside, {}},
-        {"roughconductor ggx", R"(<bsdf type="roughconductor"><string name="distribution" value="ggx"/><float name="alpha" value="0.3"/></bsdf>)", Outside, {}},
+         [](const Vec3&) {
+             return std::vector<DeltaExpectation>{{DeltaReflection, 1.0}};
+         },
+         true, false},
+        {"roughconductor beckmann",
+         R"(<bsdf type="roughconductor"><float name="alpha" value="0.3"/><string name="material" value="Au"/></bsdf>)",
+         Outside,
+         {}},
+        {"roughconductor ggx",
+         R"(<bsdf type="roughconductor"><string name="distribution" value="ggx"/><float name="alpha" value="0.3"/></bsdf>)",
+         Outside,
+         {}},
         {"roughconductor ggx anisotropic",
-         R"(<bsdf type="roughconductor"><string name="distribution" value="ggx"/><float name="alpha_u" value="0.1"/><float name="alpha_v" value="0.4"/></bsdf>)", Outside, {}},
+         R"(<bsdf type="roughconductor"><string name="distribution" value="ggx"/><float name="alpha_u" value="0.1"/><float name="alpha_v" value="0.4"/></bsdf>)",
+         Outside,
+         {}},
         {"roughconductor beckmann all normals",
-         R"(<bsdf type="roughconductor"><float name="alpha" value="0.2"/><boolean name="sample_visible" value="false"/></bsdf>)", Outside, {}},
+         R"(<bsdf type="roughconductor"><float name="alpha" value="0.2"/><boolean name="sample_visible" value="false"/></bsdf>)",
+         Outside,
+         {}},
         {"roughconductor ggx all normals anisotropic",
          R"(<bsdf type="roughconductor"><string name="distribution" value="ggx"/><float name="alpha_u" value="0.3"/><float name="alpha_v" value="0.15"/><boolean name="sample_visible" value="false"/></bsdf>)",
-         Outside, {}},
+         Outside,
+         {}},
         {"dielectric", R"(<bsdf type="dielectric"><float name="int_ior" value="1.5"/><float name="ext_ior" value="1"/></bsdf>)", BothSides,
          [](const Vec3& wi) { return fresnel_split(wi, 1.5f); }, true, false},
-        {"thindielectric", R"(<bsdf type="thindielectric"><float name="int_ior" value="1.5"/><float name="ext_ior" value="1"/></bsdf>)", BothSides,
+        {"thindielectric", R"(<bsdf type="thindielectric"><float name="int_ior" value="1.5"/><float name="ext_ior" value="1"/></bsdf>)",
+         BothSides,
          [](const Vec3& wi) {
              float r1 = fresnel_dielectric(std::abs(wi.z), 1.5f).F, R = 2 * r1 / (1 + r1);
              return std::vector<DeltaExpectation>{{DeltaReflection, R}, {DeltaTransmission, 1.0 - R}};
          },
          true, false},
-        {"roughdielectric ggx", R"(<bsdf type="roughdielectric"><string name="distribution" value="ggx"/><float name="alpha" value="0.3"/><float name="int_ior" value="1.5"/><float name="ext_ior" value="1"/></bsdf>)",
-         BothSides, {}, false, false},
-        {"roughdielectric beckmann", R"(<bsdf type="roughdielectric"><float name="alpha" value="0.2"/><string name="int_ior" value="water"/></bsdf>)",
-         BothSides, {}, false, false},
-        {"plastic", R"(<bsdf type="plastic"><rgb name="diffuse_reflectance" value="0.5"/><float name="int_ior" value="1.5"/><float name="ext_ior" value="1"/></bsdf>)",
+        {"roughdielectric ggx",
+         R"(<bsdf type="roughdielectric"><string name="distribution" value="ggx"/><float name="alpha" value="0.3"/><float name="int_ior" value="1.5"/><float name="ext_ior" value="1"/></bsdf>)",
+         BothSides,
+         {},
+         false,
+         false},
+        {"roughdielectric beckmann",
+         R"(<bsdf type="roughdielectric"><float name="alpha" value="0.2"/><string name="int_ior" value="water"/></bsdf>)",
+         BothSides,
+         {},
+         false,
+         false},
+        {"plastic",
+         R"(<bsdf type="plastic"><rgb name="diffuse_reflectance" value="0.5"/><float name="int_ior" value="1.5"/><float name="ext_ior" value="1"/></bsdf>)",
          Outside,
          [](const Vec3& wi) {
              float Fi = fresnel_dielectric(wi.z, 1.5f).F, w = 1.0f / 1.5f;
@@ -76,7 +107,8 @@ const std::vector<Config>& configs() {
              return std::vector<DeltaExpectation>{{DeltaReflection, ps}};
          },
          false, true},
-        {"plastic nonlinear", R"(<bsdf type="plastic"><rgb name="diffuse_reflectance" value="0.9, 0.3, 0.1"/><boolean name="nonlinear" value="true"/></bsdf>)",
+        {"plastic nonlinear",
+         R"(<bsdf type="plastic"><rgb name="diffuse_reflectance" value="0.9, 0.3, 0.1"/><boolean name="nonlinear" value="true"/></bsdf>)",
          Outside,
          [](const Vec3& wi) {
              float eta = 1.49f / 1.000277f;
@@ -85,25 +117,43 @@ const std::vector<Config>& configs() {
              return std::vector<DeltaExpectation>{{DeltaReflection, ps}};
          },
          false, true},
-        {"roughplastic ggx", R"(<bsdf type="roughplastic"><string name="distribution" value="ggx"/><float name="alpha" value="0.2"/><rgb name="diffuse_reflectance" value="0.6, 0.2, 0.1"/></bsdf>)",
-         Outside, {}},
-        {"roughplastic beckmann nonlinear", R"(<bsdf type="roughplastic"><float name="alpha" value="0.3"/><boolean name="nonlinear" value="true"/></bsdf>)", Outside, {}},
-        {"phong", R"(<bsdf type="phong"><rgb name="kd" value="0.4"/><rgb name="ks" value="0.5"/><float name="exponent" value="20"/></bsdf>)", Outside, {}},
-        {"blinnphong", R"(<bsdf type="blinnphong"><rgb name="kd" value="0.3"/><rgb name="ks" value="0.6"/><float name="exponent" value="40"/></bsdf>)", Outside, {}},
+        {"roughplastic ggx",
+         R"(<bsdf type="roughplastic"><string name="distribution" value="ggx"/><float name="alpha" value="0.2"/><rgb name="diffuse_reflectance" value="0.6, 0.2, 0.1"/></bsdf>)",
+         Outside,
+         {}},
+        {"roughplastic beckmann nonlinear",
+         R"(<bsdf type="roughplastic"><float name="alpha" value="0.3"/><boolean name="nonlinear" value="true"/></bsdf>)",
+         Outside,
+         {}},
+        {"phong",
+         R"(<bsdf type="phong"><rgb name="kd" value="0.4"/><rgb name="ks" value="0.5"/><float name="exponent" value="20"/></bsdf>)",
+         Outside,
+         {}},
+        {"blinnphong",
+         R"(<bsdf type="blinnphong"><rgb name="kd" value="0.3"/><rgb name="ks" value="0.6"/><float name="exponent" value="40"/></bsdf>)",
+         Outside,
+         {}},
         {"bumpmap over roughconductor",
          R"(<bsdf type="bumpmap"><texture type="checkerboard"><transform name="to_uv"><rotate z="1" angle="30"/></transform></texture><float name="scale" value="0.2"/>
             <bsdf type="roughconductor"><string name="distribution" value="ggx"/><float name="alpha" value="0.25"/></bsdf></bsdf>)",
-         {0.9f, 0.5f}, {}, false, false},
+         {0.9f, 0.5f},
+         {},
+         false,
+         false},
         // Issue 10: textured roughness.
         {"roughconductor textured alpha_u, alpha_v",
          R"(<bsdf type="roughconductor"><string name="distribution" value="ggx"/>
               <texture type="checkerboard" name="alpha_u"><rgb name="color0" value="0.05"/><rgb name="color1" value="0.3"/></texture>
               <texture type="checkerboard" name="alpha_v"><rgb name="color0" value="0.4"/><rgb name="color1" value="0.1"/></texture></bsdf>)",
-         Outside, {}},
+         Outside,
+         {}},
         {"roughdielectric textured alpha",
          R"(<bsdf type="roughdielectric"><texture type="checkerboard" name="alpha"><rgb name="color0" value="0.3"/><rgb name="color1" value="0.15"/></texture>
               <float name="int_ior" value="1.5"/><float name="ext_ior" value="1"/></bsdf>)",
-         BothSides, {}, false, false},
+         BothSides,
+         {},
+         false,
+         false},
         // principled: defaults; every lobe at once (both sides); textured; white limits.
         {"principled default", R"(<bsdf type="principled"/>)", Outside, {}},
         {"principled every lobe",
@@ -112,56 +162,102 @@ const std::vector<Config>& configs() {
               <float name="anisotropic" value="0.5"/><float name="sheen" value="0.3"/><float name="sheen_tint" value="0.2"/>
               <float name="clearcoat" value="0.6"/><float name="clearcoat_gloss" value="0.3"/><float name="spec_trans" value="0.4"/>
               <float name="flatness" value="0.5"/></bsdf>)",
-         BothSides, {}, false, false},
+         BothSides,
+         {},
+         false,
+         false},
         {"principled textured",
          R"(<bsdf type="principled"><texture type="checkerboard" name="base_color"/><texture type="checkerboard" name="roughness"/>
               <texture type="checkerboard" name="metallic"><rgb name="color0" value="0.2"/><rgb name="color1" value="0.7"/></texture>
               <float name="eta" value="1.33"/><float name="clearcoat" value="1"/><float name="clearcoat_gloss" value="0.5"/></bsdf>)",
-         Outside, {}, false, true},
-        {"principled white metal", R"(<bsdf type="principled"><rgb name="base_color" value="1"/><float name="metallic" value="1"/><float name="roughness" value="0.4"/></bsdf>)",
-         Outside, {}},
-        {"principled white glass", R"(<bsdf type="principled"><rgb name="base_color" value="1"/><float name="spec_trans" value="1"/><float name="roughness" value="0.5"/><float name="eta" value="1.5"/></bsdf>)",
-         BothSides, {}, false, false},
+         Outside,
+         {},
+         false,
+         true},
+        {"principled white metal",
+         R"(<bsdf type="principled"><rgb name="base_color" value="1"/><float name="metallic" value="1"/><float name="roughness" value="0.4"/></bsdf>)",
+         Outside,
+         {}},
+        {"principled white glass",
+         R"(<bsdf type="principled"><rgb name="base_color" value="1"/><float name="spec_trans" value="1"/><float name="roughness" value="0.5"/><float name="eta" value="1.5"/></bsdf>)",
+         BothSides,
+         {},
+         false,
+         false},
         {"principledthin",
          R"(<bsdf type="principledthin"><rgb name="base_color" value="0.7, 0.1, 0.1"/><float name="roughness" value="0.3"/>
               <float name="spec_tint" value="0.1"/><float name="anisotropic" value="0.5"/><float name="spec_trans" value="0.6"/>
               <float name="diff_trans" value="0.6"/><float name="eta" value="1.33"/><float name="sheen" value="0.5"/><float name="flatness" value="0.3"/></bsdf>)",
-         BothSides, {}, false, false},
+         BothSides,
+         {},
+         false,
+         false},
         {"principledthin default", R"(<bsdf type="principledthin"/>)", BothSides, {}, false, false},
-        {"principledthin white sheet", R"(<bsdf type="principledthin"><rgb name="base_color" value="1"/><float name="spec_trans" value="1"/><float name="roughness" value="0.6"/></bsdf>)",
-         BothSides, {}, false, false},
+        {"principledthin white sheet",
+         R"(<bsdf type="principledthin"><rgb name="base_color" value="1"/><float name="spec_trans" value="1"/><float name="roughness" value="0.6"/></bsdf>)",
+         BothSides,
+         {},
+         false,
+         false},
         // Composites and surfaces that let light pass.
         {"blendbsdf rough metal and diffuse",
          R"(<bsdf type="blendbsdf"><float name="weight" value="0.3"/><bsdf type="roughconductor"><float name="alpha" value="0.2"/></bsdf>
               <bsdf type="diffuse"><rgb name="reflectance" value="0.9, 0.6, 0.3"/></bsdf></bsdf>)",
-         Outside, {}},
+         Outside,
+         {}},
         {"blendbsdf mirror and rough plastic",
          R"(<bsdf type="blendbsdf"><float name="weight" value="0.6"/><bsdf type="conductor"/><bsdf type="roughplastic"/></bsdf>)", Outside,
-         [](const Vec3&) { return std::vector<DeltaExpectation>{{DeltaReflection, 0.4}}; }, false, false},
-        {"blendbsdf mirror and glass", R"(<bsdf type="blendbsdf"><float name="weight" value="0.25"/><bsdf type="conductor"/><bsdf type="dielectric"/></bsdf>)",
-         Outside,
+         [](const Vec3&) {
+             return std::vector<DeltaExpectation>{{DeltaReflection, 0.4}};
+         },
+         false, false},
+        {"blendbsdf mirror and glass",
+         R"(<bsdf type="blendbsdf"><float name="weight" value="0.25"/><bsdf type="conductor"/><bsdf type="dielectric"/></bsdf>)", Outside,
          [](const Vec3& wi) {
              float F = fresnel_dielectric(wi.z, 1.5046f / 1.000277f).F;
              return std::vector<DeltaExpectation>{{DeltaReflection, 0.75 + 0.25 * F}, {DeltaTransmission, 0.25 * (1.0 - F)}};
          },
          true, false},
         {"mask over rough plastic",
-         R"(<bsdf type="mask"><float name="opacity" value="0.3"/><bsdf type="roughplastic"><float name="alpha" value="0.2"/></bsdf></bsdf>)", BothSides,
-         [](const Vec3&) { return std::vector<DeltaExpectation>{{Null, 0.7}}; }, false, false},
+         R"(<bsdf type="mask"><float name="opacity" value="0.3"/><bsdf type="roughplastic"><float name="alpha" value="0.2"/></bsdf></bsdf>)",
+         BothSides,
+         [](const Vec3&) {
+             return std::vector<DeltaExpectation>{{Null, 0.7}};
+         },
+         false, false},
         {"mask over a mirror", R"(<bsdf type="mask"><float name="opacity" value="0.4"/><bsdf type="conductor"/></bsdf>)", Outside,
-         [](const Vec3&) { return std::vector<DeltaExpectation>{{Null, 0.6}, {DeltaReflection, 0.4}}; }, true, false},
-        {"null", R"(<bsdf type="null"/>)", BothSides, [](const Vec3&) { return std::vector<DeltaExpectation>{{Null, 1.0}}; }, true, false},
+         [](const Vec3&) {
+             return std::vector<DeltaExpectation>{{Null, 0.6}, {DeltaReflection, 0.4}};
+         },
+         true, false},
+        {"null", R"(<bsdf type="null"/>)", BothSides,
+         [](const Vec3&) {
+             return std::vector<DeltaExpectation>{{Null, 1.0}};
+         },
+         true, false},
         {"polarizer", R"(<bsdf type="polarizer"><rgb name="transmittance" value="0.8"/></bsdf>)", BothSides,
-         [](const Vec3&) { return std::vector<DeltaExpectation>{{Null, 1.0}}; }, false, false},
+         [](const Vec3&) {
+             return std::vector<DeltaExpectation>{{Null, 1.0}};
+         },
+         false, false},
         // hair: pigmented, lossless (sigma_a = 0), and smooth with a strong tilt.
         {"hair", R"(<bsdf type="hair"/>)", Fibre, {}, false, false},
         {"hair lossless", R"(<bsdf type="hair"><rgb name="sigma_a" value="0"/></bsdf>)", Fibre, {}, true, false},
         {"hair smooth blonde",
          R"(<bsdf type="hair"><float name="eumelanin" value="0.2"/><float name="pheomelanin" value="0.4"/><float name="longitudinal_roughness" value="0.2"/>
               <float name="azimuthal_roughness" value="0.2"/><float name="scale_tilt" value="5"/></bsdf>)",
-         Fibre, {}, false, false},
-        {"pplastic", R"(<bsdf type="pplastic"><rgb name="diffuse_reflectance" value="0.05, 0.03, 0.1"/><float name="alpha" value="0.06"/></bsdf>)", Outside, {}},
-        {"pplastic ggx rough", R"(<bsdf type="pplastic"><string name="distribution" value="ggx"/><float name="alpha" value="0.4"/></bsdf>)", Outside, {}},
+         Fibre,
+         {},
+         false,
+         false},
+        {"pplastic",
+         R"(<bsdf type="pplastic"><rgb name="diffuse_reflectance" value="0.05, 0.03, 0.1"/><float name="alpha" value="0.06"/></bsdf>)",
+         Outside,
+         {}},
+        {"pplastic ggx rough",
+         R"(<bsdf type="pplastic"><string name="distribution" value="ggx"/><float name="alpha" value="0.4"/></bsdf>)",
+         Outside,
+         {}},
     };
     return list;
 }
@@ -200,8 +296,10 @@ void check_config(const Config& c) {
         INFO("pdf integral " << integral.mean << " +- " << integral.std_error);
         CHECK(integral.mean - z * integral.std_error <= 1.0);
         INFO("albedo " << check.albedo.mean << " +- " << check.albedo.std_error);
-        if (c.lossless) CHECK(std::abs(check.albedo.mean - 1.0) < 1e-6);
-        else CHECK(check.albedo.mean - z * check.albedo.std_error <= 1.0);
+        if (c.lossless)
+            CHECK(std::abs(check.albedo.mean - 1.0) < 1e-6);
+        else
+            CHECK(check.albedo.mean - z * check.albedo.std_error <= 1.0);
     }
     if (c.reciprocal) CHECK(reciprocity_error(*t.bsdf, 2000, 99) < 1e-4);  // float32 evaluation
 }
@@ -273,12 +371,14 @@ TEST_CASE("bsdf: one-sided BSDFs are black from behind, transmissive ones are no
 TEST_CASE("bsdf: bad parameters are errors", "[bsdf][errors]") {
     CHECK_THROWS_WITH(make_bsdf(R"(<bsdf type="dielectric"><string name="int_ior" value="unobtainium"/></bsdf>)"),
                       Catch::Contains("unknown index of refraction"));
-    CHECK_THROWS_WITH(make_bsdf(R"(<bsdf type="conductor"><string name="material" value="Xx"/></bsdf>)"), Catch::Contains("unknown conductor"));
+    CHECK_THROWS_WITH(make_bsdf(R"(<bsdf type="conductor"><string name="material" value="Xx"/></bsdf>)"),
+                      Catch::Contains("unknown conductor"));
     CHECK_THROWS_WITH(make_bsdf(R"(<bsdf type="roughconductor"><string name="distribution" value="phong"/></bsdf>)"),
                       Catch::Contains("beckmann or ggx"));
     CHECK_THROWS_WITH(make_bsdf(R"(<bsdf type="phong"><rgb name="kd" value="0.8"/><rgb name="ks" value="0.5"/></bsdf>)"),
                       Catch::Contains("exceeds 1"));
-    CHECK_THROWS_WITH(make_bsdf(R"(<bsdf type="roughplastic"><float name="alpha_u" value="0.1"/><float name="alpha_v" value="0.2"/></bsdf>)"),
-                      Catch::Contains("isotropic"));
+    CHECK_THROWS_WITH(
+        make_bsdf(R"(<bsdf type="roughplastic"><float name="alpha_u" value="0.1"/><float name="alpha_v" value="0.2"/></bsdf>)"),
+        Catch::Contains("isotropic"));
     CHECK_THROWS_WITH(make_bsdf(R"(<bsdf type="twosided"><bsdf type="dielectric"/></bsdf>)"), Catch::Contains("transmissive"));
 }

@@ -66,23 +66,26 @@ Spectrum burley_2012(const Spectrum& base, float roughness, const Vec3& wi, cons
 }  // namespace
 
 TEST_CASE("principled: metallic 1 with a white base is roughconductor (ggx, alpha = roughness^2, a perfect mirror)", "[bsdf][principled]") {
-    const char* metal = R"(<bsdf type="principled"><rgb name="base_color" value="1"/><float name="metallic" value="1"/><float name="roughness" value="0.5"/></bsdf>)";
+    const char* metal =
+        R"(<bsdf type="principled"><rgb name="base_color" value="1"/><float name="metallic" value="1"/><float name="roughness" value="0.5"/></bsdf>)";
     const char* rough = R"(<bsdf type="roughconductor"><string name="distribution" value="ggx"/><float name="alpha" value="0.25"/></bsdf>)";
     check_same(metal, rough, false);
     // Anisotropic: alpha_u = r^2 / aspect, alpha_v = r^2 aspect with aspect = sqrt(1 - 0.9 a); for
     // r = 0.6, a = 0.5: aspect = sqrt(0.55).
     float aspect = std::sqrt(0.55f);
-    check_same(R"(<bsdf type="principled"><rgb name="base_color" value="1"/><float name="metallic" value="1"/><float name="roughness" value="0.6"/>
+    check_same(
+        R"(<bsdf type="principled"><rgb name="base_color" value="1"/><float name="metallic" value="1"/><float name="roughness" value="0.6"/>
                     <float name="anisotropic" value="0.5"/></bsdf>)",
-               "<bsdf type=\"roughconductor\"><string name=\"distribution\" value=\"ggx\"/><float name=\"alpha_u\" value=\"" + std::to_string(0.36f / aspect) +
-                   "\"/><float name=\"alpha_v\" value=\"" + std::to_string(0.36f * aspect) + "\"/></bsdf>",
-               false);
+        "<bsdf type=\"roughconductor\"><string name=\"distribution\" value=\"ggx\"/><float name=\"alpha_u\" value=\"" +
+            std::to_string(0.36f / aspect) + "\"/><float name=\"alpha_v\" value=\"" + std::to_string(0.36f * aspect) + "\"/></bsdf>",
+        false);
     // Their samplers are the same visible-normal sampler: the same numbers give the same samples.
     BSDFUnderTest a = make_bsdf(metal), b = make_bsdf(rough);
     check_same_samples(*a.bsdf, *b.bsdf, 20000, false);
     // A coloured metal is the mirror times Schlick's Fresnel with F0 = base_color.
     const Spectrum base(0.9f, 0.6f, 0.2f);
-    BSDFUnderTest gold = make_bsdf(R"(<bsdf type="principled"><rgb name="base_color" value="0.9, 0.6, 0.2"/><float name="metallic" value="1"/><float name="roughness" value="0.5"/></bsdf>)");
+    BSDFUnderTest gold = make_bsdf(
+        R"(<bsdf type="principled"><rgb name="base_color" value="0.9, 0.6, 0.2"/><float name="metallic" value="1"/><float name="roughness" value="0.5"/></bsdf>)");
     BSDFContext ctx;
     PCG32 rng(67, 71);
     double worst = 0.0;
@@ -98,8 +101,10 @@ TEST_CASE("principled: metallic 1 with a white base is roughconductor (ggx, alph
     CHECK(worst < Tolerance);
 }
 
-TEST_CASE("principled: spec_trans 1 with a white base is roughdielectric (ggx, alpha = roughness^2), both sides, both transport modes", "[bsdf][principled]") {
-    const char* glass = R"(<bsdf type="principled"><rgb name="base_color" value="1"/><float name="spec_trans" value="1"/><float name="roughness" value="0.4"/>
+TEST_CASE("principled: spec_trans 1 with a white base is roughdielectric (ggx, alpha = roughness^2), both sides, both transport modes",
+          "[bsdf][principled]") {
+    const char* glass =
+        R"(<bsdf type="principled"><rgb name="base_color" value="1"/><float name="spec_trans" value="1"/><float name="roughness" value="0.4"/>
                              <float name="eta" value="1.5"/></bsdf>)";
     const char* rough = R"(<bsdf type="roughdielectric"><string name="distribution" value="ggx"/><float name="alpha" value="0.16"/>
                              <float name="int_ior" value="1.5"/><float name="ext_ior" value="1"/></bsdf>)";
@@ -109,18 +114,23 @@ TEST_CASE("principled: spec_trans 1 with a white base is roughdielectric (ggx, a
     check_same(glass, rough, true, importance);
     // specular = 0.08^-1 ((eta - 1) / (eta + 1))^2 is the same interface as eta.
     float specular = std::pow(0.5f / 2.5f, 2.0f) / 0.08f;
-    check_same("<bsdf type=\"principled\"><rgb name=\"base_color\" value=\"1\"/><float name=\"spec_trans\" value=\"1\"/><float name=\"roughness\" value=\"0.4\"/>"
-               "<float name=\"specular\" value=\"" + std::to_string(specular) + "\"/></bsdf>",
-               rough, true);
+    check_same(
+        "<bsdf type=\"principled\"><rgb name=\"base_color\" value=\"1\"/><float name=\"spec_trans\" value=\"1\"/><float name=\"roughness\" value=\"0.4\"/>"
+        "<float name=\"specular\" value=\"" +
+            std::to_string(specular) + "\"/></bsdf>",
+        rough, true);
 }
 
-TEST_CASE("principled: with metallic 0 and specular 0 only Burley's diffuse remains, it is Lambertian where its Fresnel weights vanish", "[bsdf][principled]") {
+TEST_CASE("principled: with metallic 0 and specular 0 only Burley's diffuse remains, it is Lambertian where its Fresnel weights vanish",
+          "[bsdf][principled]") {
     // There is no exact Lambertian limit: Burley's retro-reflection term (1 + (F_D90 - 1) F_i)
     // (1 + (F_D90 - 1) F_o) is 1 only at normal incidence or normal exitance with F_D90 != 1.
     // So: pointwise against the 2012 factored form, and equal to `diffuse` at normal incidence.
     for (float roughness : {0.0f, 0.5f, 1.0f}) {
-        BSDFUnderTest p = make_bsdf("<bsdf type=\"principled\"><rgb name=\"base_color\" value=\"0.8, 0.5, 0.2\"/><float name=\"specular\" value=\"0\"/>"
-                                    "<float name=\"roughness\" value=\"" + std::to_string(roughness) + "\"/></bsdf>");
+        BSDFUnderTest p = make_bsdf(
+            "<bsdf type=\"principled\"><rgb name=\"base_color\" value=\"0.8, 0.5, 0.2\"/><float name=\"specular\" value=\"0\"/>"
+            "<float name=\"roughness\" value=\"" +
+            std::to_string(roughness) + "\"/></bsdf>");
         BSDFUnderTest d = make_bsdf(R"(<bsdf type="diffuse"><rgb name="reflectance" value="0.8, 0.5, 0.2"/></bsdf>)");
         BSDFContext ctx;
         PCG32 rng(11, 13);
@@ -140,18 +150,24 @@ TEST_CASE("principled: with metallic 0 and specular 0 only Burley's diffuse rema
     }
 }
 
-TEST_CASE("principledthin: its diffuse lobe is principled's, diff_trans 2 is a Lambertian transmitter, it is the same from both sides", "[bsdf][principled]") {
-    const char* base = R"(<rgb name="base_color" value="0.3, 0.6, 0.9"/><float name="roughness" value="0.7"/><float name="sheen" value="0.4"/>
+TEST_CASE("principledthin: its diffuse lobe is principled's, diff_trans 2 is a Lambertian transmitter, it is the same from both sides",
+          "[bsdf][principled]") {
+    const char* base =
+        R"(<rgb name="base_color" value="0.3, 0.6, 0.9"/><float name="roughness" value="0.7"/><float name="sheen" value="0.4"/>
                           <float name="sheen_tint" value="0.5"/><float name="flatness" value="0.3"/>)";
     // (With specular 0, principled's specular lobe is zero; sampling rate 0 stops sampling it too.)
-    check_same(std::string("<bsdf type=\"principledthin\">") + base + "</bsdf>",
-               std::string("<bsdf type=\"principled\"><float name=\"specular\" value=\"0\"/><float name=\"main_specular_sampling_rate\" value=\"0\"/>") + base +
-                   "</bsdf>",
-               false);
+    check_same(
+        std::string("<bsdf type=\"principledthin\">") + base + "</bsdf>",
+        std::string(
+            "<bsdf type=\"principled\"><float name=\"specular\" value=\"0\"/><float name=\"main_specular_sampling_rate\" value=\"0\"/>") +
+            base + "</bsdf>",
+        false);
 
-    BSDFUnderTest thin = make_bsdf(R"(<bsdf type="principledthin"><rgb name="base_color" value="0.3, 0.6, 0.9"/><float name="diff_trans" value="2"/></bsdf>)");
+    BSDFUnderTest thin = make_bsdf(
+        R"(<bsdf type="principledthin"><rgb name="base_color" value="0.3, 0.6, 0.9"/><float name="diff_trans" value="2"/></bsdf>)");
     BSDFUnderTest lambert = make_bsdf(R"(<bsdf type="diffuse"><rgb name="reflectance" value="0.3, 0.6, 0.9"/></bsdf>)");
-    BSDFUnderTest sheet = make_bsdf(R"(<bsdf type="principledthin"><rgb name="base_color" value="0.7, 0.4, 0.2"/><float name="spec_trans" value="0.5"/>
+    BSDFUnderTest sheet =
+        make_bsdf(R"(<bsdf type="principledthin"><rgb name="base_color" value="0.7, 0.4, 0.2"/><float name="spec_trans" value="0.5"/>
                                          <float name="diff_trans" value="0.8"/><float name="anisotropic" value="0.3"/><float name="eta" value="1.4"/></bsdf>)");
     BSDFContext ctx;
     PCG32 rng(17, 19);
@@ -181,7 +197,8 @@ TEST_CASE("blendbsdf: weight 0 and 1 are its parts, sample by sample", "[bsdf]")
     const char* first = R"(<bsdf type="roughconductor"><float name="alpha" value="0.2"/><string name="material" value="Cu"/></bsdf>)";
     const char* second = R"(<bsdf type="roughplastic"><rgb name="diffuse_reflectance" value="0.2, 0.4, 0.6"/></bsdf>)";
     for (int w = 0; w <= 1; ++w) {
-        std::string blend = "<bsdf type=\"blendbsdf\"><float name=\"weight\" value=\"" + std::to_string(w) + "\"/>" + first + second + "</bsdf>";
+        std::string blend =
+            "<bsdf type=\"blendbsdf\"><float name=\"weight\" value=\"" + std::to_string(w) + "\"/>" + first + second + "</bsdf>";
         const char* part = w == 0 ? first : second;
         INFO("weight " << w);
         check_same(blend, part, false);
@@ -189,8 +206,10 @@ TEST_CASE("blendbsdf: weight 0 and 1 are its parts, sample by sample", "[bsdf]")
         check_same_samples(*b.bsdf, *p.bsdf, 20000, false);
     }
     // In between: the blend of the parts (a textured weight looked up per point).
-    BSDFUnderTest half = make_bsdf(std::string(R"(<bsdf type="blendbsdf"><texture type="checkerboard" name="weight"><rgb name="color0" value="0.25"/>
-                                                     <rgb name="color1" value="0.25"/></texture>)") + first + second + "</bsdf>");
+    BSDFUnderTest half =
+        make_bsdf(std::string(R"(<bsdf type="blendbsdf"><texture type="checkerboard" name="weight"><rgb name="color0" value="0.25"/>
+                                                     <rgb name="color1" value="0.25"/></texture>)") +
+                  first + second + "</bsdf>");
     BSDFUnderTest a = make_bsdf(first), c = make_bsdf(second);
     BSDFContext ctx;
     SurfaceInteraction si = local_interaction(direction(0.6f, 0.3f));
@@ -225,8 +244,10 @@ TEST_CASE("mask: opacity 1 is its nested BSDF sample by sample, opacity 0 passes
 
     // Checkerboard opacity: at uv (0.3, 0.6) the scalar lookup takes color0 (checkerboard.cpp:
     // scalar lookups use the opposite parity, as in Mitsuba).
-    BSDFUnderTest textured = make_bsdf(std::string(R"(<bsdf type="mask"><texture type="checkerboard" name="opacity"><rgb name="color0" value="0.35"/>
-                                                        <rgb name="color1" value="0.8"/></texture>)") + nested + "</bsdf>");
+    BSDFUnderTest textured =
+        make_bsdf(std::string(R"(<bsdf type="mask"><texture type="checkerboard" name="opacity"><rgb name="color0" value="0.35"/>
+                                                        <rgb name="color1" value="0.8"/></texture>)") +
+                  nested + "</bsdf>");
     float t = textured.bsdf->null_transmission(si).x;
     CHECK(t == Approx(0.65f).epsilon(1e-6));
     Vec3 wo = direction(0.4f, 4.0f);
@@ -235,18 +256,22 @@ TEST_CASE("mask: opacity 1 is its nested BSDF sample by sample, opacity 0 passes
 
 TEST_CASE("textured roughness equal to a constant gives exactly the constant's BSDF", "[bsdf]") {
     auto checker = [](const char* name, const char* value) {
-        return std::string("<texture type=\"checkerboard\" name=\"") + name + "\"><rgb name=\"color0\" value=\"" + value + "\"/><rgb name=\"color1\" value=\"" +
-               value + "\"/></texture>";
+        return std::string("<texture type=\"checkerboard\" name=\"") + name + "\"><rgb name=\"color0\" value=\"" + value +
+               "\"/><rgb name=\"color1\" value=\"" + value + "\"/></texture>";
     };
     struct Case {
         std::string textured, constant;
         bool both_sides;
     };
     std::vector<Case> cases = {
-        {"<bsdf type=\"roughconductor\">" + checker("alpha", "0.3") + "</bsdf>", R"(<bsdf type="roughconductor"><float name="alpha" value="0.3"/></bsdf>)", false},
-        {"<bsdf type=\"roughconductor\"><string name=\"distribution\" value=\"ggx\"/>" + checker("alpha_u", "0.1") + checker("alpha_v", "0.35") + "</bsdf>",
-         R"(<bsdf type="roughconductor"><string name="distribution" value="ggx"/><float name="alpha_u" value="0.1"/><float name="alpha_v" value="0.35"/></bsdf>)", false},
-        {"<bsdf type=\"roughdielectric\">" + checker("alpha", "0.2") + "</bsdf>", R"(<bsdf type="roughdielectric"><float name="alpha" value="0.2"/></bsdf>)", true},
+        {"<bsdf type=\"roughconductor\">" + checker("alpha", "0.3") + "</bsdf>",
+         R"(<bsdf type="roughconductor"><float name="alpha" value="0.3"/></bsdf>)", false},
+        {"<bsdf type=\"roughconductor\"><string name=\"distribution\" value=\"ggx\"/>" + checker("alpha_u", "0.1") +
+             checker("alpha_v", "0.35") + "</bsdf>",
+         R"(<bsdf type="roughconductor"><string name="distribution" value="ggx"/><float name="alpha_u" value="0.1"/><float name="alpha_v" value="0.35"/></bsdf>)",
+         false},
+        {"<bsdf type=\"roughdielectric\">" + checker("alpha", "0.2") + "</bsdf>",
+         R"(<bsdf type="roughdielectric"><float name="alpha" value="0.2"/></bsdf>)", true},
     };
     BSDFContext ctx;
     for (const Case& c : cases) {
@@ -266,7 +291,8 @@ TEST_CASE("textured roughness equal to a constant gives exactly the constant's B
     }
     // A non-constant texture is looked up per point: the checkerboard's scalar colour at uv
     // (0.3, 0.6) is color0.
-    BSDFUnderTest varying = make_bsdf(R"(<bsdf type="roughconductor"><texture type="checkerboard" name="alpha"><rgb name="color0" value="0.05"/>
+    BSDFUnderTest varying =
+        make_bsdf(R"(<bsdf type="roughconductor"><texture type="checkerboard" name="alpha"><rgb name="color0" value="0.05"/>
                                              <rgb name="color1" value="0.5"/></texture></bsdf>)");
     BSDFUnderTest smooth = make_bsdf(R"(<bsdf type="roughconductor"><float name="alpha" value="0.05"/></bsdf>)");
     BSDFUnderTest rough = make_bsdf(R"(<bsdf type="roughconductor"><float name="alpha" value="0.5"/></bsdf>)");
@@ -277,11 +303,14 @@ TEST_CASE("textured roughness equal to a constant gives exactly the constant's B
     CHECK(smooth.bsdf->eval(ctx, si, wo) != rough.bsdf->eval(ctx, si, wo));
 }
 
-TEST_CASE("pplastic: its specular lobe is roughplastic's, its diffuse lobe is plastic's without the coating's internal reflections", "[bsdf]") {
+TEST_CASE("pplastic: its specular lobe is roughplastic's, its diffuse lobe is plastic's without the coating's internal reflections",
+          "[bsdf]") {
     BSDFContext glossy;
     glossy.lobes = GlossyReflection;
-    check_same(R"(<bsdf type="pplastic"><float name="alpha" value="0.15"/><rgb name="specular_reflectance" value="0.9, 0.7, 0.5"/></bsdf>)",
-               R"(<bsdf type="roughplastic"><float name="alpha" value="0.15"/><rgb name="specular_reflectance" value="0.9, 0.7, 0.5"/></bsdf>)", false, glossy);
+    check_same(
+        R"(<bsdf type="pplastic"><float name="alpha" value="0.15"/><rgb name="specular_reflectance" value="0.9, 0.7, 0.5"/></bsdf>)",
+        R"(<bsdf type="roughplastic"><float name="alpha" value="0.15"/><rgb name="specular_reflectance" value="0.9, 0.7, 0.5"/></bsdf>)",
+        false, glossy);
     // plastic's diffuse term is rho / (1 - Fdr_int) (1 - F_i)(1 - F_o) cos / (pi eta^2), so
     // pplastic's is plastic's times eta^2 (1 - Fdr_int) for the same rho.
     BSDFUnderTest pp = make_bsdf(R"(<bsdf type="pplastic"><rgb name="diffuse_reflectance" value="0.6, 0.3, 0.1"/></bsdf>)");
@@ -306,7 +335,8 @@ TEST_CASE("hair: the closed-form albedo sum A_p equals the mean sample weight, l
     // are normalised), sample() draws directions and returns f cos / pdf. Six z-tests (three
     // directions, two fibres) at a 1% family-wise level.
     const double z = two_sided_z(sidak(0.01, 6));
-    for (const char* xml : {R"(<bsdf type="hair"/>)", R"(<bsdf type="hair"><float name="eumelanin" value="0.3"/><float name="pheomelanin" value="0.1"/>
+    for (const char* xml :
+         {R"(<bsdf type="hair"/>)", R"(<bsdf type="hair"><float name="eumelanin" value="0.3"/><float name="pheomelanin" value="0.1"/>
                                                         <float name="longitudinal_roughness" value="0.2"/><float name="scale_tilt" value="4"/></bsdf>)"}) {
         BSDFUnderTest t = make_bsdf(xml);
         for (float c : {0.9f, 0.3f, -0.5f}) {
@@ -319,7 +349,8 @@ TEST_CASE("hair: the closed-form albedo sum A_p equals the mean sample weight, l
         }
     }
     BSDFUnderTest clear = make_bsdf(R"(<bsdf type="hair"><rgb name="sigma_a" value="0"/></bsdf>)");
-    for (float c : {0.99f, 0.5f, 0.01f, -0.7f}) CHECK(max_abs_component(clear.bsdf->albedo(local_interaction(direction(c, 0.4f))) - Spectrum(1.0f)) < 1e-6f);
+    for (float c : {0.99f, 0.5f, 0.01f, -0.7f})
+        CHECK(max_abs_component(clear.bsdf->albedo(local_interaction(direction(c, 0.4f))) - Spectrum(1.0f)) < 1e-6f);
 }
 
 TEST_CASE("new BSDFs: bad parameters are errors", "[bsdf][errors]") {
@@ -330,11 +361,16 @@ TEST_CASE("new BSDFs: bad parameters are errors", "[bsdf][errors]") {
     CHECK_THROWS_WITH(make_bsdf(R"(<bsdf type="hair"><float name="azimuthal_roughness" value="1.5"/></bsdf>)"), Catch::Contains("[0, 1]"));
     CHECK_THROWS_WITH(make_bsdf(R"(<bsdf type="blendbsdf"><bsdf type="diffuse"/></bsdf>)"), Catch::Contains("exactly two"));
     CHECK_THROWS_WITH(make_bsdf(R"(<bsdf type="mask"><float name="opacity" value="0.5"/></bsdf>)"), Catch::Contains("exactly one"));
-    CHECK_THROWS_WITH(make_bsdf(R"(<bsdf type="twosided"><bsdf type="mask"><bsdf type="diffuse"/></bsdf></bsdf>)"), Catch::Contains("inside it"));
-    CHECK_THROWS_WITH(make_bsdf(R"(<bsdf type="roughconductor"><float name="alpha_u" value="0.1"/></bsdf>)"), Catch::Contains("both alpha_u and alpha_v"));
+    CHECK_THROWS_WITH(make_bsdf(R"(<bsdf type="twosided"><bsdf type="mask"><bsdf type="diffuse"/></bsdf></bsdf>)"),
+                      Catch::Contains("inside it"));
+    CHECK_THROWS_WITH(make_bsdf(R"(<bsdf type="roughconductor"><float name="alpha_u" value="0.1"/></bsdf>)"),
+                      Catch::Contains("both alpha_u and alpha_v"));
     // alpha = 0 is accepted (raised to 1e-4, as Mitsuba does: tests/integrators/test_robustness.cpp).
-    CHECK_THROWS_WITH(make_bsdf(R"(<bsdf type="roughconductor"><float name="alpha" value="-0.1"/></bsdf>)"), Catch::Contains("must not be negative"));
-    CHECK_THROWS_WITH(make_bsdf(R"(<bsdf type="roughplastic"><float name="alpha" value="-0.1"/></bsdf>)"), Catch::Contains("must not be negative"));
-    CHECK_THROWS_WITH(make_bsdf(R"(<bsdf type="principledthin"><float name="spec_trans" value="0.5"/><float name="metallic" value="0.5"/></bsdf>)"),
-                      Catch::Contains("metallic"));  // not a parameter of the thin BSDF
+    CHECK_THROWS_WITH(make_bsdf(R"(<bsdf type="roughconductor"><float name="alpha" value="-0.1"/></bsdf>)"),
+                      Catch::Contains("must not be negative"));
+    CHECK_THROWS_WITH(make_bsdf(R"(<bsdf type="roughplastic"><float name="alpha" value="-0.1"/></bsdf>)"),
+                      Catch::Contains("must not be negative"));
+    CHECK_THROWS_WITH(
+        make_bsdf(R"(<bsdf type="principledthin"><float name="spec_trans" value="0.5"/><float name="metallic" value="0.5"/></bsdf>)"),
+        Catch::Contains("metallic"));  // not a parameter of the thin BSDF
 }

@@ -13,7 +13,7 @@ TEST_CASE("fresnel: normal incidence reflectance is ((n - 1) / (n + 1))^2 from e
         CHECK(fresnel_dielectric(1.0f, n).F == Approx(expected).epsilon(1e-5));
         CHECK(fresnel_dielectric(-1.0f, n).F == Approx(expected).epsilon(1e-5));
     }
-    CHECK(fresnel_dielectric(0.7f, 1.0f).F == 0.0f);  // no interface
+    CHECK(fresnel_dielectric(0.7f, 1.0f).F == 0.0f);          // no interface
     CHECK(fresnel_dielectric(0.0f, 1.5f).F == Approx(1.0f));  // grazing
 }
 

@@ -37,7 +37,9 @@ struct OutField {
     std::string data;
 };
 
-std::string float_bytes(const std::vector<float>& v) { return std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(float)); }
+std::string float_bytes(const std::vector<float>& v) {
+    return std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(float));
+}
 
 void put(std::string& out, uint64_t value, int bytes) {
     for (int i = 0; i < bytes; ++i) out.push_back(char((value >> (8 * i)) & 0xff));
@@ -129,7 +131,8 @@ struct Table {
         std::vector<float> spectra;
         for (size_t s = 0; s < P * T; ++s)
             for (size_t w = 0; w < wavelengths.size(); ++w)
-                spectra.insert(spectra.end(), luminance.begin() + std::ptrdiff_t(s * N * N), luminance.begin() + std::ptrdiff_t((s + 1) * N * N));
+                spectra.insert(spectra.end(), luminance.begin() + std::ptrdiff_t(s * N * N),
+                               luminance.begin() + std::ptrdiff_t((s + 1) * N * N));
         f.push_back({"wavelengths", TensorType::Float32, {uint64_t(wavelengths.size())}, float_bytes(wavelengths)});
         f.push_back({"spectra", TensorType::Float32, {P, T, uint64_t(wavelengths.size()), N, N}, float_bytes(spectra)});
         return f;
@@ -282,7 +285,8 @@ Agreement compare_with_analytic(const Table& t, const Conductor& c, const BSDF& 
         float unused;
         Vec2 s = t.warps[slice].invert(u_m, nullptr, &unused);
         Vec2 u_i(to_u_theta(theta_i), to_u_phi(phi_i));
-        double rel = interpolation_bound(ndf, t.n_ndf, t.ndf_rows, u_m) / ndf(u_m) + interpolation_bound(sigma, t.n_ndf, t.ndf_rows, u_i) / sigma(u_i);
+        double rel = interpolation_bound(ndf, t.n_ndf, t.ndf_rows, u_m) / ndf(u_m) +
+                     interpolation_bound(sigma, t.n_ndf, t.ndf_rows, u_i) / sigma(u_i);
         for (int ch = 0; ch < 3; ++ch) {
             // The reflectance factor at sample-space point x: through the slice's warp to h.
             auto factor = [&](const Vec2& x) {
@@ -315,13 +319,21 @@ TEST_CASE("measured: eval matches the tabulated analytic BRDF within the tables'
         std::vector<Vec3> incidences;
     };
     std::vector<Case> cases = {
-        {"iso", iso_table(), Iso, {spherical(Thetas[1], 0.3f), spherical(Thetas[2], 2.0f), spherical(Thetas[3], -1.0f), spherical(Thetas[4], 0.0f)}},
+        {"iso",
+         iso_table(),
+         Iso,
+         {spherical(Thetas[1], 0.3f), spherical(Thetas[2], 2.0f), spherical(Thetas[3], -1.0f), spherical(Thetas[4], 0.0f)}},
         // Quarter: slices at phi in [-180, -90] degrees; incidences in every quadrant (mirrored).
-        {"quarter", quarter_table(), Aniso,
+        {"quarter",
+         quarter_table(),
+         Aniso,
          {spherical(Thetas[2], -150 * Pi / 180), spherical(Thetas[3], 60 * Pi / 180), spherical(Thetas[2], 150 * Pi / 180),
           spherical(Thetas[4], -30 * Pi / 180)}},
         // Half: slices at phi in [-180, 0]; an incidence with y > 0 is turned by a half turn.
-        {"half", half_table(), Aniso, {spherical(Thetas[2], -45 * Pi / 180), spherical(Thetas[3], 135 * Pi / 180), spherical(Thetas[1], 90 * Pi / 180)}},
+        {"half",
+         half_table(),
+         Aniso,
+         {spherical(Thetas[2], -45 * Pi / 180), spherical(Thetas[3], 135 * Pi / 180), spherical(Thetas[1], 90 * Pi / 180)}},
     };
     for (const Case& k : cases) {
         BSDFUnderTest measured = load_measured(write_table(k.table, std::string("eval-") + k.name));
@@ -344,8 +356,8 @@ TEST_CASE("measured: eval matches the tabulated analytic BRDF within the tables'
             agreement.compared += at_reduced.compared;
             reduced.push_back(r);
         }
-        INFO(k.name << ": " << agreement.compared << " comparisons, mean tolerance " << agreement.mean_tolerance << ", worst error / tolerance "
-                    << agreement.worst_excess);
+        INFO(k.name << ": " << agreement.compared << " comparisons, mean tolerance " << agreement.mean_tolerance
+                    << ", worst error / tolerance " << agreement.worst_excess);
         CHECK(agreement.compared > 1000);
         CHECK(agreement.worst_excess <= 1.0);
         // The bound must say something: below the 10% and larger effects of the faults the
@@ -360,7 +372,8 @@ TEST_CASE("measured: eval matches the tabulated analytic BRDF within the tables'
                 Vec3 wo = warp::square_to_cosine_hemisphere(Vec2(u1, u2));
                 Vec3 wo_r(r.x == wi.x ? wo.x : -wo.x, r.y == wi.y ? wo.y : -wo.y, wo.z);
                 BSDFContext ctx;
-                Spectrum a1 = measured.bsdf->eval(ctx, local_interaction(wi), wo), a2 = measured.bsdf->eval(ctx, local_interaction(r), wo_r);
+                Spectrum a1 = measured.bsdf->eval(ctx, local_interaction(wi), wo),
+                         a2 = measured.bsdf->eval(ctx, local_interaction(r), wo_r);
                 CHECK(max_component(glm::abs(a1 - a2)) <= 1e-5f * std::max(max_component(a1), 1.0f));
             }
         }
@@ -610,7 +623,8 @@ TEST_CASE("measured: a scene with a measured BSDF loads and renders finite pixel
     };
     // The path tracer, and the raster mode (its local model: a Lambertian of the albedo at
     // normal incidence).
-    for (const char* integrator : {R"(<integrator type="path"><integer name="max_depth" value="4"/></integrator>)", R"(<integrator type="raster"/>)"}) {
+    for (const char* integrator :
+         {R"(<integrator type="path"><integer name="max_depth" value="4"/></integrator>)", R"(<integrator type="raster"/>)"}) {
         INFO(integrator);
         Image image = render(integrator);
         for (int y = 0; y < image.height(); ++y)

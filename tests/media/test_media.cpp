@@ -11,10 +11,10 @@
 //     z-tested against the closed form with its own standard error; 1% family-wise (Sidak).
 //   - A homogeneous medium answers exp(-sigma_t d) exactly.
 
+#include "analysis/vol_writer.h"
 #include "core/medium.h"
 #include "core/scene.h"
 #include "core/volume.h"
-#include "analysis/vol_writer.h"
 #include "tests/stats.h"
 #include "tests/util.h"
 
@@ -35,7 +35,8 @@ MediumInScene load_medium(const std::string& name, const std::string& medium_xml
                           const std::function<void(const std::filesystem::path&)>& prepare = {}) {
     auto dir = scratch_dir(name);
     if (prepare) prepare(dir);
-    write_text(dir / "scene.xml", scene_xml(medium_xml + "\n<shape type=\"cube\"><bsdf type=\"null\"/><ref name=\"interior\" id=\"m\"/></shape>"));
+    write_text(dir / "scene.xml",
+               scene_xml(medium_xml + "\n<shape type=\"cube\"><bsdf type=\"null\"/><ref name=\"interior\" id=\"m\"/></shape>"));
     MediumInScene out;
     out.scene = load_scene((dir / "scene.xml").string());
     out.medium = out.scene->shapes()[0]->interior();
@@ -45,7 +46,8 @@ MediumInScene load_medium(const std::string& name, const std::string& medium_xml
 
 std::string grid_medium(const std::string& extra, const std::string& volume_extra = "") {
     return R"(<medium type="heterogeneous" id="m"><float name="albedo" value="0"/>)" + extra + R"(
-        <volume type="gridvolume" name="sigma_t"><string name="filename" value="grid.vol"/>)" + volume_extra + R"(</volume></medium>)";
+        <volume type="gridvolume" name="sigma_t"><string name="filename" value="grid.vol"/>)" +
+           volume_extra + R"(</volume></medium>)";
 }
 
 }  // namespace
@@ -90,7 +92,8 @@ TEST_CASE("gridvolume: malformed files are errors at the filename's line", "[med
              std::filesystem::resize_file(p, 48 + 7 * 4);
          },
          "the header promises 8 values"},
-        {"five channels", [](const std::filesystem::path& p) { write_vol(p, glm::ivec3(1, 1, 1), 5, std::vector<float>(5, 1.0f)); }, "5 channels"},
+        {"five channels", [](const std::filesystem::path& p) { write_vol(p, glm::ivec3(1, 1, 1), 5, std::vector<float>(5, 1.0f)); },
+         "5 channels"},
         {"not finite", [](const std::filesystem::path& p) { write_vol(p, glm::ivec3(1, 1, 1), 1, {std::nanf("")}); }, "not finite"},
     };
     for (const Case& c : cases) {
@@ -161,8 +164,10 @@ TEST_CASE("transmittance: ratio and delta tracking agree with the closed form of
     auto write = [&](const std::filesystem::path& dir) { write_vol(dir / "grid.vol", glm::ivec3(n, 2, 2), 3, values); };
     const std::string stretch = R"(<transform name="to_world"><scale x="2"/></transform>)";
     MediumInScene grid = load_medium("linear-grid", grid_medium("", stretch), write);
-    MediumInScene global = load_medium("linear-global", grid_medium(R"(<integer name="majorant_resolution_factor" value="0"/>)", stretch), write);
-    MediumInScene homogeneous = load_medium("linear-homogeneous", R"(<medium type="homogeneous" id="m"><rgb name="sigma_t" value="0.3, 0.8, 1.5"/>
+    MediumInScene global =
+        load_medium("linear-global", grid_medium(R"(<integer name="majorant_resolution_factor" value="0"/>)", stretch), write);
+    MediumInScene homogeneous =
+        load_medium("linear-homogeneous", R"(<medium type="homogeneous" id="m"><rgb name="sigma_t" value="0.3, 0.8, 1.5"/>
         <float name="albedo" value="0"/></medium>)");
     // tau = 2 * integral over the unit cube's x of the clamped line.
     const double h = 0.5 / n;
@@ -187,9 +192,12 @@ TEST_CASE("transmittance: ratio and delta tracking agree with the closed form of
         Vec3 expected;
     };
     const std::vector<Estimator> estimators = {
-        {"ratio, majorant grid", grid.medium, 0, expected},           {"ratio, global majorant", global.medium, 0, expected},
-        {"delta shared, majorant grid", grid.medium, 1, expected},    {"delta per channel, majorant grid", grid.medium, 2, expected},
-        {"delta shared, global majorant", global.medium, 1, expected}, {"ratio, homogeneous", homogeneous.medium, 0, expected_homogeneous},
+        {"ratio, majorant grid", grid.medium, 0, expected},
+        {"ratio, global majorant", global.medium, 0, expected},
+        {"delta shared, majorant grid", grid.medium, 1, expected},
+        {"delta per channel, majorant grid", grid.medium, 2, expected},
+        {"delta shared, global majorant", global.medium, 1, expected},
+        {"ratio, homogeneous", homogeneous.medium, 0, expected_homogeneous},
         {"delta shared, homogeneous", homogeneous.medium, 1, expected_homogeneous},
         {"delta per channel, homogeneous", homogeneous.medium, 2, expected_homogeneous},
     };

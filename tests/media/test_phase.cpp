@@ -15,11 +15,11 @@
 //     constant counts by its channels' mean; a grid's weight is its value at the scattering
 //     point, clamped to [0, 1], with samples consistent with pdf and eval there.
 
+#include "analysis/vol_writer.h"
 #include "core/phase.h"
 #include "core/registry.h"
 #include "core/rng.h"
 #include "core/volume.h"
-#include "analysis/vol_writer.h"
 #include "tests/stats.h"
 #include "tests/util.h"
 
@@ -50,7 +50,7 @@ struct PhaseCase {
     std::string type;
     float g;
 };
-const std::vector<PhaseCase> Cases = {{"isotropic", 0.0f}, {"hg", 0.7f},       {"hg", -0.4f},       {"hg", 0.0f},
+const std::vector<PhaseCase> Cases = {{"isotropic", 0.0f}, {"hg", 0.7f},       {"hg", -0.4f},      {"hg", 0.0f},
                                       {"hg", 0.95f},       {"rayleigh", 0.0f}, {"tabphase", 0.0f}, {"blendphase", 0.3f}};
 // Every statistical check below runs once per case.
 const double Alpha = sidak(0.01, 3 * int(Cases.size()));
@@ -78,7 +78,8 @@ TEST_CASE("phase functions: sampling matches pdf (chi-square) and is exact", "[p
             PhaseSample ps = phase->sample(at(wi), Vec2(rng.next_float(), rng.next_float()));
             REQUIRE(ps.valid());
             float pdf = phase->pdf(at(wi), ps.wo), f = phase->eval(at(wi), ps.wo);
-            if (std::abs(ps.pdf - pdf) > 1e-3f * pdf || std::abs(ps.weight - f / pdf) > 1e-4f || std::abs(glm::length(ps.wo) - 1.0f) > 1e-4f)
+            if (std::abs(ps.pdf - pdf) > 1e-3f * pdf || std::abs(ps.weight - f / pdf) > 1e-4f ||
+                std::abs(glm::length(ps.wo) - 1.0f) > 1e-4f)
                 ++inconsistent;
             if (i < n) {
                 hist.add(ps.wo);
@@ -220,7 +221,8 @@ TEST_CASE("blendphase: a grid weight is read at the scattering point and clamped
         if (blend->eval(mi, wo) != Approx(expected.eval(mi, wo))) ++mismatches;
         PhaseSample ps = blend->sample(mi, Vec2(rng.next_float(), rng.next_float()));
         float pdf = blend->pdf(mi, ps.wo);
-        if (!ps.valid() || std::abs(ps.pdf - pdf) > 1e-5f * pdf || std::abs(ps.weight - blend->eval(mi, ps.wo) / pdf) > 1e-5f) ++inconsistent;
+        if (!ps.valid() || std::abs(ps.pdf - pdf) > 1e-5f * pdf || std::abs(ps.weight - blend->eval(mi, ps.wo) / pdf) > 1e-5f)
+            ++inconsistent;
     }
     CHECK(mismatches == 0);
     CHECK(inconsistent == 0);

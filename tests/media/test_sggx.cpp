@@ -19,6 +19,7 @@
 //     volume where a colour is meant, and a blendphase with an sggx part.
 // All statistical checks together keep a 1% family-wise level (Sidak over the count below).
 
+#include "analysis/vol_writer.h"
 #include "core/medium.h"
 #include "core/phase.h"
 #include "core/registry.h"
@@ -26,7 +27,6 @@
 #include "core/scene.h"
 #include "core/volume.h"
 #include "core/xml.h"
-#include "analysis/vol_writer.h"
 #include "tests/stats.h"
 #include "tests/util.h"
 
@@ -180,7 +180,8 @@ TEST_CASE("sggx: media take extinction sigma_t sqrt(d^T S d) (Beer-Lambert throu
     auto dir = scratch_dir("sggx-slab");
     std::vector<float> six = {0.25f, 1.0f, 0.36f, 0.1f, 0.05f, -0.2f};
     write_vol(dir / "S.vol", glm::ivec3(2, 2, 2), 6, repeated(six, 8));
-    const std::string constant_S = R"(<volume type="constvolume" name="S"><string name="value" value="0.25, 1, 0.36, 0.1, 0.05, -0.2"/></volume>)";
+    const std::string constant_S =
+        R"(<volume type="constvolume" name="S"><string name="value" value="0.25, 1, 0.36, 0.1, 0.05, -0.2"/></volume>)";
     const std::string grid_S = R"(<volume type="gridvolume" name="S"><string name="filename" value="S.vol"/></volume>)";
     const std::string slab = R"(<transform name="to_world"><scale x="10" y="10" z="0.5"/><translate z="2"/></transform>)";
     struct Case {
@@ -188,10 +189,12 @@ TEST_CASE("sggx: media take extinction sigma_t sqrt(d^T S d) (Beer-Lambert throu
     };
     const std::vector<Case> cases = {
         {"homogeneous, constant S", R"(<medium type="homogeneous" id="absorber"><rgb name="sigma_t" value="0.5, 1, 2"/>
-            <float name="albedo" value="0"/><phase type="sggx">)" + constant_S + "</phase></medium>"},
+            <float name="albedo" value="0"/><phase type="sggx">)" +
+                                        constant_S + "</phase></medium>"},
         {"heterogeneous, grid S", R"(<medium type="heterogeneous" id="absorber"><volume type="constvolume" name="sigma_t">
             <rgb name="value" value="0.5, 1, 2"/><transform name="to_world"><scale x="20" y="20" z="1"/><translate x="-10" y="-10" z="1.5"/></transform></volume>
-            <float name="albedo" value="0"/><phase type="sggx">)" + grid_S + "</phase></medium>"},
+            <float name="albedo" value="0"/><phase type="sggx">)" +
+                                      grid_S + "</phase></medium>"},
     };
     const Vec3 L(1.0f, 2.0f, 3.0f), sigma(0.5f, 1.0f, 2.0f);
     for (const Case& c : cases)
@@ -220,12 +223,15 @@ namespace {
 std::string scattering_scene(const std::string& phase, const std::string& medium_type = "homogeneous", int spp = 64) {
     return scene_xml(R"(<integrator type="volpath"/>
         <sensor type="perspective"><float name="fov" value="45"/>
-            <transform name="to_world"><lookat origin="0, 1.5, 4" target="0, 0.5, 0" up="0, 1, 0"/></transform>)" + film(32, spp) + R"(</sensor>
+            <transform name="to_world"><lookat origin="0, 1.5, 4" target="0, 0.5, 0" up="0, 1, 0"/></transform>)" +
+                     film(32, spp) + R"(</sensor>
         <shape type="rectangle"><transform name="to_world"><scale value="3"/><rotate x="1" angle="-90"/></transform>
             <bsdf type="diffuse"><rgb name="reflectance" value="0.6, 0.5, 0.4"/></bsdf></shape>
         <shape type="rectangle"><transform name="to_world"><scale value="0.5"/><rotate x="1" angle="90"/><translate y="2.5"/></transform>
             <emitter type="area"><rgb name="radiance" value="10"/></emitter></shape>
-        <medium type=")" + medium_type + R"(" id="fog"><rgb name="sigma_t" value="2, 3, 4"/><float name="albedo" value="0.9"/>)" + phase + R"(</medium>
+        <medium type=")" +
+                     medium_type + R"(" id="fog"><rgb name="sigma_t" value="2, 3, 4"/><float name="albedo" value="0.9"/>)" + phase +
+                     R"(</medium>
         <shape type="sphere"><point name="center" value="0, 0.6, 0"/><float name="radius" value="0.6"/><bsdf type="null"/>
             <ref name="interior" id="fog"/></shape>)");
 }
@@ -235,8 +241,11 @@ std::string scattering_scene(const std::string& phase, const std::string& medium
 TEST_CASE("sggx: S = identity renders as the isotropic medium, a grid S renders finite", "[volpath][sggx][stats]") {
     auto dir = scratch_dir("sggx-render");
     Image iso = render_in(dir, scattering_scene(R"(<phase type="isotropic"/>)")).image;
-    Image sggx = render_in(dir, scattering_scene(std::string(R"(<phase type="sggx"><volume type="constvolume" name="S"><string name="value" value=")") +
-                                                 Identity + R"("/></volume></phase>)")).image;
+    Image sggx =
+        render_in(dir,
+                  scattering_scene(std::string(R"(<phase type="sggx"><volume type="constvolume" name="S"><string name="value" value=")") +
+                                   Identity + R"("/></volume></phase>)"))
+            .image;
     std::string where;
     double z = largest_block_z(iso, sggx, &where);
     INFO(where);
@@ -246,9 +255,11 @@ TEST_CASE("sggx: S = identity renders as the isotropic medium, a grid S renders 
     std::vector<float> flat = repeated({0.05f, 1.0f, 0.05f, 0.01f, 0.0f, 0.02f}, 4);
     values.insert(values.end(), flat.begin(), flat.end());
     write_vol(dir / "S.vol", glm::ivec3(2, 2, 2), 6, values);
-    Image grid = render_in(dir, scattering_scene(R"(<phase type="sggx"><volume type="gridvolume" name="S"><string name="filename" value="S.vol"/>
+    Image grid =
+        render_in(dir, scattering_scene(R"(<phase type="sggx"><volume type="gridvolume" name="S"><string name="filename" value="S.vol"/>
         <transform name="to_world"><scale value="1.2"/><translate x="-0.6" y="0" z="-0.6"/></transform></volume></phase>)",
-                                                 "homogeneous", 8)).image;
+                                        "homogeneous", 8))
+            .image;
     double sum = 0.0;
     bool finite = true;
     for (int y = 0; y < grid.height(); ++y)
@@ -262,7 +273,8 @@ TEST_CASE("sggx: S = identity renders as the isotropic medium, a grid S renders 
 }
 
 TEST_CASE("sggx: bad S and misuse are errors at their line", "[phase][sggx][errors]") {
-    CHECK_THROWS_WITH(create_plugin_as<PhaseFunction>(ObjectKind::Phase, Properties("sggx", SourceLocation{"test", 1})), Catch::Contains("needs its matrix S"));
+    CHECK_THROWS_WITH(create_plugin_as<PhaseFunction>(ObjectKind::Phase, Properties("sggx", SourceLocation{"test", 1})),
+                      Catch::Contains("needs its matrix S"));
     CHECK_THROWS_WITH(make_sggx("1, 1, 1"), Catch::Contains("six values"));
     CHECK_THROWS_WITH(make_sggx("1, 1, 1, 2, 0, 0"), Catch::Contains("positive definite"));
     CHECK_THROWS_WITH(make_sggx("1, 1, 1, 0, 0"), Catch::Contains("1, 3 or 6"));

@@ -172,7 +172,8 @@ TEST_CASE("samplers: multijitter stratifies each 2D dimension in its grid and in
     }
 }
 
-TEST_CASE("samplers: orthogonal (strength 2) stratifies every pair of its p + 1 columns in p x p cells and each dimension in p^2 strata", "[sampler]") {
+TEST_CASE("samplers: orthogonal (strength 2) stratifies every pair of its p + 1 columns in p x p cells and each dimension in p^2 strata",
+          "[sampler]") {
     Ref<Sampler> s = make_sampler("orthogonal", 25, Vec2i(8));  // p = 5: 6 distinct columns
     REQUIRE(s->sample_count() == 25);
     for (Vec2i pixel : {Vec2i(0, 0), Vec2i(7, 2)}) {
@@ -217,13 +218,15 @@ TEST_CASE("samplers: the first two Sobol' dimensions form a (0, 2)-sequence", "[
     for (int m = 0; m <= 10; ++m)
         for (uint64_t block : {0ull, 1ull, 5ull, 1000ull}) {
             std::vector<Vec2> pts;
-            for (uint64_t i = block << m; i < (block + 1) << m; ++i) pts.push_back({bits_to_unit(sobol_bits(i, 0)), bits_to_unit(sobol_bits(i, 1))});
+            for (uint64_t i = block << m; i < (block + 1) << m; ++i)
+                pts.push_back({bits_to_unit(sobol_bits(i, 0)), bits_to_unit(sobol_bits(i, 1))});
             INFO("m " << m << " block " << block);
             CHECK(is_02_net(pts));
         }
     // Owen scrambling keeps it.
     std::vector<Vec2> pts;
-    for (uint64_t i = 0; i < 256; ++i) pts.push_back({bits_to_unit(owen_scramble(sobol_bits(i, 0), 17)), bits_to_unit(owen_scramble(sobol_bits(i, 1), 99))});
+    for (uint64_t i = 0; i < 256; ++i)
+        pts.push_back({bits_to_unit(owen_scramble(sobol_bits(i, 0), 17)), bits_to_unit(owen_scramble(sobol_bits(i, 1), 99))});
     CHECK(is_02_net(pts));
 }
 
@@ -247,7 +250,8 @@ TEST_CASE("samplers: sobol's samples in a pixel are a (0, m, 2)-net over the pix
     }
 }
 
-TEST_CASE("samplers: a sample's numbers depend only on (seed, pixel, index), and the render not on the thread count", "[sampler][determinism]") {
+TEST_CASE("samplers: a sample's numbers depend only on (seed, pixel, index), and the render not on the thread count",
+          "[sampler][determinism]") {
     auto dir = scratch_dir("sampler-threads");
     for (const std::string& name : AllSamplers) {
         INFO(name);
@@ -262,7 +266,8 @@ TEST_CASE("samplers: a sample's numbers depend only on (seed, pixel, index), and
         Ref<Sampler> other = make_sampler(name, 16, Vec2i(16), 8);
         CHECK(draw(*other, Vec2i(4, 9), 5) != first);
 
-        write_text(dir / "scene.xml", scene_with_sampler("<sampler type=\"" + name + "\"><integer name=\"sample_count\" value=\"16\"/></sampler>"));
+        write_text(dir / "scene.xml",
+                   scene_with_sampler("<sampler type=\"" + name + "\"><integer name=\"sample_count\" value=\"16\"/></sampler>"));
         RenderResult one = render_file((dir / "scene.xml").string(), {{"res", "24"}}, 1);
         RenderResult three = render_file((dir / "scene.xml").string(), {{"res", "24"}}, 3);
         REQUIRE(one.image.data().size() == three.image.data().size());
@@ -276,11 +281,13 @@ TEST_CASE("samplers: sample counts round as Mitsuba (pbrt-v4 for sobol and zsobo
         int rounded;
     };
     const std::vector<Case> cases = {
-        {R"(<sampler type="stratified"><integer name="sample_count" value="5"/><boolean name="jitter" value="false"/><integer name="seed" value="3"/></sampler>)", 9},
+        {R"(<sampler type="stratified"><integer name="sample_count" value="5"/><boolean name="jitter" value="false"/><integer name="seed" value="3"/></sampler>)",
+         9},
         {R"(<sampler type="multijitter"><integer name="sample_count" value="5"/><boolean name="jitter" value="true"/></sampler>)", 6},
         {R"(<sampler type="orthogonal"><integer name="sample_count" value="16"/><integer name="strength" value="2"/></sampler>)", 25},
         {R"(<sampler type="ldsampler"><integer name="sample_count" value="17"/></sampler>)", 64},
-        {R"(<sampler type="sobol"><integer name="sample_count" value="9"/><string name="randomization" value="permutedigits"/></sampler>)", 16},
+        {R"(<sampler type="sobol"><integer name="sample_count" value="9"/><string name="randomization" value="permutedigits"/></sampler>)",
+         16},
         {R"(<sampler type="zsobol"><integer name="sample_count" value="33"/></sampler>)", 64},
         {R"(<sampler type="stratified"><integer name="sample_count" value="4"/></sampler>)", 4},
     };

@@ -78,7 +78,8 @@ fs::path docs_folder() {
     fs::create_directories(dir / "common" / "textures");
     Image sky = Image::rgb(32, 16);
     for (int y = 0; y < sky.height(); ++y)
-        for (int x = 0; x < sky.width(); ++x) sky.set_rgb(x, y, Spectrum(y < sky.height() / 2 ? 1.0f - float(y) / float(sky.height()) : 0.25f));
+        for (int x = 0; x < sky.width(); ++x)
+            sky.set_rgb(x, y, Spectrum(y < sky.height() / 2 ? 1.0f - float(y) / float(sky.height()) : 0.25f));
     for (const char* name : {"museum.exr", "envmap.exr"}) write_exr(sky, (dir / "common" / "textures" / name).string(), true);
     // The PLY meshes of the animation scenes: small spheres where the bunny (about 0.15 across,
     // scaled by 12) and the teapot (recentred by -0.215, scaled by 0.42) would stand.
@@ -187,7 +188,8 @@ TEST_CASE("mitsuba docs scenes: analytic sphere light, B-spline curves, spectral
     }
 }
 
-TEST_CASE("mitsuba docs scenes: the four motion-blur scenes render (moving instance, camera, spot light, slerp pose)", "[scenes][docs][animation]") {
+TEST_CASE("mitsuba docs scenes: the four motion-blur scenes render (moving instance, camera, spot light, slerp pose)",
+          "[scenes][docs][animation]") {
     fs::path dir = docs_folder();
     fs::path scenes = dir / "docs" / "scenes";
     for (const char* name : {"animation_shape.xml", "animation_sensor.xml", "animation_emitter.xml"}) {
@@ -217,17 +219,20 @@ TEST_CASE("mitsuba docs scenes from an older copy: resource_path stops and once 
     // The mesh-attribute scenes' PLY: the bunny stand-in's sphere, red at every vertex and blue
     // on every face (mitsuba-data's file holds random colours of both kinds).
     TestMesh bunny = uv_sphere(0.05f, Vec3(0.0f, 0.0f, 0.05f), 16, 8);
-    std::string ply = "ply\nformat ascii 1.0\nelement vertex " + std::to_string(bunny.positions.size()) +
-                      "\nproperty float x\nproperty float y\nproperty float z\nproperty float r\nproperty float g\nproperty float b\nelement face " +
-                      std::to_string(bunny.triangles.size()) +
-                      "\nproperty list uchar int vertex_indices\nproperty float r\nproperty float g\nproperty float b\nend_header\n";
+    std::string ply =
+        "ply\nformat ascii 1.0\nelement vertex " + std::to_string(bunny.positions.size()) +
+        "\nproperty float x\nproperty float y\nproperty float z\nproperty float r\nproperty float g\nproperty float b\nelement face " +
+        std::to_string(bunny.triangles.size()) +
+        "\nproperty list uchar int vertex_indices\nproperty float r\nproperty float g\nproperty float b\nend_header\n";
     for (const Vec3& p : bunny.positions) ply += std::to_string(p.x) + " " + std::to_string(p.y) + " " + std::to_string(p.z) + " 1 0 0\n";
-    for (const auto& t : bunny.triangles) ply += "3 " + std::to_string(t[0]) + " " + std::to_string(t[1]) + " " + std::to_string(t[2]) + " 0 0 1\n";
+    for (const auto& t : bunny.triangles)
+        ply += "3 " + std::to_string(t[0]) + " " + std::to_string(t[1]) + " " + std::to_string(t[2]) + " 0 0 1\n";
     write_text(dir / "common" / "meshes" / "bunny_attribute_color.ply", ply);
 
     CHECK_THROWS_WITH(load_scene((scenes / "texture_mesh_attribute_vertex.xml").string(), {{"spp", "1"}}), Catch::Contains("<path value="));
-    for (const char* name : {"bsdf_roughconductor_textured_carbon.xml", "texture_mesh_attribute_face.xml", "texture_mesh_attribute_vertex.xml",
-                             "integrator_aov.xml", "include/integrator_scene.xml", "bsdf_polarizer_middle.xml", "shape_sphere_parameterization.xml"})
+    for (const char* name :
+         {"bsdf_roughconductor_textured_carbon.xml", "texture_mesh_attribute_face.xml", "texture_mesh_attribute_vertex.xml",
+          "integrator_aov.xml", "include/integrator_scene.xml", "bsdf_polarizer_middle.xml", "shape_sphere_parameterization.xml"})
         rename_resource_path(scenes / name);
     for (const char* name : {"bsdf_roughconductor_textured_carbon.xml", "bsdf_polarizer_middle.xml", "shape_sphere_parameterization.xml"}) {
         INFO(name);

@@ -12,9 +12,11 @@ using namespace candela::test;
 namespace {
 Ref<Scene> ortho_scene(const std::string& extra, const std::string& transform, int w, int h, const std::string& body = "") {
     auto dir = scratch_dir("orthographic");
-    std::string xml = scene_xml(R"(<sensor type="orthographic">)" + extra + R"(<transform name="to_world">)" + transform + R"(</transform>
-    <film type="hdrfilm"><integer name="width" value=")" + std::to_string(w) + R"("/><integer name="height" value=")" +
-                                std::to_string(h) + R"("/><rfilter type="box"/></film><sampler type="independent"><integer name="sample_count" value="16"/></sampler>
+    std::string xml =
+        scene_xml(R"(<sensor type="orthographic">)" + extra + R"(<transform name="to_world">)" + transform + R"(</transform>
+    <film type="hdrfilm"><integer name="width" value=")" +
+                  std::to_string(w) + R"("/><integer name="height" value=")" + std::to_string(h) +
+                  R"("/><rfilter type="box"/></film><sampler type="independent"><integer name="sample_count" value="16"/></sampler>
 </sensor>)" + body);
     write_text(dir / "scene.xml", xml);
     return load_scene((dir / "scene.xml").string());
@@ -35,7 +37,7 @@ TEST_CASE("orthographic: to_world's scale sets the extent, rays start on the nea
         CHECK(r.tmin == 0.0f);
         CHECK(r.tmax == Approx(99.5f));
     };
-    check_ray(Vec2(100, 50), Vec3(1.0f, 1.5f, 1.0f));        // centre, moved to the near plane
+    check_ray(Vec2(100, 50), Vec3(1.0f, 1.5f, 1.0f));              // centre, moved to the near plane
     check_ray(Vec2(0, 0), Vec3(1.0f - 10.0f, 1.5f, 1.0f + 5.0f));  // top-left corner: camera (+1, +1/2)
     check_ray(Vec2(200, 100), Vec3(1.0f + 10.0f, 1.5f, 1.0f - 5.0f));
     check_ray(Vec2(150, 25), Vec3(1.0f + 5.0f, 1.5f, 1.0f + 2.5f));
@@ -44,7 +46,8 @@ TEST_CASE("orthographic: to_world's scale sets the extent, rays start on the nea
 TEST_CASE("orthographic: an emitter covering a known part of the view fills that part of the image", "[camera][orthographic]") {
     // A 2 x 1 rectangle light facing the camera, in a 4 x 4 view (scale 2): exactly the middle
     // half of the columns and quarter of the rows, whatever its distance.
-    const char* light = R"(<shape type="rectangle"><transform name="to_world"><scale x="1" y="0.5"/><rotate y="1" angle="180"/><translate z="7"/></transform>
+    const char* light =
+        R"(<shape type="rectangle"><transform name="to_world"><scale x="1" y="0.5"/><rotate y="1" angle="180"/><translate z="7"/></transform>
         <emitter type="area"><rgb name="radiance" value="3"/></emitter></shape>)";
     Ref<Scene> scene = ortho_scene("", R"(<scale x="2" y="2"/>)", 32, 32, light);
     Image img = scene->integrator().render(*scene, RenderOptions()).image;

@@ -15,8 +15,8 @@ Ref<Scene> camera_scene(const std::string& sensor_props, int w, int h) {
     auto dir = scratch_dir("camera");
     std::string xml = scene_xml(R"(<sensor type="perspective">)" + sensor_props + R"(
     <transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
-    <film type="hdrfilm"><integer name="width" value=")" + std::to_string(w) + R"("/><integer name="height" value=")" +
-                                std::to_string(h) + R"("/></film>
+    <film type="hdrfilm"><integer name="width" value=")" +
+                                std::to_string(w) + R"("/><integer name="height" value=")" + std::to_string(h) + R"("/></film>
 </sensor>)");
     write_text(dir / "scene.xml", xml);
     return load_scene((dir / "scene.xml").string());
@@ -50,13 +50,14 @@ TEST_CASE("camera: fov_axis picks the axis the fov spans", "[camera]") {
     };
     // A 200x100 film (aspect 2) and a 100x200 film (aspect 1/2).
     const Case cases[] = {
-        {"x", 200, 100, Vec2(0, 50)},      {"y", 200, 100, Vec2(100, 0)},    {"diagonal", 200, 100, Vec2(0, 0)},
+        {"x", 200, 100, Vec2(0, 50)},        {"y", 200, 100, Vec2(100, 0)},     {"diagonal", 200, 100, Vec2(0, 0)},
         {"smaller", 200, 100, Vec2(100, 0)}, {"larger", 200, 100, Vec2(0, 50)}, {"smaller", 100, 200, Vec2(0, 100)},
         {"larger", 100, 200, Vec2(50, 0)},
     };
     for (const Case& c : cases) {
         INFO("fov_axis " << c.axis << " on " << c.w << "x" << c.h);
-        Ref<Scene> scene = camera_scene(std::string(R"(<float name="fov" value="60"/><string name="fov_axis" value=")") + c.axis + "\"/>", c.w, c.h);
+        Ref<Scene> scene =
+            camera_scene(std::string(R"(<float name="fov" value="60"/><string name="fov_axis" value=")") + c.axis + "\"/>", c.w, c.h);
         CHECK(angle_to_axis(scene->sensor().sample_ray(c.edge_point, Vec2(0.5f))) == Approx(fov / 2).epsilon(1e-5));
     }
 }
@@ -66,7 +67,6 @@ TEST_CASE("camera: focal_length sets the fov on the 35 mm diagonal", "[camera]")
     float expected = degrees(std::atan(std::sqrt(36.0f * 36.0f + 24.0f * 24.0f) / 100.0f));
     CHECK(angle_to_axis(scene->sensor().sample_ray(Vec2(0, 0), Vec2(0.5f))) == Approx(expected).epsilon(1e-5));
 }
-
 
 TEST_CASE("camera: the principal point offset shifts the image as Mitsuba's does", "[camera]") {
     Ref<Scene> scene = camera_scene(R"(<float name="fov" value="90"/><float name="principal_point_offset_x" value="0.1"/>

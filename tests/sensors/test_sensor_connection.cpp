@@ -25,7 +25,9 @@ const char* Lookat = R"(<lookat origin="0.5, 1, 6" target="0, 0.2, 0" up="0, 1, 
 
 Ref<Scene> camera_scene(const std::string& name, const std::string& sensor) {
     auto dir = scratch_dir("sensor_connection");
-    write_text(dir / (name + ".xml"), scene_xml(sensor + R"(<film type="hdrfilm"><integer name="width" value="48"/><integer name="height" value="32"/></film></sensor>
+    write_text(
+        dir / (name + ".xml"),
+        scene_xml(sensor + R"(<film type="hdrfilm"><integer name="width" value="48"/><integer name="height" value="32"/></film></sensor>
         <shape type="sphere"><float name="radius" value="0.5"/></shape>)"));
     return load_scene((dir / (name + ".xml")).string());
 }
@@ -38,11 +40,15 @@ struct Camera {
 std::vector<Camera> cameras() {
     return {{"perspective", camera_scene("perspective", std::string(R"(<sensor type="perspective"><float name="fov" value="35"/>
                  <float name="principal_point_offset_x" value="0.1"/><float name="principal_point_offset_y" value="-0.05"/><transform name="to_world">)") +
-                                                          Lookat + "</transform>")},
-            {"thinlens", camera_scene("thinlens", std::string(R"(<sensor type="thinlens"><float name="fov" value="35"/><float name="aperture_radius" value="0.3"/>
-                 <float name="focus_distance" value="4"/><transform name="to_world">)") + Lookat + "</transform>")},
-            {"orthographic", camera_scene("orthographic", std::string(R"(<sensor type="orthographic"><transform name="to_world"><scale x="2" y="1.5"/>)") +
-                                                            Lookat + "</transform>")}};
+                                                            Lookat + "</transform>")},
+            {"thinlens",
+             camera_scene("thinlens",
+                          std::string(R"(<sensor type="thinlens"><float name="fov" value="35"/><float name="aperture_radius" value="0.3"/>
+                 <float name="focus_distance" value="4"/><transform name="to_world">)") +
+                              Lookat + "</transform>")},
+            {"orthographic",
+             camera_scene("orthographic", std::string(R"(<sensor type="orthographic"><transform name="to_world"><scale x="2" y="1.5"/>)") +
+                                              Lookat + "</transform>")}};
 }
 
 }  // namespace
@@ -59,9 +65,11 @@ TEST_CASE("sensor connection: sample_direction inverts sample_ray", "[camera][li
             SensorSample ss = sensor.sample_direction(x, lens);
             ++checked;
             bool ok = ss.pdf > 0.0f && glm::length(ss.film_pos - film) < 2e-3f && glm::length(ss.d + ray.d) < 1e-4f &&
-                      glm::length(ss.p - ray(ray.tmin)) < 1e-4f * (1.0f + glm::length(ss.p)) && std::abs(ss.dist - glm::length(x - ss.p)) < 1e-4f * ss.dist;
+                      glm::length(ss.p - ray(ray.tmin)) < 1e-4f * (1.0f + glm::length(ss.p)) &&
+                      std::abs(ss.dist - glm::length(x - ss.p)) < 1e-4f * ss.dist;
             if (!ok && ++wrong < 4)
-                WARN(c.name << ": film (" << film.x << ", " << film.y << ") came back as (" << ss.film_pos.x << ", " << ss.film_pos.y << "), pdf " << ss.pdf);
+                WARN(c.name << ": film (" << film.x << ", " << film.y << ") came back as (" << ss.film_pos.x << ", " << ss.film_pos.y
+                            << "), pdf " << ss.pdf);
         }
         INFO(c.name << ": " << wrong << " of " << checked << " connections did not retrace their camera ray");
         CHECK(wrong == 0);
@@ -74,7 +82,8 @@ TEST_CASE("sensor connection: sample_direction inverts sample_ray", "[camera][li
 TEST_CASE("sensor connection: importance is the film's Jacobian (integral and uniform landing)", "[camera][lighttracing]") {
     // A wall through the target, tilted by 30 degrees, 10 x 10 units: larger than the view.
     const Vec3 center(0, 0.2f, 0);
-    const Vec3 axis_u = glm::normalize(Vec3(1, 0, 0)), axis_v = glm::normalize(Vec3(0, std::cos(radians(30.0f)), -std::sin(radians(30.0f))));
+    const Vec3 axis_u = glm::normalize(Vec3(1, 0, 0)),
+               axis_v = glm::normalize(Vec3(0, std::cos(radians(30.0f)), -std::sin(radians(30.0f))));
     const Vec3 normal = glm::normalize(glm::cross(axis_u, axis_v));
     const float half = 5.0f, area = 4 * half * half;
     const int n = 300000;
@@ -91,7 +100,8 @@ TEST_CASE("sensor connection: importance is the film's Jacobian (integral and un
             landed[i] = ss.film_pos;
         }
         MeanAndError m = mean_and_error(weights);
-        INFO(c.name << ": integral of the importance over the wall " << m.mean * area << " +- " << m.std_error * area << ", film area " << Width * Height);
+        INFO(c.name << ": integral of the importance over the wall " << m.mean * area << " +- " << m.std_error * area << ", film area "
+                    << Width * Height);
         CHECK(std::abs(m.mean * area - Width * Height) <= two_sided_z(Alpha) * m.std_error * area);
         // Keep each point with probability weight / max: the kept film positions are uniform.
         double w_max = *std::max_element(weights.begin(), weights.end());

@@ -39,11 +39,13 @@ void check_same_rays(const Sensor& a, const Sensor& b, float time_a, float time_
 TEST_CASE("sensor motion: equal keyframes give the static camera's rays", "[camera][animation]") {
     for (const char* type : {"perspective", "thinlens", "orthographic"}) {
         INFO(type);
-        std::string extra = std::string(type) == "thinlens" ? R"(<float name="aperture_radius" value="0.2"/><float name="focus_distance" value="4"/>)" : "";
+        std::string extra =
+            std::string(type) == "thinlens" ? R"(<float name="aperture_radius" value="0.2"/><float name="focus_distance" value="4"/>)" : "";
         std::string pose = lookat("1, -5, 2", "0, 0, 0.5");
         Ref<Scene> still = camera_scene("sensor-still", type, extra + "<transform name=\"to_world\">" + pose + "</transform>");
-        Ref<Scene> moving = camera_scene("sensor-moving", type, extra + "<animation name=\"to_world\"><transform time=\"0\">" + pose +
-                                                                    "</transform><transform time=\"1\">" + pose + "</transform></animation>");
+        Ref<Scene> moving = camera_scene("sensor-moving", type,
+                                         extra + "<animation name=\"to_world\"><transform time=\"0\">" + pose +
+                                             "</transform><transform time=\"1\">" + pose + "</transform></animation>");
         CHECK(moving->sensor().is_animated());
         CHECK_FALSE(still->sensor().is_animated());
         // The recomposed pose differs from the matrix by float rounding (coordinates ~5).
@@ -54,10 +56,12 @@ TEST_CASE("sensor motion: equal keyframes give the static camera's rays", "[came
 TEST_CASE("sensor motion: at time t the camera is the pose interpolated at t", "[camera][animation]") {
     // A dolly: origin and target move together by (2, 1, 0) from time 0 to 2. At t = 0.5 the
     // camera has moved a quarter of the way.
-    Ref<Scene> moving = camera_scene("sensor-dolly", "perspective", "<animation name=\"to_world\"><transform time=\"0\">" +
-                                                                    lookat("1, -5, 2", "0, 0, 0.5") + "</transform><transform time=\"2\">" +
-                                                                    lookat("3, -4, 2", "2, 1, 0.5") + "</transform></animation>");
-    Ref<Scene> quarter = camera_scene("sensor-quarter", "perspective", "<transform name=\"to_world\">" + lookat("1.5, -4.75, 2", "0.5, 0.25, 0.5") + "</transform>");
+    Ref<Scene> moving =
+        camera_scene("sensor-dolly", "perspective",
+                     "<animation name=\"to_world\"><transform time=\"0\">" + lookat("1, -5, 2", "0, 0, 0.5") +
+                         "</transform><transform time=\"2\">" + lookat("3, -4, 2", "2, 1, 0.5") + "</transform></animation>");
+    Ref<Scene> quarter = camera_scene("sensor-quarter", "perspective",
+                                      "<transform name=\"to_world\">" + lookat("1.5, -4.75, 2", "0.5, 0.25, 0.5") + "</transform>");
     check_same_rays(quarter->sensor(), moving->sensor(), 0.0f, 0.5f, 1e-5f);
     // The rasterizer's pose (to_world) is the one at shutter_open.
     CHECK(glm::length(Vec3(moving->sensor().to_world().matrix()[3]) - Vec3(1, -5, 2)) < 1e-6f);

@@ -36,7 +36,8 @@ Ref<Scene> load(const std::string& name, const std::string& body) {
 }  // namespace
 
 TEST_CASE("thinlens: a zero aperture is the perspective camera", "[camera][thinlens]") {
-    Ref<Scene> lens = load("lens.xml", camera("thinlens", R"(<float name="aperture_radius" value="0"/><float name="focus_distance" value="3"/>)") + Objects);
+    Ref<Scene> lens = load(
+        "lens.xml", camera("thinlens", R"(<float name="aperture_radius" value="0"/><float name="focus_distance" value="3"/>)") + Objects);
     Ref<Scene> pinhole = load("pinhole.xml", camera("perspective", "") + Objects);
     PCG32 rng(7, 1);
     for (int i = 0; i < 1000; ++i) {
@@ -62,7 +63,8 @@ TEST_CASE("thinlens: a zero aperture is the perspective camera", "[camera][thinl
 
 TEST_CASE("thinlens: the focal plane is sharp and defocus follows the circle of confusion", "[camera][thinlens]") {
     const float a = 0.15f, f = 4.0f;
-    Ref<Scene> lens = load("coc.xml", camera("thinlens", R"(<float name="aperture_radius" value="0.15"/><float name="focus_distance" value="4"/>)"));
+    Ref<Scene> lens =
+        load("coc.xml", camera("thinlens", R"(<float name="aperture_radius" value="0.15"/><float name="focus_distance" value="4"/>)"));
     Ref<Scene> pinhole = load("pin.xml", camera("perspective", ""));
     const Sensor& s = lens->sensor();
     const Transform& to_camera = s.to_world().inverse();

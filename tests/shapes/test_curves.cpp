@@ -2,8 +2,8 @@
 // for hit, and rendered with the same random numbers), Mitsuba's normal and uv conventions,
 // and errors in curve files at their own file and line.
 
-#include "core/xml.h"
 #include "core/rng.h"
+#include "core/xml.h"
 #include "tests/util.h"
 
 #include <catch2/catch.hpp>
@@ -44,7 +44,8 @@ void compare_with_cylinder(const Scene& curve, const Scene& cylinder, float t_to
         worst_t = std::max(worst_t, std::abs(sc.t - sy.t) / sy.t);
         worst_n = std::max(worst_n, glm::length(sc.n - sy.n));
     }
-    INFO(hits << " hits; " << mismatched << " rays hit only one; worst relative t difference " << worst_t << ", worst normal difference " << worst_n);
+    INFO(hits << " hits; " << mismatched << " rays hit only one; worst relative t difference " << worst_t << ", worst normal difference "
+              << worst_n);
     CHECK(hits > 1000);
     CHECK(mismatched <= 2);  // rays grazing the silhouette may fall either way
     CHECK(worst_t <= t_tolerance);
@@ -71,7 +72,8 @@ TEST_CASE("curves: a thick straight curve is hit like a cylinder of the same rad
 TEST_CASE("curves: a thick straight linear curve renders like the cylinder", "[curves][render]") {
     auto dir = scratch_dir("curves-render");
     write_text(dir / "line.txt", "0 0 0 0.3\n0 0 1 0.3\n");
-    const char* rest = R"(<emitter type="directional"><vector name="direction" x="-1" y="2" z="-0.5"/><rgb name="irradiance" value="3"/></emitter>
+    const char* rest =
+        R"(<emitter type="directional"><vector name="direction" x="-1" y="2" z="-0.5"/><rgb name="irradiance" value="3"/></emitter>
         <emitter type="constant"><rgb name="radiance" value="0.2"/></emitter>
         <integrator type="path"><integer name="max_depth" value="3"/></integrator>
         <sensor type="perspective"><float name="fov" value="14"/>
@@ -115,7 +117,8 @@ TEST_CASE("curves: Mitsuba's normals and uv: u around the curve, v along all seg
     // The shading frame: s around the curve, t along it.
     CHECK(std::abs(glm::dot(si.shading.t, Vec3(1, 0, 0))) == Approx(1.0f));
     // Radii are not scaled by to_world; rays from inside a tube do not hit it.
-    Ref<Scene> scaled = scene_from(dir, curve_shape("linearcurve", "two.txt", "<transform name=\"to_world\"><scale value=\"2\"/></transform>"));
+    Ref<Scene> scaled =
+        scene_from(dir, curve_shape("linearcurve", "two.txt", "<transform name=\"to_world\"><scale value=\"2\"/></transform>"));
     REQUIRE(scaled->intersect(Ray(Vec3(2, 0, 3), Vec3(0, 0, -1)), si));
     CHECK(si.t == Approx(2.5f));
     CHECK(!scaled->intersect(Ray(Vec3(2, 0, 0), Vec3(0, 0, 1)), si));

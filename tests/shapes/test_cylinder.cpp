@@ -110,7 +110,8 @@ TEST_CASE("cylinder: a to_world that shears it or squashes its cross-section is 
     auto dir = scratch_dir("cylinder-bad");
     for (const char* t : {R"(<scale x="2" y="1" z="1"/>)", R"(<matrix value="1 0.5 0 0  0 1 0 0  0 0 1 0  0 0 0 1"/>)"}) {
         INFO(t);
-        CHECK_THROWS_AS(scene_from(dir, std::string("<shape type=\"cylinder\"><transform name=\"to_world\">") + t + "</transform></shape>"), SceneError);
+        CHECK_THROWS_AS(scene_from(dir, std::string("<shape type=\"cylinder\"><transform name=\"to_world\">") + t + "</transform></shape>"),
+                        SceneError);
     }
     // Stretching along the axis is allowed.
     Ref<Scene> s = scene_from(dir, R"(<shape type="cylinder"><transform name="to_world"><scale z="3"/></transform></shape>)");
@@ -123,19 +124,23 @@ TEST_CASE("cylinder: renders like a finely tessellated tube (same random numbers
     auto dir = scratch_dir("cylinder-render");
     const int segments = 1024;
     write_text(dir / "tube.obj", tessellated_tube_obj(segments));
-    const char* rest = R"(<emitter type="directional"><vector name="direction" x="-1" y="2" z="-0.5"/><rgb name="irradiance" value="3"/></emitter>
+    const char* rest =
+        R"(<emitter type="directional"><vector name="direction" x="-1" y="2" z="-0.5"/><rgb name="irradiance" value="3"/></emitter>
         <emitter type="constant"><rgb name="radiance" value="0.2"/></emitter>
         <integrator type="path"><integer name="max_depth" value="3"/></integrator>
         <sensor type="perspective"><float name="fov" value="45"/>
             <transform name="to_world"><lookat origin="0.5, -4, 1.5" target="0, 0, 0.5" up="0, 0, 1"/></transform>
             <sampler type="independent"><integer name="sample_count" value="4"/></sampler>
             <film type="hdrfilm"><integer name="width" value="64"/><integer name="height" value="64"/><rfilter type="box"/></film></sensor>)";
-    const char* material = R"(<bsdf type="diffuse"><texture type="checkerboard" name="reflectance"><rgb name="color0" value="0.8, 0.3, 0.1"/>
+    const char* material =
+        R"(<bsdf type="diffuse"><texture type="checkerboard" name="reflectance"><rgb name="color0" value="0.8, 0.3, 0.1"/>
         <rgb name="color1" value="0.1, 0.4, 0.7"/><transform name="to_uv"><scale x="8" y="4"/></transform></texture></bsdf>)";
     std::vector<Image> images;
-    for (std::string shape : {std::string("<shape type=\"cylinder\">") + material + "</shape>",
-                              std::string("<shape type=\"obj\"><string name=\"filename\" value=\"tube.obj\"/><boolean name=\"flip_tex_coords\" value=\"false\"/>") +
-                                  material + "</shape>"}) {
+    for (std::string shape :
+         {std::string("<shape type=\"cylinder\">") + material + "</shape>",
+          std::string(
+              "<shape type=\"obj\"><string name=\"filename\" value=\"tube.obj\"/><boolean name=\"flip_tex_coords\" value=\"false\"/>") +
+              material + "</shape>"}) {
         write_text(dir / "scene.xml", scene_xml(shape + rest));
         images.push_back(render_file((dir / "scene.xml").string(), {}).image);
     }
@@ -164,12 +169,14 @@ TEST_CASE("cylinder: as an area light it gives the irradiance of the tessellated
     auto dir = scratch_dir("cylinder-light");
     write_text(dir / "tube.obj", tessellated_tube_obj(2048));
     const char* light = R"(<emitter type="area"><rgb name="radiance" value="2"/></emitter>)";
-    const char* place = R"(<transform name="to_world"><scale x="0.4" y="0.4" z="1.5"/><rotate x="1" angle="-70"/><translate x="0.3" y="1" z="-0.4"/></transform>)";
+    const char* place =
+        R"(<transform name="to_world"><scale x="0.4" y="0.4" z="1.5"/><rotate x="1" angle="-70"/><translate x="0.3" y="1" z="-0.4"/></transform>)";
     EstimatorOptions o;
     o.samples = 400000;
     std::vector<Estimate> e;
-    for (std::string shape : {std::string("<shape type=\"cylinder\">") + place + light + "</shape>",
-                              std::string("<shape type=\"obj\"><string name=\"filename\" value=\"tube.obj\"/>") + place + light + "</shape>"}) {
+    for (std::string shape :
+         {std::string("<shape type=\"cylinder\">") + place + light + "</shape>",
+          std::string("<shape type=\"obj\"><string name=\"filename\" value=\"tube.obj\"/>") + place + light + "</shape>"}) {
         Ref<Scene> scene = scene_from(dir, shape);
         o.seed += 17;
         e.push_back(estimate_irradiance(*scene, Vec3(0.0f), Vec3(0, 1, 0), o));
@@ -178,14 +185,16 @@ TEST_CASE("cylinder: as an area light it gives the irradiance of the tessellated
     // tube's, far below the statistical error.
     double z = two_sided_z(sidak(0.01, CylinderTests));
     double se = std::hypot(e[0].luminance_std_error, e[1].luminance_std_error);
-    INFO("cylinder " << e[0].luminance << " +- " << e[0].luminance_std_error << ", mesh " << e[1].luminance << " +- " << e[1].luminance_std_error);
+    INFO("cylinder " << e[0].luminance << " +- " << e[0].luminance_std_error << ", mesh " << e[1].luminance << " +- "
+                     << e[1].luminance_std_error);
     CHECK(e[0].luminance > 0.1);
     CHECK(std::abs(e[0].luminance - e[1].luminance) <= z * se);
 }
 
 TEST_CASE("cylinder: area-light samples are uniform by area and their densities match tracing", "[cylinder][sampling]") {
     auto dir = scratch_dir("cylinder-sampling");
-    Ref<Scene> scene = scene_from(dir, R"(<shape type="cylinder"><point name="p0" x="-0.5" y="1" z="0.2"/><point name="p1" x="0.6" y="1.3" z="-0.3"/>
+    Ref<Scene> scene =
+        scene_from(dir, R"(<shape type="cylinder"><point name="p0" x="-0.5" y="1" z="0.2"/><point name="p1" x="0.6" y="1.3" z="-0.3"/>
         <float name="radius" value="0.3"/><emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>)");
     const Shape& shape = *scene->shapes()[0];
     const Emitter& emitter = *scene->emitters()[0];

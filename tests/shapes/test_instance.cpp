@@ -33,7 +33,8 @@ std::string bumpy_obj(int rings, bool uvs = true) {
         for (int j = 0; j < 2 * rings; ++j) {
             double theta = pi * i / rings, phi = pi * j / rings;
             double r = 1.0 + 0.15 * std::sin(5 * theta) * std::cos(3 * phi);
-            obj << "v " << r * std::sin(theta) * std::cos(phi) << " " << r * std::sin(theta) * std::sin(phi) << " " << r * std::cos(theta) << "\n";
+            obj << "v " << r * std::sin(theta) * std::cos(phi) << " " << r * std::sin(theta) * std::sin(phi) << " " << r * std::cos(theta)
+                << "\n";
             if (uvs) obj << "vt " << double(j) / (2 * rings) << " " << double(i) / rings << "\n";
         }
     auto id = [&](int i, int j) { return i * 2 * rings + (j % (2 * rings)) + 1; };
@@ -56,7 +57,8 @@ const char* Stage = R"(<shape type="rectangle"><transform name="to_world"><scale
         <sampler type="independent"><integer name="sample_count" value="8"/></sampler>
         <film type="hdrfilm"><integer name="width" value="48"/><integer name="height" value="48"/><rfilter type="box"/></film></sensor>)";
 
-const char* Material = R"(<bsdf type="roughplastic"><rgb name="diffuse_reflectance" value="0.7, 0.2, 0.1"/><float name="alpha" value="0.2"/></bsdf>)";
+const char* Material =
+    R"(<bsdf type="roughplastic"><rgb name="diffuse_reflectance" value="0.7, 0.2, 0.1"/><float name="alpha" value="0.2"/></bsdf>)";
 
 Image render(const std::filesystem::path& dir, const std::string& body) {
     write_text(dir / "scene.xml", scene_xml(body + Stage));
@@ -68,15 +70,16 @@ std::string mesh_shape(const std::string& transform) {
 }
 
 std::string grouped(const std::string& transform) {
-    return std::string("<shape type=\"shapegroup\" id=\"group\"><shape type=\"obj\"><string name=\"filename\" value=\"bumpy.obj\"/>") + Material +
-           "</shape></shape><shape type=\"instance\"><ref id=\"group\"/>" + transform + "</shape>";
+    return std::string("<shape type=\"shapegroup\" id=\"group\"><shape type=\"obj\"><string name=\"filename\" value=\"bumpy.obj\"/>") +
+           Material + "</shape></shape><shape type=\"instance\"><ref id=\"group\"/>" + transform + "</shape>";
 }
 
 // A similarity (rotation, uniform scale, translation): under it the smooth vertex normals a
 // mesh computes for itself (angle-weighted, Thuermer and Wuethrich) are the same whether computed
 // before or after the transform. (A non-uniform scale changes the angles: the flattened mesh
 // then shades with other normals than the instance, in Candela as in Mitsuba.)
-const char* Placement = R"(<transform name="to_world"><scale value="0.9"/><rotate x="1" y="1" z="0" angle="35"/><translate x="0.3" y="-0.2" z="0.1"/></transform>)";
+const char* Placement =
+    R"(<transform name="to_world"><scale value="0.9"/><rotate x="1" y="1" z="0" angle="35"/><translate x="0.3" y="-0.2" z="0.1"/></transform>)";
 
 constexpr int InstanceTests = 1;  // statistical checks in this file (Sidak, 1% family-wise)
 
@@ -132,7 +135,9 @@ TEST_CASE("instance: Embree memory grows with distinct meshes, not with instance
     auto dir = scratch_dir("instance-memory");
     write_text(dir / "bumpy.obj", bumpy_obj(60));  // 14,160 triangles
     const int copies = 16;
-    std::string flat, instanced = "<shape type=\"shapegroup\" id=\"g\"><shape type=\"obj\"><string name=\"filename\" value=\"bumpy.obj\"/></shape></shape>";
+    std::string flat,
+        instanced =
+            "<shape type=\"shapegroup\" id=\"g\"><shape type=\"obj\"><string name=\"filename\" value=\"bumpy.obj\"/></shape></shape>";
     for (int i = 0; i < copies; ++i) {
         std::string t = "<transform name=\"to_world\"><rotate z=\"1\" angle=\"" + std::to_string(7 * i) + "\"/><translate x=\"" +
                         std::to_string(3 * (i % 4)) + "\" y=\"" + std::to_string(3 * (i / 4)) + "\"/></transform>";
@@ -145,10 +150,11 @@ TEST_CASE("instance: Embree memory grows with distinct meshes, not with instance
     };
     int64_t one = bytes("<shape type=\"obj\"><string name=\"filename\" value=\"bumpy.obj\"/></shape>");
     int64_t many_flat = bytes(flat), many_instanced = bytes(instanced);
-    INFO("Embree bytes: one mesh " << one << ", " << copies << " copies " << many_flat << ", " << copies << " instances " << many_instanced);
-    CHECK(one > 14160 * 12);                 // at least the index data
-    CHECK(many_flat > (copies / 2) * one);   // copies cost their size each
-    CHECK(many_instanced < 2 * one);         // instances cost a transform each
+    INFO("Embree bytes: one mesh " << one << ", " << copies << " copies " << many_flat << ", " << copies << " instances "
+                                   << many_instanced);
+    CHECK(one > 14160 * 12);                // at least the index data
+    CHECK(many_flat > (copies / 2) * one);  // copies cost their size each
+    CHECK(many_instanced < 2 * one);        // instances cost a transform each
     // The triangles stored: one mesh's, whatever the number of instances.
     Ref<Scene> s = scene_from(dir, instanced);
     CHECK(s->shapes().size() == size_t(copies));
@@ -202,17 +208,30 @@ TEST_CASE("instance: what Mitsuba forbids in shape groups and instances is an er
         int line;
     };
     std::vector<Case> cases = {
-        {"emitter in a group", "<shape type=\"shapegroup\" id=\"g\">\n<shape type=\"sphere\">\n<emitter type=\"area\"/></shape></shape>", 3},
+        {"emitter in a group", "<shape type=\"shapegroup\" id=\"g\">\n<shape type=\"sphere\">\n<emitter type=\"area\"/></shape></shape>",
+         3},
         {"nested group", std::string("<shape type=\"shapegroup\" id=\"g\">\n<shape type=\"shapegroup\">") + sphere + "</shape></shape>", 3},
-        {"instance in a group", std::string("<shape type=\"shapegroup\" id=\"g\">") + sphere + "</shape><shape type=\"shapegroup\">\n<shape type=\"instance\"><ref id=\"g\"/></shape></shape>", 3},
-        {"group with to_world", std::string("<shape type=\"shapegroup\">") + sphere + "\n<transform name=\"to_world\"><translate x=\"1\"/></transform></shape>", 3},
+        {"instance in a group",
+         std::string("<shape type=\"shapegroup\" id=\"g\">") + sphere +
+             "</shape><shape type=\"shapegroup\">\n<shape type=\"instance\"><ref id=\"g\"/></shape></shape>",
+         3},
+        {"group with to_world",
+         std::string("<shape type=\"shapegroup\">") + sphere + "\n<transform name=\"to_world\"><translate x=\"1\"/></transform></shape>",
+         3},
         {"group with a bsdf", std::string("<shape type=\"shapegroup\">") + sphere + "\n<bsdf type=\"diffuse\"/></shape>", 3},
-        {"group with a stray property", std::string("<shape type=\"shapegroup\">") + sphere + "\n<float name=\"radius\" value=\"2\"/></shape>", 3},
+        {"group with a stray property",
+         std::string("<shape type=\"shapegroup\">") + sphere + "\n<float name=\"radius\" value=\"2\"/></shape>", 3},
         {"empty group", "<shape type=\"shapegroup\">\n</shape>", 2},
         {"instance of a sphere", std::string("<shape type=\"instance\">") + sphere + "</shape>", 2},
-        {"instance with a bsdf", std::string("<shape type=\"shapegroup\" id=\"g\">") + sphere + "</shape>\n<shape type=\"instance\"><ref id=\"g\"/><bsdf type=\"diffuse\"/></shape>", 3},
+        {"instance with a bsdf",
+         std::string("<shape type=\"shapegroup\" id=\"g\">") + sphere +
+             "</shape>\n<shape type=\"instance\"><ref id=\"g\"/><bsdf type=\"diffuse\"/></shape>",
+         3},
         {"instance without a group", "\n<shape type=\"instance\"/>", 3},
-        {"instance with an emitter", std::string("<shape type=\"shapegroup\" id=\"g\">") + sphere + "</shape>\n<shape type=\"instance\"><ref id=\"g\"/><emitter type=\"area\"/></shape>", 3},
+        {"instance with an emitter",
+         std::string("<shape type=\"shapegroup\" id=\"g\">") + sphere +
+             "</shape>\n<shape type=\"instance\"><ref id=\"g\"/><emitter type=\"area\"/></shape>",
+         3},
     };
     for (const Case& c : cases) {
         INFO(c.what);

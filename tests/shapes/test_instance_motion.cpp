@@ -34,14 +34,16 @@ std::string stage(const std::string& instance_transform, float open, float close
             <bsdf type="roughplastic"><rgb name="diffuse_reflectance" value="0.7, 0.2, 0.1"/><float name="alpha" value="0.2"/></bsdf></shape>
         <shape type="cube"><transform name="to_world"><scale value="0.4"/><translate x="0.9" y="0.3"/></transform></shape>
     </shape>
-    <shape type="instance"><ref id="group"/>)" + instance_transform + R"(</shape>
+    <shape type="instance"><ref id="group"/>)" +
+           instance_transform + R"(</shape>
     <shape type="rectangle"><transform name="to_world"><scale value="6"/><translate z="-1.3"/></transform>
         <bsdf type="diffuse"><rgb name="reflectance" value="0.6"/></bsdf></shape>
     <emitter type="directional"><vector name="direction" x="-1" y="1" z="-2"/><rgb name="irradiance" value="3"/></emitter>
     <emitter type="constant"><rgb name="radiance" value="0.3"/></emitter>
     <integrator type="path"><integer name="max_depth" value="4"/></integrator>
     <sensor type="perspective"><float name="fov" value="50"/>
-        <float name="shutter_open" value=")" + std::to_string(open) + R"("/><float name="shutter_close" value=")" + std::to_string(close) + R"("/>
+        <float name="shutter_open" value=")" +
+           std::to_string(open) + R"("/><float name="shutter_close" value=")" + std::to_string(close) + R"("/>
         <transform name="to_world"><lookat origin="1, -5, 2" target="0, 0, 0" up="0, 0, 1"/></transform>
         <sampler type="independent"><integer name="sample_count" value="8"/></sampler>
         <film type="hdrfilm"><integer name="width" value="40"/><integer name="height" value="40"/><rfilter type="box"/></film></sensor>)";
@@ -74,8 +76,10 @@ std::string sweeping_bar(float z) {
     return R"(<shape type="shapegroup" id="bar"><shape type="rectangle"><transform name="to_world"><scale x="0.25" y="10"/></transform>
             <bsdf type="diffuse"><rgb name="reflectance" value="0"/></bsdf></shape></shape>
         <shape type="instance"><ref id="bar"/><animation name="to_world">
-            <transform time="0"><translate x="-0.75" z=")" + zs + R"("/></transform>
-            <transform time="1"><translate x="0.75" z=")" + zs + R"("/></transform></animation></shape>)";
+            <transform time="0"><translate x="-0.75" z=")" +
+           zs + R"("/></transform>
+            <transform time="1"><translate x="0.75" z=")" +
+           zs + R"("/></transform></animation></shape>)";
 }
 
 // An orthographic camera with an open shutter [0, 1] and a box-filtered 16 x 4 film, placed by
@@ -117,8 +121,8 @@ double column_average(int x, double x0, double w) {
 
 TEST_CASE("instance motion: equal keyframes render the static instance", "[instance][animation][render]") {
     std::string fixed = std::string("<transform name=\"to_world\">") + Pose + "</transform>";
-    std::string moving = std::string("<animation name=\"to_world\"><transform time=\"0\">") + Pose + "</transform><transform time=\"1\">" + Pose +
-                         "</transform></animation>";
+    std::string moving = std::string("<animation name=\"to_world\"><transform time=\"0\">") + Pose + "</transform><transform time=\"1\">" +
+                         Pose + "</transform></animation>";
     // Shutter [0, 1] in both: the same time draws, the same random numbers. The animated pose is
     // the decomposition recomposed (float rounding, 1e-6 relative): hit points agree to rounding,
     // amplified along a few bounces (1e-4 allows a factor 100).
@@ -143,16 +147,19 @@ TEST_CASE("instance motion: a closed shutter at t renders the pose interpolated 
     CHECK(worst <= 1e-4f);
     // The ends hold outside the keyframes: a shutter before the first keyframe shows the first pose.
     Image before = render_body("motion-before", stage(moving, 0.5f, 0.5f));
-    Image first = render_body("motion-first", stage(R"(<transform name="to_world"><rotate z="1" angle="-30"/><translate y="0.2"/></transform>)", 0.5f, 0.5f));
+    Image first = render_body(
+        "motion-first", stage(R"(<transform name="to_world"><rotate z="1" angle="-30"/><translate y="0.2"/></transform>)", 0.5f, 0.5f));
     CHECK(worst_relative_difference(before, first) <= 1e-4f);
 }
 
-TEST_CASE("instance motion: a bar sweeping across the view covers each pixel for its share of the exposure", "[instance][animation][render]") {
+TEST_CASE("instance motion: a bar sweeping across the view covers each pixel for its share of the exposure",
+          "[instance][animation][render]") {
     // An orthographic camera at the origin looks along +z; column x of 16 sees world x from
     // 1 - 2 (x + 1) / 16 to 1 - 2 x / 16. The black bar at z = 5 blocks the white environment.
     const int Spp = effort_scaled(256, 64);
     Image img = render_body("motion-coverage", sweeping_bar(5.0f) + R"(<emitter type="constant"><rgb name="radiance" value="1"/></emitter>
-        <integrator type="path"><integer name="max_depth" value="2"/></integrator>)" + exposing_camera("", Spp));
+        <integrator type="path"><integer name="max_depth" value="2"/></integrator>)" +
+                                                   exposing_camera("", Spp));
     check_columns(img, Spp, [](int x) { return column_average(15 - x, -1.0, 2.0 / 16.0); });
 }
 
@@ -216,7 +223,8 @@ TEST_CASE("instance motion: incommensurate keyframe times stop at their line, a 
     }
 }
 
-TEST_CASE("shape motion: analytic shapes and a mesh with an animated to_world render at the interpolated pose", "[instance][animation][render]") {
+TEST_CASE("shape motion: analytic shapes and a mesh with an animated to_world render at the interpolated pose",
+          "[instance][animation][render]") {
     // Each shape, with its own parameters, between (rotate -30, translate x 0) at t = 2 and
     // (rotate 30, translate x 1) at t = 4; the shutter closed at t = 3: the pose rotate 0,
     // translate x 0.5, rendered by the same shape with that static to_world (not an instance).
@@ -224,7 +232,8 @@ TEST_CASE("shape motion: analytic shapes and a mesh with an animated to_world re
         <transform time="2"><rotate z="1" angle="-30"/><translate x="0" y="0.2"/></transform>
         <transform time="4"><rotate z="1" angle="30"/><translate x="1" y="0.2"/></transform></animation>)";
     const std::string halfway = R"(<transform name="to_world"><translate x="0.5" y="0.2"/></transform>)";
-    const std::string material = R"(<bsdf type="roughplastic"><rgb name="diffuse_reflectance" value="0.7, 0.2, 0.1"/><float name="alpha" value="0.2"/></bsdf>)";
+    const std::string material =
+        R"(<bsdf type="roughplastic"><rgb name="diffuse_reflectance" value="0.7, 0.2, 0.1"/><float name="alpha" value="0.2"/></bsdf>)";
     const std::vector<std::pair<std::string, std::string>> shapes = {
         {"sphere", R"(<point name="center" value="0.2, 0.1, 0"/><float name="radius" value="0.7"/>)"},
         {"disk", R"(<boolean name="flip_normals" value="true"/>)"},
@@ -257,8 +266,9 @@ TEST_CASE("shape motion: a moving sphere renders as the same sphere in a group m
     const std::string sphere = R"(<point name="center" value="0.2, 0.1, 0"/><float name="radius" value="0.7"/>)";
     std::string body = stage(R"(<transform name="to_world"><translate z="100"/></transform>)", 0.0f, 1.0f);
     Image direct = render_body("shape-motion-direct", body + "<shape type=\"sphere\">" + sphere + moving + "</shape>");
-    Image grouped = render_body("shape-motion-grouped", body + "<shape type=\"shapegroup\" id=\"one\"><shape type=\"sphere\">" + sphere +
-                                                            "</shape></shape><shape type=\"instance\"><ref id=\"one\"/>" + moving + "</shape>");
+    Image grouped =
+        render_body("shape-motion-grouped", body + "<shape type=\"shapegroup\" id=\"one\"><shape type=\"sphere\">" + sphere +
+                                                "</shape></shape><shape type=\"instance\"><ref id=\"one\"/>" + moving + "</shape>");
     CHECK(worst_relative_difference(direct, grouped) == 0.0f);
 }
 
@@ -270,8 +280,8 @@ TEST_CASE("instance motion: keyframes at unequal steps are resampled to equal on
         <transform time="0"><rotate z="1" angle="-30"/></transform>
         <transform time="1"><rotate z="1" angle="10"/><translate x="0.2"/></transform>
         <transform time="3"><rotate z="1" angle="50"/><translate x="1"/></transform></animation>)";
-    for (const auto& [time, pose] : std::vector<std::pair<float, std::string>>{{2.5f, R"(<rotate z="1" angle="40"/><translate x="0.8"/>)"},
-                                                                                {0.5f, R"(<rotate z="1" angle="-10"/><translate x="0.1"/>)"}}) {
+    for (const auto& [time, pose] : std::vector<std::pair<float, std::string>>{
+             {2.5f, R"(<rotate z="1" angle="40"/><translate x="0.8"/>)"}, {0.5f, R"(<rotate z="1" angle="-10"/><translate x="0.1"/>)"}}) {
         INFO("t = " << time);
         Image a = render_body("motion-uneven", stage(moving, time, time));
         Image b = render_body("motion-uneven-static", stage("<transform name=\"to_world\">" + pose + "</transform>", time, time));

@@ -73,23 +73,26 @@ TEST_CASE("obj: concave n-gons, uv flip, de-duplication and smooth normals", "[m
     REQUIRE(m.normals().size() == 6);
     for (auto& n : m.normals()) CHECK(glm::length(n - Vec3(0, 0, 1)) < 1e-5f);
     Ref<Scene> keep2;
-    const Mesh& unflipped =
-        load_mesh(dir, R"(<shape type="obj"><string name="filename" value="arrow.obj"/><boolean name="flip_tex_coords" value="false"/></shape>)", keep2);
+    const Mesh& unflipped = load_mesh(
+        dir, R"(<shape type="obj"><string name="filename" value="arrow.obj"/><boolean name="flip_tex_coords" value="false"/></shape>)",
+        keep2);
     CHECK(unflipped.uvs()[1] == Vec2(1.0f, 0.25f));
 }
 
 TEST_CASE("obj: normals from the file, face_normals, and corners split by uv seams", "[mesh]") {
     auto dir = scratch_dir("obj-normals");
     // Two triangles sharing an edge; the shared vertices use different uvs on each side.
-    write_text(dir / "two.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvt 0.5 0.5\n"
-                                "vn 0 0 1\nvn 0 0.6 0.8\n"
-                                "f 1/1/1 2/2/1 3/3/2\nf 1/5/1 3/3/2 4/4/1\n");
+    write_text(dir / "two.obj",
+               "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvt 0.5 0.5\n"
+               "vn 0 0 1\nvn 0 0.6 0.8\n"
+               "f 1/1/1 2/2/1 3/3/2\nf 1/5/1 3/3/2 4/4/1\n");
     Ref<Scene> keep;
     const Mesh& m = load_mesh(dir, R"(<shape type="obj"><string name="filename" value="two.obj"/></shape>)", keep);
     CHECK(m.positions().size() == 5);  // vertex 1 appears with two different uvs
     CHECK(m.normals().size() == 5);
     Ref<Scene> keep2;
-    const Mesh& flat = load_mesh(dir, R"(<shape type="obj"><string name="filename" value="two.obj"/><boolean name="face_normals" value="true"/></shape>)", keep2);
+    const Mesh& flat = load_mesh(
+        dir, R"(<shape type="obj"><string name="filename" value="two.obj"/><boolean name="face_normals" value="true"/></shape>)", keep2);
     CHECK(flat.normals().empty());
 }
 
@@ -182,25 +185,27 @@ TEST_CASE("ply: truncated and malformed files are errors", "[mesh][errors]") {
     write_text(dir / "notply.ply", "hello\n");
     for (const char* name : {"truncated.ply", "header.ply", "notply.ply"}) {
         INFO(name);
-        write_text(dir / "scene.xml", scene_xml(std::string("<shape type=\"ply\">\n<string name=\"filename\" value=\"") + name + "\"/>\n</shape>"));
+        write_text(dir / "scene.xml",
+                   scene_xml(std::string("<shape type=\"ply\">\n<string name=\"filename\" value=\"") + name + "\"/>\n</shape>"));
         CHECK_THROWS_AS(load_scene((dir / "scene.xml").string()), SceneError);
     }
 }
-
 
 TEST_CASE("ply: a face corner one past the last vertex is an error, also in a polygon", "[mesh][errors]") {
     // The off-by-one planted in the index check to test the robustness CI (README "Sanitizers and
     // fuzzing"): fuzz_ply found it in 10 s as a heap overflow in the polygon triangulation; its
     // input is kept in fuzz/corpus/ply/regression-planted-index-equals-count.ply.
     auto dir = scratch_dir("ply-index");
-    const std::string header = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
-                               "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n";
+    const std::string header =
+        "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+        "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n";
     write_text(dir / "triangle.ply", header + "3 0 1 4\n");
     write_text(dir / "quad.ply", header + "4 0 1 2 4\n");
     write_text(dir / "found.ply", read_text(source_path("fuzz/corpus/ply/regression-planted-index-equals-count.ply")));
     for (const char* name : {"triangle.ply", "quad.ply", "found.ply"}) {
         INFO(name);
-        write_text(dir / "scene.xml", scene_xml(std::string("<shape type=\"ply\">\n<string name=\"filename\" value=\"") + name + "\"/>\n</shape>"));
+        write_text(dir / "scene.xml",
+                   scene_xml(std::string("<shape type=\"ply\">\n<string name=\"filename\" value=\"") + name + "\"/>\n</shape>"));
         CHECK_THROWS_AS(load_scene((dir / "scene.xml").string()), SceneError);
     }
 }
@@ -230,20 +235,25 @@ TEST_CASE("ply: values outside their declared type, bad list types and huge coun
         return header + face_header + "end_header\n" + vertices + faces;
     };
     const std::vector<std::pair<std::string, std::string>> bad = {
-        {"huge_index", face_file("element face 1\nproperty list uint8 uint16 vertex_index\n", "3 0 1 40000000000000000000000000000000000000\n")},
+        {"huge_index",
+         face_file("element face 1\nproperty list uint8 uint16 vertex_index\n", "3 0 1 40000000000000000000000000000000000000\n")},
         {"fractional_index", face_file("element face 1\nproperty list uchar int vertex_indices\n", "3 0 1 1.5\n")},
         {"negative_unsigned", face_file("element face 1\nproperty list uchar uint vertex_indices\n", "3 0 1 -2\n")},
         {"float_count", face_file("element face 1\nproperty list float int vertex_indices\n", "3 0 1 2\n")},
         {"float_indices", face_file("element face 1\nproperty list uchar float vertex_indices\n", "3 0 1 2\n")},
         {"negative_count", face_file("element face 1\nproperty list char int vertex_indices\n", "-3 0 1 2\n")},
-        {"float_overflow", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
-                           "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1e300 0 0\n0 1 0\n3 0 1 2\n"},
-        {"double_overflow", "ply\nformat ascii 1.0\nelement vertex 3\nproperty double x\nproperty double y\nproperty double z\n"
-                            "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1e300 0 0\n0 1 0\n3 0 1 2\n"},
-        {"nan_uv", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nproperty float u\n"
-                   "property float v\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0 0 0\n1 0 0 nan 0\n0 1 0 0 1\n3 0 1 2\n"},
-        {"huge_count", "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty float x\nproperty float y\n"
-                       "property float z\nend_header\n"},
+        {"float_overflow",
+         "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+         "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1e300 0 0\n0 1 0\n3 0 1 2\n"},
+        {"double_overflow",
+         "ply\nformat ascii 1.0\nelement vertex 3\nproperty double x\nproperty double y\nproperty double z\n"
+         "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1e300 0 0\n0 1 0\n3 0 1 2\n"},
+        {"nan_uv",
+         "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nproperty float u\n"
+         "property float v\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0 0 0\n1 0 0 nan 0\n0 1 0 0 1\n3 0 1 2\n"},
+        {"huge_count",
+         "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty float x\nproperty float y\n"
+         "property float z\nend_header\n"},
     };
     for (const auto& [name, text] : bad) {
         INFO(name);
@@ -258,8 +268,9 @@ TEST_CASE("ply: values outside their declared type, bad list types and huge coun
         }
     }
     // A face element's other lists are skipped, not read as vertex indices.
-    write_text(dir / "texcoord.ply", face_file("element face 1\nproperty list uchar int vertex_indices\nproperty list uchar float texcoord\n",
-                                               "3 0 1 2 6 0.5 0.5 7.5 0 0 1\n"));
+    write_text(dir / "texcoord.ply",
+               face_file("element face 1\nproperty list uchar int vertex_indices\nproperty list uchar float texcoord\n",
+                         "3 0 1 2 6 0.5 0.5 7.5 0 0 1\n"));
     Ref<Scene> keep;
     const Mesh& m = load_mesh(dir, "<shape type=\"ply\"><string name=\"filename\" value=\"texcoord.ply\"/></shape>", keep);
     CHECK(m.triangle_count() == 1);

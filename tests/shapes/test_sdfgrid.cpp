@@ -3,8 +3,8 @@
 // bound, smooth normals are continuous across voxel faces where analytic ones are not, the
 // tessellation lies on the surface, and bad grids are errors at the filename's line.
 
-#include "core/xml.h"
 #include "core/rng.h"
+#include "core/xml.h"
 #include "tests/util.h"
 
 #include <catch2/catch.hpp>
@@ -65,7 +65,8 @@ TEST_CASE("sdfgrid: a linear SDF is a plane, hit exactly, with any to_world", "[
         }
     }
     // Placed by a rotation and a scale: the plane z = 0.37 of the unit cube, moved.
-    Ref<Scene> s = scene_from(dir, grid("plane.vol", R"(<transform name="to_world"><scale value="2"/><rotate x="1" angle="90"/></transform>)"));
+    Ref<Scene> s =
+        scene_from(dir, grid("plane.vol", R"(<transform name="to_world"><scale value="2"/><rotate x="1" angle="90"/></transform>)"));
     SurfaceInteraction si;
     REQUIRE(s->intersect(Ray(Vec3(1, -3, 1), Vec3(0, 1, 0)), si));
     CHECK(si.p.y == Approx(-0.74f).epsilon(1e-5));
@@ -76,7 +77,8 @@ TEST_CASE("sdfgrid: a sphere's SDF gives the sphere within the interpolation err
     auto dir = scratch_dir("sdfgrid-sphere");
     const int n = 33;
     const double r = 0.3;
-    write_vol(dir / "sphere.vol", n, [&](double x, double y, double z) { return std::sqrt(sqr(float(x - 0.5)) + sqr(float(y - 0.5)) + sqr(float(z - 0.5))) - r; });
+    write_vol(dir / "sphere.vol", n,
+              [&](double x, double y, double z) { return std::sqrt(sqr(float(x - 0.5)) + sqr(float(y - 0.5)) + sqr(float(z - 0.5))) - r; });
     // Trilinear interpolation errs by at most h^2 / 8 times the second derivatives summed over
     // the axes; those of |p - c| are at most 1 / r: 3 h^2 / (8 r), h = 1 / 32.
     const double h = 1.0 / (n - 1), bound = 3 * h * h / (8 * r);
@@ -104,7 +106,9 @@ TEST_CASE("sdfgrid: a sphere's SDF gives the sphere within the interpolation err
 
 TEST_CASE("sdfgrid: smooth normals are continuous across voxel faces, analytic ones are not", "[sdfgrid]") {
     auto dir = scratch_dir("sdfgrid-smooth");
-    write_vol(dir / "sphere.vol", 9, [](double x, double y, double z) { return std::sqrt((x - 0.5) * (x - 0.5) + (y - 0.45) * (y - 0.45) + (z - 0.5) * (z - 0.5)) - 0.3; });
+    write_vol(dir / "sphere.vol", 9, [](double x, double y, double z) {
+        return std::sqrt((x - 0.5) * (x - 0.5) + (y - 0.45) * (y - 0.45) + (z - 0.5) * (z - 0.5)) - 0.3;
+    });
     // Two rays a hair apart on either side of the voxel face x = 3 / 8.
     double jump[2];
     for (int mode = 0; mode < 2; ++mode) {
@@ -139,7 +143,8 @@ TEST_CASE("sdfgrid: the rasterizer's triangles lie on the surface, facing out", 
 
 TEST_CASE("sdfgrid: bad grids and unsupported uses are errors at their lines", "[sdfgrid][errors]") {
     auto dir = scratch_dir("sdfgrid-errors");
-    write_vol(dir / "three.vol", 4, [](double, double, double z) { return z - 0.5; }, 3);
+    write_vol(
+        dir / "three.vol", 4, [](double, double, double z) { return z - 0.5; }, 3);
     write_vol(dir / "empty.vol", 4, [](double, double, double) { return 1.0; });
     write_vol(dir / "ok.vol", 4, [](double, double, double z) { return z - 0.5; });
     std::string ok = read_text(dir / "ok.vol");

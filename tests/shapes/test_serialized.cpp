@@ -92,7 +92,11 @@ TEST_CASE("serialized: to_world, flip_normals and face_normals apply as for othe
     for (const Vec3& p : m.positions) m.normals.push_back(squared_length(p) > 0 ? glm::normalize(p) : Vec3(-0.57735f));
     write_text(dir / "one.serialized", encode_file({m}, 4));
     Ref<Scene> keep, keep2;
-    const Mesh& moved = load(dir, serialized_shape("one.serialized", 0, "<transform name=\"to_world\"><translate x=\"5\"/></transform><boolean name=\"flip_normals\" value=\"true\"/>"), keep);
+    const Mesh& moved = load(
+        dir,
+        serialized_shape("one.serialized", 0,
+                         "<transform name=\"to_world\"><translate x=\"5\"/></transform><boolean name=\"flip_normals\" value=\"true\"/>"),
+        keep);
     CHECK(moved.positions()[1] == Vec3(6, 0, 0));
     CHECK(moved.flip_normals());
     const Mesh& flat = load(dir, serialized_shape("one.serialized", 0, "<boolean name=\"face_normals\" value=\"true\"/>"), keep2);
@@ -136,7 +140,8 @@ TEST_CASE("serialized: broken files are errors at the filename's line", "[mesh][
     }
 }
 
-TEST_CASE("serialized: a header that declares more than the file can hold is refused before inflating", "[mesh][serialized][errors][memory]") {
+TEST_CASE("serialized: a header that declares more than the file can hold is refused before inflating",
+          "[mesh][serialized][errors][memory]") {
     auto dir = scratch_dir("serialized-lying");
     // A tetrahedron's fields under a header declaring a billion vertices (12 GB of positions):
     // more than its hundred-odd compressed bytes can expand to, DEFLATE expanding at most 1032:1.

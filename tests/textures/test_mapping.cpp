@@ -23,7 +23,8 @@ void write_texture(const std::filesystem::path& path) {
     Image img = Image::rgb(16, 8);
     PCG32 rng(7, 3);
     for (int y = 0; y < 8; ++y)
-        for (int x = 0; x < 16; ++x) img.set_rgb(x, y, Spectrum(0.2f) + 0.7f * Spectrum(rng.next_float(), rng.next_float(), rng.next_float()));
+        for (int x = 0; x < 16; ++x)
+            img.set_rgb(x, y, Spectrum(0.2f) + 0.7f * Spectrum(rng.next_float(), rng.next_float(), rng.next_float()));
     write_exr(img, path.string(), true);
 }
 
@@ -47,20 +48,25 @@ void write_cylinder_obj(const std::filesystem::path& path, int segments) {
 }
 
 std::string integrator(bool raster) {
-    return raster ? R"(<integrator type="raster"><string name="texture_filter" value="bilinear"/><string name="shadows" value="none"/></integrator>)"
-                  : R"(<integrator type="path"><integer name="max_depth" value="2"/></integrator>)";
+    return raster
+               ? R"(<integrator type="raster"><string name="texture_filter" value="bilinear"/><string name="shadows" value="none"/></integrator>)"
+               : R"(<integrator type="path"><integer name="max_depth" value="2"/></integrator>)";
 }
 
 // A diffuse shape with the texture, under a uniform sky, seen from `origin`.
-Image render_textured(const std::filesystem::path& dir, bool raster, const std::string& shape, const std::string& mapping, const std::string& origin) {
+Image render_textured(const std::filesystem::path& dir, bool raster, const std::string& shape, const std::string& mapping,
+                      const std::string& origin) {
     std::string xml = scene_xml(integrator(raster) + R"(
         <sensor type="perspective"><float name="fov" value="45"/>
-            <transform name="to_world"><lookat origin=")" + origin + R"(" target="0, 0, 0" up="0, 1, 0"/></transform>
+            <transform name="to_world"><lookat origin=")" +
+                                origin + R"(" target="0, 0, 0" up="0, 1, 0"/></transform>
             <sampler type="independent"><integer name="sample_count" value="4"/></sampler>
             <film type="hdrfilm"><integer name="width" value="48"/><integer name="height" value="48"/><rfilter type="box"/></film>
         </sensor>
-        <texture type="bitmap" id="tex"><string name="filename" value="tex.exr"/>)" + mapping + R"(</texture>
-        <shape type=")" + shape + R"(<bsdf type="twosided"><bsdf type="diffuse"><ref name="reflectance" id="tex"/></bsdf></bsdf></shape>
+        <texture type="bitmap" id="tex"><string name="filename" value="tex.exr"/>)" +
+                                mapping + R"(</texture>
+        <shape type=")" + shape +
+                                R"(<bsdf type="twosided"><bsdf type="diffuse"><ref name="reflectance" id="tex"/></bsdf></bsdf></shape>
         <emitter type="constant"><rgb name="radiance" value="1"/></emitter>)");
     write_text(dir / "scene.xml", xml);
     Ref<Scene> scene = load_scene((dir / "scene.xml").string());
@@ -85,9 +91,9 @@ void differences(const Image& a, const Image& b, double& max_rel, double& mean_r
 
 struct Case {
     const char* name;
-    std::string shape;     // the shape element's opening up to its placement, closed by the caller
-    std::string mapping;   // mapping properties that reproduce the shape's uv
-    std::string wrong;     // the same mapping in a frame turned by 90 degrees
+    std::string shape;    // the shape element's opening up to its placement, closed by the caller
+    std::string mapping;  // mapping properties that reproduce the shape's uv
+    std::string wrong;    // the same mapping in a frame turned by 90 degrees
     std::string origin;
 };
 
@@ -105,10 +111,12 @@ std::vector<Case> cases(const std::filesystem::path& dir) {
     return {
         {"spherical on a sphere", R"(sphere"><transform name="to_world">)" + sphere_placement + "</transform>",
          frame("spherical", sphere_placement), frame("spherical", turn + sphere_placement), "0, 0.5, 4"},
-        {"cylindrical on a cylinder", R"(obj"><string name="filename" value="cylinder.obj"/><transform name="to_world">)" + cylinder_placement + "</transform>",
+        {"cylindrical on a cylinder",
+         R"(obj"><string name="filename" value="cylinder.obj"/><transform name="to_world">)" + cylinder_placement + "</transform>",
          frame("cylindrical", cylinder_placement), frame("cylindrical", turn + cylinder_placement), "0.3, 0.4, 3.5"},
         {"planar on a rectangle", R"(rectangle"><transform name="to_world">)" + rectangle_placement + "</transform>",
-         frame("planar", square_to_rectangle + rectangle_placement), frame("planar", square_to_rectangle + turn + rectangle_placement), "0, 0, 3"},
+         frame("planar", square_to_rectangle + rectangle_placement), frame("planar", square_to_rectangle + turn + rectangle_placement),
+         "0, 0, 3"},
     };
 }
 
@@ -150,8 +158,9 @@ TEST_CASE("mapping: parameters are checked", "[texture][mapping]") {
     auto dir = scratch_dir("mapping-errors");
     write_texture(dir / "tex.exr");
     auto load = [&](const std::string& texture_props) {
-        write_text(dir / "bad.xml", scene_xml(R"(<texture type="bitmap" id="t"><string name="filename" value="tex.exr"/>)" + texture_props +
-                                              R"(</texture><shape type="sphere"><bsdf type="diffuse"><ref name="reflectance" id="t"/></bsdf></shape>)"));
+        write_text(dir / "bad.xml",
+                   scene_xml(R"(<texture type="bitmap" id="t"><string name="filename" value="tex.exr"/>)" + texture_props +
+                             R"(</texture><shape type="sphere"><bsdf type="diffuse"><ref name="reflectance" id="t"/></bsdf></shape>)"));
         return load_scene((dir / "bad.xml").string());
     };
     CHECK_THROWS_WITH(load(R"(<string name="mapping" value="cubic"/>)"), Catch::Contains("bad.xml:") && Catch::Contains("mapping must be"));

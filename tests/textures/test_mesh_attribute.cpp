@@ -74,7 +74,8 @@ Spectrum albedo_at(const Scene& s, float x, float y) {
 
 std::string textured(const std::string& name, const std::string& extra = "") {
     return "<shape type=\"ply\"><string name=\"filename\" value=\"attr.ply\"/><bsdf type=\"diffuse\">\n<texture type=\"mesh_attribute\" name=\"reflectance\">\n"
-           "<string name=\"name\" value=\"" + name + "\"/>" + extra + "</texture></bsdf></shape>";
+           "<string name=\"name\" value=\"" +
+           name + "\"/>" + extra + "</texture></bsdf></shape>";
 }
 
 }  // namespace
@@ -126,15 +127,18 @@ TEST_CASE("mesh_attribute: vertex attributes interpolate, face attributes are co
 TEST_CASE("mesh_attribute: through an instance the group's mesh attributes are read", "[texture][attributes][instance]") {
     auto dir = scratch_dir("mesh-attribute-instance");
     write_text(dir / "attr.ply", AttributePly);
-    Ref<Scene> s = scene_from(dir, "<shape type=\"shapegroup\" id=\"g\">" + textured("vertex_dir") +
-                                       "</shape><shape type=\"instance\"><ref id=\"g\"/><transform name=\"to_world\"><scale value=\"2\"/><translate x=\"10\"/></transform></shape>");
+    Ref<Scene> s = scene_from(
+        dir,
+        "<shape type=\"shapegroup\" id=\"g\">" + textured("vertex_dir") +
+            "</shape><shape type=\"instance\"><ref id=\"g\"/><transform name=\"to_world\"><scale value=\"2\"/><translate x=\"10\"/></transform></shape>");
     CHECK(glm::length(albedo_at(*s, 14.5f, 0.5f) - Spectrum(0.5f, 0.25f, 0.25f)) < 1e-5f);
 }
 
 TEST_CASE("mesh_attribute: a constant vertex colour renders as the same rgb reflectance", "[texture][attributes][render]") {
     auto dir = scratch_dir("mesh-attribute-render");
-    std::string ply = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nproperty float r\n"
-                      "property float g\nproperty float b\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+    std::string ply =
+        "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nproperty float r\n"
+        "property float g\nproperty float b\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
     for (const char* xy : {"-1 -1", "1 -1", "1 1", "-1 1"}) ply += std::string(xy) + " 0 0.3 0.5 0.7\n";
     write_text(dir / "quad.ply", ply + "4 0 1 2 3\n");
     const char* rest = R"(<emitter type="constant"/><integrator type="path"><integer name="max_depth" value="2"/></integrator>
@@ -142,10 +146,12 @@ TEST_CASE("mesh_attribute: a constant vertex colour renders as the same rgb refl
             <sampler type="independent"><integer name="sample_count" value="4"/></sampler>
             <film type="hdrfilm"><integer name="width" value="24"/><integer name="height" value="24"/></film></sensor>)";
     std::vector<Image> images;
-    for (const char* reflectance : {R"(<texture type="mesh_attribute" name="reflectance"><string name="name" value="vertex_color"/></texture>)",
-                                    R"(<rgb name="reflectance" value="0.3, 0.5, 0.7"/>)"}) {
-        write_text(dir / "scene.xml", scene_xml(std::string("<shape type=\"ply\"><string name=\"filename\" value=\"quad.ply\"/><bsdf type=\"diffuse\">") +
-                                                reflectance + "</bsdf></shape>" + rest));
+    for (const char* reflectance :
+         {R"(<texture type="mesh_attribute" name="reflectance"><string name="name" value="vertex_color"/></texture>)",
+          R"(<rgb name="reflectance" value="0.3, 0.5, 0.7"/>)"}) {
+        write_text(dir / "scene.xml",
+                   scene_xml(std::string("<shape type=\"ply\"><string name=\"filename\" value=\"quad.ply\"/><bsdf type=\"diffuse\">") +
+                             reflectance + "</bsdf></shape>" + rest));
         images.push_back(render_file((dir / "scene.xml").string(), {}).image);
     }
     // Interpolating three equal values with barycentrics that sum to one rounds by at most a
@@ -156,7 +162,8 @@ TEST_CASE("mesh_attribute: a constant vertex colour renders as the same rgb refl
     CHECK(worst <= 1e-6f);
 }
 
-TEST_CASE("mesh_attribute: a bad name, a missing attribute and uv-only uses are errors at the texture's line", "[texture][attributes][errors]") {
+TEST_CASE("mesh_attribute: a bad name, a missing attribute and uv-only uses are errors at the texture's line",
+          "[texture][attributes][errors]") {
     auto dir = scratch_dir("mesh-attribute-errors");
     write_text(dir / "attr.ply", AttributePly);
     try {

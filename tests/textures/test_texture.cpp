@@ -3,12 +3,12 @@
 // and the MIP pyramid.
 
 #include "core/image.h"
-#include "textures/mipmap.h"
 #include "core/registry.h"
 #include "core/rng.h"
 #include "core/texture.h"
 #include "core/xml.h"
 #include "tests/util.h"
+#include "textures/mipmap.h"
 
 #include <catch2/catch.hpp>
 
@@ -25,8 +25,10 @@ void write_test_image(const std::filesystem::path& path, bool png) {
         img.set_rgb(x, 0, Spectrum(0.25f * x, 0, 0));
         img.set_rgb(x, 1, Spectrum(0, 0.25f * x, 0));
     }
-    if (png) write_png_display(img, path.string());
-    else write_exr(img, path.string(), true);
+    if (png)
+        write_png_display(img, path.string());
+    else
+        write_exr(img, path.string(), true);
 }
 
 Ref<Texture> load_bitmap(const std::filesystem::path& dir, const std::string& file, const std::string& extra = "") {
@@ -60,9 +62,9 @@ TEST_CASE("bitmap: wrap modes repeat, mirror and clamp", "[texture]") {
     auto repeat = load_bitmap(dir, "ramp.exr", "nearest"), mirror = load_bitmap(dir, "ramp.exr", "nearest mirror"),
          clamp = load_bitmap(dir, "ramp.exr", "nearest clamp");
     CHECK(repeat->eval(Vec2(1.3f, 0.25f)) == repeat->eval(Vec2(0.3f, 0.25f)));
-    CHECK(repeat->eval(Vec2(-0.2f, 0.25f)) == Spectrum(0.75f, 0, 0));   // wraps to texel 3
-    CHECK(mirror->eval(Vec2(-0.2f, 0.25f)) == Spectrum(0.0f, 0, 0));    // reflects to texel 0
-    CHECK(mirror->eval(Vec2(1.1f, 0.25f)) == Spectrum(0.75f, 0, 0));    // reflects to texel 3
+    CHECK(repeat->eval(Vec2(-0.2f, 0.25f)) == Spectrum(0.75f, 0, 0));  // wraps to texel 3
+    CHECK(mirror->eval(Vec2(-0.2f, 0.25f)) == Spectrum(0.0f, 0, 0));   // reflects to texel 0
+    CHECK(mirror->eval(Vec2(1.1f, 0.25f)) == Spectrum(0.75f, 0, 0));   // reflects to texel 3
     CHECK(clamp->eval(Vec2(3.0f, 0.25f)) == Spectrum(0.75f, 0, 0));
     CHECK(clamp->eval(Vec2(-3.0f, 0.75f)) == Spectrum(0, 0, 0));
 }
@@ -84,9 +86,9 @@ TEST_CASE("checkerboard: parity, defaults and to_uv", "[texture]") {
     auto tex = create_plugin_as<Texture>(ObjectKind::Texture, props);
     // After scaling by 2: (0.1, 0.1) -> (0.2, 0.2): both fractions <= 0.5 -> color0 (0.4).
     CHECK(tex->eval(Vec2(0.1f, 0.1f)) == Spectrum(0.4f));
-    CHECK(tex->eval(Vec2(0.3f, 0.1f)) == Spectrum(0.2f));   // (0.6, 0.2): differ -> color1
-    CHECK(tex->eval(Vec2(0.3f, 0.3f)) == Spectrum(0.4f));   // (0.6, 0.6): both > 0.5 -> color0
-    CHECK(tex->eval_1(Vec2(0.1f, 0.1f)) == Approx(0.2f));   // scalar lookups use the other parity
+    CHECK(tex->eval(Vec2(0.3f, 0.1f)) == Spectrum(0.2f));  // (0.6, 0.2): differ -> color1
+    CHECK(tex->eval(Vec2(0.3f, 0.3f)) == Spectrum(0.4f));  // (0.6, 0.6): both > 0.5 -> color0
+    CHECK(tex->eval_1(Vec2(0.1f, 0.1f)) == Approx(0.2f));  // scalar lookups use the other parity
     CHECK(tex->mean() == Spectrum(0.3f));
 }
 
@@ -159,11 +161,11 @@ std::string dds_volume() {
         for (int i = 0; i < 4; ++i) bytes += char((v >> (8 * i)) & 0xff);
     };
     const uint32_t w = 2, h = 2, depth = 4;
-    u32(124);                                           // header size
-    u32(0x1 | 0x2 | 0x4 | 0x1000 | 0x800000);           // caps, height, width, pixel format, depth
-    u32(h), u32(w), u32(w * 4), u32(depth), u32(0);     // height, width, pitch, depth, mip levels
-    for (int i = 0; i < 11; ++i) u32(0);                // reserved
-    u32(32), u32(0x40 | 0x1), u32(0), u32(32);          // pixel format: size, RGB + alpha, no fourCC, 32 bits
+    u32(124);                                        // header size
+    u32(0x1 | 0x2 | 0x4 | 0x1000 | 0x800000);        // caps, height, width, pixel format, depth
+    u32(h), u32(w), u32(w * 4), u32(depth), u32(0);  // height, width, pitch, depth, mip levels
+    for (int i = 0; i < 11; ++i) u32(0);             // reserved
+    u32(32), u32(0x40 | 0x1), u32(0), u32(32);       // pixel format: size, RGB + alpha, no fourCC, 32 bits
     u32(0x00ff0000), u32(0x0000ff00), u32(0x000000ff), u32(0xff000000);
     u32(0x1000 | 0x8), u32(0x200000), u32(0), u32(0), u32(0);  // caps: texture, complex; volume
     bytes += std::string(w * h * depth * 4, char(100));
@@ -195,10 +197,12 @@ TEST_CASE("bitmap and envmap: volume images and images too large to read are err
     for (const char* name : {"volume.dds", "huge.pfm", "short.pfm", "short.ppm", "cube.dds", "cube.png", "wide.exr", "wide.bmp"}) {
         for (const char* use : {"texture", "envmap"}) {
             INFO(name << " as " << use);
-            std::string body = std::string(use) == "texture"
-                                   ? "<shape type=\"sphere\"><bsdf type=\"diffuse\"><texture type=\"bitmap\" name=\"reflectance\">\n"
-                                     "<string name=\"filename\" value=\"" + std::string(name) + "\"/>\n</texture></bsdf></shape>"
-                                   : "<emitter type=\"envmap\">\n<string name=\"filename\" value=\"" + std::string(name) + "\"/>\n</emitter>";
+            std::string body =
+                std::string(use) == "texture"
+                    ? "<shape type=\"sphere\"><bsdf type=\"diffuse\"><texture type=\"bitmap\" name=\"reflectance\">\n"
+                      "<string name=\"filename\" value=\"" +
+                          std::string(name) + "\"/>\n</texture></bsdf></shape>"
+                    : "<emitter type=\"envmap\">\n<string name=\"filename\" value=\"" + std::string(name) + "\"/>\n</emitter>";
             write_text(dir / "scene.xml", scene_xml(body));
             try {
                 load_scene((dir / "scene.xml").string());
@@ -207,7 +211,8 @@ TEST_CASE("bitmap and envmap: volume images and images too large to read are err
                 CHECK(e.location.line == 3);
                 CHECK_THAT(std::string(e.what()), Catch::Contains(name));
                 // Refused from the header, before anything is allocated for the pixels.
-                if (std::string(name).rfind("short", 0) == 0) CHECK_THAT(std::string(e.what()), Catch::Contains("header promises 8000 x 8000 pixels"));
+                if (std::string(name).rfind("short", 0) == 0)
+                    CHECK_THAT(std::string(e.what()), Catch::Contains("header promises 8000 x 8000 pixels"));
                 if (std::string(name) == "wide.exr") CHECK_THAT(std::string(e.what()), Catch::Contains("(read as 3997700 x 256)"));
                 if (std::string(name) == "wide.bmp") CHECK_THAT(std::string(e.what()), Catch::Contains("(read as 3801092 x 256)"));
             }
@@ -232,7 +237,8 @@ TEST_CASE("bitmap: the reader is chosen by the file's content (TGA by extension)
         load_bitmap(dir, "picture.gif");
         FAIL("expected an error");
     } catch (const SceneError& e) {
-        CHECK_THAT(std::string(e.what()), Catch::Contains("picture.gif: is ") && Catch::Contains("Candela reads the formats Mitsuba 3 does"));
+        CHECK_THAT(std::string(e.what()),
+                   Catch::Contains("picture.gif: is ") && Catch::Contains("Candela reads the formats Mitsuba 3 does"));
     }
 }
 
@@ -254,7 +260,7 @@ TEST_CASE("bitmap: format stores texels in float32, float16 or 8 bits as Mitsuba
     img.set_rgb(0, 0, value);
     write_exr(img, (dir / "values.exr").string(), true);
     Spectrum half_value(float(half(value.x)), float(half(value.y)), float(half(value.z)));
-    CHECK(load_with(dir, "values.exr", "")->eval(Vec2(0.5f)) == value);  // variant: float32
+    CHECK(load_with(dir, "values.exr", "")->eval(Vec2(0.5f)) == value);      // variant: float32
     CHECK(load_with(dir, "values.exr", "auto")->eval(Vec2(0.5f)) == value);  // a float file: float32
     CHECK(load_with(dir, "values.exr", "float16")->eval(Vec2(0.5f)) == half_value);
     CHECK(load_with(dir, "values.exr", "fp16")->eval(Vec2(0.5f)) == half_value);

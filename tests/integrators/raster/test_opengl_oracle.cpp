@@ -40,8 +40,10 @@ const OracleMaterial Materials[] = {{{0.8f, 0.8f, 0.8f}, 0.0f, 1.0f},      // fl
 
 std::string bsdf(const OracleMaterial& m) {
     char buf[256];
-    std::snprintf(buf, sizeof buf, R"(<bsdf type="blinnphong"><rgb name="kd" value="%g, %g, %g"/><rgb name="ks" value="%g"/><float name="exponent" value="%g"/></bsdf>)", m.kd[0],
-                  m.kd[1], m.kd[2], m.ks, m.n);
+    std::snprintf(
+        buf, sizeof buf,
+        R"(<bsdf type="blinnphong"><rgb name="kd" value="%g, %g, %g"/><rgb name="ks" value="%g"/><float name="exponent" value="%g"/></bsdf>)",
+        m.kd[0], m.kd[1], m.kd[2], m.ks, m.n);
     return buf;
 }
 
@@ -55,9 +57,12 @@ TEST_CASE("opengl oracle: Gouraud Blinn-Phong matches Mesa's fixed-function pipe
             <film type="hdrfilm"><integer name="width" value="256"/><integer name="height" value="192"/><rfilter type="box"/></film></sensor>
         <shape type="rectangle"><transform name="to_world"><scale value="3"/><rotate x="1" angle="-90"/></transform>)" +
                       bsdf(Materials[0]) + R"(</shape>
-        <shape type="sphere"><point name="center" x="-1.3" y="0.6" z="0"/><float name="radius" value="0.6"/>)" + bsdf(Materials[1]) + R"(</shape>
-        <shape type="sphere"><point name="center" x="0.2" y="0.5" z="0.6"/><float name="radius" value="0.5"/>)" + bsdf(Materials[2]) + R"(</shape>
-        <shape type="sphere"><point name="center" x="1.4" y="0.7" z="-0.5"/><float name="radius" value="0.7"/>)" + bsdf(Materials[3]) + R"(</shape>
+        <shape type="sphere"><point name="center" x="-1.3" y="0.6" z="0"/><float name="radius" value="0.6"/>)" +
+                      bsdf(Materials[1]) + R"(</shape>
+        <shape type="sphere"><point name="center" x="0.2" y="0.5" z="0.6"/><float name="radius" value="0.5"/>)" +
+                      bsdf(Materials[2]) + R"(</shape>
+        <shape type="sphere"><point name="center" x="1.4" y="0.7" z="-0.5"/><float name="radius" value="0.7"/>)" +
+                      bsdf(Materials[3]) + R"(</shape>
         <emitter type="point"><point name="position" x="-2" y="3" z="2"/><rgb name="intensity" value="1.0, 0.9, 0.8"/>
             <float name="attenuation_constant" value="0.5"/><float name="attenuation_linear" value="0.3"/><float name="attenuation_quadratic" value="0.1"/></emitter>
         <emitter type="spot"><transform name="to_world"><lookat origin="2, 4, 2" target="0.5, 0, 0"/></transform>

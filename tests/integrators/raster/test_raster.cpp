@@ -33,8 +33,9 @@ std::vector<std::array<Vec4, 3>> clip_triangles(const RasterGeometry& g, const R
 TEST_CASE("rasterizer: a closed mesh around the camera covers every sample exactly once", "[raster]") {
     // Inside a finely tessellated sphere and inside a cube: thousands of shared edges, many
     // passing through sample positions at every angle; with 4 samples per pixel and a crop.
-    for (const char* shape : {"<shape type=\"sphere\"><float name=\"radius\" value=\"3\"/></shape>",
-                              "<shape type=\"cube\"><transform name=\"to_world\"><scale value=\"2\"/><rotate y=\"1\" angle=\"30\"/></transform></shape>"}) {
+    for (const char* shape :
+         {"<shape type=\"sphere\"><float name=\"radius\" value=\"3\"/></shape>",
+          "<shape type=\"cube\"><transform name=\"to_world\"><scale value=\"2\"/><rotate y=\"1\" angle=\"30\"/></transform></shape>"}) {
         Ref<Scene> scene = scene_from(std::string(shape) + pinhole_camera("0.3, 0.2, 0.1", "1, 0.5, 2", 97, 61, 100));
         RasterGeometry g = build_geometry(*scene, 57, false, 0);
         RasterCamera cam = RasterCamera::from_pinhole(*scene->sensor().pinhole());
@@ -53,8 +54,9 @@ TEST_CASE("rasterizer: a closed mesh around the camera covers every sample exact
 }
 
 TEST_CASE("rasterizer: perspective-correct uv on a steep plane equals the ray-cast uv", "[raster]") {
-    Ref<Scene> scene = scene_from(R"(<shape type="rectangle"><transform name="to_world"><scale x="2" y="20"/><rotate x="1" angle="-90"/><translate z="-19"/></transform></shape>)" +
-                                  pinhole_camera("0, 0.3, 1", "0, 0, -5", 80, 60));
+    Ref<Scene> scene = scene_from(
+        R"(<shape type="rectangle"><transform name="to_world"><scale x="2" y="20"/><rotate x="1" angle="-90"/><translate z="-19"/></transform></shape>)" +
+        pinhole_camera("0, 0.3, 1", "0, 0, -5", 80, 60));
     RasterGeometry g = build_geometry(*scene, 32, false, 0);
     RasterCamera cam = RasterCamera::from_pinhole(*scene->sensor().pinhole());
     for (bool perspective : {true, false}) {
@@ -88,11 +90,13 @@ TEST_CASE("rasterizer: perspective-correct uv on a steep plane equals the ray-ca
                 worst_ratio = std::max(worst_ratio, err / bound);
                 ++compared;
             }
-        INFO((perspective ? "perspective-correct" : "affine") << ": largest uv error " << worst << " (" << worst_ratio << " of 1% of a pixel footprint) over "
-                                                              << compared << " pixels");
+        INFO((perspective ? "perspective-correct" : "affine")
+             << ": largest uv error " << worst << " (" << worst_ratio << " of 1% of a pixel footprint) over " << compared << " pixels");
         CHECK(compared > 1000);
-        if (perspective) CHECK(worst_ratio <= 1.0);
-        else CHECK(worst > 0.05);  // the distortion affine interpolation shows on a steep plane
+        if (perspective)
+            CHECK(worst_ratio <= 1.0);
+        else
+            CHECK(worst > 0.05);  // the distortion affine interpolation shows on a steep plane
     }
 }
 
@@ -176,7 +180,7 @@ TEST_CASE("raster: physical settings match the path tracer's direct illumination
     RenderResult local = raster.render(*scene, RenderOptions{});
     ImageComparison c = compare_images(local.image, path.image);
     INFO("whole-image means " << 100 * c.mean_relative_difference.x << "% " << 100 * c.mean_relative_difference.y << "% "
-                               << 100 * c.mean_relative_difference.z << "%");
+                              << 100 * c.mean_relative_difference.z << "%");
     for (int k = 0; k < 3; ++k) CHECK(std::abs(c.mean_relative_difference[k]) < 0.01);
     // Blocks away from shadow edges: no pixel of the block sees a light's visibility change
     // (ray-cast visibility at each pixel's visible point, for each light).
@@ -201,8 +205,10 @@ TEST_CASE("raster: physical settings match the path tracer's direct illumination
                         Ray shadow = std::isinf(ds.dist) ? si.spawn_ray(ds.d) : si.spawn_ray_to(ds.p);
                         vis.push_back(!is_black(w) && glm::dot(ds.d, si.n) > 0.0f && !scene->occluded(shadow));
                     }
-                    if (first.empty()) first = vis;
-                    else if (vis != first) edge = true;
+                    if (first.empty())
+                        first = vis;
+                    else if (vis != first)
+                        edge = true;
                 }
             if (edge || lr <= 0.0) {
                 ++skipped;
@@ -212,8 +218,8 @@ TEST_CASE("raster: physical settings match the path tracer's direct illumination
             ++used;
         }
     double block_mare = sum / used;
-    INFO("blocks away from shadow edges: mean absolute relative difference " << 100 * block_mare << "% over " << used << " blocks (" << skipped
-                                                                               << " skipped)");
+    INFO("blocks away from shadow edges: mean absolute relative difference " << 100 * block_mare << "% over " << used << " blocks ("
+                                                                             << skipped << " skipped)");
     CHECK(used >= 20);
     CHECK(block_mare < 0.03);
 }

@@ -3,8 +3,8 @@
 // falls from nearest to bilinear to trilinear texture filtering, and from 1 to 4 to 16
 // supersamples.
 
-#include "core/image.h"
 #include "analysis/image_metrics.h"
+#include "core/image.h"
 #include "core/xml.h"
 #include "integrators/raster/raster.h"
 #include "tests/util.h"
@@ -56,8 +56,8 @@ TEST_CASE("raster: texture filtering and supersampling reduce aliasing", "[raste
     double nearest = rmse_against(scene, reference, "nearest", 1), bilinear = rmse_against(scene, reference, "bilinear", 1),
            trilinear = rmse_against(scene, reference, "trilinear", 1);
     double aa1 = nearest, aa4 = rmse_against(scene, reference, "nearest", 4), aa16 = rmse_against(scene, reference, "nearest", 16);
-    WARN("RMSE against 256x supersampling: nearest " << nearest << ", bilinear " << bilinear << ", trilinear " << trilinear << "; nearest with 1, 4, 16 samples: "
-                                                     << aa1 << ", " << aa4 << ", " << aa16);
+    WARN("RMSE against 256x supersampling: nearest " << nearest << ", bilinear " << bilinear << ", trilinear " << trilinear
+                                                     << "; nearest with 1, 4, 16 samples: " << aa1 << ", " << aa4 << ", " << aa16);
     CHECK(bilinear < nearest);
     CHECK(trilinear < bilinear);
     CHECK(aa4 < aa1);

@@ -30,7 +30,8 @@ struct MaskedMean {
     double mean = 0.0, std_error = 0.0;
     int pixels = 0;
 };
-template <typename Use> MaskedMean masked_mean(const Image& img, Use use) {
+template <typename Use>
+MaskedMean masked_mean(const Image& img, Use use) {
     MaskedMean m;
     double var = 0.0;
     int vr = img.channel_index("variance.R");
@@ -66,9 +67,11 @@ TEST_CASE("raster AO: analytic cases (open plane 1, sphere not self-occluded, in
     const std::string sky = R"(<emitter type="constant"><rgb name="radiance" value="1"/></emitter>)";
     const int W = 64, H = 48;
     SECTION("an open plane, and a sphere above it, see the whole sky") {
-        Ref<Scene> scene = load_scene_xml("raster-ao-open", sky + R"(<shape type="rectangle"><transform name="to_world"><scale value="50"/><rotate x="1" angle="-90"/></transform>)" +
-                                                               white + R"(</shape><shape type="sphere"><point name="center" x="0" y="3" z="0"/><float name="radius" value="0.5"/>)" + white +
-                                                               "</shape>" + pinhole_camera("0, 3.2, 2.5", "0, 2.5, 0", W, H, 50));
+        Ref<Scene> scene = load_scene_xml(
+            "raster-ao-open",
+            sky + R"(<shape type="rectangle"><transform name="to_world"><scale value="50"/><rotate x="1" angle="-90"/></transform>)" +
+                white + R"(</shape><shape type="sphere"><point name="center" x="0" y="3" z="0"/><float name="radius" value="0.5"/>)" +
+                white + "</shape>" + pinhole_camera("0, 3.2, 2.5", "0, 2.5, 0", W, H, 50));
         Image img = raster_render(*scene, {{"ao", "16"}, {"ao_ray_length", "1"}, {"shadows", "none"}}).image;
         Image open = raster_render(*scene, {{"shadows", "none"}}).image;
         // The sphere: its tessellation lies inside the exact sphere, yet no ray may find it from
@@ -81,7 +84,9 @@ TEST_CASE("raster AO: analytic cases (open plane 1, sphere not self-occluded, in
         for (int y = 0; y < H; ++y)
             for (int x = 0; x < W; ++x) {
                 SurfaceInteraction si;
-                if (!scene->intersect(scene->sensor().sample_ray(Vec2(x + 0.5f, y + 0.5f), Vec2(0.5f)), si) || si.shape != scene->shapes()[0].get()) continue;
+                if (!scene->intersect(scene->sensor().sample_ray(Vec2(x + 0.5f, y + 0.5f), Vec2(0.5f)), si) ||
+                    si.shape != scene->shapes()[0].get())
+                    continue;
                 if (glm::length(Vec2(si.p.x, si.p.z)) < 1.6f) continue;
                 ++plane;
                 exact += img.rgb_at(x, y) == open.rgb_at(x, y);
@@ -90,10 +95,12 @@ TEST_CASE("raster AO: analytic cases (open plane 1, sphere not self-occluded, in
         CHECK(exact == plane);
     }
     SECTION("the floor in front of an infinite wall: exactly half the cosine-weighted directions are open") {
-        Ref<Scene> scene =
-            load_scene_xml("raster-ao-wall", sky + R"(<shape type="rectangle"><transform name="to_world"><scale value="1000"/><rotate x="1" angle="-90"/></transform>)" + white +
-                                                 R"(</shape><shape type="rectangle"><transform name="to_world"><scale value="1000"/><translate y="1000" z="-1"/></transform>)" + white +
-                                                 "</shape>" + pinhole_camera("0, 1.5, 2", "0, 0, -0.5", W, H, 60));
+        Ref<Scene> scene = load_scene_xml(
+            "raster-ao-wall",
+            sky + R"(<shape type="rectangle"><transform name="to_world"><scale value="1000"/><rotate x="1" angle="-90"/></transform>)" +
+                white +
+                R"(</shape><shape type="rectangle"><transform name="to_world"><scale value="1000"/><translate y="1000" z="-1"/></transform>)" +
+                white + "</shape>" + pinhole_camera("0, 1.5, 2", "0, 0, -0.5", W, H, 60));
         const int rays = 8;
         Image img = raster_render(*scene, {{"ao", std::to_string(rays)}, {"ao_ray_length", "1e6"}, {"shadows", "none"}}).image;
         MaskedMean floor = masked_mean(img, [&](int x, int y) { return pixel_view(*scene, x, y).shape == scene->shapes()[0].get(); });
@@ -105,8 +112,10 @@ TEST_CASE("raster AO: analytic cases (open plane 1, sphere not self-occluded, in
         CHECK(std::abs(mean - 0.5) < 4.4 * sigma);
     }
     SECTION("inside a closed box every ray is blocked") {
-        Ref<Scene> scene = load_scene_xml("raster-ao-box", sky + R"(<shape type="cube"><transform name="to_world"><scale value="2"/></transform>)" +
-                                                              R"(<bsdf type="twosided">)" + white + "</bsdf></shape>" + pinhole_camera("0, 0, 1.5", "0, 0, -1", W, H, 70));
+        Ref<Scene> scene =
+            load_scene_xml("raster-ao-box", sky + R"(<shape type="cube"><transform name="to_world"><scale value="2"/></transform>)" +
+                                                R"(<bsdf type="twosided">)" + white + "</bsdf></shape>" +
+                                                pinhole_camera("0, 0, 1.5", "0, 0, -1", W, H, 70));
         Image img = raster_render(*scene, {{"ao", "4"}, {"ao_ray_length", "100"}, {"shadows", "none"}}).image;
         double max = 0.0;
         for (int y = 0; y < H; ++y)
@@ -132,8 +141,9 @@ TEST_CASE("raster AO: deterministic, whatever the thread count", "[raster][ao]")
 
 TEST_CASE("raster IBL: SH coefficients of a constant environment, and the SH basis", "[raster][ibl]") {
     // A constant environment L projects onto L_00 = L sqrt(4 pi) alone, and E(n) = pi L exactly.
-    Ref<Scene> scene = load_scene_xml("raster-ibl-constant", R"(<emitter type="constant"><rgb name="radiance" value="0.5, 1, 2"/></emitter>)" +
-                                                                 pinhole_camera("0, 0, 1", "0, 0, 0", 8, 8));
+    Ref<Scene> scene =
+        load_scene_xml("raster-ibl-constant", R"(<emitter type="constant"><rgb name="radiance" value="0.5, 1, 2"/></emitter>)" +
+                                                  pinhole_camera("0, 0, 1", "0, 0, 0", 8, 8));
     raster::ImageBasedLighting ibl(*scene);
     CHECK(ibl.coefficients()[0].y == Approx(std::sqrt(4.0 * Pi)).epsilon(1e-4));
     for (int i = 1; i < 9; ++i) CHECK(std::abs(ibl.coefficients()[size_t(i)].y) < 1e-3);
@@ -150,12 +160,13 @@ TEST_CASE("raster IBL: a diffuse sphere under an environment map agrees with the
     // The sphere alone under the sky: at max_depth 2 the path tracer computes its direct
     // environment light exactly (in expectation), the quantity SH irradiance approximates.
     const int W = 96, H = 96;
-    Ref<Scene> scene =
-        load_scene_xml("raster-ibl-sphere", R"(<emitter type="envmap"><string name="filename" value=")" + Sky +
-                                                R"("/><transform name="to_world"><rotate y="1" angle="60"/></transform><float name="scale" value="0.8"/></emitter>
+    Ref<Scene> scene = load_scene_xml(
+        "raster-ibl-sphere",
+        R"(<emitter type="envmap"><string name="filename" value=")" + Sky +
+            R"("/><transform name="to_world"><rotate y="1" angle="60"/></transform><float name="scale" value="0.8"/></emitter>
             <shape type="sphere"><float name="radius" value="0.5"/><bsdf type="diffuse"><rgb name="reflectance" value="0.8"/></bsdf></shape>
             <integrator type="path"><integer name="max_depth" value="2"/></integrator>)" +
-                                                pinhole_camera("0, 0.4, 1.8", "0, 0, 0", W, H, 40));
+            pinhole_camera("0, 0.4, 1.8", "0, 0, 0", W, H, 40));
     RenderOptions path_options;
     path_options.spp = 64;
     path_options.aovs = {"variance"};
@@ -165,15 +176,16 @@ TEST_CASE("raster IBL: a diffuse sphere under an environment map agrees with the
     MaskedMean p = masked_mean(path.image, on_sphere), r = masked_mean(ibl.image, on_sphere);
     REQUIRE(p.pixels > 2000);
     double relative = (r.mean - p.mean) / p.mean, noise = p.std_error / p.mean;
-    INFO("sphere mean: raster (SH irradiance) " << r.mean / 3 << ", path " << p.mean / 3 << " +- " << p.std_error / 3 << " (relative noise " << 100 * noise
-                                                 << "%); difference " << 100 * relative << "%");
+    INFO("sphere mean: raster (SH irradiance) " << r.mean / 3 << ", path " << p.mean / 3 << " +- " << p.std_error / 3 << " (relative noise "
+                                                << 100 * noise << "%); difference " << 100 * relative << "%");
     // The path tracer's side must be precise enough for the 3% criterion to mean something.
     REQUIRE(noise < 0.003);
     CHECK(std::abs(relative) < 0.03);
     // The average-radiance ambient misses the sky's direction: it is further off.
     RenderResult average = raster_render(*scene, {{"aa", "4"}, {"tessellation", "256"}, {"environment_lighting", "average"}});
     MaskedMean a = masked_mean(average.image, on_sphere);
-    WARN("sphere mean with the average ambient: " << 100 * (a.mean - p.mean) / p.mean << "% from the path tracer; SH irradiance " << 100 * relative << "%");
+    WARN("sphere mean with the average ambient: " << 100 * (a.mean - p.mean) / p.mean << "% from the path tracer; SH irradiance "
+                                                  << 100 * relative << "%");
 }
 
 TEST_CASE("raster baked lighting: the Cornell box agrees with its radiosity render and shows colour bleeding", "[raster][baked]") {
@@ -190,8 +202,9 @@ TEST_CASE("raster baked lighting: the Cornell box agrees with its radiosity rend
     options.spp = 16;
     RenderResult smooth = radiosity->render(*scene, options);
     ImageComparison c = compare_images(baked.image, smooth.image);
-    INFO("baked raster against the radiosity render: means " << 100 * c.mean_relative_difference.x << "% " << 100 * c.mean_relative_difference.y << "% "
-                                                             << 100 * c.mean_relative_difference.z << "%, block MARE " << 100 * c.block_mare << "%");
+    INFO("baked raster against the radiosity render: means "
+         << 100 * c.mean_relative_difference.x << "% " << 100 * c.mean_relative_difference.y << "% " << 100 * c.mean_relative_difference.z
+         << "%, block MARE " << 100 * c.block_mare << "%");
     for (int k = 0; k < 3; ++k) CHECK(std::abs(c.mean_relative_difference[k]) < 0.01);
     CHECK(c.block_mare < 0.02);
 
@@ -218,7 +231,8 @@ TEST_CASE("raster baked lighting: the Cornell box agrees with its radiosity rend
     double b_baked = bleeding(baked.image), b_local = bleeding(local.image);
     scene = full;  // the reference's resolution
     double b_reference = bleeding(reference);
-    INFO("floor red/green near the red wall over near the green wall: local " << b_local << ", baked " << b_baked << ", Mitsuba reference " << b_reference);
+    INFO("floor red/green near the red wall over near the green wall: local " << b_local << ", baked " << b_baked << ", Mitsuba reference "
+                                                                              << b_reference);
     CHECK(b_local == Approx(1.0).epsilon(1e-3));
     CHECK(b_reference > 1.2);
     CHECK(std::abs(b_baked / b_reference - 1.0) < 0.1);
@@ -231,10 +245,12 @@ TEST_CASE("raster baked lighting: the path tracer's bake agrees with radiosity's
     // README) plus the bake's noise (256 paths per patch, ~400 patches: well under 1%).
     Ref<Scene> scene = load_scene(CboxFile, {{"res", "64"}});
     RenderResult by_radiosity = raster_render(*scene, {{"lighting", "baked"}, {"bake_patch_area", "0.08"}});
-    RenderResult by_path = raster_render(*scene, {{"lighting", "baked"}, {"bake", "path"}, {"bake_patch_area", "0.08"}, {"bake_samples", "256"}});
+    RenderResult by_path =
+        raster_render(*scene, {{"lighting", "baked"}, {"bake", "path"}, {"bake_patch_area", "0.08"}, {"bake_samples", "256"}});
     ImageComparison c = compare_images(by_path.image, by_radiosity.image);
-    INFO("path bake against radiosity bake: means " << 100 * c.mean_relative_difference.x << "% " << 100 * c.mean_relative_difference.y << "% "
-                                                    << 100 * c.mean_relative_difference.z << "%, block MARE " << 100 * c.block_mare << "%");
+    INFO("path bake against radiosity bake: means " << 100 * c.mean_relative_difference.x << "% " << 100 * c.mean_relative_difference.y
+                                                    << "% " << 100 * c.mean_relative_difference.z << "%, block MARE " << 100 * c.block_mare
+                                                    << "%");
     for (int k = 0; k < 3; ++k) CHECK(std::abs(c.mean_relative_difference[k]) < 0.02);
 }
 
@@ -262,15 +278,18 @@ TEST_CASE("raster IBL: the widest prefiltered level is the irradiance over pi, a
     // irradiance estimator measures E(r) independently (with its standard error); SH irradiance
     // approximates the same quantity.
     Ref<Scene> scene = load_scene_xml("raster-ibl-glossy", R"(<emitter type="envmap"><string name="filename" value=")" + Sky +
-                                                               R"("/><float name="scale" value="0.8"/></emitter>)" + pinhole_camera("0, 0, 1", "0, 0, 0", 8, 8));
+                                                               R"("/><float name="scale" value="0.8"/></emitter>)" +
+                                                               pinhole_camera("0, 0, 1", "0, 0, 0", 8, 8));
     raster::ImageBasedLighting ibl(*scene);
     EstimatorOptions eo;
     eo.samples = 1 << 18;
     double worst_glossy = 0.0, worst_sh = 0.0;
-    for (Vec3 n : {Vec3(1, 0, 0), Vec3(-1, 0, 0), Vec3(0, 1, 0), Vec3(0, -1, 0), Vec3(0, 0, 1), Vec3(0, 0, -1), glm::normalize(Vec3(1, 1, 1))}) {
+    for (Vec3 n :
+         {Vec3(1, 0, 0), Vec3(-1, 0, 0), Vec3(0, 1, 0), Vec3(0, -1, 0), Vec3(0, 0, 1), Vec3(0, 0, -1), glm::normalize(Vec3(1, 1, 1))}) {
         Estimate e = estimate_irradiance(*scene, Vec3(0.0f), n, eo);
         double exact = luminance(e.mean), glossy = Pi * luminance(ibl.glossy(n, 1.0f)), sh = luminance(ibl.irradiance(n));
-        INFO("normal " << n.x << " " << n.y << " " << n.z << ": estimate " << exact << " +- " << e.luminance_std_error << ", pi x glossy(1) " << glossy << ", SH " << sh);
+        INFO("normal " << n.x << " " << n.y << " " << n.z << ": estimate " << exact << " +- " << e.luminance_std_error
+                       << ", pi x glossy(1) " << glossy << ", SH " << sh);
         REQUIRE(e.luminance_std_error < 0.002 * exact);
         worst_glossy = std::max(worst_glossy, std::abs(glossy / exact - 1.0));
         worst_sh = std::max(worst_sh, std::abs(sh / exact - 1.0));
@@ -278,7 +297,8 @@ TEST_CASE("raster IBL: the widest prefiltered level is the irradiance over pi, a
     // Nine SH terms cannot follow the sky's sharp horizon: pointwise they are off by up to ~0.1
     // W/m^2 (28% where the irradiance is smallest); reported, not checked (the sphere test above
     // checks what SH irradiance is for: the mean).
-    WARN("largest relative difference from the path-traced irradiance: prefiltered (roughness 1) " << 100 * worst_glossy << "%, SH " << 100 * worst_sh << "%");
+    WARN("largest relative difference from the path-traced irradiance: prefiltered (roughness 1) " << 100 * worst_glossy << "%, SH "
+                                                                                                   << 100 * worst_sh << "%");
     // The lat-long levels' texels (5.6 degrees) and interpolation, against 0.12% noise.
     CHECK(worst_glossy < 0.03);
 }

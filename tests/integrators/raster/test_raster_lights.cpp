@@ -4,11 +4,11 @@
 // light.
 
 #include "core/registry.h"
+#include "core/warp.h"
 #include "core/xml.h"
 #include "integrators/raster/raster.h"
 #include "integrators/raster/raster_scene.h"
 #include "integrators/raster/shadows.h"
-#include "core/warp.h"
 #include "lights/point_source.h"
 #include "tests/util.h"
 
@@ -73,11 +73,13 @@ TEST_CASE("raster: an area light's surface shows exactly its radiance", "[raster
     const std::string emit = "<emitter type=\"area\"><rgb name=\"radiance\" value=\"0.3, 1.7, 11.1\"/></emitter>";
     const std::string black = "<bsdf type=\"diffuse\"><rgb name=\"reflectance\" value=\"0\"/></bsdf>";
     Ref<Scene> scene = scene_from(
-        "<shape type=\"rectangle\"><transform name=\"to_world\"><scale x=\"3.7\" y=\"2.3\"/><translate z=\"-1\"/></transform>" + black + emit + "</shape>" +
-        "<shape type=\"sphere\"><point name=\"center\" x=\"9\" y=\"0\" z=\"0\"/><float name=\"radius\" value=\"0.37\"/>" + emit + "</shape>" +
-        "<shape type=\"disk\"><transform name=\"to_world\"><scale value=\"0.13\"/><translate x=\"-9\"/></transform>" + emit + "</shape>" +
-        "<shape type=\"cube\"><transform name=\"to_world\"><scale x=\"0.7\" y=\"3\" z=\"0.21\"/><translate y=\"9\"/></transform>" + emit + "</shape>" +
-        pinhole_camera("0, 0, 2", "0, 0, 0", 16, 12, 30));
+        "<shape type=\"rectangle\"><transform name=\"to_world\"><scale x=\"3.7\" y=\"2.3\"/><translate z=\"-1\"/></transform>" + black +
+        emit + "</shape>" +
+        "<shape type=\"sphere\"><point name=\"center\" x=\"9\" y=\"0\" z=\"0\"/><float name=\"radius\" value=\"0.37\"/>" + emit +
+        "</shape>" + "<shape type=\"disk\"><transform name=\"to_world\"><scale value=\"0.13\"/><translate x=\"-9\"/></transform>" + emit +
+        "</shape>" +
+        "<shape type=\"cube\"><transform name=\"to_world\"><scale x=\"0.7\" y=\"3\" z=\"0.21\"/><translate y=\"9\"/></transform>" + emit +
+        "</shape>" + pinhole_camera("0, 0, 2", "0, 0, 0", 16, 12, 30));
     RasterGeometry g = build_geometry(*scene, 32, false, 0);
     REQUIRE(g.shapes.size() == 4);
     for (const RasterShape& rs : g.shapes) {
@@ -100,11 +102,14 @@ TEST_CASE("raster: shadows leave out exactly the light's own shape, also when li
     const std::string emit = "<emitter type=\"area\"><rgb name=\"radiance\" value=\"1\"/></emitter>";
     Ref<Scene> scene = scene_from(
         "<shape type=\"cube\"><transform name=\"to_world\"><translate x=\"5\"/></transform></shape>"
-        "<shape type=\"sphere\"><point name=\"center\" x=\"0\" y=\"2\" z=\"0\"/><float name=\"radius\" value=\"0.2\"/>" + emit + "</shape>" +
-        "<shape type=\"sphere\"><point name=\"center\" x=\"0\" y=\"2\" z=\"0\"/><float name=\"radius\" value=\"0.5\"/>" + emit + "</shape>" +
-        "<shape type=\"rectangle\"><transform name=\"to_world\"><rotate x=\"1\" angle=\"90\"/><translate y=\"-3\"/></transform>" + emit + "</shape>" +
-        "<shape type=\"rectangle\"><transform name=\"to_world\"><rotate x=\"1\" angle=\"-90\"/><translate y=\"-3\"/></transform>" + emit + "</shape>" +
-        pinhole_camera("0, 0, 8", "0, 0, 0", 16, 12));
+        "<shape type=\"sphere\"><point name=\"center\" x=\"0\" y=\"2\" z=\"0\"/><float name=\"radius\" value=\"0.2\"/>" +
+        emit + "</shape>" +
+        "<shape type=\"sphere\"><point name=\"center\" x=\"0\" y=\"2\" z=\"0\"/><float name=\"radius\" value=\"0.5\"/>" + emit +
+        "</shape>" +
+        "<shape type=\"rectangle\"><transform name=\"to_world\"><rotate x=\"1\" angle=\"90\"/><translate y=\"-3\"/></transform>" + emit +
+        "</shape>" +
+        "<shape type=\"rectangle\"><transform name=\"to_world\"><rotate x=\"1\" angle=\"-90\"/><translate y=\"-3\"/></transform>" + emit +
+        "</shape>" + pinhole_camera("0, 0, 8", "0, 0, 0", 16, 12));
     RasterGeometry g = build_geometry(*scene, 32, false, 0);
     LocalLights lights = collect_lights(*scene);
     REQUIRE(lights.lights.size() == 4);
