@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Runs every libFuzzer target of a fuzz build (cmake -DCANDELA_FUZZ=ON, see README "Sanitizers
-# and fuzzing") for a fixed time each, as many at once as there are cores.
+# Runs every libFuzzer target of a fuzz build (cmake -DCANDELA_FUZZ=ON, see docs/robustness.md,
+# "Sanitizers and fuzzing") for a fixed time each, as many at once as there are cores.
 #
 #   scripts/fuzz.sh [BUILD_DIR] [SECONDS]      (defaults: build-fuzz, 60)
 #

@@ -12,11 +12,13 @@ packages=(
   libtinyobjloader-dev catch2 libtbb-dev libpugixml-dev libcli11-dev zlib1g-dev
   libosmesa6-dev
   clang libclang-rt-14-dev llvm lld
+  clang-format python3
 )
 # clang (Debian's clang 14) builds the sanitizer and fuzzing builds; libclang-rt-14-dev holds its
 # run-times (ASan, UBSan, TSan and libFuzzer: libclang_rt.fuzzer-x86_64.a); llvm gives
 # llvm-symbolizer, which turns sanitizer reports' addresses into file:line; lld links those
-# builds (much faster than GNU ld on their large binaries).
+# builds (much faster than GNU ld on their large binaries). clang-format (Debian's 14) and python3
+# run the cheap checks of scripts/test.sh's first stage (check-format.sh, gen-plugin-docs.py).
 if [ "${1:-}" = slurm ]; then
   packages=(slurmctld slurmd slurm-client munge)
 elif [ $# -gt 0 ]; then

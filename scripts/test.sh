@@ -1,23 +1,27 @@
 #!/usr/bin/env bash
-# Builds Candela and runs every check CI runs, timing each stage (README "Tests" and "Sanitizers
-# and fuzzing"):
-#   1. release   Release build, the whole test suite through ctest;
-#   2. asan      clang build with AddressSanitizer + UndefinedBehaviorSanitizer (and libFuzzer's
+# Builds Candela and runs every check CI runs, timing each stage (README "Tests";
+# docs/robustness.md has the details and measured times):
+#   1. checks    no build: scripts/check-format.sh (every C++ file as clang-format makes it with
+#                .clang-format) and scripts/gen-plugin-docs.py --check (docs/plugins/ matches the
+#                plugins' opening comments);
+#   2. release   Release build, the whole test suite through ctest;
+#   3. asan      clang build with AddressSanitizer + UndefinedBehaviorSanitizer (and libFuzzer's
 #                coverage, so that the fuzzers come from the same build): the unit and CLI tests
 #                under them, the statistical ones at CANDELA_TEST_EFFORT=0.1 (tests/util.h), the
 #                end-to-end verification against references (renders at the sample counts their
-#                fixed tolerances need) and the real-Slurm farm left to stage 1 (release_only);
-#   3. tsan      clang build with ThreadSanitizer: the tests of the parallel paths (parallel_paths
+#                fixed tolerances need) and the real-Slurm farm left to the release stage
+#                (release_only);
+#   4. tsan      clang build with ThreadSanitizer: the tests of the parallel paths (parallel_paths
 #                below);
-#   4. fuzz      every libFuzzer target for FUZZ_SECONDS (default 45) each, two at a time.
+#   5. fuzz      every libFuzzer target for FUZZ_SECONDS (default 45) each, two at a time.
 # A sanitizer report fails the test that caused it (every finding is fatal: core/
-# sanitizer_options.cpp). All four run by default, as CI runs them (README "Sanitizers and
-# fuzzing" gives their times); STAGES selects some ("release" alone, "release asan", ...).
+# sanitizer_options.cpp). All five run by default, as CI runs them; STAGES selects some
+# ("checks" alone, "checks release", ...).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./scripts/install-deps.sh
 jobs=$(nproc)
-stages=${STAGES:-release asan tsan fuzz}
+stages=${STAGES:-checks release asan tsan fuzz}
 fuzz_seconds=${FUZZ_SECONDS:-45}
 summary=()
 
@@ -28,6 +32,14 @@ stage() {
     echo "== ci: $name"
     "$@"
     summary+=("$(printf '%-8s %4d s' "$name" $((SECONDS - start)))")
+}
+
+# Both checks run even when the first fails, so that one run names everything to fix.
+checks() {
+    local failed=0
+    ./scripts/check-format.sh || failed=1
+    python3 scripts/gen-plugin-docs.py --check || failed=1
+    return "$failed"
 }
 
 release() {
