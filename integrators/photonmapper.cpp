@@ -41,7 +41,7 @@
 // lookup_size nearest photons within the radius r (r shrinking to the farthest of them):
 // sum f beta / (pi r^2), uniform kernel.
 //
-// Bias (measured, README "Photon mapping"): density estimation blurs illumination over the
+// Bias (measured: docs/rendering.md, "Light paths"): density estimation blurs illumination over the
 // lookup radius (corners and contact shadows brighten, small features blur), and k-nearest
 // lookups are biased where the photon density varies. On the validation Cornell box the whole-
 // image mean is 0.5-0.9% below Mitsuba's reference (200k global photons), mostly at edges and corners.
