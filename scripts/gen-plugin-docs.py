@@ -20,6 +20,10 @@ dates, so the same sources always give the same pages.
     python3 scripts/gen-plugin-docs.py --check   exit 1, naming the stale pages, when the pages
                                                  in docs/plugins/ differ from what this writes
 
+Exit code 2 when the sources cannot be documented (a registration with an ObjectKind this script
+does not know, a type name registered twice). A plugin whose opening comment is missing or states
+no parameters (no "Parameters" line, no "No parameters") is a warning on stderr.
+
 Python 3.11, standard library only.
 """
 
@@ -594,7 +598,7 @@ def generate() -> tuple[dict[str, str], list[str]]:
         elif not states_parameters(p.comment):
             warnings.append(f"{p.path}: the opening comment does not state the parameters "
                             "(no 'Parameters' heading, no 'No parameters.')")
-        for family_kind in {FAMILY_BY_KIND[k] for _, k in p.names}:
+        for family_kind in sorted({FAMILY_BY_KIND[k] for _, k in p.names}, key=lambda f: f.slug):
             if not p.path.startswith(family_kind.folder + "/"):
                 warnings.append(f"{p.path}: a {family_kind.slug} plugin outside {family_kind.folder}/")
     return pages, warnings
