@@ -1,7 +1,8 @@
 #pragma once
 // The subcommands of the `candela` program. Each registers its options on a CLI11 subcommand and
 // returns the process exit code: 0 success, 1 a check that failed (compare, validate, converge),
-// 2 bad input (scene errors name file:line), 130 interrupted.
+// 2 bad input (scene errors name file:line), 70 an internal error (a bug), 128 + signal when stopped
+// by Ctrl-C (130) or SIGTERM (143).
 
 #include "core/integrator.h"
 #include "core/math.h"
@@ -18,7 +19,7 @@ namespace candela::app {
 constexpr int ExitOk = 0;
 constexpr int ExitCheckFailed = 1;
 constexpr int ExitBadInput = 2;
-constexpr int ExitInterrupted = 130;
+constexpr int ExitInternalError = 70;  // EX_SOFTWARE: a broken internal contract (InternalError)
 
 // Adds a subcommand to `app`; `run` is set to the function that executes it after parsing.
 void add_render_command(CLI::App& app, std::function<int()>& run);

@@ -18,6 +18,9 @@ int run_guarded(const std::function<int()>& body) {
     } catch (const std::bad_alloc&) {
         std::cerr << "error: out of memory\n";
         return ExitBadInput;
+    } catch (const InternalError& e) {
+        std::cerr << "internal error (a bug in Candela; please report it with the command that caused it): " << e.what() << "\n";
+        return ExitInternalError;
     }
 }
 

@@ -2,12 +2,21 @@
 
 #include "apps/commands.h"
 
+#include "core/stop.h"
+
 #include <candela/version.h>
+
+#include <string>
 
 int main(int argc, char** argv) {
     CLI::App app{"Candela " CANDELA_VERSION ": a physically based renderer for Mitsuba 3 scene files"};
     app.require_subcommand(1);
     app.set_version_flag("--version", CANDELA_VERSION);
+    // Ctrl-C and SIGTERM end any command at once with 130 or 143, but `render`, which stops
+    // gracefully and writes what it has (core/stop.h). Chosen before parsing, so that a signal
+    // that arrives at any moment of a render's life gets the render's treatment.
+    const bool render = argc > 1 && std::string(argv[1]) == "render";
+    candela::set_stop_mode(render ? candela::StopMode::Graceful : candela::StopMode::Immediate);
     std::function<int()> run;
     candela::app::add_render_command(app, run);
     candela::app::add_compare_command(app, run);
@@ -23,5 +32,7 @@ int main(int argc, char** argv) {
         int code = app.exit(e);
         return code == 0 ? 0 : candela::app::ExitBadInput;
     }
-    return candela::app::run_guarded(run);
+    const int code = candela::app::run_guarded(run);
+    // A command that stopped early on a signal ends with the signal's code, whatever it returned.
+    return candela::stop_exit_code() ? candela::stop_exit_code() : code;
 }

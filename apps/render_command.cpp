@@ -16,6 +16,7 @@
 #include "core/memory_budget.h"
 #include "core/progress.h"
 #include "core/registry.h"
+#include "core/stop.h"
 #include "core/warning.h"
 #include "core/xml.h"
 #include "farm/coverage.h"
@@ -28,7 +29,6 @@
 
 #include <unistd.h>
 #include <chrono>
-#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -37,17 +37,6 @@
 namespace candela::app {
 
 namespace {
-
-std::atomic<bool> g_interrupted{false};
-std::atomic<int> g_signal{0};
-
-// SIGINT (Ctrl-C) and SIGTERM (what Slurm and systemd send before they kill) stop the render,
-// which then writes what it has.
-void on_stop_signal(int signal) {
-    g_signal = signal;
-    g_interrupted = true;
-    std::signal(signal, SIG_DFL);  // a second one ends the program at once
-}
 
 struct RenderArgs {
     std::string scene, output, mode, max_memory, sampler;
@@ -154,7 +143,7 @@ int render_with_sums(const RenderArgs& a, const Scene& scene, RenderOptions opti
         std::cerr << (r.interrupted ? "interrupted: " : "") << "wrote the partial render (a part holding "
                   << format_coverage(r.header.coverage) << ") to " << output << "; continue it with:\n  "
                   << resume_command(a, request.command, output) << "\n";
-        return r.interrupted ? 128 + (g_signal.load() ? g_signal.load() : SIGINT) : ExitOk;
+        return r.interrupted ? stop_exit_code() : ExitOk;
     }
     return ExitOk;
 }
@@ -169,7 +158,7 @@ int render_frame(const RenderArgs& a, const Scene& scene, const RenderOptions& o
     report_render(a, result.stats, output, "");
     if (result.stats.partial) {
         std::cerr << "interrupted: wrote the partial image to " << output << "\n";
-        return 128 + (g_signal.load() ? g_signal.load() : SIGINT);
+        return stop_exit_code();
     }
     return ExitOk;
 }
@@ -313,11 +302,8 @@ void add_render_command(CLI::App& app, std::function<int()>& run) {
                 throw InputError("--png needs the whole image: a part (--samples, --crop) holds sums; merge the parts first");
             if (args->checkpoint_minutes < 0.0) throw InputError("--checkpoint expects minutes > 0");
 
-            // From here on Ctrl-C or SIGTERM stops the render and writes what there is.
-            g_interrupted = false;
-            g_signal = 0;
-            auto previous_int = std::signal(SIGINT, on_stop_signal);
-            auto previous_term = std::signal(SIGTERM, on_stop_signal);
+            // Ctrl-C or SIGTERM (what Slurm and systemd send before they kill) stops the render,
+            // which writes what it has: main() chose StopMode::Graceful for it (core/stop.h).
             use_search_folders(args->search_path);
             Ref<Scene> scene = load_scene(args->scene, params);
             apply_mode(*scene, *args);
@@ -326,17 +312,14 @@ void add_render_command(CLI::App& app, std::function<int()>& run) {
             if (args->seed >= 0) options.seed = uint64_t(args->seed);
             options.threads = args->threads;
             options.progress = !args->quiet && stderr_is_terminal();
-            options.interrupt = &g_interrupted;
+            options.interrupt = &stop_flag();
             options.aovs = args->aovs;
             options.sampler = args->sampler;
             options.adaptive = args->adaptive;
             const bool sums = scene->integrator().renders_parts() && !options.adaptive.enabled();
             if (!sums && (args->part() || !args->resume.empty() || args->checkpoint_minutes > 0.0))
                 throw InputError(parts_refusal(*scene, options));
-            int code = sums ? render_with_sums(*args, *scene, options, output, png) : render_frame(*args, *scene, options, output, png);
-            std::signal(SIGINT, previous_int);
-            std::signal(SIGTERM, previous_term);
-            return code;
+            return sums ? render_with_sums(*args, *scene, options, output, png) : render_frame(*args, *scene, options, output, png);
         };
     });
 }

@@ -35,4 +35,11 @@ public:
     using std::runtime_error::runtime_error;
 };
 
+// A broken internal contract (a bug in Candela, not in the input): the command line prints it as
+// "internal error: ..." and exits with code 70 (EX_SOFTWARE) instead of crashing or looping.
+class InternalError : public std::logic_error {
+public:
+    using std::logic_error::logic_error;
+};
+
 }  // namespace candela

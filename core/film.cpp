@@ -49,6 +49,8 @@ ImageBlock::ImageBlock(const Vec2i& offset, const Vec2i& size, const Reconstruct
 
 int ImageBlock::reach(const ReconstructionFilter& filter) { return std::max(0, int(std::ceil(filter.radius() - 0.5f))); }
 
+int film_sampled_border(const Film& film) { return film.sample_border() ? ImageBlock::reach(film.filter()) : 0; }
+
 void ImageBlock::clear() { std::fill(data_.begin(), data_.end(), 0.0f); }
 
 void ImageBlock::put(const Vec2& pos, const float* values) {

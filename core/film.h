@@ -40,6 +40,10 @@ public:
     virtual SourceLocation location() const { return {}; }
 };
 
+// The ring of pixels around the crop that is sampled too: the filter's reach with sample_border,
+// else 0. Samplers serve the full film grown by it (Sampler::set_film).
+int film_sampled_border(const Film& film);
+
 // "film 1920 x 1080", or "film crop window 640 x 480" when a crop window is rendered: how the
 // memory checks name the image they size.
 std::string film_description(const Film& film);

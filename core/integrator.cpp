@@ -70,8 +70,7 @@ RenderWindow render_window(const Film& film, const ImageRect& requested) {
     const Vec2i image = film.crop_size();
     RenderWindow w;
     w.region = requested.empty() ? ImageRect{Vec2i(0), image} : requested;
-    const Vec2i end = w.region.offset + w.region.size;
-    if (glm::any(glm::lessThan(w.region.offset, Vec2i(0))) || glm::any(glm::greaterThan(end, image)))
+    if (!rect_inside_image(w.region, image))
         throw InputError("region " + std::to_string(w.region.offset.x) + "," + std::to_string(w.region.offset.y) + "," +
                          std::to_string(w.region.size.x) + "," + std::to_string(w.region.size.y) + " is not inside the " +
                          std::to_string(image.x) + " x " + std::to_string(image.y) + " image");
@@ -98,7 +97,7 @@ std::vector<Tile> make_tiles(const Film& film, const RenderWindow& window, int v
     const Vec2i image = film.crop_size();
     const Vec2i area = window.region.size;
     const Vec2i block_origin = window.region.offset - window.stored.offset;
-    const int border = film.sample_border() ? ImageBlock::reach(film.filter()) : 0;
+    const int border = film_sampled_border(film);
     std::vector<Tile> tiles;
     for (int y = 0; y < area.y; y += TileSize)
         for (int x = 0; x < area.x; x += TileSize) {
@@ -385,8 +384,11 @@ Ref<Sampler> configured_sampler(const Scene& scene, const RenderOptions& options
         sampler->set_sample_count(own.sample_count());
         sampler->set_seed(own.seed());
     }
-    sampler->set_film_size(scene.sensor().film().full_size());
-    if (options.spp > 0) sampler->set_sample_count(options.spp);
+    sampler->set_film(scene.sensor().film().full_size(), film_sampled_border(scene.sensor().film()));
+    if (options.spp != 0) {
+        if (std::string problem = sample_count_problem(options.spp); !problem.empty()) throw InputError("--spp: " + problem);
+        sampler->set_sample_count(options.spp);
+    }
     if (options.seed) sampler->set_seed(*options.seed);
     return sampler;
 }

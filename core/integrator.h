@@ -57,12 +57,23 @@ struct RenderOptions {
     std::function<void(const PixelSums& sums, const std::vector<CoverageBox>& coverage)> checkpoint;
 };
 
-struct RenderStats {
+// What rendering took. The renders of a split or resumed render add theirs up (add_work): the
+// one place these counters are summed.
+struct RenderWork {
     double seconds = 0.0;
     uint64_t samples = 0;    // camera samples taken
     uint64_t rays = 0;       // closest-hit and shadow rays traced
     uint64_t nonfinite = 0;  // samples dropped because they were NaN, infinite or beyond 1e30 (storable_sample_value)
-    int spp = 0;             // samples per pixel requested (after the sampler's rounding)
+    void add_work(const RenderWork& other) {
+        seconds += other.seconds;
+        samples += other.samples;
+        rays += other.rays;
+        nonfinite += other.nonfinite;
+    }
+};
+
+struct RenderStats : RenderWork {
+    int spp = 0;  // samples per pixel requested (after the sampler's rounding)
     uint64_t seed = 0;
     std::string sampler;   // the sampler's plugin name
     bool partial = false;  // interrupted before all samples were taken
@@ -147,7 +158,8 @@ public:
 };
 
 // The scene's sampler, or the one the options name with the scene's sample count and seed, with
-// the render's sample count and seed (what render() samples with).
+// the render's sample count and seed, told the film's size and border: how every integrator gets
+// its sampler (render()'s pixel loop, sppm's camera passes with one sample per pass).
 Ref<Sampler> configured_sampler(const Scene& scene, const RenderOptions& options);
 
 // The pixels the samples of `region` splat onto: the region grown by the film filter's reach and

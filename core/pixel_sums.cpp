@@ -7,6 +7,16 @@
 
 namespace candela {
 
+bool rect_inside(const ImageRect& inner, const ImageRect& outer) {
+    if (inner.empty()) return false;
+    for (int axis = 0; axis < 2; ++axis) {
+        const int64_t lo = inner.offset[axis], hi = lo + int64_t(inner.size[axis]);
+        const int64_t outer_lo = outer.offset[axis], outer_hi = outer_lo + int64_t(outer.size[axis]);
+        if (lo < outer_lo || hi > outer_hi) return false;
+    }
+    return true;
+}
+
 void PixelStats::add(const Spectrum& L, const FirstHitAovs& aov, uint32_t index) {
     n++;
     const bool a = in_class_a(index);
@@ -160,11 +170,9 @@ PixelSums::PixelSums(const ImageRect& rect, const SampleLayout& values, const Ao
 }
 
 void PixelSums::add(const PixelSums& other) {
-    const Vec2i at = other.rect_.offset - rect_.offset;
-    const Vec2i end = at + other.rect_.size;
-    if (at.x < 0 || at.y < 0 || end.x > rect_.size.x || end.y > rect_.size.y || other.has_stats() != has_stats() ||
-        other.stride() != stride())
+    if ((!other.rect_.empty() && !rect_inside(other.rect_, rect_)) || other.has_stats() != has_stats() || other.stride() != stride())
         throw InputError("sums of another region or layout cannot be added");
+    const Vec2i at = other.rect_.offset - rect_.offset;
     const int n = stride();
     for (int y = 0; y < other.rect_.size.y; ++y)
         for (int x = 0; x < other.rect_.size.x; ++x) {

@@ -27,6 +27,12 @@ struct ImageRect {
     bool empty() const { return size.x <= 0 || size.y <= 0; }
 };
 
+// Whether `inner` is non-empty and lies inside `outer`, computed in 64 bits: a rectangle read from
+// a file or a command line may reach beyond an int (offset + size). The one such test of the
+// pixel loop, the resumable render and the part files.
+bool rect_inside(const ImageRect& inner, const ImageRect& outer);
+inline bool rect_inside_image(const ImageRect& rect, const Vec2i& image) { return rect_inside(rect, ImageRect{Vec2i(0), image}); }
+
 // Sample indices `samples` of the pixels `rect`: what a part of a split render, or an
 // interrupted render, holds. Sums hold every splat those samples make (also on pixels around
 // `rect`, within the filter's reach), so that boxes that do not overlap add up.

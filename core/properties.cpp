@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 
 namespace candela {
 
@@ -88,11 +89,17 @@ static double as_double(const Properties::Value& v) {
 
 int Properties::get_int(const std::string& name) const {
     const Entry& e = require(name, Type::Integer);
-    return int(std::get<int64_t>(e.value));
+    return checked_int(name, std::get<int64_t>(e.value));
 }
 int Properties::get_int(const std::string& name, int def) const {
     const Entry* e = find(name, Type::Integer);
-    return e ? int(std::get<int64_t>(e->value)) : def;
+    return e ? checked_int(name, std::get<int64_t>(e->value)) : def;
+}
+int Properties::checked_int(const std::string& name, int64_t value) const {
+    if (value < std::numeric_limits<int>::min() || value > std::numeric_limits<int>::max())
+        fail(name, name + " = " + std::to_string(value) + " lies beyond the integers Candela reads (" +
+                       std::to_string(std::numeric_limits<int>::min()) + " to " + std::to_string(std::numeric_limits<int>::max()) + ")");
+    return int(value);
 }
 float Properties::get_float(const std::string& name) const { return float(as_double(require(name, Type::Float).value)); }
 float Properties::get_float(const std::string& name, float def) const {

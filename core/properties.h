@@ -102,6 +102,8 @@ public:
     void check_all_used() const;
     // Throws a SceneError at the location of a property (or of the plugin when absent).
     [[noreturn]] void fail(const std::string& name, const std::string& message) const;
+    // `value` as an int, or a failure at `name`'s line when it does not fit one.
+    int checked_int(const std::string& name, int64_t value) const;
     [[noreturn]] void fail(const std::string& message) const;
     SourceLocation location_of(const std::string& name) const;
 

@@ -12,6 +12,8 @@
 #include "core/object.h"
 #include "core/rng.h"
 
+#include <string>
+
 namespace candela {
 
 class Properties;
@@ -23,18 +25,30 @@ public:
     int sample_count() const { return sample_count_; }
     // Samplers that need a particular count (a square, a power of two, ...) round `spp` up as
     // Mitsuba (or pbrt-v4, for sobol and zsobol) does; sample_count() then gives the rounded count.
-    virtual void set_sample_count(int spp) { sample_count_ = spp; }
+    // `spp` must lie in [1, MaxSampleCount] (check_sample_count says so to the user first).
+    void set_sample_count(int spp);
     uint64_t seed() const { return seed_; }
     void set_seed(uint64_t seed) { seed_ = seed; }
-    // The size of the whole film in pixels. Samplers whose sequences span the image (sobol,
-    // zsobol) need it; the sensor tells its sampler when both are built.
-    virtual void set_film_size(const Vec2i& size) {}
+    // The pixels this sampler serves: a film of `size` pixels and the ring of `border` pixels
+    // around it that a crop's sample_border may sample (film_sampled_border). Samplers whose
+    // sequences span the image (sobol, zsobol) lay them over all of these; every sampler checks
+    // that start() stays inside. The sensor tells its sampler when both are built.
+    void set_film(const Vec2i& size, int border);
+    Vec2i film_size() const { return film_size_; }
+    int film_border() const { return film_border_; }
 
     // Each thread works on its own copy.
     virtual Ref<Sampler> clone() const = 0;
-    // Positions the sampler at sample `index` (below sample_count()) of `pixel` (film
-    // coordinates, crop included), at dimension 0.
-    virtual void start(const Vec2i& pixel, uint32_t index) = 0;
+    // Positions the sampler at sample `index` of `pixel` (film coordinates, crop included), at
+    // dimension 0. The contract, checked in every build (a wrong index would walk a permutation's
+    // cycles forever, a wrong pixel read past a sequence's tables): index below sample_count(),
+    // pixel inside the film plus its border. A call outside it throws InternalError.
+    void start(const Vec2i& pixel, uint32_t index) {
+        if (index >= uint32_t(sample_count_) || pixel.x < -film_border_ || pixel.y < -film_border_ ||
+            pixel.x >= film_size_.x + film_border_ || pixel.y >= film_size_.y + film_border_)
+            refuse_start(pixel, index);
+        start_sample(pixel, index);
+    }
     // Continues at dimension `d` (see SampleDimensions).
     void set_dimension(uint32_t d) { dimension_ = d; }
     uint32_t dimension() const { return dimension_; }
@@ -45,10 +59,29 @@ public:
     virtual bool stratified_only_as_a_whole() const { return false; }
 
 protected:
+    // start() once the contract holds.
+    virtual void start_sample(const Vec2i& pixel, uint32_t index) = 0;
+    // The rounded count for `spp` (in [1, MaxSampleCount]); the default keeps it. Samplers that
+    // derive more from the count (a grid's resolution) set it here too.
+    virtual int round_sample_count(int spp) { return spp; }
+    // Called after set_film() (sobol and zsobol rebuild what depends on the film's size).
+    virtual void film_changed() {}
+
     int sample_count_ = 4;
     uint64_t seed_ = 0;
     uint32_t dimension_ = 0;  // the next dimension handed out
+    Vec2i film_size_{1};
+    int film_border_ = 0;
+
+private:
+    [[noreturn]] void refuse_start(const Vec2i& pixel, uint32_t index) const;
 };
+
+// The most samples per pixel any sampler takes: 2^30, so that counts, their rounding (up to a
+// square or a power of two) and sample indices fit an int.
+constexpr int MaxSampleCount = 1 << 30;
+// Why `spp` is not a sample count a sampler can take ("" when it is): whole, in [1, 2^30].
+std::string sample_count_problem(int64_t spp);
 
 // The sampler of a sensor that names none: the one that measured best (bench/bench_samplers.cpp;
 // README says why).

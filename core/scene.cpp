@@ -95,16 +95,15 @@ Spectrum Scene::transmittance(const Ray& shadow_ray) const {
 }
 
 Spectrum Scene::transmittance(const Ray& shadow_ray, const Medium* medium, PCG32& rng) const {
-    // Cross the surfaces one by one; a ray that keeps meeting surfaces after this many crossings
-    // (coplanar layers that the offsets cannot separate) is taken as blocked rather than looping.
-    const int MaxCrossings = 256;
+    // Cross the surfaces one by one, at most MaxNullCrossings of them.
     Spectrum T(1.0f);
     Ray ray = unit_direction(shadow_ray);  // distances along it are measured below
-    for (int crossed = 0; crossed < MaxCrossings; ++crossed) {
+    for (int crossed = 0;; ++crossed) {
         SurfaceInteraction si;
         bool found = intersect(ray, si);
         if (medium) T *= medium->transmittance(ray, found ? si.t : ray.tmax, rng);
         if (!found || is_black(T)) return T;
+        if (crossed == MaxNullCrossings) return Spectrum(0.0f);
         T *= si.shape->bsdf()->null_transmission(si);
         if (is_black(T)) return T;
         if (si.shape->is_medium_transition()) medium = si.shape->target_medium(si, ray.d);
@@ -115,7 +114,6 @@ Spectrum Scene::transmittance(const Ray& shadow_ray, const Medium* medium, PCG32
         ray = Ray(origin, ray.d, remaining);
         ray.time = time;
     }
-    return Spectrum(0.0f);
 }
 
 Spectrum Scene::eval_environment(const Vec3& d) const {

@@ -14,6 +14,12 @@
 
 namespace candela {
 
+// The most surfaces with a Null lobe (null, mask, polarizer) that one ray crosses without
+// scattering: a shadow ray, or a path between two scattering vertices. A ray that keeps meeting
+// such surfaces (coplanar layers the ray offsets cannot separate, a degenerate stack) is taken as
+// blocked rather than followed forever.
+constexpr int MaxNullCrossings = 256;
+
 class Scene : public Object {
 public:
     explicit Scene(const Properties& props);
@@ -30,8 +36,6 @@ public:
     // its medium's transmittance (ratio tracking draws from `rng`), and the medium changes where
     // the ray crosses a shape with an interior or exterior medium.
     Spectrum transmittance(const Ray& ray, const Medium* medium, PCG32& rng) const;
-    // Whether any shape's BSDF lets light pass straight through (a Null lobe).
-    bool has_null_surfaces() const { return has_null_surfaces_; }
     // Whether any shape or the sensor carries a participating medium.
     bool has_media() const { return has_media_; }
     // Whether a shape, the sensor or an emitter has an animated to_world (motion blur).

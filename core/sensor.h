@@ -81,7 +81,7 @@ public:
     // Replaces the sampler (candela render --sampler) and tells it the film's size.
     void set_sampler(Ref<Sampler> sampler) {
         sampler_ = std::move(sampler);
-        sampler_->set_film_size(film_->full_size());
+        sampler_->set_film(film_->full_size(), film_sampled_border(*film_));
     }
     // The camera's pose at the shutter's opening (the rasterizer's, and the light tracers').
     const Transform& to_world() const { return to_world_; }

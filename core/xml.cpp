@@ -11,6 +11,7 @@
 #include <pugixml.hpp>
 
 #include <algorithm>
+#include <cerrno>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -499,8 +500,10 @@ private:
             check_attributes(doc, node, {"name", "value"});
             std::string v = trim(attr(doc, node, "value"));
             char* end = nullptr;
+            errno = 0;
             long long i = std::strtoll(v.c_str(), &end, 10);
             if (v.empty() || end != v.c_str() + v.size()) throw SceneError(loc, "\"" + v + "\" is not an integer");
+            if (errno == ERANGE) throw SceneError(loc, "\"" + v + "\" is too large for an integer");
             props.set(property_name(doc, node), Properties::Type::Integer, int64_t(i), loc);
         } else if (tag == "float") {
             check_attributes(doc, node, {"name", "value"});

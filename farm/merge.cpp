@@ -83,15 +83,12 @@ PartHeader summed_header(const MergeSet& set) {
     h.host = set.parts[0].host;
     h.rendered_parts = 0;
     for (const PartHeader& p : set.parts) {
-        h.render_seconds += p.render_seconds;
+        h.work.add_work(p.work);
         h.started = std::min(h.started, p.started);
         h.finished = std::max(h.finished, p.finished);
         if (p.host != h.host) h.host = "several";
         h.rendered_parts += p.rendered_parts;
         h.partial = h.partial || p.partial;
-        h.samples += p.samples;
-        h.rays += p.rays;
-        h.nonfinite += p.nonfinite;
         h.coverage.insert(h.coverage.end(), p.coverage.begin(), p.coverage.end());
     }
     h.coverage = coalesce(h.coverage);
@@ -149,10 +146,7 @@ Image merge_image(const MergeSet& set) {
     const PartHeader h = summed_header(set);
     const RenderIdentity& id = set.identity;
     RenderStats stats;  // of all the parts together
-    stats.seconds = h.render_seconds;
-    stats.samples = h.samples;
-    stats.rays = h.rays;
-    stats.nonfinite = h.nonfinite;
+    stats.add_work(h.work);
     stats.spp = id.spp;
     stats.seed = id.seed;
     stats.sampler = id.sampler;

@@ -1,12 +1,14 @@
 #include "farm/part_file.h"
 
 #include "core/error.h"
+#include "core/sampler.h"
 #include "core/scene.h"
 #include "core/text.h"
 
 #include <candela/version.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -233,14 +235,14 @@ void write_part(const std::string& path, const PixelSums& sums, const PartHeader
     m["candela.coverage"] = format_coverage(header.coverage);
     m["candela.partial"] = header.partial ? "true" : "false";
     m["candela.origin"] = std::to_string(sums.rect().offset.x) + "," + std::to_string(sums.rect().offset.y);
-    m["candela.renderTime"] = format_seconds(header.render_seconds);
+    m["candela.renderTime"] = format_seconds(header.work.seconds);
     m["candela.started"] = format_seconds(header.started);
     m["candela.finished"] = format_seconds(header.finished);
     m["candela.host"] = header.host;
     m["candela.renderedParts"] = std::to_string(header.rendered_parts);
-    m["candela.samples"] = std::to_string(header.samples);
-    m["candela.rays"] = std::to_string(header.rays);
-    m["candela.nonfiniteSamples"] = std::to_string(header.nonfinite);
+    m["candela.samples"] = std::to_string(header.work.samples);
+    m["candela.rays"] = std::to_string(header.work.rays);
+    m["candela.nonfiniteSamples"] = std::to_string(header.work.nonfinite);
     write_exr(img, path, true);
 }
 
@@ -280,14 +282,14 @@ PartHeader read_part_header(const std::string& path) {
     if (std::sscanf(r.text("candela.origin").c_str(), "%d,%d", &h.rect.offset.x, &h.rect.offset.y) != 2)
         throw InputError(path + ": part metadata candela.origin is not X,Y");
     h.rect.size = Vec2i(file.width, file.height);
-    h.render_seconds = r.number<double>("candela.renderTime");
+    h.work.seconds = r.number<double>("candela.renderTime");
     h.started = r.number<double>("candela.started");
     h.finished = r.number<double>("candela.finished");
     h.host = r.text_or_empty("candela.host");
     h.rendered_parts = r.number<int>("candela.renderedParts");
-    h.samples = r.number<uint64_t>("candela.samples");
-    h.rays = r.number<uint64_t>("candela.rays");
-    h.nonfinite = r.number<uint64_t>("candela.nonfiniteSamples");
+    h.work.samples = r.number<uint64_t>("candela.samples");
+    h.work.rays = r.number<uint64_t>("candela.rays");
+    h.work.nonfinite = r.number<uint64_t>("candela.nonfiniteSamples");
     SampleLayout values;
     try {
         values = id.values();
@@ -300,13 +302,10 @@ PartHeader read_part_header(const std::string& path) {
     if (found != expected)
         throw InputError(path + ": its channels are not those of a part with film channels \"" + id.film_channels +
                          "\", integrator channels \"" + id.integrator_channels + "\" and AOVs \"" + id.aovs + "\"");
-    const Vec2i end = h.rect.offset + h.rect.size;
-    bool inside = h.rect.offset.x >= 0 && h.rect.offset.y >= 0 && end.x <= id.image.x && end.y <= id.image.y;
-    for (const CoverageBox& b : h.coverage) {
-        const Vec2i b1 = b.rect.offset + b.rect.size;
-        inside = inside && b.rect.offset.x >= h.rect.offset.x && b.rect.offset.y >= h.rect.offset.y && b1.x <= end.x && b1.y <= end.y &&
-                 b.samples.end <= id.spp;
-    }
+    if (id.image.x <= 0 || id.image.y <= 0) throw InputError(path + ": part metadata candela.imageSize is not a positive size");
+    if (!sample_count_problem(id.spp).empty()) throw InputError(path + ": part metadata candela.spp: " + sample_count_problem(id.spp));
+    bool inside = rect_inside_image(h.rect, id.image);
+    for (const CoverageBox& b : h.coverage) inside = inside && rect_inside(b.rect, h.rect) && b.samples.end <= id.spp;
     if (!inside) throw InputError(path + ": its coverage " + format_coverage(h.coverage) + " lies outside its image or samples");
     return h;
 }
@@ -319,15 +318,28 @@ void add_part(const PartHeader& h, PixelSums& image_sums) {
         if (name.find('.') != std::string::npos) index.push_back(part.channel_index(name));  // not R, G, B: the image
     if (part.width() != h.rect.size.x || part.height() != h.rect.size.y || std::count(index.begin(), index.end(), -1) > 0)
         throw InputError(h.path + ": changed while merging");
+    if (!rect_inside(h.rect, image_sums.rect())) throw InputError(h.path + ": lies outside the merged area");
     const Vec2i at = h.rect.offset - image_sums.rect().offset;
-    if (at.x < 0 || at.y < 0 || at.x + part.width() > image_sums.size().x || at.y + part.height() > image_sums.size().y)
-        throw InputError(h.path + ": lies outside the merged area");
     const AovLayout& layout = image_sums.layout();
+    auto pixel_name = [&](int x, int y) { return std::to_string(h.rect.offset.x + x) + "," + std::to_string(h.rect.offset.y + y); };
     for (int y = 0; y < part.height(); ++y)
         for (int x = 0; x < part.width(); ++x) {
             const int ix = at.x + x, iy = at.y + y;
             int c = 0;
-            auto value = [&](int channel) { return double(part.at(x, y, index[channel])); };
+            // A part holds finite sums and whole sample counts; anything else is a damaged or
+            // crafted file, refused before it reaches the image.
+            auto value = [&](int channel) {
+                const double v = part.at(x, y, index[channel]);
+                if (!std::isfinite(v)) throw InputError(h.path + ": holds a non-finite sum at pixel " + pixel_name(x, y));
+                return v;
+            };
+            auto count = [&]() {
+                const double v = value(c++);
+                if (!(v >= 0.0 && v <= double(UINT32_MAX) && v == std::floor(v)))
+                    throw InputError(h.path + ": holds a sample count that is not a whole number in [0, 2^32) at pixel " +
+                                     pixel_name(x, y));
+                return uint32_t(v);
+            };
             auto next = [&]() { return value(c++); };
             auto add_hi_lo = [&](double* sum) {
                 for (int k = 0; k < 3; ++k) sum[k] += value(c + k) + value(c + 3 + k);
@@ -337,8 +349,8 @@ void add_part(const PartHeader& h, PixelSums& image_sums) {
             for (int k = 0; k < image_sums.stride(); ++k) f[k] += next();
             if (!layout.pixel_stats()) continue;
             PixelStats& ps = image_sums.stats_at(ix, iy);
-            ps.n += uint32_t(next());
-            ps.taken += layout.samples() ? uint32_t(next()) : 0;
+            ps.n += count();
+            ps.taken += layout.samples() ? count() : 0;
             if (layout.albedo())
                 for (double& v : ps.albedo) v += next();
             if (layout.normal())

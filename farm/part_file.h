@@ -79,11 +79,10 @@ struct PartHeader {
     std::vector<CoverageBox> coverage;
     bool partial = false;                  // interrupted: it holds less than it was asked to
     ImageRect rect;                        // where the file's pixels lie in the image (write_part: sums.rect())
-    double render_seconds = 0.0;           // summed over the rendered parts it holds
     double started = 0.0, finished = 0.0;  // seconds since the epoch: first start, last finish
     std::string host;
     int rendered_parts = 1;
-    uint64_t samples = 0, rays = 0, nonfinite = 0;  // RenderStats, summed
+    RenderWork work;  // summed over the rendered parts it holds
 };
 
 // Writes the part atomically (a killed writer leaves nothing under `path`, or the file that was

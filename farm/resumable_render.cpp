@@ -20,9 +20,7 @@ std::string host_name() {
 }
 
 bool inside(const CoverageBox& box, const CoverageBox& target) {
-    const Vec2i b1 = box.rect.offset + box.rect.size, t1 = target.rect.offset + target.rect.size;
-    return box.rect.offset.x >= target.rect.offset.x && box.rect.offset.y >= target.rect.offset.y && b1.x <= t1.x && b1.y <= t1.y &&
-           box.samples.begin >= target.samples.begin && box.samples.end <= target.samples.end;
+    return rect_inside(box.rect, target.rect) && box.samples.begin >= target.samples.begin && box.samples.end <= target.samples.end;
 }
 
 // Reads the part to continue into `result`, after checking that it belongs to this render.
@@ -37,12 +35,9 @@ void resume_from(const std::string& path, const CoverageBox& target, ResumableRe
     add_part(h, result.sums);
     PartHeader& r = result.header;
     r.coverage = h.coverage;
-    r.render_seconds = h.render_seconds;
+    r.work = h.work;
     r.started = h.started;
     r.host = h.host;
-    r.samples = h.samples;
-    r.rays = h.rays;
-    r.nonfinite = h.nonfinite;
 }
 
 // Adds one render of a missing box into `result`.
@@ -55,15 +50,8 @@ void add_render(RenderResult& part, ResumableResult& result) {
     else
         result.sums.add(part.sums);
     h.coverage.insert(h.coverage.end(), part.coverage.begin(), part.coverage.end());
-    h.render_seconds += part.stats.seconds;
-    h.samples += part.stats.samples;
-    h.rays += part.stats.rays;
-    h.nonfinite += part.stats.nonfinite;
-    RenderStats& s = result.stats;
-    s.seconds += part.stats.seconds;
-    s.samples += part.stats.samples;
-    s.rays += part.stats.rays;
-    s.nonfinite += part.stats.nonfinite;
+    h.work.add_work(part.stats);
+    result.stats.add_work(part.stats);
 }
 
 // What is rendered so far plus what the running render holds, written as a part.
@@ -88,8 +76,7 @@ void write_checkpoint(const ResumableResult& so_far, const PixelSums& running, c
 
 // The target must be pixels of the image and sample indices of the render.
 void check_target(const CoverageBox& t, const Vec2i& image, int spp) {
-    const Vec2i end = t.rect.offset + t.rect.size;
-    if (t.rect.empty() || t.rect.offset.x < 0 || t.rect.offset.y < 0 || end.x > image.x || end.y > image.y)
+    if (!rect_inside_image(t.rect, image))
         throw InputError("region " + format_rect(t.rect) + " is not inside the " + std::to_string(image.x) + " x " +
                          std::to_string(image.y) + " image");
     if (t.samples.begin < 0 || t.samples.empty() || t.samples.end > spp)

@@ -42,11 +42,11 @@ std::string check_part(const FarmTask& t, const PartHeader& h, const RenderIdent
 }
 
 std::string time_left(const std::vector<PartHeader>& done, size_t missing) {
-    double total = 0.0, lo = done[0].render_seconds, hi = lo, start = done[0].started, end = done[0].finished;
+    double total = 0.0, lo = done[0].work.seconds, hi = lo, start = done[0].started, end = done[0].finished;
     for (const PartHeader& h : done) {
-        total += h.render_seconds;
-        lo = std::min(lo, h.render_seconds);
-        hi = std::max(hi, h.render_seconds);
+        total += h.work.seconds;
+        lo = std::min(lo, h.work.seconds);
+        hi = std::max(hi, h.work.seconds);
         start = std::min(start, h.started);
         end = std::max(end, h.finished);
     }

@@ -61,7 +61,8 @@ public:
     Spectrum sample_radiance(const Scene& scene, Sampler& sampler, const Ray& camera_ray, SampleRecord& record) const override {
         Spectrum L(0.0f), beta(1.0f);
         Ray ray = camera_ray;
-        for (bool first = true;; first = false) {
+        for (int crossed = 0; crossed <= MaxNullCrossings; ++crossed) {
+            const bool first = crossed == 0;
             SurfaceInteraction si;
             if (!scene.intersect(ray, si)) {
                 if (!hide_emitters_) L += beta * scene.eval_environment(ray.d);
@@ -78,6 +79,7 @@ public:
             if (is_black(beta)) return L;
             ray = si.spawn_ray(ray.d);
         }
+        return L;  // more null surfaces than a ray crosses: blocked
     }
 
     std::string to_string() const override { return "direct"; }
@@ -108,7 +110,7 @@ private:
     // environment, each weighted against light sampling.
     Spectrum emission_along(const Scene& scene, Ray ray, const SurfaceInteraction& from, float pdf, bool delta) const {
         Spectrum L(0.0f), T(1.0f);
-        for (;;) {
+        for (int crossed = 0; crossed <= MaxNullCrossings; ++crossed) {
             SurfaceInteraction si;
             if (!scene.intersect(ray, si)) return L + T * environment_mis(scene, *lights_, from, ray.d, pdf, delta, shares_);
             if (const Emitter* emitter = si.shape->emitter()) {
@@ -121,6 +123,7 @@ private:
             if (is_black(T)) return L;
             ray = si.spawn_ray(ray.d);
         }
+        return L;
     }
 
     int emitter_samples_ = 1, bsdf_samples_ = 1;

@@ -3,9 +3,12 @@
 #include "core/bsdf.h"
 #include "core/parallel.h"
 #include "core/registry.h"
+#include "core/sampler.h"
 #include "core/scene.h"
 
 #include <tbb/task_arena.h>
+
+#include <limits>
 
 namespace candela {
 
@@ -44,10 +47,20 @@ struct Sums {
     }
 };
 
-// The independent sampler, which the estimators draw from as if sample i were a pixel.
-Ref<Sampler> estimator_sampler(uint64_t seed) {
+// The estimators draw from the independent sampler as if their work items (samples, or points)
+// were the pixels of a film RowLength wide, each taking `samples_per_item` samples.
+constexpr uint64_t RowLength = 65536;
+Vec2i item_pixel(uint64_t item) { return Vec2i(int(item % RowLength), int(item / RowLength)); }
+
+Ref<Sampler> estimator_sampler(uint64_t seed, uint64_t items, uint64_t samples_per_item) {
+    const uint64_t rows = (std::max<uint64_t>(items, 1) + RowLength - 1) / RowLength;
+    if (rows > uint64_t(std::numeric_limits<int>::max())) throw InputError("too many estimator work items (" + std::to_string(items) + ")");
+    if (std::string problem = sample_count_problem(int64_t(std::min<uint64_t>(samples_per_item, uint64_t(INT64_MAX)))); !problem.empty())
+        throw InputError("estimator samples per point: " + problem);
     Ref<Sampler> sampler = create_plugin_as<Sampler>(ObjectKind::Sampler, Properties("independent", SourceLocation{"<estimator>", 0}));
     sampler->set_seed(seed);
+    sampler->set_sample_count(int(samples_per_item));
+    sampler->set_film(Vec2i(int(RowLength), int(rows)), 0);
     return sampler;
 }
 
@@ -60,11 +73,11 @@ Estimate run(const EstimatorOptions& options, F one) {
     tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
     arena.execute([&] {
         // Random numbers for sample i: the independent sampler, positioned as "pixel" i.
-        Ref<Sampler> prototype = estimator_sampler(options.seed);
+        Ref<Sampler> prototype = estimator_sampler(options.seed, options.samples, 1);
         parallel_for(size_t(chunks), [&](uint64_t c) {
             Ref<Sampler> sampler = prototype->clone();
             for (uint64_t i = c * chunk; i < std::min(options.samples, (c + 1) * chunk); ++i) {
-                sampler->start(Vec2i(int(i & 0x7fffffff), int(i >> 31)), 0);
+                sampler->start(item_pixel(i), 0);
                 partial[c].add(one(*sampler));
             }
         });
@@ -133,7 +146,7 @@ std::vector<Spectrum> estimate_irradiance_at(const Scene& scene, const std::vect
     std::vector<Spectrum> out(points.size(), Spectrum(0.0f));
     tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
     arena.execute([&] {
-        Ref<Sampler> prototype = estimator_sampler(options.seed);
+        Ref<Sampler> prototype = estimator_sampler(options.seed, points.size(), std::max<uint64_t>(options.samples, 1));
         parallel_chunks(points.size(), 16, [&](size_t begin, size_t end) {
             Ref<Sampler> sampler = prototype->clone();
             for (size_t i = begin; i != end; ++i) {
@@ -141,7 +154,7 @@ std::vector<Spectrum> estimate_irradiance_at(const Scene& scene, const std::vect
                 Spectrum sum(0.0f);
                 uint64_t n = 0;
                 for (uint64_t s = 0; s < options.samples; ++s) {
-                    sampler->start(Vec2i(int(i & 0x7fffffff), int(i >> 31)), uint32_t(s));
+                    sampler->start(item_pixel(i), uint32_t(s));
                     Spectrum v = Pi * path.continue_path(scene, *sampler, vertex, white, 0);
                     if (!all_finite(v)) continue;
                     sum += v;

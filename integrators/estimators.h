@@ -31,7 +31,7 @@ struct EstimatorOptions {
 
 Estimate estimate_irradiance(const Scene& scene, const Vec3& p, const Vec3& n, const EstimatorOptions& options);
 // The irradiance at many points at once (the mean of options.samples paths at each), for
-// baking: point i draws the random numbers of "pixel" (i, 0) of options.seed, so the values do
+// baking: point i draws the random numbers of one "pixel" of options.seed, so the values do
 // not depend on the thread count; non-finite samples are dropped.
 std::vector<Spectrum> estimate_irradiance_at(const Scene& scene, const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
                                              const EstimatorOptions& options);

@@ -1,13 +1,16 @@
 #include "integrators/light_paths.h"
 
 #include "core/random_2d.h"
+#include "core/sampler.h"
 
 namespace candela {
 
 SampleSettings sample_settings(const Scene& scene, const RenderOptions& options) {
+    // The count and seed of the sampler the pixel loop would use (rounded as it rounds them).
+    const Ref<Sampler> sampler = configured_sampler(scene, options);
     SampleSettings s;
-    s.spp = options.spp > 0 ? options.spp : scene.sensor().sampler().sample_count();
-    s.seed = options.seed ? *options.seed : scene.sensor().sampler().seed();
+    s.spp = sampler->sample_count();
+    s.seed = sampler->seed();
     return s;
 }
 

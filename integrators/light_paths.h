@@ -41,7 +41,8 @@ struct LightPathStart {
 
 // The sample count and seed of a render: the sensor's sampler, unless the options override them.
 // Light-path integrators read "samples per pixel" as light paths per pixel (ptracer) or passes
-// (sppm).
+// (sppm): the count and seed of configured_sampler(), so --spp, --seed and --sampler (its
+// rounding) mean what they mean for the pixel loop.
 struct SampleSettings {
     int spp = 1;
     uint64_t seed = 0;

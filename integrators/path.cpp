@@ -88,6 +88,7 @@ Spectrum PathIntegrator::continue_path(const Scene& scene, Sampler& sampler, con
     SurfaceInteraction from = start;
     float from_pdf = 0.0f;
     bool from_delta = true;
+    int null_crossings = 0;  // since the last scattering vertex, at most MaxNullCrossings
     // Sample dimensions: every vertex the path meets (a Null crossing included) claims its own
     // block of SampleDimensions, used or not, so that vertex k always draws the same dimensions.
     for (uint32_t vertex = depth;; ++vertex) {
@@ -110,6 +111,8 @@ Spectrum PathIntegrator::continue_path(const Scene& scene, Sampler& sampler, con
         if (!bs.valid() || is_black(bs.weight)) break;
         beta *= bs.weight;
         bool scattered = bs.lobe != Null;
+        null_crossings = scattered ? 0 : null_crossings + 1;
+        if (null_crossings > MaxNullCrossings) break;
         if (scattered) {
             eta *= bs.eta;
             from = si;

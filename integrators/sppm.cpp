@@ -236,8 +236,10 @@ RenderResult SPPMIntegrator::render(const Scene& scene, const RenderOptions& opt
     std::vector<PixelState> state(pixels);
     for (PixelState& s : state) s.radius = initial_radius_ > 0.0f ? initial_radius_ : 5.0f * scene_radius / float(std::max(full.x, full.y));
     const FilterSampler filter(film.filter());
-    Ref<Sampler> prototype = scene.sensor().sampler().clone();
-    prototype->set_seed(samples.seed);
+    // Pass k takes sample k of every pixel: the sampler counts the passes.
+    RenderOptions camera_options = options;
+    camera_options.spp = passes;
+    const Ref<Sampler> prototype = configured_sampler(scene, camera_options);
     tbb::enumerable_thread_specific<Ref<Sampler>> samplers([&] { return prototype->clone(); });
     tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
     ProgressReporter progress("Rendering", uint64_t(passes), options.progress, "passes");
@@ -314,6 +316,7 @@ RenderResult SPPMIntegrator::render(const Scene& scene, const RenderOptions& opt
     st.rays = rays;
     st.spp = passes;
     st.seed = samples.seed;
+    st.sampler = prototype->to_string();
     st.partial = done < passes;
     return result;
 }

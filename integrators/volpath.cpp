@@ -119,7 +119,8 @@ Spectrum VolPathIntegrator::trace(const Scene& scene, Sampler& sampler, Ray ray,
     Spectrum L(0.0f);
     float eta = 1.0f;
     ScatterVertex from;
-    uint32_t depth = 0;  // scattering events so far
+    uint32_t depth = 0;      // scattering events so far
+    int null_crossings = 0;  // since the last scattering event, at most MaxNullCrossings
     // Sample dimensions: every vertex (surface, null surface or real collision) claims a block.
     for (uint32_t vertex = 0;; ++vertex) {
         const uint32_t dims = SampleDimensions::bounce(vertex);
@@ -146,6 +147,7 @@ Spectrum VolPathIntegrator::trace(const Scene& scene, Sampler& sampler, Ray ray,
                 w.beta *= ps.weight;
                 from = ScatterVertex{at, ps.pdf, !medium->sample_emitters()};
                 ++depth;
+                null_crossings = 0;
                 ray = Ray(at.p, ps.wo);
                 ray.time = at.time;
                 if (!roulette(sampler, dims, depth, eta, w)) break;
@@ -181,6 +183,8 @@ Spectrum VolPathIntegrator::trace(const Scene& scene, Sampler& sampler, Ray ray,
         }
         w.beta *= bs.weight;
         bool scattered = bs.lobe != Null;
+        null_crossings = scattered ? 0 : null_crossings + 1;
+        if (null_crossings > MaxNullCrossings) break;
         if (scattered) {
             record.valid = true;
             eta *= bs.eta;

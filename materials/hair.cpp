@@ -217,7 +217,11 @@ private:
         in.A[0] = Spectrum(F);
         in.A[1] = sqr(1.0f - F) * T;
         for (int p = 2; p < PMax; ++p) in.A[p] = in.A[p - 1] * T * F;
-        in.A[PMax] = in.A[PMax - 1] * F * T / (Spectrum(1.0f) - T * F);
+        // The remainder's geometric series, sum over k >= PMax of A[PMax - 1] (T F)^(k - PMax + 1). With
+        // T F = 1 (a lossless fibre at grazing incidence, F = 1) A[PMax - 1] holds (1 - F)^2 = 0 and so
+        // does the sum.
+        const Spectrum remainder = in.A[PMax - 1] * F * T, denominator = Spectrum(1.0f) - T * F;
+        for (int c = 0; c < 3; ++c) in.A[PMax][c] = denominator[c] > 0.0f ? remainder[c] / denominator[c] : 0.0f;
         return true;
     }
 

@@ -18,6 +18,7 @@
 #include "core/registry.h"
 #include "core/texture.h"
 #include "core/warp.h"
+#include "materials/coating.h"
 #include "materials/fresnel.h"
 #include "materials/ior.h"
 
@@ -31,9 +32,7 @@ public:
         specular_ = props.get_reflectance("specular_reflectance", Spectrum(1.0f));
         nonlinear_ = props.get_bool("nonlinear", false);
         fdr_int_ = fresnel_diffuse_reflectance(1.0f / eta_);
-        // Lobe selection favours the brighter component (Mitsuba's specular_sampling_weight).
-        float d = average(diffuse_->mean()), s = average(specular_->mean());
-        specular_weight_ = s / (d + s);
+        specular_weight_ = specular_sampling_weight(*specular_, *diffuse_);
         flags_ = DeltaReflection | DiffuseReflection;
     }
 
@@ -88,17 +87,12 @@ public:
 
 private:
     float specular_probability(const BSDFContext& ctx, float Fi) const {
-        bool has_s = ctx.allows(DeltaReflection), has_d = ctx.allows(DiffuseReflection);
-        if (!has_s) return 0.0f;
-        if (!has_d) return 1.0f;
-        float ps = Fi * specular_weight_, pd = (1.0f - Fi) * (1.0f - specular_weight_);
-        return ps / (ps + pd);
+        return specular_lobe_probability(ctx, DeltaReflection, DiffuseReflection, specular_weight_, Fi);
     }
 
     Spectrum diffuse_term(const SurfaceInteraction& si, float Fi, const Vec3& wo) const {
         float Fo = fresnel_dielectric(Frame::cos_theta(wo), eta_).F;
-        Spectrum rho = diffuse_->eval(si);
-        Spectrum rho_p = nonlinear_ ? rho / (Spectrum(1.0f) - rho * fdr_int_) : rho / (1.0f - fdr_int_);
+        const Spectrum rho_p = coated_base_albedo(diffuse_->eval(si), fdr_int_, nonlinear_);
         return rho_p * ((1.0f - Fi) * (1.0f - Fo) * Frame::cos_theta(wo) * InvPi / (eta_ * eta_));
     }
 

@@ -19,6 +19,7 @@
 #include "core/registry.h"
 #include "core/texture.h"
 #include "core/warp.h"
+#include "materials/coating.h"
 #include "materials/fresnel.h"
 #include "materials/ior.h"
 #include "materials/microfacet.h"
@@ -31,8 +32,7 @@ public:
         diffuse_ = props.get_reflectance("diffuse_reflectance", Spectrum(0.5f));
         specular_ = props.get_reflectance("specular_reflectance", Spectrum(1.0f));
         eta_ = read_relative_ior(props, "polypropylene");
-        float d = average(diffuse_->mean()), s = average(specular_->mean());
-        specular_weight_ = s / (d + s);
+        specular_weight_ = specular_sampling_weight(*specular_, *diffuse_);
         flags_ = GlossyReflection | DiffuseReflection;
     }
 
@@ -102,10 +102,7 @@ public:
 
 private:
     float specular_probability(const BSDFContext& ctx) const {
-        bool has_s = ctx.allows(GlossyReflection), has_d = ctx.allows(DiffuseReflection);
-        if (!has_s) return 0.0f;
-        if (!has_d) return 1.0f;
-        return specular_weight_;
+        return specular_lobe_probability(ctx, GlossyReflection, DiffuseReflection, specular_weight_);
     }
 
     MicrofacetDistribution distribution_;

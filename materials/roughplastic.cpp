@@ -19,6 +19,7 @@
 #include "core/registry.h"
 #include "core/texture.h"
 #include "core/warp.h"
+#include "materials/coating.h"
 #include "materials/fresnel.h"
 #include "materials/ior.h"
 #include "materials/microfacet.h"
@@ -35,8 +36,7 @@ public:
         diffuse_ = props.get_reflectance("diffuse_reflectance", Spectrum(0.5f));
         specular_ = props.get_reflectance("specular_reflectance", Spectrum(1.0f));
         nonlinear_ = props.get_bool("nonlinear", false);
-        float d = average(diffuse_->mean()), s = average(specular_->mean());
-        specular_weight_ = s / (d + s);
+        specular_weight_ = specular_sampling_weight(*specular_, *diffuse_);
         build_tables();
         flags_ = GlossyReflection | DiffuseReflection;
     }
@@ -72,8 +72,7 @@ public:
             }
         }
         if (ctx.allows(DiffuseReflection)) {
-            Spectrum rho = diffuse_->eval(si);
-            Spectrum rho_p = nonlinear_ ? rho / (Spectrum(1.0f) - rho * internal_reflectance_) : rho / (1.0f - internal_reflectance_);
+            const Spectrum rho_p = coated_base_albedo(diffuse_->eval(si), internal_reflectance_, nonlinear_);
             result += rho_p * (transmittance(cos_i) * transmittance(cos_o) * cos_o * InvPi / (eta_ * eta_));
         }
         return result;
@@ -116,18 +115,12 @@ public:
         float t = x - float(i);
         return transmittance_[i] * (1.0f - t) + transmittance_[i + 1] * t;
     }
-    float internal_reflectance() const { return internal_reflectance_; }
 
 private:
     static constexpr int TableSize = 64;
 
     float specular_probability(const BSDFContext& ctx, float cos_i) const {
-        bool has_s = ctx.allows(GlossyReflection), has_d = ctx.allows(DiffuseReflection);
-        if (!has_s) return 0.0f;
-        if (!has_d) return 1.0f;
-        float T = transmittance(cos_i);
-        float ps = (1.0f - T) * specular_weight_, pd = T * (1.0f - specular_weight_);
-        return ps / (ps + pd);
+        return specular_lobe_probability(ctx, GlossyReflection, DiffuseReflection, specular_weight_, 1.0f - transmittance(cos_i));
     }
 
     // Expected value over normals visible from wi of g(m): an integral over [0, 1]^2 through the

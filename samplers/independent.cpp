@@ -11,14 +11,10 @@
 
 namespace candela {
 
-IndependentSampler::IndependentSampler(int sample_count, uint64_t seed) {
-    sample_count_ = sample_count;
-    seed_ = seed;
-}
-
 IndependentSampler::IndependentSampler(const Properties& props) {
-    sample_count_ = props.get_int("sample_count", 4);
-    if (sample_count_ <= 0) props.fail("sample_count", "sample_count must be positive");
+    const int64_t requested = props.get_int("sample_count", 4);
+    if (std::string problem = sample_count_problem(requested); !problem.empty()) props.fail("sample_count", "sample_count: " + problem);
+    sample_count_ = int(requested);
     int seed = props.get_int("seed", 0);
     seed_ = uint64_t(int64_t(seed));
 }

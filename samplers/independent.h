@@ -12,16 +12,17 @@ class Properties;
 class IndependentSampler : public Sampler {
 public:
     explicit IndependentSampler(const Properties& props);
-    IndependentSampler(int sample_count, uint64_t seed);
 
     Ref<Sampler> clone() const override { return std::make_shared<IndependentSampler>(*this); }
     std::string to_string() const override { return "independent"; }
-    void start(const Vec2i& pixel, uint32_t index) override { seed_for_sample(rng_, seed_, pixel, index); }
     float next_1d() override { return rng_.next_float(); }
     Vec2 next_2d() override {
         float a = rng_.next_float();
         return Vec2(a, rng_.next_float());
     }
+
+protected:
+    void start_sample(const Vec2i& pixel, uint32_t index) override { seed_for_sample(rng_, seed_, pixel, index); }
 
 private:
     PCG32 rng_;

@@ -23,12 +23,6 @@ class LowDiscrepancySampler final : public PixelSequenceSampler {
 public:
     explicit LowDiscrepancySampler(const Properties& props) { read_count_and_seed(props, "the square of a power of two, as Mitsuba does"); }
 
-    void set_sample_count(int spp) override {
-        int r = 2;
-        while (r * r < spp) r *= 2;
-        sample_count_ = r * r;
-    }
-
     Ref<Sampler> clone() const override { return std::make_shared<LowDiscrepancySampler>(*this); }
     std::string to_string() const override { return "ldsampler"; }
 
@@ -42,6 +36,13 @@ public:
         uint32_t x = reverse_bits(i) ^ hash_bits(sequence_, 0x98bc51abu);
         uint32_t y = sobol_bits(i, 1) ^ hash_bits(sequence_, 0x68bc21ebu);
         return Vec2(bits_to_unit(x), bits_to_unit(y));
+    }
+
+protected:
+    int round_sample_count(int spp) override {
+        int r = 2;
+        while (int64_t(r) * r < spp) r *= 2;
+        return r * r;  // at most 2^30 for spp <= 2^30
     }
 
 private:

@@ -31,12 +31,6 @@ public:
         read_count_and_seed(props, "a near-square grid, as Mitsuba does");
     }
 
-    void set_sample_count(int spp) override {
-        rows_ = std::max(1, int(std::sqrt(double(spp))));
-        columns_ = (spp + rows_ - 1) / rows_;
-        sample_count_ = rows_ * columns_;
-    }
-
     Ref<Sampler> clone() const override { return std::make_shared<MultijitterSampler>(*this); }
     std::string to_string() const override { return "multijitter"; }
 
@@ -60,6 +54,13 @@ public:
         Vec2 j = jitter_ ? jitter_2d(dim) : Vec2(0.5f);
         return Vec2(clamp_below_one((float(x) + (float(sy) + j.x) / float(ny)) / float(nx)),
                     clamp_below_one((float(y) + (float(sx) + j.y) / float(nx)) / float(ny)));
+    }
+
+protected:
+    int round_sample_count(int spp) override {
+        rows_ = std::max(1, int(std::sqrt(double(spp))));
+        columns_ = (spp + rows_ - 1) / rows_;
+        return rows_ * columns_;  // below spp + rows_, so within int for spp <= 2^30
     }
 
 private:

@@ -43,13 +43,6 @@ public:
         if (array_rows() > 0xffffffffull) props.fail("strength", "the orthogonal array would have more than 2^32 rows (prime^strength)");
     }
 
-    void set_sample_count(int spp) override {
-        prime_ = 2;
-        while (prime_ * prime_ < spp || !is_prime(prime_)) ++prime_;
-        sample_count_ = prime_ * prime_;
-        rows_ = uint32_t(std::min<uint64_t>(array_rows(), 0xffffffffull));
-    }
-
     Ref<Sampler> clone() const override { return std::make_shared<OrthogonalSampler>(*this); }
     std::string to_string() const override { return "orthogonal"; }
 
@@ -60,6 +53,14 @@ public:
     Vec2 next_2d() override {
         float x = next_1d();
         return Vec2(x, next_1d());
+    }
+
+protected:
+    int round_sample_count(int spp) override {
+        prime_ = 2;
+        while (int64_t(prime_) * prime_ < spp || !is_prime(prime_)) ++prime_;
+        rows_ = uint32_t(std::min<uint64_t>(array_rows(), 0xffffffffull));
+        return prime_ * prime_;  // the next prime above 2^15 is 32771: 32771^2 < 2^31
     }
 
 private:

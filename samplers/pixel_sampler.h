@@ -16,17 +16,17 @@ class Properties;
 
 class PixelSequenceSampler : public Sampler {
 public:
-    void start(const Vec2i& pixel, uint32_t index) override {
+    // Sample indices are permuted over the strata per dimension (above).
+    bool stratified_only_as_a_whole() const override { return true; }
+
+protected:
+    void start_sample(const Vec2i& pixel, uint32_t index) override {
         sequence_ = hash_combine(seed_, pixel_key(pixel));
         index_ = index;
         sample_key_ = hash_combine(sequence_, index_);
         dimension_ = 0;
     }
-    // Sample indices are permuted over the strata per dimension (above).
-    bool stratified_only_as_a_whole() const override { return true; }
-
-protected:
-    // Reads sample_count (positive, default 4) and seed (default 0), then rounds the count with
+    // Reads sample_count (in [1, 2^30], default 4) and seed (default 0), then rounds the count with
     // set_sample_count(); a count that changes is a warning at the sampler's line naming `rule`
     // (e.g. "a square, as Mitsuba does").
     void read_count_and_seed(const Properties& props, const std::string& rule);

@@ -27,28 +27,32 @@ class SobolSampler final : public SobolSamplerBase {
 public:
     explicit SobolSampler(const Properties& props) {
         read_parameters(props);
-        set_film_size(Vec2i(1));
-    }
-
-    void set_film_size(const Vec2i& size) override {
-        log2_scale_ = 0;
-        while ((1 << log2_scale_) < std::max(size.x, size.y)) ++log2_scale_;
-        build_index_solver();
+        film_changed();
     }
 
     Ref<Sampler> clone() const override { return std::make_shared<SobolSampler>(*this); }
     std::string to_string() const override { return "sobol"; }
 
-    void start(const Vec2i& pixel, uint32_t index) override {
-        PixelSequenceSampler::start(pixel, index);
-        sobol_index_ = index_in_pixel(index, pixel);
-    }
     float next_1d() override { return value(dimension_++); }
     Vec2 next_2d() override {
         float x = value(dimension_);
         float y = value(dimension_ + 1);
         dimension_ += 2;
         return Vec2(x, y);
+    }
+
+protected:
+    // The sequence spans the film and its sampled border: pixel p is cell p + border of a
+    // 2^m x 2^m grid with 2^m >= size + 2 border.
+    void film_changed() override {
+        const Vec2i span = film_size_ + 2 * film_border_;
+        log2_scale_ = 0;
+        while ((1 << log2_scale_) < std::max(span.x, span.y)) ++log2_scale_;
+        build_index_solver();
+    }
+    void start_sample(const Vec2i& pixel, uint32_t index) override {
+        PixelSequenceSampler::start_sample(pixel, index);
+        sobol_index_ = index_in_pixel(index, pixel + film_border_);
     }
 
 private:
@@ -95,10 +99,11 @@ private:
         for (int j = n; j < SobolIndexBits; ++j) frame_digits_.push_back(leading_digits(j));
     }
 
-    uint64_t index_in_pixel(uint32_t frame, const Vec2i& pixel) const {
+    // `cell` is in [0, 2^m)^2 (start()'s contract and film_changed()).
+    uint64_t index_in_pixel(uint32_t frame, const Vec2i& cell) const {
         const int m = log2_scale_;
         if (m == 0) return frame;
-        uint64_t target = (uint64_t(uint32_t(pixel.x)) << m) | uint32_t(pixel.y);
+        uint64_t target = (uint64_t(uint32_t(cell.x)) << m) | uint32_t(cell.y);
         uint64_t rest = frame;
         for (size_t c = 0; c < frame_digits_.size() && rest != 0; ++c, rest >>= 1)
             if (rest & 1u) target ^= frame_digits_[c];

@@ -16,19 +16,18 @@ namespace candela {
 
 class SobolSamplerBase : public PixelSequenceSampler {
 public:
-    void set_sample_count(int spp) override {
-        int n = 1;
-        while (n < spp) n *= 2;
-        sample_count_ = n;
-        log2_spp_ = 0;
-        while ((1 << log2_spp_) < n) ++log2_spp_;
-    }
     // Sample indices run along the Sobol sequence, not over permuted strata. Measured with sobol
     // (bench/bench_adaptive, Cornell box): adaptive sampling still reached uniform's error with
     // 0.87 to 0.98 of the samples. zsobol, which shares this, was not measured.
     bool stratified_only_as_a_whole() const override { return false; }
 
 protected:
+    int round_sample_count(int spp) override {
+        log2_spp_ = 0;
+        while ((int64_t(1) << log2_spp_) < spp) ++log2_spp_;
+        return 1 << log2_spp_;  // at most 2^30 for spp <= 2^30
+    }
+
     enum class Randomization { None, PermuteDigits, Owen };
     // Reads sample_count, seed and randomization.
     void read_parameters(const Properties& props);

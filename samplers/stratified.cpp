@@ -25,12 +25,6 @@ public:
         read_count_and_seed(props, "a square, as Mitsuba does");
     }
 
-    void set_sample_count(int spp) override {
-        resolution_ = 1;
-        while (resolution_ * resolution_ < spp) ++resolution_;
-        sample_count_ = resolution_ * resolution_;
-    }
-
     Ref<Sampler> clone() const override { return std::make_shared<StratifiedSampler>(*this); }
     std::string to_string() const override { return "stratified"; }
 
@@ -49,6 +43,13 @@ public:
         Vec2 j = jitter_ ? jitter_2d(dim) : Vec2(0.5f);
         float inv = 1.0f / float(resolution_);
         return Vec2(clamp_below_one((float(x) + j.x) * inv), clamp_below_one((float(y) + j.y) * inv));
+    }
+
+protected:
+    int round_sample_count(int spp) override {
+        resolution_ = 1;
+        while (int64_t(resolution_) * resolution_ < spp) ++resolution_;
+        return resolution_ * resolution_;  // at most 32768^2 = 2^30 for spp <= 2^30
     }
 
 private:

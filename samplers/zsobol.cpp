@@ -41,20 +41,13 @@ const std::array<std::array<uint8_t, 4>, 24>& digit_permutations() {
 
 class ZSobolSampler final : public SobolSamplerBase {
 public:
-    explicit ZSobolSampler(const Properties& props) { read_parameters(props); }
-
-    void set_film_size(const Vec2i& size) override {
-        log2_resolution_ = 0;
-        while ((1 << log2_resolution_) < std::max(size.x, size.y)) ++log2_resolution_;
+    explicit ZSobolSampler(const Properties& props) {
+        read_parameters(props);
+        film_changed();
     }
 
     Ref<Sampler> clone() const override { return std::make_shared<ZSobolSampler>(*this); }
     std::string to_string() const override { return "zsobol"; }
-
-    void start(const Vec2i& pixel, uint32_t index) override {
-        PixelSequenceSampler::start(pixel, index);
-        morton_index_ = (morton_2d(uint32_t(pixel.x), uint32_t(pixel.y)) << log2_spp_) | index;
-    }
 
     float next_1d() override {
         uint32_t dim = dimension_++;
@@ -67,6 +60,20 @@ public:
         uint64_t i = sequence_index(dim);
         uint64_t h = hash_combine(seed_, dim);
         return Vec2(bits_to_unit(randomize(sobol_bits(i, 0), uint32_t(h))), bits_to_unit(randomize(sobol_bits(i, 1), uint32_t(h >> 32))));
+    }
+
+protected:
+    // The Morton order spans the film and its sampled border (pixel p is cell p + border), so
+    // that no two pixels share a cell.
+    void film_changed() override {
+        const Vec2i span = film_size_ + 2 * film_border_;
+        log2_resolution_ = 0;
+        while ((1 << log2_resolution_) < std::max(span.x, span.y)) ++log2_resolution_;
+    }
+    void start_sample(const Vec2i& pixel, uint32_t index) override {
+        PixelSequenceSampler::start_sample(pixel, index);
+        const Vec2i cell = pixel + film_border_;
+        morton_index_ = (morton_2d(uint32_t(cell.x), uint32_t(cell.y)) << log2_spp_) | index;
     }
 
 private:

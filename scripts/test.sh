@@ -2,8 +2,9 @@
 # Builds Candela and runs every check CI runs, timing each stage (README "Tests";
 # docs/robustness.md has the details and measured times):
 #   1. checks    no build: scripts/check-format.sh (every C++ file as clang-format makes it with
-#                .clang-format) and scripts/gen-plugin-docs.py --check (docs/plugins/ matches the
-#                plugins' opening comments);
+#                .clang-format), scripts/gen-plugin-docs.py --check (docs/plugins/ matches the
+#                plugins' opening comments) and scripts/check-include-deps.py (every #include
+#                crosses only to folders whose targets the including target links);
 #   2. release   Release build, the whole test suite through ctest;
 #   3. asan      clang build with AddressSanitizer + UndefinedBehaviorSanitizer (and libFuzzer's
 #                coverage, so that the fuzzers come from the same build): the unit and CLI tests
@@ -39,6 +40,7 @@ checks() {
     local failed=0
     ./scripts/check-format.sh || failed=1
     python3 scripts/gen-plugin-docs.py --check || failed=1
+    python3 scripts/check-include-deps.py || failed=1
     return "$failed"
 }
 

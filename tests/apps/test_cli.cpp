@@ -356,3 +356,27 @@ TEST_CASE("cli: compare-modes compares any list of methods with a path-traced re
                       dir / "bad.txt") == 2);
     CHECK_THAT(read_text(dir / "bad.txt"), Catch::Contains("the reference is 256x256, the scene renders 32x32"));
 }
+
+TEST_CASE("cli: sample counts beyond 2^30 are refused with the range, before anything is written", "[cli][errors]") {
+    // Before issue 28, --spp 2000000000 overflowed int while the samplers rounded it (stratified's
+    // r * r, ldsampler's, the power of two of sobol and zsobol).
+    auto dir = scratch_dir("cli-sample-range");
+    const auto out = dir / "out.exr";
+    struct Case {
+        std::string options, message;
+    };
+    const std::vector<Case> cases = {
+        {"--spp 2000000000", "--spp: the sample count must be at most 2^30 = 1073741824 (got 2000000000)"},
+        {"--spp 1073741825 --sampler sobol", "at most 2^30"},
+        {"--spp 8 --samples 0:2000000000", "sample range 0:2000000000 is not a non-empty part of [0, 8)"},
+        {"-D spp=3000000000", "lies beyond the integers Candela reads"},
+    };
+    for (const Case& c : cases) {
+        INFO(c.options);
+        CHECK(run_command(render_cmd("'" + Cbox + "' -o '" + out.string() + "' -D res=8 " + c.options), dir / "log.txt") == 2);
+        const std::string log = read_text(dir / "log.txt");
+        INFO(log);
+        CHECK_THAT(log, Catch::Contains(c.message));
+        CHECK_FALSE(std::filesystem::exists(out));
+    }
+}

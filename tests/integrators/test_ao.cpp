@@ -38,6 +38,7 @@ MeanAndError ao_at(Scene& scene, const Vec3& origin, const Vec3& target, int n) 
     auto& integrator = dynamic_cast<SamplingIntegrator&>(scene.integrator());
     integrator.prepare(scene);
     Ref<Sampler> sampler = scene.sensor().sampler().clone();
+    sampler->set_sample_count(n);
     Ray ray(origin, glm::normalize(target - origin));
     std::vector<double> values;
     for (int i = 0; i < n; ++i) {

@@ -9,6 +9,7 @@
 // The statistical comparisons are z-tests on image means and block means with the renders' own
 // variance AOVs; together they keep a 1% family-wise level (Sidak).
 
+#include "core/scene.h"
 #include "core/xml.h"
 #include "tests/stats.h"
 #include "tests/util.h"
@@ -217,4 +218,34 @@ TEST_CASE(
                    R"(<bsdf type="mask"><float name="opacity" value="1"/><ref id="white"/></bsdf>)");
     RenderResult masked = render(opaque, "cbox_opaque_mask");
     CHECK(std::memcmp(masked.image.data().data(), plain.image.data().data(), plain.image.data().size() * sizeof(float)) == 0);
+}
+
+TEST_CASE("null transport: a ray crosses at most MaxNullCrossings null surfaces in every integrator, then is blocked", "[render][null]") {
+    // An area light seen by the camera through a stack of `layers` null rectangles (planes
+    // z = 0.001 i between the camera at z = 2 and the light at z = -1). Up to MaxNullCrossings
+    // crossings the camera sees the light's radiance exactly (null surfaces transmit 1); beyond,
+    // the ray is taken as blocked, as shadow rays always were, so the pixel is black. Before issue
+    // 28 path, volpath and direct crossed any number of them (a degenerate stack could loop).
+    auto scene_text = [](int layers, const std::string& integrator) {
+        std::string xml = integrator + pinhole_camera("0, 0, 2", "0, 0, 0", 4, 4, 10) + R"(
+            <shape type="rectangle"><transform name="to_world"><scale value="5"/><translate z="-1"/></transform>
+                <emitter type="area"><rgb name="radiance" value="3"/></emitter></shape>)";
+        for (int i = 0; i < layers; ++i)
+            xml += "<shape type=\"rectangle\"><transform name=\"to_world\"><scale value=\"5\"/><translate z=\"" +
+                   std::to_string(0.001 * i) + "\"/></transform><bsdf type=\"null\"/></shape>";
+        return scene_xml(xml);
+    };
+    for (const std::string& integrator : {std::string("path"), std::string("volpath"), std::string("direct")})
+        for (int layers : {MaxNullCrossings, MaxNullCrossings + 1}) {
+            INFO(integrator << " through " << layers << " null surfaces");
+            Ref<Scene> scene =
+                load_scene_from_string(scene_text(layers, "<integrator type=\"" + integrator + "\"/>"), source_path("scenes/x.xml"));
+            RenderOptions options;
+            options.spp = 1;
+            const RenderResult r = scene->integrator().render(*scene, options);
+            const float expected = layers <= MaxNullCrossings ? 3.0f : 0.0f;
+            for (int y = 0; y < 4; ++y)
+                for (int x = 0; x < 4; ++x)
+                    for (int c = 0; c < 3; ++c) CHECK(r.image.at(x, y, c) == Approx(expected).margin(1e-6));
+        }
 }

@@ -3,6 +3,7 @@
 // with any number of threads, and reads its parameters as Mitsuba (or pbrt-v4) does.
 
 #include "analysis/statistics.h"
+#include "core/error.h"
 #include "core/properties.h"
 #include "core/registry.h"
 #include "core/sampler.h"
@@ -29,7 +30,7 @@ Ref<Sampler> make_sampler(const std::string& name, int spp, const Vec2i& film, u
     props.set_int("sample_count", spp);
     props.set_int("seed", int64_t(seed));
     Ref<Sampler> s = create_plugin_as<Sampler>(ObjectKind::Sampler, props);
-    s->set_film_size(film);
+    s->set_film(film, 0);
     return s;
 }
 
@@ -129,6 +130,7 @@ TEST_CASE("samplers: stratified puts one sample in every stratum of each dimensi
         props.set_int("sample_count", 16);
         props.set_bool("jitter", jitter);
         Ref<Sampler> s = create_plugin_as<Sampler>(ObjectKind::Sampler, props);
+        s->set_film(Vec2i(128), 0);
         for (Vec2i pixel : {Vec2i(0, 0), Vec2i(5, 3), Vec2i(100, 7)}) {
             std::vector<std::vector<float>> dims(Dims);
             std::vector<std::vector<Vec2>> pairs(3);
@@ -319,7 +321,13 @@ TEST_CASE("samplers: bad parameters name the file and line", "[sampler][errors]"
         {"<sampler type=\"stratified\"><float name=\"jitter\" value=\"1\"/></sampler>", "has type float, expected boolean"},
         {"<sampler type=\"ldsampler\"><boolean name=\"jitter\" value=\"true\"/></sampler>", "unused property \"jitter\""},
         {"<sampler type=\"orthogonal\"><integer name=\"strength\" value=\"1\"/></sampler>", "strength must be at least 2"},
-        {"<sampler type=\"multijitter\"><integer name=\"sample_count\" value=\"0\"/></sampler>", "sample_count must be positive"},
+        {"<sampler type=\"multijitter\"><integer name=\"sample_count\" value=\"0\"/></sampler>", "sample count must be at least 1 (got 0)"},
+        {"<sampler type=\"stratified\"><integer name=\"sample_count\" value=\"1073741825\"/></sampler>",
+         "sample count must be at most 2^30 = 1073741824 (got 1073741825)"},
+        {"<sampler type=\"sobol\"><integer name=\"sample_count\" value=\"4294967297\"/></sampler>",
+         "sample_count = 4294967297 lies beyond the integers Candela reads"},
+        {"<sampler type=\"independent\"><integer name=\"sample_count\" value=\"-3\"/></sampler>",
+         "sample count must be at least 1 (got -3)"},
         {"<sampler type=\"sobol\"><string name=\"randomization\" value=\"fast\"/></sampler>", "unknown randomization \"fast\""},
         {"<sampler type=\"halton\"/>", "unknown sampler type \"halton\""},
     };
@@ -328,4 +336,47 @@ TEST_CASE("samplers: bad parameters name the file and line", "[sampler][errors]"
         write_text(dir / "scene.xml", scene_with_sampler(c.xml));
         CHECK_THROWS_WITH(load_scene((dir / "scene.xml").string()), Catch::Contains("scene.xml:") && Catch::Contains(c.message));
     }
+}
+
+TEST_CASE("samplers: start() checks its contract: an index below the count, a pixel inside the film and its sampled border", "[sampler]") {
+    // Before issue 28 an index at the count walked a permutation's cycle forever (stratified,
+    // multijitter, orthogonal, ldsampler) and a pixel left of the film shifted bits past sobol's
+    // tables.
+    for (const std::string& name : AllSamplers) {
+        INFO(name);
+        Ref<Sampler> s = make_sampler(name, 9, Vec2i(16, 8));
+        s->set_film(Vec2i(16, 8), 2);
+        const uint32_t n = uint32_t(s->sample_count());
+        CHECK_NOTHROW(s->start(Vec2i(-2, -2), n - 1));
+        CHECK_NOTHROW(s->start(Vec2i(17, 9), 0));
+        CHECK_THROWS_AS(s->start(Vec2i(0, 0), n), InternalError);
+        CHECK_THROWS_AS(s->start(Vec2i(-3, 0), 0), InternalError);
+        CHECK_THROWS_AS(s->start(Vec2i(0, 10), 0), InternalError);
+        CHECK_THROWS_WITH(s->start(Vec2i(18, 0), 0), Catch::Contains(name + " sampler asked for sample 0 of pixel (18, 0)"));
+    }
+}
+
+TEST_CASE("samplers: sobol and zsobol give every pixel of a 2^m film and its sampled border a part of the sequence of its own",
+          "[sampler]") {
+    // A film exactly 2^m wide is where the ring's pixels (x = -1, x = 2^m) fell outside the
+    // sequence's square: sobol read past its table (ASan: heap-buffer-overflow) and zsobol's
+    // Morton codes of negative coordinates aliased other pixels'.
+    for (const std::string& name : {std::string("sobol"), std::string("zsobol")})
+        for (int border : {1, 3}) {
+            INFO(name << ", border " << border);
+            Ref<Sampler> s = make_sampler(name, 4, Vec2i(16));
+            s->set_film(Vec2i(16), border);
+            std::set<std::pair<float, float>> first_points;
+            int pixels = 0;
+            for (int y = -border; y < 16 + border; ++y)
+                for (int x = -border; x < 16 + border; ++x, ++pixels) {
+                    s->start(Vec2i(x, y), 0);
+                    s->set_dimension(2);  // dimensions 2 and 3: the sequence's own, not the pixel's position
+                    const Vec2 u = s->next_2d();
+                    CHECK(u.x >= 0.0f);
+                    CHECK(u.x < 1.0f);
+                    first_points.insert({u.x, u.y});
+                }
+            CHECK(int(first_points.size()) == pixels);
+        }
 }

@@ -1,0 +1,46 @@
+#pragma once
+// What the plastics (plastic, roughplastic, pplastic) share: a dielectric coating's specular lobe
+// over a diffuse base, and how sample() chooses between the two (Mitsuba 3's
+// specular_sampling_weight).
+
+#include "core/bsdf.h"
+#include "core/texture.h"
+
+namespace candela {
+
+// The specular lobe's share of the samples before the coating's reflectance is known: the mean
+// specular reflectance over the sum of the mean specular and diffuse reflectances, and 1/2 when
+// both are black (nothing to choose between; any finite choice will do).
+inline float specular_sampling_weight(const Texture& specular, const Texture& diffuse) {
+    const float s = average(specular.mean()), d = average(diffuse.mean());
+    return s + d > 0.0f ? s / (s + d) : 0.5f;
+}
+
+// The probability that sample() takes the specular lobe (`specular_lobe`) rather than the diffuse
+// one (`diffuse_lobe`), when the coating reflects the fraction `reflected` of what arrives (its
+// Fresnel reflectance, or 1 - the rough coating's transmittance): proportional to
+// reflected * weight against (1 - reflected) (1 - weight). 0 or 1 when `ctx` allows only one of
+// the lobes, and finite whatever the inputs.
+inline float specular_lobe_probability(const BSDFContext& ctx, uint32_t specular_lobe, uint32_t diffuse_lobe, float weight,
+                                       float reflected) {
+    if (!ctx.allows(specular_lobe)) return 0.0f;
+    if (!ctx.allows(diffuse_lobe)) return 1.0f;
+    const float ps = reflected * weight, pd = (1.0f - reflected) * (1.0f - weight);
+    return ps + pd > 0.0f ? ps / (ps + pd) : weight;
+}
+// The same when the choice does not depend on the incidence (pplastic): the weight itself.
+inline float specular_lobe_probability(const BSDFContext& ctx, uint32_t specular_lobe, uint32_t diffuse_lobe, float weight) {
+    if (!ctx.allows(specular_lobe)) return 0.0f;
+    if (!ctx.allows(diffuse_lobe)) return 1.0f;
+    return weight;
+}
+
+// The base's albedo as seen through the coating, with the light the coating reflects back inside
+// (its hemispherical internal reflectance R) summed in closed form: rho / (1 - R), or with
+// `nonlinear` rho / (1 - rho R), which also shifts the colour of a saturated base (Mitsuba's
+// plastic and roughplastic).
+inline Spectrum coated_base_albedo(const Spectrum& rho, float internal_reflectance, bool nonlinear) {
+    return nonlinear ? rho / (Spectrum(1.0f) - rho * internal_reflectance) : rho / (1.0f - internal_reflectance);
+}
+
+}  // namespace candela
