@@ -15,7 +15,7 @@ namespace candela::app {
 namespace {
 
 struct EstimateArgs {
-    std::string scene, at, normal, origin, direction, light_sampler = "tree";
+    std::string scene, at, normal, origin, direction, light_sampler = DefaultLightSampler;
     std::vector<std::string> defines, search_path;
     int64_t samples = 65536, seed = 0;
     int max_depth = -1, threads = 0;
@@ -37,7 +37,9 @@ void add_common(CLI::App* cmd, EstimateArgs& a) {
     cmd->add_option("--samples,-n", a.samples, "Number of samples (default 65536)")->check(CLI::PositiveNumber);
     cmd->add_option("--seed", a.seed, "Random seed (default 0)")->check(CLI::NonNegativeNumber);
     cmd->add_option("--max-depth", a.max_depth, "Longest path in segments, -1 unbounded (default)");
-    cmd->add_option("--light-sampler", a.light_sampler, "tree (default), power or uniform");
+    cmd->add_option("--light-sampler", a.light_sampler,
+                    "How next-event estimation picks a light (default " + std::string(DefaultLightSampler) + ")")
+        ->check(CLI::IsMember(light_sampler_names()));
     cmd->add_option("-D", a.defines, "Set a scene parameter: -D name=value (repeatable)")->take_all();
     add_search_path_option(cmd, a.search_path);
     cmd->add_option("--threads,-t", a.threads, "Worker threads (default: all cores)")->check(CLI::NonNegativeNumber);

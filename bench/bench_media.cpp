@@ -9,10 +9,10 @@
 // of their rates is the gain of the grid. It also times shadow-ray transmittance (ratio tracking)
 // alone through the volume with both majorants. It prints figures and asserts nothing.
 
-#include "analysis/vol_writer.h"
 #include "core/medium.h"
 #include "core/scene.h"
 #include "core/xml.h"
+#include "tests/support/vol_writer.h"
 
 #include <unistd.h>
 #include <chrono>

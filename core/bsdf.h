@@ -81,7 +81,6 @@ public:
 
     uint32_t flags() const { return flags_; }
     bool has_smooth_lobe() const { return (flags_ & Smooth) != 0; }
-    bool is_delta_only() const { return flags_ != 0 && (flags_ & Smooth) == 0; }
     bool has_null_lobe() const { return (flags_ & Null) != 0; }
 
 protected:

@@ -13,7 +13,6 @@ public:
     float radius() const { return radius_; }
     // 1D weight at offset x (pixels) from the pixel centre; 0 outside the radius.
     virtual float eval(float x) const = 0;
-    float eval_2d(float dx, float dy) const { return eval(dx) * eval(dy); }
 
 protected:
     float radius_ = 0.5f;

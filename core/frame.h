@@ -39,11 +39,9 @@ struct Frame {
 
     // Trigonometry of a direction given in this local frame.
     static float cos_theta(const Vec3& v) { return v.z; }
-    static float cos2_theta(const Vec3& v) { return v.z * v.z; }
     static float sin2_theta(const Vec3& v) { return std::max(0.0f, 1.0f - v.z * v.z); }
     static float sin_theta(const Vec3& v) { return std::sqrt(sin2_theta(v)); }
     static float tan_theta(const Vec3& v) { return sin_theta(v) / v.z; }
-    static float tan2_theta(const Vec3& v) { return sin2_theta(v) / (v.z * v.z); }
     static float cos_phi(const Vec3& v) {
         float st = sin_theta(v);
         return st == 0.0f ? 1.0f : std::clamp(v.x / st, -1.0f, 1.0f);

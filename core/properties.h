@@ -41,8 +41,6 @@ public:
     void set_float(const std::string& name, double v) { set(name, Type::Float, v, location_); }
     void set_bool(const std::string& name, bool v) { set(name, Type::Boolean, v, location_); }
     void set_string(const std::string& name, const std::string& v) { set(name, Type::String, v, location_); }
-    void set_point(const std::string& name, const Vec3& v) { set(name, Type::Point, v, location_); }
-    void set_vector(const std::string& name, const Vec3& v) { set(name, Type::Vector, v, location_); }
     void set_rgb(const std::string& name, const Spectrum& v) { set(name, Type::RGB, v, location_); }
     void set_transform(const std::string& name, const Transform& v) { set(name, Type::Transform, v, location_); }
     void set_object(const std::string& name, Ref<Object> v, const SourceLocation& where) { set(name, Type::Object, std::move(v), where); }

@@ -54,10 +54,6 @@ public:
 
     // Uniform in [0, 1): the top 24 bits, so the result is exactly representable and never 1.
     float next_float() { return static_cast<float>(next_uint() >> 8) * 0x1p-24f; }
-    double next_double() {
-        uint64_t hi = next_uint(), lo = next_uint();
-        return static_cast<double>(((hi << 32) | lo) >> 11) * 0x1p-53;
-    }
     // Uniform integer in [0, bound), unbiased (Lemire's rejection is overkill here; use modulo
     // rejection as in the PCG reference).
     uint32_t next_bounded(uint32_t bound) {

@@ -21,7 +21,6 @@ inline Vec2 square_to_uniform_disk_concentric(const Vec2& u) {
     sincos_quarter_pi((Pi / 4.0f) * (x / y), s, c);
     return Vec2(y * s, y * c);
 }
-inline float square_to_uniform_disk_concentric_pdf() { return InvPi; }
 
 Vec3 square_to_uniform_sphere(const Vec2& u);
 inline float square_to_uniform_sphere_pdf() { return InvFourPi; }

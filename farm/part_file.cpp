@@ -334,7 +334,7 @@ void add_part(const PartHeader& h, PixelSums& image_sums) {
                 return v;
             };
             auto count = [&]() {
-                const double v = value(c++);
+                const double v = part.at(x, y, index[c++]);
                 if (!(v >= 0.0 && v <= double(UINT32_MAX) && v == std::floor(v)))
                     throw InputError(h.path + ": holds a sample count that is not a whole number in [0, 2^32) at pixel " +
                                      pixel_name(x, y));

@@ -27,7 +27,7 @@
 #include "core/sampler.h"
 #include "core/scene.h"
 #include "integrators/direct_lighting.h"
-#include "integrators/path.h"
+#include "integrators/path_settings.h"
 
 namespace candela {
 
@@ -47,11 +47,9 @@ public:
         if (emitter_samples_ + bsdf_samples_ == 0)
             props.fail(props.has("shading_samples") ? "shading_samples" : "emitter_samples",
                        "direct needs at least one emitter or BSDF sample");
-        hide_emitters_ = props.get_bool("hide_emitters", false);
-        PathSettings lights;
-        lights.light_sampler = props.get_string("light_sampler", "tree");
-        if (auto problem = check_path_settings(lights)) props.fail(problem->parameter, problem->message);
-        light_strategy_ = lights.light_sampler;
+        const PathSettings settings = read_path_settings(props, HideEmittersSetting | LightSamplerSetting);
+        hide_emitters_ = settings.hide_emitters;
+        light_strategy_ = settings.light_sampler;
         float total = float(emitter_samples_ + bsdf_samples_);
         shares_ = StrategyShares{float(emitter_samples_) / total, float(bsdf_samples_) / total};
     }

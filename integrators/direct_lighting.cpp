@@ -21,14 +21,20 @@ Ray shadow_ray(const SurfaceInteraction& at, const DirectionSample& ds) {
 }
 
 Spectrum sample_emitter_mis(const Scene& scene, const LightSampler& lights, Sampler& sampler, const SurfaceInteraction& si,
-                            const BSDF& bsdf, const BSDFContext& ctx, StrategyShares shares) {
+                            const BSDF& bsdf, const BSDFContext& ctx, StrategyShares shares, const PathMedium& medium) {
     const LightSample light = draw_light_sample(lights, sampler, si);
     if (!light.valid()) return Spectrum(0.0f);
     const DirectionSample& ds = light.ds;
     Vec3 wo = si.to_local(ds.d);
     Spectrum f = bsdf.eval(ctx, si, wo);
     if (is_black(f)) return Spectrum(0.0f);
-    Spectrum T = scene.transmittance(shadow_ray(si, ds));  // through null surfaces and masks
+    Spectrum T(0.0f);
+    if (medium.rng) {
+        const Medium* start = si.shape->is_medium_transition() ? si.shape->target_medium(si, ds.d) : medium.medium;
+        T = scene.transmittance(shadow_ray(si, ds), start, *medium.rng);  // through media, null surfaces and masks
+    } else {
+        T = scene.transmittance(shadow_ray(si, ds));  // through null surfaces and masks
+    }
     if (is_black(T)) return Spectrum(0.0f);
     float w = ds.delta ? 1.0f : power_heuristic(ds.pdf * light.pick_prob * shares.emitter, bsdf.pdf(ctx, si, wo) * shares.bsdf);
     return T * f * light.weight * (w / light.pick_prob);

@@ -7,15 +7,24 @@
 // direct emitter_samples and bsdf_samples.
 
 #include "core/bsdf.h"
+#include "core/rng.h"
 #include "lights/light_sampler.h"
 
 namespace candela {
 
+class Medium;
 class Scene;
 class Sampler;
 
 struct StrategyShares {
     float emitter = 1.0f, bsdf = 1.0f;
+};
+
+// The medium a path is in at a vertex, and the random numbers of its tracking (volpath). Without
+// an rng (path, direct) shadow rays see only surfaces, through one any-hit query when they can.
+struct PathMedium {
+    const Medium* medium = nullptr;
+    PCG32* rng = nullptr;
 };
 
 // The first half of next-event estimation, before any BSDF or phase function: a light picked by
@@ -39,11 +48,12 @@ LightSample draw_light_sample(const LightSampler& lights, Sampler& sampler, cons
 Ray shadow_ray(const SurfaceInteraction& at, const DirectionSample& ds);
 
 // One next-event-estimation sample at `si` (si.wi set) for `bsdf` restricted to `ctx`: the light's
-// radiance times the BSDF and the shadow ray's transmittance (through null surfaces), over the
-// light's pdf, weighted against BSDF sampling (weight 1 for delta lights). Draws one 1D and one
-// 2D number.
+// radiance times the BSDF and the shadow ray's transmittance (through null surfaces, and media
+// when `medium` has an rng: the ray starts in the medium on its side of si), over the light's
+// pdf, weighted against BSDF sampling (weight 1 for delta lights). Draws one 1D and one 2D
+// number.
 Spectrum sample_emitter_mis(const Scene& scene, const LightSampler& lights, Sampler& sampler, const SurfaceInteraction& si,
-                            const BSDF& bsdf, const BSDFContext& ctx, StrategyShares shares = {});
+                            const BSDF& bsdf, const BSDFContext& ctx, StrategyShares shares = {}, const PathMedium& medium = {});
 
 // The MIS weight of the emission of `emitter` at `hit`, found by a BSDF sample of solid-angle pdf
 // `bsdf_pdf` from `from` (not a delta lobe), against next-event estimation from `from`.

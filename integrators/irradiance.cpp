@@ -21,7 +21,7 @@ namespace candela {
 
 class IrradianceIntegrator final : public SamplingIntegrator {
 public:
-    explicit IrradianceIntegrator(const Properties& props) : path_(read_path_settings(props, false)) {
+    explicit IrradianceIntegrator(const Properties& props) : path_(read_path_settings(props, DepthSettings | LightSamplerSetting)) {
         max_value_ = props.get_float("max_value", 0.0f);
         if (max_value_ < 0.0f) props.fail("max_value", "max_value must be positive");
     }

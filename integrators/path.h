@@ -1,35 +1,18 @@
 #pragma once
-// The path tracer (see path.cpp for its parameters). Exposed so that the irradiance integrator
-// and the estimators reuse its light transport from any surface vertex.
+// The path tracer (see path.cpp for its parameters). Exposed so that the irradiance integrator,
+// the estimators and the light-path integrators' direct light reuse its light transport from any
+// surface vertex.
 
 #include "core/integrator.h"
+#include "integrators/path_settings.h"
 #include "lights/light_sampler.h"
 
-#include <optional>
+#include <memory>
 
 namespace candela {
 
 class BSDF;
 class Properties;
-
-struct PathSettings {
-    int max_depth = -1;  // segments; -1 unbounded
-    int rr_depth = 5;
-    bool hide_emitters = false;
-    std::string light_sampler = "tree";
-};
-
-// The settings of every integrator that continues paths (path, irradiance, the estimators) are
-// read and checked here and nowhere else.
-struct PathSettingProblem {
-    std::string parameter;  // Mitsuba name: max_depth, rr_depth or light_sampler
-    std::string message;
-};
-// The first invalid setting, or nothing when all are valid.
-std::optional<PathSettingProblem> check_path_settings(const PathSettings& settings);
-// Reads max_depth, rr_depth, light_sampler (and hide_emitters when `hide_emitters` is true) from
-// an integrator's properties; an invalid value is a SceneError at its file:line.
-PathSettings read_path_settings(const Properties& props, bool hide_emitters);
 
 class PathIntegrator : public SamplingIntegrator {
 public:
@@ -52,9 +35,7 @@ public:
     std::string to_string() const override { return "path"; }
 
 private:
-    uint32_t max_depth_ = UINT32_MAX, rr_depth_ = 5;
-    bool hide_emitters_ = false;
-    std::string light_strategy_;
+    PathSettings settings_;
     std::unique_ptr<LightSampler> lights_;
 };
 

@@ -78,11 +78,7 @@ public:
         if (glossy_samples_ < 0) props.fail("glossy_samples", "glossy_samples must be >= 0");
         granularity_ = props.get_int("granularity", 0);
         if (granularity_ < 0) props.fail("granularity", "granularity must be >= 0");
-        max_depth_ = props.get_int("max_depth", -1);
-        if (max_depth_ < -1) props.fail("max_depth", "max_depth must be -1 (unbounded) or >= 0");
-        rr_depth_ = props.get_int("rr_depth", 5);
-        if (rr_depth_ <= 0) props.fail("rr_depth", "rr_depth must be positive");
-        hide_emitters_ = props.get_bool("hide_emitters", false);
+        settings_ = read_path_settings(props, DepthSettings | HideEmittersSetting);
         location_ = props.location();
     }
 
@@ -132,7 +128,6 @@ private:
         if (!(r > 0.0f) || !std::isfinite(r)) props.fail(name, std::string(name) + " must be positive");
         return r;
     }
-    bool within_depth(uint32_t segments) const { return max_depth_ < 0 || segments <= uint32_t(max_depth_); }
     // Stops the render (a SceneError at the integrator, exit code 2) before the maps are filled
     // when they cannot fit in memory (core/memory_budget.h).
     void check_map_memory(bool caustic) const;
@@ -152,8 +147,8 @@ private:
     PhotonMap global_, caustic_;
     std::vector<IrradiancePoint> irradiance_;
     PointGrid<IrradiancePoint> irradiance_grid_;
-    int lookup_size_ = 120, direct_samples_ = 16, glossy_samples_ = 32, granularity_ = 0, max_depth_ = -1, rr_depth_ = 5;
-    bool hide_emitters_ = false;
+    int lookup_size_ = 120, direct_samples_ = 16, glossy_samples_ = 32, granularity_ = 0;
+    PathSettings settings_;  // max_depth counts segments, camera ray included
     PathIntegrator direct_;
     int threads_ = 0;
     const std::atomic<bool>* interrupt_ = nullptr;
@@ -162,7 +157,7 @@ private:
 
 void PhotonMapIntegrator::prepare(const Scene& scene) {
     direct_.prepare(scene);
-    const LightPathTracer tracer(scene, max_depth_ < 0 ? -1 : max_depth_ - 1, rr_depth_);
+    const LightPathTracer tracer(scene, settings_.max_depth < 0 ? -1 : settings_.max_depth - 1, settings_.rr_depth);
     const float scene_radius = std::max(scene.bbox().bounding_radius(), 1e-3f);
     bool specular = false;
     for (const auto& shape : scene.shapes()) specular = specular || (shape->bsdf()->flags() & Delta) != 0;
@@ -238,7 +233,7 @@ void PhotonMapIntegrator::build_map(const LightPathTracer& tracer, bool caustic,
                 LightPathStart start;
                 if (!tracer.start(rng, start)) continue;
                 tracer.follow(rng, start, [&](const LightVertex& v) {
-                    if (!within_depth(v.depth + 1)) return false;
+                    if (!settings_.within_depth(v.depth + 1)) return false;
                     bool gathers = gathers_photons(*v.bsdf);
                     if (gathers && (!caustic || v.caustic) && all_finite(v.beta))
                         out.photons.push_back(make_photon(*v.si, v.beta, v.depth));
@@ -280,7 +275,7 @@ float PhotonMapIntegrator::nearest_photons(const PhotonMap& map, const Vec3& p, 
 Spectrum PhotonMapIntegrator::radiance_estimate(const PhotonMap& map, const GatherPoint& at) const {
     thread_local Neighbours near;  // reused: no allocation per lookup
     float r2 = nearest_photons(
-        map, at.si.p, [&](const Photon& ph) { return within_depth(at.depth + ph.depth); }, near);
+        map, at.si.p, [&](const Photon& ph) { return settings_.within_depth(at.depth + ph.depth); }, near);
     if (!(r2 > 0.0f)) return Spectrum(0.0f);
     const BSDFContext ctx;
     Spectrum sum(0.0f);
@@ -294,7 +289,7 @@ Spectrum PhotonMapIntegrator::radiance_estimate(const PhotonMap& map, const Gath
 
 Spectrum PhotonMapIntegrator::gathered_radiance(const GatherPoint& y) const {
     // Precomputed irradiance mixes photon depths: used only without a depth limit.
-    if (y.bsdf->flags() != DiffuseReflection || max_depth_ >= 0 || irradiance_.empty()) return radiance_estimate(global_, y);
+    if (y.bsdf->flags() != DiffuseReflection || settings_.max_depth >= 0 || irradiance_.empty()) return radiance_estimate(global_, y);
     Vec3 n = glm::dot(y.si.wi_world(), y.si.n) >= 0.0f ? y.si.n : -y.si.n;
     const IrradiancePoint* nearest = nullptr;
     for (float radius : {0.25f * global_.radius, global_.radius}) {
@@ -313,10 +308,10 @@ Spectrum PhotonMapIntegrator::gathered_radiance(const GatherPoint& y) const {
 // Indirect light at x: gather rays by BSDF sampling, each followed through specular surfaces to a
 // diffuse surface y, where the global map estimates L(y).
 Spectrum PhotonMapIntegrator::final_gather(const Scene& scene, Sampler& sampler, const GatherPoint& x) const {
-    if (glossy_samples_ == 0 || !within_depth(x.depth + 2)) return Spectrum(0.0f);
+    if (glossy_samples_ == 0 || !settings_.within_depth(x.depth + 2)) return Spectrum(0.0f);
     WalkSettings walk;
-    walk.max_depth = max_depth_;
-    walk.rr_depth = rr_depth_;
+    walk.max_depth = settings_.max_depth;
+    walk.rr_depth = settings_.rr_depth;
     Spectrum L(0.0f);
     for (int i = 0; i < glossy_samples_; ++i) {
         float u_lobe = sampler.next_1d();
@@ -339,13 +334,13 @@ Spectrum PhotonMapIntegrator::sample_radiance(const Scene& scene, Sampler& sampl
         }
     }
     WalkSettings walk;
-    walk.max_depth = max_depth_;
-    walk.rr_depth = rr_depth_;
-    walk.hide_first = hide_emitters_;
+    walk.max_depth = settings_.max_depth;
+    walk.rr_depth = settings_.rr_depth;
+    walk.hide_first = settings_.hide_emitters;
     GatherPoint x = walk_to_gather_point(scene, sampler, ray, Spectrum(1.0f), 0, walk);
     Spectrum L = x.emission_after_delta + x.emission_after_other;
     if (x.bsdf) record.valid = true;  // the walk reached a surface (Mitsuba's alpha)
-    if (!x.bsdf || !within_depth(x.depth + 1)) return L;
+    if (!x.bsdf || !settings_.within_depth(x.depth + 1)) return L;
     if (direct_samples_ > 0) {
         Spectrum direct(0.0f);
         for (int i = 0; i < direct_samples_; ++i) direct += direct_.continue_path(scene, sampler, x.si, *x.bsdf, 0);

@@ -35,6 +35,7 @@
 #include "core/registry.h"
 #include "core/scene.h"
 #include "integrators/light_paths.h"
+#include "integrators/path_settings.h"
 
 #include <chrono>
 
@@ -60,11 +61,7 @@ constexpr uint64_t BatchChunks = 64;  // chunks traced before their splats are a
 class ParticleTracerIntegrator final : public Integrator {
 public:
     explicit ParticleTracerIntegrator(const Properties& props) {
-        max_depth_ = props.get_int("max_depth", -1);
-        if (max_depth_ < -1) props.fail("max_depth", "max_depth must be -1 (unbounded) or >= 0");
-        rr_depth_ = props.get_int("rr_depth", 5);
-        if (rr_depth_ <= 0) props.fail("rr_depth", "rr_depth must be positive");
-        hide_emitters_ = props.get_bool("hide_emitters", false);
+        settings_ = read_path_settings(props, DepthSettings | HideEmittersSetting);
         int per_pass = props.get_int("samples_per_pass", -1);
         if (per_pass == 0 || per_pass < -1) props.fail("samples_per_pass", "samples_per_pass must be positive (or -1)");
     }
@@ -82,25 +79,22 @@ private:
     void connect_environment(const Scene& scene, const LightPathStart& start, PCG32& rng, ChunkSplats& out) const;
     void connect_vertex(const Scene& scene, const LightVertex& v, PCG32& rng, ChunkSplats& out) const;
     void splat(const Scene& scene, const Vec2& film_pos, const Spectrum& value, ChunkSplats& out) const;
-    // Whether a path of `segments` segments (camera included) may contribute.
-    bool within_depth(uint32_t segments) const { return max_depth_ < 0 || segments <= uint32_t(max_depth_); }
-
-    int max_depth_ = -1, rr_depth_ = 5;
-    bool hide_emitters_ = false;
+    // max_depth counts segments, camera included (settings_.within_depth).
+    PathSettings settings_;
 };
 
 void ParticleTracerIntegrator::trace_path(const LightPathTracer& tracer, PCG32& rng, ChunkSplats& out) const {
     const Scene& scene = tracer.scene();
     LightPathStart start;
     if (!tracer.start(rng, start)) return;
-    if (!hide_emitters_ && within_depth(1)) {
+    if (!settings_.hide_emitters && settings_.within_depth(1)) {
         if (start.emitter->is_infinite())
             connect_environment(scene, start, rng, out);
         else if (!start.emitter->is_delta() && !start.ray.delta_direction)
             connect_area_emitter(scene, start, rng, out);
     }
     tracer.follow(rng, start, [&](const LightVertex& v) {
-        if (!within_depth(v.depth + 1)) return false;
+        if (!settings_.within_depth(v.depth + 1)) return false;
         if (v.bsdf->has_smooth_lobe()) connect_vertex(scene, v, rng, out);
         return true;
     });
@@ -184,7 +178,7 @@ RenderResult ParticleTracerIntegrator::render(const Scene& scene, const RenderOp
     const Film& film = scene.sensor().film();
     const Vec2i crop = film.crop_size();
     const uint64_t pixels = uint64_t(crop.x) * uint64_t(crop.y);
-    const LightPathTracer tracer(scene, max_depth_ < 0 ? -1 : max_depth_ - 1, rr_depth_);
+    const LightPathTracer tracer(scene, settings_.max_depth < 0 ? -1 : settings_.max_depth - 1, settings_.rr_depth);
     ProgressReporter progress("Rendering", uint64_t(samples.spp) * pixels, options.progress);
     tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
     std::atomic<uint64_t> rays{0};

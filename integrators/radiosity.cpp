@@ -174,7 +174,7 @@ public:
 
     const RadiosityStats& stats() const { return stats_; }
 
-    void prepare(const Scene& scene) override { lights_ = create_light_sampler("tree", scene); }
+    void prepare(const Scene& scene) override { lights_ = create_light_sampler(DefaultLightSampler, scene); }
 
     Spectrum sample_radiance(const Scene& scene, Sampler& sampler, const Ray& ray, SampleRecord& record) const override {
         SurfaceInteraction si;

@@ -110,11 +110,7 @@ public:
         if (granularity_ < 0) props.fail("granularity", "granularity must be >= 0");
         max_passes_ = props.get_int("max_passes", -1);
         if (max_passes_ == 0 || max_passes_ < -1) props.fail("max_passes", "max_passes must be positive (or -1)");
-        max_depth_ = props.get_int("max_depth", -1);
-        if (max_depth_ < -1) props.fail("max_depth", "max_depth must be -1 (unbounded) or >= 0");
-        rr_depth_ = props.get_int("rr_depth", 5);
-        if (rr_depth_ <= 0) props.fail("rr_depth", "rr_depth must be positive");
-        hide_emitters_ = props.get_bool("hide_emitters", false);
+        settings_ = read_path_settings(props, DepthSettings | HideEmittersSetting);
         photon_count_location_ = props.location_of("photon_count");
     }
 
@@ -131,7 +127,6 @@ private:
         s.max_depth = 2;  // one bounce from the visible point: next-event estimation with MIS
         return s;
     }
-    bool within_depth(uint32_t segments) const { return max_depth_ < 0 || segments <= uint32_t(max_depth_); }
     // The camera pass for one pixel: the emission and direct light found (returned) and the
     // visible point (vp.bsdf null when there is none).
     Spectrum trace_camera(const Scene& scene, Sampler& sampler, const FilterSampler& filter, const Vec2i& pixel, GatherPoint& vp) const;
@@ -144,9 +139,9 @@ private:
     void check_render_memory(const LightPathTracer& tracer, uint64_t seed, uint64_t chunk, size_t pixels) const;
 
     SourceLocation photon_count_location_;
-    int photon_count_ = 250000, granularity_ = 0, max_passes_ = -1, max_depth_ = -1, rr_depth_ = 5;
+    int photon_count_ = 250000, granularity_ = 0, max_passes_ = -1;
+    PathSettings settings_;  // max_depth counts segments, camera ray included
     float initial_radius_ = 0.0f, alpha_ = 0.7f;
-    bool hide_emitters_ = false;
     PathIntegrator direct_;
 };
 
@@ -158,12 +153,12 @@ Spectrum SPPMIntegrator::trace_camera(const Scene& scene, Sampler& sampler, cons
     Vec2 pos = Vec2(pixel) + Vec2(0.5f) + offset;
     Ray ray = scene.sensor().sample_ray(pos, sampler.next_2d());
     WalkSettings walk;
-    walk.max_depth = max_depth_;
-    walk.rr_depth = rr_depth_;
-    walk.hide_first = hide_emitters_;
+    walk.max_depth = settings_.max_depth;
+    walk.rr_depth = settings_.rr_depth;
+    walk.hide_first = settings_.hide_emitters;
     vp = walk_to_gather_point(scene, sampler, ray, Spectrum(filter_weight), 0, walk);
     Spectrum L = vp.emission_after_delta + vp.emission_after_other;
-    if (vp.bsdf && within_depth(vp.depth + 1)) L += vp.beta * direct_.continue_path(scene, sampler, vp.si, *vp.bsdf, 0);
+    if (vp.bsdf && settings_.within_depth(vp.depth + 1)) L += vp.beta * direct_.continue_path(scene, sampler, vp.si, *vp.bsdf, 0);
     return L;
 }
 
@@ -176,7 +171,7 @@ void SPPMIntegrator::trace_photons(const LightPathTracer& tracer, uint64_t seed,
         if (!tracer.start(rng, start)) continue;
         tracer.follow(rng, start, [&](const LightVertex& v) {
             // Direct light (depth 1) is next-event estimation's; the shortest camera path is one segment.
-            if (!within_depth(v.depth + 1)) return false;
+            if (!settings_.within_depth(v.depth + 1)) return false;
             if (v.depth >= 2 && gathers_photons(*v.bsdf) && all_finite(v.beta)) out.photons.push_back(make_photon(*v.si, v.beta, v.depth));
             return true;
         });
@@ -188,7 +183,7 @@ Spectrum SPPMIntegrator::gather(const PhotonGrid& grid, const GatherPoint& vp, f
     found = 0;
     const BSDFContext ctx;
     grid.for_each_within(vp.si.p, radius, [&](const Photon& ph, float) {
-        if (!within_depth(vp.depth + ph.depth)) return;
+        if (!settings_.within_depth(vp.depth + ph.depth)) return;
         Vec3 wi = vp.si.to_local(ph.wi);
         float cos_theta = std::abs(Frame::cos_theta(wi));
         ++found;
@@ -231,7 +226,7 @@ RenderResult SPPMIntegrator::render(const Scene& scene, const RenderOptions& opt
     const float scene_radius = std::max(scene.bbox().bounding_radius(), 1e-3f);
     const uint64_t chunk = granularity_ > 0 ? uint64_t(granularity_) : 4096;
     direct_.prepare(scene);
-    const LightPathTracer tracer(scene, max_depth_ < 0 ? -1 : max_depth_ - 1, rr_depth_);
+    const LightPathTracer tracer(scene, settings_.max_depth < 0 ? -1 : settings_.max_depth - 1, settings_.rr_depth);
     check_render_memory(tracer, samples.seed, chunk, pixels);
     std::vector<PixelState> state(pixels);
     for (PixelState& s : state) s.radius = initial_radius_ > 0.0f ? initial_radius_ : 5.0f * scene_radius / float(std::max(full.x, full.y));

@@ -62,7 +62,14 @@ std::unique_ptr<LightSampler> create_light_sampler(const std::string& strategy, 
     if (strategy == "uniform") return std::make_unique<FixedLightSampler>(scene, false);
     if (strategy == "power") return std::make_unique<FixedLightSampler>(scene, true);
     if (strategy == "tree") return std::make_unique<LightTree>(scene);
-    throw InputError("unknown light sampler \"" + strategy + "\" (known: uniform, power, tree)");
+    throw InputError("unknown light sampler \"" + strategy + "\" (known: " + light_sampler_choices() + ")");
+}
+
+std::string light_sampler_choices() {
+    const std::vector<std::string>& names = light_sampler_names();
+    std::string out;
+    for (size_t i = 0; i < names.size(); ++i) out += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i];
+    return out;
 }
 
 }  // namespace candela

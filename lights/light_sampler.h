@@ -24,8 +24,13 @@ public:
     virtual float pmf(const SurfaceInteraction& ref, const Emitter* emitter) const = 0;
 };
 
+// The strategies by name (the one list of them), and the default of every integrator that picks
+// lights for next-event estimation.
+const std::vector<std::string>& light_sampler_names();
+constexpr const char* DefaultLightSampler = "tree";
+// The names for a message: "uniform, power or tree".
+std::string light_sampler_choices();
 // Builds the named strategy for a scene; throws InputError for an unknown name.
 std::unique_ptr<LightSampler> create_light_sampler(const std::string& strategy, const Scene& scene);
-const std::vector<std::string>& light_sampler_names();
 
 }  // namespace candela

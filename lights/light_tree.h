@@ -19,7 +19,6 @@ public:
     explicit LightTree(const Scene& scene);
     const Emitter* sample(const SurfaceInteraction& ref, float u, float& prob) const override;
     float pmf(const SurfaceInteraction& ref, const Emitter* emitter) const override;
-    size_t node_count() const { return nodes_.size(); }
 
 private:
     struct Node {

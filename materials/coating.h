@@ -5,6 +5,9 @@
 
 #include "core/bsdf.h"
 #include "core/texture.h"
+#include "core/warp.h"
+#include "materials/fresnel.h"
+#include "materials/microfacet.h"
 
 namespace candela {
 
@@ -41,6 +44,25 @@ inline float specular_lobe_probability(const BSDFContext& ctx, uint32_t specular
 // plastic and roughplastic).
 inline Spectrum coated_base_albedo(const Spectrum& rho, float internal_reflectance, bool nonlinear) {
     return nonlinear ? rho / (Spectrum(1.0f) - rho * internal_reflectance) : rho / (1.0f - internal_reflectance);
+}
+
+// The direction of a rough plastic's sample (roughplastic, pplastic): the coating's microfacet
+// reflection when u_lobe < p_specular, else the base's cosine-weighted lobe; bs.wo and bs.lobe
+// say which. False when the direction leaves below the surface or `ctx` refuses the lobe; the
+// caller then weights the sample by its pdf (BSDF::weighted_by_pdf).
+inline bool sample_rough_coating(const MicrofacetDistribution& distribution, const BSDFContext& ctx, const Vec3& wi, float p_specular,
+                                 float u_lobe, const Vec2& u, BSDFSample& bs) {
+    if (u_lobe < p_specular) {
+        float pdf_m;
+        const Vec3 m = distribution.sample(wi, u, pdf_m);
+        bs.wo = reflect(wi, m);
+        bs.lobe = GlossyReflection;
+    } else {
+        if (!ctx.allows(DiffuseReflection)) return false;
+        bs.wo = warp::square_to_cosine_hemisphere(u);
+        bs.lobe = DiffuseReflection;
+    }
+    return bs.wo.z > 0.0f;
 }
 
 }  // namespace candela

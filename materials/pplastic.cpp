@@ -39,18 +39,7 @@ public:
     BSDFSample sample(const BSDFContext& ctx, const SurfaceInteraction& si, float u_lobe, const Vec2& u) const override {
         BSDFSample bs;
         if (Frame::cos_theta(si.wi) <= 0.0f) return bs;
-        float p_spec = specular_probability(ctx);
-        if (u_lobe < p_spec) {
-            float pdf_m;
-            Vec3 m = distribution_.sample(si.wi, u, pdf_m);
-            bs.wo = reflect(si.wi, m);
-            bs.lobe = GlossyReflection;
-        } else {
-            if (!ctx.allows(DiffuseReflection)) return bs;
-            bs.wo = warp::square_to_cosine_hemisphere(u);
-            bs.lobe = DiffuseReflection;
-        }
-        if (bs.wo.z <= 0.0f) return BSDFSample();
+        if (!sample_rough_coating(distribution_, ctx, si.wi, specular_probability(ctx), u_lobe, u, bs)) return BSDFSample();
         return weighted_by_pdf(ctx, si, bs);
     }
 

@@ -45,17 +45,7 @@ public:
         BSDFSample bs;
         float cos_i = Frame::cos_theta(si.wi);
         if (cos_i <= 0.0f) return bs;
-        float p_spec = specular_probability(ctx, cos_i);
-        if (u_lobe < p_spec) {
-            float pdf_m;
-            Vec3 m = distribution_.sample(si.wi, u, pdf_m);
-            bs.wo = reflect(si.wi, m);
-            bs.lobe = GlossyReflection;
-        } else {
-            bs.wo = warp::square_to_cosine_hemisphere(u);
-            bs.lobe = DiffuseReflection;
-        }
-        if (bs.wo.z <= 0.0f) return BSDFSample();
+        if (!sample_rough_coating(distribution_, ctx, si.wi, specular_probability(ctx, cos_i), u_lobe, u, bs)) return BSDFSample();
         return weighted_by_pdf(ctx, si, bs);
     }
 

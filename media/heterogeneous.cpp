@@ -45,7 +45,6 @@ public:
         mp.sigma_s = mp.sigma_t * albedo_->eval(p);
         return mp;
     }
-    const MajorantGrid& majorant_grid() const { return majorants_; }
     std::string to_string() const override { return "heterogeneous"; }
 
 protected:

@@ -15,6 +15,7 @@
 #include "core/scene.h"
 #include "farm/merge.h"
 #include "farm/resumable_render.h"
+#include "tests/support/raw_exr.h"
 #include "tests/util.h"
 
 #include <catch2/catch.hpp>
@@ -282,4 +283,62 @@ TEST_CASE("farm: a merge tree (parts merged into parts) gives the single render"
     CHECK(max_pixel_relative_difference(merged, single).max_relative <= 1e-5);
     // A tree part overlaps the leaves it holds.
     CHECK_THROWS_WITH(check_parts({left, leaves[1], right}), Catch::Contains("overlap"));
+}
+
+TEST_CASE(
+    "farm: crafted part files (origins beyond an int, NaN or negative counts, non-finite sums, bad sizes) are refused by "
+    "merge and --resume with the file named",
+    "[farm][errors]") {
+    // Before issue 28 a part whose origin plus size overflowed an int, or whose count.N held NaN or
+    // -1 (converted with uint32_t(...)), wrote outside the merged sums (ASan: heap-buffer-overflow)
+    // or into them as garbage.
+    Splitter s = make_splitter("path", "split-crafted");
+    const std::string good = s.part({0, 8}, ImageRect{Vec2i(3, 2), Vec2i(10, 6)});
+    REQUIRE_NOTHROW(check_parts({good}));
+    struct Craft {
+        std::string what, key, value;  // a metadata change, or
+        std::string channel;           // a pixel value to set in this channel
+        float pixel = 0.0f;
+        std::string message;
+    };
+    const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+    const std::vector<Craft> crafts = {
+        {"origin beyond an int", "candela.origin", "2147483000,0", "", 0.0f, "lies outside its image"},
+        {"negative origin", "candela.origin", "-5,0", "", 0.0f, "lies outside its image"},
+        {"coverage beyond an int", "candela.coverage", "2147483640,2,10,6@0:8", "", 0.0f, "lies outside its image"},
+        {"zero spp", "candela.spp", "0", "", 0.0f, "candela.spp: the sample count must be at least 1"},
+        {"huge spp", "candela.spp", "2000000000", "", 0.0f, "at most 2^30"},
+        {"negative image", "candela.imageSize", "-26x20", "", 0.0f, "not a positive size"},
+        {"NaN count", "", "", "count.N", nan, "not a whole number"},
+        {"negative count", "", "", "count.N", -1.0f, "not a whole number"},
+        {"huge count", "", "", "taken.N", 1e20f, "not a whole number"},
+        {"fractional count", "", "", "count.N", 2.5f, "not a whole number"},
+        {"NaN sum", "", "", "sum.R", nan, "non-finite sum"},
+        {"infinite weight", "", "", "sum.W", inf, "non-finite sum"},
+    };
+    for (const Craft& c : crafts) {
+        INFO(c.what);
+        Image part = read_image(good);
+        if (!c.key.empty()) part.metadata[c.key] = c.value;
+        if (!c.channel.empty()) {
+            const int ch = part.channel_index(c.channel);
+            REQUIRE(ch >= 0);
+            part.at(4, 3, ch) = c.pixel;
+        }
+        const std::string crafted = (s.dir / "crafted.exr").string();
+        write_exr_as_is(part, crafted);
+        // merge
+        CHECK_THROWS_WITH(merge_image(check_parts({crafted})), Catch::Contains(crafted) && Catch::Contains(c.message));
+        // --resume
+        RenderOptions options;
+        options.spp = Spp;
+        options.seed = 11;
+        options.aovs = AllAovs;
+        ResumableRequest request;
+        request.scene_path = s.scene_path;
+        request.command = "candela render test";
+        request.target = CoverageBox{ImageRect{Vec2i(0), s.scene->sensor().film().crop_size()}, SampleRange{0, Spp}};
+        request.resume = crafted;
+        CHECK_THROWS_WITH(render_resumable(*s.scene, options, request), Catch::Contains(crafted));
+    }
 }

@@ -17,10 +17,10 @@
 // standard errors from the spread of the pixels; every comparison is a z-test, and all of them
 // together keep a 1% family-wise level (Sidak over the count below).
 
-#include "analysis/vol_writer.h"
 #include "core/scene.h"
 #include "core/xml.h"
 #include "tests/stats.h"
+#include "tests/support/vol_writer.h"
 #include "tests/util.h"
 
 #include <catch2/catch.hpp>

@@ -11,11 +11,11 @@
 //     z-tested against the closed form with its own standard error; 1% family-wise (Sidak).
 //   - A homogeneous medium answers exp(-sigma_t d) exactly.
 
-#include "analysis/vol_writer.h"
 #include "core/medium.h"
 #include "core/scene.h"
 #include "core/volume.h"
 #include "tests/stats.h"
+#include "tests/support/vol_writer.h"
 #include "tests/util.h"
 
 #include <catch2/catch.hpp>

@@ -15,12 +15,12 @@
 //     constant counts by its channels' mean; a grid's weight is its value at the scattering
 //     point, clamped to [0, 1], with samples consistent with pdf and eval there.
 
-#include "analysis/vol_writer.h"
 #include "core/phase.h"
 #include "core/registry.h"
 #include "core/rng.h"
 #include "core/volume.h"
 #include "tests/stats.h"
+#include "tests/support/vol_writer.h"
 #include "tests/util.h"
 
 #include <catch2/catch.hpp>

@@ -19,7 +19,6 @@
 //     volume where a colour is meant, and a blendphase with an sggx part.
 // All statistical checks together keep a 1% family-wise level (Sidak over the count below).
 
-#include "analysis/vol_writer.h"
 #include "core/medium.h"
 #include "core/phase.h"
 #include "core/registry.h"
@@ -28,6 +27,7 @@
 #include "core/volume.h"
 #include "core/xml.h"
 #include "tests/stats.h"
+#include "tests/support/vol_writer.h"
 #include "tests/util.h"
 
 #include <catch2/catch.hpp>

@@ -1,4 +1,4 @@
-#include "analysis/vol_writer.h"
+#include "tests/support/vol_writer.h"
 
 #include <cstring>
 #include <fstream>

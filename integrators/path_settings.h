@@ -1,0 +1,48 @@
+#pragma once
+// The settings of every integrator that follows paths: path, volpath and volpathmis, irradiance,
+// direct, the estimators, and the light-path integrators (ptracer, sppm, photonmapper). They are
+// read and checked here and nowhere else, each bad value named at its own line (Mitsuba 3's
+// names and meanings).
+
+#include "lights/light_sampler.h"
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace candela {
+
+class Properties;
+
+struct PathSettings {
+    int max_depth = -1;  // longest path (in segments or scattering events, as the integrator says); -1 unbounded
+    int rr_depth = 5;    // depth from which Russian roulette may end paths
+    bool hide_emitters = false;
+    std::string light_sampler = DefaultLightSampler;
+
+    // max_depth as a bound on the depth: UINT32_MAX when unbounded.
+    uint32_t depth_limit() const { return max_depth < 0 ? UINT32_MAX : uint32_t(max_depth); }
+    // Whether a path that has made `depth` segments (scattering events) may make one more.
+    bool may_extend(uint32_t depth) const { return max_depth < 0 || depth + 1 < uint32_t(max_depth); }
+    // Whether a path of `segments` segments is within max_depth.
+    bool within_depth(uint32_t segments) const { return max_depth < 0 || segments <= uint32_t(max_depth); }
+};
+
+// Which settings an integrator reads from its properties.
+enum PathSettingFields : uint32_t {
+    DepthSettings = 1,  // max_depth, rr_depth
+    HideEmittersSetting = 2,
+    LightSamplerSetting = 4,
+};
+
+struct PathSettingProblem {
+    std::string parameter;  // Mitsuba name: max_depth, rr_depth or light_sampler
+    std::string message;
+};
+// The first invalid setting, or nothing when all are valid.
+std::optional<PathSettingProblem> check_path_settings(const PathSettings& settings);
+// Reads the `fields` (PathSettingFields) from an integrator's properties, the others keep their
+// defaults; an invalid value is a SceneError at its file:line.
+PathSettings read_path_settings(const Properties& props, uint32_t fields);
+
+}  // namespace candela

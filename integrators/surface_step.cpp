@@ -1,0 +1,77 @@
+#include "integrators/surface_step.h"
+
+#include "core/sampler.h"
+#include "core/scene.h"
+
+namespace candela {
+
+bool survive_roulette(const PathSettings& settings, Sampler& sampler, uint32_t dims, CameraPath& path) {
+    if (path.depth < uint32_t(settings.rr_depth)) return true;
+    sampler.set_dimension(dims + SampleDimensions::Roulette);
+    const float q = std::min(max_component(path.weights.estimate_weight()) * path.eta * path.eta, 0.95f);
+    if (!(sampler.next_1d() < q)) return false;
+    path.weights.beta /= q;
+    return true;
+}
+
+bool settle_roulette(const PathSettings& settings, Sampler& sampler, CameraPath& path) {
+    if (path.roulette_pending) {
+        path.roulette_pending = false;
+        if (!survive_roulette(settings, sampler, path.roulette_dims, path)) return false;
+    }
+    return max_component(path.weights.beta) > 0.0f;
+}
+
+bool surface_step(const Scene& scene, const LightSampler& lights, const PathSettings& settings, Sampler& sampler, uint32_t vertex,
+                  const SurfaceInteraction& si, const BSDF& bsdf, const PathMedium& medium, CameraPath& path, Spectrum& L,
+                  Vec3& direction) {
+    if (!settle_roulette(settings, sampler, path)) return false;
+    const uint32_t dims = SampleDimensions::bounce(vertex);
+    if (!bsdf.has_null_lobe()) path.scattered = true;
+    // At the last allowed bounce only a Null lobe may still carry the path on.
+    const bool may_scatter = settings.may_extend(path.depth);
+    if (!may_scatter && !bsdf.has_null_lobe()) return false;
+    BSDFContext ctx;
+    if (!may_scatter) ctx.lobes = Null;
+    // draw_light_sample takes the light pick, then the light position (LightPick, LightPosition).
+    sampler.set_dimension(dims + SampleDimensions::LightPick);
+    if (may_scatter && bsdf.has_smooth_lobe())
+        L += path.weights.estimate_weight() * sample_emitter_mis(scene, lights, sampler, si, bsdf, BSDFContext(), {}, medium);
+
+    sampler.set_dimension(dims + SampleDimensions::Lobe);
+    const float u_lobe = sampler.next_1d();
+    const Vec2 u_direction = sampler.next_2d();
+    const BSDFSample bs = bsdf.sample(ctx, si, u_lobe, u_direction);
+    if (!bs.valid() || bs.lobe != Null) path.scattered = true;
+    if (!bs.valid() || is_black(bs.weight)) return false;
+    path.weights.beta *= bs.weight;
+    if (bs.lobe == Null) {
+        // No scattering event: neither the depth nor the vertex MIS weights refer to changes.
+        if (++path.null_crossings > MaxNullCrossings) return false;
+    } else {
+        path.eta *= bs.eta;
+        path.scatter(si, bs.pdf, is_delta(bs.lobe));
+        path.roulette_pending = true;
+        path.roulette_dims = dims;
+    }
+    direction = si.to_world(bs.wo);
+    return true;
+}
+
+Spectrum emission_found(const LightSampler& lights, const PathSettings& settings, const CameraPath& path, const SurfaceInteraction& hit) {
+    const Emitter* emitter = hit.shape->emitter();
+    // Hidden: seen directly, through null surfaces at most.
+    if (!emitter || (settings.hide_emitters && path.depth == 0)) return Spectrum(0.0f);
+    const Spectrum Le = emitter->eval(hit);
+    if (is_black(Le)) return Spectrum(0.0f);
+    return path.weights.estimate_weight() * Le *
+           (path.from.delta ? 1.0f : emitter_hit_weight(lights, path.from.at, path.from.pdf, *emitter, hit));
+}
+
+Spectrum environment_found(const Scene& scene, const LightSampler& lights, const PathSettings& settings, const CameraPath& path,
+                           const Vec3& direction) {
+    if (settings.hide_emitters && path.depth == 0) return Spectrum(0.0f);
+    return path.weights.estimate_weight() * environment_mis(scene, lights, path.from.at, direction, path.from.pdf, path.from.delta);
+}
+
+}  // namespace candela

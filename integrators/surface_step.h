@@ -1,0 +1,79 @@
+#pragma once
+// The surface vertex of a camera path, written once for `path` and `volpath` (and, through
+// `path`, for irradiance, the estimators and the direct light of sppm and photonmapper):
+// Russian roulette for the scattering event that led here, next-event estimation, the BSDF
+// sample, and the throughput; and the emission a path finds where it arrives. A Null lobe (null,
+// a mask's transparent part) passes the path on without a scattering event, at most
+// MaxNullCrossings times in a row. What only media need (free flights, phase functions, the
+// medium a ray is in) stays in volpath.cpp.
+//
+// Sample dimensions: every vertex the path meets (a Null crossing included) claims its own block
+// of SampleDimensions, used or not, so that vertex k always draws the same dimensions.
+
+#include "core/medium.h"
+#include "integrators/direct_lighting.h"
+#include "integrators/path_settings.h"
+
+namespace candela {
+
+class Scene;
+class Sampler;
+
+// Where the path last scattered (a surface bounce or a real collision in a medium): the point
+// that MIS weights of emission found later refer to. Before the first event it is the camera,
+// a delta.
+struct ScatterVertex {
+    SurfaceInteraction at;
+    float pdf = 0.0f;
+    bool delta = true;
+};
+
+// A camera path between vertices.
+struct CameraPath {
+    // The throughput (beta) and, in chromatic media, volpath's spectral MIS ratio; without media
+    // estimate_weight() is beta itself.
+    TrackingWeights weights;
+    ScatterVertex from;
+    uint32_t depth = 0;      // scattering events so far (max_depth counts them)
+    float eta = 1.0f;        // relative indices crossed: roulette keeps paths inside glass alive
+    int null_crossings = 0;  // Null lobes crossed since the last scattering event
+    bool scattered = false;  // met a surface that is not purely null, or scattered (the film's alpha)
+    // The roulette owed for the surface scattering at this vertex block (decided at the next
+    // vertex, after the emission the scattered ray found has been added), or none.
+    bool roulette_pending = false;
+    uint32_t roulette_dims = 0;
+
+    // Records a scattering event at `at` sampled with solid-angle density `pdf`.
+    void scatter(const SurfaceInteraction& at, float pdf, bool delta) {
+        from = ScatterVertex{at, pdf, delta};
+        ++depth;
+        null_crossings = 0;
+    }
+};
+
+// Russian roulette with Mitsuba's rule: the path goes on with probability
+// min(max(estimate weight) eta^2, 0.95), its throughput divided by it, once its depth reaches
+// rr_depth. Draws dimension dims + Roulette. False when the path ends.
+bool survive_roulette(const PathSettings& settings, Sampler& sampler, uint32_t dims, CameraPath& path);
+// The roulette owed for the last surface scattering, if any; false when it ends the path or the
+// throughput is zero. surface_step() settles it first; `path` thus decides it after the emission
+// the scattered ray found, volpath right after the step (before the next free flight).
+bool settle_roulette(const PathSettings& settings, Sampler& sampler, CameraPath& path);
+
+// The surface vertex `vertex` (si.wi set, `bsdf` its BSDF): the roulette still owed, next-event
+// estimation added to `L` (times the path's estimate weight; `medium` is where the path is, for
+// the shadow rays), then the BSDF sample. Returns false when the path ends here; else
+// `direction` (world) is where it goes on, through a Null lobe or after a scattering event
+// (whose roulette is then owed), and the throughput includes the sample's weight.
+bool surface_step(const Scene& scene, const LightSampler& lights, const PathSettings& settings, Sampler& sampler, uint32_t vertex,
+                  const SurfaceInteraction& si, const BSDF& bsdf, const PathMedium& medium, CameraPath& path, Spectrum& L, Vec3& direction);
+
+// The emission the path finds at surface `hit` (0 when hide_emitters hides it: nothing has
+// scattered yet), weighted against next-event estimation from the last scattering vertex, times
+// the path's estimate weight.
+Spectrum emission_found(const LightSampler& lights, const PathSettings& settings, const CameraPath& path, const SurfaceInteraction& hit);
+// The same for a path that leaves the scene along `direction`: the environment.
+Spectrum environment_found(const Scene& scene, const LightSampler& lights, const PathSettings& settings, const CameraPath& path,
+                           const Vec3& direction);
+
+}  // namespace candela
