@@ -290,13 +290,16 @@ PartHeader read_part_header(const std::string& path) {
     h.work.samples = r.number<uint64_t>("candela.samples");
     h.work.rays = r.number<uint64_t>("candela.rays");
     h.work.nonfinite = r.number<uint64_t>("candela.nonfiniteSamples");
+    // What each sample splats and which AOV layers there are, both named by the metadata.
     SampleLayout values;
+    AovLayout layout;
     try {
         values = id.values();
+        layout = id.layout();
     } catch (const InputError& e) {
         throw InputError(path + ": part metadata: " + e.what());
     }
-    std::vector<std::string> expected = part_channels(values, id.layout()), found = file.channels;
+    std::vector<std::string> expected = part_channels(values, layout), found = file.channels;
     std::sort(expected.begin(), expected.end());
     std::sort(found.begin(), found.end());
     if (found != expected)

@@ -62,6 +62,8 @@ struct Setup {
     std::string scene_path;
 };
 
+Setup& setup();
+
 void remove_dir() {
     std::error_code ec;
     fs::remove_all(setup().dir, ec);

@@ -309,6 +309,8 @@ TEST_CASE(
         {"zero spp", "candela.spp", "0", "", 0.0f, "candela.spp: the sample count must be at least 1"},
         {"huge spp", "candela.spp", "2000000000", "", 0.0f, "at most 2^30"},
         {"negative image", "candela.imageSize", "-26x20", "", 0.0f, "not a positive size"},
+        // Found by fuzz_part (fuzz/corpus/part/unknown_aov): the error did not name the file.
+        {"unknown AOV", "candela.aovs", "variajce,samples", "", 0.0f, "unknown AOV \"variajce\""},
         {"NaN count", "", "", "count.N", nan, "not a whole number"},
         {"negative count", "", "", "count.N", -1.0f, "not a whole number"},
         {"huge count", "", "", "taken.N", 1e20f, "not a whole number"},
