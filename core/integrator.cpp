@@ -472,7 +472,8 @@ RenderResult SamplingIntegrator::render(const Scene& scene, const RenderOptions&
     std::vector<Tile> tiles = make_tiles(film, window, values.values(), layers.pixel_stats() || adaptive.enabled, samples.begin);
     uint64_t sampled_pixels = 0;
     for (const Tile& t : tiles) sampled_pixels += uint64_t(t.sampled_pixels());
-    ProgressReporter progress("Rendering", uint64_t(samples.end - samples.begin) * sampled_pixels, options.progress);
+    ProgressReporter progress("Rendering", uint64_t(samples.end - samples.begin) * sampled_pixels, options.progress, "samples",
+                              options.progress_sink);
     RenderCounters counters;
     Interruption interruption(options.interrupt);
     const TileSampler tile_sampler(*this, scene, values, layers, window, prototype->sample_count());

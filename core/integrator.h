@@ -5,6 +5,7 @@
 #include "core/image.h"
 #include "core/object.h"
 #include "core/pixel_sums.h"
+#include "core/progress.h"
 #include "core/ray.h"
 #include "core/spectrum.h"
 
@@ -41,6 +42,7 @@ struct RenderOptions {
     std::string sampler;                           // a sampler plugin to use instead of the scene's ("" keeps it)
     int threads = 0;                               // 0: all hardware threads
     bool progress = false;                         // progress bar on stderr
+    ProgressSink* progress_sink = nullptr;         // also reports progress here (core/progress.h)
     const std::atomic<bool>* interrupt = nullptr;  // set (e.g. by SIGINT) to stop early
     // Extra EXR layers: "albedo", "normal", "depth", "variance", "samples" (samples per pixel).
     std::vector<std::string> aovs;

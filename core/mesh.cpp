@@ -1,8 +1,13 @@
 #include "core/mesh.h"
 
+#include "core/error.h"
+#include "core/parameters.h"
+
 #include "core/memory_budget.h"
 #include "core/warp.h"
 
+#include <algorithm>
+#include <cstring>
 #include <map>
 #include <tuple>
 
@@ -41,7 +46,6 @@ void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
     for (auto& p : positions_) {
         p = to_world_.apply_point(p);
         if (!all_finite(p)) fail_mesh(props, "a vertex is not a finite number");
-        bbox_.expand(p);
     }
     for (const Vec2& uv : uvs_)
         if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) fail_mesh(props, "a texture coordinate is not a finite number");
@@ -54,7 +58,6 @@ void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
 
     // Zero-area triangles cannot be hit or sampled; drop them.
     std::vector<glm::uvec3> kept;
-    std::vector<float> areas;
     std::vector<size_t> kept_index;
     kept.reserve(triangles_.size());
     for (size_t i = 0; i < triangles_.size(); ++i) {
@@ -63,7 +66,6 @@ void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
         if (a > 0.0f && std::isfinite(a)) {
             kept.push_back(t);
             kept_index.push_back(i);
-            areas.push_back(a);
         }
     }
     triangles_ = std::move(kept);
@@ -76,8 +78,22 @@ void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
         attr.values = std::move(rows);
     }
     if (triangles_.empty()) fail_mesh(props, "no triangle has a non-zero area");
+    update_derived(normals_.empty() && smooth_if_missing);
+}
+
+void Mesh::update_derived(bool recompute_normals) {
+    bbox_ = BoundingBox();
+    for (const Vec3& p : positions_) bbox_.expand(p);
+    std::vector<float> areas;
+    areas.reserve(triangles_.size());
+    for (const glm::uvec3& t : triangles_) {
+        const float a = 0.5f * glm::length(glm::cross(positions_[t.y] - positions_[t.x], positions_[t.z] - positions_[t.x]));
+        areas.push_back(std::isfinite(a) ? a : 0.0f);
+    }
     double total = 0.0;
     for (float a : areas) total += a;
+    cone_axis_ = Vec3(0.0f, 0.0f, 1.0f);
+    cone_cos_ = -1.0f;
     area_ = float(total);
     // Normal cone: the area-weighted mean normal and the widest deviation from it.
     Vec3 sum(0.0f);
@@ -95,7 +111,7 @@ void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
             cone_cos_ = std::max(-1.0f, cone_cos_ - 1e-5f);
     }
     area_distribution_ = Distribution1D(std::move(areas));
-    if (normals_.empty() && smooth_if_missing) recompute_vertex_normals();
+    if (recompute_normals) recompute_vertex_normals();
     // A flat triangle's frame is the same at every point of it: computed here once, not per hit.
     flat_.clear();
     if (normals_.empty()) {
@@ -106,6 +122,32 @@ void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
             flat_.push_back(f);
         }
     }
+}
+
+void Mesh::traverse(ParameterVisitor& visitor) {
+    Shape::traverse(visitor);
+    // World-space positions, x y z per vertex (Mitsuba's vertex_positions); the count is fixed.
+    visitor.value("vertex_positions", ParameterAccess{ParameterType::Floats,
+                                                      [this] {
+                                                          std::vector<float> v(positions_.size() * 3);
+                                                          std::memcpy(v.data(), positions_.data(), v.size() * sizeof(float));
+                                                          return v;
+                                                      },
+                                                      [this](const std::vector<float>& v) {
+                                                          if (v.size() != positions_.size() * 3)
+                                                              throw InputError("vertex_positions holds " +
+                                                                               std::to_string(positions_.size() * 3) + " numbers, not " +
+                                                                               std::to_string(v.size()));
+                                                          for (float x : v)
+                                                              if (!std::isfinite(x)) throw InputError("vertex_positions must be finite");
+                                                          std::memcpy(positions_.data(), v.data(), v.size() * sizeof(float));
+                                                      }});
+}
+
+void Mesh::parameters_changed(const std::vector<std::string>& keys) {
+    // Moved vertices: the bounds, areas, frames and (when the mesh has them) the vertex normals
+    // follow, as in Mitsuba; the scene then rebuilds its BVH.
+    if (std::find(keys.begin(), keys.end(), "vertex_positions") != keys.end()) update_derived(!normals_.empty());
 }
 
 void Mesh::recompute_vertex_normals() {

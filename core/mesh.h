@@ -64,6 +64,9 @@ public:
     const std::vector<Vec3>& normals() const { return normals_; }
     const std::vector<Vec2>& uvs() const { return uvs_; }
     const std::vector<glm::uvec3>& triangles() const { return triangles_; }
+    // Its BSDF and emitter, and vertex_positions (core/parameters.h).
+    void traverse(ParameterVisitor& visitor) override;
+    void parameters_changed(const std::vector<std::string>& keys) override;
 
 protected:
     // Stops the load (memory_budget.h) before a reader allocates a mesh of `vertices` and
@@ -74,6 +77,9 @@ protected:
     // area table. With `smooth_if_missing`, a mesh without vertex normals gets angle-weighted
     // smooth normals (Thürmer & Wüthrich 1998), as Mitsuba does for OBJ and PLY files.
     void finalize(const Properties& props, bool smooth_if_missing);
+    // What finalize() derives from the positions: bounds, area table, normal cone, flat frames,
+    // and the vertex normals when `recompute_normals`.
+    void update_derived(bool recompute_normals);
     void recompute_vertex_normals();
 
     std::vector<Vec3> positions_, normals_;

@@ -33,9 +33,13 @@ std::string format_count(double v) {
     return buf;
 }
 
-ProgressReporter::ProgressReporter(std::string label, uint64_t total, bool enabled, std::string unit)
-    : label_(std::move(label)), unit_(std::move(unit)), total_(total), enabled_(enabled) {
+ProgressReporter::ProgressReporter(std::string label, uint64_t total, bool enabled, std::string unit, ProgressSink* sink)
+    : label_(std::move(label)), unit_(std::move(unit)), total_(total), enabled_(enabled), sink_(sink) {
     start_ = last_draw_ = std::chrono::steady_clock::now();
+    if (sink_) {
+        sink_->done = 0;
+        sink_->total = total;
+    }
 }
 
 double ProgressReporter::elapsed_seconds() const {
@@ -44,6 +48,7 @@ double ProgressReporter::elapsed_seconds() const {
 
 void ProgressReporter::add(uint64_t work) {
     uint64_t done = done_.fetch_add(work) + work;
+    if (sink_) sink_->done.fetch_add(work, std::memory_order_relaxed);
     if (!enabled_) return;
     std::unique_lock<std::mutex> lock(draw_mutex_, std::try_to_lock);
     if (!lock.owns_lock()) return;

@@ -68,6 +68,13 @@ Scene::Scene(const Properties& props) {
     }
 }
 
+void Scene::update_geometry() {
+    bbox_ = BoundingBox();
+    for (auto& shape : shapes_) bbox_.expand(shape->bbox());
+    accel_.build(shapes_);
+    for (auto& emitter : emitters_) emitter->set_scene(*this);
+}
+
 bool Scene::intersect(const Ray& ray, SurfaceInteraction& si) const {
     RayHit hit;
     const Shape* shape = accel_.intersect(ray, hit);

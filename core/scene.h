@@ -52,9 +52,13 @@ public:
 
     Sensor& sensor() const { return *sensor_; }
     Integrator& integrator() const { return *integrator_; }
+    const Ref<Integrator>& integrator_ref() const { return integrator_; }
     void set_integrator(Ref<Integrator> integrator) { integrator_ = std::move(integrator); }
     const BoundingBox& bbox() const { return bbox_; }
     const Accel& accel() const { return accel_; }
+    // After shapes changed (core/parameters.h): the bounds, the BVH (rebuilt) and what the
+    // emitters derive from the scene's bounds.
+    void update_geometry();
 
     std::string source_file;  // the scene file it was loaded from
     // The scene file's parameters after <default>s and -D overrides, substituted ($name) as

@@ -3,6 +3,7 @@
 #include "core/bsdf.h"
 #include "core/emitter.h"
 #include "core/medium.h"
+#include "core/parameters.h"
 #include "core/registry.h"
 
 namespace candela {
@@ -52,6 +53,11 @@ float Shape::pdf_direction(const SurfaceInteraction& ref, const DirectionSample&
     float cos_light = std::abs(glm::dot(ds.n, ds.d));
     if (cos_light == 0.0f) return 0.0f;
     return ds.dist * ds.dist / (cos_light * surface_area());
+}
+
+void Shape::traverse(ParameterVisitor& visitor) {
+    visitor.object("bsdf", bsdf_.get());
+    visitor.object("emitter", emitter_.get());
 }
 
 }  // namespace candela

@@ -151,6 +151,8 @@ public:
     }
 
     const BSDF* bsdf() const { return bsdf_.get(); }
+    // Its BSDF and emitter, as "bsdf" and "emitter" (core/parameters.h).
+    void traverse(ParameterVisitor& visitor) override;
     const Emitter* emitter() const { return emitter_.get(); }
     const Ref<Emitter>& emitter_ref() const { return emitter_; }
     // The emitters this shape brings to the scene: its own, and for an instance the moving

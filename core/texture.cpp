@@ -1,5 +1,6 @@
 #include "core/texture.h"
 
+#include "core/parameters.h"
 #include "core/properties.h"
 
 namespace candela {
@@ -49,5 +50,7 @@ Vec2 Texture::eval_1_gradient(const SurfaceInteraction& si) const {
     auto height = [&](float du, float dv) { return eval_1(mapping_.map(si.uv + Vec2(du, dv), si.p + si.dpdu * du + si.dpdv * dv)); };
     return Vec2(height(h, 0.0f) - height(-h, 0.0f), height(0.0f, h) - height(0.0f, -h)) / (2.0f * h);
 }
+
+void ConstantTexture::traverse(ParameterVisitor& visitor) { expose_color(visitor, "value", value_); }
 
 }  // namespace candela

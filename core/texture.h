@@ -115,6 +115,8 @@ public:
     bool is_constant() const override { return true; }
     float max_value() const override { return max_component(value_); }
     const Spectrum& value() const { return value_; }
+    // Mitsuba's srgb texture: "value".
+    void traverse(ParameterVisitor& visitor) override;
 
 private:
     Spectrum value_;

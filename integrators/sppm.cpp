@@ -237,7 +237,7 @@ RenderResult SPPMIntegrator::render(const Scene& scene, const RenderOptions& opt
     const Ref<Sampler> prototype = configured_sampler(scene, camera_options);
     tbb::enumerable_thread_specific<Ref<Sampler>> samplers([&] { return prototype->clone(); });
     tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
-    ProgressReporter progress("Rendering", uint64_t(passes), options.progress, "passes");
+    ProgressReporter progress("Rendering", uint64_t(passes), options.progress, "passes", options.progress_sink);
     const std::atomic<bool>* interrupt = options.interrupt;
     auto interrupted = [&] { return interrupt && interrupt->load(std::memory_order_relaxed); };
     std::atomic<uint64_t> rays{0};

@@ -20,6 +20,7 @@
 
 #include "core/emitter.h"
 #include "core/local_model.h"
+#include "core/parameters.h"
 #include "core/properties.h"
 #include "core/registry.h"
 #include "core/scene.h"
@@ -119,6 +120,8 @@ public:
         b.phi = luminance(power());
         return b;
     }
+    // Mitsuba's parameter names (core/parameters.h).
+    void traverse(ParameterVisitor& visitor) override { visitor.object("radiance", radiance_.get()); }
     std::string to_string() const override { return "area"; }
 
 private:

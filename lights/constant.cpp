@@ -6,6 +6,7 @@
 
 #include "core/emitter.h"
 #include "core/local_model.h"
+#include "core/parameters.h"
 #include "core/properties.h"
 #include "core/registry.h"
 #include "core/scene.h"
@@ -61,6 +62,8 @@ public:
         a.radiance = radiance_;
         return a;
     }
+    // Mitsuba's parameter names (core/parameters.h).
+    void traverse(ParameterVisitor& visitor) override { expose_color(visitor, "radiance.value", radiance_); }
     std::string to_string() const override { return "constant"; }
 
 private:

@@ -6,6 +6,7 @@
 //   to_world     transform   alternative: the light travels along to_world's +z
 
 #include "core/emitter.h"
+#include "core/parameters.h"
 #include "core/registry.h"
 #include "core/scene.h"
 #include "lights/scene_disk.h"
@@ -54,6 +55,8 @@ public:
     Spectrum eval(const SurfaceInteraction&) const override { return Spectrum(0.0f); }
     // Flux through the disk the scene presents to the light.
     Spectrum power() const override { return irradiance_ * disk_.area(); }
+    // Mitsuba's parameter names (core/parameters.h).
+    void traverse(ParameterVisitor& visitor) override { expose_color(visitor, "irradiance.value", irradiance_); }
     std::string to_string() const override { return "directional"; }
 
     const Vec3& direction() const { return direction_; }

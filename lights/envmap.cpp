@@ -17,6 +17,7 @@
 #include "core/error.h"
 #include "core/image.h"
 #include "core/local_model.h"
+#include "core/parameters.h"
 #include "core/registry.h"
 #include "core/scene.h"
 #include "lights/scene_disk.h"
@@ -118,6 +119,18 @@ public:
         a.kind = LocalApproximation::Kind::Ambient;
         a.radiance = integral_ / FourPi;
         return a;
+    }
+    // Mitsuba's parameter names (core/parameters.h).
+    void traverse(ParameterVisitor& visitor) override {
+        // The texels hold radiance times scale: a new scale rescales them (and their distribution,
+        // which is proportional to them, stays as it is).
+        visitor.value("scale", ParameterAccess{ParameterType::Float, [this] { return std::vector<float>{scale_}; },
+                                               [this](const std::vector<float>& v) {
+                                                   if (!(v.at(0) > 0.0f) || !std::isfinite(v.at(0)))
+                                                       throw InputError("scale must be positive and finite");
+                                                   for (Spectrum& t : texels_) t *= v.at(0) / scale_;
+                                                   scale_ = v.at(0);
+                                               }});
     }
     std::string to_string() const override { return "envmap"; }
 

@@ -12,6 +12,7 @@
 //   attenuation_quadratic
 
 #include "core/emitter.h"
+#include "core/parameters.h"
 #include "core/registry.h"
 #include "core/scene.h"
 #include "core/warp.h"
@@ -62,6 +63,8 @@ public:
         b.phi = luminance(power());
         return b;
     }
+    // Mitsuba's parameter names (core/parameters.h).
+    void traverse(ParameterVisitor& visitor) override { expose_color(visitor, "intensity.value", intensity_); }
     std::string to_string() const override { return "point"; }
 
     const Vec3& position() const { return position_; }

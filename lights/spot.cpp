@@ -19,6 +19,7 @@
 //   attenuation_*      float       as `point` (default: inverse square)
 
 #include "core/emitter.h"
+#include "core/parameters.h"
 #include "core/registry.h"
 #include "core/scene.h"
 #include "core/texture.h"
@@ -115,6 +116,9 @@ public:
         b.phi = luminance(power_);
         return b;
     }
+    // Mitsuba's parameter names (core/parameters.h).
+    void traverse(ParameterVisitor& visitor) override { expose_color(visitor, "intensity.value", intensity_); }
+    void parameters_changed(const std::vector<std::string>&) override { power_ = intensity_ * integrated_profile(); }
     std::string to_string() const override { return "spot"; }
 
     const Vec3& position() const { return position_; }

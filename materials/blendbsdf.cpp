@@ -13,6 +13,7 @@
 
 #include "core/bsdf.h"
 #include "core/local_model.h"
+#include "core/parameters.h"
 #include "core/properties.h"
 #include "core/registry.h"
 #include "core/texture.h"
@@ -73,6 +74,12 @@ public:
     // Local model: the two nested models blended by the weight (see mix_local_shading).
     LocalShading local_shading() const override {
         return mix_local_shading(nested_[0]->local_shading(), nested_[1]->local_shading(), weight_);
+    }
+    // Mitsuba's parameter names (core/parameters.h).
+    void traverse(ParameterVisitor& visitor) override {
+        visitor.object("weight", weight_.get());
+        visitor.object("bsdf_0", nested_[0].get());
+        visitor.object("bsdf_1", nested_[1].get());
     }
     std::string to_string() const override { return "blendbsdf"; }
 

@@ -12,6 +12,7 @@
 
 #include "core/bsdf.h"
 #include "core/local_model.h"
+#include "core/parameters.h"
 #include "core/registry.h"
 #include "materials/fresnel.h"
 #include "materials/ior.h"
@@ -46,6 +47,12 @@ public:
         LocalShading s;
         s.mirror = specular_->mean() * fresnel_conductor(1.0f, eta_->mean(), k_->mean());
         return s;
+    }
+    // Mitsuba's parameter names (core/parameters.h).
+    void traverse(ParameterVisitor& visitor) override {
+        visitor.object("eta", eta_.get());
+        visitor.object("k", k_.get());
+        visitor.object("specular_reflectance", specular_.get());
     }
     std::string to_string() const override { return "conductor"; }
 

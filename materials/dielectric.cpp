@@ -14,6 +14,7 @@
 
 #include "core/bsdf.h"
 #include "core/local_model.h"
+#include "core/parameters.h"
 #include "core/registry.h"
 #include "core/texture.h"
 #include "materials/fresnel.h"
@@ -67,6 +68,11 @@ public:
         s.eta = eta_;
         s.two_sided = true;
         return s;
+    }
+    // Mitsuba's parameter names (core/parameters.h).
+    void traverse(ParameterVisitor& visitor) override {
+        visitor.object("specular_reflectance", reflectance_.get());
+        visitor.object("specular_transmittance", transmittance_.get());
     }
     std::string to_string() const override { return "dielectric"; }
 

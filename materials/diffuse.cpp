@@ -7,6 +7,7 @@
 
 #include "core/bsdf.h"
 #include "core/local_model.h"
+#include "core/parameters.h"
 #include "core/properties.h"
 #include "core/registry.h"
 #include "core/texture.h"
@@ -53,6 +54,8 @@ public:
         s.diffuse = reflectance_;
         return s;
     }
+    // Mitsuba's parameter names (core/parameters.h).
+    void traverse(ParameterVisitor& visitor) override { visitor.object("reflectance", reflectance_.get()); }
     std::string to_string() const override { return "diffuse"; }
 
 private:

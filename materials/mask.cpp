@@ -14,6 +14,7 @@
 
 #include "core/bsdf.h"
 #include "core/local_model.h"
+#include "core/parameters.h"
 #include "core/properties.h"
 #include "core/registry.h"
 #include "core/texture.h"
@@ -64,6 +65,11 @@ public:
         return mix_local_shading(clear, nested_->local_shading(), opacity_);
     }
     Frame shading_frame(const SurfaceInteraction& si) const override { return nested_->shading_frame(si); }
+    // Mitsuba's parameter names (core/parameters.h).
+    void traverse(ParameterVisitor& visitor) override {
+        visitor.object("opacity", opacity_.get());
+        visitor.object("bsdf", nested_.get());
+    }
     std::string to_string() const override { return "mask"; }
 
 private:

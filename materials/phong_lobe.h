@@ -4,6 +4,7 @@
 
 #include "core/bsdf.h"
 #include "core/local_model.h"
+#include "core/parameters.h"
 #include "core/properties.h"
 #include "core/texture.h"
 
@@ -33,6 +34,11 @@ public:
     const Texture& kd() const { return *kd_; }
     const Texture& ks() const { return *ks_; }
     float exponent() const { return exponent_; }
+    // Mitsuba's parameter names (core/parameters.h).
+    void traverse(ParameterVisitor& visitor) override {
+        visitor.object("kd", kd_.get());
+        visitor.object("ks", ks_.get());
+    }
 
 protected:
     // The normalised glossy lobe value (without ks and without cos wo) and its sampling.

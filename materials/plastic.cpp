@@ -15,6 +15,7 @@
 
 #include "core/bsdf.h"
 #include "core/local_model.h"
+#include "core/parameters.h"
 #include "core/registry.h"
 #include "core/texture.h"
 #include "core/warp.h"
@@ -82,6 +83,14 @@ public:
         s.diffuse = diffuse_;
         s.mirror = specular_->mean() * fresnel_dielectric(1.0f, eta_).F;
         return s;
+    }
+    // Mitsuba's parameter names (core/parameters.h).
+    void traverse(ParameterVisitor& visitor) override {
+        visitor.object("diffuse_reflectance", diffuse_.get());
+        visitor.object("specular_reflectance", specular_.get());
+    }
+    void parameters_changed(const std::vector<std::string>&) override {
+        specular_weight_ = specular_sampling_weight(*specular_, *diffuse_);
     }
     std::string to_string() const override { return "plastic"; }
 

@@ -13,6 +13,7 @@
 
 #include "core/bsdf.h"
 #include "core/local_model.h"
+#include "core/parameters.h"
 #include "core/registry.h"
 #include "materials/fresnel.h"
 #include "materials/ior.h"
@@ -77,6 +78,12 @@ public:
         s.mirror = F0;
         s.roughness = alpha;
         return s;
+    }
+    // Mitsuba's parameter names (core/parameters.h).
+    void traverse(ParameterVisitor& visitor) override {
+        visitor.object("eta", eta_.get());
+        visitor.object("k", k_.get());
+        visitor.object("specular_reflectance", specular_.get());
     }
     std::string to_string() const override { return "roughconductor"; }
 

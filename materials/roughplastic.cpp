@@ -16,6 +16,7 @@
 
 #include "core/bsdf.h"
 #include "core/local_model.h"
+#include "core/parameters.h"
 #include "core/registry.h"
 #include "core/texture.h"
 #include "core/warp.h"
@@ -96,6 +97,14 @@ public:
         s.mirror = specular_->mean() * F0;
         s.roughness = alpha;
         return s;
+    }
+    // Mitsuba's parameter names (core/parameters.h).
+    void traverse(ParameterVisitor& visitor) override {
+        visitor.object("diffuse_reflectance", diffuse_.get());
+        visitor.object("specular_reflectance", specular_.get());
+    }
+    void parameters_changed(const std::vector<std::string>&) override {
+        specular_weight_ = specular_sampling_weight(*specular_, *diffuse_);
     }
     std::string to_string() const override { return "roughplastic"; }
 

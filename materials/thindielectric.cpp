@@ -7,6 +7,7 @@
 
 #include "core/bsdf.h"
 #include "core/local_model.h"
+#include "core/parameters.h"
 #include "core/registry.h"
 #include "core/texture.h"
 #include "materials/fresnel.h"
@@ -56,6 +57,11 @@ public:
         s.transmission = transmittance_->mean() * (1.0f - R);
         s.two_sided = true;
         return s;
+    }
+    // Mitsuba's parameter names (core/parameters.h).
+    void traverse(ParameterVisitor& visitor) override {
+        visitor.object("specular_reflectance", reflectance_.get());
+        visitor.object("specular_transmittance", transmittance_.get());
     }
     std::string to_string() const override { return "thindielectric"; }
 

@@ -7,6 +7,7 @@
 
 #include "core/bsdf.h"
 #include "core/local_model.h"
+#include "core/parameters.h"
 #include "core/properties.h"
 #include "core/registry.h"
 
@@ -53,6 +54,11 @@ public:
         LocalShading s = front_->local_shading();
         s.two_sided = true;
         return s;
+    }
+    // Mitsuba's parameter names (core/parameters.h).
+    void traverse(ParameterVisitor& visitor) override {
+        visitor.object("brdf_0", front_.get());
+        visitor.object("brdf_1", back_.get());
     }
     std::string to_string() const override { return "twosided"; }
 

@@ -12,6 +12,7 @@ packages=(
   libtinyobjloader-dev catch2 libtbb-dev libpugixml-dev libcli11-dev zlib1g-dev
   libosmesa6-dev
   clang libclang-rt-14-dev llvm lld
+  python3-dev pybind11-dev python3-numpy python3-pytest python3-nbclient python3-nbformat python3-ipykernel
   clang-format python3
 )
 # clang (Debian's clang 14) builds the sanitizer and fuzzing builds; libclang-rt-14-dev holds its

@@ -66,6 +66,16 @@ public:
 
     std::optional<PinholeProjection> pinhole() const override { return projection_; }
 
+    // to_world, x_fov (core/parameters.h).
+    void traverse(ParameterVisitor& visitor) override {
+        ProjectiveCamera::traverse(visitor);
+        expose_x_fov(visitor, projection_);
+    }
+    void pose_changed() override {
+        projection_.to_world = to_world_;
+        origin_ = to_world_.apply_point(Vec3(0.0f));
+    }
+
     std::string to_string() const override { return "perspective"; }
 
 private:

@@ -1,6 +1,8 @@
 #include "sensors/projective.h"
 
+#include "core/error.h"
 #include "core/medium.h"
+#include "core/parameters.h"
 #include "core/properties.h"
 #include "core/registry.h"
 
@@ -77,6 +79,28 @@ SensorSample ProjectiveCamera::lens_connection(const Vec3& ref, const Vec3& loca
     s.pdf = 1.0f;
     s.delta = true;
     return s;
+}
+
+void ProjectiveCamera::traverse(ParameterVisitor& visitor) {
+    if (!motion_.is_animated()) expose_transform(visitor, "to_world", to_world_);
+    visitor.object("film", film_.get());
+}
+
+void ProjectiveCamera::parameters_changed(const std::vector<std::string>& keys) {
+    if (std::find(keys.begin(), keys.end(), "to_world") == keys.end()) return;
+    motion_ = AnimatedTransform(to_world_);
+    world_to_local_ = to_world_.inverse();
+    pose_changed();
+}
+
+void ProjectiveCamera::expose_x_fov(ParameterVisitor& visitor, PinholeProjection& projection) {
+    visitor.value("x_fov", ParameterAccess{ParameterType::Float,
+                                           [&projection] { return std::vector<float>{degrees(2.0f * std::atan(projection.tan_half_x))}; },
+                                           [&projection](const std::vector<float>& v) {
+                                               if (!(v.at(0) > 0.0f && v.at(0) < 180.0f))
+                                                   throw InputError("x_fov must lie between 0 and 180 degrees");
+                                               projection.tan_half_x = std::tan(radians(v.at(0)) * 0.5f);
+                                           }});
 }
 
 }  // namespace candela

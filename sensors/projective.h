@@ -30,6 +30,9 @@ class ProjectiveCamera : public Sensor {
 public:
     bool is_animated() const override { return motion_.is_animated(); }
     SourceLocation motion_location() const override { return motion_.where; }
+    // "to_world" (a camera that does not move) and its film (core/parameters.h).
+    void traverse(ParameterVisitor& visitor) override;
+    void parameters_changed(const std::vector<std::string>& keys) override;
 
 protected:
     explicit ProjectiveCamera(const Properties& props);
@@ -55,6 +58,10 @@ protected:
     // The pinhole of a perspective or thin-lens camera: its pose, the field of view read from
     // props (fov, fov_axis or focal_length), the film's aspect and the clip distances.
     PinholeProjection pinhole_projection(const Properties& props) const;
+    // After to_world changed: what the camera derives from its pose.
+    virtual void pose_changed() {}
+    // A pinhole camera's "x_fov" (degrees), read and written through its tan(fov_x / 2).
+    static void expose_x_fov(ParameterVisitor& visitor, PinholeProjection& projection);
 
     AnimatedTransform motion_;
     Transform world_to_local_;

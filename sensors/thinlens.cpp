@@ -76,6 +76,13 @@ public:
         return projection_;
     }
 
+    // to_world, x_fov (core/parameters.h).
+    void traverse(ParameterVisitor& visitor) override {
+        ProjectiveCamera::traverse(visitor);
+        expose_x_fov(visitor, projection_);
+    }
+    void pose_changed() override { projection_.to_world = to_world_; }
+
     std::string to_string() const override { return "thinlens"; }
 
 private:

@@ -1,0 +1,529 @@
+// candela._candela: the native half of the Python package (python/candela/). It loads scenes,
+// renders them with the GIL released, holds images that NumPy views without a copy (the buffer
+// protocol), reads and writes scene parameters by Mitsuba's names, and runs the analysis the
+// command line runs. The Python half (candela/__init__.py and the modules beside it) gives it
+// its Pythonic and Mitsuba-like surface.
+//
+// Interruption: a render runs on a worker thread while the calling thread, holding the GIL every
+// 50 ms, asks Python whether a signal is pending (PyErr_CheckSignals): Ctrl-C raises
+// KeyboardInterrupt in the caller after the render stopped at its next tile, and the process
+// stays usable. The progress callback runs on the calling thread too.
+
+#include "analysis/compare_modes.h"
+#include "analysis/convergence.h"
+#include "analysis/image_metrics.h"
+#include "analysis/validation.h"
+#include "core/error.h"
+#include "core/file_output.h"
+#include "core/image.h"
+#include "core/integrator.h"
+#include "core/parameters.h"
+#include "core/progress.h"
+#include "core/registry.h"
+#include "core/scene.h"
+#include "core/xml.h"
+#include "integrators/estimators.h"
+
+#include <pybind11/functional.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <candela/version.h>
+
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <optional>
+#include <thread>
+
+namespace py = pybind11;
+using namespace candela;
+
+namespace {
+
+// A loaded scene, and the lock that keeps a parameter update from racing a render.
+struct SceneHandle {
+    Ref<Scene> scene;
+    std::shared_ptr<std::mutex> lock = std::make_shared<std::mutex>();
+};
+
+// Pixels Candela owns, H x W x C float32, seen by NumPy through the buffer protocol.
+struct ImageBuffer {
+    Image image;
+};
+
+py::object errors_module() { return py::module_::import("candela.errors"); }
+
+// Runs `body` with the GIL released, translating Candela's errors into the package's exceptions.
+template <typename F>
+auto without_gil(F&& body) {
+    py::gil_scoped_release release;
+    return body();
+}
+
+void register_exceptions(py::module_& m) {
+    py::register_exception_translator([](std::exception_ptr p) {
+        try {
+            if (p) std::rethrow_exception(p);
+        } catch (const SceneError& e) {
+            py::object error = errors_module().attr("SceneError")(e.what(), e.location.file, e.location.line, e.message());
+            PyErr_SetObject(error.get_type().ptr(), error.ptr());
+        } catch (const InputError& e) {
+            PyErr_SetString(errors_module().attr("InputError").ptr(), e.what());
+        } catch (const InternalError& e) {
+            PyErr_SetString(errors_module().attr("InternalError").ptr(), e.what());
+        }
+    });
+}
+
+SceneParameters string_map(const std::map<std::string, std::string>& params) { return SceneParameters(params.begin(), params.end()); }
+
+SceneHandle load_file(const std::string& path, const std::map<std::string, std::string>& params) {
+    return without_gil([&] { return SceneHandle{load_scene(path, string_map(params))}; });
+}
+
+SceneHandle load_string(const std::string& xml, const std::string& virtual_path, const std::map<std::string, std::string>& params) {
+    return without_gil([&] { return SceneHandle{load_scene_from_string(xml, virtual_path, string_map(params))}; });
+}
+
+// The XML tag of a plugin type ("diffuse" -> "bsdf"), or None.
+py::object plugin_tag(const std::string& type) {
+    for (ObjectKind kind :
+         {ObjectKind::Shape, ObjectKind::BSDF, ObjectKind::Emitter, ObjectKind::Texture, ObjectKind::Sensor, ObjectKind::Film,
+          ObjectKind::Filter, ObjectKind::Sampler, ObjectKind::Integrator, ObjectKind::Medium, ObjectKind::Phase, ObjectKind::Volume}) {
+        const auto names = plugin_names(kind);
+        if (std::find(names.begin(), names.end(), type) != names.end()) return py::str(kind_tag(kind));
+    }
+    return py::none();
+}
+
+// Renders on a worker thread; the calling thread waits with the GIL, checking for signals and
+// reporting progress.
+ImageBuffer render(SceneHandle& handle, int spp, uint64_t seed, int threads, const std::string& integrator_xml, py::object progress,
+                   const std::vector<std::string>& aovs) {
+    Ref<Scene> scene = handle.scene;
+    Ref<Integrator> integrator;
+    if (!integrator_xml.empty())
+        integrator = without_gil([&] { return load_scene_from_string(integrator_xml, "<integrator>.xml")->integrator_ref(); });
+    std::atomic<bool> interrupt{false};
+    ProgressSink sink;
+    RenderOptions options;
+    options.spp = spp;
+    options.seed = seed;
+    options.threads = threads;
+    options.aovs = aovs;
+    options.interrupt = &interrupt;
+    options.progress_sink = &sink;
+    RenderResult result;
+    std::exception_ptr failure;
+    std::mutex done_mutex;
+    std::condition_variable done_signal;
+    bool done = false;
+    std::thread worker([&] {
+        try {
+            std::lock_guard<std::mutex> lock(*handle.lock);
+            Integrator& chosen = integrator ? *integrator : scene->integrator();
+            result = chosen.render(*scene, options);
+            annotate_image(result.image, result.stats, chosen.to_string(), scene->source_file);
+        } catch (...) {
+            failure = std::current_exception();
+        }
+        std::lock_guard<std::mutex> lock(done_mutex);
+        done = true;
+        done_signal.notify_all();
+    });
+    // A Python exception (KeyboardInterrupt, or one the progress callback raised) stops the
+    // render and is raised once the worker has finished.
+    std::optional<py::error_already_set> python_error;
+    for (;;) {
+        {
+            py::gil_scoped_release release;
+            std::unique_lock<std::mutex> lock(done_mutex);
+            done_signal.wait_for(lock, std::chrono::milliseconds(50), [&] { return done; });
+            if (done) break;
+        }
+        if (python_error) continue;
+        if (PyErr_CheckSignals() != 0) {
+            python_error.emplace();
+            interrupt = true;
+            continue;
+        }
+        if (!progress.is_none()) {
+            try {
+                progress(sink.fraction());
+            } catch (py::error_already_set& e) {
+                python_error.emplace(std::move(e));
+                interrupt = true;
+            }
+        }
+    }
+    {
+        py::gil_scoped_release release;
+        worker.join();
+    }
+    if (python_error) throw std::move(*python_error);
+    if (failure) std::rethrow_exception(failure);
+    if (!progress.is_none()) progress(1.0);
+    return ImageBuffer{std::move(result.image)};
+}
+
+py::buffer_info image_buffer(ImageBuffer& b) {
+    Image& img = b.image;
+    const ssize_t c = img.channel_count(), w = img.width(), h = img.height();
+    return py::buffer_info(img.data().data(), sizeof(float), py::format_descriptor<float>::format(), 3, {h, w, c},
+                           {ssize_t(sizeof(float)) * w * c, ssize_t(sizeof(float)) * c, ssize_t(sizeof(float))});
+}
+
+ImageBuffer image_from_array(py::array_t<float, py::array::c_style | py::array::forcecast> array, const std::vector<std::string>& channels,
+                             const std::map<std::string, std::string>& metadata) {
+    if (array.ndim() != 3) throw InputError("an image array is height x width x channels");
+    const int h = int(array.shape(0)), w = int(array.shape(1)), c = int(array.shape(2));
+    if (int(channels.size()) != c)
+        throw InputError(std::to_string(channels.size()) + " channel names for " + std::to_string(c) + " channels");
+    std::vector<float> values(array.data(), array.data() + size_t(h) * w * c);
+    Image img(w, h, channels, std::move(values));
+    img.metadata = metadata;
+    return ImageBuffer{std::move(img)};
+}
+
+// The PNG bytes of 8-bit sRGB pixels (H x W x 3 uint8), through the image module's writer.
+py::bytes png_bytes(py::array_t<uint8_t, py::array::c_style | py::array::forcecast> pixels) {
+    if (pixels.ndim() != 3 || pixels.shape(2) != 3) throw InputError("encode_png expects H x W x 3 bytes");
+    const int h = int(pixels.shape(0)), w = int(pixels.shape(1));
+    Image display = Image::rgb(w, h);
+    const uint8_t* p = pixels.data();
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x, p += 3) display.set_rgb(x, y, Spectrum(p[0], p[1], p[2]) / 255.0f);
+    return py::bytes(without_gil([&] { return encode_png(display); }));
+}
+
+void write_png_file(py::array_t<uint8_t, py::array::c_style | py::array::forcecast> pixels, const std::string& path) {
+    const py::bytes png = png_bytes(pixels);
+    write_file_atomically(path, std::string(png));
+}
+
+// --- parameters -------------------------------------------------------------------------------
+
+const char* type_name(ParameterType t) {
+    switch (t) {
+        case ParameterType::Float: return "float";
+        case ParameterType::Color: return "color";
+        case ParameterType::Transform: return "transform";
+        default: return "floats";
+    }
+}
+
+std::vector<SceneParameter> parameters_of(SceneHandle& h) { return scene_parameters(*h.scene); }
+
+py::list parameter_list(SceneHandle& h) {
+    py::list out;
+    for (const SceneParameter& p : parameters_of(h)) out.append(py::make_tuple(p.name, type_name(p.access.type)));
+    return out;
+}
+
+const SceneParameter& find_parameter(const std::vector<SceneParameter>& all, const std::string& name) {
+    for (const SceneParameter& p : all)
+        if (p.name == name) return p;
+    throw py::key_error("the scene has no parameter \"" + name + "\"");
+}
+
+py::array_t<float> get_parameter(SceneHandle& h, const std::string& name) {
+    const auto all = parameters_of(h);
+    std::lock_guard<std::mutex> lock(*h.lock);
+    const std::vector<float> v = find_parameter(all, name).access.get();
+    py::array_t<float> out(ssize_t(v.size()));
+    std::copy(v.begin(), v.end(), out.mutable_data());
+    return out;
+}
+
+// Writes the values of `changes` (name -> flat float array), then updates their owners once.
+void set_parameters(SceneHandle& h, const std::map<std::string, py::array_t<float, py::array::c_style | py::array::forcecast>>& changes) {
+    const auto all = parameters_of(h);
+    std::vector<std::pair<const SceneParameter*, std::vector<float>>> writes;
+    for (const auto& [name, array] : changes) {
+        const SceneParameter& p = find_parameter(all, name);
+        if (!p.access.set) throw InputError("parameter \"" + name + "\" is read-only");
+        writes.emplace_back(&p, std::vector<float>(array.data(), array.data() + array.size()));
+    }
+    py::gil_scoped_release release;
+    std::lock_guard<std::mutex> lock(*h.lock);
+    for (const auto& [p, values] : writes) {
+        const size_t count = p->access.get().size();
+        if (values.size() != count)
+            throw InputError("parameter \"" + p->name + "\" holds " + std::to_string(count) + " numbers, not " +
+                             std::to_string(values.size()));
+        for (float x : values)
+            if (!std::isfinite(x)) throw InputError("parameter \"" + p->name + "\" must be finite");
+    }
+    // A setter may still refuse its value (a singular transform, a field of view beyond 180
+    // degrees): what was written before it is brought up to date all the same.
+    std::vector<const SceneParameter*> changed;
+    try {
+        for (const auto& [p, values] : writes) {
+            p->access.set(values);
+            changed.push_back(p);
+        }
+    } catch (...) {
+        apply_parameter_changes(*h.scene, changed);
+        throw;
+    }
+    apply_parameter_changes(*h.scene, changed);
+}
+
+// --- analysis ---------------------------------------------------------------------------------
+
+py::dict comparison_dict(const ImageComparison& c) {
+    py::dict d;
+    d["rmse"] = c.rmse;
+    d["relmse"] = c.relmse;
+    d["mare"] = c.mare;
+    d["block_mare"] = c.block_mare;
+    d["blocks_used"] = c.blocks_used;
+    d["blocks_total"] = c.blocks_total;
+    d["mean_test"] = std::vector<float>{c.mean_test.x, c.mean_test.y, c.mean_test.z};
+    d["mean_reference"] = std::vector<float>{c.mean_reference.x, c.mean_reference.y, c.mean_reference.z};
+    d["mean_relative_difference"] =
+        std::vector<float>{c.mean_relative_difference.x, c.mean_relative_difference.y, c.mean_relative_difference.z};
+    return d;
+}
+
+py::dict compare(const ImageBuffer& test, const ImageBuffer& reference, int block_size, float heatmap_range) {
+    ImageComparison c;
+    Image heatmap;
+    without_gil([&] {
+        c = compare_images(test.image, reference.image, block_size);
+        heatmap = relative_difference_heatmap(test.image, reference.image, heatmap_range);
+        return 0;
+    });
+    py::dict d = comparison_dict(c);
+    d["heatmap"] = ImageBuffer{std::move(heatmap)};
+    std::string reason;
+    d["agree"] = images_agree(c, AgreementThresholds{}, &reason);
+    d["reason"] = reason;
+    return d;
+}
+
+py::dict converge(SceneHandle& h, const std::vector<int>& spp_counts, py::object expected, py::object reference, uint64_t seed,
+                  int threads) {
+    std::unique_ptr<ImageBuffer> reference_image;
+    ConvergenceTarget target;
+    if (!reference.is_none()) {
+        reference_image = std::make_unique<ImageBuffer>(reference.cast<ImageBuffer>());
+        target = reference_target(reference_image->image);
+    } else {
+        target = constant_target(expected.cast<double>());
+    }
+    RenderOptions base;
+    base.seed = seed;
+    base.threads = threads;
+    ConvergenceStudy study;
+    without_gil([&] {
+        std::lock_guard<std::mutex> lock(*h.lock);
+        study = study_convergence(*h.scene, target, spp_counts, base, ConvergenceCriteria{});
+        return 0;
+    });
+    py::list counts;
+    for (const CountError& c : study.counts) {
+        py::dict e;
+        e["spp"] = c.spp;
+        e["rmse"] = c.rmse;
+        e["rmse_se"] = c.rmse_se;
+        e["relmse"] = c.relmse;
+        e["bias"] = c.bias;
+        e["bias_se"] = c.bias_se;
+        e["seconds"] = c.seconds;
+        counts.append(e);
+    }
+    py::dict d;
+    d["counts"] = counts;
+    d["slope"] = study.slope.slope;
+    d["slope_se"] = study.slope.slope_se;
+    d["slope_fitted"] = study.slope.status == SlopeFit::Status::Fitted;
+    d["failures"] = study.failures;
+    d["converges"] = study.failures.empty();
+    char name[] = "/tmp/candela-plot-XXXXXX.png";
+    const int fd = mkstemps(name, 4);
+    if (fd >= 0) {
+        ::close(fd);
+        std::filesystem::remove(name);
+        write_convergence_plot(study.counts, name);
+        d["plot"] = ImageBuffer{read_image(name)};
+        std::filesystem::remove(name);
+    }
+    return d;
+}
+
+py::dict validate(const std::string& scene_path, const std::string& reference_path, int spp, int reference_spp, int threads) {
+    ValidationSettings settings;
+    settings.spp = spp;
+    settings.reference_spp = reference_spp;
+    settings.threads = threads;
+    SceneValidation v;
+    without_gil([&] {
+        v = validate_scene(ValidationCase{std::filesystem::path(scene_path).stem().string(), scene_path, reference_path}, settings);
+        return 0;
+    });
+    py::dict d = comparison_dict(v.metrics);
+    d["name"] = v.name;
+    d["passed"] = v.pass;
+    d["reason"] = v.reason;
+    d["z_threshold"] = v.z.threshold;
+    d["z_tested"] = v.z.tested;
+    d["z_rejected"] = v.z.rejected;
+    d["seconds"] = v.seconds;
+    d["spp"] = v.spp;
+    return d;
+}
+
+py::dict estimate_irradiance_points(SceneHandle& h, py::array_t<float, py::array::c_style | py::array::forcecast> points,
+                                    py::array_t<float, py::array::c_style | py::array::forcecast> normals, uint64_t samples, uint64_t seed,
+                                    int threads, int max_depth) {
+    if (points.ndim() != 2 || points.shape(1) != 3 || normals.ndim() != 2 || normals.shape(1) != 3 || points.shape(0) != normals.shape(0))
+        throw InputError("points and normals are N x 3 arrays of the same N");
+    EstimatorOptions options;
+    options.samples = samples;
+    options.seed = seed;
+    options.threads = threads;
+    options.path.max_depth = max_depth;
+    const ssize_t n = points.shape(0);
+    py::array_t<float> mean({n, ssize_t(3)}), error({n, ssize_t(3)});
+    std::vector<Estimate> estimates(static_cast<size_t>(n));
+    without_gil([&] {
+        std::lock_guard<std::mutex> lock(*h.lock);
+        for (ssize_t i = 0; i < n; ++i) {
+            const Vec3 p(points.at(i, 0), points.at(i, 1), points.at(i, 2)), nn(normals.at(i, 0), normals.at(i, 1), normals.at(i, 2));
+            if (!all_finite(p) || !all_finite(nn) || squared_length(nn) == 0.0f)
+                throw InputError("point " + std::to_string(i) + ": its position and normal must be finite, the normal non-zero");
+            estimates[size_t(i)] = estimate_irradiance(*h.scene, p, nn, options);
+        }
+        return 0;
+    });
+    for (ssize_t i = 0; i < n; ++i)
+        for (int c = 0; c < 3; ++c) {
+            mean.mutable_at(i, c) = estimates[size_t(i)].mean[c];
+            error.mutable_at(i, c) = estimates[size_t(i)].std_error[c];
+        }
+    py::dict d;
+    d["mean"] = mean;
+    d["std_error"] = error;
+    d["samples"] = samples;
+    return d;
+}
+
+py::dict estimate_radiance_ray(SceneHandle& h, std::vector<float> origin, std::vector<float> direction, uint64_t samples, uint64_t seed,
+                               int threads, int max_depth) {
+    if (origin.size() != 3 || direction.size() != 3) throw InputError("origin and direction are three numbers each");
+    EstimatorOptions options;
+    options.samples = samples;
+    options.seed = seed;
+    options.threads = threads;
+    options.path.max_depth = max_depth;
+    Estimate e = without_gil([&] {
+        std::lock_guard<std::mutex> lock(*h.lock);
+        return estimate_radiance(*h.scene, Vec3(origin[0], origin[1], origin[2]), Vec3(direction[0], direction[1], direction[2]), options);
+    });
+    py::dict d;
+    d["mean"] = std::vector<float>{e.mean.x, e.mean.y, e.mean.z};
+    d["std_error"] = std::vector<float>{e.std_error.x, e.std_error.y, e.std_error.z};
+    d["samples"] = e.samples;
+    return d;
+}
+
+py::dict compare_modes(SceneHandle& h, const std::string& methods, int spp, py::object reference, int reference_spp, int threads,
+                       float heatmap_range) {
+    const std::vector<std::string> specs = split_methods(methods);
+    std::vector<Ref<Integrator>> integrators;  // all built first: a bad method stops before any render
+    for (const std::string& spec : specs) integrators.push_back(method_integrator(spec, *h.scene));
+    RenderResult ref;
+    if (!reference.is_none()) ref.image = linear_rgb(reference.cast<ImageBuffer>().image);
+    std::vector<MethodRun> runs;
+    without_gil([&] {
+        std::lock_guard<std::mutex> lock(*h.lock);
+        if (reference.is_none()) ref = reference_render(*h.scene, reference_spp, threads);
+        for (size_t k = 0; k < specs.size(); ++k) runs.push_back(run_method(specs[k], integrators[k], *h.scene, spp, threads, ref.image));
+        return 0;
+    });
+    py::list out;
+    for (MethodRun& r : runs) {
+        py::dict d = comparison_dict(r.comparison);
+        d["method"] = r.label;
+        d["seconds"] = r.result.stats.seconds;
+        d["bake_seconds"] = r.bake_seconds;
+        d["mean_luminance_difference"] = mean_luminance_difference(r.comparison);
+        d["heatmap"] = ImageBuffer{relative_difference_heatmap(r.result.image, ref.image, heatmap_range)};
+        d["image"] = ImageBuffer{r.result.image};
+        out.append(d);
+    }
+    const std::string label = reference.is_none() ? "path tracer, " + std::to_string(reference_spp) + " spp" : "the given image";
+    py::dict d;
+    d["methods"] = out;
+    d["table"] = methods_table(runs, label);
+    d["sheet"] = ImageBuffer{methods_contact_sheet(runs, ref, {"REFERENCE", reference.is_none() ? "PATH TRACER" : "GIVEN"}, heatmap_range)};
+    d["reference"] = ImageBuffer{std::move(ref.image)};
+    return d;
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_candela, m) {
+    m.doc() = "Candela's native module (see the candela package)";
+    register_exceptions(m);
+    m.def("version", [] { return std::string(CANDELA_VERSION); });
+
+    py::class_<SceneHandle>(m, "Scene", "A loaded scene (candela.load_file, load_string, load_dict)")
+        .def_property_readonly("integrator", [](const SceneHandle& h) { return h.scene->integrator().to_string(); })
+        .def_property_readonly("path", [](const SceneHandle& h) { return h.scene->source_file; })
+        .def_property_readonly("film_size",
+                               [](const SceneHandle& h) {
+                                   const Vec2i s = h.scene->sensor().film().crop_size();
+                                   return py::make_tuple(s.x, s.y);
+                               })
+        .def_property_readonly("spp", [](const SceneHandle& h) { return h.scene->sensor().sampler().sample_count(); })
+        .def("__repr__", [](const SceneHandle& h) {
+            const Vec2i s = h.scene->sensor().film().crop_size();
+            return "candela.Scene(" + h.scene->source_file + ", " + h.scene->integrator().to_string() + ", " + std::to_string(s.x) + " x " +
+                   std::to_string(s.y) + ")";
+        });
+
+    py::class_<ImageBuffer>(m, "ImageBuffer", py::buffer_protocol())
+        .def(py::init(&image_from_array), py::arg("array"), py::arg("channels"), py::arg("metadata") = std::map<std::string, std::string>{})
+        .def_buffer(&image_buffer)
+        .def_property_readonly("channels", [](const ImageBuffer& b) { return b.image.channels(); })
+        .def_property_readonly("metadata", [](const ImageBuffer& b) { return b.image.metadata; });
+
+    m.def("load_file", &load_file, py::arg("path"), py::arg("params"));
+    m.def("load_string", &load_string, py::arg("xml"), py::arg("virtual_path"), py::arg("params"));
+    m.def("plugin_tag", &plugin_tag, py::arg("type"));
+    m.def("render", &render, py::arg("scene"), py::arg("spp"), py::arg("seed"), py::arg("threads"), py::arg("integrator_xml"),
+          py::arg("progress"), py::arg("aovs"));
+    m.def("read_image", [](const std::string& path) { return without_gil([&] { return ImageBuffer{read_image(path)}; }); });
+    m.def("write_exr", [](const ImageBuffer& b, const std::string& path, bool float32) {
+        without_gil([&] {
+            write_exr(b.image, path, float32);
+            return 0;
+        });
+    });
+    m.def("encode_png", &png_bytes);
+    m.def("write_png", &write_png_file);
+    m.def("parameter_list", &parameter_list);
+    m.def("get_parameter", &get_parameter);
+    m.def("set_parameters", &set_parameters);
+    m.def("compare", &compare, py::arg("test"), py::arg("reference"), py::arg("block_size"), py::arg("heatmap_range"));
+    m.def("converge", &converge, py::arg("scene"), py::arg("spp_counts"), py::arg("expected"), py::arg("reference"), py::arg("seed"),
+          py::arg("threads"));
+    m.def("validate", &validate, py::arg("scene_path"), py::arg("reference_path"), py::arg("spp"), py::arg("reference_spp"),
+          py::arg("threads"));
+    m.def("estimate_irradiance", &estimate_irradiance_points, py::arg("scene"), py::arg("points"), py::arg("normals"), py::arg("samples"),
+          py::arg("seed"), py::arg("threads"), py::arg("max_depth"));
+    m.def("compare_modes", &compare_modes, py::arg("scene"), py::arg("methods"), py::arg("spp"), py::arg("reference"),
+          py::arg("reference_spp"), py::arg("threads"), py::arg("heatmap_range"));
+    m.def("estimate_radiance", &estimate_radiance_ray, py::arg("scene"), py::arg("origin"), py::arg("direction"), py::arg("samples"),
+          py::arg("seed"), py::arg("threads"), py::arg("max_depth"));
+}
