@@ -1,0 +1,1026 @@
+"""Mitsuba 3's Python API, the part its getting-started scripts use, on Candela:
+
+    import candela.mitsuba as mi          # instead of: import mitsuba as mi
+    mi.set_variant("scalar_rgb")
+    scene = mi.load_file("scenes/cbox.xml", res=128)
+    image = mi.render(scene, spp=64)
+    params = mi.traverse(scene)
+    params["red.reflectance.value"] = mi.Color3f(0.2, 0.6, 0.2)
+    params.update()
+    mi.util.write_bitmap("cbox.png", mi.render(scene, spp=64, seed=1))
+
+What is here behaves as Mitsuba's does, rendered by Candela: RGB variants (the LLVM and CUDA ones
+run on Candela's CPU renderer, with a notice), scenes from files, strings and dictionaries,
+rendering, traverse/update, the transform and 3-vector types, Bitmap and mi.util's image writers,
+the Cornell box dictionary. What is not here (autodiff and Dr.Jit arrays, Python plugins, ray
+queries from Python, spectral and polarised rendering, ...) raises NotImplementedError naming the
+feature instead of answering differently from Mitsuba. docs/python.md has the table.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import enum
+import math
+import numbers
+import os
+import re
+import struct
+import sys
+import threading
+import types
+import zlib
+
+import numpy as np
+
+import candela as _candela
+from . import _candela as _native
+from ._dict import Plugin as _Plugin
+from .image import Image as _Image, srgb8 as _srgb8
+from .parameters import SceneParameters as _CandelaSceneParameters
+from .transform import Transform
+
+__all__ = [
+    "set_variant", "variant", "variants", "variant_context", "is_rgb", "is_spectral", "is_polarized", "is_monochromatic",
+    "load_file", "load_string", "load_dict", "render", "traverse", "SceneParameters", "Scene", "cornell_box",
+    "ScalarTransform4f", "Transform4f", "ScalarAffineTransform4f", "AffineTransform4f",
+    "ScalarPoint3f", "Point3f", "ScalarVector3f", "Vector3f", "ScalarNormal3f", "Normal3f", "ScalarColor3f", "Color3f",
+    "Bitmap", "Struct", "util", "luminance", "LogLevel", "set_log_level", "log_level", "Log",
+]
+
+# --------------------------------------------------------------------------------------------------
+# Variants
+# --------------------------------------------------------------------------------------------------
+
+# Mitsuba's variant names: backend, optional autodiff, colour representation, optional
+# polarisation and precision. Candela renders RGB in single precision on the CPU.
+_VARIANT = re.compile(r"^(scalar|llvm|cuda)(_ad)?_(rgb|mono|spectral)(_polarized)?(_double|_half)?$")
+_LISTED_VARIANTS = ["scalar_rgb", "llvm_rgb", "llvm_ad_rgb", "cuda_rgb", "cuda_ad_rgb"]
+_state = {"variant": None}
+_noticed: set[str] = set()
+_lock = threading.Lock()
+
+
+def _variant_problem(name) -> Exception | None:
+    """None if Candela renders `name`; otherwise the exception set_variant raises for it."""
+    if not isinstance(name, str):
+        return TypeError(f"a variant is a name (a string), got {name!r}")
+    m = _VARIANT.match(name)
+    if m is None:
+        return ImportError(f"Requested an unsupported variant {name!r}. The variants candela.mitsuba renders: "
+                           f"{', '.join(_LISTED_VARIANTS)} (and their _double forms)")
+    colour, polarized = m.group(3), m.group(4)
+    if polarized:
+        return NotImplementedError(f"variant {name!r}: polarized rendering is not available in Candela "
+                                   "(it renders RGB; use an *_rgb variant)")
+    if colour == "spectral":
+        return NotImplementedError(f"variant {name!r}: spectral rendering is not available in Candela "
+                                   "(it renders RGB; use an *_rgb variant)")
+    if colour == "mono":
+        return NotImplementedError(f"variant {name!r}: monochrome rendering is not available in Candela "
+                                   "(it renders RGB; use an *_rgb variant)")
+    return None
+
+
+def set_variant(*names: str) -> None:
+    """Sets the variant: the first of `names` that Candela renders (Mitsuba picks the first one
+    available). RGB variants all render on Candela's CPU renderer in single precision; any but
+    scalar_rgb prints a one-line notice on stderr the first time it is set. Spectral, polarized and
+    monochrome variants raise NotImplementedError."""
+    if not names:
+        raise TypeError("set_variant() needs at least one variant name")
+    first_problem = None
+    for name in names:
+        problem = _variant_problem(name)
+        if problem is None:
+            with _lock:
+                _state["variant"] = name
+                notice = name != "scalar_rgb" and name not in _noticed
+                _noticed.add(name)
+            if notice:
+                backend = name.split("_")[0]
+                what = {"llvm": "LLVM", "cuda": "CUDA"}.get(backend)
+                detail = f"{what} backend" if what else "variant"
+                if name.endswith("_double") or name.endswith("_half"):
+                    detail += ", in single precision"
+                print(f"candela.mitsuba: variant {name!r} renders on Candela's CPU renderer ({detail} not used; "
+                      f"results as scalar_rgb)", file=sys.stderr)
+            return
+        if first_problem is None:
+            first_problem = problem
+    raise first_problem
+
+
+def variant() -> str | None:
+    """The variant set by set_variant, or None before it."""
+    return _state["variant"]
+
+
+def variants() -> list[str]:
+    """The variants Candela renders (all on its CPU renderer, in RGB)."""
+    return list(_LISTED_VARIANTS)
+
+
+@contextlib.contextmanager
+def variant_context(*names: str):
+    """Sets the variant for the duration of a ``with`` block, then restores the previous one."""
+    previous = variant()
+    set_variant(*names)
+    try:
+        yield
+    finally:
+        _state["variant"] = previous
+
+
+scoped_set_variant = variant_context
+
+
+def _ensure_variant():
+    # Mitsuba refuses to load without a variant; scripts always set one, so a missing one is
+    # taken as scalar_rgb instead of failing.
+    if _state["variant"] is None:
+        _state["variant"] = "scalar_rgb"
+
+
+# --------------------------------------------------------------------------------------------------
+# Scenes
+# --------------------------------------------------------------------------------------------------
+
+Scene = _candela.Scene
+
+
+def load_file(path, update_scene: bool = False, parallel: bool = True, optimize: bool = True, **params):
+    """Loads a Mitsuba 3 XML scene; keyword arguments set its ``$name`` parameters. ``update_scene``,
+    ``parallel`` and ``optimize`` are accepted and have no effect (Candela loads in parallel and
+    never rewrites the file)."""
+    _ensure_variant()
+    return _candela.load_file(path, **params)
+
+
+def load_string(string: str, parallel: bool = True, optimize: bool = True, **params):
+    """Loads a scene from XML text (files it names are found relative to the working directory)."""
+    _ensure_variant()
+    if not isinstance(string, str):
+        raise TypeError(f"load_string expects XML text (a str), got {type(string).__name__}")
+    return _candela.load_string(string, **params)
+
+
+def load_dict(d: dict, parallel: bool = True, optimize: bool = True):
+    """Loads a scene dictionary (``'type': 'scene'``) as a Scene; any other plugin's dictionary
+    is checked and returned as a candela.Plugin, which render(integrator=...) and other
+    dictionaries take."""
+    _ensure_variant()
+    if not isinstance(d, dict):
+        raise TypeError(f"load_dict expects a dictionary, got {type(d).__name__}")
+    return _candela.load_dict(d)
+
+
+def render(scene, params=None, sensor=0, integrator=None, seed: int = 0, seed_grad: int = 0, spp: int = 0,
+           spp_grad: int = 0):
+    """Renders the scene and returns the image (a candela.Image: H x W x 3 float32, a NumPy array).
+    ``spp=0`` keeps the scene's sample count. ``integrator``: an integrator from load_dict (or its
+    dictionary, or its name). ``params``, ``seed_grad`` and ``spp_grad`` concern gradients: they
+    do not change the image and are accepted as Mitsuba accepts them. The pixels equal
+    ``candela render SCENE --spp SPP --seed SEED``'s."""
+    _ensure_variant()
+    if not isinstance(scene, _candela.Scene):
+        raise TypeError(f"render expects a scene (from load_file, load_string or load_dict), got {type(scene).__name__}")
+    if params is not None and not isinstance(params, _CandelaSceneParameters):
+        raise TypeError("params should be an instance of mi.SceneParameters (from mi.traverse), or None")
+    if isinstance(sensor, _Plugin):
+        raise NotImplementedError("mi.render(..., sensor=<a sensor object>): rendering from a sensor that is not in the "
+                                  "scene is not available in Candela; put the sensor in the scene dictionary or file")
+    if isinstance(sensor, bool) or not isinstance(sensor, (int, np.integer)):
+        raise TypeError(f"sensor must be a sensor's index (an int), got {sensor!r}")
+    if isinstance(spp, bool) or not isinstance(spp, (int, np.integer)):
+        raise TypeError(f"spp must be a whole number (0: the scene's sample count), got {spp!r}")
+    if spp < 0:
+        raise ValueError(f"spp must be >= 0 (0: the scene's sample count), got {spp}")
+    return _candela.render(scene, spp=int(spp) or None, seed=seed, sensor=int(sensor), integrator=integrator)
+
+
+class SceneParameters(_CandelaSceneParameters):
+    """Mitsuba's SceneParameters on a Candela scene: ``params[name]`` reads a value (a Color3f, a
+    float, a ScalarTransform4f, or a flat float32 array for vertex positions), ``params[name] = v``
+    assigns one, ``update()`` applies the assignments. As in Mitsuba, a value read and then changed
+    in place (``params['x.vertex_positions'][1] += 0.1``) is applied by the next update()."""
+
+    def __init__(self, scene):
+        super().__init__(scene)
+        self._handed: dict[str, tuple[object, np.ndarray]] = {}
+
+    def __getitem__(self, name: str):
+        value = super().__getitem__(name)
+        kind = self._types[name]
+        if kind == "color":
+            value = Color3f(value)
+        if kind != "float":
+            self._handed[name] = (value, np.array(np.asarray(value), copy=True))
+        return value
+
+    def __setitem__(self, name: str, value):
+        super().__setitem__(name, value)
+        self._handed.pop(name, None)
+
+    def set_dirty(self, name: str):
+        """Marks a parameter as changed, so that update() applies its current value."""
+        self._check(name)
+        if name in self._handed and name not in self._pending:
+            super().__setitem__(name, self._handed[name][0])
+
+    def update(self) -> list[str]:
+        """Applies the assignments (and the in-place changes of values read) since the last update;
+        returns the names it changed."""
+        for name, (value, snapshot) in list(self._handed.items()):
+            if name not in self._pending and not np.array_equal(np.asarray(value), snapshot):
+                super().__setitem__(name, value)
+        self._handed = {}
+        return super().update()
+
+    def keep(self, keys) -> None:
+        """Keeps only the parameters named in `keys` (a list of names, or a regular expression)."""
+        if isinstance(keys, str):
+            pattern = re.compile(keys)
+            kept = [k for k in self._types if pattern.fullmatch(k) or k == keys]
+        else:
+            keys = set(keys)
+            kept = [k for k in self._types if k in keys]
+        self._types = {k: self._types[k] for k in kept}
+        self._pending = {k: v for k, v in self._pending.items() if k in self._types}
+
+    def flags(self, name: str):
+        raise NotImplementedError("SceneParameters.flags: parameter flags describe differentiability, and Candela "
+                                  "has no automatic differentiation")
+
+    def torch(self):
+        raise NotImplementedError("SceneParameters.torch: PyTorch interoperation (automatic differentiation) is not "
+                                  "available in Candela")
+
+
+def traverse(obj) -> SceneParameters:
+    """The scene's editable parameters by Mitsuba's names ('red.reflectance.value',
+    'PerspectiveCamera.x_fov', 'PerspectiveCamera.to_world', 'mesh.vertex_positions', ...)."""
+    if isinstance(obj, _candela.Scene):
+        return SceneParameters(obj)
+    if isinstance(obj, _Plugin):
+        raise NotImplementedError("mi.traverse of an object outside a scene (a BSDF, emitter, ... from load_dict) is "
+                                  "not available in Candela: traverse the scene that holds it")
+    raise TypeError(f"traverse expects a scene, got {type(obj).__name__}")
+
+
+# --------------------------------------------------------------------------------------------------
+# Transforms and 3-vectors
+# --------------------------------------------------------------------------------------------------
+
+ScalarTransform4f = Transform
+Transform4f = Transform
+ScalarAffineTransform4f = Transform
+AffineTransform4f = Transform
+
+
+class _Array3(np.ndarray):
+    """Three numbers (float64) as Dr.Jit's 3-vectors: built from three numbers, one number (all
+    three alike) or a sequence of three; x, y, z; arithmetic as NumPy's."""
+
+    _candela_kind = "point"
+
+    def __new__(cls, *args):
+        if len(args) == 1:
+            a = np.asarray(args[0], dtype=np.float64).reshape(-1) if not np.isscalar(args[0]) else \
+                np.full(3, float(args[0]))
+        elif len(args) == 3:
+            if not all(np.ndim(v) == 0 for v in args):
+                raise NotImplementedError(f"{cls.__name__} of arrays (Dr.Jit's vectorized arrays) is not available in "
+                                          "candela.mitsuba: use NumPy arrays of shape N x 3")
+            a = np.array([float(v) for v in args])
+        elif len(args) == 0:
+            a = np.zeros(3)
+        else:
+            raise TypeError(f"{cls.__name__} takes three numbers, one number or a sequence of three, got {len(args)} arguments")
+        if a.size == 1:
+            a = np.repeat(a, 3)
+        if a.size != 3:
+            raise NotImplementedError(f"{cls.__name__} of {a.size} numbers (Dr.Jit's vectorized arrays) is not available "
+                                      "in candela.mitsuba: it holds three numbers")
+        return np.array(a, dtype=np.float64).view(cls)
+
+    x = property(lambda self: float(self[0]), lambda self, v: self.__setitem__(0, v))
+    y = property(lambda self: float(self[1]), lambda self, v: self.__setitem__(1, v))
+    z = property(lambda self: float(self[2]), lambda self, v: self.__setitem__(2, v))
+
+    def __repr__(self):
+        return "[" + ", ".join(f"{float(v):g}" for v in np.asarray(self).reshape(-1)) + "]"
+
+    __str__ = __repr__
+
+    def __reduce__(self):
+        return (type(self), (np.asarray(self).tolist(),))
+
+
+class ScalarPoint3f(_Array3):
+    """A point: three numbers (written to a scene as <point>)."""
+
+
+class ScalarVector3f(_Array3):
+    """A direction: three numbers (written to a scene as <vector>; transforms leave out the
+    translation)."""
+
+    _candela_kind = "vector"
+    _candela_vector = True
+
+
+class ScalarNormal3f(_Array3):
+    """A normal: three numbers (transforms apply the inverse transpose)."""
+
+    _candela_kind = "normal"
+    _candela_vector = True
+
+
+class ScalarColor3f(_Array3):
+    """An RGB colour: three numbers (written to a scene as <rgb>)."""
+
+    _candela_kind = "color"
+    _candela_colour = True
+
+    r = property(lambda self: float(self[0]), lambda self, v: self.__setitem__(0, v))
+    g = property(lambda self: float(self[1]), lambda self, v: self.__setitem__(1, v))
+    b = property(lambda self: float(self[2]), lambda self, v: self.__setitem__(2, v))
+
+
+Point3f = ScalarPoint3f
+Vector3f = ScalarVector3f
+Normal3f = ScalarNormal3f
+Color3f = ScalarColor3f
+
+
+def luminance(color) -> float:
+    """The luminance (Y) of a linear sRGB colour, with Mitsuba's weights."""
+    c = np.asarray(color, dtype=np.float64)
+    return c[..., 0] * 0.212671 + c[..., 1] * 0.715160 + c[..., 2] * 0.072169
+
+
+# --------------------------------------------------------------------------------------------------
+# The Cornell box (mi.cornell_box)
+# --------------------------------------------------------------------------------------------------
+
+def cornell_box() -> dict:
+    """The dictionary of Mitsuba's Cornell box (mi.cornell_box()): 256 x 256, 64 samples per
+    pixel, path tracing to depth 8, a Gaussian pixel filter; its walls, boxes, light and camera as
+    Mitsuba defines them."""
+    T = Transform
+
+    def diffuse(rgb):
+        return {"type": "diffuse", "reflectance": {"type": "rgb", "value": list(rgb)}}
+
+    white_ref = {"type": "ref", "id": "white"}
+    return {
+        "type": "scene",
+        "integrator": {"type": "path", "max_depth": 8},
+        "sensor": {
+            "type": "perspective",
+            "fov_axis": "smaller",
+            "near_clip": 0.001,
+            "far_clip": 100.0,
+            "focus_distance": 1000,
+            "fov": 39.3077,
+            "to_world": T.look_at(origin=[0, 0, 3.90], target=[0, 0, 0], up=[0, 1, 0]),
+            "sampler": {"type": "independent", "sample_count": 64},
+            "film": {"type": "hdrfilm", "width": 256, "height": 256, "rfilter": {"type": "gaussian"},
+                     "pixel_format": "rgb", "component_format": "float32"},
+        },
+        "white": diffuse([0.885809, 0.698859, 0.666422]),
+        "green": diffuse([0.105421, 0.37798, 0.076425]),
+        "red": diffuse([0.570068, 0.0430135, 0.0443706]),
+        "light": {
+            "type": "rectangle",
+            "to_world": T.translate([0.0, 0.99, 0.01]) @ T.rotate([1, 0, 0], 90) @ T.scale([0.23, 0.19, 0.19]),
+            "bsdf": dict(white_ref),
+            "emitter": {"type": "area", "radiance": {"type": "rgb", "value": [18.387, 13.9873, 6.75357]}},
+        },
+        "floor": {"type": "rectangle", "to_world": T.translate([0, -1, 0]) @ T.rotate([1, 0, 0], -90),
+                  "bsdf": dict(white_ref)},
+        "ceiling": {"type": "rectangle", "to_world": T.translate([0, 1, 0]) @ T.rotate([1, 0, 0], 90),
+                    "bsdf": dict(white_ref)},
+        "back": {"type": "rectangle", "to_world": T.translate([0, 0, -1]), "bsdf": dict(white_ref)},
+        "green-wall": {"type": "rectangle", "to_world": T.translate([1, 0, 0]) @ T.rotate([0, 1, 0], -90),
+                       "bsdf": {"type": "ref", "id": "green"}},
+        "red-wall": {"type": "rectangle", "to_world": T.translate([-1, 0, 0]) @ T.rotate([0, 1, 0], 90),
+                     "bsdf": {"type": "ref", "id": "red"}},
+        "small-box": {"type": "cube",
+                      "to_world": T.translate([0.335, -0.7, 0.38]) @ T.rotate([0, 1, 0], -17) @ T.scale(0.3),
+                      "bsdf": dict(white_ref)},
+        "large-box": {"type": "cube",
+                      "to_world": T.translate([-0.33, -0.4, -0.28]) @ T.rotate([0, 1, 0], 18.25) @ T.scale([0.3, 0.61, 0.3]),
+                      "bsdf": dict(white_ref)},
+    }
+
+
+# --------------------------------------------------------------------------------------------------
+# Bitmap and Struct
+# --------------------------------------------------------------------------------------------------
+
+class Struct:
+    """Mitsuba's Struct, for its component types (mi.Struct.Type.UInt8, .Float32, ...)."""
+
+    class Type(enum.Enum):
+        Int8 = "int8"
+        UInt8 = "uint8"
+        Int16 = "int16"
+        UInt16 = "uint16"
+        Int32 = "int32"
+        UInt32 = "uint32"
+        Int64 = "int64"
+        UInt64 = "uint64"
+        Float16 = "float16"
+        Float32 = "float32"
+        Float64 = "float64"
+        Invalid = "invalid"
+
+        def __repr__(self):
+            return f"Struct.Type.{self.name}"
+
+
+_DTYPES = {Struct.Type.Int8: np.int8, Struct.Type.UInt8: np.uint8, Struct.Type.Int16: np.int16,
+           Struct.Type.UInt16: np.uint16, Struct.Type.Int32: np.int32, Struct.Type.UInt32: np.uint32,
+           Struct.Type.Int64: np.int64, Struct.Type.UInt64: np.uint64, Struct.Type.Float16: np.float16,
+           Struct.Type.Float32: np.float32, Struct.Type.Float64: np.float64}
+
+
+def _component_type(dtype) -> Struct.Type:
+    dtype = np.dtype(dtype)
+    for t, d in _DTYPES.items():
+        if np.dtype(d) == dtype:
+            return t
+    raise TypeError(f"Bitmap: unsupported component type {dtype} (integers, float16, float32 or float64)")
+
+
+class _PixelFormat(enum.Enum):
+    Y = "y"
+    YA = "ya"
+    RGB = "rgb"
+    RGBA = "rgba"
+    RGBW = "rgbw"
+    RGBAW = "rgbaw"
+    XYZ = "xyz"
+    XYZA = "xyza"
+    MultiChannel = "multichannel"
+
+    def __repr__(self):
+        return f"Bitmap.PixelFormat.{self.name}"
+
+
+class _FileFormat(enum.Enum):
+    PNG = "png"
+    OpenEXR = "exr"
+    RGBE = "rgbe"
+    PFM = "pfm"
+    PPM = "ppm"
+    JPEG = "jpeg"
+    TGA = "tga"
+    BMP = "bmp"
+    Unknown = "unknown"
+    Auto = "auto"
+
+
+class _AlphaTransform(enum.Enum):
+    Empty = "empty"
+    Premultiply = "premultiply"
+    Unpremultiply = "unpremultiply"
+
+
+_CHANNELS = {_PixelFormat.Y: ["Y"], _PixelFormat.YA: ["Y", "A"], _PixelFormat.RGB: ["R", "G", "B"],
+             _PixelFormat.RGBA: ["R", "G", "B", "A"], _PixelFormat.XYZ: ["X", "Y", "Z"],
+             _PixelFormat.XYZA: ["X", "Y", "Z", "A"], _PixelFormat.RGBW: ["R", "G", "B", "W"],
+             _PixelFormat.RGBAW: ["R", "G", "B", "A", "W"]}
+_BY_COUNT = {1: _PixelFormat.Y, 2: _PixelFormat.YA, 3: _PixelFormat.RGB, 4: _PixelFormat.RGBA}
+_LUMINANCE = np.array([0.212671, 0.715160, 0.072169])
+
+
+def _to_linear(x: np.ndarray) -> np.ndarray:
+    return np.where(x <= 0.04045, x / 12.92, np.power((np.maximum(x, 0.04045) + 0.055) / 1.055, 2.4))
+
+
+def _to_srgb(x: np.ndarray) -> np.ndarray:
+    return np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(np.maximum(x, 0.0031308), 1.0 / 2.4) - 0.055)
+
+
+class Bitmap:
+    """An image as Mitsuba's Bitmap: ``Bitmap(array)`` (H x W x C, or H x W; the pixel format from
+    the channel count, the component format from the dtype), ``Bitmap(path)`` (reads OpenEXR, PNG,
+    JPEG, ...), ``.convert(pixel_format, component_format, srgb_gamma)``, ``.write(path)`` (.exr
+    keeps the components, float; .png and .jpg are 8-bit, sRGB-encoded from float data) and
+    ``np.array(bitmap)``."""
+
+    PixelFormat = _PixelFormat
+    FileFormat = _FileFormat
+    AlphaTransform = _AlphaTransform
+
+    def __init__(self, data, pixel_format=None, channel_names=None, *args):
+        if isinstance(data, _PixelFormat):
+            # Bitmap(pixel_format, component_format, size, channel_count=0, channel_names=[])
+            self._init_empty(data, pixel_format, channel_names, *args)
+            return
+        metadata = {}
+        srgb = None
+        names = None
+        if isinstance(data, Bitmap):
+            array, names, srgb, metadata = data._data.copy(), list(data._names), data._srgb, dict(data._metadata)
+            pixel_format = pixel_format or data._format
+        elif isinstance(data, (str, os.PathLike)):
+            array, names, srgb, metadata = self._read(os.fspath(data))
+        else:
+            if type(data).__module__.startswith("torch"):
+                data = data.detach().cpu().numpy()
+            if isinstance(data, _Image):
+                names = list(data.channels)
+                metadata = dict(data.metadata)
+            array = np.array(data, copy=True)
+            if array.dtype == np.bool_ or array.dtype.kind not in "uif":
+                raise TypeError(f"Bitmap: expected an array of numbers, got dtype {array.dtype}")
+        if array.ndim == 2:
+            array = array[:, :, None]
+        if array.ndim != 3:
+            raise ValueError(f"Bitmap: expected an H x W x C (or H x W) array, got shape {array.shape}")
+        self._data = np.ascontiguousarray(array)
+        self._component = _component_type(self._data.dtype)
+        count = self._data.shape[2]
+        if channel_names:
+            names = list(channel_names)
+        if pixel_format is None:
+            if names and len(names) == count:
+                known = {tuple(v): k for k, v in _CHANNELS.items()}
+                pixel_format = known.get(tuple(names), _PixelFormat.MultiChannel)
+            else:
+                pixel_format = _BY_COUNT.get(count, _PixelFormat.MultiChannel)
+        if not isinstance(pixel_format, _PixelFormat):
+            raise TypeError(f"Bitmap: pixel_format must be a Bitmap.PixelFormat, got {pixel_format!r}")
+        expected = _CHANNELS.get(pixel_format)
+        if expected is not None and len(expected) != count:
+            raise ValueError(f"Bitmap: pixel format {pixel_format.name} has {len(expected)} channels, the data {count}")
+        self._format = pixel_format
+        if expected is not None:
+            self._names = list(expected)
+        elif names and len(names) == count:
+            self._names = list(names)
+        else:
+            self._names = [f"C{i}" for i in range(count)]
+        # As Mitsuba: 8-bit data is taken as sRGB-encoded, everything else as linear.
+        self._srgb = bool(srgb) if srgb is not None else self._component == Struct.Type.UInt8
+        self._metadata = metadata
+
+    def _init_empty(self, pixel_format, component_format, size, channel_count=0, channel_names=None):
+        if not isinstance(component_format, Struct.Type) or component_format not in _DTYPES:
+            raise TypeError(f"Bitmap: component_format must be a Struct.Type, got {component_format!r}")
+        width, height = (int(v) for v in size)
+        names = _CHANNELS.get(pixel_format)
+        count = len(names) if names else int(channel_count)
+        if count < 1:
+            raise ValueError("Bitmap: a MultiChannel bitmap needs channel_count")
+        self._data = np.zeros((height, width, count), dtype=_DTYPES[component_format])
+        self._component = component_format
+        self._format = pixel_format
+        self._names = list(names or channel_names or [f"C{i}" for i in range(count)])
+        self._srgb = component_format == Struct.Type.UInt8
+        self._metadata = {}
+
+    @staticmethod
+    def _read(path: str):
+        image = _candela.read_image(path, raw=True)
+        metadata = dict(image.metadata)
+        array = np.asarray(image)
+        bits = 0
+        with open(path, "rb") as f:
+            head = f.read(32)
+        if head.startswith(b"\x89PNG"):
+            bits = head[24]
+        elif head.startswith(b"\xff\xd8"):
+            bits = 8
+        if bits in (8, 16):
+            # 8- and 16-bit files come back as in the file: integers, sRGB-encoded where the file says so.
+            scale = 255 if bits == 8 else 65535
+            array = np.round(array.astype(np.float64) * scale).astype(np.uint8 if bits == 8 else np.uint16)
+            srgb = metadata.get("oiio:ColorSpace", "sRGB").lower() == "srgb"
+        else:
+            srgb = False
+        return array, list(image.channels), srgb, metadata
+
+    # --- properties as Mitsuba's methods ------------------------------------------------------
+    def width(self) -> int:
+        return self._data.shape[1]
+
+    def height(self) -> int:
+        return self._data.shape[0]
+
+    def size(self) -> tuple[int, int]:
+        return (self.width(), self.height())
+
+    def pixel_count(self) -> int:
+        return self.width() * self.height()
+
+    def channel_count(self) -> int:
+        return self._data.shape[2]
+
+    def pixel_format(self):
+        return self._format
+
+    def component_format(self):
+        return self._component
+
+    def srgb_gamma(self) -> bool:
+        return self._srgb
+
+    def set_srgb_gamma(self, value: bool):
+        self._srgb = bool(value)
+
+    def has_alpha(self) -> bool:
+        return self._format in (_PixelFormat.YA, _PixelFormat.RGBA, _PixelFormat.XYZA, _PixelFormat.RGBAW)
+
+    def metadata(self) -> dict:
+        return self._metadata
+
+    def channel_names(self) -> list[str]:
+        return list(self._names)
+
+    def bytes_per_pixel(self) -> int:
+        return self._data.dtype.itemsize * self.channel_count()
+
+    def buffer_size(self) -> int:
+        return self._data.nbytes
+
+    def __array__(self, dtype=None, copy=None):
+        return self._data if dtype is None else self._data.astype(dtype)
+
+    @property
+    def shape(self):
+        return self._data.shape
+
+    def __eq__(self, other):
+        return (isinstance(other, Bitmap) and self._format == other._format and self._component == other._component
+                and self._srgb == other._srgb and np.array_equal(self._data, other._data))
+
+    __hash__ = None
+
+    def __repr__(self):
+        return (f"Bitmap[\n  pixel_format = {self._format.value},\n  component_format = {self._component.value},\n"
+                f"  size = [{self.width()}, {self.height()}],\n  srgb_gamma = {int(self._srgb)},\n"
+                f"  channels = {self._names}\n]")
+
+    def _repr_png_(self) -> bytes:
+        rgb = self.convert(_PixelFormat.RGB, Struct.Type.UInt8, True)
+        return _native.encode_png(np.ascontiguousarray(rgb._data))
+
+    # --- conversion ----------------------------------------------------------------------------
+    def _linear(self) -> np.ndarray:
+        """The pixels as float64, linear (integers scaled to [0, 1], sRGB decoded except alpha)."""
+        x = self._data.astype(np.float64)
+        if self._component in _DTYPES and np.issubdtype(self._data.dtype, np.integer):
+            x /= float(np.iinfo(self._data.dtype).max)
+        if self._srgb:
+            colour = [i for i, n in enumerate(self._names) if n != "A"]
+            x[:, :, colour] = _to_linear(x[:, :, colour])
+        return x
+
+    def convert(self, pixel_format=None, component_format=None, srgb_gamma=None, alpha_transform=None):
+        """A new Bitmap in another pixel format (Y, YA, RGB, RGBA), component format (integers
+        scaled to their range and clamped, or floats) and encoding (srgb_gamma: sRGB-encoded or
+        linear). ``convert(PixelFormat.RGB, Struct.Type.UInt8, True)`` gives the 8-bit sRGB
+        picture that PNG files hold, equal to ``candela render --png``'s."""
+        if alpha_transform not in (None, _AlphaTransform.Empty):
+            raise NotImplementedError(f"Bitmap.convert(alpha_transform={alpha_transform!r}): premultiplying alpha is "
+                                      "not available in candela.mitsuba")
+        if isinstance(pixel_format, Struct.Type) and component_format is None:
+            # convert(component_format) as a single argument, as Mitsuba allows.
+            pixel_format, component_format = None, pixel_format
+        target_format = pixel_format if pixel_format is not None else self._format
+        target_component = component_format if component_format is not None else self._component
+        target_srgb = bool(srgb_gamma) if srgb_gamma is not None else self._srgb
+        if not isinstance(target_format, _PixelFormat):
+            raise TypeError(f"convert: pixel_format must be a Bitmap.PixelFormat, got {pixel_format!r}")
+        if not isinstance(target_component, Struct.Type) or target_component not in _DTYPES:
+            raise TypeError(f"convert: component_format must be a Struct.Type, got {component_format!r}")
+
+        x = self._linear()
+        x, names = self._reformat(x, target_format)
+        colour = [i for i, n in enumerate(names) if n != "A"]
+        alpha = [i for i, n in enumerate(names) if n == "A"]
+        dtype = _DTYPES[target_component]
+        if np.issubdtype(np.dtype(dtype), np.integer):
+            top = float(np.iinfo(dtype).max)
+            out = np.empty(x.shape, dtype=dtype)
+            if target_srgb and top == 255:
+                # The same encoding as candela.write_image's PNG and `candela render --png`.
+                out[:, :, colour] = _srgb8(x[:, :, colour])
+            else:
+                c = np.clip(np.nan_to_num(x[:, :, colour], nan=0.0, posinf=1.0, neginf=0.0), 0.0, 1.0)
+                if target_srgb:
+                    c = _to_srgb(c)
+                out[:, :, colour] = np.round(c * top).astype(dtype)
+            if alpha:
+                a = np.clip(np.nan_to_num(x[:, :, alpha], nan=0.0), 0.0, 1.0)
+                out[:, :, alpha] = np.round(a * top).astype(dtype)
+        else:
+            out = x.copy()
+            if target_srgb:
+                out[:, :, colour] = _to_srgb(out[:, :, colour])
+            out = out.astype(dtype)
+        result = Bitmap.__new__(Bitmap)
+        result._data = np.ascontiguousarray(out)
+        result._component = target_component
+        result._format = target_format
+        result._names = names
+        result._srgb = target_srgb
+        result._metadata = dict(self._metadata)
+        return result
+
+    def _reformat(self, x: np.ndarray, target):
+        source = self._format
+        if target == source:
+            return x, list(self._names)
+        if source == _PixelFormat.MultiChannel or target == _PixelFormat.MultiChannel or \
+                target not in (_PixelFormat.Y, _PixelFormat.YA, _PixelFormat.RGB, _PixelFormat.RGBA) or \
+                source not in (_PixelFormat.Y, _PixelFormat.YA, _PixelFormat.RGB, _PixelFormat.RGBA):
+            raise NotImplementedError(f"Bitmap.convert from {source.name} to {target.name} is not available in "
+                                      "candela.mitsuba (it converts among Y, YA, RGB and RGBA)")
+        h, w, _ = x.shape
+        has_alpha = source in (_PixelFormat.YA, _PixelFormat.RGBA)
+        alpha = x[:, :, -1:] if has_alpha else np.ones((h, w, 1))
+        if source in (_PixelFormat.Y, _PixelFormat.YA):
+            y = x[:, :, :1]
+            rgb = np.repeat(y, 3, axis=2)
+        else:
+            rgb = x[:, :, :3]
+            y = (rgb @ _LUMINANCE)[:, :, None]
+        parts = {_PixelFormat.Y: [y], _PixelFormat.YA: [y, alpha], _PixelFormat.RGB: [rgb],
+                 _PixelFormat.RGBA: [rgb, alpha]}[target]
+        return np.concatenate(parts, axis=2), list(_CHANNELS[target])
+
+    # --- files -----------------------------------------------------------------------------------
+    def write(self, path, format=_FileFormat.Auto, quality: int = -1):
+        """Writes the bitmap. OpenEXR (.exr): the channels as float32 (float16 for a Float16
+        bitmap), linear. PNG (.png) and JPEG (.jpg, .jpeg): 8-bit; float data is converted to 8-bit
+        sRGB first (as write_bitmap does), 8-bit data is written as it is. ``quality`` is JPEG's
+        (1-100; -1: 100)."""
+        path = os.fspath(path)
+        if not isinstance(format, _FileFormat):
+            raise TypeError(f"write: format must be a Bitmap.FileFormat, got {format!r}")
+        if format in (_FileFormat.Auto, _FileFormat.Unknown):
+            extension = os.path.splitext(path)[1].lower()
+            format = {".exr": _FileFormat.OpenEXR, ".png": _FileFormat.PNG, ".jpg": _FileFormat.JPEG,
+                      ".jpeg": _FileFormat.JPEG, ".hdr": _FileFormat.RGBE, ".rgbe": _FileFormat.RGBE,
+                      ".pfm": _FileFormat.PFM, ".ppm": _FileFormat.PPM, ".tga": _FileFormat.TGA,
+                      ".bmp": _FileFormat.BMP}.get(extension)
+            if format is None:
+                raise ValueError(f"{path}: unknown file format (extension {extension!r}); Bitmap writes .exr, .png and .jpg")
+        if format == _FileFormat.OpenEXR:
+            b = self if self._component in (Struct.Type.Float16, Struct.Type.Float32) and not self._srgb else \
+                self.convert(component_format=Struct.Type.Float32, srgb_gamma=False)
+            image = _Image(np.asarray(b._data, dtype=np.float32), channels=b._names, metadata=self._string_metadata())
+            _candela.write_image(path, image, float32=b._component != Struct.Type.Float16)
+        elif format == _FileFormat.PNG:
+            self._eight_bit()._write_png(path)
+        elif format == _FileFormat.JPEG:
+            from ._jpeg import encode_jpeg
+
+            b = self._eight_bit()
+            if b._format in (_PixelFormat.RGBA, _PixelFormat.YA):
+                b = b.convert(_PixelFormat.RGB if b._format == _PixelFormat.RGBA else _PixelFormat.Y)
+            data = encode_jpeg(b._data, 100 if quality is None or quality < 0 else int(quality))
+            _write_whole(path, data)
+        else:
+            raise NotImplementedError(f"Bitmap.write: writing {format.name} files is not available in candela.mitsuba "
+                                      "(it writes OpenEXR, PNG and JPEG)")
+
+    def write_async(self, path, format=_FileFormat.Auto, quality: int = -1):
+        """As write (the file is complete when this returns)."""
+        self.write(path, format, quality)
+
+    def _string_metadata(self) -> dict:
+        return {str(k): str(v) for k, v in self._metadata.items() if not str(k).startswith("oiio:")}
+
+    def _eight_bit(self) -> "Bitmap":
+        if self._component == Struct.Type.UInt8:
+            b = self
+        elif self._component == Struct.Type.UInt16:
+            return self
+        else:
+            b = self.convert(component_format=Struct.Type.UInt8, srgb_gamma=True)
+        if b._format not in (_PixelFormat.Y, _PixelFormat.YA, _PixelFormat.RGB, _PixelFormat.RGBA):
+            raise NotImplementedError(f"writing a {b._format.name} bitmap as PNG or JPEG is not available in "
+                                      "candela.mitsuba: convert it to Y, YA, RGB or RGBA first")
+        return b
+
+    def _write_png(self, path: str):
+        if self._component == Struct.Type.UInt8 and self._format == _PixelFormat.RGB:
+            _native.write_png(np.ascontiguousarray(self._data), path)
+            return
+        colour_type = {_PixelFormat.Y: 0, _PixelFormat.YA: 4, _PixelFormat.RGB: 2, _PixelFormat.RGBA: 6}.get(self._format)
+        if colour_type is None:
+            raise NotImplementedError(f"writing a {self._format.name} bitmap as PNG is not available in candela.mitsuba")
+        _write_whole(path, _encode_png(self._data, colour_type, self._srgb))
+
+    # --- what Mitsuba's Bitmap has besides ---------------------------------------------------
+    def __getattr__(self, name):
+        if name in ("resample", "accumulate", "split", "clear", "vflip", "rebuild_channels", "struct_", "detect_file_format"):
+            raise NotImplementedError(f"Bitmap.{name} is not available in candela.mitsuba: use NumPy on np.array(bitmap)")
+        raise AttributeError(f"'Bitmap' object has no attribute {name!r}")
+
+
+def _write_whole(path: str, data: bytes):
+    """Writes a file whole or not at all (a temporary beside it, renamed)."""
+    directory = os.path.dirname(os.path.abspath(path))
+    temporary = os.path.join(directory, f".{os.path.basename(path)}.{os.getpid()}.{threading.get_ident()}.tmp")
+    try:
+        with open(temporary, "wb") as f:
+            f.write(data)
+        os.replace(temporary, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.remove(temporary)
+        raise
+
+
+def _encode_png(data: np.ndarray, colour_type: int, srgb: bool) -> bytes:
+    """A PNG of 8- or 16-bit pixels (H x W x C; colour type 0 grey, 2 RGB, 4 grey+alpha, 6 RGBA)."""
+    height, width, channels = data.shape
+    depth = 8 if data.dtype == np.uint8 else 16
+    rows = data.astype(">u2") if depth == 16 else data
+    raw = b"".join(b"\x00" + rows[y].tobytes() for y in range(height))
+
+    def chunk(kind: bytes, payload: bytes) -> bytes:
+        return struct.pack(">I", len(payload)) + kind + payload + struct.pack(">I", zlib.crc32(kind + payload) & 0xFFFFFFFF)
+
+    out = b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, depth, colour_type, 0, 0, 0))
+    if srgb:
+        out += chunk(b"sRGB", b"\x00")
+    return out + chunk(b"IDAT", zlib.compress(raw, 6)) + chunk(b"IEND", b"")
+
+
+# --------------------------------------------------------------------------------------------------
+# mi.util
+# --------------------------------------------------------------------------------------------------
+
+def _convert_to_bitmap(data, uint8_srgb: bool = True) -> Bitmap:
+    """The image `data` (an array, an image from render, a Bitmap) as a Bitmap; with uint8_srgb
+    (the default, as Mitsuba) converted to 8-bit sRGB RGB."""
+    bitmap = data if isinstance(data, Bitmap) else Bitmap(data)
+    if uint8_srgb:
+        bitmap = bitmap.convert(_PixelFormat.RGB, Struct.Type.UInt8, True)
+    return bitmap
+
+
+def _write_bitmap(filename, data, write_async: bool = True, quality: int = -1) -> None:
+    """Writes the image `data` to a file: .png, .jpg and .jpeg as 8-bit sRGB RGB, .exr (and others)
+    as the data's float values."""
+    name = os.fspath(filename)
+    uint8_srgb = name.lower().endswith((".png", ".jpg", ".jpeg"))
+    _convert_to_bitmap(data, uint8_srgb).write(name, quality=quality)
+
+
+def _core_count() -> int:
+    return os.cpu_count() or 1
+
+
+class _UtilModule(types.ModuleType):
+    def __getattr__(self, name):
+        if name.startswith("__"):
+            raise AttributeError(name)
+        raise NotImplementedError(f"mitsuba.util.{name} is not available in candela.mitsuba (it offers write_bitmap, "
+                                  "convert_to_bitmap, traverse, render and core_count)")
+
+
+util = _UtilModule(__name__ + ".util", "Mitsuba's mi.util: write_bitmap, convert_to_bitmap and a few helpers.")
+util.write_bitmap = _write_bitmap
+util.convert_to_bitmap = _convert_to_bitmap
+util.core_count = _core_count
+util.traverse = traverse
+util.render = render
+util.SceneParameters = SceneParameters
+sys.modules[util.__name__] = util
+
+
+# --------------------------------------------------------------------------------------------------
+# Logging (accepted; Candela's loader and renderer report errors as exceptions)
+# --------------------------------------------------------------------------------------------------
+
+class LogLevel(enum.IntEnum):
+    Trace = 0
+    Debug = 100
+    Info = 200
+    Warn = 300
+    Error = 400
+
+
+_log = {"level": LogLevel.Warn}
+
+
+def set_log_level(level) -> None:
+    """Sets the level of messages Log prints (Candela itself reports problems as exceptions)."""
+    _log["level"] = LogLevel(int(level))
+
+
+def log_level():
+    return _log["level"]
+
+
+def Log(level, message: str) -> None:  # noqa: N802 - Mitsuba's name
+    """Prints `message` on stderr if `level` is at least the log level; Error raises RuntimeError."""
+    level = LogLevel(int(level))
+    if level >= LogLevel.Error:
+        raise RuntimeError(str(message))
+    if level >= _log["level"]:
+        print(f"{level.name.upper()}: {message}", file=sys.stderr)
+
+
+# --------------------------------------------------------------------------------------------------
+# Everything else Mitsuba has: a clear NotImplementedError
+# --------------------------------------------------------------------------------------------------
+
+_AUTODIFF = "Dr.Jit arrays and automatic differentiation (Candela's images and parameters are NumPy arrays)"
+_PLUGINS = "custom plugins written in Python (Candela's plugins are native; see docs/plugins)"
+_OBJECTS = "Mitsuba's plugin objects and their methods from Python (Candela loads, renders and edits scenes whole)"
+_QUERIES = "ray tracing and sampling queries from Python (scene.ray_intersect, mi.Ray3f, interactions, ...)"
+
+_UNSUPPORTED: dict[str, str] = {}
+for _name in ("Float", "Float16", "Float32", "Float64", "Int", "Int8", "Int32", "Int64", "UInt", "UInt8", "UInt32",
+              "UInt64", "Bool", "Mask", "TensorXf", "TensorXf16", "TensorXf64", "TensorXi", "TensorXu", "TensorXb",
+              "TensorXi64", "TensorXu64", "ArrayXf", "ArrayXi", "ArrayXu", "ArrayXb", "ArrayXf64", "Array2f", "Array3f",
+              "Array4f", "Point2f", "Point2i", "Point2u", "Point4f", "Vector2f", "Vector2i", "Vector2u", "Vector4f",
+              "Vector3i", "Vector3u", "Point3i", "Point3u", "Vector0f", "Vector1f", "Color0f", "Color1f", "Spectrum",
+              "UnpolarizedSpectrum", "Matrix2f", "Matrix3f", "Matrix4f", "Matrix44f", "Quaternion4f", "Complex2f",
+              "ScalarFloat", "ScalarInt32", "ScalarUInt32", "ScalarPoint2f", "ScalarPoint2i", "ScalarPoint2u",
+              "ScalarPoint3i", "ScalarPoint3u", "ScalarVector2f", "ScalarVector2i", "ScalarVector2u", "ScalarVector3i",
+              "ScalarVector3u", "ScalarVector4f", "ScalarColor0f", "ScalarColor1f", "ScalarMatrix2f", "ScalarMatrix3f",
+              "ScalarMatrix4f", "ScalarBoundingBox2f", "ScalarBoundingBox3f", "ScalarBoundingSphere3f", "BoundingBox2f",
+              "BoundingBox3f", "BoundingSphere3f", "Transform3f", "ScalarTransform3f", "AffineTransform3f",
+              "ScalarAffineTransform3f", "Frame3f", "ScalarFrame3f", "Loop", "Texture2f", "Texture3f", "Spectrum3f",
+              "UnpolarizedSpectrum3f", "Stokes4f", "MuellerMatrix"):
+    _UNSUPPORTED[_name] = _AUTODIFF
+for _name in ("ad", "grad", "enable_grad", "disable_grad", "backward", "forward", "Optimizer", "SGD", "Adam",
+              "detach", "CustomOp"):
+    _UNSUPPORTED[_name] = "automatic differentiation (mi.ad, optimizers, gradients)"
+for _name in ("register_bsdf", "register_emitter", "register_integrator", "register_sensor", "register_texture",
+              "register_medium", "register_phasefunction", "register_volume", "register_film", "register_rfilter",
+              "register_sampler", "register_shape", "SamplingIntegrator", "ADIntegrator", "Integrator",
+              "AdjointIntegrator", "python"):
+    _UNSUPPORTED[_name] = _PLUGINS
+for _name in ("BSDF", "Emitter", "Sensor", "Shape", "Mesh", "Texture", "Film", "ImageBlock", "Sampler", "Medium",
+              "PhaseFunction", "Volume", "VolumeGrid", "ReconstructionFilter", "Endpoint", "ShapeGroup", "Object",
+              "Properties", "PluginManager", "TraversalCallback", "ParamFlags", "BSDFFlags", "EmitterFlags", "RayFlags",
+              "FilterBoundaryCondition", "Resampler", "ProjectiveCamera", "Class", "load_plugin"):
+    _UNSUPPORTED[_name] = _OBJECTS
+for _name in ("Ray3f", "RayDifferential3f", "ScalarRay3f", "SurfaceInteraction3f", "Interaction3f",
+              "MediumInteraction3f", "PreliminaryIntersection3f", "BSDFContext", "BSDFSample3f", "DirectionSample3f",
+              "PositionSample3f", "SilhouetteSample3f", "PhaseFunctionContext", "TransportMode", "has_flag",
+              "coordinate_system", "reflect", "refract", "fresnel", "fresnel_conductor", "fresnel_polarized",
+              "MicrofacetDistribution", "MicrofacetType", "sample_tea_32", "sample_tea_64", "sample_tea_float",
+              "sample_tea_float32", "sample_tea_float64", "PCG32", "sample_rgb_spectrum", "pdf_rgb_spectrum",
+              "cie1931_xyz", "cie1931_y", "srgb_model_fetch", "srgb_model_eval", "srgb_model_mean", "xyz_to_srgb",
+              "srgb_to_xyz", "spectrum_to_srgb", "spectrum_from_file", "spectrum_to_file", "warp", "math", "spline",
+              "quad", "chi2", "DiscreteDistribution", "ContinuousDistribution", "IrregularContinuousDistribution",
+              "Hierarchical2D0", "MarginalContinuous2D0", "MarginalDiscrete2D0", "eval_reflectance",
+              "lookup_ior", "polarization", "mueller", "depolarizer", "unpolarized_spectrum"):
+    _UNSUPPORTED[_name] = _QUERIES
+_UNSUPPORTED.update({
+    "xml": "mi.xml (dict_to_xml, the XML writer)",
+    "dict_to_xml": "mi.xml.dict_to_xml (writing a dictionary back to XML)",
+    "Thread": "mi.Thread (its file resolver and logger); give paths relative to the working directory or absolute",
+    "FileResolver": "mi.FileResolver (search paths); give paths relative to the working directory or absolute",
+    "Logger": "mi.Logger and Appender (use mi.set_log_level)",
+    "Appender": "mi.Logger and Appender (use mi.set_log_level)",
+    "Timer": "mi.Timer (use time.perf_counter)",
+    "MemoryMappedFile": "Mitsuba's stream classes",
+    "Stream": "Mitsuba's stream classes",
+    "FileStream": "Mitsuba's stream classes",
+    "MemoryStream": "Mitsuba's stream classes",
+    "ZStream": "Mitsuba's stream classes",
+    "DummyStream": "Mitsuba's stream classes",
+    "StructConverter": "Mitsuba's StructConverter",
+    "set_thread_count": "mi.set_thread_count (Candela renders on all cores; candela.render takes threads=)",
+    "TensorFile": "mi.TensorFile (tensor_io)",
+    "tensor_io": "mi.tensor_io",
+    "plugins": "mi.plugins (Python texture plugins)",
+    "testing": "mi.testing",
+    "sys_info": "mi.sys_info",
+    "MI_VERSION": "Mitsuba's version constants (this is Candela: candela.__version__)",
+    "MI_VERSION_MAJOR": "Mitsuba's version constants (this is Candela: candela.__version__)",
+    "MI_VERSION_MINOR": "Mitsuba's version constants (this is Candela: candela.__version__)",
+    "MI_VERSION_PATCH": "Mitsuba's version constants (this is Candela: candela.__version__)",
+    "MI_ENABLE_CUDA": "Mitsuba's build constants",
+    "MI_ENABLE_EMBREE": "Mitsuba's build constants",
+    "DEBUG": "Mitsuba's build constants",
+})
+del _name
+
+
+def __getattr__(name: str):
+    if name in ("is_rgb", "is_spectral", "is_polarized", "is_monochromatic"):
+        _ensure_variant()
+        return name == "is_rgb"
+    if name in _UNSUPPORTED:
+        raise NotImplementedError(f"mitsuba.{name}: {_UNSUPPORTED[name]} is not available in candela.mitsuba "
+                                  "(see docs/python.md for what it offers)")
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | {"is_rgb", "is_spectral", "is_polarized", "is_monochromatic"})
