@@ -59,6 +59,8 @@ def load_file(path, **params) -> Scene:
 
 def load_string(xml: str, **params) -> Scene:
     """Loads a scene from XML text; files it names are found relative to the working directory."""
+    if not isinstance(xml, str):
+        raise TypeError(f"load_string expects XML text (a str), got {type(xml).__name__}")
     return _candela.load_string(xml, os.path.join(os.getcwd(), "<string>.xml"), _parameters(params))
 
 
@@ -100,10 +102,10 @@ def render(scene: Scene, spp: int | None = None, seed: int = 0, sensor: int = 0,
     variance, samples)."""
     if not isinstance(scene, Scene):
         raise TypeError(f"render expects a candela.Scene, got {type(scene).__name__}")
-    if spp is not None and (isinstance(spp, bool) or not isinstance(spp, (int, np.integer)) or spp < 1):
-        raise ValueError(f"spp must be a whole number of samples, at least 1 (got {spp!r})")
-    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
-        raise ValueError(f"seed must be a whole number >= 0 (got {seed!r})")
+    if spp is not None and (isinstance(spp, bool) or not isinstance(spp, (int, np.integer)) or not 1 <= spp <= 1 << 30):
+        raise ValueError(f"spp must be a whole number of samples, 1 to 2^30 (got {spp!r})")
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or not 0 <= seed < 1 << 64:
+        raise ValueError(f"seed must be a whole number, 0 to 2^64 - 1 (got {seed!r})")
     if sensor != 0:
         raise ValueError(f"the scene has one sensor (index 0); sensor={sensor!r}")
     if threads is not None and (not isinstance(threads, (int, np.integer)) or threads < 0):

@@ -96,4 +96,6 @@ class SceneParameters:
 
 def traverse(scene) -> SceneParameters:
     """The scene's editable parameters (Mitsuba's traverse)."""
+    if not isinstance(scene, _candela.Scene):
+        raise TypeError(f"traverse expects a candela.Scene, got {type(scene).__name__}")
     return SceneParameters(scene)
