@@ -66,10 +66,13 @@ class Image(np.ndarray):
         return np.asarray(self)[:, :, names]
 
     def rgb(self) -> np.ndarray:
-        """The R, G, B channels (the first three when unnamed)."""
+        """The R, G, B channels (the first three when unnamed; a grey image's one channel three
+        times)."""
         try:
             return np.asarray(self)[:, :, [self.channels.index(c) for c in ("R", "G", "B")]]
         except ValueError:
+            if self.shape[2] < 3:
+                return np.repeat(np.asarray(self)[:, :, :1], 3, axis=2)
             return np.asarray(self)[:, :, :3]
 
     def to_srgb8(self) -> np.ndarray:
