@@ -112,3 +112,16 @@ def repo() -> Path:
 @pytest.fixture(scope="session")
 def scenes() -> Path:
     return SCENES
+
+
+def assert_same_expectation(a, b, what: str = "images"):
+    """Two renders of the same scene set up two ways (e.g. edited in Python and loaded from an
+    edited file) estimate the same image: the mean of their per-pixel differences is within Z
+    standard errors of 0, the standard error from the differences' spread (a paired test: both
+    renders use the same random numbers, so the difference is 0 where they agree exactly). A
+    float32 rounding allowance of 1e-5 of the image mean covers setups that round differently."""
+    x = np.asarray(a, dtype=np.float64)[:, :, :3].mean(axis=2).reshape(-1)
+    y = np.asarray(b, dtype=np.float64)[:, :, :3].mean(axis=2).reshape(-1)
+    d = x - y
+    se = d.std(ddof=1) / math.sqrt(d.size)
+    assert abs(d.mean()) <= Z * se + 1e-5 * abs(y.mean()), f"{what}: mean difference {d.mean()} (standard error {se})"
