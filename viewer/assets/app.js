@@ -25,6 +25,7 @@
         fpsHeatmap: 0,
         latencyMs: null,         // average over the last 20 camera ids echoed by a drawn frame
         latencySamples: [],
+        latencyCount: 0,         // latencies measured since the page opened
         framesReceived: 0,
         framesByKind: [0, 0, 0],
         framesDrawn: 0,
@@ -61,6 +62,7 @@
     const frameTimes = [[], [], []];
     const cameraSentAt = new Map();          // camera id -> performance.now() when sent
     let cameraDirty = false;
+    let highestFrameCameraId = 0;            // camera ids this page sends start above what frames echoed
     let pendingSettings = null;
     const localEditAt = {};                  // settings key -> when this page last changed it
     let needsDraw = true;
@@ -293,6 +295,7 @@
         const now = performance.now();
         stats.framesReceived++;
         stats.framesByKind[kind]++;
+        if (cameraId > highestFrameCameraId) highestFrameCameraId = cameraId;
         stats.bytesReceived += bytes.length;
         stats.lastFrameBytes = bytes.length;
         frameTimes[kind].push(now);
@@ -333,13 +336,12 @@
             const meta = bitmapMeta[kind];
             if (!meta || meta.drawn) continue;
             meta.drawn = true;
-            if (meta.cameraId > stats.lastEchoedCameraId) {
-                const sent = cameraSentAt.get(meta.cameraId);
-                if (sent !== undefined) {
-                    stats.latencySamples.push(now - sent);
-                    if (stats.latencySamples.length > LATENCY_WINDOW) stats.latencySamples.shift();
-                    stats.latencyMs = stats.latencySamples.reduce((a, b) => a + b, 0) / stats.latencySamples.length;
-                }
+            const sent = cameraSentAt.get(meta.cameraId);
+            if (sent !== undefined) {
+                stats.latencySamples.push(now - sent);
+                stats.latencyCount++;
+                if (stats.latencySamples.length > LATENCY_WINDOW) stats.latencySamples.shift();
+                stats.latencyMs = stats.latencySamples.reduce((a, b) => a + b, 0) / stats.latencySamples.length;
                 stats.lastEchoedCameraId = meta.cameraId;
                 for (const id of cameraSentAt.keys()) if (id <= meta.cameraId) cameraSentAt.delete(id);
             }
@@ -461,7 +463,9 @@
             pendingSettings = null;
         }
         if (cameraDirty && camera && stats.connected) {
-            const id = stats.lastCameraId + 1;
+            // Ids increase with every message, and start above any id the server applied before
+            // (another page's, or this page's before a reload), so that an echo is unambiguous.
+            const id = Math.max(stats.lastCameraId, highestFrameCameraId) + 1;
             if (send({type: 'camera', id, origin: camera.origin, target: camera.target, up: camera.up, fov: camera.fov})) {
                 stats.lastCameraId = id;
                 stats.cameraMessagesSent++;
