@@ -21,8 +21,6 @@ from __future__ import annotations
 
 import contextlib
 import enum
-import math
-import numbers
 import os
 import re
 import struct
@@ -133,6 +131,12 @@ def variant_context(*names: str):
 
 
 scoped_set_variant = variant_context
+
+# Every variant Candela renders is RGB.
+is_rgb = True
+is_spectral = False
+is_polarized = False
+is_monochromatic = False
 
 
 def _ensure_variant():
@@ -1013,9 +1017,6 @@ del _name
 
 
 def __getattr__(name: str):
-    if name in ("is_rgb", "is_spectral", "is_polarized", "is_monochromatic"):
-        _ensure_variant()
-        return name == "is_rgb"
     if name in _UNSUPPORTED:
         raise NotImplementedError(f"mitsuba.{name}: {_UNSUPPORTED[name]} is not available in candela.mitsuba "
                                   "(see docs/python.md for what it offers)")
@@ -1023,4 +1024,4 @@ def __getattr__(name: str):
 
 
 def __dir__():
-    return sorted(set(globals()) | {"is_rgb", "is_spectral", "is_polarized", "is_monochromatic"})
+    return sorted(globals())

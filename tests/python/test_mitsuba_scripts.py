@@ -3,7 +3,6 @@ stands in a fresh interpreter, with only `import mitsuba as mi` changed to
 `import candela.mitsuba as mi`; their images are compared with the command line's renders of the
 same scenes."""
 
-import os
 import re
 import subprocess
 import sys

@@ -2,7 +2,6 @@
 progress, Ctrl-C, and unbiasedness against the furnace scenes' exact answers."""
 
 import math
-import os
 import signal
 import subprocess
 import sys
@@ -12,7 +11,7 @@ import time
 import numpy as np
 import pytest
 
-from conftest import SCENES, Z, assert_mean_agrees, candela, cli_render, scene_expected, subprocess_env
+from conftest import SCENES, assert_mean_agrees, candela, cli_render, scene_expected, subprocess_env
 
 VALIDATION_CBOX = SCENES / "validation" / "cbox.xml"
 
