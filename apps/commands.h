@@ -30,6 +30,7 @@ void add_validate_command(CLI::App& app, std::function<int()>& run);
 void add_compare_modes_command(CLI::App& app, std::function<int()>& run);
 void add_merge_command(CLI::App& app, std::function<int()>& run);
 void add_farm_command(CLI::App& app, std::function<int()>& run);
+void add_view_command(CLI::App& app, std::function<int()>& run);
 
 // The raster mode's options on the command line (render --mode raster, compare-modes): those of
 // raster_options() marked for it (--aa-filter sets aa_filter, ...), their choices in --help.

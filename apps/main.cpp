@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
     candela::app::add_compare_modes_command(app, run);
     candela::app::add_merge_command(app, run);
     candela::app::add_farm_command(app, run);
+    candela::app::add_view_command(app, run);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -23,6 +23,7 @@
 #include "core/scene.h"
 #include "core/xml.h"
 #include "integrators/estimators.h"
+#include "viewer/view_server.h"
 
 #include <pybind11/functional.h>
 #include <pybind11/numpy.h>
@@ -470,6 +471,17 @@ py::dict compare_modes(SceneHandle& h, const std::string& methods, int spp, py::
     return d;
 }
 
+// The live viewer (candela.view): its server runs until stop() or the object is gone.
+struct ViewerHandle {
+    std::unique_ptr<ViewServer> server;
+};
+
+ViewerHandle start_viewer(SceneHandle& h, int port, const std::string& bind) {
+    return without_gil([&] {
+        return ViewerHandle{std::make_unique<ViewServer>(h.scene, h.scene->source_file, ViewServerOptions{bind, port})};
+    });
+}
+
 }  // namespace
 
 PYBIND11_MODULE(_candela, m) {
@@ -498,6 +510,16 @@ PYBIND11_MODULE(_candela, m) {
         .def_property_readonly("channels", [](const ImageBuffer& b) { return b.image.channels(); })
         .def_property_readonly("metadata", [](const ImageBuffer& b) { return b.image.metadata; });
 
+    py::class_<ViewerHandle>(m, "Viewer", "The live viewer's server (candela.view)")
+        .def_property_readonly("url", [](const ViewerHandle& v) { return v.server ? v.server->url() : std::string(); })
+        .def_property_readonly("port", [](const ViewerHandle& v) { return v.server ? v.server->port() : 0; })
+        .def_property_readonly("clients", [](const ViewerHandle& v) { return v.server ? v.server->clients() : 0; })
+        .def("stop", [](ViewerHandle& v) {
+            py::gil_scoped_release release;
+            if (v.server) v.server->stop();
+            v.server.reset();
+        });
+    m.def("start_viewer", &start_viewer, py::arg("scene"), py::arg("port"), py::arg("bind"));
     m.def("load_file", &load_file, py::arg("path"), py::arg("params"));
     m.def("load_string", &load_string, py::arg("xml"), py::arg("virtual_path"), py::arg("params"));
     m.def("plugin_tag", &plugin_tag, py::arg("type"));

@@ -13,6 +13,7 @@ packages=(
   libosmesa6-dev
   clang libclang-rt-14-dev llvm lld
   python3-dev pybind11-dev python3-numpy python3-pytest python3-nbclient python3-nbformat python3-ipykernel
+  libcivetweb-dev libturbojpeg0-dev nlohmann-json3-dev chromium chromium-driver python3-selenium
   clang-format python3
 )
 # clang (Debian's clang 14) builds the sanitizer and fuzzing builds; libclang-rt-14-dev holds its

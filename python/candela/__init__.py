@@ -131,5 +131,37 @@ def variants() -> list[str]:
     return ["scalar_rgb"]
 
 
-def view(scene, port: int = 0, open_browser: bool = False):  # pragma: no cover - issue 30
-    raise NotImplementedError("candela.view: the live viewer is not available in this build")
+class Viewer:
+    """The live viewer of a scene (``candela.view``): a local web server showing the path tracer
+    and the raster mode side by side (docs/viewer.md). In Jupyter the object shows the page in
+    the output cell; ``url`` opens it in any browser; ``stop()`` ends it."""
+
+    def __init__(self, handle):
+        self._handle = handle
+
+    @property
+    def url(self) -> str:
+        return self._handle.url
+
+    @property
+    def port(self) -> int:
+        return self._handle.port
+
+    def stop(self):
+        self._handle.stop()
+
+    def _repr_html_(self):
+        return f'<iframe src="{self.url}" width="100%" height="640" style="border:0"></iframe><p><a href="{self.url}">{self.url}</a></p>'
+
+    def __repr__(self):
+        return f"candela.Viewer({self.url})"
+
+
+def view(scene: Scene, port: int = 0, bind: str = "127.0.0.1") -> Viewer:
+    """Serves the scene live to a browser, as ``candela view`` does (port 0: a free one); returns
+    the Viewer, whose ``url`` carries the access token. Binds to this machine only by default."""
+    if not isinstance(scene, Scene):
+        raise TypeError(f"view expects a candela.Scene, got {type(scene).__name__}")
+    if not isinstance(port, int) or not 0 <= port <= 65535:
+        raise ValueError(f"port must lie between 0 and 65535 (got {port!r})")
+    return Viewer(_candela.start_viewer(scene, port, bind))
