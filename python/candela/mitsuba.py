@@ -20,6 +20,7 @@ feature instead of answering differently from Mitsuba. docs/python.md has the ta
 from __future__ import annotations
 
 import contextlib
+import copy
 import enum
 import os
 import re
@@ -27,13 +28,15 @@ import struct
 import sys
 import threading
 import types
+import weakref
+from xml.parsers import expat as _expat
 import zlib
 
 import numpy as np
 
 import candela as _candela
 from . import _candela as _native
-from ._dict import Plugin as _Plugin
+from ._dict import Plugin as _Plugin, scene_xml as _scene_xml
 from .image import Image as _Image, srgb8 as _srgb8
 from .parameters import SceneParameters as _CandelaSceneParameters
 from .transform import Transform
@@ -153,12 +156,19 @@ def _ensure_variant():
 Scene = _candela.Scene
 
 
+# How each scene from this module's loaders was made, so that render(sensor=<a sensor object>)
+# can load it again with that sensor in place of its own.
+_recipes: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+
+
 def load_file(path, update_scene: bool = False, parallel: bool = True, optimize: bool = True, **params):
     """Loads a Mitsuba 3 XML scene; keyword arguments set its ``$name`` parameters. ``update_scene``,
     ``parallel`` and ``optimize`` are accepted and have no effect (Candela loads in parallel and
     never rewrites the file)."""
     _ensure_variant()
-    return _candela.load_file(path, **params)
+    scene = _candela.load_file(path, **params)
+    _recipes[scene] = ("file", os.path.abspath(os.fspath(path)), dict(params))
+    return scene
 
 
 def load_string(string: str, parallel: bool = True, optimize: bool = True, **params):
@@ -166,7 +176,9 @@ def load_string(string: str, parallel: bool = True, optimize: bool = True, **par
     _ensure_variant()
     if not isinstance(string, str):
         raise TypeError(f"load_string expects XML text (a str), got {type(string).__name__}")
-    return _candela.load_string(string, **params)
+    scene = _candela.load_string(string, **params)
+    _recipes[scene] = ("string", string, dict(params), os.path.join(os.getcwd(), "<string>.xml"))
+    return scene
 
 
 def load_dict(d: dict, parallel: bool = True, optimize: bool = True):
@@ -176,30 +188,132 @@ def load_dict(d: dict, parallel: bool = True, optimize: bool = True):
     _ensure_variant()
     if not isinstance(d, dict):
         raise TypeError(f"load_dict expects a dictionary, got {type(d).__name__}")
-    return _candela.load_dict(d)
+    result = _candela.load_dict(d)
+    if isinstance(result, _candela.Scene):
+        try:
+            _recipes[result] = ("dict", copy.deepcopy(d))
+        except Exception:  # noqa: BLE001 - a value deepcopy cannot copy: no recipe, no sensor objects
+            pass
+    return result
+
+
+def _is_sensor(value) -> bool:
+    if isinstance(value, _Plugin):
+        return value.kind == "sensor"
+    return isinstance(value, dict) and isinstance(value.get("type"), str) and _native.plugin_tag(value["type"]) == "sensor"
+
+
+def _without_sensors_xml(text: str) -> tuple[str, int]:
+    """The scene XML without its top-level <sensor> elements, and where the first one was."""
+    data = text.encode("utf-8")
+    spans, depth, start = [], 0, None
+    parser = _expat.ParserCreate()
+
+    def begin(name, attributes):
+        nonlocal depth, start
+        depth += 1
+        if depth == 2 and name == "sensor":
+            start = parser.CurrentByteIndex
+
+    def end(name):
+        nonlocal depth, start
+        if depth == 2 and name == "sensor" and start is not None:
+            index = parser.CurrentByteIndex
+            stop = data.index(b">", index) + 1
+            spans.append((start, stop))
+            start = None
+        depth -= 1
+
+    parser.StartElementHandler, parser.EndElementHandler = begin, end
+    parser.Parse(data, True)
+    if not spans:
+        at = data.rindex(b"</scene>")
+        return text, len(data[:at].decode("utf-8"))
+    out, last = [], 0
+    for a, b in spans:
+        out.append(data[last:a])
+        last = b
+    out.append(data[last:])
+    first = len(data[:spans[0][0]].decode("utf-8"))
+    return b"".join(out).decode("utf-8"), first
+
+
+def _sensor_xml(sensor: dict) -> str:
+    xml_text, _ = _scene_xml({"type": "scene", "_candela_sensor": sensor})
+    return "\n".join(xml_text.splitlines()[1:-1])
+
+
+def _load_recipe(recipe, sensor: dict | None = None):
+    kind = recipe[0]
+    if kind == "dict":
+        d = recipe[1]
+        if sensor is not None:
+            d = {k: v for k, v in d.items() if not _is_sensor(v)}
+            d["_candela_sensor"] = sensor
+        return _candela.load_dict(d)
+    if kind == "file":
+        with open(recipe[1], encoding="utf-8") as f:
+            text = f.read()
+        virtual, params = recipe[1], recipe[2]
+    else:
+        text, params, virtual = recipe[1], recipe[2], recipe[3]
+    if sensor is not None:
+        text, at = _without_sensors_xml(text)
+        text = text[:at] + _sensor_xml(sensor) + text[at:]
+    return _native.load_string(text, virtual, _candela._parameters(params))
+
+
+def _render_with_sensor(scene, sensor, spp, seed, integrator):
+    """Renders `scene` from `sensor` (a sensor from load_dict): the scene is loaded again with that
+    sensor in place of its own, and the parameters changed since it was loaded (through
+    traverse) are carried over, the camera's own (to_world, x_fov) excepted."""
+    recipe = _recipes.get(scene)
+    if recipe is None:
+        raise NotImplementedError("mi.render(..., sensor=<a sensor object>) for a scene not loaded by candela.mitsuba's "
+                                  "load_file, load_string or load_dict is not available")
+    moved = _load_recipe(recipe, sensor.dictionary)
+    fresh = _load_recipe(recipe)
+    changes = {}
+    wanted = dict(_native.parameter_list(moved))
+    for name, _ in _native.parameter_list(scene):
+        if name.endswith((".to_world", ".x_fov")) or name not in wanted:
+            continue
+        value = _native.get_parameter(scene, name)
+        try:
+            if np.array_equal(value, _native.get_parameter(fresh, name)):
+                continue
+        except Exception:  # noqa: BLE001 - not in the fresh scene: take it as changed
+            pass
+        changes[name] = np.asarray(value, dtype=np.float32)
+    if changes:
+        _native.set_parameters(moved, changes)
+    return _candela.render(moved, spp=int(spp) or None, seed=seed, integrator=integrator)
 
 
 def render(scene, params=None, sensor=0, integrator=None, seed: int = 0, seed_grad: int = 0, spp: int = 0,
            spp_grad: int = 0):
     """Renders the scene and returns the image (a candela.Image: H x W x 3 float32, a NumPy array).
-    ``spp=0`` keeps the scene's sample count. ``integrator``: an integrator from load_dict (or its
-    dictionary, or its name). ``params``, ``seed_grad`` and ``spp_grad`` concern gradients: they
-    do not change the image and are accepted as Mitsuba accepts them. The pixels equal
-    ``candela render SCENE --spp SPP --seed SEED``'s."""
+    ``spp=0`` keeps the scene's (or the given sensor's) sample count. ``sensor``: 0 (the scene's
+    sensor) or a sensor from load_dict (the scene is rendered from it, with its film and sampler).
+    ``integrator``: an integrator from load_dict (or its dictionary, or its name). ``params``,
+    ``seed_grad`` and ``spp_grad`` concern gradients: they do not change the image and are
+    accepted as Mitsuba accepts them. The pixels equal ``candela render SCENE --spp SPP --seed
+    SEED``'s."""
     _ensure_variant()
     if not isinstance(scene, _candela.Scene):
         raise TypeError(f"render expects a scene (from load_file, load_string or load_dict), got {type(scene).__name__}")
     if params is not None and not isinstance(params, _CandelaSceneParameters):
         raise TypeError("params should be an instance of mi.SceneParameters (from mi.traverse), or None")
-    if isinstance(sensor, _Plugin):
-        raise NotImplementedError("mi.render(..., sensor=<a sensor object>): rendering from a sensor that is not in the "
-                                  "scene is not available in Candela; put the sensor in the scene dictionary or file")
-    if isinstance(sensor, bool) or not isinstance(sensor, (int, np.integer)):
-        raise TypeError(f"sensor must be a sensor's index (an int), got {sensor!r}")
     if isinstance(spp, bool) or not isinstance(spp, (int, np.integer)):
         raise TypeError(f"spp must be a whole number (0: the scene's sample count), got {spp!r}")
     if spp < 0:
         raise ValueError(f"spp must be >= 0 (0: the scene's sample count), got {spp}")
+    if isinstance(sensor, _Plugin):
+        if sensor.kind != "sensor":
+            raise TypeError(f"sensor must be a sensor (from load_dict) or an index, got a {sensor.kind}")
+        return _render_with_sensor(scene, sensor, spp, seed, integrator)
+    if isinstance(sensor, bool) or not isinstance(sensor, (int, np.integer)):
+        raise TypeError(f"sensor must be a sensor's index (an int) or a sensor from load_dict, got {sensor!r}")
     return _candela.render(scene, spp=int(spp) or None, seed=seed, sensor=int(sensor), integrator=integrator)
 
 

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import candela.mitsuba as mi
-from conftest import SCENES, candela, cli_render, subprocess_env
+from conftest import SCENES, assert_same_expectation, candela, cli_render, subprocess_env
 from test_images import decode_png
 
 CBOX = SCENES / "cbox.xml"
@@ -113,9 +113,65 @@ def test_render_arguments():
         mi.render(scene, params={"a": 1})
     with pytest.raises(ValueError, match="sensor"):
         mi.render(scene, sensor=1)
-    sensor = mi.load_dict({"type": "perspective", "fov": 30})
-    with pytest.raises(NotImplementedError, match="sensor"):
-        mi.render(scene, sensor=sensor)
+    with pytest.raises(TypeError, match="sensor"):
+        mi.render(scene, sensor=mi.load_dict({"type": "diffuse"}))
+    with pytest.raises(NotImplementedError, match="not loaded by candela.mitsuba"):
+        mi.render(candela.load_file(CBOX, res=8), sensor=mi.load_dict({"type": "perspective", "fov": 30}))
+
+
+def sensor(origin, width=24, height=16, spp=8, to_world=None):
+    return mi.load_dict({
+        "type": "perspective", "fov": 40,
+        "to_world": to_world if to_world is not None else mi.ScalarTransform4f.look_at(origin=origin, target=[0, 0, 0], up=[0, 1, 0]),
+        "sampler": {"type": "independent", "sample_count": spp},
+        "film": {"type": "hdrfilm", "width": width, "height": height, "rfilter": {"type": "box"}, "component_format": "float32"},
+    })
+
+
+def test_render_from_sensor_objects():
+    # As Mitsuba's multi-view tutorial: a scene without a camera, rendered from several sensors.
+    T = mi.ScalarTransform4f
+    base = {"type": "scene", "integrator": {"type": "path"}, "light": {"type": "constant"},
+            "ball": {"type": "sphere", "to_world": T.scale(0.8), "bsdf": {"type": "diffuse", "reflectance": {"type": "rgb", "value": [0.7, 0.3, 0.2]}}},
+            "floor": {"type": "rectangle", "to_world": T.translate([0, -0.8, 0]).rotate([1, 0, 0], -90).scale(3)}}
+    scene = mi.load_dict(base)
+    for x in (-2.0, 2.0):
+        view = sensor([x, 1, 4])
+        image = mi.render(scene, sensor=view, seed=1)
+        assert image.shape == (16, 24, 3)
+        with_camera = mi.load_dict({**base, "sensor": view})
+        assert np.array_equal(np.asarray(image), np.asarray(mi.render(with_camera, seed=1)))
+    left, right = (np.asarray(mi.render(scene, sensor=sensor([x, 1, 4]))) for x in (-2.0, 2.0))
+    assert not np.array_equal(left, right)
+    # The scene keeps its own camera for other renders.
+    assert mi.render(scene, spp=1).shape == candela.render(candela.load_dict(base), spp=1).shape
+
+
+def test_render_from_a_sensor_object_keeps_parameter_edits(tmp_path):
+    scene = mi.load_file(CBOX, res=16, spp=4)
+    params = mi.traverse(scene)
+    params["red.reflectance.value"] = mi.Color3f(0.1, 0.2, 0.9)
+    params.update()
+    # The scene's own camera given as a sensor object (its matrix as the scene holds it, its film
+    # and sample count): the image of the edited scene.
+    same_view = sensor(None, 16, 16, 4, to_world=mi.ScalarTransform4f(params["PerspectiveCamera.to_world"].matrix))
+    same_view.dictionary["fov"] = params["PerspectiveCamera.x_fov"]
+    # (The camera inverts a <matrix> numerically, a <lookat> exactly: equal up to float rounding.)
+    assert_same_expectation(mi.render(scene, sensor=same_view, seed=2), mi.render(scene, seed=2), "the scene's own view")
+    assert not np.array_equal(np.asarray(mi.render(scene, sensor=same_view, seed=2)),
+                              np.asarray(mi.render(mi.load_file(CBOX, res=16, spp=4), seed=2)))  # the edit is there
+    # Another view of the edited scene equals the file with both changes.
+    other = sensor([0.5, 0.25, 3.5], 16, 16, 4, to_world=mi.ScalarTransform4f.translate([0.5, 0.25, 3.5]) @ mi.ScalarTransform4f.scale([-1, 1, -1]))
+    text = CBOX.read_text().replace('value="0.63, 0.065, 0.05"', 'value="0.1, 0.2, 0.9"')
+    start, end = text.index("<sensor"), text.index("</sensor>") + len("</sensor>")
+    text = text[:start] + """<sensor type="perspective"><float name="fov" value="40"/>
+        <transform name="to_world"><scale x="-1" y="1" z="-1"/><translate x="0.5" y="0.25" z="3.5"/></transform>
+        <sampler type="independent"><integer name="sample_count" value="4"/></sampler>
+        <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/><rfilter type="box"/>
+        <string name="component_format" value="float32"/></film></sensor>""" + text[end:]
+    (tmp_path / "moved.xml").write_text(text)
+    expected = candela.render(candela.load_file(tmp_path / "moved.xml"), seed=3)
+    assert np.array_equal(np.asarray(mi.render(scene, sensor=other, seed=3)), np.asarray(expected))
 
 
 def test_cornell_box():
