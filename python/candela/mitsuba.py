@@ -1130,6 +1130,42 @@ _UNSUPPORTED.update({
 del _name
 
 
+# Mitsuba's scene and plugin objects have methods that Candela's do not: asking a candela.Scene or
+# a candela.Plugin for one of them says so, instead of a bare AttributeError.
+_SCENE_METHODS = ("sensors", "emitters", "shapes", "shapes_dr", "emitters_dr", "sensors_dr", "bbox", "ray_intersect",
+                  "ray_intersect_preliminary", "ray_test", "sample_emitter", "sample_emitter_direction",
+                  "sample_emitter_ray", "eval_emitter_direction", "pdf_emitter", "pdf_emitter_direction",
+                  "environment", "sample_silhouette", "invert_silhouette_sample", "parameters_changed", "id",
+                  "shapegroups", "integrator_", "set_integrator")
+_PLUGIN_METHODS = ("eval", "sample", "pdf", "eval_pdf", "eval_pdf_sample", "albedo", "flags", "component_count",
+                   "needs_differentials", "sample_ray", "sample_ray_differential", "sample_direction",
+                   "pdf_direction", "eval_direction", "sample_position", "pdf_position", "sample_wavelengths",
+                   "film", "sampler", "world_transform", "shutter_open", "bbox", "surface_area", "ray_intersect",
+                   "vertex_positions_buffer", "faces_buffer", "vertex_count", "face_count", "write_ply",
+                   "render", "eval_1", "eval_3", "mean", "id", "parameters_changed", "crop_size", "size", "develop")
+
+
+def _scene_getattr(self, name):
+    if name in _SCENE_METHODS:
+        raise NotImplementedError(f"Scene.{name}: {_OBJECTS} is not available in candela.mitsuba (a Candela scene has "
+                                  "film_size, spp, integrator and path; edit it with mi.traverse)")
+    raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+
+
+def _plugin_getattr(self, name):
+    if name in _PLUGIN_METHODS:
+        raise NotImplementedError(f"{self.kind}.{name}: {_OBJECTS} is not available in candela.mitsuba (a plugin from "
+                                  "load_dict is a checked description, used inside a scene or as render's integrator "
+                                  "or sensor)")
+    raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+
+
+if "__getattr__" not in _candela.Scene.__dict__:
+    _candela.Scene.__getattr__ = _scene_getattr
+if "__getattr__" not in _Plugin.__dict__:
+    _Plugin.__getattr__ = _plugin_getattr
+
+
 def __getattr__(name: str):
     if name in _UNSUPPORTED:
         raise NotImplementedError(f"mitsuba.{name}: {_UNSUPPORTED[name]} is not available in candela.mitsuba "

@@ -468,6 +468,20 @@ def test_what_is_not_offered_raises_not_implemented(name, words):
     assert f"mitsuba.{name}" in str(info.value)
 
 
+def test_scene_and_plugin_methods_of_mitsuba():
+    scene = mi.load_file(CBOX, res=8)
+    with pytest.raises(NotImplementedError, match=r"Scene\.sensors"):
+        scene.sensors()
+    with pytest.raises(NotImplementedError, match=r"Scene\.ray_intersect"):
+        scene.ray_intersect
+    bsdf = mi.load_dict({"type": "diffuse"})
+    with pytest.raises(NotImplementedError, match=r"bsdf\.eval"):
+        bsdf.eval
+    # Other names stay AttributeErrors; what the objects have works as before.
+    assert not hasattr(scene, "no_such_method") and not hasattr(bsdf, "no_such_method")
+    assert scene.film_size == (8, 8) and bsdf.type == "diffuse"
+
+
 def test_unknown_names_are_attribute_errors():
     with pytest.raises(AttributeError):
         mi.no_such_thing
