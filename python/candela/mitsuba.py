@@ -854,6 +854,16 @@ class Bitmap:
         source = self._format
         if target == source:
             return x, list(self._names)
+        if source == _PixelFormat.MultiChannel and all(c in self._names for c in ("R", "G", "B")):
+            # A render with extra layers (R, G, B first, then AOVs): its colour, and alpha if any.
+            keep = [self._names.index(c) for c in ("R", "G", "B")]
+            source = _PixelFormat.RGB
+            if "A" in self._names:
+                keep.append(self._names.index("A"))
+                source = _PixelFormat.RGBA
+            x = x[:, :, keep]
+            if target == source:
+                return x, list(_CHANNELS[source])
         if source == _PixelFormat.MultiChannel or target == _PixelFormat.MultiChannel or \
                 target not in (_PixelFormat.Y, _PixelFormat.YA, _PixelFormat.RGB, _PixelFormat.RGBA) or \
                 source not in (_PixelFormat.Y, _PixelFormat.YA, _PixelFormat.RGB, _PixelFormat.RGBA):

@@ -383,6 +383,19 @@ def test_bitmap_convert(image):
         b.convert(alpha_transform=mi.Bitmap.AlphaTransform.Premultiply)
 
 
+def test_bitmap_of_a_render_with_layers(tmp_path):
+    layered = candela.render(candela.load_file(CBOX, res=8), spp=2, aovs=["albedo"])
+    b = mi.Bitmap(layered)
+    assert b.pixel_format() == mi.Bitmap.PixelFormat.MultiChannel and b.channel_names()[3] == "albedo.R"
+    assert np.array_equal(np.array(b.convert(mi.Bitmap.PixelFormat.RGB, mi.Struct.Type.UInt8, True)), layered.to_srgb8())
+    mi.util.write_bitmap(tmp_path / "layered.png", layered)
+    assert np.array_equal(decode_png((tmp_path / "layered.png").read_bytes()), layered.to_srgb8())
+    b.write(tmp_path / "layered.exr")  # every layer
+    assert candela.read_image(tmp_path / "layered.exr").channels == layered.channels
+    with pytest.raises(NotImplementedError, match="MultiChannel"):
+        mi.Bitmap(np.zeros((2, 2, 5), np.float32)).convert(mi.Bitmap.PixelFormat.RGB)
+
+
 def test_bitmap_write_and_read(tmp_path, image):
     b = mi.Bitmap(image)
     b.write(tmp_path / "b.exr")
