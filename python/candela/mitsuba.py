@@ -1027,6 +1027,39 @@ sys.modules[util.__name__] = util
 
 
 # --------------------------------------------------------------------------------------------------
+# Dr.Jit: scripts import it beside Mitsuba (`import drjit as dr`). Where it is not installed, a
+# stand-in module answers every `dr.<name>` with NotImplementedError, so that a script fails at
+# the first Dr.Jit call it makes, naming it. Registered only when no real drjit can be imported.
+# --------------------------------------------------------------------------------------------------
+
+class _DrJitStandIn(types.ModuleType):
+    def __getattr__(self, name):
+        if name.startswith("__"):
+            raise AttributeError(name)
+        raise NotImplementedError(f"drjit.{name}: Dr.Jit (its arrays, automatic differentiation and loops) is not "
+                                  "available with candela.mitsuba: images and parameters are NumPy arrays, use NumPy")
+
+
+def _install_drjit_stand_in():
+    import importlib.util
+
+    if "drjit" in sys.modules:
+        return
+    try:
+        if importlib.util.find_spec("drjit") is not None:
+            return
+    except (ImportError, ValueError):
+        pass
+    stand_in = _DrJitStandIn("drjit", "A stand-in for Dr.Jit registered by candela.mitsuba: every attribute raises "
+                                      "NotImplementedError.")
+    stand_in.__candela_stand_in__ = True
+    sys.modules["drjit"] = stand_in
+
+
+_install_drjit_stand_in()
+
+
+# --------------------------------------------------------------------------------------------------
 # Logging (accepted; Candela's loader and renderer report errors as exceptions)
 # --------------------------------------------------------------------------------------------------
 

@@ -495,6 +495,20 @@ def test_scene_and_plugin_methods_of_mitsuba():
     assert scene.film_size == (8, 8) and bsdf.type == "diffuse"
 
 
+def test_drjit_calls_raise_not_implemented():
+    # Scripts import Dr.Jit beside Mitsuba; without it installed, candela.mitsuba stands in for it.
+    code = ("import candela.mitsuba as mi\nimport drjit as dr\n"
+            "try:\n    dr.unravel(mi.Point3f, [1.0, 2.0, 3.0])\nexcept NotImplementedError as e:\n    print(e)\n")
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=subprocess_env())
+    assert result.returncode == 0, result.stderr
+    if "Dr.Jit" in result.stdout:
+        assert result.stdout.startswith("drjit.unravel: Dr.Jit")
+    else:  # a real Dr.Jit is installed: it is left alone
+        import importlib.util
+
+        assert importlib.util.find_spec("drjit") is not None
+
+
 def test_unknown_names_are_attribute_errors():
     with pytest.raises(AttributeError):
         mi.no_such_thing
