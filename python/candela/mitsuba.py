@@ -99,13 +99,16 @@ def set_variant(*names: str) -> None:
                 notice = name != "scalar_rgb" and name not in _noticed
                 _noticed.add(name)
             if notice:
-                backend = name.split("_")[0]
-                what = {"llvm": "LLVM", "cuda": "CUDA"}.get(backend)
-                detail = f"{what} backend" if what else "variant"
-                if name.endswith("_double") or name.endswith("_half"):
-                    detail += ", in single precision"
-                print(f"candela.mitsuba: variant {name!r} renders on Candela's CPU renderer ({detail} not used; "
-                      f"results as scalar_rgb)", file=sys.stderr)
+                m = _VARIANT.match(name)
+                parts = []
+                if m.group(1) in ("llvm", "cuda"):
+                    parts.append(f"not {m.group(1).upper()}")
+                if m.group(2):
+                    parts.append("without automatic differentiation")
+                if m.group(5):
+                    parts.append("in single precision")
+                print(f"candela.mitsuba: variant {name!r} renders as scalar_rgb on Candela's CPU renderer "
+                      f"({', '.join(parts)})", file=sys.stderr)
             return
         if first_problem is None:
             first_problem = problem
