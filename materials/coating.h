@@ -4,12 +4,33 @@
 // specular_sampling_weight).
 
 #include "core/bsdf.h"
+#include "core/parameters.h"
+#include "core/properties.h"
 #include "core/texture.h"
 #include "core/warp.h"
 #include "materials/fresnel.h"
 #include "materials/microfacet.h"
 
 namespace candela {
+
+// What the plastics keep alike: the base's and the coating's reflectances (Mitsuba's
+// diffuse_reflectance and specular_reflectance, editable by those names) and the specular lobe's
+// share of the samples derived from them (specular_sampling_weight below).
+class CoatedBSDF : public BSDF {
+public:
+    void traverse(ParameterVisitor& visitor) override {
+        visitor.object("diffuse_reflectance", diffuse_.get());
+        visitor.object("specular_reflectance", specular_.get());
+    }
+    void parameters_changed(const std::vector<std::string>&) override;
+
+protected:
+    // Reads diffuse_reflectance (default 0.5) and specular_reflectance (default 1).
+    explicit CoatedBSDF(const Properties& props);
+
+    Ref<Texture> diffuse_, specular_;
+    float specular_weight_ = 0.5f;
+};
 
 // The specular lobe's share of the samples before the coating's reflectance is known: the mean
 // specular reflectance over the sum of the mean specular and diffuse reflectances, and 1/2 when
@@ -63,6 +84,16 @@ inline bool sample_rough_coating(const MicrofacetDistribution& distribution, con
         bs.lobe = DiffuseReflection;
     }
     return bs.wo.z > 0.0f;
+}
+
+inline CoatedBSDF::CoatedBSDF(const Properties& props) {
+    diffuse_ = props.get_reflectance("diffuse_reflectance", Spectrum(0.5f));
+    specular_ = props.get_reflectance("specular_reflectance", Spectrum(1.0f));
+    specular_weight_ = specular_sampling_weight(*specular_, *diffuse_);
+}
+
+inline void CoatedBSDF::parameters_changed(const std::vector<std::string>&) {
+    specular_weight_ = specular_sampling_weight(*specular_, *diffuse_);
 }
 
 }  // namespace candela

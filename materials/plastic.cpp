@@ -25,15 +25,12 @@
 
 namespace candela {
 
-class PlasticBSDF final : public BSDF {
+class PlasticBSDF final : public CoatedBSDF {
 public:
-    explicit PlasticBSDF(const Properties& props) {
+    explicit PlasticBSDF(const Properties& props) : CoatedBSDF(props) {
         eta_ = read_relative_ior(props, "polypropylene");
-        diffuse_ = props.get_reflectance("diffuse_reflectance", Spectrum(0.5f));
-        specular_ = props.get_reflectance("specular_reflectance", Spectrum(1.0f));
         nonlinear_ = props.get_bool("nonlinear", false);
         fdr_int_ = fresnel_diffuse_reflectance(1.0f / eta_);
-        specular_weight_ = specular_sampling_weight(*specular_, *diffuse_);
         flags_ = DeltaReflection | DiffuseReflection;
     }
 
@@ -84,14 +81,6 @@ public:
         s.mirror = specular_->mean() * fresnel_dielectric(1.0f, eta_).F;
         return s;
     }
-    // Mitsuba's parameter names (core/parameters.h).
-    void traverse(ParameterVisitor& visitor) override {
-        visitor.object("diffuse_reflectance", diffuse_.get());
-        visitor.object("specular_reflectance", specular_.get());
-    }
-    void parameters_changed(const std::vector<std::string>&) override {
-        specular_weight_ = specular_sampling_weight(*specular_, *diffuse_);
-    }
     std::string to_string() const override { return "plastic"; }
 
 private:
@@ -105,9 +94,8 @@ private:
         return rho_p * ((1.0f - Fi) * (1.0f - Fo) * Frame::cos_theta(wo) * InvPi / (eta_ * eta_));
     }
 
-    float eta_, fdr_int_, specular_weight_;
+    float eta_, fdr_int_;
     bool nonlinear_;
-    Ref<Texture> diffuse_, specular_;
 };
 
 CANDELA_REGISTER(PlasticBSDF, ObjectKind::BSDF, "plastic");

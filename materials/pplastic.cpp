@@ -27,13 +27,11 @@
 
 namespace candela {
 
-class PolarizedPlasticBSDF final : public BSDF {
+class PolarizedPlasticBSDF final : public CoatedBSDF {
 public:
-    explicit PolarizedPlasticBSDF(const Properties& props) : distribution_(MicrofacetDistribution::from_properties(props)) {
-        diffuse_ = props.get_reflectance("diffuse_reflectance", Spectrum(0.5f));
-        specular_ = props.get_reflectance("specular_reflectance", Spectrum(1.0f));
+    explicit PolarizedPlasticBSDF(const Properties& props)
+        : CoatedBSDF(props), distribution_(MicrofacetDistribution::from_properties(props)) {
         eta_ = read_relative_ior(props, "polypropylene");
-        specular_weight_ = specular_sampling_weight(*specular_, *diffuse_);
         flags_ = GlossyReflection | DiffuseReflection;
     }
 
@@ -88,14 +86,6 @@ public:
         s.roughness = alpha;
         return s;
     }
-    // Mitsuba's parameter names (core/parameters.h).
-    void traverse(ParameterVisitor& visitor) override {
-        visitor.object("diffuse_reflectance", diffuse_.get());
-        visitor.object("specular_reflectance", specular_.get());
-    }
-    void parameters_changed(const std::vector<std::string>&) override {
-        specular_weight_ = specular_sampling_weight(*specular_, *diffuse_);
-    }
     std::string to_string() const override { return "pplastic"; }
 
 private:
@@ -104,8 +94,7 @@ private:
     }
 
     MicrofacetDistribution distribution_;
-    Ref<Texture> diffuse_, specular_;
-    float eta_, specular_weight_;
+    float eta_;
 };
 
 CANDELA_REGISTER(PolarizedPlasticBSDF, ObjectKind::BSDF, "pplastic");

@@ -30,14 +30,12 @@
 
 namespace candela {
 
-class RoughPlasticBSDF final : public BSDF {
+class RoughPlasticBSDF final : public CoatedBSDF {
 public:
-    explicit RoughPlasticBSDF(const Properties& props) : distribution_(MicrofacetDistribution::from_properties(props, false)) {
+    explicit RoughPlasticBSDF(const Properties& props)
+        : CoatedBSDF(props), distribution_(MicrofacetDistribution::from_properties(props, false)) {
         eta_ = read_relative_ior(props, "polypropylene");
-        diffuse_ = props.get_reflectance("diffuse_reflectance", Spectrum(0.5f));
-        specular_ = props.get_reflectance("specular_reflectance", Spectrum(1.0f));
         nonlinear_ = props.get_bool("nonlinear", false);
-        specular_weight_ = specular_sampling_weight(*specular_, *diffuse_);
         build_tables();
         flags_ = GlossyReflection | DiffuseReflection;
     }
@@ -98,14 +96,6 @@ public:
         s.roughness = alpha;
         return s;
     }
-    // Mitsuba's parameter names (core/parameters.h).
-    void traverse(ParameterVisitor& visitor) override {
-        visitor.object("diffuse_reflectance", diffuse_.get());
-        visitor.object("specular_reflectance", specular_.get());
-    }
-    void parameters_changed(const std::vector<std::string>&) override {
-        specular_weight_ = specular_sampling_weight(*specular_, *diffuse_);
-    }
     std::string to_string() const override { return "roughplastic"; }
 
     float transmittance(float cos_theta) const {
@@ -165,10 +155,9 @@ private:
     }
 
     MicrofacetDistribution distribution_, visible_{MicrofacetType::GGX, 0.1f, 0.1f, true};
-    float eta_, specular_weight_, internal_reflectance_ = 0.0f;
+    float eta_, internal_reflectance_ = 0.0f;
     bool nonlinear_;
     std::array<float, TableSize> transmittance_{};
-    Ref<Texture> diffuse_, specular_;
 };
 
 CANDELA_REGISTER(RoughPlasticBSDF, ObjectKind::BSDF, "roughplastic");
