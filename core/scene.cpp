@@ -29,11 +29,13 @@ Scene::Scene(const Properties& props) {
         emitters_.push_back(emitter);
     }
     auto sensors = props.get_objects(ObjectKind::Sensor);
-    if (sensors.size() > 1) props.fail("only one sensor per scene is supported");
+    // The second one is the mistake: its line, not the scene's.
+    auto second = [&](ObjectKind kind) { return props.location_of(props.get_named_objects(kind)[1].first); };
+    if (sensors.size() > 1) throw SceneError(second(ObjectKind::Sensor), "only one sensor per scene is supported");
     sensor_ = sensors.empty() ? create_plugin_as<Sensor>(ObjectKind::Sensor, Properties("perspective", props.location()))
                               : std::static_pointer_cast<Sensor>(sensors[0]);
     auto integrators = props.get_objects(ObjectKind::Integrator);
-    if (integrators.size() > 1) props.fail("only one integrator per scene is supported");
+    if (integrators.size() > 1) throw SceneError(second(ObjectKind::Integrator), "only one integrator per scene is supported");
     integrator_ = integrators.empty() ? create_plugin_as<Integrator>(ObjectKind::Integrator, Properties("path", props.location()))
                                       : std::static_pointer_cast<Integrator>(integrators[0]);
     // Top-level BSDFs, textures, samplers, films and filters exist to be referenced by id (Mitsuba's

@@ -11,6 +11,7 @@
 
 #include "analysis/compare_modes.h"
 #include "analysis/convergence.h"
+#include "analysis/expression.h"
 #include "analysis/image_metrics.h"
 #include "analysis/validation.h"
 #include "core/error.h"
@@ -498,6 +499,10 @@ PYBIND11_MODULE(_candela, m) {
                                    return py::make_tuple(s.x, s.y);
                                })
         .def_property_readonly("spp", [](const SceneHandle& h) { return h.scene->sensor().sampler().sample_count(); })
+        .def_property_readonly(
+            "parameters", [](const SceneHandle& h) { return h.scene->parameters; },
+            "The scene file's $name parameters after <default>s and overrides (analytic scenes state "
+            "their exact answer as \"expected\")")
         .def("__repr__", [](const SceneHandle& h) {
             const Vec2i s = h.scene->sensor().film().crop_size();
             return "candela.Scene(" + h.scene->source_file + ", " + h.scene->integrator().to_string() + ", " + std::to_string(s.x) + " x " +
@@ -519,6 +524,7 @@ PYBIND11_MODULE(_candela, m) {
             if (v.server) v.server->stop();
             v.server.reset();
         });
+    m.def("evaluate_expression", [](const std::string& text) { return evaluate_expression(text); });
     m.def("start_viewer", &start_viewer, py::arg("scene"), py::arg("port"), py::arg("bind"));
     m.def("load_file", &load_file, py::arg("path"), py::arg("params"));
     m.def("load_string", &load_string, py::arg("xml"), py::arg("virtual_path"), py::arg("params"));

@@ -35,11 +35,14 @@ def compare(test, reference, block_size: int = 16, heatmap_range: float = 0.1) -
 
 def converge(scene, spp=(4, 16, 64, 256), expected: float | None = None, reference=None, seed: int = 0, threads: int = 0) -> dict:
     """Renders the scene at each sample count (count i with seed + i) and measures its error
-    against `expected` (every pixel's exact value) or a `reference` image: per count its RMSE with
-    a standard error, relMSE and bias; the fitted log-log slope (-1/2 for an unbiased estimator),
-    ``converges`` and the ``failures`` as ``candela converge`` judges them, and the ``plot``."""
+    against `expected` (every pixel's exact value; by default the scene's own "expected" parameter,
+    as analytic scenes state it) or a `reference` image: per count its RMSE with a standard error,
+    relMSE and bias; the fitted log-log slope (-1/2 for an unbiased estimator), ``converges`` and
+    the ``failures`` as ``candela converge`` judges them, and the ``plot``."""
+    if expected is None and reference is None and "expected" in scene.parameters:
+        expected = _candela.evaluate_expression(scene.parameters["expected"])
     if (expected is None) == (reference is None):
-        raise ValueError("converge needs exactly one of expected (a number) and reference (an image)")
+        raise ValueError("converge needs exactly one of expected (a number; or a scene with an \"expected\" parameter) and reference")
     counts = [int(n) for n in spp]
     if not counts or min(counts) < 1:
         raise ValueError("spp: sample counts of at least 1")
