@@ -511,6 +511,11 @@ class Page:
             arrays.append(np.frombuffer(base64.b64decode(data), np.uint8).reshape(height, width, 4)[:, :, :3].copy())
         return arrays[0] if len(arrays) == 1 else arrays
 
+    def frame_size(self, kind):
+        """The width and height of the newest frame of a kind, as sent (the JPEG's own size)."""
+        return tuple(self.js("const f = window.candela.frameData(arguments[0]); return f ? [f.frameWidth, f.frameHeight] : null", kind)
+                     or ())
+
     def frame_meta(self):
         return self.js("return [window.candelaStats.lastFrameSeq, window.candelaStats.lastFrameCameraId, window.candelaStats.framesDrawn]")
 
@@ -972,6 +977,7 @@ def test_split_view_and_heatmap(page, server):
     x = round(split * RES)
     assert mad(shown[:, :x], left[:, :x]) < 0.5 and mad(shown[:, x:], right[:, x:]) < 0.5, "the split is not composed"
     assert mad(left, right) > 5
+    assert page.frame_size(0) == page.frame_size(1) == (RES, RES)
     status = wait_until(lambda: (lambda s: s if s and isinstance(s.get("relmse"), (int, float)) and isinstance(s.get("block_mare"), (int, float))
                                  else None)(page.status()), 30, "relmse and block_mare in the status")
     time.sleep(0.5)
@@ -981,7 +987,6 @@ def test_split_view_and_heatmap(page, server):
           f"{page.element('status').text!r}")
     assert relmse == pytest.approx(status["relmse"], rel=1e-3) and block_mare == pytest.approx(status["block_mare"], rel=1e-3)
     assert relmse > 0 and block_mare > 0
-    shot(page, "viewer-split.png")
 
     heat_frames = page.stats()["framesByKind"][2]
     page.settle(lambda: page.element("heatmap").click(), quiet=1.0)
@@ -991,7 +996,7 @@ def test_split_view_and_heatmap(page, server):
     assert mad(heat, heat_frame) < 0.5, "the canvas does not show the heatmap"
     assert mad(heat, shown) > 5, "the heatmap toggle did not change the canvas"
     assert not page.element("divider").is_displayed()
-    shot(page, "viewer-heatmap.png")
+    assert page.frame_size(2) == (RES, RES), f"the heatmap frame is {page.frame_size(2)}, not the film's {RES} x {RES}"
     page.element("heatmap").click()
     wait_until(lambda: not server.hello()["settings"]["heatmap"], 10, "heatmap off at the server")
 
@@ -1100,6 +1105,31 @@ def test_reconnects_politely(browser):
         s.stop()
 
 
+@needs_browser
+@pytest.mark.skipif(not SCREENSHOTS, reason="CANDELA_VIEWER_SCREENSHOTS=1 takes the documentation's screenshots")
+def test_screenshots(browser):
+    """docs/images/viewer-split.png and viewer-heatmap.png: the Cornell box at 256 x 256, path
+    tracer left (64 spp or more) and raster right, then the heatmap of the pair."""
+    s = ViewServer(res=256, spp=64)
+    try:
+        p = Page(browser, s).open()
+        wait_until(lambda: all(n > 0 for n in p.stats()["framesByKind"][:2]), 60, "the first frames")
+        p.js("window.candela.setSettings(arguments[0])", {"left": "path", "right": "raster", "split": 0.5, "heatmap": False})
+        wait_until(lambda: (p.status() or {}).get("left", {}).get("method") == "path", 30, "path on the left")
+        wait_path_spp(p, spp=64, timeout=300)
+        p.quiet(quiet=1.0)
+        ActionChains(p.driver).move_to_element_with_offset(p.element("view"), -60, 80).click().perform()
+        wait_until(lambda: p.js("return window.candelaStats.lastPixel"), 10, "the inspector")
+        time.sleep(0.5)
+        shot(p, "viewer-split.png")
+        p.element("heatmap").click()
+        wait_until(lambda: p.stats()["framesByKind"][2] > 0, 30, "a heatmap frame")
+        time.sleep(1.0)
+        shot(p, "viewer-heatmap.png")
+    finally:
+        s.stop()
+
+
 # ------------------------------------------------------------------------------------------------
 # Measurements (printed and written to bench/results; no speed is asserted)
 
@@ -1148,7 +1178,8 @@ def test_measurements(browser, tmp_path):
     today = datetime.date.today().isoformat()
     lines = [f"candela view measurements, {today} (tests/viewer/test_viewer.py::test_measurements)",
              f"machine: {os.cpu_count()} cores, {cpu_model()}; {chromium_version()} headless",
-             f"commit {git_commit()}; scene {SCENE.relative_to(REPO)} -D res={res} -D spp={spp}", ""]
+             f"commit {git_commit()}; scene {SCENE.relative_to(REPO)} -D res={res} -D spp={spp}; "
+             f"load average before the run {os.getloadavg()[0]:.2f} (other work on the machine shares its 2 cores)", ""]
     s = ViewServer(res=res, spp=spp)
     try:
         initial = s.hello()

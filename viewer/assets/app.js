@@ -322,8 +322,7 @@
         if (!width) return;
         const heat = !!settings.heatmap;
         if (heat) {
-            if (bitmaps[KIND_HEATMAP]) ctx.drawImage(bitmaps[KIND_HEATMAP], 0, 0, width, height);
-            else { ctx.fillStyle = '#000'; ctx.fillRect(0, 0, width, height); }
+            drawFitted(ctx, bitmaps[KIND_HEATMAP]);
         } else {
             const splitX = Math.round(split * width);
             drawSide(KIND_LEFT, 0, splitX);
@@ -348,14 +347,30 @@
         }
     }
 
+    // Draws a frame over the whole film; one of another size (not the protocol's W x H) keeps its
+    // aspect ratio, centred on black.
+    function drawFitted(g, bitmap) {
+        if (!bitmap || bitmap.width !== width || bitmap.height !== height) {
+            g.fillStyle = '#000';
+            g.fillRect(0, 0, width, height);
+        }
+        if (!bitmap) return;
+        if (bitmap.width === width && bitmap.height === height) {
+            g.drawImage(bitmap, 0, 0);
+            return;
+        }
+        const scale = Math.min(width / bitmap.width, height / bitmap.height);
+        const w = bitmap.width * scale, h = bitmap.height * scale;
+        g.drawImage(bitmap, (width - w) / 2, (height - h) / 2, w, h);
+    }
+
     function drawSide(kind, x, w) {
         if (w <= 0) return;
         ctx.save();
         ctx.beginPath();
         ctx.rect(x, 0, w, height);
         ctx.clip();
-        if (bitmaps[kind]) ctx.drawImage(bitmaps[kind], 0, 0, width, height);
-        else { ctx.fillStyle = '#000'; ctx.fillRect(x, 0, w, height); }
+        drawFitted(ctx, bitmaps[kind]);
         ctx.restore();
     }
 
@@ -718,7 +733,8 @@
         setSettings(s) { queueSettings(s); applySettings(s, false); },
         setSplit,
         orbit, pan, dolly,
-        // The newest decoded frame of a kind (0 left, 1 right, 2 heatmap) as RGBA bytes, or null.
+        // The newest decoded frame of a kind (0 left, 1 right, 2 heatmap) as drawn over the film
+        // (RGBA bytes, width x height) with the frame's own size, or null.
         frameData(kind) {
             const bitmap = bitmaps[kind];
             if (!bitmap) return null;
@@ -726,8 +742,9 @@
             c.width = width;
             c.height = height;
             const g = c.getContext('2d');
-            g.drawImage(bitmap, 0, 0, width, height);
+            drawFitted(g, bitmap);
             return {seq: bitmapMeta[kind].seq, cameraId: bitmapMeta[kind].cameraId, width, height,
+                    frameWidth: bitmap.width, frameHeight: bitmap.height,
                     data: g.getImageData(0, 0, width, height).data};
         },
     };
