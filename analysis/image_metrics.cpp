@@ -124,7 +124,7 @@ PixelZTest pixel_z_test(const Image& test, const Image& ref, int test_spp, int r
     return r;
 }
 
-Image relative_difference_heatmap(const Image& test, const Image& ref, float range) {
+Image relative_difference_map(const Image& test, const Image& ref, float range) {
     Image map = Image::rgb(test.width(), test.height());
     for (int y = 0; y < test.height(); ++y)
         for (int x = 0; x < test.width(); ++x) {
@@ -132,6 +132,11 @@ Image relative_difference_heatmap(const Image& test, const Image& ref, float ran
             float rel = (lt - lr) / (std::abs(lr) + 0.01f);
             map.set_rgb(x, y, draw::colormap_diverging(rel / range));
         }
+    return map;
+}
+
+Image relative_difference_heatmap(const Image& test, const Image& ref, float range) {
+    const Image map = relative_difference_map(test, ref, range);
     char hi[32], lo[32];
     std::snprintf(hi, sizeof hi, "+%.0f%%", 100.0 * range);
     std::snprintf(lo, sizeof lo, "-%.0f%%", 100.0 * range);

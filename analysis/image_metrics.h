@@ -64,6 +64,9 @@ PixelDifference max_pixel_relative_difference(const Image& test, const Image& re
 
 // Per-pixel relative luminance difference (t - r) / (r + eps) as a colour image with a legend
 // bar; values beyond +-range saturate.
+// The luminance difference (test - reference) / (|reference| + 0.01) of every pixel in a diverging
+// colour map, full colour at +-range: the map alone (the image's size), and with its legend.
+Image relative_difference_map(const Image& test, const Image& reference, float range = 0.1f);
 Image relative_difference_heatmap(const Image& test, const Image& reference, float range = 0.1f);
 
 }  // namespace candela

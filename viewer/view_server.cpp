@@ -66,6 +66,17 @@ struct ViewServer::State {
             mg_unlock_connection(c);
         }
     }
+    // A page's id for the session: its connection, as a number.
+    static uint64_t page_id(mg_connection* c) { return uint64_t(reinterpret_cast<uintptr_t>(c)); }
+    void reply_to_page(uint64_t page, const std::string& text) {
+        std::lock_guard<std::mutex> lock(clients_mutex);
+        for (mg_connection* c : clients)
+            if (page_id(c) == page) {
+                mg_lock_connection(c);
+                mg_websocket_write(c, MG_WEBSOCKET_OPCODE_TEXT, text.data(), text.size());
+                mg_unlock_connection(c);
+            }
+    }
     void reply(mg_connection* c, const std::string& text) {
         std::lock_guard<std::mutex> lock(clients_mutex);
         if (!clients.count(c)) return;
@@ -116,7 +127,15 @@ int handle_request(mg_connection* c, void* data) {
 
 int websocket_connect(const mg_connection* c, void* data) {
     auto& s = *static_cast<ViewServer::State*>(data);
-    return s.authorised(mg_get_request_info(c)) ? 0 : 1;  // non-zero refuses
+    if (s.authorised(mg_get_request_info(c))) return 0;
+    // Refused before the handshake, with the same 403 as a page without the token.
+    // (civetweb's mg_send_http_error sends no status line at this stage: the response is written
+    // whole here.)
+    static const char body[] = "403: this connection needs the token of the URL candela view printed\n";
+    mg_printf(const_cast<mg_connection*>(c),
+              "HTTP/1.1 403 Forbidden\r\nContent-Type: text/plain\r\nContent-Length: %zu\r\nConnection: close\r\n\r\n%s", sizeof body - 1,
+              body);
+    return 1;
 }
 
 void websocket_ready(mg_connection* c, void* data) {
@@ -140,7 +159,7 @@ int websocket_data(mg_connection* c, int bits, char* bytes, size_t length, void*
         return 1;
     }
     std::string broadcast;
-    const std::string answer = s.session->apply_message(std::string(bytes, length), broadcast);
+    const std::string answer = s.session->apply_message(ViewServer::State::page_id(c), std::string(bytes, length), broadcast);
     if (!answer.empty()) s.reply(c, answer);
     if (!broadcast.empty()) s.broadcast(MG_WEBSOCKET_OPCODE_TEXT, broadcast, c);
     return 1;
@@ -169,13 +188,17 @@ ViewServer::ViewServer(Ref<Scene> scene, const std::string& scene_path, const Vi
     ViewSink sink;
     sink.frame = [&s](const std::string& bytes) { s.broadcast(MG_WEBSOCKET_OPCODE_BINARY, bytes); };
     sink.text = [&s](const std::string& text) { s.broadcast(MG_WEBSOCKET_OPCODE_TEXT, text); };
+    sink.reply = [&s](uint64_t page, const std::string& text) { s.reply_to_page(page, text); };
     s.session = std::make_unique<ViewSession>(s.scene, scene_path, sink);
 
     static std::once_flag library;
     std::call_once(library, [] { mg_init_library(MG_FEATURES_WEBSOCKET); });
     const std::string ports =
         (options.bind.find(':') != std::string::npos ? "[" + options.bind + "]" : options.bind) + ":" + std::to_string(options.port);
-    const char* mg_options[] = {"listening_ports", ports.c_str(), "num_threads", "16", "enable_directory_listing", "no", nullptr};
+    // decode_url no: paths are compared as they were sent, so that no encoding (%2e%2e, %00)
+    // reaches anything but a 404.
+    const char* mg_options[] = {"listening_ports", ports.c_str(), "num_threads", "16", "enable_directory_listing", "no",
+                                "decode_url",      "no",          nullptr};
     mg_callbacks callbacks;
     std::memset(&callbacks, 0, sizeof callbacks);
     callbacks.log_message = [](const mg_connection*, const char*) { return 1; };  // quiet

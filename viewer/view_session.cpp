@@ -36,8 +36,6 @@ const std::vector<std::string> ShorthandMethods = {"raster-gi", "baked"};
 const std::vector<std::string> ProgressiveMethods = {"path", "volpath", "volpathmis", "direct", "ao"};
 // The sample count a progressive side refines towards (its passes are ranges of it).
 constexpr int ProgressiveTarget = 1 << 16;
-// How often a progressive side's image is sent while it refines.
-constexpr double PublishSeconds = 0.2;
 
 bool is_raster(const std::string& method) { return method == "raster" || method == "raster-gi" || method == "baked"; }
 bool contains(const std::vector<std::string>& v, const std::string& s) { return std::find(v.begin(), v.end(), s) != v.end(); }
@@ -84,13 +82,15 @@ struct ViewSession::Side {
     uint64_t generation = 0;  // of the image it holds (0: none)
     uint32_t camera_id = 0;
     bool done = false;
+    bool fresh = false;  // holds what the pages have not seen
     // Progressive accumulation.
     PixelSums sums;
     int spp_done = 0, pass_size = 1;
     double seconds = 0.0;
     uint64_t samples = 0, rays = 0;
-    Clock::time_point started, last_publish;
-    // What the page sees (guarded by the session's mutex): the linear image and, for saving,
+    Clock::time_point started;
+    RenderStats pass_stats;  // the last pass's (sampler, seed), for the saved file's metadata
+    // What the pages see (guarded by the session's mutex): the linear image and, for saving,
     // the developed film with its statistics.
     Image image, film;
     RenderStats stats;
@@ -119,6 +119,7 @@ ViewSession::ViewSession(Ref<Scene> scene, std::string scene_path, ViewSink sink
         sides_.push_back(std::move(side));
     }
     thread_ = std::thread([this] { run(); });
+    publisher_ = std::thread([this] { run_publisher(); });
 }
 
 ViewSession::~ViewSession() { stop(); }
@@ -139,7 +140,9 @@ void ViewSession::stop() {
         restart_ = true;
     }
     wake_.notify_all();
+    publish_wake_.notify_all();
     if (thread_.joinable()) thread_.join();
+    if (publisher_.joinable()) publisher_.join();
 }
 
 std::string ViewSession::settings_json() const {
@@ -169,7 +172,7 @@ std::string ViewSession::hello_json() const {
     return j.dump();
 }
 
-std::string ViewSession::apply_message(const std::string& text, std::string& broadcast) {
+std::string ViewSession::apply_message(uint64_t page, const std::string& text, std::string& broadcast) {
     auto error = [](const std::string& message) { return json{{"type", "error"}, {"message", message}}.dump(); };
     json message;
     try {
@@ -187,7 +190,7 @@ std::string ViewSession::apply_message(const std::string& text, std::string& bro
                 std::lock_guard<std::mutex> lock(mutex_);
                 redisplay_ = true;
             }
-            wake_.notify_all();
+            publish_wake_.notify_all();
             return hello_json();
         }
         if (type == "ping") {
@@ -277,6 +280,7 @@ std::string ViewSession::apply_message(const std::string& text, std::string& bro
                 redisplay_ = redisplay_ || display;
             }
             wake_.notify_all();
+            publish_wake_.notify_all();
             std::lock_guard<std::mutex> lock(mutex_);
             broadcast = json{{"type", "settings"}, {"settings", json::parse(settings_json())}}.dump();
             return "";
@@ -288,28 +292,15 @@ std::string ViewSession::apply_message(const std::string& text, std::string& bro
             const std::string side_name =
                 message.contains("side") && message["side"].is_string() ? message["side"].get<std::string>() : "left";
             if (side_name != "left" && side_name != "right") throw InputError("side must be left or right");
-            std::lock_guard<std::mutex> lock(mutex_);
-            const Side& side = *sides_[side_name == "left" ? 0 : 1];
-            if (side.image.width() == 0) throw InputError("that side has no image yet");
-            if (!(fx >= 0.0 && fy >= 0.0 && fx < side.image.width() && fy < side.image.height()))
-                throw InputError("x, y lie outside the image");
-            const int x = int(fx), y = int(fy);
-            const Spectrum L = side.image.rgb_at(x, y);
-            Spectrum ci(0.0f);
-            int spp = side.progressive ? side.spp_done : side.stats.spp;
-            if (side.progressive && side.sums.has_stats()) {
-                const PixelStats& ps = side.sums.stats_at(x - side.sums.rect().offset.x, y - side.sums.rect().offset.y);
-                if (ps.n > 1)
-                    for (int c = 0; c < 3; ++c) {
-                        const double n = ps.n, mean = ps.sum[c] / n;
-                        const double variance = std::max(0.0, (ps.sum_sq[c] - n * mean * mean) / (n - 1.0));
-                        ci[c] = float(1.96 * std::sqrt(variance / n));
-                    }
-                spp = int(ps.n);
+            const Vec2i size = scene_->sensor().film().crop_size();
+            if (!(fx >= 0.0 && fy >= 0.0 && fx < size.x && fy < size.y)) throw InputError("x, y lie outside the image");
+            {
+                std::lock_guard<std::mutex> lock(mutex_);
+                if (inspections_.size() >= 64) throw InputError("too many inspections waiting");
+                inspections_.push_back(Inspection{page, side_name == "left" ? 0 : 1, int(fx), int(fy)});
             }
-            return json{{"type", "pixel"},          {"side", side_name},     {"x", x},    {"y", y},
-                        {"radiance", vec3_json(L)}, {"ci95", vec3_json(ci)}, {"spp", spp}}
-                .dump();
+            wake_.notify_all();
+            return "";  // the render thread answers (inspect)
         }
         return error("unknown message type \"" + type + "\"");
     } catch (const nlohmann::json::exception& e) {
@@ -362,55 +353,21 @@ void ViewSession::apply_camera_to_scene(const ViewCamera& camera) {
     apply_parameter_changes(*scene_, changed);
 }
 
-std::string ViewSession::encode_view(const Image& linear, bool display) const {
+void ViewSession::publish_frame(int kind, const Image& image, uint32_t camera_id, bool display) {
+    if (image.width() == 0 || !sink_.frame) return;
     ViewSettings s;
     {
         std::lock_guard<std::mutex> lock(mutex_);
         s = settings_;
     }
-    return display ? encode_jpeg(linear, JpegTone::Display, 0.0f)
-                   : encode_jpeg(linear, s.tonemap == "filmic" ? JpegTone::Filmic : JpegTone::Srgb, s.exposure);
-}
-
-void ViewSession::publish(Side& side, bool force) {
-    const auto now = Clock::now();
-    if (!force && std::chrono::duration<double>(now - side.last_publish).count() < PublishSeconds) return;
-    side.last_publish = now;
-    Image linear;
-    uint32_t camera_id;
-    {
-        std::lock_guard<std::mutex> lock(mutex_);
-        linear = side.image;
-        camera_id = side.camera_id;
-    }
-    if (linear.width() == 0) return;
     std::string frame(9, '\0');
-    frame[0] = char(side.index);
+    frame[0] = char(kind);
     const uint32_t seq = ++sequence_;
     std::memcpy(&frame[1], &seq, 4);
     std::memcpy(&frame[5], &camera_id, 4);
-    frame += encode_view(linear, false);
-    if (sink_.frame) sink_.frame(frame);
-}
-
-void ViewSession::publish_heatmap() {
-    Image a, b;
-    uint32_t camera_id;
-    {
-        std::lock_guard<std::mutex> lock(mutex_);
-        if (!settings_.heatmap) return;
-        a = sides_[0]->image;
-        b = sides_[1]->image;
-        camera_id = std::max(sides_[0]->camera_id, sides_[1]->camera_id);
-    }
-    if (a.width() == 0 || b.width() == 0 || a.width() != b.width() || a.height() != b.height()) return;
-    std::string frame(9, '\0');
-    frame[0] = char(2);
-    const uint32_t seq = ++sequence_;
-    std::memcpy(&frame[1], &seq, 4);
-    std::memcpy(&frame[5], &camera_id, 4);
-    frame += encode_view(relative_difference_heatmap(a, b, 0.5f), true);
-    if (sink_.frame) sink_.frame(frame);
+    frame += display ? encode_jpeg(image, JpegTone::Display, 0.0f)
+                     : encode_jpeg(image, s.tonemap == "filmic" ? JpegTone::Filmic : JpegTone::Srgb, s.exposure);
+    sink_.frame(frame);
 }
 
 void ViewSession::send_status() {
@@ -430,13 +387,12 @@ void ViewSession::send_status() {
         a = sides_[0]->image;
         b = sides_[1]->image;
     }
+    status["relmse"] = nullptr;
+    status["block_mare"] = nullptr;
     if (a.width() > 0 && b.width() > 0 && a.width() == b.width() && a.height() == b.height()) {
         const ImageComparison c = compare_images(a, b);
         status["relmse"] = c.relmse;
         status["block_mare"] = c.block_mare;
-    } else {
-        status["relmse"] = nullptr;
-        status["block_mare"] = nullptr;
     }
     if (sink_.text) sink_.text(status.dump());
 }
@@ -468,24 +424,25 @@ void ViewSession::render_side(Side& side, uint64_t generation) {
         if (restart_ || r.stats.partial) return;
         annotate_image(r.image, r.stats, integrator.to_string(), scene_path_);
         std::lock_guard<std::mutex> lock(mutex_);
+        if (generation_ != generation) return;
         side.film = film_channels(r.image);
         side.image = linear_rgb(side.film);
         side.stats = r.stats;
         side.samples = r.stats.samples;
         side.seconds = std::chrono::duration<double>(Clock::now() - start).count();
-        side.done = true;
+        side.done = side.fresh = true;
         return;
     }
-    // A pass of the next sample indices, as large as fits about 0.15 s.
+    // A pass of the next sample indices, grown while it takes less than 0.1 s; the publisher
+    // develops what has been added up about five times a second.
     options.spp = ProgressiveTarget;
-    options.aovs = {"variance"};
     options.samples = SampleRange{side.spp_done, std::min(side.spp_done + side.pass_size, ProgressiveTarget)};
     RenderResult r = integrator.render(*scene_, options);
     if (restart_ || r.stats.partial) return;
     const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
-    if (seconds < 0.15 && side.pass_size < 1024) side.pass_size *= 2;
     std::lock_guard<std::mutex> lock(mutex_);
     if (generation_ != generation) return;
+    if (seconds < 0.1 && side.pass_size < 1024) side.pass_size *= 2;
     if (side.spp_done == 0)
         side.sums = std::move(r.sums);
     else
@@ -496,48 +453,81 @@ void ViewSession::render_side(Side& side, uint64_t generation) {
     // Wall time since the side started this view: its samples per second include everything the
     // viewer does besides rendering (developing, encoding, the other side).
     side.seconds = std::chrono::duration<double>(Clock::now() - side.started).count();
+    side.pass_stats = r.stats;
     side.done = side.spp_done >= ProgressiveTarget;
-    RenderStats stats = r.stats;
-    stats.seconds = side.seconds;
-    stats.samples = side.samples;
-    stats.rays = side.rays;
-    stats.spp = side.spp_done;
-    stats.partial = false;
-    Image developed = side.sums.develop();
-    annotate_image(developed, stats, integrator.to_string(), scene_path_);
-    side.film = film_channels(developed);
-    side.image = linear_rgb(side.film);
-    side.stats = stats;
+    side.fresh = true;
+    publish_wake_.notify_all();
+}
+
+void ViewSession::inspect(const Inspection& request) {
+    json reply = {{"type", "pixel"}, {"side", request.side == 0 ? "left" : "right"}, {"x", request.x}, {"y", request.y}};
+    Spectrum radiance(0.0f), ci(0.0f);
+    int spp = 0;
+    bool progressive = false;
+    Integrator* integrator = nullptr;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        Side& side = *sides_[size_t(request.side)];
+        if (side.image.width() == 0) {
+            if (sink_.reply) sink_.reply(request.page, json{{"type", "error"}, {"message", "that side has no image yet"}}.dump());
+            return;
+        }
+        radiance = side.image.rgb_at(request.x, request.y);
+        progressive = side.progressive;
+        spp = progressive ? side.spp_done : side.stats.spp;
+        integrator = side.integrator ? side.integrator.get() : &scene_->integrator();
+    }
+    // The pixel's own samples again (the same indices the image holds, at most 4096), with their
+    // moments: a 95% interval of its mean, 1.96 sqrt(variance / n).
+    if (progressive && spp > 1) {
+        RenderOptions options;
+        options.spp = ProgressiveTarget;
+        options.samples = SampleRange{0, std::min(spp, 4096)};
+        options.region = ImageRect{Vec2i(request.x, request.y), Vec2i(1)};
+        options.aovs = {"variance"};
+        options.threads = 1;
+        const RenderResult r = integrator->render(*scene_, options);
+        const Vec2i at = Vec2i(request.x, request.y) - r.sums.rect().offset;
+        if (r.sums.has_stats()) {
+            const PixelStats& ps = r.sums.stats_at(at.x, at.y);
+            if (ps.n > 1)
+                for (int c = 0; c < 3; ++c) {
+                    const double n = ps.n, mean = ps.sum[c] / n;
+                    ci[c] = float(1.96 * std::sqrt(std::max(0.0, (ps.sum_sq[c] - n * mean * mean) / (n - 1.0)) / n));
+                }
+        }
+    }
+    reply["radiance"] = vec3_json(radiance);
+    reply["ci95"] = vec3_json(ci);
+    reply["spp"] = spp;
+    if (sink_.reply) sink_.reply(request.page, reply.dump());
 }
 
 void ViewSession::run() {
     ViewCamera applied;
     applied.id = UINT32_MAX;
-    auto last_status = Clock::now();
     for (;;) {
         ViewCamera camera;
         ViewSettings settings;
         uint64_t generation;
-        bool redisplay;
+        std::vector<Inspection> inspections;
         {
             std::unique_lock<std::mutex> lock(mutex_);
             auto has_work = [&] {
-                if (stopping_) return true;
+                if (stopping_ || !inspections_.empty()) return true;
                 if (viewers_ == 0) return false;
-                if (redisplay_) return true;
                 for (const auto& side : sides_)
                     if (side->generation != generation_ || !side->done) return true;
                 return false;
             };
             wake_.wait_for(lock, std::chrono::milliseconds(250), has_work);
             if (stopping_) return;
-            if (viewers_ == 0) continue;
+            inspections.swap(inspections_);
             camera = camera_;
             settings = settings_;
             generation = generation_;
-            redisplay = redisplay_;
-            redisplay_ = false;
             restart_ = false;
+            if (viewers_ == 0 && inspections.empty()) continue;
         }
         try {
             if (camera.origin != applied.origin || camera.target != applied.target || camera.up != applied.up ||
@@ -561,7 +551,7 @@ void ViewSession::run() {
                 side->progressive = !side->raster && contains(ProgressiveMethods, method);
                 side->generation = generation;
                 side->camera_id = camera.id;
-                side->done = false;
+                side->done = side->fresh = false;
                 side->spp_done = 0;
                 side->pass_size = 1;
                 side->seconds = 0.0;
@@ -569,35 +559,125 @@ void ViewSession::run() {
                 side->samples = side->rays = 0;
                 side->sums = PixelSums();
             }
-            bool published = false;
-            // Raster first: it answers a camera move within a frame.
+            for (const Inspection& request : inspections) inspect(request);
+            // Raster first, sent at once: it answers a camera move within a frame.
             for (auto& side : sides_)
                 if (side->raster && !side->done) {
                     render_side(*side, generation);
-                    publish(*side, true);
-                    published = true;
+                    Image image;
+                    {
+                        std::lock_guard<std::mutex> lock(mutex_);
+                        image = side->image;
+                    }
+                    publish_frame(side->index, image, side->camera_id, false);
+                    {
+                        std::lock_guard<std::mutex> lock(mutex_);
+                        heatmap_due_ = true;
+                    }
+                    publish_wake_.notify_all();  // the heatmap and the status follow
                 }
             if (restart_) continue;
-            if (redisplay)
-                for (auto& side : sides_)
-                    if (!side->raster || side->done) publish(*side, true);
             for (auto& side : sides_)
                 if (!side->raster && !side->done) {
                     render_side(*side, generation);
                     if (restart_) break;
-                    publish(*side, side->done || side->spp_done <= 1);
-                    published = true;
                 }
-            if (restart_) continue;
-            if (published || redisplay) publish_heatmap();
         } catch (const std::exception& e) {
             if (sink_.text) sink_.text(json{{"type", "error"}, {"message", e.what()}}.dump());
             std::lock_guard<std::mutex> lock(mutex_);
             for (auto& side : sides_) side->done = true;  // nothing more to do until the next change
         }
-        if (std::chrono::duration<double>(Clock::now() - last_status).count() >= 0.25) {
-            send_status();
-            last_status = Clock::now();
+    }
+}
+
+void ViewSession::run_publisher() {
+    auto last_status = Clock::now(), last_publish = Clock::now() - std::chrono::seconds(1);
+    for (;;) {
+        bool redisplay, heatmap_due;
+        {
+            std::unique_lock<std::mutex> lock(mutex_);
+            // Woken by what is new, but at most five images a second of a refining side.
+            auto fresh = [&] {
+                for (const auto& side : sides_)
+                    if (side->fresh) return true;
+                return false;
+            };
+            publish_wake_.wait_for(lock, std::chrono::milliseconds(200),
+                                   [&] { return stopping_ || redisplay_ || heatmap_due_ || fresh(); });
+            if (stopping_) return;
+            const double since = std::chrono::duration<double>(Clock::now() - last_publish).count();
+            if (!redisplay_ && !heatmap_due_ && since < 0.2) {
+                lock.unlock();
+                std::this_thread::sleep_for(std::chrono::duration<double>(0.2 - since));
+                lock.lock();
+                if (stopping_) return;
+            }
+            if (viewers_ == 0) continue;
+            redisplay = redisplay_;
+            redisplay_ = false;
+            heatmap_due = heatmap_due_;
+            heatmap_due_ = false;
+        }
+        bool published = false;
+        try {
+            for (auto& side_ptr : sides_) {
+                Side& side = *side_ptr;
+                PixelSums sums;
+                RenderStats stats;
+                Image image;
+                uint32_t camera_id;
+                bool develop = false;
+                {
+                    std::lock_guard<std::mutex> lock(mutex_);
+                    if (!(side.fresh || (redisplay && side.image.width() > 0))) continue;
+                    develop = side.fresh && side.progressive;
+                    if (develop) {
+                        sums = side.sums;  // a copy: the render thread goes on adding passes
+                        stats = side.pass_stats;
+                        stats.seconds = side.seconds;
+                        stats.samples = side.samples;
+                        stats.rays = side.rays;
+                        stats.spp = side.spp_done;
+                        stats.partial = false;
+                    }
+                    side.fresh = false;
+                    image = side.image;
+                    camera_id = side.camera_id;
+                }
+                if (develop) {
+                    Image developed = sums.develop();
+                    annotate_image(developed, stats, side.integrator ? side.integrator->to_string() : scene_->integrator().to_string(),
+                                   scene_path_);
+                    Image film = film_channels(developed);
+                    image = linear_rgb(film);
+                    std::lock_guard<std::mutex> lock(mutex_);
+                    if (side.camera_id != camera_id) continue;  // a newer view began meanwhile
+                    side.film = std::move(film);
+                    side.image = image;
+                    side.stats = stats;
+                }
+                publish_frame(side.index, image, camera_id, false);
+                published = true;
+                last_publish = Clock::now();
+            }
+            bool heatmap;
+            Image a, b;
+            uint32_t camera_id;
+            {
+                std::lock_guard<std::mutex> lock(mutex_);
+                heatmap = settings_.heatmap;
+                a = sides_[0]->image;
+                b = sides_[1]->image;
+                camera_id = std::max(sides_[0]->camera_id, sides_[1]->camera_id);
+            }
+            if (heatmap && (published || redisplay || heatmap_due) && a.width() > 0 && a.width() == b.width() && a.height() == b.height())
+                publish_frame(2, relative_difference_map(a, b, 0.5f), camera_id, true);
+            if (published || std::chrono::duration<double>(Clock::now() - last_status).count() >= 0.25) {
+                send_status();
+                last_status = Clock::now();
+            }
+        } catch (const std::exception& e) {
+            if (sink_.text) sink_.text(json{{"type", "error"}, {"message", e.what()}}.dump());
         }
     }
 }

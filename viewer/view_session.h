@@ -5,9 +5,10 @@
 // the camera and the settings (apply_message); the session renders what changed and hands
 // frames (JPEG) and status (JSON) to a sink, which the server broadcasts to the pages.
 //
-// The raster side is rendered first whenever the camera moved (8 ms for the Cornell box), the
-// progressive side restarts at once and renders passes of growing sample ranges of the scene's
-// sampler, each interrupted as soon as the camera or the settings change again.
+// The raster side is rendered first whenever the camera moved and sent at once; the progressive
+// side restarts at once and renders passes of growing sample ranges of the scene's sampler (no
+// AOVs: nothing but the image is paid for), each interrupted as soon as the camera or the
+// settings change again, while a publisher thread sends its image about five times a second.
 
 #include "core/image.h"
 #include "core/pixel_sums.h"
@@ -43,10 +44,12 @@ struct ViewSettings {
 };
 
 // Where the session sends what it renders: frames (byte 0: 0 left, 1 right, 2 heatmap; then
-// uint32 sequence and camera id, little-endian; then JPEG) and JSON text.
+// uint32 sequence and camera id, little-endian; then JPEG) and JSON text to every page, and
+// answers to one page (`reply`, by the id the server gave the page's message).
 struct ViewSink {
     std::function<void(const std::string& bytes)> frame;
     std::function<void(const std::string& json)> text;
+    std::function<void(uint64_t page, const std::string& json)> reply;
 };
 
 class ViewSession {
@@ -59,11 +62,11 @@ public:
 
     // The "scene" message a page gets on hello: size, camera, bounds, methods, settings.
     std::string hello_json() const;
-    // Applies one message from a page ("camera", "settings", "inspect", "ping"); returns the reply
-    // for that page ("" for none). A malformed or refused message changes nothing and gets an
-    // {"type":"error"} reply. `broadcast` receives what the other pages must learn (a camera or
-    // settings change).
-    std::string apply_message(const std::string& text, std::string& broadcast);
+    // Applies one message from page `page` ("camera", "settings", "inspect", "ping"); returns
+    // the reply for that page ("" for none; an inspection answers later through sink.reply). A
+    // malformed or refused message changes nothing and gets an {"type":"error"} reply.
+    // `broadcast` receives what the other pages must learn (a camera or settings change).
+    std::string apply_message(uint64_t page, const std::string& text, std::string& broadcast);
     // The current accumulation of a side as an OpenEXR file's bytes (what `candela render`
     // writes for that spp, metadata included), or nothing when there is none.
     std::optional<std::string> save_exr(const std::string& side);
@@ -78,15 +81,22 @@ public:
 
 private:
     struct Side;
+    struct Inspection {
+        uint64_t page;
+        int side, x, y;
+    };
+    // The render thread: renders what the views need, answers inspections.
     void run();
     void render_side(Side& side, uint64_t generation);
-    void publish(Side& side, bool force);
-    void publish_heatmap();
+    void inspect(const Inspection& request);
+    // The publisher thread: about five times a second, develops and sends what changed, and the
+    // status; the raster frames go out from the render thread at once.
+    void run_publisher();
+    void publish_frame(int kind, const Image& image, uint32_t camera_id, bool display);
     void send_status();
     void apply_camera_to_scene(const ViewCamera& camera);
     Ref<Integrator> make_method(const std::string& method) const;
     std::string settings_json() const;
-    std::string encode_view(const Image& linear, bool display) const;
 
     Ref<Scene> scene_;
     std::string scene_path_;
@@ -97,14 +107,17 @@ private:
     std::condition_variable wake_;
     ViewCamera camera_;
     ViewSettings settings_;
-    uint64_t generation_ = 1;  // changes with every change of the camera or the settings that changes images
-    bool redisplay_ = false;   // send the current images again (exposure or tonemap changed, a page said hello)
+    uint64_t generation_ = 1;   // changes with every change of the camera or the settings that changes images
+    bool redisplay_ = false;    // send the current images again (exposure or tonemap changed, a page said hello)
+    bool heatmap_due_ = false;  // a raster frame went out: the heatmap follows
     bool stopping_ = false;
     int viewers_ = 0;
     std::atomic<bool> restart_{false};  // set when the generation changes: interrupts the running render
     std::vector<std::unique_ptr<Side>> sides_;
-    uint32_t sequence_ = 0;
-    std::thread thread_;
+    std::vector<Inspection> inspections_;
+    std::atomic<uint32_t> sequence_{0};
+    std::condition_variable publish_wake_;
+    std::thread thread_, publisher_;
 };
 
 }  // namespace candela
