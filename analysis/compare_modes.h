@@ -23,6 +23,9 @@ struct RasterSettings;
 
 // The methods of a comma-separated list; InputError for an empty one.
 std::vector<std::string> split_methods(const std::string& list);
+// The methods compared when none are named: raster-gi is left out, as on a scene without an
+// environment or ambient light it renders the raster image again.
+constexpr const char* DefaultComparedMethods = "raster,baked,radiosity,path";
 // The integrator of one method (null: the scene's own); `adjust_raster` (may be empty) applies
 // settings to every raster method. InputError or SceneError naming the method when it is wrong.
 Ref<Integrator> method_integrator(const std::string& spec, const Scene& scene,

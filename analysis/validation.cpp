@@ -81,7 +81,12 @@ void write_summary(std::ostringstream& o, const std::vector<SceneValidation>& sc
     for (size_t i = 0; i < scenes.size(); ++i) {
         const SceneValidation& s = scenes[i];
         o << "<tr><td class=\"name\"><a href=\"#" << section_id(i) << "\">" << escape_markup(s.name) << "</a></td><td class=\""
-          << (s.pass ? "pass\">pass" : "fail\">FAIL") << "</td><td>" << s.spp << "</td>";
+          << (s.pass ? "pass\">pass" : "fail\">FAIL") << "</td>";
+        if (!s.compared) {
+            o << "<td colspan=\"8\" class=\"name\">not compared: " << escape_markup(s.reason) << "</td></tr>\n";
+            continue;
+        }
+        o << "<td>" << s.spp << "</td>";
         for (int c = 0; c < 3; ++c) o << "<td>" << fmt("%+.3f%%", 100.0 * s.metrics.mean_relative_difference[c]) << "</td>";
         o << "<td>" << fmt("%.3f%%", 100.0 * s.metrics.block_mare) << "</td><td>" << s.z.rejected << " / " << s.z.tested << "</td><td>"
           << fmt("%.2f", s.z.max_abs_z) << "</td><td>" << fmt("%.1f s", s.seconds) << "</td></tr>\n";
@@ -93,6 +98,10 @@ void write_scene_section(std::ostringstream& o, const SceneValidation& s, size_t
     o << "<section id=\"" << section_id(index) << "\"><h2>" << escape_markup(s.name) << " <span class=\""
       << (s.pass ? "pass\">pass" : "fail\">FAIL") << "</span></h2>\n";
     if (!s.pass) o << "<p class=\"fail\">" << escape_markup(s.reason) << "</p>\n";
+    if (!s.compared) {
+        o << "</section>\n";
+        return;
+    }
     o << "<figure>" << img_tag(s.render_png, s.name + " rendered by Candela") << "<figcaption>Candela, " << s.spp
       << " spp</figcaption></figure>\n";
     o << "<figure>" << img_tag(s.reference_png, s.name + " reference") << "<figcaption>reference</figcaption></figure>\n";
@@ -137,12 +146,30 @@ std::vector<ValidationCase> find_validation_cases(const std::string& dir) {
 SceneValidation validate_scene(const ValidationCase& c, const ValidationSettings& settings) {
     SceneValidation r;
     r.name = c.name;
-    Ref<Scene> scene = load_scene(c.scene_path);
-    Image reference = read_image(c.reference_path);
+    Ref<Scene> scene;
+    Image reference;
+    try {
+        scene = load_scene(c.scene_path);
+        reference = read_image(c.reference_path);
+    } catch (const SceneError& e) {
+        r.reason = e.what();
+        return r;
+    } catch (const InputError& e) {
+        r.reason = e.what();
+        return r;
+    }
+    const Vec2i size = scene->sensor().film().crop_size();
+    if (reference.width() != size.x || reference.height() != size.y) {
+        r.reason = "the reference " + c.reference_path + " is " + std::to_string(reference.width()) + " x " +
+                   std::to_string(reference.height()) + ", the scene renders " + std::to_string(size.x) + " x " + std::to_string(size.y);
+        return r;
+    }
+    r.compared = true;
     RenderOptions o;
     o.spp = settings.spp;
     o.sampler = settings.sampler;
     o.threads = settings.threads;
+    if (settings.seed >= 0) o.seed = uint64_t(settings.seed);
     o.aovs = {"variance"};
     RenderResult result = scene->integrator().render(*scene, o);
     r.seconds = result.stats.seconds;

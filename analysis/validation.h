@@ -25,6 +25,7 @@ struct ValidationSettings {
     std::string sampler;       // "" : each scene's own sampler
     int reference_spp = 2048;  // the references' sample count, for their variance in the z-test
     int threads = 0;
+    int64_t seed = -1;  // -1: each scene's sampler's seed
     AgreementThresholds thresholds;
     double alpha = 0.01;  // family-wise significance of the per-pixel z-test
 };
@@ -32,7 +33,8 @@ struct ValidationSettings {
 struct SceneValidation {
     std::string name;
     bool pass = false;
-    std::string reason;  // why it failed
+    bool compared = false;  // false: the scene or its reference could not be read, or their sizes differ (see reason)
+    std::string reason;     // why it failed
     ImageComparison metrics;
     PixelZTest z;
     double seconds = 0.0;
@@ -40,7 +42,9 @@ struct SceneValidation {
     std::string render_png, reference_png, heatmap_png, zmap_png;  // encoded images for the report
 };
 
-// Renders one case (with the variance AOV) and compares it with its reference.
+// Renders one case (with the variance AOV) and compares it with its reference. A scene that cannot
+// be loaded, or a reference that cannot be read or has another size than the scene's film, fails
+// that case (compared false, the reason said) without stopping the others.
 SceneValidation validate_scene(const ValidationCase& c, const ValidationSettings& settings);
 
 // The whole report: criteria, a summary table, then per scene the images and metrics.

@@ -11,6 +11,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <climits>
 #include <functional>
 #include <map>
 
@@ -68,5 +69,38 @@ std::string program_path();
 
 // Runs `body`, turning scene and input errors into a message on stderr and exit code 2.
 int run_guarded(const std::function<int()>& body);
+
+// Checks of numeric options with messages that say what is expected: "--spp must be a whole
+// number of samples, at least 1 (got 0)".
+CLI::Validator whole_number(const std::string& option, const std::string& unit, long long minimum, long long maximum = LLONG_MAX);
+CLI::Validator positive_number(const std::string& option);
+CLI::Validator non_negative_number(const std::string& option);
+// A name from a list, with the nearest one suggested: "--mode must be one of path, raster (got
+// rastr); did you mean raster?".
+CLI::Validator one_of(const std::string& option, const std::vector<std::string>& choices);
+// --seed S (a whole number, 0 or more); `default_text` says what it is when not given.
+void add_seed_option(CLI::App* cmd, int64_t& seed, const std::string& default_text);
+// --threads N (0, the default: one per core).
+void add_threads_option(CLI::App* cmd, int& threads);
+// The scene a command reads: the scene file (positional), -D name=value (one per -D and
+// repeatable, as Mitsuba's; the older "-D a=1 b=2" still works: name=value words among the
+// positional arguments are parameters) and -a FOLDER.
+struct SceneInput {
+    std::string scene;  // the scene file, once resolve() has sorted the words
+    std::vector<std::string> words, defines, search_path;
+
+    void add_to(CLI::App* cmd);
+    // Sorts the positional words into the scene file and parameters: InputError for no scene
+    // file or more than one (naming the words and the order that works).
+    const std::string& resolve();
+    // resolve(), the -a folders in use, and the scene loaded with the -D parameters.
+    Ref<Scene> load();
+};
+// Before parsing: a misspelled command ("rendr", "farm pln") gets the nearest command and the list
+// (exit 2), `candela help` the help (exit 0); true when it answered (with `code`).
+bool refuse_unknown_command(const CLI::App& app, int argc, char** argv, int& code);
+// A parse error as a message that names the problem and a way forward (an unknown option's
+// nearest name, the usage); returns the exit code (2, or 0 for --help).
+int report_parse_error(const CLI::App& app, const CLI::ParseError& e);
 
 }  // namespace candela::app

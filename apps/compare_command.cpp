@@ -1,9 +1,11 @@
-// candela compare A.exr B.exr [--heatmap OUT.png] [--tolerance T] [--block-tolerance B]
-//                 [--pixel-tolerance P]
+// candela compare A.exr B.exr [--heatmap OUT.png] [--heatmap-range R] [--tolerance T]
+//                 [--block-tolerance B] [--pixel-tolerance P] [--allow-ldr]
 // Compares a test image A against a reference B. With --tolerance the exit code says whether
 // they agree: 0 yes, 1 no (channel means within T, 16x16 block luminance within B, default 2T).
 // With --pixel-tolerance every pixel of every layer must agree within relative difference P
-// (e.g. 1e-5: a merged farm render against the single-machine one).
+// (e.g. 1e-5: a merged farm render against the single-machine one). Radiance metrics need
+// radiance: an 8- or 16-bit image (a --png preview, a JPEG) holds tonemapped, sRGB-encoded display
+// values, so compare refuses one (exit 2) unless --allow-ldr says to compare the values as they are.
 
 #include "apps/commands.h"
 
@@ -18,7 +20,16 @@ namespace {
 struct CompareArgs {
     std::string a, b, heatmap;
     double tolerance = -1.0, block_tolerance = -1.0, pixel_tolerance = -1.0, range = 0.1;
+    bool allow_ldr = false;
 };
+
+// An image of 8- or 16-bit integers holds display values (tonemapped, sRGB-encoded), not radiance.
+void check_radiance(const Image& image, const std::string& path, const std::string& role, bool allow_ldr) {
+    if (image.integer_bits == 0 || allow_ldr) return;
+    throw InputError(path + ": the " + role + " is a " + std::to_string(image.integer_bits) +
+                     "-bit image: tonemapped, sRGB-encoded display values (a --png preview, a JPEG), not radiance, so the "
+                     "errors would mean nothing; compare against the EXR, or give --allow-ldr to compare the values as they are");
+}
 
 int check_pixels(const Image& a, const Image& b, double tolerance) {
     PixelDifference d = max_pixel_relative_difference(a, b);
@@ -37,18 +48,24 @@ void add_compare_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("test", args->a, "Image to check (EXR or any OpenImageIO format)")->required();
     cmd->add_option("reference", args->b, "Reference image")->required();
     cmd->add_option("--heatmap", args->heatmap, "Write a relative-difference heatmap (PNG) with a legend");
-    cmd->add_option("--heatmap-range", args->range, "Relative difference at full colour (default 0.1 = 10%)")->check(CLI::PositiveNumber);
-    cmd->add_option("--tolerance", args->tolerance, "Agreement check: channel means within this relative tolerance (e.g. 0.01)")
-        ->check(CLI::NonNegativeNumber);
-    cmd->add_option("--block-tolerance", args->block_tolerance, "Block luminance tolerance (default: twice --tolerance)")
-        ->check(CLI::NonNegativeNumber);
+    cmd->add_option("--heatmap-range", args->range, "Relative difference at full colour (default 0.1 = 10%)")
+        ->check(positive_number("--heatmap-range"));
+    cmd->add_option("--tolerance", args->tolerance,
+                    "Agreement check: channel means within this relative tolerance, a fraction (e.g. 0.01 = 1%; default: no check)")
+        ->check(non_negative_number("--tolerance"));
+    cmd->add_option("--block-tolerance", args->block_tolerance, "Block luminance tolerance, a fraction (default: twice --tolerance)")
+        ->check(non_negative_number("--block-tolerance"));
     cmd->add_option("--pixel-tolerance", args->pixel_tolerance,
-                    "Pixel check: every pixel of every layer within this relative difference (e.g. 1e-5)")
-        ->check(CLI::NonNegativeNumber);
+                    "Pixel check: every pixel of every layer within this relative difference (e.g. 1e-5; default: no check)")
+        ->check(non_negative_number("--pixel-tolerance"));
+    cmd->add_flag("--allow-ldr", args->allow_ldr,
+                  "Compare 8- or 16-bit images (display values, e.g. a --png preview) as they are instead of refusing them");
     cmd->callback([args, &run] {
         run = [args] {
             if (!args->heatmap.empty()) check_output_path(args->heatmap);
             Image a = read_image(args->a), b = read_image(args->b);
+            check_radiance(a, args->a, "test image", args->allow_ldr);
+            check_radiance(b, args->b, "reference", args->allow_ldr);
             if (args->pixel_tolerance >= 0.0) return check_pixels(a, b, args->pixel_tolerance);
             ImageComparison c = compare_images(a, b);
             std::printf("size            %d x %d\n", c.width, c.height);
@@ -58,9 +75,13 @@ void add_compare_command(CLI::App& app, std::function<int()>& run) {
                         100 * c.mean_relative_difference.z);
             std::printf("RMSE            %.6g\n", c.rmse);
             std::printf("relMSE          %.6g\n", c.relmse);
-            std::printf("MARE            %.6g\n", c.mare);
+            std::printf("MARE            %.3f%% (mean absolute relative error)\n", 100 * c.mare);
             std::printf("block MARE      %.3f%% (%d of %d 16x16 blocks)\n", 100 * c.block_mare, c.blocks_used, c.blocks_total);
-            if (!args->heatmap.empty()) write_png_display(relative_difference_heatmap(a, b, float(args->range)), args->heatmap);
+            if (!args->heatmap.empty()) {
+                write_png_display(relative_difference_heatmap(a, b, float(args->range)), args->heatmap);
+                std::printf("heatmap         wrote %s (relative difference, full colour at %g%%)\n", args->heatmap.c_str(),
+                            100 * args->range);
+            }
             if (args->tolerance < 0.0) return ExitOk;
             AgreementThresholds t;
             t.mean = args->tolerance;

@@ -12,7 +12,10 @@
 // photonmapper, ...: whatever the registry holds), with optional parameters as
 // NAME:key=value:key=value (a value reads as an integer, a number, true/false, or else text; an
 // rgb parameter takes one grey number). Two shorthands: `raster-gi` is raster with ao=16 (and
-// its default image-based lighting), `baked` is raster with lighting=baked. The raster options
+// its default image-based lighting), `baked` is raster with lighting=baked. raster-gi occludes
+// the ambient light, so it renders as raster does on a scene with neither an environment light
+// nor an `ambient` setting: it is not in the default list, and asking for it there gets a
+// warning that names the setting (raster-gi:ambient=0.1). The raster options
 // of the command line apply to every raster method. `path` without parameters is the scene's
 // own path tracer when it has one (its max_depth). --spp sets the samples of the sampling
 // methods. The reference is the scene's path tracer (or a default one) at --reference-spp with
@@ -25,7 +28,9 @@
 #include "core/error.h"
 #include "core/file_output.h"
 #include "core/scene.h"
+#include "core/warning.h"
 #include "integrators/raster/raster.h"
+#include "integrators/raster/raster_scene.h"
 
 #include <cstdio>
 
@@ -34,8 +39,8 @@ namespace candela::app {
 namespace {
 
 struct CompareModesArgs {
-    std::string scene, output = "compare.png", methods = "raster,raster-gi,baked,radiosity,path", reference, table;
-    std::vector<std::string> defines, search_path;
+    SceneInput input;
+    std::string output = "compare.png", methods = DefaultComparedMethods, reference, table;
     int spp = 0, reference_spp = 1024, threads = 0;
     RasterOptionArgs raster;
     double range = 0.5;
@@ -59,15 +64,27 @@ std::string seconds(double s) {
     return buf;
 }
 
-int compare_modes(const CompareModesArgs& a) {
+// raster-gi darkens the ambient light by its occlusion: with none, it is the raster image again.
+void warn_if_no_ambient(const std::string& spec, const Ref<Integrator>& integrator, const Scene& scene) {
+    auto* r = dynamic_cast<RasterIntegrator*>(integrator.get());
+    if (!r || r->settings().ao <= 0 || luminance(r->settings().ambient) > 0.0f || luminance(raster::collect_lights(scene).ambient) > 0.0f)
+        return;
+    warn(SourceLocation{}, "--methods " + spec +
+                               ": the scene has no environment light and no ambient light, so ambient occlusion has nothing to occlude "
+                               "and this renders the raster image again; give it an ambient radiance, e.g. " +
+                               spec.substr(0, spec.find(':')) + ":ambient=0.1");
+}
+
+int compare_modes(CompareModesArgs& a) {
     check_output_path(a.output);
     if (!a.table.empty()) check_output_path(a.table);
-    use_search_folders(a.search_path);
-    Ref<Scene> scene = load_scene(a.scene, parse_defines(a.defines));
+    Ref<Scene> scene = a.input.load();
     const std::vector<std::string> specs = split_methods(a.methods);
     std::vector<Ref<Integrator>> integrators;  // all built first: a bad method stops before any render
-    for (const std::string& spec : specs)
+    for (const std::string& spec : specs) {
         integrators.push_back(method_integrator(spec, *scene, [&](RasterSettings& settings) { a.raster.apply(settings); }));
+        warn_if_no_ambient(spec, integrators.back(), *scene);
+    }
     RenderResult reference = reference_of(*scene, a);
     std::vector<MethodRun> runs;
     for (size_t k = 0; k < specs.size(); ++k)
@@ -80,8 +97,11 @@ int compare_modes(const CompareModesArgs& a) {
         "REFERENCE", a.reference.empty() ? "PATH " + std::to_string(a.reference_spp) + " SPP" : "FROM FILE",
         a.reference.empty() ? seconds(reference.stats.seconds) : ""};
     write_png_display(methods_contact_sheet(runs, reference, reference_caption, float(a.range)), a.output);
-    if (!a.table.empty()) write_file_atomically(a.table, table);
-    std::printf("wrote %s\n", a.output.c_str());
+    std::printf("wrote %s (the comparison picture)\n", a.output.c_str());
+    if (!a.table.empty()) {
+        write_file_atomically(a.table, table);
+        std::printf("wrote %s (the table)\n", a.table.c_str());
+    }
     return ExitOk;
 }
 
@@ -90,20 +110,21 @@ int compare_modes(const CompareModesArgs& a) {
 void add_compare_modes_command(CLI::App& app, std::function<int()>& run) {
     auto a = std::make_shared<CompareModesArgs>();
     CLI::App* cmd = app.add_subcommand("compare-modes", "Render a scene by several methods and compare each with a path-traced reference");
-    cmd->add_option("scene", a->scene, "Scene file (Mitsuba 3 XML)")->required();
+    a->input.add_to(cmd);
     cmd->add_option("-o,--output", a->output, "The comparison picture (PNG, default compare.png)");
     cmd->add_option("--methods", a->methods,
                     "Comma-separated methods: integrator names with optional :key=value parameters, raster-gi (raster with AO), baked "
-                    "(default raster,raster-gi,baked,radiosity,path)");
-    cmd->add_option("--spp", a->spp, "Samples per pixel of the sampling methods (default: the scene's)")->check(CLI::PositiveNumber);
+                    "(default " +
+                        std::string(DefaultComparedMethods) + ")");
+    cmd->add_option("--spp", a->spp, "Samples per pixel of the sampling methods (default: the scene's)")
+        ->check(whole_number("--spp", "samples", 1, MaxSampleCount));
     cmd->add_option("--reference", a->reference, "A converged reference EXR instead of rendering one");
     cmd->add_option("--reference-spp", a->reference_spp, "Samples per pixel of the path-traced reference (default 1024)")
-        ->check(CLI::PositiveNumber);
+        ->check(whole_number("--reference-spp", "samples", 1, MaxSampleCount));
     cmd->add_option("--table", a->table, "Also write the table (Markdown) to this file");
-    cmd->add_option("-D", a->defines, "Set a scene parameter: -D name=value (repeatable)")->take_all();
-    add_search_path_option(cmd, a->search_path);
-    cmd->add_option("--threads,-t", a->threads, "Worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
-    cmd->add_option("--heatmap-range", a->range, "Relative difference at full colour (default 0.5)")->check(CLI::PositiveNumber);
+    add_threads_option(cmd, a->threads);
+    cmd->add_option("--heatmap-range", a->range, "Relative difference at full colour (default 0.5)")
+        ->check(positive_number("--heatmap-range"));
     a->raster.add_to(cmd);
     cmd->callback([a, &run] { run = [a] { return compare_modes(*a); }; });
 }

@@ -28,9 +28,9 @@ namespace candela::app {
 namespace {
 
 struct ConvergeArgs {
-    std::string scene, reference, plot, spp_list = "1,4,16,64,256,1024", slope_range, sampler;
+    SceneInput input;
+    std::string reference, plot, spp_list = "1,4,16,64,256,1024", slope_range, sampler;
     AdaptiveSampling adaptive;
-    std::vector<std::string> defines, search_path;
     double expect = NAN, alpha = 0.01;
     int64_t seed = 0;
     int threads = 0;
@@ -81,7 +81,7 @@ ConvergenceTarget target_from(const ConvergeArgs& a, const Scene& scene, Image& 
     }
     auto it = scene.parameters.find("expected");
     if (it == scene.parameters.end())
-        throw InputError(a.scene + ": no --expect or --reference given, and the scene states no `expected` parameter");
+        throw InputError(a.input.scene + ": no --expect or --reference given, and the scene states no `expected` parameter");
     double value = evaluate_expression(it->second);
     description = "exact value " + it->second + " = " + std::to_string(value);
     return constant_target(value);
@@ -102,17 +102,16 @@ void print_slope(const SlopeFit& s, const ConvergenceCriteria& c, double slope_z
     }
 }
 
-int converge(const ConvergeArgs& a) {
+int converge(ConvergeArgs& a) {
     std::vector<int> counts = parse_counts(a.spp_list);
     if (!a.plot.empty()) check_output_path(a.plot);
-    use_search_folders(a.search_path);
-    Ref<Scene> scene = load_scene(a.scene, parse_defines(a.defines));
+    Ref<Scene> scene = a.input.load();
     ConvergenceCriteria criteria = parse_criteria(a, a.sampler.empty() ? scene->sensor().sampler().to_string() : a.sampler);
     Image reference;
     std::string description;
     ConvergenceTarget target = target_from(a, *scene, reference, description);
 
-    std::printf("%s converging to %s\n\n", a.scene.c_str(), description.c_str());
+    std::printf("%s converging to %s\n\n", a.input.scene.c_str(), description.c_str());
     std::printf("%8s  %12s  %10s  %12s  %13s  %27s  %8s\n", "spp", "RMSE", "+- SE", "relMSE", "bias", "bias CI (Sidak)", "time");
     auto print_count = [](const CountError& c, double z) {
         std::printf("%8d  %12.6g  %10.3g  %12.6g  %+13.6g  [%+12.6g, %+12.6g]  %7.2fs\n", c.spp, c.rmse, c.rmse_se, c.relmse, c.bias,
@@ -144,21 +143,28 @@ int converge(const ConvergeArgs& a) {
 void add_converge_command(CLI::App& app, std::function<int()>& run) {
     auto a = std::make_shared<ConvergeArgs>();
     CLI::App* cmd = app.add_subcommand("converge", "Convergence test against an exact value or a reference image");
-    cmd->add_option("scene", a->scene, "Scene file (Mitsuba 3 XML)")->required();
+    a->input.add_to(cmd);
     auto* expect =
         cmd->add_option("--expect", a->expect, "Exact value every pixel should converge to (default: the scene's `expected` parameter)");
     cmd->add_option("--reference", a->reference, "Reference image to converge to instead")->excludes(expect);
     cmd->add_option("--spp", a->spp_list, "Sample counts, comma separated (default 1,4,16,64,256,1024)");
     cmd->add_option("--plot", a->plot, "Write a log-log convergence plot (.svg or .png)");
-    cmd->add_option("--alpha", a->alpha, "Family-wise significance of the bias tests (default 0.01)")->check(CLI::Range(1e-9, 0.5));
+    cmd->add_option("--alpha", a->alpha, "Family-wise significance of the bias tests, in (0, 0.5] (default 0.01)")
+        ->check(CLI::Validator(
+            [](std::string& text) -> std::string {
+                char* end = nullptr;
+                const double v = std::strtod(text.c_str(), &end);
+                if (text.empty() || *end != '\0' || !(v > 0.0 && v <= 0.5))
+                    return "--alpha must be a significance level greater than 0 and at most 0.5 (got " + text + ")";
+                return "";
+            },
+            ""));
     cmd->add_option("--slope-range", a->slope_range,
                     "Accepted log-log slope range (default -0.55,-0.45 for the independent sampler, -1.5,-0.45 for the others)");
     add_sampler_option(cmd, a->sampler);
     add_adaptive_options(cmd, a->adaptive);
-    cmd->add_option("--seed", a->seed, "Base seed; count i renders with seed + i (default 0)")->check(CLI::NonNegativeNumber);
-    cmd->add_option("-D", a->defines, "Set a scene parameter: -D name=value (repeatable)")->take_all();
-    add_search_path_option(cmd, a->search_path);
-    cmd->add_option("--threads,-t", a->threads, "Worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
+    add_seed_option(cmd, a->seed, "default 0; count i renders with seed + i");
+    add_threads_option(cmd, a->threads);
     cmd->callback([a, &run] { run = [a] { return converge(*a); }; });
 }
 

@@ -1,11 +1,14 @@
-// candela estimate irradiance SCENE.xml --at x,y,z --normal x,y,z [--samples N]
-// candela estimate radiance SCENE.xml --origin x,y,z --direction x,y,z [--samples N]
+// candela estimate irradiance SCENE.xml --at x,y,z --normal x,y,z [-n N] [--seed S] [-D k=v]...
+// candela estimate radiance SCENE.xml --origin x,y,z --direction x,y,z [-n N] [--seed S] [-D k=v]...
 // Prints the RGB estimate, its standard error, a 95% confidence interval and the luminance.
+// -n (--sample-count) is the number of samples; --samples N, its older name, still works with a
+// warning, as `render --samples` means a range of sample indices.
 
 #include "apps/commands.h"
 
 #include "core/error.h"
 #include "core/scene.h"
+#include "core/warning.h"
 #include "integrators/estimators.h"
 
 #include <cstdio>
@@ -15,8 +18,8 @@ namespace candela::app {
 namespace {
 
 struct EstimateArgs {
-    std::string scene, at, normal, origin, direction, light_sampler = DefaultLightSampler;
-    std::vector<std::string> defines, search_path;
+    SceneInput input;
+    std::string at, normal, origin, direction, light_sampler = DefaultLightSampler;
     int64_t samples = 65536, seed = 0;
     int max_depth = -1, threads = 0;
 };
@@ -33,16 +36,22 @@ void print_estimate(const char* quantity, const char* unit, const Estimate& e) {
 }
 
 void add_common(CLI::App* cmd, EstimateArgs& a) {
-    cmd->add_option("scene", a.scene, "Scene file (Mitsuba 3 XML)")->required();
-    cmd->add_option("--samples,-n", a.samples, "Number of samples (default 65536)")->check(CLI::PositiveNumber);
-    cmd->add_option("--seed", a.seed, "Random seed (default 0)")->check(CLI::NonNegativeNumber);
-    cmd->add_option("--max-depth", a.max_depth, "Longest path in segments, -1 unbounded (default)");
+    a.input.add_to(cmd);
+    const CLI::Validator count = whole_number("-n", "samples", 1, LLONG_MAX);
+    cmd->add_option("-n,--sample-count", a.samples, "Number of samples (default 65536)")->check(count);
+    // The older name: `render --samples` is a range of sample indices, so this one goes.
+    cmd->add_option("--samples", a.samples, "Old name of -n (deprecated)")->check(count)->group("")->each([](const std::string& text) {
+        warn(SourceLocation{}, "--samples " + text +
+                                   ": estimate's --samples is now -n (or --sample-count); the old name goes away "
+                                   "in the next release (render --samples means a range of sample indices)");
+    });
+    add_seed_option(cmd, a.seed, "default 0");
+    cmd->add_option("--max-depth", a.max_depth, "Longest path in segments, -1 unbounded (default -1)")
+        ->check(whole_number("--max-depth", "segments", -1, INT_MAX));
     cmd->add_option("--light-sampler", a.light_sampler,
                     "How next-event estimation picks a light (default " + std::string(DefaultLightSampler) + ")")
-        ->check(CLI::IsMember(light_sampler_names()));
-    cmd->add_option("-D", a.defines, "Set a scene parameter: -D name=value (repeatable)")->take_all();
-    add_search_path_option(cmd, a.search_path);
-    cmd->add_option("--threads,-t", a.threads, "Worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
+        ->check(one_of("--light-sampler", light_sampler_names()));
+    add_threads_option(cmd, a.threads);
 }
 
 // The command-line spelling of a parameter name: light_sampler -> light-sampler.
@@ -79,8 +88,7 @@ void add_estimate_command(CLI::App& app, std::function<int()>& run) {
             Vec3 p = parse_triple(irr->at, "--at"), n = parse_triple(irr->normal, "--normal");
             if (squared_length(n) == 0.0f) throw InputError("--normal must not be zero");
             EstimatorOptions o = options_from(*irr);
-            use_search_folders(irr->search_path);
-            Ref<Scene> scene = load_scene(irr->scene, parse_defines(irr->defines));
+            Ref<Scene> scene = irr->input.load();
             Estimate e = estimate_irradiance(*scene, p, n, o);
             n = glm::normalize(n);
             std::printf("irradiance at (%g, %g, %g), normal (%g, %g, %g)\n", p.x, p.y, p.z, n.x, n.y, n.z);
@@ -99,8 +107,7 @@ void add_estimate_command(CLI::App& app, std::function<int()>& run) {
             Vec3 o = parse_triple(rad->origin, "--origin"), d = parse_triple(rad->direction, "--direction");
             if (squared_length(d) == 0.0f) throw InputError("--direction must not be zero");
             EstimatorOptions opt = options_from(*rad);
-            use_search_folders(rad->search_path);
-            Ref<Scene> scene = load_scene(rad->scene, parse_defines(rad->defines));
+            Ref<Scene> scene = rad->input.load();
             Estimate e = estimate_radiance(*scene, o, d, opt);
             d = glm::normalize(d);
             std::printf("radiance along (%g, %g, %g) + t (%g, %g, %g)\n", o.x, o.y, o.z, d.x, d.y, d.z);

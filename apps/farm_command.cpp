@@ -1,12 +1,14 @@
-// candela farm plan  SCENE -o OUT.exr --parts N [--spp S] [--seed S] [-D k=v]... [--aov ...]
-//                    [--regions CxR] [--workdir DIR] [--threads-per-task K]
+// candela farm plan  SCENE -o OUT.exr --parts N [--spp S] [--seed S] [--sampler NAME] [-D k=v]...
+//                    [-a FOLDER]... [--aov ...] [--regions CxR] [--workdir DIR] [--threads-per-task K]
+//                    [--force]
 // candela farm slurm SCENE -o OUT.exr --parts N [the same] [--partition P] [--time T] [--mem M]
 //                    [--submit]
 // candela farm status WORKDIR
 // A render split into N sample ranges (times C x R image regions): `plan` prints the render
 // commands, one per part, and the merge command, for any scheduler; `slurm` writes an sbatch job
 // array and a merge job that depends on it (afterok) and with --submit submits both; `status`
-// reports the parts done and missing and the time left. See farm/plan.h.
+// reports the parts done and missing and the time left. A work folder that holds a plan is not
+// planned over without --force (its parts may be rendering). See farm/plan.h.
 
 #include "apps/commands.h"
 
@@ -28,49 +30,58 @@ namespace candela::app {
 namespace {
 
 struct FarmArgs {
-    std::string scene, output, workdir, regions = "1x1";
+    SceneInput input;
+    std::string output, workdir, regions = "1x1", sampler;
     int parts = 0, spp = 0, threads_per_task = 1;
     int64_t seed = -1;
-    std::vector<std::string> defines, aovs, search_path;
+    std::vector<std::string> aovs;
     SlurmOptions slurm;
-    bool submit = false;
+    bool submit = false, force = false;
 };
 
 void add_plan_options(CLI::App* cmd, FarmArgs& a) {
-    cmd->add_option("scene", a.scene, "Scene file (Mitsuba 3 XML)")->required();
+    a.input.add_to(cmd);
     cmd->add_option("-o,--output", a.output, "The final image")->required();
-    cmd->add_option("--parts", a.parts, "Number of sample ranges")->required()->check(CLI::PositiveNumber);
-    cmd->add_option("--spp", a.spp, "Samples per pixel (default: the scene's sampler)")->check(CLI::PositiveNumber);
-    cmd->add_option("--seed", a.seed, "Random seed (default: the sampler's)")->check(CLI::NonNegativeNumber);
-    cmd->add_option("-D", a.defines, "Set a scene parameter: -D name=value (repeatable)")->take_all();
-    add_search_path_option(cmd, a.search_path);
+    cmd->add_option("--parts", a.parts, "Number of sample ranges")->required()->check(whole_number("--parts", "parts", 1, MaxSampleCount));
+    cmd->add_option("--spp", a.spp, "Samples per pixel (default: the scene's sampler's sample_count)")
+        ->check(whole_number("--spp", "samples", 1, MaxSampleCount));
+    add_seed_option(cmd, a.seed, "default: the scene's sampler's");
+    add_sampler_option(cmd, a.sampler);
     cmd->add_option("--aov", a.aovs, "Extra EXR layers: albedo, normal, depth, variance, samples")->delimiter(',');
+    cmd->add_flag("--force", a.force, "Replace the plan of a work folder that already has one");
     cmd->add_option("--regions", a.regions, "Also split the image into C x R regions, as CxR (default 1x1)");
     cmd->add_option("--workdir", a.workdir, "Folder for the parts, logs and scripts (default: OUT's name with -farm, beside it)");
-    cmd->add_option("--threads-per-task", a.threads_per_task, "Threads (and Slurm CPUs) per part (default 1)")->check(CLI::PositiveNumber);
+    cmd->add_option("--threads-per-task", a.threads_per_task, "Threads (and Slurm CPUs) per part (default 1)")
+        ->check(whole_number("--threads-per-task", "threads", 1, 4096));
 }
 
 // The request: the scene loaded once here to resolve spp, seed and size and to refuse
 // integrators that cannot render parts before anything is queued.
-FarmRequest make_request(const FarmArgs& a) {
+FarmRequest make_request(FarmArgs& a) {
     FarmRequest r;
     r.candela = program_path();
-    r.scene = fs::absolute(a.scene).lexically_normal().string();
+    r.scene = fs::absolute(a.input.resolve()).lexically_normal().string();
     r.output = fs::absolute(a.output).lexically_normal().string();
     check_output_path(r.output);
     r.workdir = a.workdir.empty() ? (fs::path(r.output).parent_path() / (fs::path(r.output).stem().string() + "-farm")).string()
                                   : fs::absolute(a.workdir).lexically_normal().string();
-    r.defines = a.defines;
-    r.search_path = absolute_search_folders(a.search_path);
+    const fs::path plan_file = fs::path(r.workdir) / "plan.txt";
+    std::error_code ec;
+    if (fs::exists(plan_file, ec) && !a.force)
+        throw InputError(plan_file.string() + ": this work folder already has a farm plan, whose parts may be rendering or rendered; " +
+                         "`candela farm status " + r.workdir + "` shows them; --force replaces the plan, or choose another --workdir");
+    r.defines = a.input.defines;
+    r.search_path = absolute_search_folders(a.input.search_path);
     r.aovs = a.aovs;
+    r.sampler = a.sampler;
     AovLayout check_names(a.aovs);
-    use_search_folders(a.search_path);
-    Ref<Scene> scene = load_scene(a.scene, parse_defines(a.defines));
+    Ref<Scene> scene = a.input.load();
     if (std::string reason = scene->integrator().parts_refusal(); !reason.empty())
         throw InputError("the " + scene->integrator().to_string() + " integrator cannot render parts: " + reason +
                          "; a farm needs one that can (path, direct, ao, irradiance, ...)");
     RenderOptions options;  // spp and seed as the parts' renders resolve them (a sampler may round spp up)
     options.spp = a.spp;
+    options.sampler = a.sampler;
     if (a.seed >= 0) options.seed = uint64_t(a.seed);
     const RenderStats planned = planned_render(*scene, options);
     r.spp = planned.spp;
@@ -107,18 +118,26 @@ std::string sbatch(const std::vector<std::string>& args) {
     return id;
 }
 
-int run_plan(const FarmArgs& a) {
+// Where the plan went, on stderr (stdout holds the commands, one per line, for a script).
+void report_plan(const FarmPlan& plan) {
+    std::cerr << "wrote the plan " << (fs::path(plan.workdir) / "plan.txt").string() << " (" << plan.tasks.size() << " parts, written to "
+              << (fs::path(plan.workdir) / "parts").string() << "; logs in " << (fs::path(plan.workdir) / "logs").string() << ")\n";
+}
+
+int run_plan(FarmArgs& a) {
     FarmPlan plan = plan_farm(make_request(a));
     write_plan(plan);
+    report_plan(plan);
     for (const FarmTask& t : plan.tasks) std::cout << t.command << "\n";
     std::cout << plan.merge_command << "\n";
     return ExitOk;
 }
 
-int run_slurm(const FarmArgs& a) {
+int run_slurm(FarmArgs& a) {
     FarmRequest request = make_request(a);
     FarmPlan plan = plan_farm(request);
     write_plan(plan);
+    report_plan(plan);
     SlurmOptions options = a.slurm;
     options.threads_per_task = request.threads_per_task;
     write_slurm_scripts(plan, "candela-" + fs::path(request.scene).stem().string(), options);

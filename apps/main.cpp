@@ -10,6 +10,7 @@
 
 int main(int argc, char** argv) {
     CLI::App app{"Candela " CANDELA_VERSION ": a physically based renderer for Mitsuba 3 scene files"};
+    app.name("candela");
     app.require_subcommand(1);
     app.set_version_flag("--version", CANDELA_VERSION);
     // Ctrl-C and SIGTERM end any command at once with 130 or 143, but `render`, which stops
@@ -27,13 +28,14 @@ int main(int argc, char** argv) {
     candela::app::add_merge_command(app, run);
     candela::app::add_farm_command(app, run);
     candela::app::add_view_command(app, run);
+    int code = 0;
+    if (candela::app::refuse_unknown_command(app, argc, argv, code)) return code;
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-        int code = app.exit(e);
-        return code == 0 ? 0 : candela::app::ExitBadInput;
+        return candela::app::report_parse_error(app, e);
     }
-    const int code = candela::app::run_guarded(run);
+    code = candela::app::run_guarded(run);
     // A command that stopped early on a signal ends with the signal's code, whatever it returned.
     return candela::stop_exit_code() ? candela::stop_exit_code() : code;
 }

@@ -11,6 +11,8 @@
 #include "core/progress.h"
 #include "farm/merge.h"
 
+#include <cmath>
+#include <cstdio>
 #include <iostream>
 
 namespace candela::app {
@@ -21,6 +23,20 @@ struct MergeArgs {
     std::string output;
     bool allow_partial = false, sums = false;
 };
+// "16 spp", or for a partial merge "8 of 16 spp" (samples per pixel on average over the image).
+std::string samples_held(const MergeSet& set) {
+    const std::string total = std::to_string(set.identity.spp) + " spp";
+    if (set.missing.empty()) return total;
+    double missing = 0.0;
+    for (const CoverageBox& b : set.missing)
+        missing += double(b.rect.size.x) * double(b.rect.size.y) * double(b.samples.end - b.samples.begin);
+    const double pixels = double(set.identity.image.x) * double(set.identity.image.y);
+    const double held = double(set.identity.spp) - missing / pixels;
+    char buf[64];
+    std::snprintf(buf, sizeof buf, held == std::floor(held) ? "%.0f of " : "%.2f (on average) of ", held);
+    return buf + total;
+}
+
 }  // namespace
 
 void add_merge_command(CLI::App& app, std::function<int()>& run) {
@@ -40,15 +56,15 @@ void add_merge_command(CLI::App& app, std::function<int()>& run) {
                 return ExitOk;
             }
             if (!set.missing.empty() && !args->allow_partial) {
-                std::cerr << "error: the parts do not make the whole render (" << set.identity.spp << " spp of " << set.identity.image.x
-                          << " x " << set.identity.image.y << " pixels); nothing written:\n"
+                std::cerr << "error: the parts hold " << samples_held(set) << " of the " << set.identity.image.x << " x "
+                          << set.identity.image.y << " image, not the whole render; nothing written:\n"
                           << describe_missing(set) << "(--allow-partial writes the image of what there is)\n";
                 return ExitBadInput;
             }
             Image image = merge_image(set);
             write_exr(image, args->output, set.identity.float32);
-            std::cerr << "wrote " << args->output << ": " << set.parts.size() << " parts, " << set.identity.spp << " spp, "
-                      << format_duration(std::stod(image.metadata["candela.renderTime"])) << " of rendering\n";
+            std::cerr << "wrote " << args->output << ": " << set.parts.size() << (set.parts.size() == 1 ? " part, " : " parts, ")
+                      << samples_held(set) << ", " << format_duration(std::stod(image.metadata["candela.renderTime"])) << " of rendering\n";
             if (!set.missing.empty()) std::cerr << "warning: partial image, marked candela.partial:\n" << describe_missing(set);
             return ExitOk;
         };

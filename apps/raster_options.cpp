@@ -1,6 +1,7 @@
 #include "apps/commands.h"
 
 #include "core/error.h"
+#include "core/text.h"
 
 namespace candela::app {
 
@@ -16,7 +17,19 @@ void RasterOptionArgs::add_to(CLI::App* cmd) {
             continue;
         }
         if (o.kind == RasterOption::Kind::Integer) help += " (" + o.accepted() + ")";
-        cmd->add_option(flag, values[o.name], help)->type_name(o.kind == RasterOption::Kind::Choice ? o.accepted() : "N");
+        // The value is checked when parsing, before anything asks whether the mode is raster.
+        const std::string name = o.name;
+        std::vector<std::string> choices(o.choices.begin(), o.choices.end());
+        const CLI::Validator valid(
+            [name, flag, choices](std::string& value) {
+                RasterSettings scratch;
+                std::string error;
+                if (scratch.set(name, value, error)) return std::string();
+                const std::string nearest = suggested_name(value, choices);
+                return flag + ": " + error + (nearest.empty() ? "" : "; did you mean " + nearest + "?");
+            },
+            "");
+        cmd->add_option(flag, values[o.name], help)->type_name(o.kind == RasterOption::Kind::Choice ? o.accepted() : "N")->check(valid);
     }
 }
 

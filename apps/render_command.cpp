@@ -39,12 +39,13 @@ namespace candela::app {
 namespace {
 
 struct RenderArgs {
-    std::string scene, output, mode, max_memory, sampler;
+    SceneInput input;
+    std::string output, mode, max_memory, sampler;
     AdaptiveSampling adaptive;
     RasterOptionArgs raster;
     int spp = 0, threads = 0;
     int64_t seed = -1;
-    std::vector<std::string> defines, aovs, search_path;
+    std::vector<std::string> aovs;
     std::string samples, crop;  // a part of a split render
     std::string resume;         // a part to continue
     double checkpoint_minutes = 0.0;
@@ -58,11 +59,11 @@ struct RenderArgs {
 std::string repeat_command(const RenderArgs& a, const RenderStats& stats) {
     FarmRequest r;
     r.candela = program_path();
-    r.scene = std::filesystem::absolute(a.scene).string();
+    r.scene = std::filesystem::absolute(a.input.scene).string();
     r.spp = stats.spp;
     r.seed = stats.seed;
-    r.defines = a.defines;
-    r.search_path = absolute_search_folders(a.search_path);
+    r.defines = a.input.defines;
+    r.search_path = absolute_search_folders(a.input.search_path);
     r.aovs = a.aovs;
     r.sampler = a.sampler;
     r.mode = a.mode;
@@ -104,14 +105,36 @@ std::string parts_refusal(const Scene& scene, const RenderOptions& options) {
            "on its neighbours', which a part does not have; render the whole image";
 }
 
-// The lines every render prints after writing: --spp rounded by the sampler, the summary, the
-// dropped non-finite samples.
-void report_render(const RenderArgs& a, const RenderStats& stats, const std::string& output, const char* suffix) {
+// The lines every render prints after writing: --spp rounded by the sampler, the summary (with
+// `samples` in place of "N spp" for a part), the dropped non-finite samples.
+void report_render(const RenderArgs& a, const RenderStats& stats, const std::string& output, const std::string& samples,
+                   const std::string& png) {
     if (a.spp > 0 && stats.spp != a.spp && !stats.single_frame)
         warn(SourceLocation{},
              "--spp " + std::to_string(a.spp) + " rounded up to " + std::to_string(stats.spp) + " by the " + stats.sampler + " sampler");
-    if (!a.quiet) std::cerr << render_summary(stats, output) << suffix << "\n";
+    if (!a.quiet) std::cerr << render_summary(stats, output, samples) << "\n";
+    if (!a.quiet && a.png) std::cerr << "wrote " << png << ": the tonemapped sRGB preview (8 bits; not for measuring)\n";
     if (stats.nonfinite > 0) std::cerr << "warning: " << stats.nonfinite << " samples were NaN, infinite or beyond 1e30 and were dropped\n";
+}
+
+// "part: samples 0:8 of 16" (and ", pixels x,y,w,h" for a crop): what a part holds.
+std::string part_description(const CoverageBox& target, const Scene& scene, int spp) {
+    std::string text = "part: samples " + format_sample_range(target.samples) + " of " + std::to_string(spp);
+    if (target.rect.size != scene.sensor().film().crop_size()) text += ", pixels " + format_rect(target.rect);
+    return text;
+}
+
+// --samples past the render's sample count: when the count is the scene's sampler's (no --spp),
+// say so and name the --spp that makes the range fit.
+void check_sample_range(const RenderArgs& a, const CoverageBox& target, const RenderStats& planned) {
+    if (a.samples.empty() || target.samples.end <= planned.spp) return;
+    const std::string range = format_sample_range(target.samples);
+    if (a.spp > 0)
+        throw InputError("--samples " + range + " reaches past --spp " + std::to_string(planned.spp) +
+                         ": a part's sample range lies within [0, spp), the samples of the whole render");
+    throw InputError("--samples " + range + " reaches past the render's " + std::to_string(planned.spp) +
+                     " samples per pixel, the sample_count of the scene's " + planned.sampler +
+                     " sampler; give the whole render's count: --spp " + std::to_string(target.samples.end) + " --samples " + range);
 }
 
 // A Monte Carlo render through the sums (farm/resumable_render.h): the image when it is whole and
@@ -120,25 +143,26 @@ int render_with_sums(const RenderArgs& a, const Scene& scene, RenderOptions opti
     take_resumed_settings(a, options);
     const RenderStats planned = planned_render(scene, options);
     ResumableRequest request;
-    request.scene_path = a.scene;
+    request.scene_path = a.input.scene;
     request.command = repeat_command(a, planned);
     request.target = render_target(a, scene, planned.spp);
     request.resume = a.resume;
     request.checkpoint_seconds = a.checkpoint_minutes * 60.0;
     request.output = output;
+    check_sample_range(a, request.target, planned);
     ResumableResult r = render_resumable(scene, options, request);
     const bool whole = !r.header.partial && !a.part();
     if (whole) {
         RenderResult result;
         result.image = r.sums.develop();
         result.stats = r.stats;
-        annotate_render(result, scene, a.scene);
+        annotate_render(result, scene, a.input.scene);
         write_exr(result.image, output, scene.sensor().film().float32());
         if (a.png) write_png_display(scene.integrator().preview(result.image), png);
     } else {
         write_part(output, r.sums, r.header);
     }
-    report_render(a, r.stats, output, a.part() ? " (part)" : "");
+    report_render(a, r.stats, output, a.part() ? part_description(request.target, scene, r.stats.spp) : "", png);
     if (r.header.partial) {
         std::cerr << (r.interrupted ? "interrupted: " : "") << "wrote the partial render (a part holding "
                   << format_coverage(r.header.coverage) << ") to " << output << "; continue it with:\n  "
@@ -152,10 +176,10 @@ int render_with_sums(const RenderArgs& a, const Scene& scene, RenderOptions opti
 // it comes.
 int render_frame(const RenderArgs& a, const Scene& scene, const RenderOptions& options, const std::string& output, const std::string& png) {
     RenderResult result = scene.integrator().render(scene, options);
-    annotate_render(result, scene, a.scene);
+    annotate_render(result, scene, a.input.scene);
     write_exr(result.image, output, scene.sensor().film().float32());
     if (a.png) write_png_display(scene.integrator().preview(result.image), png);
-    report_render(a, result.stats, output, "");
+    report_render(a, result.stats, output, "", png);
     if (result.stats.partial) {
         std::cerr << "interrupted: wrote the partial image to " << output << "\n";
         return stop_exit_code();
@@ -174,6 +198,11 @@ void apply_mode(Scene& scene, const RenderArgs& a) {
             scene.set_integrator(std::make_shared<PathIntegrator>(PathSettings{}));
         return;
     }
+    if (a.spp > 0)
+        warn(SourceLocation{}, "--spp " + std::to_string(a.spp) +
+                                   " does not apply to the raster mode, which takes no Monte Carlo samples; its anti-aliasing "
+                                   "samples are --aa N (supersampling per pixel)");
+    if (!a.sampler.empty()) warn(SourceLocation{}, "--sampler " + a.sampler + " does not apply to the raster mode (its samples are --aa)");
     RasterSettings settings = existing ? existing->settings() : RasterSettings{};
     a.raster.apply(settings);
     scene.set_integrator(std::make_shared<RasterIntegrator>(settings));
@@ -182,8 +211,11 @@ void apply_mode(Scene& scene, const RenderArgs& a) {
 }  // namespace
 
 void add_sampler_option(CLI::App* cmd, std::string& sampler) {
-    cmd->add_option("--sampler", sampler, "Sampler to use instead of the scene's, with its sample count and seed")
-        ->check(CLI::IsMember(plugin_names(ObjectKind::Sampler)));
+    std::string names;
+    for (const std::string& n : plugin_names(ObjectKind::Sampler)) names += (names.empty() ? "" : ", ") + n;
+    cmd->add_option("--sampler", sampler,
+                    "Sampler to use instead of the scene's, with its sample count and seed (default: the scene's; " + names + ")")
+        ->check(one_of("--sampler", plugin_names(ObjectKind::Sampler)));
 }
 
 void add_adaptive_options(CLI::App* cmd, AdaptiveSampling& adaptive) {
@@ -192,13 +224,13 @@ void add_adaptive_options(CLI::App* cmd, AdaptiveSampling& adaptive) {
                "--adaptive-threshold", adaptive.threshold,
                "Adaptive sampling: stop a pixel with n samples once its noise estimate (Cycles', pooled over 3x3 pixels) is below this "
                "times sqrt(n / min-spp) (e.g. 0.01; default off; use the independent sampler)")
-            ->check(CLI::PositiveNumber);
+            ->check(positive_number("--adaptive-threshold"));
     cmd->add_option("--adaptive-min-spp", adaptive.min_spp,
                     "Adaptive sampling: samples before a pixel's first check (default max(16, spp/16), a power of two)")
-        ->check(CLI::PositiveNumber)
+        ->check(whole_number("--adaptive-min-spp", "samples", 1, MaxSampleCount))
         ->needs(threshold);
     cmd->add_option("--adaptive-step", adaptive.step, "Adaptive sampling: samples between checks (default: the minimum)")
-        ->check(CLI::PositiveNumber)
+        ->check(whole_number("--adaptive-step", "samples", 1, MaxSampleCount))
         ->needs(threshold);
 }
 
@@ -267,45 +299,48 @@ std::string default_output_for(const std::string& scene_path, const std::string&
 void add_render_command(CLI::App& app, std::function<int()>& run) {
     auto args = std::make_shared<RenderArgs>();
     CLI::App* cmd = app.add_subcommand("render", "Render a Mitsuba 3 scene file to OpenEXR");
-    cmd->add_option("scene", args->scene, "Scene file (Mitsuba 3 XML)")->required();
+    args->input.add_to(cmd);
     cmd->add_option("-o,--output", args->output, "Output EXR (default: the scene's name in the current directory)");
-    cmd->add_option("--spp", args->spp, "Samples per pixel (default: the scene's sampler)")->check(CLI::PositiveNumber);
-    cmd->add_option("-D", args->defines, "Set a scene parameter: -D name=value (repeatable)")->take_all();
-    add_search_path_option(cmd, args->search_path);
-    cmd->add_option("--threads,-t", args->threads, "Worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
-    cmd->add_option("--seed", args->seed, "Random seed (default: the sampler's)")->check(CLI::NonNegativeNumber);
-    cmd->add_flag("--png", args->png, "Also write a tonemapped sRGB PNG beside the EXR");
+    cmd->add_option("--spp", args->spp, "Samples per pixel (default: the scene's sampler's sample_count)")
+        ->check(whole_number("--spp", "samples", 1, MaxSampleCount));
+    add_threads_option(cmd, args->threads);
+    add_seed_option(cmd, args->seed, "default: the scene's sampler's");
+    cmd->add_flag("--png", args->png, "Also write a tonemapped sRGB PNG beside the EXR (a preview: 8 bits, not for measuring)");
     cmd->add_flag("--quiet,-q", args->quiet, "No progress bar and no summary line");
-    cmd->add_option("--aov", args->aovs, "Extra EXR layers: albedo, normal, depth, variance, samples")->delimiter(',');
+    cmd->add_option("--aov", args->aovs, "Extra EXR layers, comma separated: albedo, normal, depth, variance, samples (default none)")
+        ->delimiter(',');
     add_sampler_option(cmd, args->sampler);
     add_adaptive_options(cmd, args->adaptive);
     cmd->add_option("--max-memory", args->max_memory,
                     "Stop at once (exit code 2) when the film, meshes or other buffers would need more than SIZE (e.g. 4G, 512M); "
-                    "the machine's available memory is always a limit");
-    cmd->add_option("--samples", args->samples, "Render only sample indices START:END of every pixel, as one part for `candela merge`");
-    cmd->add_option("--crop", args->crop, "Render only the image region x,y,width,height (pixels), as one part for `candela merge`");
+                    "the machine's available memory is always a limit (default: that limit only)");
+    cmd->add_option("--samples", args->samples,
+                    "Render only sample indices START:END (within [0, spp)) of every pixel, as one part for `candela merge` "
+                    "(default: all)");
+    cmd->add_option("--crop", args->crop,
+                    "Render only the image region x,y,width,height (pixels), as one part for `candela merge` (default: the whole image)");
     cmd->add_option("--resume", args->resume, "Continue the render that wrote this partial EXR (after Ctrl-C, SIGTERM or a checkpoint)");
-    cmd->add_option("--checkpoint", args->checkpoint_minutes, "Write a resumable partial render to the output every MINUTES (atomically)");
+    cmd->add_option("--checkpoint", args->checkpoint_minutes,
+                    "Write a resumable partial render to the output every MINUTES, atomically (default: none)")
+        ->check(positive_number("--checkpoint"));
     cmd->add_option("--mode", args->mode,
                     "path (Monte Carlo global illumination) or raster (local illumination); default: the scene's integrator")
-        ->check(CLI::IsMember({"path", "raster"}));
+        ->check(one_of("--mode", {"path", "raster"}));
     args->raster.add_to(cmd);
     cmd->callback([args, &run] {
         run = [args] {
-            SceneParameters params = parse_defines(args->defines);
+            args->input.resolve();
             if (!args->max_memory.empty()) set_memory_limit(parse_memory_size(args->max_memory));
-            std::string output = args->output.empty() ? default_output_for(args->scene, ".exr") : args->output;
+            std::string output = args->output.empty() ? default_output_for(args->input.scene, ".exr") : args->output;
             std::string png = std::filesystem::path(output).replace_extension(".png").string();
             check_output_path(output);
             if (args->png) check_output_path(png);
             if (args->part() && args->png)
                 throw InputError("--png needs the whole image: a part (--samples, --crop) holds sums; merge the parts first");
-            if (args->checkpoint_minutes < 0.0) throw InputError("--checkpoint expects minutes > 0");
 
             // Ctrl-C or SIGTERM (what Slurm and systemd send before they kill) stops the render,
             // which writes what it has: main() chose StopMode::Graceful for it (core/stop.h).
-            use_search_folders(args->search_path);
-            Ref<Scene> scene = load_scene(args->scene, params);
+            Ref<Scene> scene = args->input.load();
             apply_mode(*scene, *args);
             RenderOptions options;
             options.spp = args->spp;

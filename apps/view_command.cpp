@@ -21,19 +21,18 @@ namespace candela::app {
 namespace {
 
 struct ViewArgs {
-    std::string scene, bind = "127.0.0.1";
+    SceneInput input;
+    std::string bind = "127.0.0.1";
     int port = 0;
-    std::vector<std::string> defines, search_path;
 };
 
-int view(const ViewArgs& a) {
-    use_search_folders(a.search_path);
-    Ref<Scene> scene = load_scene(a.scene, parse_defines(a.defines));
+int view(ViewArgs& a) {
+    Ref<Scene> scene = a.input.load();
     if (a.bind != "127.0.0.1" && a.bind != "::1" && a.bind != "localhost")
         warn(SourceLocation{},
              "--bind " + a.bind + ": the viewer is reachable from other machines; anyone with the URL's token can drive it");
-    ViewServer server(scene, a.scene, ViewServerOptions{a.bind == "localhost" ? "127.0.0.1" : a.bind, a.port});
-    std::printf("candela view: serving %s at %s\n(Ctrl-C stops)\n", a.scene.c_str(), server.url().c_str());
+    ViewServer server(scene, a.input.scene, ViewServerOptions{a.bind == "localhost" ? "127.0.0.1" : a.bind, a.port});
+    std::printf("candela view: serving %s at %s\n(Ctrl-C stops)\n", a.input.scene.c_str(), server.url().c_str());
     std::fflush(stdout);
     // Serves until a signal ends the process (core/stop.h: at once, with 130 or 143).
     for (;;) std::this_thread::sleep_for(std::chrono::seconds(1));
@@ -44,11 +43,10 @@ int view(const ViewArgs& a) {
 void add_view_command(CLI::App& app, std::function<int()>& run) {
     auto a = std::make_shared<ViewArgs>();
     CLI::App* cmd = app.add_subcommand("view", "Show a scene live in a browser: path tracer and raster mode side by side");
-    cmd->add_option("scene", a->scene, "Scene file (Mitsuba 3 XML)")->required();
-    cmd->add_option("--port", a->port, "Port to serve on (default 0: a free port, printed with the URL)")->check(CLI::Range(0, 65535));
+    a->input.add_to(cmd);
+    cmd->add_option("--port", a->port, "Port to serve on (default 0: a free port, printed with the URL)")
+        ->check(whole_number("--port", "", 0, 65535));
     cmd->add_option("--bind", a->bind, "Address to listen on (default 127.0.0.1: this machine only; use an SSH tunnel to reach it)");
-    cmd->add_option("-D", a->defines, "Set a scene parameter: -D name=value (repeatable)")->take_all();
-    add_search_path_option(cmd, a->search_path);
     cmd->callback([a, &run] { run = [a] { return view(*a); }; });
 }
 

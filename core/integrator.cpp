@@ -478,7 +478,7 @@ RenderResult SamplingIntegrator::render(const Scene& scene, const RenderOptions&
     Interruption interruption(options.interrupt);
     const TileSampler tile_sampler(*this, scene, values, layers, window, prototype->sample_count());
     tbb::enumerable_thread_specific<Ref<Sampler>> samplers([&] { return prototype->clone(); });
-    tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+    tbb::task_arena arena = thread_arena(options.threads);
     auto last_checkpoint = std::chrono::steady_clock::now();
     for (const SampleRange& pass : sample_passes(samples, adaptive)) {
         if (interruption.stopped()) break;

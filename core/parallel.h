@@ -20,7 +20,9 @@
 // In other builds the annotations compile to nothing.
 
 #include <tbb/blocked_range.h>
+#include <tbb/info.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cstddef>
@@ -40,6 +42,13 @@ extern "C" void __tsan_release(void* addr);
 #endif
 
 namespace candela {
+
+// The arena of a render or solver asked for `requested` threads (0 or less: one per core). More
+// than the cores is capped to them: TBB would cap its workers anyway, and say so on stderr.
+inline tbb::task_arena thread_arena(int requested) {
+    if (requested <= 0) return tbb::task_arena(tbb::task_arena::automatic);
+    return tbb::task_arena(std::min(requested, tbb::info::default_concurrency()));
+}
 
 // The two synchronisation points of one parallel loop (see above). Also used by code that hands
 // work to threads TBB starts on its own behalf, such as Embree's BVH build calling shape bounds

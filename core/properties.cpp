@@ -1,6 +1,7 @@
 #include "core/properties.h"
 
 #include "core/file_resolver.h"
+#include "core/text.h"
 #include "core/texture.h"
 #include "core/warning.h"
 
@@ -63,6 +64,7 @@ SourceLocation Properties::location_of(const std::string& name) const {
 }
 
 const Properties::Entry* Properties::find(const std::string& name, Type expected) const {
+    asked_.insert(name);
     auto it = entries_.find(name);
     if (it == entries_.end()) return nullptr;
     const Entry& e = it->second;
@@ -137,17 +139,20 @@ static bool is_constant_texture(const Properties::Value& v) {
     return o && std::dynamic_pointer_cast<ConstantTexture>(*o) != nullptr;
 }
 Spectrum Properties::get_rgb(const std::string& name) const {
+    asked_.insert(name);
     auto it = entries_.find(name);
     if (it != entries_.end() && is_constant_texture(it->second.value)) return as_rgb(get_raw(name));
     return as_rgb(require(name, Type::RGB).value);
 }
 Spectrum Properties::get_rgb(const std::string& name, const Spectrum& def) const {
+    asked_.insert(name);
     auto it = entries_.find(name);
     if (it != entries_.end() && is_constant_texture(it->second.value)) return as_rgb(get_raw(name));
     const Entry* e = find(name, Type::RGB);
     return e ? as_rgb(e->value) : def;
 }
 Transform Properties::get_transform(const std::string& name, const Transform& def) const {
+    asked_.insert(name);
     auto it = entries_.find(name);
     if (it != entries_.end() && it->second.type == Type::Animation)
         throw SceneError(it->second.where, "an animated " + name + " (motion blur) is not supported on " + plugin_type_ +
@@ -157,6 +162,7 @@ Transform Properties::get_transform(const std::string& name, const Transform& de
 }
 
 AnimatedTransform Properties::get_animated_transform(const std::string& name, const Transform& def) const {
+    asked_.insert(name);
     auto it = entries_.find(name);
     if (it != entries_.end() && it->second.type == Type::Animation) {
         it->second.used = true;
@@ -188,6 +194,7 @@ std::string Properties::get_file_path(const std::string& name) const {
 }
 
 Ref<Texture> Properties::get_texture(const std::string& name, const Spectrum& def) const {
+    asked_.insert(name);
     auto it = entries_.find(name);
     if (it == entries_.end()) return std::make_shared<ConstantTexture>(def);
     if (it->second.type == Type::Object) {
@@ -261,10 +268,15 @@ void Properties::check_all_used() const {
                                            (first_name.rfind("_arg", 0) == 0 ? "" : " (named \"" + first_name + "\")") +
                                            ": nothing uses it");
     }
-    throw SceneError(first->where, "unused property \"" + first_name + "\" in " + plugin_type_ + ": no such parameter");
+    // The nearest name the plugin reads, when it is a plausible misspelling.
+    std::vector<std::string> parameters(asked_.begin(), asked_.end());
+    const std::string nearest = suggested_name(first_name, parameters);
+    throw SceneError(first->where, "unused property \"" + first_name + "\" in " + plugin_type_ + ": no such parameter" +
+                                       (nearest.empty() ? "" : "; did you mean \"" + nearest + "\"?"));
 }
 
 const Properties::Value& Properties::get_raw(const std::string& name, Type* type) const {
+    asked_.insert(name);
     auto it = entries_.find(name);
     if (it == entries_.end()) throw SceneError(location_, plugin_type_ + ": missing property \"" + name + "\"");
     it->second.used = true;

@@ -12,6 +12,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <variant>
 #include <vector>
 
@@ -45,7 +46,10 @@ public:
     void set_transform(const std::string& name, const Transform& v) { set(name, Type::Transform, v, location_); }
     void set_object(const std::string& name, Ref<Object> v, const SourceLocation& where) { set(name, Type::Object, std::move(v), where); }
 
-    bool has(const std::string& name) const { return entries_.count(name) != 0; }
+    bool has(const std::string& name) const {
+        asked_.insert(name);
+        return entries_.count(name) != 0;
+    }
 
     // Typed reads. Without a default, a missing property is an error. Integers are accepted
     // where floats are asked for, and a single float or a constant texture (a <ref> to a
@@ -125,6 +129,9 @@ private:
     std::string plugin_type_;
     SourceLocation location_;
     std::map<std::string, Entry> entries_;
+    // Every name the plugin asked for, given or not: the parameters it has, for suggesting the
+    // nearest to an unused (misspelled) one.
+    mutable std::set<std::string> asked_;
     std::shared_ptr<const FileResolver> resolver_;
 };
 

@@ -1,5 +1,7 @@
 #include "core/registry.h"
 
+#include "core/text.h"
+
 #include "core/warning.h"
 
 #include <algorithm>
@@ -51,6 +53,26 @@ const char* instead_of(ObjectKind kind, const std::string& type) {
         {{ObjectKind::BSDF, "disney"}, "Mitsuba 3 calls the Disney BSDF \"principled\"; its parameters may differ from the scene's"},
         {{ObjectKind::Sampler, "bose"}, "an orthogonal-array sampler; Candela's is \"orthogonal\" (Bush's construction)"},
         {{ObjectKind::Sampler, "bush"}, "an orthogonal-array sampler; Candela's is \"orthogonal\" (Bush's construction)"},
+        // Names a newcomer writes for the path tracer ("ptracer", the nearest by spelling, is
+        // the particle tracer: another algorithm).
+        {{ObjectKind::Integrator, "pathtracer"},
+         "did you mean \"path\" (unidirectional path tracing)? \"ptracer\" is the particle (light) tracer"},
+        {{ObjectKind::Integrator, "path_tracer"},
+         "did you mean \"path\" (unidirectional path tracing)? \"ptracer\" is the particle (light) tracer"},
+        {{ObjectKind::Integrator, "pt"}, "did you mean \"path\" (unidirectional path tracing)? \"ptracer\" is the particle (light) tracer"},
+        {{ObjectKind::Integrator, "pathtracing"}, "did you mean \"path\" (unidirectional path tracing)?"},
+        {{ObjectKind::Integrator, "volumetric"}, "did you mean \"volpath\" (volumetric path tracing)?"},
+        {{ObjectKind::Integrator, "photonmapping"}, "did you mean \"photonmapper\" (or \"sppm\", progressive photon mapping)?"},
+        {{ObjectKind::Integrator, "bdpt"}, "bidirectional path tracing is not in Candela: render with \"path\" (or \"sppm\" for caustics)"},
+        {{ObjectKind::Integrator, "mlt"}, "Metropolis light transport is not in Candela: render with \"path\" (or \"sppm\" for caustics)"},
+        {{ObjectKind::BSDF, "lambert"}, "did you mean \"diffuse\" (Lambertian)?"},
+        {{ObjectKind::BSDF, "lambertian"}, "did you mean \"diffuse\" (Lambertian)?"},
+        {{ObjectKind::BSDF, "glass"}, "did you mean \"dielectric\" (smooth glass) or \"roughdielectric\"?"},
+        {{ObjectKind::BSDF, "metal"}, "did you mean \"conductor\" (smooth metal) or \"roughconductor\"?"},
+        {{ObjectKind::BSDF, "mirror"}, "did you mean \"conductor\" with material \"none\" (a perfect mirror)?"},
+        {{ObjectKind::Emitter, "light"},
+         "did you mean \"area\" (nested in a shape), \"point\", \"spot\", \"directional\", \"constant\" or \"envmap\"?"},
+        {{ObjectKind::Sensor, "camera"}, "did you mean \"perspective\" (a pinhole camera), \"thinlens\" or \"orthographic\"?"},
     };
     auto it = table.find({kind, type});
     return it == table.end() ? nullptr : it->second;
@@ -63,34 +85,7 @@ bool equal_ignoring_case(const std::string& a, const std::string& b) {
     return true;
 }
 
-// Levenshtein distance, ignoring case: how many single-letter edits turn `a` into `b`.
-size_t edit_distance(const std::string& a, const std::string& b) {
-    std::vector<size_t> row(b.size() + 1);
-    for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
-    for (size_t i = 1; i <= a.size(); ++i) {
-        size_t diagonal = row[0];
-        row[0] = i;
-        for (size_t j = 1; j <= b.size(); ++j) {
-            size_t above = row[j];
-            bool same = std::tolower(static_cast<unsigned char>(a[i - 1])) == std::tolower(static_cast<unsigned char>(b[j - 1]));
-            row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (same ? 0 : 1)});
-            diagonal = above;
-        }
-    }
-    return row[b.size()];
-}
-
 }  // namespace
-
-std::string nearest_name(const std::string& word, const std::vector<std::string>& names) {
-    std::string best;
-    size_t best_distance = 0;
-    for (const std::string& name : names) {
-        size_t d = edit_distance(word, name);
-        if (best.empty() || d < best_distance) best = name, best_distance = d;
-    }
-    return best;
-}
 
 Ref<Object> create_plugin(ObjectKind kind, const Properties& props) {
     auto it = registry().find({kind, props.plugin_type()});

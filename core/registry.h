@@ -17,9 +17,6 @@ using PluginFactory = std::function<Ref<Object>(const Properties&)>;
 void register_plugin(ObjectKind kind, const std::string& type, PluginFactory factory);
 bool plugin_exists(ObjectKind kind, const std::string& type);
 std::vector<std::string> plugin_names(ObjectKind kind);
-// The name in `names` closest to `word` by edit distance, ignoring case (ties: the first);
-// empty when `names` is. For "did you mean" in error messages.
-std::string nearest_name(const std::string& word, const std::vector<std::string>& names);
 
 // Builds the plugin named by props.plugin_type(), then checks that it read every property.
 // An unknown type is a SceneError at the object's location naming the nearest supported type;

@@ -63,4 +63,13 @@ inline std::string escape_markup(const std::string& text) {
     return out;
 }
 
+// Levenshtein distance, ignoring case: how many single-letter edits turn `a` into `b`.
+size_t edit_distance(const std::string& a, const std::string& b);
+// The name in `names` closest to `word` by edit distance, ignoring case (ties: the first);
+// empty when `names` is.
+std::string nearest_name(const std::string& word, const std::vector<std::string>& names);
+// For "did you mean": the nearest name when it is a plausible misspelling of `word` (at most
+// max(2, a third of its letters) edits away), else "".
+std::string suggested_name(const std::string& word, const std::vector<std::string>& names);
+
 }  // namespace candela

@@ -17,7 +17,8 @@ WarningSink& current_sink() {
 }  // namespace
 
 void warn(const SourceLocation& where, const std::string& message) {
-    std::string line = where.str() + ": warning: " + message;
+    // Not from a file (an option, a -D): "warning: ...", as errors say "error: ...".
+    std::string line = (where.file.empty() ? std::string() : where.str() + ": ") + "warning: " + message;
     std::lock_guard<std::mutex> lock(sink_mutex());
     if (current_sink())
         current_sink()(line);

@@ -126,7 +126,22 @@ Ref<Object> create_moving_shape(const Properties& props) {
 
 class XmlLoader {
 public:
-    explicit XmlLoader(const SceneParameters& defines) : params_(defines) {}
+    explicit XmlLoader(const SceneParameters& defines) : params_(defines), defines_(defines) {}
+
+    // A -D name the scene neither declares (<default>) nor uses ($name) changes nothing: a
+    // warning names it and the scene's parameters (Mitsuba ignores it silently).
+    void warn_unused_defines(const std::string& path) const {
+        std::vector<std::string> known(known_params_.begin(), known_params_.end());
+        std::string list;
+        for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
+        for (const auto& [name, value] : defines_) {
+            if (known_params_.count(name)) continue;
+            const std::string nearest = suggested_name(name, known);
+            warn(SourceLocation{path, 0}, "-D " + name + "=" + value + ": the scene has no parameter \"" + name + "\"" +
+                                              (nearest.empty() ? "" : "; did you mean \"" + nearest + "\"?") +
+                                              (list.empty() ? " (it declares none)" : " (its parameters: " + list + ")"));
+        }
+    }
 
     Ref<Scene> load(const std::string& text, const std::string& path) {
         Document& doc = parse_document(text, path, SourceLocation{path, 0});
@@ -193,6 +208,7 @@ private:
             auto it = params_.find(name);
             if (it == params_.end())
                 throw SceneError(where(doc, node), "undefined parameter $" + name + " (define it with <default> or -D " + name + "=...)");
+            known_params_.insert(name);
             out += it->second;
             i = j;
         }
@@ -306,6 +322,7 @@ private:
             if (!child.attribute("name") || !child.attribute("value"))
                 throw SceneError(where(doc, child), "<default> needs name and value");
             if (!params_.count(name)) params_[name] = substitute(doc, child, child.attribute("value").value());
+            known_params_.insert(name);
         } else if (tag == "include") {
             if (!in_scene) throw SceneError(where(doc, child), "<include> may only appear directly inside <scene>");
             check_attributes(doc, child, {"filename"});
@@ -683,6 +700,8 @@ private:
 
     std::vector<std::unique_ptr<Document>> docs_;
     SceneParameters params_;
+    SceneParameters defines_;                     // as given (-D)
+    mutable std::set<std::string> known_params_;  // declared by <default> or used as $name
     std::map<std::string, Ref<Object>> ids_;
     std::map<std::string, std::pair<Document*, pugi::xml_node>> declared_;  // ids declared anywhere in the files read
     std::map<const void*, Ref<Object>> built_;                              // object elements built so far
@@ -692,20 +711,44 @@ private:
 
 }  // namespace
 
-Ref<Scene> load_scene(const std::string& path, const SceneParameters& defines) {
-    std::ifstream in(path, std::ios::binary);
+namespace {
+
+// Why `path` cannot be a scene file, when that is clear before parsing it: it is missing, a
+// folder, unreadable, or an image (what a newcomer passes after a first render); "" otherwise.
+std::string not_a_scene_file(const std::string& path) {
     std::error_code ec;
-    if (!in || fs::is_directory(path, ec)) throw SceneError(SourceLocation{path, 0}, "cannot open scene file");
+    if (!fs::exists(path, ec)) return "no such file";
+    if (fs::is_directory(path, ec)) return "is a directory, not a scene file (give the .xml file in it)";
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return "cannot read it (permission denied?)";
+    unsigned char head[8] = {0};
+    in.read(reinterpret_cast<char*>(head), sizeof head);
+    const auto starts = [&](std::initializer_list<unsigned char> magic) { return std::equal(magic.begin(), magic.end(), head); };
+    if (starts({0x76, 0x2f, 0x31, 0x01}))
+        return "this is an OpenEXR image, not a scene file (give the .xml scene; `candela compare` compares images)";
+    if (starts({0x89, 'P', 'N', 'G'})) return "this is a PNG image, not a scene file (give the .xml scene)";
+    if (starts({0xff, 0xd8, 0xff})) return "this is a JPEG image, not a scene file (give the .xml scene)";
+    return "";
+}
+
+}  // namespace
+
+Ref<Scene> load_scene(const std::string& path, const SceneParameters& defines) {
+    if (std::string reason = not_a_scene_file(path); !reason.empty()) throw SceneError(SourceLocation{path, 0}, reason);
+    std::ifstream in(path, std::ios::binary);
     std::stringstream ss;
     ss << in.rdbuf();
     XmlLoader loader(defines);
     auto scene = loader.load(ss.str(), path);
+    loader.warn_unused_defines(path);
     return scene;
 }
 
 Ref<Scene> load_scene_from_string(const std::string& xml, const std::string& virtual_path, const SceneParameters& defines) {
     XmlLoader loader(defines);
-    return loader.load(xml, virtual_path);
+    auto scene = loader.load(xml, virtual_path);
+    loader.warn_unused_defines(virtual_path);
+    return scene;
 }
 
 }  // namespace candela

@@ -70,7 +70,7 @@ template <typename F>
 Estimate run(const EstimatorOptions& options, F one) {
     const uint64_t chunk = 4096, chunks = (options.samples + chunk - 1) / chunk;
     std::vector<Sums> partial(chunks);
-    tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+    tbb::task_arena arena = thread_arena(options.threads);
     arena.execute([&] {
         // Random numbers for sample i: the independent sampler, positioned as "pixel" i.
         Ref<Sampler> prototype = estimator_sampler(options.seed, options.samples, 1);
@@ -144,7 +144,7 @@ std::vector<Spectrum> estimate_irradiance_at(const Scene& scene, const std::vect
     path.prepare(scene);
     const BSDF& white = white_lambertian();
     std::vector<Spectrum> out(points.size(), Spectrum(0.0f));
-    tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+    tbb::task_arena arena = thread_arena(options.threads);
     arena.execute([&] {
         Ref<Sampler> prototype = estimator_sampler(options.seed, points.size(), std::max<uint64_t>(options.samples, 1));
         parallel_chunks(points.size(), 16, [&](size_t begin, size_t end) {

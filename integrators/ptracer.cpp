@@ -29,6 +29,7 @@
 
 #include "core/bsdf.h"
 #include "core/film.h"
+#include "core/parallel.h"
 #include "core/progress.h"
 #include "core/properties.h"
 #include "core/random_2d.h"
@@ -180,7 +181,7 @@ RenderResult ParticleTracerIntegrator::render(const Scene& scene, const RenderOp
     const uint64_t pixels = uint64_t(crop.x) * uint64_t(crop.y);
     const LightPathTracer tracer(scene, settings_.max_depth < 0 ? -1 : settings_.max_depth - 1, settings_.rr_depth);
     ProgressReporter progress("Rendering", uint64_t(samples.spp) * pixels, options.progress, "samples", options.progress_sink);
-    tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+    tbb::task_arena arena = thread_arena(options.threads);
     std::atomic<uint64_t> rays{0};
     uint64_t paths = 0, nonfinite = 0;
     int passes = 0;

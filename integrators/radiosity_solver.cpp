@@ -108,7 +108,7 @@ std::vector<Spectrum> direct_irradiance(const RadiosityPatches& patches, const S
     const auto& elements = patches.elements();
     std::vector<Spectrum> irradiance(elements.size(), Spectrum(0.0f));
     const auto& emitters = scene.emitters();
-    tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+    tbb::task_arena arena = thread_arena(options.threads);
     arena.execute([&] {
         parallel_for(elements.size(), [&](size_t i) {
             const RadiosityElement& e = elements[i];
@@ -147,7 +147,7 @@ std::vector<Spectrum> shoot_radiosity(const RadiosityPatches& patches, const Rad
     }
     std::atomic<uint64_t> rays{0};
     SolveProgress progress(options.progress, settings.tolerance);
-    tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+    tbb::task_arena arena = thread_arena(options.threads);
     stats.shots = 0;
     stats.unshot_fraction = emitted_power > 0.0 ? 1.0 : 0.0;
     while (true) {

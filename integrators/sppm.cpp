@@ -236,7 +236,7 @@ RenderResult SPPMIntegrator::render(const Scene& scene, const RenderOptions& opt
     camera_options.spp = passes;
     const Ref<Sampler> prototype = configured_sampler(scene, camera_options);
     tbb::enumerable_thread_specific<Ref<Sampler>> samplers([&] { return prototype->clone(); });
-    tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+    tbb::task_arena arena = thread_arena(options.threads);
     ProgressReporter progress("Rendering", uint64_t(passes), options.progress, "passes", options.progress_sink);
     const std::atomic<bool>* interrupt = options.interrupt;
     auto interrupted = [&] { return interrupt && interrupt->load(std::memory_order_relaxed); };

@@ -375,6 +375,7 @@ py::dict validate(const std::string& scene_path, const std::string& reference_pa
     py::dict d = comparison_dict(v.metrics);
     d["name"] = v.name;
     d["passed"] = v.pass;
+    d["compared"] = v.compared;
     d["reason"] = v.reason;
     d["z_threshold"] = v.z.threshold;
     d["z_tested"] = v.z.tested;
@@ -550,6 +551,7 @@ PYBIND11_MODULE(_candela, m) {
           py::arg("threads"));
     m.def("estimate_irradiance", &estimate_irradiance_points, py::arg("scene"), py::arg("points"), py::arg("normals"), py::arg("samples"),
           py::arg("seed"), py::arg("threads"), py::arg("max_depth"));
+    m.attr("default_compared_methods") = DefaultComparedMethods;
     m.def("compare_modes", &compare_modes, py::arg("scene"), py::arg("methods"), py::arg("spp"), py::arg("reference"),
           py::arg("reference_spp"), py::arg("threads"), py::arg("heatmap_range"));
     m.def("estimate_radiance", &estimate_radiance_ray, py::arg("scene"), py::arg("origin"), py::arg("direction"), py::arg("samples"),

@@ -76,6 +76,7 @@
 
 #include "core/error.h"
 #include "core/memory_budget.h"
+#include "core/parallel.h"
 #include "core/registry.h"
 #include "core/scene.h"
 #include "core/warning.h"
@@ -489,7 +490,7 @@ RenderResult RasterIntegrator::render(const Scene& scene, const RenderOptions& o
     auto pinhole = scene.sensor().pinhole();
     if (!pinhole) throw InputError("the raster mode needs a perspective (pinhole) camera");
     check_frame_memory(scene.sensor().film(), settings_);
-    tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+    tbb::task_arena arena = thread_arena(options.threads);
     RenderResult result;
     arena.execute([&] {
         FrameSetup frame(scene, settings_, geometry_for(scene, options), *pinhole, image_lighting_for(scene));

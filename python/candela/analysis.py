@@ -81,13 +81,16 @@ def estimate_radiance(scene, origin, direction, samples: int = 65536, seed: int 
     return result
 
 
-def compare_modes(scene, methods="raster,raster-gi,baked,radiosity,path", spp: int = 0, reference=None, reference_spp: int = 1024,
+def compare_modes(scene, methods=None, spp: int = 0, reference=None, reference_spp: int = 1024,
                   threads: int = 0, heatmap_range: float = 0.5) -> dict:
     """Renders the scene by several methods (``candela compare-modes``: integrator names with
     ``:key=value`` parameters, ``raster-gi``, ``baked``) and compares each with a converged
     path-traced reference (or `reference`, an image): per method its ``image``, time, relMSE,
     MARE, block MARE, mean luminance difference and ``heatmap``; the Markdown ``table``, the
-    contact ``sheet`` and the ``reference``."""
+    contact ``sheet`` and the ``reference``. ``methods=None`` compares the command's default list
+    (raster, baked, radiosity, path)."""
+    if methods is None:
+        methods = _candela.default_compared_methods
     if isinstance(methods, (list, tuple)):
         methods = ",".join(methods)
     ref = _buffer(reference, "reference") if reference is not None else None

@@ -137,7 +137,7 @@ TEST_CASE("farm cli: merge refuses overlapping and foreign parts and non-parts w
     CHECK_FALSE(std::filesystem::exists(dir / "sppm.exr"));
     CHECK(run_command(program("render " + Render + " --samples 0:1 --png -o " + q(dir / "p.exr")), dir / "png.txt") == 2);
     CHECK(run_command(program("render " + Render + " --samples 0:9 -o " + q(dir / "p.exr")), dir / "range.txt") == 2);
-    CHECK_THAT(read_text(dir / "range.txt"), Catch::Contains("not a non-empty part of [0, 8)"));
+    CHECK_THAT(read_text(dir / "range.txt"), Catch::Contains("--samples 0:9 reaches past --spp 8"));
     CHECK(run_command(program("render " + Render + " --crop 15,0,10,5 -o " + q(dir / "p.exr")), dir / "crop.txt") == 2);
     CHECK_THAT(read_text(dir / "crop.txt"), Catch::Contains("not inside the 20 x 20 image"));
     CHECK_FALSE(std::filesystem::exists(dir / "p.exr"));
@@ -222,7 +222,11 @@ TEST_CASE("farm cli: plan's commands run by a shell loop give the render, status
     // -a is passed on, absolute, so that a part run anywhere finds the scene's files.
     const std::string options = "'" + Cbox + "' -D res=20 --spp 7 --seed 5 --aov variance -a " + q(dir);
     REQUIRE(run_command(program("render " + options + " -q -o " + q(dir / "single.exr")), dir / "log.txt") == 0);
-    REQUIRE(run_command(program("farm plan " + options + " --parts 3 --regions 2x1 -o " + q(dir / "out.exr")), dir / "plan.txt") == 0);
+    // stdout holds the commands, one per line, for a script; stderr says where the plan went.
+    REQUIRE(
+        run_command(program("farm plan " + options + " --parts 3 --regions 2x1 -o " + q(dir / "out.exr")) + " 2>" + q(dir / "notes.txt"),
+                    dir / "plan.txt") == 0);
+    CHECK_THAT(read_text(dir / "notes.txt"), Catch::Contains("wrote the plan " + (dir / "out-farm" / "plan.txt").string() + " (6 parts"));
     std::vector<std::string> commands = lines(read_text(dir / "plan.txt"));
     INFO(read_text(dir / "plan.txt"));
     REQUIRE(commands.size() == 3 * 2 + 1);
