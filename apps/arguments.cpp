@@ -9,9 +9,11 @@
 #include "core/warning.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <thread>
 
@@ -74,6 +76,18 @@ std::string subcommand_list(const CLI::App& app) {
     return list;
 }
 
+// "candela compare TEST REFERENCE [OPTIONS]": the command with its positional arguments.
+std::string usage(const CLI::App& command) {
+    std::string line = command_path(&command);
+    for (const CLI::Option* o : command.get_options())
+        if (o->get_positional()) {
+            std::string name = o->get_name();
+            std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return char(std::toupper(c)); });
+            line += " " + name + (o->get_items_expected_max() > 1 ? "..." : "");
+        }
+    return line + " [OPTIONS] (" + command_path(&command) + " --help lists the options)";
+}
+
 }  // namespace
 
 CLI::Validator whole_number(const std::string& option, const std::string& unit, long long minimum, long long maximum) {
@@ -121,6 +135,16 @@ CLI::Validator one_of(const std::string& option, const std::vector<std::string>&
             return option + " must be one of " + list + " (got " + text + ")" + (nearest.empty() ? "" : "; did you mean " + nearest + "?");
         },
         "");
+}
+
+void check_exr_output(const std::string& path) {
+    std::string extension = std::filesystem::path(path).extension().string();
+    std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    if (extension == ".exr") return;
+    const std::string exr = std::filesystem::path(path).replace_extension(".exr").string();
+    throw InputError(
+        "-o " + path + ": the image is written as OpenEXR (radiance in floating point), so its name ends in .exr: -o " + exr +
+        (extension == ".png" || extension == ".jpg" || extension == ".jpeg" ? " (render's --png writes an 8-bit preview beside it)" : ""));
 }
 
 void add_seed_option(CLI::App* cmd, int64_t& seed, const std::string& default_text) {
@@ -177,6 +201,19 @@ Ref<Scene> SceneInput::load() {
 }
 
 bool refuse_unknown_command(const CLI::App& app, int argc, char** argv, int& code) {
+    // An option before any command is the program's own (--help, --version) or a mistake.
+    if (argc > 1 && argv[1][0] == '-' && std::string(argv[1]) != "--") {
+        const std::string name = std::string(argv[1]).substr(0, std::string(argv[1]).find('='));
+        const std::vector<std::string> options = option_names(app);
+        if (std::find(options.begin(), options.end(), name) == options.end()) {
+            const std::string nearest = suggested_name(name, options);
+            std::cerr << "error: unknown option " << name << " for candela" << (nearest.empty() ? "" : "; did you mean " + nearest + "?")
+                      << " (options belong after the command: candela "
+                      << "COMMAND [OPTIONS]; the commands are:" << subcommand_list(app) << ")\n";
+            code = ExitBadInput;
+            return true;
+        }
+    }
     // The command word, and for a command with commands of its own (farm plan) the next one too.
     const CLI::App* level = &app;
     for (int i = 1; i < argc && argv[i][0] != '-'; ++i) {
@@ -250,10 +287,19 @@ int report_parse_error(const CLI::App& app, const CLI::ParseError& e) {
             }
         }
     } else if (dynamic_cast<const CLI::RequiredError*>(&e)) {
-        if (message.rfind("scene", 0) == 0 || message.rfind("dir", 0) == 0 || message.rfind("images", 0) == 0)
-            message = where + " needs its input: " + message.substr(0, message.find(' ')) + " (" + where + " --help shows the usage)";
-        else if (message.rfind("A subcommand", 0) == 0)
+        const size_t end = message.find(" is required");
+        const CLI::Option* option = command && end != std::string::npos ? command->get_option_no_throw(message.substr(0, end)) : nullptr;
+        if (message.rfind("A subcommand", 0) == 0)
             message = where + " needs a command:" + subcommand_list(command ? *command : app);
+        else if (option && option->get_positional())
+            message = where + " needs its input: " + option->get_name() + " (" + option->get_description() + "); usage: " + usage(*command);
+        else if (option)
+            message = where + " needs " + option->get_name() + ": " + option->get_description() + "; usage: " + usage(*command);
+    } else if (dynamic_cast<const CLI::ArgumentMismatch*>(&e)) {
+        // An option at the end of the line, or followed by another option, without its value.
+        const std::string name = message.substr(0, message.find(':'));
+        const CLI::Option* option = command ? command->get_option_no_throw(name) : nullptr;
+        if (option) message = "option " + name + " needs a value after it: " + option->get_description();
     } else if (dynamic_cast<const CLI::ConversionError*>(&e)) {
         message += " (" + where + " --help says what each option takes)";
     }

@@ -78,6 +78,9 @@ CLI::Validator non_negative_number(const std::string& option);
 // A name from a list, with the nearest one suggested: "--mode must be one of path, raster (got
 // rastr); did you mean raster?".
 CLI::Validator one_of(const std::string& option, const std::vector<std::string>& choices);
+// InputError unless the output's name ends in .exr (what render, merge and farm write), with the
+// name that would do.
+void check_exr_output(const std::string& path);
 // --seed S (a whole number, 0 or more); `default_text` says what it is when not given.
 void add_seed_option(CLI::App* cmd, int64_t& seed, const std::string& default_text);
 // --threads N (0, the default: one per core).

@@ -63,6 +63,7 @@ FarmRequest make_request(FarmArgs& a) {
     r.scene = fs::absolute(a.input.resolve()).lexically_normal().string();
     r.output = fs::absolute(a.output).lexically_normal().string();
     check_output_path(r.output);
+    check_exr_output(r.output);
     r.workdir = a.workdir.empty() ? (fs::path(r.output).parent_path() / (fs::path(r.output).stem().string() + "-farm")).string()
                                   : fs::absolute(a.workdir).lexically_normal().string();
     const fs::path plan_file = fs::path(r.workdir) / "plan.txt";

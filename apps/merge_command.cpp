@@ -49,6 +49,7 @@ void add_merge_command(CLI::App& app, std::function<int()>& run) {
     cmd->callback([args, &run] {
         run = [args] {
             check_output_path(args->output);
+            check_exr_output(args->output);
             MergeSet set = check_parts(args->parts);
             if (args->sums) {
                 merge_into_part(set, args->output);

@@ -334,6 +334,7 @@ void add_render_command(CLI::App& app, std::function<int()>& run) {
             std::string output = args->output.empty() ? default_output_for(args->input.scene, ".exr") : args->output;
             std::string png = std::filesystem::path(output).replace_extension(".png").string();
             check_output_path(output);
+            check_exr_output(output);
             if (args->png) check_output_path(png);
             if (args->part() && args->png)
                 throw InputError("--png needs the whole image: a part (--samples, --crop) holds sums; merge the parts first");

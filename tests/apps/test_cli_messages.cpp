@@ -122,6 +122,13 @@ TEST_CASE("cli messages: misspelled commands and options get the nearest name an
         // Raster options: the value is checked before whether the mode is raster.
         {"render cbox.xml --shading phog", 2, {"--shading: shading must be one of", "did you mean phong?"}, {"need --mode raster"}},
         {"render cbox.xml --shading phong -o x.exr", 2, {"need --mode raster"}, {}},
+        // Missing inputs and values name what is missing and show the usage line.
+        {"compare first.exr", 2, {"candela compare needs its input: reference", "usage: candela compare TEST REFERENCE"}, {}},
+        {"merge", 2, {"candela merge needs its input: parts", "usage: candela merge PARTS..."}, {}},
+        {"merge first.exr", 2, {"candela merge needs --output"}, {}},
+        {"render cbox.xml -o", 2, {"option --output needs a value after it"}, {}},
+        {"estimate irradiance cbox.xml", 2, {"candela estimate irradiance needs --at"}, {}},
+        {"--verison", 2, {"unknown option --verison for candela; did you mean --version?", "render"}, {}},
     };
     check_rows(work, logs, rows);
 }
@@ -142,6 +149,9 @@ TEST_CASE("cli messages: wrong files and scene mistakes say what the file is and
         {"render pathtracer.xml", 2, {"pathtracer.xml:2:", "did you mean \"path\"", "particle"}, {}},
         {"render misspelled.xml", 2, {"misspelled.xml:4:", "reflectence", "did you mean \"reflectance\"?"}, {}},
         {"render glass.xml", 2, {"glass.xml:3:", "dielectric"}, {}},
+        // The image is OpenEXR whatever its name says; a PNG name points to --png.
+        {"render cbox.xml -o out.png", 2, {"-o out.png: the image is written as OpenEXR", "-o out.exr", "--png"}, {}},
+        {"render cbox.xml -o out", 2, {"-o out.exr"}, {}},
         // Radiance metrics refuse the 8-bit preview unless asked for.
         {"compare first.exr first.png",
          2,
