@@ -336,9 +336,16 @@ PositionSample Mesh::sample_position(const Vec2& u) const {
     float b0 = 1.0f - b.x - b.y;
     ps.p = b0 * p0 + b.x * p1 + b.y * p2;
     ps.p_error = gamma_bound(7) * max_component(abs_components(b0 * p0) + abs_components(b.x * p1) + abs_components(b.y * p2));
-    // The geometric normal: the area-to-solid-angle conversion needs the true surface
-    // orientation, not an interpolated shading normal.
+    // The shading normal where the mesh has vertex normals (the face normal otherwise), as
+    // Mitsuba 3 does: an area light then decides its emitting side, and converts area to solid
+    // angle, with the normal a path that hits the point sees (SurfaceInteraction::shading.n), so
+    // that light sampling and emitter hits agree on both.
     Vec3 n = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+    if (!normals_.empty()) {
+        const Vec3 ns = b0 * normals_[t.x] + b.x * normals_[t.y] + b.y * normals_[t.z];
+        const float len = glm::length(ns);
+        if (len > 0.0f) n = ns / len;
+    }
     ps.n = flip_normals_ ? -n : n;
     ps.uv = uvs_.empty() ? b : b0 * uvs_[t.x] + b.x * uvs_[t.y] + b.y * uvs_[t.z];
     ps.pdf = 1.0f / area_;

@@ -51,6 +51,15 @@ Vec2 Texture::eval_1_gradient(const SurfaceInteraction& si) const {
     return Vec2(height(h, 0.0f) - height(-h, 0.0f), height(0.0f, h) - height(0.0f, -h)) / (2.0f * h);
 }
 
+Spectrum Texture::eval_at(const Vec3& p, const Vec3& n, const Vec2& uv) const {
+    SurfaceInteraction at;
+    at.p = p;
+    at.n = n;
+    at.shading = Frame(n);
+    at.uv = uv;
+    return eval(at);
+}
+
 void ConstantTexture::traverse(ParameterVisitor& visitor) { expose_color(visitor, "value", value_); }
 
 }  // namespace candela

@@ -54,6 +54,9 @@ public:
     // the shape's per-vertex data) override these two.
     virtual Spectrum eval(const SurfaceInteraction& si) const { return eval(texture_uv(si)); }
     virtual float eval_1(const SurfaceInteraction& si) const { return eval_1(texture_uv(si)); }
+    // The colour at a sampled surface point (an emitter's position sample: no ray hit), looked up
+    // as at a hit there, so that the mapping applies as it does when a path finds the point.
+    Spectrum eval_at(const Vec3& p, const Vec3& n, const Vec2& uv) const;
     // d eval_1 / d(u, v) at a surface point, with (u, v) the surface's own parameters: the
     // texture's gradient under the uv mapping; under another mapping central differences along
     // dp/du and dp/dv (bump mapping).
@@ -101,7 +104,7 @@ struct UVTransform {
     Vec2 apply(const Vec2& uv) const { return Vec2(m[0][0] * uv.x + m[0][1] * uv.y + m[0][2], m[1][0] * uv.x + m[1][1] * uv.y + m[1][2]); }
 };
 
-class ConstantTexture final : public Texture {
+class ConstantTexture : public Texture {
 public:
     explicit ConstantTexture(const Spectrum& value) : value_(value) {}
     Spectrum eval(const Vec2&) const override { return value_; }

@@ -15,7 +15,7 @@
 // divided by m; each BSDF sample likewise, divided by n (Veach 1997, 9.2). So m = 0 is pure BSDF
 // sampling and n = 0 pure light sampling (which misses lights seen through delta lobes, and
 // n = 0 misses point lights: as in Mitsuba). Lights are sampled only at BSDFs with a smooth lobe.
-// Null surfaces (null, the transparent part of mask) are crossed as path crosses them: what
+// Null surfaces (null, the transparent part of mask, a thindielectric sheet) are crossed as path crosses them: what
 // they let through shows what lies behind, weighted by their null_transmission, and their
 // scattering part is lit directly; Mitsuba's direct instead sees only emitters behind them.
 // A sample is valid (the film's alpha) when the camera ray reaches a surface that scatters

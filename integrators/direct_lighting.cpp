@@ -45,7 +45,7 @@ float emitter_hit_weight(const LightSampler& lights, const SurfaceInteraction& f
     // Measured from the scattering vertex itself, as light sampling measures it.
     DirectionSample ds;
     ds.p = hit.p;
-    ds.n = hit.n;
+    ds.n = hit.shading.n;  // the normal the light's own sampling uses (Mesh::sample_position)
     Vec3 to = hit.p - from.p;
     ds.dist = glm::length(to);
     ds.d = to / ds.dist;

@@ -43,7 +43,7 @@ bool LightPathTracer::start(PCG32& rng, LightPathStart& s) const {
 }
 
 bool LightPathTracer::scatter(PCG32& rng, const SurfaceInteraction& si, const BSDF& bsdf, Spectrum& beta, Vec3& wo_world,
-                              bool& delta) const {
+                              uint32_t& lobe) const {
     BSDFContext ctx;
     ctx.mode = TransportMode::Importance;
     float u_lobe = rng.next_float();
@@ -54,7 +54,7 @@ bool LightPathTracer::scatter(PCG32& rng, const SurfaceInteraction& si, const BS
     if (!(correction > 0.0f)) return false;
     beta *= bs.weight * correction;
     wo_world = si.to_world(bs.wo);
-    delta = is_delta(bs.lobe);
+    lobe = bs.lobe;
     return max_component(beta) > 0.0f;
 }
 

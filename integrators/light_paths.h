@@ -75,8 +75,8 @@ public:
 
 private:
     // One scattering: samples the BSDF in importance transport and updates beta; false when the
-    // path ends there. `delta` receives whether a delta lobe was chosen.
-    bool scatter(PCG32& rng, const SurfaceInteraction& si, const BSDF& bsdf, Spectrum& beta, Vec3& wo_world, bool& delta) const;
+    // path ends there. `lobe` receives the lobe chosen.
+    bool scatter(PCG32& rng, const SurfaceInteraction& si, const BSDF& bsdf, Spectrum& beta, Vec3& wo_world, uint32_t& lobe) const;
 
     const Scene& scene_;
     std::unique_ptr<LightSampler> lights_;
@@ -95,20 +95,37 @@ void LightPathTracer::follow(PCG32& rng, const LightPathStart& start, Visit&& vi
     const float beta_start = max_component(beta);
     bool all_delta = true;
     SurfaceInteraction si;
-    for (uint32_t depth = 1;; ++depth) {
+    // A Null lobe (null, mask, a thindielectric sheet) passes the path on as the camera side
+    // does (integrators/surface_step.h): no hit counted, at most MaxNullCrossings in a row; the
+    // emitter's distance attenuation measures the whole first leg.
+    uint32_t depth = 1;
+    int null_crossings = 0;
+    float first_leg = 0.0f, attenuation = 1.0f;
+    for (;;) {
         if (!scene_.intersect(ray, si)) return;
-        if (depth == 1) beta *= start.emitter->ray_attenuation(si.t);
+        if (depth == 1) {
+            first_leg += si.t;
+            const float a = start.emitter->ray_attenuation(first_leg);
+            beta *= a / attenuation;
+            attenuation = a;
+        }
         const BSDF& bsdf = *si.shape->bsdf();
         if (!visit(LightVertex{&si, &bsdf, beta, depth, depth > 1 && all_delta})) return;
         if (depth >= max_hits_) return;
         Vec3 wo;
-        bool delta = false;
-        if (!scatter(rng, si, bsdf, beta, wo, delta)) return;
-        all_delta = all_delta && delta;
-        if (depth >= rr_depth_) {
-            float q = std::min(max_component(beta) / beta_start, 0.95f);
-            if (!(rng.next_float() < q)) return;
-            beta /= q;
+        uint32_t lobe = 0;
+        if (!scatter(rng, si, bsdf, beta, wo, lobe)) return;
+        if (lobe == Null) {
+            if (++null_crossings > MaxNullCrossings) return;
+        } else {
+            null_crossings = 0;
+            all_delta = all_delta && is_delta(lobe);
+            if (depth >= rr_depth_) {
+                float q = std::min(max_component(beta) / beta_start, 0.95f);
+                if (!(rng.next_float() < q)) return;
+                beta /= q;
+            }
+            ++depth;
         }
         ray = si.spawn_ray(wo);
     }

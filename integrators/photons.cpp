@@ -17,7 +17,10 @@ GatherPoint walk_to_gather_point(const Scene& scene, Sampler& sampler, Ray ray, 
         if (settings.hide_first && d == start + 1) return;
         (all_delta ? end.emission_after_delta : end.emission_after_other) += beta * Le;
     };
-    for (++depth; within(depth); ++depth) {
+    // A Null lobe (null, mask, a thindielectric sheet) is crossed without a segment counted, at
+    // most MaxNullCrossings in a row, as path crosses it.
+    int null_crossings = 0;
+    for (++depth; within(depth);) {
         if (!scene.intersect(ray, si)) {
             add_emission(scene.eval_environment(ray.d), depth);
             break;
@@ -37,6 +40,12 @@ GatherPoint walk_to_gather_point(const Scene& scene, Sampler& sampler, Ray ray, 
         BSDFSample bs = bsdf.sample(BSDFContext(), si, u_lobe, u_dir);
         if (!bs.valid() || is_black(bs.weight)) break;
         beta *= bs.weight;
+        ray = si.spawn_ray(si.to_world(bs.wo));
+        if (bs.lobe == Null) {
+            if (++null_crossings > MaxNullCrossings) break;
+            continue;
+        }
+        null_crossings = 0;
         eta *= bs.eta;
         all_delta = all_delta && is_delta(bs.lobe);
         if (depth >= uint32_t(settings.rr_depth)) {
@@ -44,7 +53,7 @@ GatherPoint walk_to_gather_point(const Scene& scene, Sampler& sampler, Ray ray, 
             if (!(sampler.next_1d() < q)) break;
             beta /= q;
         }
-        ray = si.spawn_ray(si.to_world(bs.wo));
+        ++depth;
     }
     return end;
 }

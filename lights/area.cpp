@@ -84,7 +84,7 @@ public:
         r.p_error = ps.p_error;
         r.uv = ps.uv;
         r.pdf_position = ps.pdf;
-        r.weight = radiance_->eval(ps.uv) * (Pi / ps.pdf);
+        r.weight = radiance_->eval_at(ps.p, ps.n, ps.uv) * (Pi / ps.pdf);
         return r;
     }
 
@@ -194,11 +194,7 @@ private:
     // point: building a SurfaceInteraction per light sample cost about 20 instructions.
     Spectrum radiance_at(const DirectionSample& ds) const {
         if (constant_radiance_) return constant_radiance_->value();
-        SurfaceInteraction on_light;  // where the radiance texture is looked up
-        on_light.p = ds.p;
-        on_light.n = ds.n;
-        on_light.uv = ds.uv;
-        return radiance_->eval(on_light);
+        return radiance_->eval_at(ds.p, ds.n, ds.uv);
     }
 
     Ref<Texture> radiance_;

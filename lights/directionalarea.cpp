@@ -74,7 +74,7 @@ public:
         r.pdf_position = ps.pdf;
         r.pdf_direction = 1.0f;
         r.delta_direction = true;
-        r.weight = radiance_->eval(ps.uv) / ps.pdf;
+        r.weight = radiance_->eval_at(ps.p, ps.n, ps.uv) / ps.pdf;
         return r;
     }
     Spectrum eval(const SurfaceInteraction&) const override { return Spectrum(0.0f); }

@@ -4,10 +4,12 @@
 //   (nested texture)   the height h(u, v); for rgb textures the luminance is used
 //   scale              float   height scale (default 1)
 //   (nested bsdf)      the BSDF to perturb
+//   flip_invalid_normals, use_shadowing_function   see materials/perturbed_frame.h
 //
 // With (g_u, g_v) = scale * dh/d(u, v) and n the shading normal, the tangents become
 // dp/du' = dp/du + n (g_u - n . dp/du) and dp/dv' = dp/dv + n (g_v - n . dp/dv), and the new
-// normal is their cross product (flipped to the geometric normal's side).
+// normal is their cross product (flipped to the geometric normal's side), handed to
+// materials/perturbed_frame.h in the shading frame's coordinates.
 
 #include "core/local_model.h"
 #include "core/registry.h"
@@ -34,17 +36,14 @@ public:
     std::string to_string() const override { return "bumpmap"; }
 
 protected:
-    Frame perturbed_frame(const SurfaceInteraction& si) const override {
+    Vec3 perturbation(const SurfaceInteraction& si) const override {
         Vec2 g = scale_ * height_->eval_1_gradient(si);
         const Vec3& n = si.shading.n;
         Vec3 dpdu = si.dpdu + n * (g.x - glm::dot(n, si.dpdu));
         Vec3 dpdv = si.dpdv + n * (g.y - glm::dot(n, si.dpdv));
         Vec3 np = glm::cross(dpdu, dpdv);
-        float len = glm::length(np);
-        if (!(len > 0.0f) || !std::isfinite(len)) return si.shading;
-        np /= len;
         if (glm::dot(np, si.n) < 0.0f) np = -np;
-        return Frame::from_normal_tangent(np, dpdu);
+        return si.shading.to_local(np);
     }
 
 private:

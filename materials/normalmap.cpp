@@ -4,6 +4,7 @@
 //   normalmap      texture   tangent-space normals encoded as rgb = (n + 1) / 2, in the shading
 //                            frame (x along dp/du); use a bitmap with raw=true
 //   (nested bsdf)  the BSDF to perturb
+//   flip_invalid_normals, use_shadowing_function   see materials/perturbed_frame.h
 
 #include "core/registry.h"
 #include "core/texture.h"
@@ -21,13 +22,8 @@ public:
     std::string to_string() const override { return "normalmap"; }
 
 protected:
-    Frame perturbed_frame(const SurfaceInteraction& si) const override {
-        Vec3 local = 2.0f * map_->eval(si) - Vec3(1.0f);
-        float len = glm::length(local);
-        if (!(len > 0.0f) || !std::isfinite(len)) return si.shading;
-        Vec3 n = glm::normalize(si.shading.to_world(local / len));
-        return Frame::from_normal_tangent(n, si.dpdu);
-    }
+    // (2 rgb - 1): tangent-space normals, in the shading frame (x along dp/du).
+    Vec3 perturbation(const SurfaceInteraction& si) const override { return 2.0f * map_->eval(si) - Vec3(1.0f); }
 
 private:
     Ref<Texture> map_;

@@ -2,6 +2,13 @@
 // straight through without refraction; the interreflections inside the sheet are summed:
 // R = R1 + T1^2 R1 / (1 - R1^2) = 2 R1 / (1 + R1), T = 1 - R, with R1 the Fresnel reflectance.
 //
+// As in Mitsuba 3, the light that passes through is a Null lobe, not a delta transmission: the
+// direction does not change, so the sheet is crossed as a `null` surface is (no scattering event,
+// no max_depth step, no change of the vertex MIS refers to) and shadow rays pass it with
+// null_transmission = T times specular_transmittance. Inside a medium bounded by a thin sheet,
+// next-event estimation thus reaches lights outside it; with a delta lobe it could not, and the
+// light would only be found by chance (noise), one depth step lost per crossing (darker).
+//
 // Parameters (Mitsuba 3):
 //   int_ior, ext_ior, specular_reflectance, specular_transmittance   as `dielectric`
 
@@ -21,7 +28,7 @@ public:
         eta_ = read_relative_ior(props, "bk7");
         reflectance_ = props.get_reflectance("specular_reflectance", Spectrum(1.0f));
         transmittance_ = props.get_reflectance("specular_transmittance", Spectrum(1.0f));
-        flags_ = DeltaReflection | DeltaTransmission;
+        flags_ = DeltaReflection | Null;
     }
 
     // Total reflectance of the sheet at incidence cos_i.
@@ -33,13 +40,19 @@ public:
     BSDFSample sample(const BSDFContext& ctx, const SurfaceInteraction& si, float u_lobe, const Vec2&) const override {
         BSDFSample bs;
         float R = sheet_reflectance(Frame::cos_theta(si.wi));
-        FresnelChoice c = choose_fresnel_lobe(ctx.allows(DeltaReflection), ctx.allows(DeltaTransmission), R, u_lobe);
+        FresnelChoice c = choose_fresnel_lobe(ctx.allows(DeltaReflection), ctx.allows(Null), R, u_lobe);
         if (!(c.pdf > 0.0f)) return bs;
+        if (!c.reflect) return null_lobe_sample(si, c.pdf, transmittance_->eval(si) * c.weight_factor);
         bs.pdf = c.pdf;
-        bs.wo = c.reflect ? reflect(si.wi) : -si.wi;
-        bs.lobe = c.reflect ? DeltaReflection : DeltaTransmission;
-        bs.weight = (c.reflect ? reflectance_ : transmittance_)->eval(si) * c.weight_factor;
+        bs.wo = reflect(si.wi);
+        bs.lobe = DeltaReflection;
+        bs.weight = reflectance_->eval(si) * c.weight_factor;
         return bs;
+    }
+
+    // What a shadow ray keeps crossing the sheet (si.wi: back along the shadow ray).
+    Spectrum null_transmission(const SurfaceInteraction& si) const override {
+        return transmittance_->eval(si) * (1.0f - sheet_reflectance(Frame::cos_theta(si.wi)));
     }
 
     Spectrum eval(const BSDFContext&, const SurfaceInteraction&, const Vec3&) const override { return Spectrum(0.0f); }

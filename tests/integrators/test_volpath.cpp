@@ -3,6 +3,11 @@
 //     thickness d of an absorbing medium (chromatic sigma_t), bounded by null surfaces or by
 //     index-matched dielectrics, and through a sphere along its diameter: the image is
 //     L exp(-sigma_t d).
+//   - Through a slab bounded by thindielectric sheets (R = 2 r / (1 + r) per sheet at normal
+//     incidence, r the Fresnel reflectance): the light passes each sheet as a Null lobe (as in
+//     Mitsuba 3), no scattering event, so with max_depth 1 the image is L (1 - R)^2 exp(-sigma_t d),
+//     and with unbounded depth the sheets' interreflections add up to
+//     L (1 - R)^2 exp(-sigma_t d) / (1 - R^2 exp(-2 sigma_t d)).
 //   - Furnace (scenes/furnace/medium_sphere.xml): a camera inside a closed sphere that emits 1
 //     and reflects 0.5 diffusely, filled with a medium of albedo 1 (chromatic sigma_t, HG phase
 //     function): every pixel is 1 / (1 - 0.5) = 2. Next-event estimation, phase sampling and MIS through the medium all
@@ -30,10 +35,10 @@ using namespace candela::test;
 
 namespace {
 
-// Channels times the z-tests: Beer-Lambert 3 cases x 2 integrators, the furnace 2 integrators,
+// Channels times the z-tests: Beer-Lambert 5 cases x 2 integrators, the furnace 2 integrators,
 // sigma_t = 0 one comparison, volpath vs volpathmis 1 image mean + 16 block means, homogeneous
 // with a grid albedo vs heterogeneous the same 17.
-const double Z = two_sided_z(sidak(0.01, 3 * (6 + 2 + 1 + 17 + 17)));
+const double Z = two_sided_z(sidak(0.01, 3 * (10 + 2 + 1 + 17 + 17)));
 
 RenderResult render_xml(const std::string& xml, const std::string& name) {
     auto dir = scratch_dir(name);
@@ -44,13 +49,16 @@ RenderResult render_xml(const std::string& xml, const std::string& name) {
 
 std::string film(int size, int spp) { return box_film(size, spp); }
 
-// Looking down -z at an emitter of radiance (1, 2, 3) in the plane z = 0, through `between`.
-std::string beer_lambert_scene(const std::string& integrator, const std::string& between, float view_scale) {
-    return scene_xml(R"(<integrator type=")" + integrator + R"("/>
+// Looking down -z at an emitter of radiance (1, 2, 3) in the plane z = 0 (black: it reflects
+// nothing back up), through `between`.
+std::string beer_lambert_scene(const std::string& integrator, const std::string& between, float view_scale, int max_depth = -1) {
+    return scene_xml(R"(<integrator type=")" + integrator + R"("><integer name="max_depth" value=")" + std::to_string(max_depth) +
+                     R"("/></integrator>
         <sensor type="orthographic"><transform name="to_world"><scale value=")" +
                      std::to_string(view_scale) + R"("/><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>)" +
                      film(16, 64) + R"(</sensor>
         <shape type="rectangle"><transform name="to_world"><scale value="10"/></transform>
+            <bsdf type="diffuse"><rgb name="reflectance" value="0"/></bsdf>
             <emitter type="area"><rgb name="radiance" value="1, 2, 3"/></emitter></shape>
         <medium type="homogeneous" id="absorber"><rgb name="sigma_t" value="0.5, 1, 2"/><float name="albedo" value="0"/></medium>)" +
                      between);
@@ -63,7 +71,13 @@ TEST_CASE("volpath: Beer-Lambert through slabs and a sphere", "[volpath][stats]"
     struct Case {
         std::string name, between;
         float view_scale, distance;
+        int max_depth = -1;
+        float sheet_R = 0.0f;  // reflectance of each bounding thindielectric sheet
     };
+    // thindielectric of relative index 1.5: r = 0.04 at normal incidence.
+    const float r = 0.04f, sheet_R = 2.0f * r / (1.0f + r);
+    const std::string thin_sheets =
+        R"(<bsdf type="thindielectric"><float name="int_ior" value="1.5"/><float name="ext_ior" value="1"/></bsdf>)";
     const std::string slab_transform = R"(<transform name="to_world"><scale x="10" y="10" z="0.5"/><translate z="2"/></transform>)";
     const std::vector<Case> cases = {
         {"null slab", "<shape type=\"cube\">" + slab_transform + "<bsdf type=\"null\"/><ref name=\"interior\" id=\"absorber\"/></shape>",
@@ -76,14 +90,22 @@ TEST_CASE("volpath: Beer-Lambert through slabs and a sphere", "[volpath][stats]"
         {"sphere", R"(<shape type="sphere"><point name="center" value="0, 0, 2"/><float name="radius" value="1"/><bsdf type="null"/>
             <ref name="interior" id="absorber"/></shape>)",
          0.01f, 2.0f},
+        {"thindielectric slab, max_depth 1",
+         "<shape type=\"cube\">" + slab_transform + thin_sheets + "<ref name=\"interior\" id=\"absorber\"/></shape>", 1.0f, 1.0f, 1,
+         sheet_R},
+        {"thindielectric slab, unbounded",
+         "<shape type=\"cube\">" + slab_transform + thin_sheets + "<ref name=\"interior\" id=\"absorber\"/></shape>", 1.0f, 1.0f, -1,
+         sheet_R},
     };
     for (const Case& c : cases)
         for (const char* integrator : {"volpath", "volpathmis"}) {
             INFO(c.name << ", " << integrator);
-            RenderResult r = render_xml(beer_lambert_scene(integrator, c.between, c.view_scale), "beer-lambert");
+            RenderResult result = render_xml(beer_lambert_scene(integrator, c.between, c.view_scale, c.max_depth), "beer-lambert");
             for (int ch = 0; ch < 3; ++ch) {
-                MeanAndError m = channel_mean(r.image, ch);
-                double expected = L[ch] * std::exp(-double(sigma[ch]) * c.distance);
+                MeanAndError m = channel_mean(result.image, ch);
+                const double T = std::exp(-double(sigma[ch]) * c.distance), R = c.sheet_R;
+                double expected = L[ch] * (1.0 - R) * (1.0 - R) * T;
+                if (c.max_depth < 0) expected /= 1.0 - R * R * T * T;
                 INFO("channel " << ch << ": " << m.mean << " +- " << m.std_error << ", expected " << expected);
                 CHECK(std::abs(m.mean - expected) < Z * m.std_error);
                 CHECK(m.std_error < 0.03 * L[ch]);  // power: a 10% error would be seen

@@ -83,7 +83,7 @@ const std::vector<Config>& configs() {
          BothSides,
          [](const Vec3& wi) {
              float r1 = fresnel_dielectric(std::abs(wi.z), 1.5f).F, R = 2 * r1 / (1 + r1);
-             return std::vector<DeltaExpectation>{{DeltaReflection, R}, {DeltaTransmission, 1.0 - R}};
+             return std::vector<DeltaExpectation>{{DeltaReflection, R}, {Null, 1.0 - R}};
          },
          true, false},
         {"roughdielectric ggx",

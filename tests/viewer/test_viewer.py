@@ -982,8 +982,11 @@ def test_split_view_and_heatmap(page, server):
     status = wait_until(lambda: (lambda s: s if s and isinstance(s.get("relmse"), (int, float)) and isinstance(s.get("block_mare"), (int, float))
                                  else None)(page.status()), 30, "relmse and block_mare in the status")
     time.sleep(0.5)
-    status = page.status()
-    relmse, block_mare = float(page.element("relmse").text), float(page.element("block-mare").text)
+    # The status and the numbers it put on the page, read in one script: the path side goes on
+    # refining, and a status arriving between two reads would pair numbers of different moments.
+    status, relmse_text, block_mare_text = page.js(
+        "return [window.candelaStatus, document.getElementById('relmse').textContent, document.getElementById('block-mare').textContent]")
+    relmse, block_mare = float(relmse_text), float(block_mare_text)
     print(f"\nstatus: relMSE {status['relmse']}, block MARE {status['block_mare']}; shown {relmse}, {block_mare}; "
           f"{page.element('status').text!r}")
     assert relmse == pytest.approx(status["relmse"], rel=1e-3) and block_mare == pytest.approx(status["block_mare"], rel=1e-3)
