@@ -162,9 +162,10 @@ struct AdaptiveSchedule {
 // Passes over the whole image with growing sample counts (1, 2, 4, ... 32 samples per pixel):
 // an interrupted render still has every pixel sampled about equally often. With adaptive
 // sampling a pass also ends at every count where pixels are checked.
-std::vector<SampleRange> sample_passes(const SampleRange& samples, const AdaptiveSchedule& adaptive) {
+std::vector<SampleRange> sample_passes(const SampleRange& samples, const AdaptiveSchedule& adaptive, int widest) {
     std::vector<SampleRange> passes;
-    for (int s0 = samples.begin, step = 1; s0 < samples.end; step = std::min(step * 2, 32)) {
+    widest = std::clamp(widest, 1, 32);
+    for (int s0 = samples.begin, step = 1; s0 < samples.end; step = std::min(step * 2, widest)) {
         int end = std::min(samples.end, s0 + step);
         for (int c = s0 + 1; c < end; ++c)
             if (adaptive.checks_at(c)) end = c;
@@ -480,7 +481,7 @@ RenderResult SamplingIntegrator::render(const Scene& scene, const RenderOptions&
     tbb::enumerable_thread_specific<Ref<Sampler>> samplers([&] { return prototype->clone(); });
     tbb::task_arena arena = thread_arena(options.threads);
     auto last_checkpoint = std::chrono::steady_clock::now();
-    for (const SampleRange& pass : sample_passes(samples, adaptive)) {
+    for (const SampleRange& pass : sample_passes(samples, adaptive, options.widest_pass)) {
         if (interruption.stopped()) break;
         arena.execute([&] {
             parallel_chunks(tiles.size(), 1, [&](size_t begin, size_t end) {

@@ -56,6 +56,10 @@ struct RenderOptions {
     // Called every `checkpoint_seconds` (at the end of a pass, when the sums are consistent) with
     // what the render holds so far; 0 or no callback: never.
     double checkpoint_seconds = 0.0;
+    // The widest pass in sample indices (passes grow 1, 2, 4, ... up to it; at most 32): between
+    // passes the render takes checkpoints and sees interruptions. The viewer asks for narrow
+    // passes to show its progress often from one render call.
+    int widest_pass = 32;
     std::function<void(const PixelSums& sums, const std::vector<CoverageBox>& coverage)> checkpoint;
 };
 

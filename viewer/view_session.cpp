@@ -85,7 +85,7 @@ struct ViewSession::Side {
     bool fresh = false;  // holds what the pages have not seen
     // Progressive accumulation.
     PixelSums sums;
-    int spp_done = 0, pass_size = 1;
+    int spp_done = 0;
     double seconds = 0.0;
     uint64_t samples = 0, rays = 0;
     Clock::time_point started;
@@ -298,6 +298,7 @@ std::string ViewSession::apply_message(uint64_t page, const std::string& text, s
                 std::lock_guard<std::mutex> lock(mutex_);
                 if (inspections_.size() >= 64) throw InputError("too many inspections waiting");
                 inspections_.push_back(Inspection{page, side_name == "left" ? 0 : 1, int(fx), int(fy)});
+                restart_ = true;  // the running render yields at its next tile; the side resumes after the answer
             }
             wake_.notify_all();
             return "";  // the render thread answers (inspect)
@@ -433,28 +434,62 @@ void ViewSession::render_side(Side& side, uint64_t generation) {
         side.done = side.fresh = true;
         return;
     }
-    // A pass of the next sample indices, grown while it takes less than 0.1 s; the publisher
-    // develops what has been added up about five times a second.
+    // One render call for the rest of the sample indices, in passes narrow enough (about 0.05 to
+    // 0.2 s) for a checkpoint after each: the checkpoint hands the sums so far to the publisher,
+    // which develops them about five times a second. One call instead of a call per pass saves
+    // the set-up and final gathering of every pass (issue 30's samples-per-second goal). A camera
+    // move, an inspection or the last page leaving interrupts it; what the last checkpoint
+    // handed over stays, and the side resumes from there.
+    const PixelSums base = side.sums;  // the samples [0, spp_done) of earlier calls
+    const int first = side.spp_done;
+    const Vec2i size = scene_->sensor().film().crop_size();
+    const uint64_t pixels = uint64_t(size.x) * uint64_t(size.y);
     options.spp = ProgressiveTarget;
-    options.samples = SampleRange{side.spp_done, std::min(side.spp_done + side.pass_size, ProgressiveTarget)};
+    options.samples = SampleRange{first, ProgressiveTarget};
+    options.widest_pass = int(std::clamp<uint64_t>((uint64_t(1) << 18) / std::max<uint64_t>(pixels, 1), 1, 32));
+    options.checkpoint_seconds = 0.15;
+    options.checkpoint = [&](const PixelSums& running, const std::vector<CoverageBox>& coverage) {
+        // Between passes every tile holds the same samples [first, end).
+        if (coverage.size() != 1) return;
+        const int end = coverage[0].samples.end;
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (generation_ != generation || end <= side.spp_done) return;
+        if (first == 0) {
+            side.sums = running;
+        } else {
+            side.sums = base;
+            side.sums.add(running);
+        }
+        side.samples += uint64_t(end - side.spp_done) * pixels;
+        side.spp_done = end;
+        side.seconds = std::chrono::duration<double>(Clock::now() - side.started).count();
+        side.fresh = true;
+        publish_wake_.notify_all();
+    };
+    if (side.pass_stats.sampler.empty()) {
+        // The saved file's metadata before the first call returns: the sampler and seed it uses.
+        Ref<Sampler> sampler = configured_sampler(*scene_, options);
+        side.pass_stats.sampler = sampler->to_string();
+        side.pass_stats.seed = sampler->seed();
+    }
     RenderResult r = integrator.render(*scene_, options);
     if (restart_ || r.stats.partial) return;
-    const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
     std::lock_guard<std::mutex> lock(mutex_);
     if (generation_ != generation) return;
-    if (seconds < 0.1 && side.pass_size < 1024) side.pass_size *= 2;
-    if (side.spp_done == 0)
+    if (first == 0) {
         side.sums = std::move(r.sums);
-    else
+    } else {
+        side.sums = base;
         side.sums.add(r.sums);
-    side.spp_done = options.samples.end;
-    side.samples += r.stats.samples;
+    }
+    side.samples += uint64_t(ProgressiveTarget - side.spp_done) * pixels;
+    side.spp_done = ProgressiveTarget;
     side.rays += r.stats.rays;
     // Wall time since the side started this view: its samples per second include everything the
     // viewer does besides rendering (developing, encoding, the other side).
     side.seconds = std::chrono::duration<double>(Clock::now() - side.started).count();
     side.pass_stats = r.stats;
-    side.done = side.spp_done >= ProgressiveTarget;
+    side.done = true;
     side.fresh = true;
     publish_wake_.notify_all();
 }
@@ -553,7 +588,6 @@ void ViewSession::run() {
                 side->camera_id = camera.id;
                 side->done = side->fresh = false;
                 side->spp_done = 0;
-                side->pass_size = 1;
                 side->seconds = 0.0;
                 side->started = Clock::now();
                 side->samples = side->rays = 0;

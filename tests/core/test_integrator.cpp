@@ -34,6 +34,26 @@ TEST_CASE("determinism: one command gives a bit-identical image with 1 or 2 thre
     CHECK(std::memcmp(one.image.data().data(), other.image.data().data(), 3 * sizeof(float) * 70 * 70) != 0);
 }
 
+TEST_CASE("passes: the widest pass sets how often checkpoints come, not the image", "[render][determinism]") {
+    // The viewer's progressive render: one call in passes of one sample per pixel, a checkpoint
+    // after each (all but the last), each holding the sample indices [0, k) of every pixel.
+    Ref<Scene> s = load_scene(source_path("scenes/validation/cbox.xml"), {{"res", "40"}, {"spp", "8"}});
+    RenderResult whole = s->integrator().render(*s, RenderOptions());
+    RenderOptions narrow;
+    narrow.widest_pass = 1;
+    narrow.checkpoint_seconds = 1e-9;
+    std::vector<int> seen;
+    narrow.checkpoint = [&](const PixelSums&, const std::vector<CoverageBox>& coverage) {
+        REQUIRE(coverage.size() == 1);
+        CHECK(coverage[0].samples.begin == 0);
+        seen.push_back(coverage[0].samples.end);
+    };
+    RenderResult passes = s->integrator().render(*s, narrow);
+    CHECK(seen == std::vector<int>{1, 2, 3, 4, 5, 6, 7});
+    REQUIRE(passes.image.data().size() == whole.image.data().size());
+    CHECK(std::memcmp(passes.image.data().data(), whole.image.data().data(), whole.image.data().size() * sizeof(float)) == 0);
+}
+
 TEST_CASE("film: a crop window renders exactly the same pixels as the full film", "[render][film]") {
     auto dir = scratch_dir("crop");
     std::string scene = read_text(source_path("scenes/validation/cbox.xml"));

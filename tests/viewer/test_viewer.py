@@ -373,7 +373,8 @@ def cli_render(tmp: Path, name: str, *args, res=RES, spp=SPP) -> tuple[np.ndarra
     done = subprocess.run([str(BINARY), "render", str(SCENE), "-D", f"res={res}", "-D", f"spp={spp}", "-o", str(out), "--png", *args],
                           capture_output=True, text=True, timeout=600, start_new_session=True)
     assert done.returncode == 0, done.stderr
-    summary = [l for l in (done.stdout + done.stderr).splitlines() if l.startswith("wrote")]
+    # The render's summary ("wrote X.exr: ... samples/s ..."), not the --png line after it.
+    summary = [l for l in (done.stdout + done.stderr).splitlines() if l.startswith("wrote") and "samples/s" in l]
     return read_png(out.with_suffix(".png")), (summary[-1] if summary else "")
 
 
