@@ -9,28 +9,6 @@ namespace candela {
 
 uint64_t pixel_key(const Vec2i& pixel) { return (uint64_t(uint32_t(pixel.y)) << 32) | uint32_t(pixel.x); }
 
-uint32_t reverse_bits(uint32_t v) {
-    v = (v << 16) | (v >> 16);
-    v = ((v & 0x00ff00ffu) << 8) | ((v & 0xff00ff00u) >> 8);
-    v = ((v & 0x0f0f0f0fu) << 4) | ((v & 0xf0f0f0f0u) >> 4);
-    v = ((v & 0x33333333u) << 2) | ((v & 0xccccccccu) >> 2);
-    v = ((v & 0x55555555u) << 1) | ((v & 0xaaaaaaaau) >> 1);
-    return v;
-}
-
-uint32_t owen_scramble(uint32_t v, uint32_t seed) {
-    // In reversed order the most significant digit is bit 0, and each step below changes a bit
-    // only by a function of the bits beneath it: a flip of each digit that depends only on the
-    // digits before it, which is Owen's nested uniform scramble.
-    v = reverse_bits(v);
-    v ^= v * 0x3d20adeau;
-    v += seed;
-    v *= (seed >> 16) | 1u;
-    v ^= v * 0x05526c56u;
-    v ^= v * 0x53a22864u;
-    return reverse_bits(v);
-}
-
 namespace {
 
 using SobolMatrix = std::array<uint32_t, SobolIndexBits>;
@@ -76,9 +54,12 @@ const uint32_t* sobol_matrix(int dim) { return sobol_matrices()[dim].data(); }
 uint32_t sobol_bits(uint64_t index, int dim) {
     if (dim == 0) return reverse_bits(uint32_t(index));  // van der Corput: index bits 32 and up fall below 2^-32
     const uint32_t* columns = sobol_matrix(dim);
+    // The XOR of the columns of the index's set bits, visited by their positions (count trailing
+    // zeros): no branch on each bit, which the random bits of sample indices mispredict half the
+    // time (about 20% of a render's time with the sobol sampler went here).
+    index &= (uint64_t(1) << SobolIndexBits) - 1;
     uint32_t v = 0;
-    for (int j = 0; index != 0 && j < SobolIndexBits; index >>= 1, ++j)
-        if (index & 1u) v ^= columns[j];
+    for (; index != 0; index &= index - 1) v ^= columns[__builtin_ctzll(index)];
     return v;
 }
 

@@ -63,13 +63,31 @@ inline uint32_t permute_index(uint32_t i, uint32_t n, uint32_t seed) {
     return mask + 1 == n ? (i + seed) & mask : (i + seed) % n;
 }
 
-uint32_t reverse_bits(uint32_t v);
+inline uint32_t reverse_bits(uint32_t v) {
+    // Inline: every Sobol and Owen-scrambled draw reverses bits once or twice.
+    v = __builtin_bswap32(v);
+    v = ((v & 0x0f0f0f0fu) << 4) | ((v & 0xf0f0f0f0u) >> 4);
+    v = ((v & 0x33333333u) << 2) | ((v & 0xccccccccu) >> 2);
+    v = ((v & 0x55555555u) << 1) | ((v & 0xaaaaaaaau) >> 1);
+    return v;
+}
 
 // A nested uniform (Owen) scramble of the binary digits of v, seen as a fraction v / 2^32: each
 // digit is flipped by a hash of the digits above it (Burley 2020, "Practical Hash-based Owen
 // Scrambling", JCGT 9(4): Laine and Karras's hash on the reversed bits, with his constants).
 // It keeps every (t, m, s)-net property of the points it scrambles.
-uint32_t owen_scramble(uint32_t v, uint32_t seed);
+inline uint32_t owen_scramble(uint32_t v, uint32_t seed) {
+    // In reversed order the most significant digit is bit 0, and each step below changes a bit
+    // only by a function of the bits beneath it: a flip of each digit that depends only on the
+    // digits before it, which is Owen's nested uniform scramble.
+    v = reverse_bits(v);
+    v ^= v * 0x3d20adeau;
+    v += seed;
+    v *= (seed >> 16) | 1u;
+    v ^= v * 0x05526c56u;
+    v ^= v * 0x53a22864u;
+    return reverse_bits(v);
+}
 
 // The Sobol' sequence: dimension 0 is van der Corput's, dimensions 1 to 256 come from Joe and
 // Kuo's direction numbers (samplers/sobol_directions.cpp). Dimensions 0 and 1 form a
