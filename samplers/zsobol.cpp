@@ -84,13 +84,14 @@ private:
         const bool binary_last = log2_spp_ & 1;
         const int digits = log2_resolution_ + (log2_spp_ + 1) / 2;
         const uint64_t salt = (uint64_t(dim) << 32) ^ seed_;
+        const auto& permutations = digit_permutations();  // once: a function-local static is guarded
         uint64_t index = 0;
         for (int i = digits - 1; i >= (binary_last ? 1 : 0); --i) {
             int shift = 2 * i - (binary_last ? 1 : 0);
             uint32_t digit = uint32_t(morton_index_ >> shift) & 3u;
             uint64_t higher = morton_index_ >> (shift + 2);
             uint32_t p = hash_bits(higher ^ (uint64_t(i) << 56), salt) % 24;
-            index |= uint64_t(digit_permutations()[p][digit]) << shift;
+            index |= uint64_t(permutations[p][digit]) << shift;
         }
         if (binary_last) index |= (morton_index_ & 1u) ^ (hash_bits(morton_index_ >> 1, salt) & 1u);
         return index;
