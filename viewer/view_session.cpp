@@ -448,12 +448,8 @@ void ViewSession::render_side(Side& side, uint64_t generation) {
     options.samples = SampleRange{first, ProgressiveTarget};
     options.widest_pass = int(std::clamp<uint64_t>((uint64_t(1) << 18) / std::max<uint64_t>(pixels, 1), 1, 32));
     options.checkpoint_seconds = 0.15;
-    options.checkpoint = [&](const PixelSums& running, const std::vector<CoverageBox>& coverage) {
-        // Between passes every tile holds the same samples [first, end).
-        if (coverage.size() != 1) return;
-        const int end = coverage[0].samples.end;
-        std::lock_guard<std::mutex> lock(mutex_);
-        if (generation_ != generation || end <= side.spp_done) return;
+    // Takes the sums of this call's samples [first, end) (under the lock).
+    auto take = [&](const PixelSums& running, int end) {
         if (first == 0) {
             side.sums = running;
         } else {
@@ -462,9 +458,19 @@ void ViewSession::render_side(Side& side, uint64_t generation) {
         }
         side.samples += uint64_t(end - side.spp_done) * pixels;
         side.spp_done = end;
+        // Wall time since the side started this view: its samples per second include everything
+        // the viewer does besides rendering (developing, encoding, the other side).
         side.seconds = std::chrono::duration<double>(Clock::now() - side.started).count();
         side.fresh = true;
         publish_wake_.notify_all();
+    };
+    options.checkpoint = [&](const PixelSums& running, const std::vector<CoverageBox>& coverage) {
+        // Between passes every tile holds the same samples [first, end).
+        if (coverage.size() != 1) return;
+        const int end = coverage[0].samples.end;
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (generation_ != generation || end <= side.spp_done) return;
+        take(running, end);
     };
     if (side.pass_stats.sampler.empty()) {
         // The saved file's metadata before the first call returns: the sampler and seed it uses.
@@ -476,22 +482,10 @@ void ViewSession::render_side(Side& side, uint64_t generation) {
     if (restart_ || r.stats.partial) return;
     std::lock_guard<std::mutex> lock(mutex_);
     if (generation_ != generation) return;
-    if (first == 0) {
-        side.sums = std::move(r.sums);
-    } else {
-        side.sums = base;
-        side.sums.add(r.sums);
-    }
-    side.samples += uint64_t(ProgressiveTarget - side.spp_done) * pixels;
-    side.spp_done = ProgressiveTarget;
+    take(r.sums, ProgressiveTarget);
     side.rays += r.stats.rays;
-    // Wall time since the side started this view: its samples per second include everything the
-    // viewer does besides rendering (developing, encoding, the other side).
-    side.seconds = std::chrono::duration<double>(Clock::now() - side.started).count();
     side.pass_stats = r.stats;
     side.done = true;
-    side.fresh = true;
-    publish_wake_.notify_all();
 }
 
 void ViewSession::inspect(const Inspection& request) {

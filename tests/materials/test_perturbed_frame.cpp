@@ -59,6 +59,37 @@ double expected_radiance(const Vec3& encoded, const Vec3& wi, const Vec3& wo, bo
     return glm::dot(n, wo) / Pi * G;
 }
 
+// An anisotropic rough conductor, whose highlight turns when its shading tangent does.
+const std::string AnisotropicConductor =
+    R"(<bsdf type="roughconductor"><string name="distribution" value="ggx"/><float name="alpha_u" value="0.25"/><float name="alpha_v" value="0.05"/></bsdf>)";
+
+// A rotated sphere with `bsdf` under a constant environment and a point light, 16 x 16.
+Image render_sphere(const std::string& bsdf, const std::string& name) {
+    const std::string xml = (R"(<integrator type="path"><integer name="max_depth" value="3"/></integrator>
+        <sensor type="perspective"><float name="fov" value="40"/><transform name="to_world"><lookat origin="-4, 0, 0" target="0, 0, 0" up="0, 0, 1"/></transform>)" +
+                             box_film(16, 16) + R"(</sensor>
+        <shape type="sphere"><transform name="to_world"><rotate z="1" angle="30"/><rotate y="1" angle="30"/><rotate x="1" angle="30"/></transform>)" +
+                             bsdf + R"(</shape>
+        <emitter type="constant"><rgb name="radiance" value="0.3, 0.4, 0.5"/></emitter>
+        <emitter type="point"><point name="position" value="-4, 0, 6"/><rgb name="intensity" value="300"/></emitter>)");
+    Ref<Scene> scene = load_scene_xml(name, xml);
+    return scene->integrator().render(*scene, RenderOptions()).image;
+}
+
+// The largest absolute difference of the RGB channels of two images of one size; `total`
+// receives the sum of b's.
+double largest_difference(const Image& a, const Image& b, double& total) {
+    double largest = 0.0;
+    total = 0.0;
+    for (int y = 0; y < b.height(); ++y)
+        for (int x = 0; x < b.width(); ++x)
+            for (int c = 0; c < 3; ++c) {
+                largest = std::max(largest, double(std::abs(a.at(x, y, c) - b.at(x, y, c))));
+                total += b.at(x, y, c);
+            }
+    return largest;
+}
+
 }  // namespace
 
 TEST_CASE("normalmap: Mitsuba 3's flipped normals and bump shadowing function, in closed form", "[normalmap][bsdf]") {
@@ -107,30 +138,13 @@ TEST_CASE("normalmap: Mitsuba 3's flipped normals and bump shadowing function, i
 TEST_CASE("normalmap: the identity map (rawconstant 0.5, 0.5, 1) renders as the bare BSDF, sample for sample", "[normalmap][bsdf]") {
     // An anisotropic rough conductor on a rotated sphere: the perturbed frame must give back the
     // shading frame's tangent exactly, or the highlight turns.
-    const std::string conductor =
-        R"(<bsdf type="roughconductor"><string name="distribution" value="ggx"/><float name="alpha_u" value="0.25"/><float name="alpha_v" value="0.05"/></bsdf>)";
-    auto render = [&](const std::string& bsdf) {
-        const std::string xml = (R"(<integrator type="path"><integer name="max_depth" value="3"/></integrator>
-            <sensor type="perspective"><float name="fov" value="40"/><transform name="to_world"><lookat origin="-4, 0, 0" target="0, 0, 0" up="0, 0, 1"/></transform>)" +
-                                 box_film(16, 16) + R"(</sensor>
-            <shape type="sphere"><transform name="to_world"><rotate z="1" angle="30"/><rotate y="1" angle="30"/><rotate x="1" angle="30"/></transform>)" +
-                                 bsdf + R"(</shape>
-            <emitter type="constant"><rgb name="radiance" value="0.3, 0.4, 0.5"/></emitter>
-            <emitter type="point"><point name="position" value="-4, 0, 6"/><rgb name="intensity" value="300"/></emitter>)");
-        Ref<Scene> scene = load_scene_xml("identity-normalmap", xml);
-        return scene->integrator().render(*scene, RenderOptions()).image;
-    };
-    const Image bare = render(conductor);
-    const Image mapped = render(
+    const Image bare = render_sphere(AnisotropicConductor, "identity-normalmap");
+    const Image mapped = render_sphere(
         R"(<bsdf type="normalmap"><texture type="rawconstant" name="normalmap"><vector name="value" value="0.5, 0.5, 1"/></texture>)" +
-        conductor + "</bsdf>");
-    double largest = 0.0, total = 0.0;
-    for (int y = 0; y < 16; ++y)
-        for (int x = 0; x < 16; ++x)
-            for (int c = 0; c < 3; ++c) {
-                largest = std::max(largest, double(std::abs(mapped.at(x, y, c) - bare.at(x, y, c))));
-                total += bare.at(x, y, c);
-            }
+            AnisotropicConductor + "</bsdf>",
+        "identity-normalmap");
+    double total = 0.0;
+    const double largest = largest_difference(mapped, bare, total);
     INFO("largest difference " << largest << ", image sum " << total);
     CHECK(total > 1.0);  // the sphere and its highlight are in view
     CHECK(largest == 0.0);
@@ -144,30 +158,13 @@ TEST_CASE("bumpmap: a flat height field renders as the bare BSDF, tangent includ
     // bump map over this conductor on a UV sphere mesh differs from the bare BSDF by a block MARE
     // of 8%, while its normalmap with the identity map is exact). Candela keeps the shading
     // tangent, as Mitsuba's normalmap does (docs/verification.md).
-    const std::string conductor =
-        R"(<bsdf type="roughconductor"><string name="distribution" value="ggx"/><float name="alpha_u" value="0.25"/><float name="alpha_v" value="0.05"/></bsdf>)";
-    auto render = [&](const std::string& bsdf) {
-        const std::string xml = (R"(<integrator type="path"><integer name="max_depth" value="3"/></integrator>
-            <sensor type="perspective"><float name="fov" value="40"/><transform name="to_world"><lookat origin="-4, 0, 0" target="0, 0, 0" up="0, 0, 1"/></transform>)" +
-                                 box_film(16, 16) + R"(</sensor>
-            <shape type="sphere"><transform name="to_world"><rotate z="1" angle="30"/><rotate y="1" angle="30"/><rotate x="1" angle="30"/></transform>)" +
-                                 bsdf + R"(</shape>
-            <emitter type="constant"><rgb name="radiance" value="0.3, 0.4, 0.5"/></emitter>
-            <emitter type="point"><point name="position" value="-4, 0, 6"/><rgb name="intensity" value="300"/></emitter>)");
-        Ref<Scene> scene = load_scene_xml("flat-bumpmap", xml);
-        return scene->integrator().render(*scene, RenderOptions()).image;
-    };
-    const Image bare = render(conductor);
-    const Image bumped = render(R"(<bsdf type="bumpmap"><texture type="rawconstant"><float name="value" value="0.3"/></texture>
-        <float name="scale" value="5"/>)" +
-                                conductor + "</bsdf>");
-    double largest = 0.0, total = 0.0;
-    for (int y = 0; y < 16; ++y)
-        for (int x = 0; x < 16; ++x)
-            for (int c = 0; c < 3; ++c) {
-                largest = std::max(largest, double(std::abs(bumped.at(x, y, c) - bare.at(x, y, c))));
-                total += bare.at(x, y, c);
-            }
+    const Image bare = render_sphere(AnisotropicConductor, "flat-bumpmap");
+    const Image bumped = render_sphere(R"(<bsdf type="bumpmap"><texture type="rawconstant"><float name="value" value="0.3"/></texture>
+        <float name="scale" value="5"/>)" + AnisotropicConductor +
+                                           "</bsdf>",
+                                       "flat-bumpmap");
+    double total = 0.0;
+    const double largest = largest_difference(bumped, bare, total);
     INFO("largest difference " << largest << ", image sum " << total);
     CHECK(total > 1.0);
     CHECK(largest <= 1e-4 * total / (16 * 16 * 3));  // 1e-4 of the mean pixel: float rounding of the rebuilt frame only
