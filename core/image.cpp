@@ -24,6 +24,7 @@
 #include <fstream>
 #include <initializer_list>
 #include <memory>
+#include <thread>
 
 namespace fs = std::filesystem;
 
@@ -173,11 +174,36 @@ void check_output_path(const std::string& path) {
     if (read_only(p)) throw InputError(path + ": cannot write: the file is read-only");
 }
 
+namespace {
+#if defined(__has_feature)
+#if __has_feature(thread_sanitizer)
+#define CANDELA_EXR_SINGLE_THREADED 1
+#endif
+#endif
+#if defined(__SANITIZE_THREAD__)
+#define CANDELA_EXR_SINGLE_THREADED 1
+#endif
+// Threads for OpenEXR's compression: one per core, except in ThreadSanitizer builds, which keep
+// OpenEXR on the calling thread (core/sanitizer_options.cpp says why).
+int exr_threads() {
+#ifdef CANDELA_EXR_SINGLE_THREADED
+    return 0;
+#else
+    return int(std::max(1u, std::thread::hardware_concurrency()));
+#endif
+}
+}  // namespace
+
 void write_exr(const Image& image, const std::string& path, bool float32) {
-    // Sanitise: never write NaN or infinity; half floats saturate at their largest value.
-    std::vector<float> data = image.data();
+    // Written in bands of rows: each band is sanitised (never NaN or infinity; half floats
+    // saturate at their largest value) into a buffer of its own and handed to OpenEXR, whose
+    // thread pool compresses the band's line blocks in parallel. No second copy of the whole
+    // image is made: an 8K film with AOVs is gigabytes.
     const float limit = float32 ? std::numeric_limits<float>::max() : 65504.0f;
-    for (float& v : data) v = std::isnan(v) ? 0.0f : std::clamp(v, -limit, limit);
+    const size_t nch = size_t(image.channel_count()), width = size_t(image.width());
+    const size_t row_values = nch * width;
+    // About 16 MB per band, a whole number of ZIP's 16-line blocks.
+    const int band_rows = int(std::max<size_t>(16, (size_t(16) << 20) / std::max<size_t>(1, row_values * 4) / 16 * 16));
     write_atomically(path, [&](const std::string& tmp) {
         Imf::Header header(image.width(), image.height());
         header.compression() = Imf::ZIP_COMPRESSION;
@@ -185,21 +211,37 @@ void write_exr(const Image& image, const std::string& path, bool float32) {
         // those belong to this header.
         for (auto& [key, value] : image.metadata)
             if (header.find(key) == header.end()) header.insert(key, Imf::StringAttribute(value));
-        Imf::FrameBuffer fb;
-        size_t nch = size_t(image.channel_count());
-        // The writer does not convert between pixel types: half output needs half slices.
+        for (size_t c = 0; c < nch; ++c) header.channels().insert(image.channels()[c], Imf::Channel(float32 ? Imf::FLOAT : Imf::HALF));
+        Imf::OutputFile file(tmp.c_str(), header, exr_threads());
+        std::vector<float> floats;
         std::vector<Imath::half> halves;
-        if (!float32) halves.assign(data.begin(), data.end());
-        for (size_t c = 0; c < nch; ++c) {
-            header.channels().insert(image.channels()[c], Imf::Channel(float32 ? Imf::FLOAT : Imf::HALF));
-            char* base = float32 ? reinterpret_cast<char*>(data.data() + c) : reinterpret_cast<char*>(halves.data() + c);
-            size_t size = float32 ? sizeof(float) : sizeof(Imath::half);
-            fb.insert(image.channels()[c],
-                      Imf::Slice(float32 ? Imf::FLOAT : Imf::HALF, base, size * nch, size * nch * size_t(image.width())));
+        const size_t size = float32 ? sizeof(float) : sizeof(Imath::half);
+        for (int y0 = 0; y0 < image.height(); y0 += band_rows) {
+            const int rows = std::min(band_rows, image.height() - y0);
+            const float* source = image.data().data() + size_t(y0) * row_values;
+            const size_t count = size_t(rows) * row_values;
+            if (float32)
+                floats.resize(count);
+            else
+                halves.resize(count);
+            for (size_t i = 0; i < count; ++i) {
+                const float v = std::isnan(source[i]) ? 0.0f : std::clamp(source[i], -limit, limit);
+                if (float32)
+                    floats[i] = v;
+                else
+                    halves[i] = Imath::half(v);
+            }
+            // A slice's base is where pixel (0, 0) would be: the band's first row is row y0.
+            char* band = float32 ? reinterpret_cast<char*>(floats.data()) : reinterpret_cast<char*>(halves.data());
+            const ptrdiff_t x_stride = ptrdiff_t(size * nch), y_stride = ptrdiff_t(size * row_values);
+            Imf::FrameBuffer fb;
+            for (size_t c = 0; c < nch; ++c)
+                fb.insert(image.channels()[c],
+                          Imf::Slice(float32 ? Imf::FLOAT : Imf::HALF, band + ptrdiff_t(c * size) - ptrdiff_t(y0) * y_stride,
+                                     size_t(x_stride), size_t(y_stride)));
+            file.setFrameBuffer(fb);
+            file.writePixels(rows);
         }
-        Imf::OutputFile file(tmp.c_str(), header);
-        file.setFrameBuffer(fb);
-        file.writePixels(image.height());
     });
 }
 

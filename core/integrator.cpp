@@ -120,7 +120,7 @@ std::vector<Tile> make_tiles(const Film& film, const RenderWindow& window, int v
 
 // Stops the render before any allocation when its buffers cannot fit in memory: the tiles'
 // blocks (with their filter borders) and pixel statistics, then the double-precision sums and
-// the image, or at the end the image and write_exr's copies.
+// the image, or at the end the image and write_exr's buffers for one band of rows.
 void check_film_memory(const Film& film, const RenderWindow& window, const SampleLayout& values, const AovLayout& layout) {
     const uint64_t w = uint64_t(window.region.size.x), h = uint64_t(window.region.size.y), pixels = w * h;
     const uint64_t stored = uint64_t(window.stored.size.x) * uint64_t(window.stored.size.y);
@@ -135,7 +135,7 @@ void check_film_memory(const Film& film, const RenderWindow& window, const Sampl
     uint64_t sums = saturating_mul(stored, uint64_t(values.values() + 1) * sizeof(double));
     if (layout.pixel_stats()) sums = saturating_add(sums, saturating_mul(stored, sizeof(PixelStats)));
     uint64_t develop = saturating_add(saturating_add(blocks, stats), saturating_add(sums, image));
-    uint64_t write = saturating_add(saturating_mul(image, 2), image / 2);  // the image, a sanitised copy, half floats
+    uint64_t write = saturating_add(image, uint64_t(32) << 20);  // the image and write_exr's band buffers
     std::string what = film_description(film);
     if (int n = layout.layer_count()) what += " with " + std::to_string(n) + (n == 1 ? " AOV" : " AOVs");
     check_memory(std::max(develop, write), what, film.location());

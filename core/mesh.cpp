@@ -4,6 +4,7 @@
 #include "core/parameters.h"
 
 #include "core/memory_budget.h"
+#include "core/parallel.h"
 #include "core/warp.h"
 
 #include <algorithm>
@@ -14,11 +15,12 @@
 namespace candela {
 
 void Mesh::check_mesh_memory(uint64_t vertices, uint64_t triangles, uint64_t file_bytes, const SourceLocation& where) {
-    // Per vertex: position, normal and uv here, positions again in Embree's buffer (64 bytes,
-    // rounded up). Per triangle: indices here, in finalize()'s copy and in Embree's buffer, the
-    // area and its table entry, and Embree's BVH, about 100 bytes per triangle at high quality;
-    // a flat mesh's triangle frames (FlatTriangle, 72 bytes) on top.
-    const uint64_t per_vertex = 64, per_triangle = 232;
+    // Per vertex: position, normal and uv, and recompute_vertex_normals()'s double sums (56
+    // bytes, rounded up to 64). Per triangle: the indices (Embree reads them and the positions
+    // in place), Embree's BVH with its build's working memory (about 95 bytes per triangle at
+    // high quality, measured by bench_scale), and an emitter's area table (12 bytes); a small
+    // flat mesh's cached triangle frames come on top and are not counted.
+    const uint64_t per_vertex = 64, per_triangle = 12 + 96 + 12;
     uint64_t bytes =
         saturating_add(saturating_add(saturating_mul(vertices, per_vertex), saturating_mul(triangles, per_triangle)), file_bytes);
     check_memory(bytes, "mesh of " + std::to_string(vertices) + " vertices and " + std::to_string(triangles) + " triangles", where);
@@ -43,84 +45,120 @@ void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
             fail_mesh(props, "attribute \"" + a.name + "\" does not have one value per " + (a.per_face ? "face" : "vertex"));
     }
 
-    for (auto& p : positions_) {
-        p = to_world_.apply_point(p);
-        if (!all_finite(p)) fail_mesh(props, "a vertex is not a finite number");
-    }
+    // Large meshes (10^7 triangles) spend seconds here when done on one core: the per-vertex
+    // and per-triangle passes run in parallel chunks, each writing only its own elements, so the
+    // results are the same whatever the thread count.
+    bool finite = true;
+    parallel_chunks(positions_.size(), 1 << 16, [&](size_t begin, size_t end) {
+        bool chunk_finite = true;
+        for (size_t i = begin; i < end; ++i) {
+            positions_[i] = to_world_.apply_point(positions_[i]);
+            chunk_finite = chunk_finite && all_finite(positions_[i]);
+        }
+        if (!chunk_finite) finite = false;  // a benign race: every writer stores false
+    });
+    if (!finite) fail_mesh(props, "a vertex is not a finite number");
     for (const Vec2& uv : uvs_)
         if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) fail_mesh(props, "a texture coordinate is not a finite number");
-    for (auto& n : normals_) {
+    for (const Vec3& n : normals_)
         if (!all_finite(n)) fail_mesh(props, "a normal is not a finite number");
-        n = to_world_.apply_normal(n);
-        float len = glm::length(n);
-        n = len > 0.0f && std::isfinite(len) ? n / len : Vec3(0.0f, 0.0f, 1.0f);
-    }
-
-    // Zero-area triangles cannot be hit or sampled; drop them.
-    std::vector<glm::uvec3> kept;
-    std::vector<size_t> kept_index;
-    kept.reserve(triangles_.size());
-    for (size_t i = 0; i < triangles_.size(); ++i) {
-        const glm::uvec3& t = triangles_[i];
-        float a = 0.5f * glm::length(glm::cross(positions_[t.y] - positions_[t.x], positions_[t.z] - positions_[t.x]));
-        if (a > 0.0f && std::isfinite(a)) {
-            kept.push_back(t);
-            kept_index.push_back(i);
+    parallel_chunks(normals_.size(), 1 << 16, [&](size_t begin, size_t end) {
+        for (size_t i = begin; i < end; ++i) {
+            Vec3 n = to_world_.apply_normal(normals_[i]);
+            float len = glm::length(n);
+            normals_[i] = len > 0.0f && std::isfinite(len) ? n / len : Vec3(0.0f, 0.0f, 1.0f);
         }
+    });
+
+    // Zero-area triangles cannot be hit or sampled: dropped, in place (a copy of the index
+    // array would double it at the moment memory peaks for large meshes), with their face
+    // attribute rows.
+    std::vector<unsigned char> keep(triangles_.size());
+    parallel_chunks(triangles_.size(), 1 << 16, [&](size_t begin, size_t end) {
+        for (size_t i = begin; i < end; ++i) {
+            const glm::uvec3& t = triangles_[i];
+            float a = 0.5f * glm::length(glm::cross(positions_[t.y] - positions_[t.x], positions_[t.z] - positions_[t.x]));
+            keep[i] = a > 0.0f && std::isfinite(a);
+        }
+    });
+    size_t kept = 0;
+    for (size_t i = 0; i < triangles_.size(); ++i) {
+        if (!keep[i]) continue;
+        if (kept != i) {
+            triangles_[kept] = triangles_[i];
+            for (MeshAttribute& attr : attributes_) {
+                if (!attr.per_face) continue;
+                const size_t c = size_t(attr.channels);
+                std::copy_n(attr.values.begin() + std::ptrdiff_t(i * c), c, attr.values.begin() + std::ptrdiff_t(kept * c));
+            }
+        }
+        ++kept;
     }
-    triangles_ = std::move(kept);
-    for (MeshAttribute& attr : attributes_) {
-        if (!attr.per_face) continue;
-        std::vector<float> rows;
-        rows.reserve(kept_index.size() * size_t(attr.channels));
-        for (size_t i : kept_index)
-            for (int c = 0; c < attr.channels; ++c) rows.push_back(attr.values[i * size_t(attr.channels) + size_t(c)]);
-        attr.values = std::move(rows);
+    if (kept == 0) fail_mesh(props, "no triangle has a non-zero area");
+    if (kept != triangles_.size()) {
+        triangles_.resize(kept);
+        triangles_.shrink_to_fit();
+        for (MeshAttribute& attr : attributes_)
+            if (attr.per_face) attr.values.resize(kept * size_t(attr.channels));
     }
-    if (triangles_.empty()) fail_mesh(props, "no triangle has a non-zero area");
+    keep = {};
     update_derived(normals_.empty() && smooth_if_missing);
 }
 
 void Mesh::update_derived(bool recompute_normals) {
+    // Embree reads vertices with 16-byte loads, so the buffer it shares with positions_ must be
+    // readable 4 bytes past its last vertex: one element of spare capacity (readers reserve it
+    // up front so that this reserve does not copy a large array).
+    if (positions_.capacity() == positions_.size()) positions_.reserve(positions_.size() + 1);
     bbox_ = BoundingBox();
     for (const Vec3& p : positions_) bbox_.expand(p);
-    std::vector<float> areas;
-    areas.reserve(triangles_.size());
-    for (const glm::uvec3& t : triangles_) {
-        const float a = 0.5f * glm::length(glm::cross(positions_[t.y] - positions_[t.x], positions_[t.z] - positions_[t.x]));
-        areas.push_back(std::isfinite(a) ? a : 0.0f);
-    }
+    std::vector<float> areas(triangles_.size());
+    parallel_chunks(triangles_.size(), 1 << 16, [&](size_t begin, size_t end) {
+        for (size_t i = begin; i < end; ++i) {
+            const glm::uvec3& t = triangles_[i];
+            const float a = 0.5f * glm::length(glm::cross(positions_[t.y] - positions_[t.x], positions_[t.z] - positions_[t.x]));
+            areas[i] = std::isfinite(a) ? a : 0.0f;
+        }
+    });
     double total = 0.0;
     for (float a : areas) total += a;
+    area_ = float(total);
     cone_axis_ = Vec3(0.0f, 0.0f, 1.0f);
     cone_cos_ = -1.0f;
-    area_ = float(total);
-    // Normal cone: the area-weighted mean normal and the widest deviation from it.
-    Vec3 sum(0.0f);
-    for (const auto& t : triangles_) sum += glm::cross(positions_[t.y] - positions_[t.x], positions_[t.z] - positions_[t.x]);
-    if (squared_length(sum) > 0.0f) {
-        cone_axis_ = glm::normalize(flip_normals_ ? -sum : sum);
-        cone_cos_ = 1.0f;
-        for (const auto& t : triangles_) {
-            Vec3 n = glm::normalize(glm::cross(positions_[t.y] - positions_[t.x], positions_[t.z] - positions_[t.x]));
-            cone_cos_ = std::min(cone_cos_, glm::dot(flip_normals_ ? -n : n, cone_axis_));
+    // What only light sampling reads (Shape::normal_cone, sample_position): built for the
+    // meshes that carry an emitter, which is known from the constructor on. Other meshes, the
+    // large ones in practice, do not hold an area table (12 bytes per triangle).
+    area_distribution_ = Distribution1D();
+    if (emitter()) {
+        // Normal cone: the area-weighted mean normal and the widest deviation from it.
+        Vec3 sum(0.0f);
+        for (const auto& t : triangles_) sum += glm::cross(positions_[t.y] - positions_[t.x], positions_[t.z] - positions_[t.x]);
+        if (squared_length(sum) > 0.0f) {
+            cone_axis_ = glm::normalize(flip_normals_ ? -sum : sum);
+            cone_cos_ = 1.0f;
+            for (const auto& t : triangles_) {
+                Vec3 n = glm::normalize(glm::cross(positions_[t.y] - positions_[t.x], positions_[t.z] - positions_[t.x]));
+                cone_cos_ = std::min(cone_cos_, glm::dot(flip_normals_ ? -n : n, cone_axis_));
+            }
+            if (cone_cos_ < 1e-4f)
+                cone_cos_ = -1.0f;  // beyond a hemisphere: treat as all directions
+            else
+                cone_cos_ = std::max(-1.0f, cone_cos_ - 1e-5f);
         }
-        if (cone_cos_ < 1e-4f)
-            cone_cos_ = -1.0f;  // beyond a hemisphere: treat as all directions
-        else
-            cone_cos_ = std::max(-1.0f, cone_cos_ - 1e-5f);
+        area_distribution_ = Distribution1D(std::move(areas));
     }
-    area_distribution_ = Distribution1D(std::move(areas));
+    areas = {};
     if (recompute_normals) recompute_vertex_normals();
-    // A flat triangle's frame is the same at every point of it: computed here once, not per hit.
+    // A flat triangle's frame is the same at every point of it: computed here once, not per hit,
+    // up to a size where the 72 bytes per triangle would outweigh the mesh itself (larger flat
+    // meshes compute it at each hit, as smooth ones do).
     flat_.clear();
-    if (normals_.empty()) {
-        flat_.reserve(triangles_.size());
-        for (const auto& t : triangles_) {
-            FlatTriangle f = flat_triangle(t);
-            f.shading = Frame::from_normal_tangent(f.n, f.dpdu);
-            flat_.push_back(f);
-        }
+    flat_.shrink_to_fit();
+    if (normals_.empty() && triangles_.size() <= MaxCachedFlatTriangles) {
+        flat_.resize(triangles_.size());
+        parallel_chunks(triangles_.size(), 1 << 14, [&](size_t begin, size_t end) {
+            for (size_t i = begin; i < end; ++i) flat_[i] = flat_triangle_with_frame(triangles_[i]);
+        });
     }
 }
 
@@ -151,26 +189,44 @@ void Mesh::parameters_changed(const std::vector<std::string>& keys) {
 }
 
 void Mesh::recompute_vertex_normals() {
+    // Each corner adds its face normal weighted by its angle, computed in float as Mitsuba does
+    // (acos in double made this a tenth of loading a large mesh) and summed in double. The
+    // corners' terms are computed in parallel, a block of triangles at a time, and summed in
+    // triangle order on one thread: the same sums whatever the thread count.
     std::vector<glm::dvec3> sum(positions_.size(), glm::dvec3(0.0));
-    for (const auto& t : triangles_) {
-        glm::dvec3 p[3] = {glm::dvec3(positions_[t.x]), glm::dvec3(positions_[t.y]), glm::dvec3(positions_[t.z])};
-        glm::dvec3 face = glm::cross(p[1] - p[0], p[2] - p[0]);
-        double len = glm::length(face);
-        if (len == 0.0) continue;
-        face /= len;
-        for (int k = 0; k < 3; ++k) {
-            glm::dvec3 e1 = p[(k + 1) % 3] - p[k], e2 = p[(k + 2) % 3] - p[k];
-            double l1 = glm::length(e1), l2 = glm::length(e2);
-            if (l1 == 0.0 || l2 == 0.0) continue;
-            double angle = std::acos(std::clamp(glm::dot(e1, e2) / (l1 * l2), -1.0, 1.0));
-            sum[t[k]] += angle * face;
+    const size_t block = size_t(1) << 18;
+    std::vector<Vec3> corner(3 * std::min(block, triangles_.size()));
+    for (size_t first = 0; first < triangles_.size(); first += block) {
+        const size_t count = std::min(block, triangles_.size() - first);
+        parallel_chunks(count, 1 << 12, [&](size_t begin, size_t end) {
+            for (size_t i = begin; i < end; ++i) {
+                const glm::uvec3& t = triangles_[first + i];
+                const Vec3 p[3] = {positions_[t.x], positions_[t.y], positions_[t.z]};
+                const Vec3 face = glm::cross(p[1] - p[0], p[2] - p[0]);
+                const float len = glm::length(face);
+                for (int k = 0; k < 3; ++k) {
+                    Vec3& term = corner[3 * i + size_t(k)];
+                    term = Vec3(0.0f);
+                    const Vec3 e1 = p[(k + 1) % 3] - p[k], e2 = p[(k + 2) % 3] - p[k];
+                    const float l1 = glm::length(e1), l2 = glm::length(e2);
+                    if (!(len > 0.0f) || l1 == 0.0f || l2 == 0.0f) continue;
+                    const float angle = std::acos(std::clamp(glm::dot(e1, e2) / (l1 * l2), -1.0f, 1.0f));
+                    term = angle * (face / len);
+                }
+            }
+        });
+        for (size_t i = 0; i < count; ++i) {
+            const glm::uvec3& t = triangles_[first + i];
+            for (int k = 0; k < 3; ++k) sum[t[k]] += glm::dvec3(corner[3 * i + size_t(k)]);
         }
     }
     normals_.resize(positions_.size());
-    for (size_t i = 0; i < sum.size(); ++i) {
-        double len = glm::length(sum[i]);
-        normals_[i] = len > 0.0 ? Vec3(sum[i] / len) : Vec3(1.0f, 0.0f, 0.0f);
-    }
+    parallel_chunks(sum.size(), 1 << 16, [&](size_t begin, size_t end) {
+        for (size_t i = begin; i < end; ++i) {
+            double len = glm::length(sum[i]);
+            normals_[i] = len > 0.0 ? Vec3(sum[i] / len) : Vec3(1.0f, 0.0f, 0.0f);
+        }
+    });
 }
 
 void triangle_tangents(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec2& uv0, const Vec2& uv1, const Vec2& uv2, const Vec3& n,
@@ -189,21 +245,13 @@ void triangle_tangents(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec
 
 RTCGeometry Mesh::create_embree_geometry(RTCDevice device) const {
     RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    // Embree reads vertices with 16-byte loads: the buffer gets one float of padding at the end.
-    float* v = static_cast<float*>(
-        rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, sizeof(float) * 3, positions_.size() + 1));
-    for (size_t i = 0; i < positions_.size(); ++i) {
-        v[3 * i + 0] = positions_[i].x;
-        v[3 * i + 1] = positions_[i].y;
-        v[3 * i + 2] = positions_[i].z;
-    }
-    unsigned* idx = static_cast<unsigned*>(
-        rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, sizeof(unsigned) * 3, triangles_.size()));
-    for (size_t i = 0; i < triangles_.size(); ++i) {
-        idx[3 * i + 0] = triangles_[i].x;
-        idx[3 * i + 1] = triangles_[i].y;
-        idx[3 * i + 2] = triangles_[i].z;
-    }
+    // Embree reads the mesh's own arrays (shared buffers): a mesh is held once, not copied into
+    // Embree. Vec3 and uvec3 are three packed 32-bit values; update_derived() keeps the spare
+    // element of capacity that Embree's 16-byte vertex loads need.
+    static_assert(sizeof(Vec3) == 12 && sizeof(glm::uvec3) == 12, "Embree reads packed float3 and uint3");
+    if (positions_.capacity() <= positions_.size()) throw std::logic_error("mesh positions lack Embree's padding");
+    rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, positions_.data(), 0, sizeof(Vec3), positions_.size());
+    rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, triangles_.data(), 0, sizeof(glm::uvec3), triangles_.size());
     return g;
 }
 
@@ -221,6 +269,12 @@ Mesh::FlatTriangle Mesh::flat_triangle(const glm::uvec3& t) const {
     return f;
 }
 
+Mesh::FlatTriangle Mesh::flat_triangle_with_frame(const glm::uvec3& t) const {
+    FlatTriangle f = flat_triangle(t);
+    f.shading = Frame::from_normal_tangent(f.n, f.dpdu);
+    return f;
+}
+
 void Mesh::fill_interaction(const Ray& ray, const RayHit& hit, SurfaceInteraction& si) const {
     const glm::uvec3& t = triangles_[hit.prim_index];
     const Vec3 &p0 = positions_[t.x], &p1 = positions_[t.y], &p2 = positions_[t.z];
@@ -233,12 +287,18 @@ void Mesh::fill_interaction(const Ray& ray, const RayHit& hit, SurfaceInteractio
     si.p = w0 + w1 + w2;
     si.p_error = gamma_bound(7) * max_component(abs_components(w0) + abs_components(w1) + abs_components(w2));
     si.uv = uvs_.empty() ? Vec2(b1, b2) : b0 * uvs_[t.x] + b1 * uvs_[t.y] + b2 * uvs_[t.z];
-    if (!flat_.empty()) {
-        const FlatTriangle& f = flat_[hit.prim_index];
-        si.n = f.n;
-        si.dpdu = f.dpdu;
-        si.dpdv = f.dpdv;
-        si.shading = f.shading;
+    if (normals_.empty()) {
+        // The cached frame, or for a flat mesh too large to cache them, this triangle's own.
+        auto take = [&si](const FlatTriangle& f) {
+            si.n = f.n;
+            si.dpdu = f.dpdu;
+            si.dpdv = f.dpdv;
+            si.shading = f.shading;
+        };
+        if (!flat_.empty())
+            take(flat_[hit.prim_index]);
+        else
+            take(flat_triangle_with_frame(t));
         return;
     }
     fill_smooth_frame(t, b0, b1, b2, si);
@@ -327,6 +387,7 @@ bool Mesh::eval_attribute(const std::string& name, const SurfaceInteraction& si,
 }
 
 PositionSample Mesh::sample_position(const Vec2& u) const {
+    if (area_distribution_.empty()) throw std::logic_error("a mesh without an emitter has no area table to sample");
     float ux = u.x;
     size_t i = area_distribution_.sample_discrete(ux);
     Vec2 b = warp::square_to_uniform_triangle(Vec2(ux, u.y));

@@ -98,12 +98,15 @@ private:
         Frame shading;
     };
     FlatTriangle flat_triangle(const glm::uvec3& t) const;
+    FlatTriangle flat_triangle_with_frame(const glm::uvec3& t) const;
+    // Up to this many triangles, a mesh without vertex normals keeps its FlatTriangles (72 MB).
+    static constexpr size_t MaxCachedFlatTriangles = size_t(1) << 20;
     // fill_interaction()'s normals and frames for a mesh with vertex normals: triangle t hit at
     // barycentrics (b0, b1, b2).
     void fill_smooth_frame(const glm::uvec3& t, float b0, float b1, float b2, SurfaceInteraction& si) const;
     std::vector<FlatTriangle> flat_;  // per entry of triangles_; empty with vertex normals
 
-    Distribution1D area_distribution_;
+    Distribution1D area_distribution_;  // by triangle area; only in meshes that carry an emitter
     float area_ = 0.0f;
     BoundingBox bbox_;
     Vec3 cone_axis_{0.0f, 0.0f, 1.0f};

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 
@@ -23,14 +24,24 @@ constexpr const char* PartFormat = "2";
 // float32 holds every integer up to 2^24 exactly: the largest per-pixel sample count of a part.
 constexpr uint32_t MaxExactCount = 1u << 24;
 
-// FNV-1a, 64 bits: a plain, stable byte hash (not cryptographic; it tells renders apart).
-struct Fnv1a {
+// A plain, stable 64-bit hash of bytes (not cryptographic; it tells renders apart). It takes
+// eight bytes per step, a multiply by an odd constant (2^64 / golden ratio) and a fold of the
+// high half into the low: the scene's input files are hashed before every render, and a
+// byte-wise FNV-1a over a 200 MB mesh took a quarter of a second of it.
+struct ContentHash {
     uint64_t state = 0xcbf29ce484222325ULL;
     void add(const char* data, size_t size) {
-        for (size_t i = 0; i < size; ++i) {
-            state ^= static_cast<unsigned char>(data[i]);
-            state *= 0x100000001b3ULL;
+        size_t i = 0;
+        for (; i + 8 <= size; i += 8) {
+            uint64_t word;
+            std::memcpy(&word, data + i, 8);
+            mix(word);
         }
+        for (; i < size; ++i) mix(static_cast<unsigned char>(data[i]));
+    }
+    void mix(uint64_t word) {
+        state = (state ^ word) * 0x9E3779B97F4A7C15ULL;
+        state ^= state >> 32;
     }
     void add(const std::string& s) {
         add(s.data(), s.size());
@@ -149,7 +160,7 @@ std::string RenderIdentity::difference(const RenderIdentity& o) const {
 }
 
 std::string scene_hash(const Scene& scene) {
-    Fnv1a h;
+    ContentHash h;
     h.add_file(scene.source_file);
     for (const std::string& f : scene.input_files) h.add_file(f);
     for (const auto& [name, value] : scene.parameters) h.add(name + "=" + value);

@@ -21,10 +21,12 @@
 
 #include "core/memory_budget.h"
 #include "core/mesh.h"
+#include "core/parallel.h"
 #include "core/registry.h"
 #include "core/warning.h"
 #include "geometry2d/polygon.h"
 
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -192,65 +194,71 @@ public:
     using std::runtime_error::runtime_error;
 };
 
-// Reads scalar values from the body in the file's encoding.
+// A value of type T from the bytes at `p`.
+template <class T>
+double bytes_as(const unsigned char* p) {
+    T v;
+    std::memcpy(&v, p, sizeof(T));
+    return double(v);
+}
+
+// One binary value of type `type` at `p`, in the file's byte order (`swap`: it differs from
+// the host's).
+inline double decode(const unsigned char* p, PlyType type, bool swap) {
+    unsigned char buf[8];
+    const size_t n = type_size(type);
+    std::memcpy(buf, p, n);
+    if (swap) std::reverse(buf, buf + n);
+    switch (type) {
+        case PlyType::Int8: return bytes_as<int8_t>(buf);
+        case PlyType::UInt8: return bytes_as<uint8_t>(buf);
+        case PlyType::Int16: return bytes_as<int16_t>(buf);
+        case PlyType::UInt16: return bytes_as<uint16_t>(buf);
+        case PlyType::Int32: return bytes_as<int32_t>(buf);
+        case PlyType::UInt32: return bytes_as<uint32_t>(buf);
+        case PlyType::Float32: return bytes_as<float>(buf);
+        case PlyType::Float64: return bytes_as<double>(buf);
+        default: throw PlyError("invalid property type");
+    }
+}
+
+// Reads the body in the file's encoding: ascii value by value, binary through a buffer of its
+// own (a read call per value costs more than the decoding).
 class PlyBodyReader {
 public:
-    PlyBodyReader(std::istream& in, int format, int first_line) : in_(in), format_(format), line_(first_line) {}
+    static constexpr size_t BufferBytes = size_t(1) << 22;
+
+    PlyBodyReader(std::istream& in, int format, int first_line) : in_(in), format_(format), line_(first_line) {
+        const uint16_t probe = 1;
+        const bool host_big = *reinterpret_cast<const unsigned char*>(&probe) == 0;
+        swap_ = format == 2 ? !host_big : host_big;
+        if (format != 0) buffer_.resize(BufferBytes);
+    }
+
+    bool binary() const { return format_ != 0; }
+    bool swap() const { return swap_; }
 
     double read(PlyType type) {
         if (format_ == 0) return read_ascii(type);
-        unsigned char buf[8];
-        size_t n = type_size(type);
-        if (!in_.read(reinterpret_cast<char*>(buf), std::streamsize(n))) throw PlyError("unexpected end of file");
-        bool file_big = format_ == 2;
-        const uint16_t probe = 1;
-        bool host_big = *reinterpret_cast<const unsigned char*>(&probe) == 0;
-        if (file_big != host_big) std::reverse(buf, buf + n);
-        switch (type) {
-            case PlyType::Int8: {
-                int8_t v;
-                std::memcpy(&v, buf, 1);
-                return v;
-            }
-            case PlyType::UInt8: return buf[0];
-            case PlyType::Int16: {
-                int16_t v;
-                std::memcpy(&v, buf, 2);
-                return v;
-            }
-            case PlyType::UInt16: {
-                uint16_t v;
-                std::memcpy(&v, buf, 2);
-                return v;
-            }
-            case PlyType::Int32: {
-                int32_t v;
-                std::memcpy(&v, buf, 4);
-                return v;
-            }
-            case PlyType::UInt32: {
-                uint32_t v;
-                std::memcpy(&v, buf, 4);
-                return v;
-            }
-            case PlyType::Float32: {
-                float v;
-                std::memcpy(&v, buf, 4);
-                return v;
-            }
-            case PlyType::Float64: {
-                double v;
-                std::memcpy(&v, buf, 8);
-                return v;
-            }
-            default: throw PlyError("invalid property type");
-        }
+        return decode(take(type_size(type)), type, swap_);
+    }
+    // Binary: the next `n` bytes (at most BufferBytes) without consuming them.
+    const unsigned char* peek(size_t n) {
+        if (end_ - pos_ < n) refill(n);
+        return buffer_.data() + pos_;
+    }
+    // Binary: the next `n` bytes (at most BufferBytes), valid until the next call.
+    const unsigned char* take(size_t n) {
+        if (end_ - pos_ < n) refill(n);
+        const unsigned char* p = buffer_.data() + pos_;
+        pos_ += n;
+        return p;
     }
     // ascii: each element instance sits on its own line.
     void end_element() {
         if (format_ == 0) {
             tokens_.clear();
-            pos_ = 0;
+            token_ = 0;
             have_line_ = false;
         }
     }
@@ -258,18 +266,18 @@ public:
 
 private:
     double read_ascii(PlyType type) {
-        while (!have_line_ || pos_ >= tokens_.size()) {
+        while (!have_line_ || token_ >= tokens_.size()) {
             if (have_line_) throw PlyError("too few values on line " + std::to_string(line_));
             std::string text;
             if (!std::getline(in_, text)) throw PlyError("unexpected end of file");
             ++line_;
             std::istringstream ss(text);
             tokens_.clear();
-            pos_ = 0;
+            token_ = 0;
             for (std::string t; ss >> t;) tokens_.push_back(t);
             have_line_ = !tokens_.empty();
         }
-        const std::string& t = tokens_[pos_++];
+        const std::string& t = tokens_[token_++];
         char* end = nullptr;
         double v = std::strtod(t.c_str(), &end);
         if (end == t.c_str() || *end != '\0') throw PlyError("bad number \"" + t + "\" on line " + std::to_string(line_));
@@ -278,11 +286,23 @@ private:
         return v;
     }
 
+    void refill(size_t n) {
+        const size_t left = end_ - pos_;
+        std::memmove(buffer_.data(), buffer_.data() + pos_, left);
+        in_.read(reinterpret_cast<char*>(buffer_.data() + left), std::streamsize(buffer_.size() - left));
+        pos_ = 0;
+        end_ = left + size_t(in_.gcount());
+        if (end_ < n) throw PlyError("unexpected end of file");
+    }
+
     std::istream& in_;
     int format_;  // 0 ascii, 1 little endian, 2 big endian
+    bool swap_ = false;
+    std::vector<unsigned char> buffer_;  // binary only
+    size_t pos_ = 0, end_ = 0;           // the unread bytes of buffer_
     int line_;
     std::vector<std::string> tokens_;
-    size_t pos_ = 0;
+    size_t token_ = 0;
     bool have_line_ = false;
 };
 
@@ -438,9 +458,14 @@ private:
         std::vector<PlyAttribute> attributes = group_attributes(e, "vertex_", reserved, ignored_);
         size_t first_attribute = attributes_.size();
         for (const PlyAttribute& a : attributes) attributes_.push_back(MeshAttribute{a.name, false, int(a.properties.size()), {}});
+        // The count comes from the file, which check_body_size() found large enough to hold it.
+        // One element of spare capacity: Embree's padding (Mesh::update_derived).
+        positions_.reserve(positions_.size() + e.count + 1);
+        if (body.binary() &&
+            read_fixed_vertices(e, body, {ix, iy, iz}, normals ? std::array<int, 3>{inx, iny, inz} : std::array<int, 3>{}, normals,
+                                uvs ? std::array<int, 2>{iu, iv} : std::array<int, 2>{}, uvs, attributes, first_attribute))
+            return;
         std::vector<double> values(e.properties.size());
-        // The count comes from the file: reserve no more than a small file could hold.
-        positions_.reserve(std::min(e.count, size_t(1) << 16));
         for (size_t i = 0; i < e.count; ++i) {
             for (size_t k = 0; k < e.properties.size(); ++k) {
                 const PlyProperty& p = e.properties[k];
@@ -458,6 +483,54 @@ private:
             if (uvs) uvs_.emplace_back(to_float(values[iu]), to_float(values[iv]));
             append_attributes(e, attributes, values, first_attribute);
         }
+    }
+
+    // Binary vertices without list properties are records of one size: read a buffer of them at
+    // a time and decode it in parallel chunks, straight into the mesh's arrays (each record
+    // writes only its own elements). False (nothing read) for records of another kind.
+    bool read_fixed_vertices(const PlyElement& e, PlyBodyReader& body, std::array<int, 3> position, std::array<int, 3> normal, bool normals,
+                             std::array<int, 2> uv, bool uvs, const std::vector<PlyAttribute>& attributes, size_t first_attribute) {
+        std::vector<size_t> offset(e.properties.size());
+        size_t record = 0;
+        for (size_t k = 0; k < e.properties.size(); ++k) {
+            if (e.properties[k].is_list) return false;
+            offset[k] = record;
+            record += type_size(e.properties[k].type);
+        }
+        if (record == 0 || record > PlyBodyReader::BufferBytes) return false;
+        const size_t base = positions_.size();
+        positions_.resize(base + e.count);
+        if (normals) normals_.resize(base + e.count);
+        if (uvs) uvs_.resize(base + e.count);
+        for (size_t a = 0; a < attributes.size(); ++a)
+            attributes_[first_attribute + a].values.resize((base + e.count) * attributes[a].properties.size());
+        const bool swap = body.swap();
+        const size_t batch = PlyBodyReader::BufferBytes / record;
+        for (size_t first = 0; first < e.count; first += batch) {
+            const size_t count = std::min(batch, e.count - first);
+            const unsigned char* data = body.take(count * record);
+            auto value = [&](const unsigned char* r, int k) {
+                return to_float(decode(r + offset[size_t(k)], e.properties[size_t(k)].type, swap));
+            };
+            parallel_chunks(count, 1 << 14, [&](size_t begin, size_t end) {
+                for (size_t i = begin; i < end; ++i) {
+                    const unsigned char* r = data + i * record;
+                    const size_t v = base + first + i;
+                    positions_[v] = Vec3(value(r, position[0]), value(r, position[1]), value(r, position[2]));
+                    if (normals) normals_[v] = Vec3(value(r, normal[0]), value(r, normal[1]), value(r, normal[2]));
+                    if (uvs) uvs_[v] = Vec2(value(r, uv[0]), value(r, uv[1]));
+                    for (size_t a = 0; a < attributes.size(); ++a) {
+                        const std::vector<int>& props = attributes[a].properties;
+                        for (size_t c = 0; c < props.size(); ++c) {
+                            const size_t k = size_t(props[c]);
+                            attributes_[first_attribute + a].values[v * props.size() + c] =
+                                to_float(attribute_value(decode(r + offset[k], e.properties[k].type, swap), e.properties[k].type));
+                        }
+                    }
+                }
+            });
+        }
+        return true;
     }
 
     void append_attributes(const PlyElement& e, const std::vector<PlyAttribute>& attributes, const std::vector<double>& values,
@@ -479,8 +552,35 @@ private:
         size_t first_attribute = attributes_.size();
         for (const PlyAttribute& a : attributes) attributes_.push_back(MeshAttribute{a.name, true, int(a.properties.size()), {}});
         std::vector<double> values(e.properties.size(), 0.0);
-        std::vector<unsigned> corner, polygon;
+        std::vector<unsigned> corner;
+        const PlyType index_type = e.properties[size_t(list)].type;
+        // Binary triangles, the common case, take their three indices in one buffer read.
+        const bool binary_triangles = body.binary() && type_size(index_type) == 4;
+        triangles_.reserve(triangles_.size() + e.count);
+        const PlyType count_type = e.properties[size_t(list)].count_type;
+        // The most common layout of all, a face element of nothing but binary triangles with a
+        // one-byte count, takes a loop of its own; any other face falls through to the general one.
+        const bool only_list = e.properties.size() == 1 && binary_triangles && type_size(count_type) == 1;
         for (size_t i = 0; i < e.count; ++i) {
+            if (only_list && decode(body.peek(1), count_type, false) == 3.0) {
+                const unsigned char* face = body.take(13) + 1;
+                uint32_t v[3];
+                std::memcpy(v, face, 12);
+                if (body.swap())
+                    for (uint32_t& x : v) x = __builtin_bswap32(x);
+                if (std::max({v[0], v[1], v[2]}) >= positions_.size() ||
+                    (index_type == PlyType::Int32 && std::max({v[0], v[1], v[2]}) > 0x7FFFFFFFu)) {
+                    for (int j = 0; j < 3; ++j) {
+                        const double idx = decode(face + 4 * j, index_type, body.swap());
+                        if (idx < 0 || idx >= double(positions_.size()))
+                            throw PlyError("face " + std::to_string(i) + " refers to vertex " + std::to_string(int64_t(idx)) +
+                                           ", which does not exist (vertices must come before faces)");
+                    }
+                }
+                triangles_.push_back({v[0], v[1], v[2]});
+                continue;
+            }
+            corner.clear();
             for (size_t k = 0; k < e.properties.size(); ++k) {
                 const PlyProperty& p = e.properties[k];
                 if (!p.is_list) {
@@ -494,26 +594,28 @@ private:
                 }
                 if (n > 1000000) throw PlyError("face " + std::to_string(i) + " has " + std::to_string(n) + " corners");
                 corner.resize(n);
+                const unsigned char* three = binary_triangles && n == 3 ? body.take(12) : nullptr;
                 for (size_t j = 0; j < corner.size(); ++j) {
-                    double idx = body.read(p.type);  // an integer: the type is checked above
+                    // An integer: the type is checked above.
+                    double idx = three ? decode(three + 4 * j, index_type, body.swap()) : body.read(p.type);
                     if (idx < 0 || idx >= double(positions_.size()))
                         throw PlyError("face " + std::to_string(i) + " refers to vertex " + std::to_string(int64_t(idx)) +
                                        ", which does not exist (vertices must come before faces)");
                     corner[j] = unsigned(idx);
                 }
-                polygon = corner;
             }
             body.end_element();
             size_t before = triangles_.size();
-            if (polygon.size() == 3) {
-                triangles_.push_back({polygon[0], polygon[1], polygon[2]});
-            } else if (polygon.size() > 3) {
-                std::vector<Vec3> pts(polygon.size());
-                for (size_t j = 0; j < polygon.size(); ++j) pts[j] = positions_[polygon[j]];
-                for (auto& t : triangulate_polygon_3d(pts)) triangles_.push_back({polygon[t[0]], polygon[t[1]], polygon[t[2]]});
+            if (corner.size() == 3) {
+                triangles_.push_back({corner[0], corner[1], corner[2]});
+            } else if (corner.size() > 3) {
+                std::vector<Vec3> pts(corner.size());
+                for (size_t j = 0; j < corner.size(); ++j) pts[j] = positions_[corner[j]];
+                for (auto& t : triangulate_polygon_3d(pts)) triangles_.push_back({corner[t[0]], corner[t[1]], corner[t[2]]});
             }
             // Face attributes: one row per triangle of the polygon.
-            for (size_t t = before; t < triangles_.size(); ++t) append_attributes(e, attributes, values, first_attribute);
+            if (!attributes.empty())
+                for (size_t t = before; t < triangles_.size(); ++t) append_attributes(e, attributes, values, first_attribute);
         }
     }
 

@@ -23,12 +23,16 @@
 
 #include "core/memory_budget.h"
 #include "core/mesh.h"
+#include "core/parallel.h"
 #include "core/registry.h"
 
 #include <zlib.h>
 
+#include <algorithm>
+#include <atomic>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 namespace candela {
@@ -50,6 +54,11 @@ enum SerializedFlags : uint32_t {
     SinglePrecision = 0x1000,
     DoublePrecision = 0x2000,
 };
+
+bool host_little_endian() {
+    const uint16_t probe = 1;
+    return *reinterpret_cast<const unsigned char*>(&probe) == 1;
+}
 
 // Little-endian integers from a byte buffer (the format fixes the byte order).
 uint64_t read_le(const unsigned char* p, int bytes) {
@@ -84,6 +93,105 @@ std::vector<unsigned char> inflate_stream(const std::string& file, size_t offset
     throw SerializedError(std::string("the compressed data is corrupt (zlib: ") + (zs.msg ? zs.msg : "error") + ")");
 }
 
+// Inflates a zlib stream field by field, straight into the caller's arrays: a mesh's data is
+// never held twice (decompressed buffer and parsed copy).
+class StreamInflater {
+public:
+    StreamInflater(const std::string& file, size_t offset) {
+        if (inflateInit(&zs_) != Z_OK) throw SerializedError("cannot initialise zlib");
+        zs_.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(file.data() + offset));
+        zs_.avail_in = uInt(std::min<size_t>(file.size() - offset, std::numeric_limits<uInt>::max()));
+        rest_in_ = file.size() - offset - zs_.avail_in;
+    }
+    ~StreamInflater() { inflateEnd(&zs_); }
+    StreamInflater(const StreamInflater&) = delete;
+    StreamInflater& operator=(const StreamInflater&) = delete;
+
+    // Exactly `bytes` bytes into `out`, or an error naming `what`.
+    void read(void* out, size_t bytes, const char* what) {
+        auto* dst = static_cast<unsigned char*>(out);
+        while (bytes > 0) {
+            if (ended_) throw SerializedError(std::string("the data ends inside the ") + what);
+            const uInt step = uInt(std::min<size_t>(bytes, size_t(1) << 30));
+            zs_.next_out = dst;
+            zs_.avail_out = step;
+            refill_input();
+            const int status = inflate(&zs_, Z_NO_FLUSH);
+            const size_t got = step - zs_.avail_out;
+            dst += got;
+            bytes -= got;
+            if (status == Z_STREAM_END) {
+                ended_ = true;
+            } else if (status == Z_BUF_ERROR && zs_.avail_in == 0 && rest_in_ == 0) {
+                throw SerializedError("the compressed data is truncated");
+            } else if (status != Z_OK && status != Z_BUF_ERROR) {
+                throw SerializedError(std::string("the compressed data is corrupt (zlib: ") + (zs_.msg ? zs_.msg : "error") + ")");
+            }
+        }
+    }
+    template <class T>
+    T value(const char* what) {
+        unsigned char b[sizeof(T)];
+        read(b, sizeof(T), what);
+        return T(read_le(b, int(sizeof(T))));
+    }
+    // Whether the stream ends here: its end marker comes with no more data.
+    bool ends_here() {
+        if (ended_) return true;
+        unsigned char extra;
+        zs_.next_out = &extra;
+        zs_.avail_out = 1;
+        refill_input();
+        const int status = inflate(&zs_, Z_NO_FLUSH);
+        return status == Z_STREAM_END && zs_.avail_out == 1;
+    }
+
+private:
+    // zlib counts its input in 32-bit lengths: larger files are fed in pieces.
+    void refill_input() {
+        if (zs_.avail_in > 0 || rest_in_ == 0) return;
+        zs_.avail_in = uInt(std::min<size_t>(rest_in_, std::numeric_limits<uInt>::max()));
+        rest_in_ -= zs_.avail_in;
+    }
+
+    z_stream zs_{};
+    size_t rest_in_ = 0;
+    bool ended_ = false;
+};
+
+// `count` little-endian reals of 4 or 8 bytes into floats, `skip`ped when the caller does not
+// want them (they must still be inflated to reach what follows).
+// The floats of an array of glm vectors (packed: Vec3 is three floats, Vec2 two).
+template <class V>
+float* floats(std::vector<V>& v) {
+    return v.empty() ? nullptr : &v[0].x;
+}
+
+void read_reals(StreamInflater& in, float* out, size_t count, bool dbl, const char* what) {
+    if (!dbl && out && host_little_endian()) {
+        in.read(out, count * 4, what);
+        return;
+    }
+    const size_t size = dbl ? 8 : 4, chunk = size_t(1) << 16;
+    std::vector<unsigned char> buffer(std::min(count, chunk) * size);
+    for (size_t first = 0; first < count; first += chunk) {
+        const size_t n = std::min(chunk, count - first);
+        in.read(buffer.data(), n * size, what);
+        if (!out) continue;
+        for (size_t i = 0; i < n; ++i) {
+            const uint64_t bits = read_le(buffer.data() + i * size, int(size));
+            if (dbl) {
+                double d;
+                std::memcpy(&d, &bits, 8);
+                out[first + i] = float(d);
+            } else {
+                const uint32_t b = uint32_t(bits);
+                std::memcpy(&out[first + i], &b, 4);
+            }
+        }
+    }
+}
+
 // Reads the decompressed fields in order, checking that each is there.
 class FieldReader {
 public:
@@ -100,25 +208,6 @@ public:
         if (pos_ >= data_.size()) throw SerializedError("the mesh name is not terminated");
         ++pos_;
         return s;
-    }
-    // `count` reals of 4 or 8 bytes.
-    std::vector<float> reals(uint64_t count, bool dbl, const char* what) {
-        size_t size = dbl ? 8 : 4;
-        check_count(count, size, what);
-        std::vector<float> out(static_cast<size_t>(count));
-        for (size_t i = 0; i < out.size(); ++i) {
-            uint64_t bits = read_le(data_.data() + pos_ + i * size, int(size));
-            if (dbl) {
-                double d;
-                std::memcpy(&d, &bits, 8);
-                out[i] = float(d);
-            } else {
-                uint32_t b = uint32_t(bits);
-                std::memcpy(&out[i], &b, 4);
-            }
-        }
-        pos_ += out.size() * size;
-        return out;
     }
     void check_count(uint64_t count, size_t size, const char* what) {
         if (count > (data_.size() - pos_) / size) throw SerializedError(std::string("the data ends inside the ") + what);
@@ -181,11 +270,17 @@ private:
 
     // Loads mesh `index`.
     void read(const std::string& path, size_t index, bool skip_normals, const SourceLocation& location) {
-        std::ifstream in(path, std::ios::binary);
-        if (!in) throw SerializedError("cannot open the file");
-        std::stringstream ss;
-        ss << in.rdbuf();
-        const std::string file = ss.str();
+        // The compressed file, read once into one buffer (it is a third of the mesh's size).
+        std::string file;
+        {
+            std::ifstream f(path, std::ios::binary | std::ios::ate);
+            if (!f) throw SerializedError("cannot open the file");
+            const std::streamoff size = f.tellg();
+            if (size < 0) throw SerializedError("cannot determine the file size");
+            file.resize(size_t(size));
+            f.seekg(0);
+            if (!f.read(file.data(), size)) throw SerializedError("cannot read the file");
+        }
         auto bytes = [&](size_t at) { return reinterpret_cast<const unsigned char*>(file.data() + at); };
         if (file.size() < 4 || read_le(bytes(0), 2) != FileMagic) throw SerializedError("not a serialized mesh (no 0x041C header)");
         int version = int(read_le(bytes(2), 2));
@@ -206,45 +301,59 @@ private:
                 throw SerializedError("the dictionary's offset of this mesh does not point at a mesh header");
             offset = size_t(at);
         }
-        const uint64_t data_size = stream_size(file, offset + 4, version, location);
-        bool complete = false;
-        // One byte more than declared shows a stream that holds more than its header says.
-        std::vector<unsigned char> data = inflate_stream(file, offset + 4, size_t(data_size) + 1, complete);
-        if (!complete) throw SerializedError("the compressed data holds more than its header declares");
-        FieldReader r(data);
-        uint32_t flags = uint32_t(r.integer(4, "flags"));
-        if (version == 4) r.cstring();
-        uint64_t vertex_count = r.integer(8, "vertex count"), triangle_count = r.integer(8, "triangle count");
-        bool dbl = (flags & DoublePrecision) != 0;
-
-        std::vector<float> p = r.reals(vertex_count * 3, dbl, "vertex positions");
-        positions_.resize(size_t(vertex_count));
-        for (size_t i = 0; i < positions_.size(); ++i) positions_[i] = Vec3(p[3 * i], p[3 * i + 1], p[3 * i + 2]);
+        stream_size(file, offset + 4, version, location);
+        StreamInflater in(file, offset + 4);
+        const uint32_t flags = in.value<uint32_t>("flags");
+        if (version == 4)
+            while (in.value<uint8_t>("mesh name") != 0) {}
+        const uint64_t vertex_count = in.value<uint64_t>("vertex count"), triangle_count = in.value<uint64_t>("triangle count");
+        const bool dbl = (flags & DoublePrecision) != 0;
+        const size_t vertices = size_t(vertex_count);
+        // One spare element: Embree's padding (Mesh::update_derived).
+        positions_.reserve(vertices + 1);
+        positions_.resize(vertices);
+        read_reals(in, floats(positions_), 3 * vertices, dbl, "vertex positions");
         if (flags & HasNormals) {
-            std::vector<float> n = r.reals(vertex_count * 3, dbl, "vertex normals");
-            if (!skip_normals) {
-                normals_.resize(size_t(vertex_count));
-                for (size_t i = 0; i < normals_.size(); ++i) normals_[i] = Vec3(n[3 * i], n[3 * i + 1], n[3 * i + 2]);
-            }
+            if (!skip_normals) normals_.resize(vertices);
+            read_reals(in, skip_normals ? nullptr : floats(normals_), 3 * vertices, dbl, "vertex normals");
         }
         if (flags & HasTexcoords) {
-            std::vector<float> t = r.reals(vertex_count * 2, dbl, "texture coordinates");
-            uvs_.resize(size_t(vertex_count));
-            for (size_t i = 0; i < uvs_.size(); ++i) uvs_[i] = Vec2(t[2 * i], t[2 * i + 1]);
+            uvs_.resize(vertices);
+            read_reals(in, floats(uvs_), 2 * vertices, dbl, "texture coordinates");
         }
-        if (flags & HasColors)
-            attributes_.push_back(MeshAttribute{"vertex_color", false, 3, r.reals(vertex_count * 3, dbl, "vertex colours")});
-        int index_bytes = vertex_count > 0xFFFFFFFFull ? 8 : 4;
-        r.check_count(triangle_count * 3, size_t(index_bytes), "triangle indices");
+        if (flags & HasColors) {
+            attributes_.push_back(MeshAttribute{"vertex_color", false, 3, std::vector<float>(3 * vertices)});
+            read_reals(in, attributes_.back().values.data(), 3 * vertices, dbl, "vertex colours");
+        }
         triangles_.resize(size_t(triangle_count));
-        for (auto& t : triangles_) {
-            uint64_t a = r.integer(index_bytes, "triangle indices"), b = r.integer(index_bytes, "triangle indices"),
-                     c = r.integer(index_bytes, "triangle indices");
-            if (a >= vertex_count || b >= vertex_count || c >= vertex_count)
-                throw SerializedError("a triangle refers to vertex " + std::to_string(std::max(a, std::max(b, c))) + " of " +
-                                      std::to_string(vertex_count));
-            t = glm::uvec3(unsigned(a), unsigned(b), unsigned(c));
+        if (vertex_count <= 0xFFFFFFFFull && host_little_endian()) {
+            in.read(triangles_.data(), triangles_.size() * sizeof(glm::uvec3), "triangle indices");
+        } else {
+            const int index_bytes = vertex_count > 0xFFFFFFFFull ? 8 : 4;
+            unsigned char index[3 * 8];
+            for (auto& t : triangles_) {
+                in.read(index, size_t(3 * index_bytes), "triangle indices");
+                uint64_t v[3];
+                for (int k = 0; k < 3; ++k) v[k] = read_le(index + k * index_bytes, index_bytes);
+                if (std::max({v[0], v[1], v[2]}) >= vertex_count)
+                    throw SerializedError("a triangle refers to vertex " + std::to_string(std::max({v[0], v[1], v[2]})) + " of " +
+                                          std::to_string(vertex_count));
+                t = glm::uvec3(unsigned(v[0]), unsigned(v[1]), unsigned(v[2]));
+            }
         }
+        // One byte more than declared shows a stream that holds more than its header says.
+        if (!in.ends_here()) throw SerializedError("the compressed data holds more than its header declares");
+        // The indices, checked in parallel (each chunk its largest).
+        std::atomic<uint64_t> largest{0};
+        parallel_chunks(triangles_.size(), 1 << 16, [&](size_t begin, size_t end) {
+            uint64_t m = 0;
+            for (size_t i = begin; i < end; ++i)
+                m = std::max({m, uint64_t(triangles_[i].x), uint64_t(triangles_[i].y), uint64_t(triangles_[i].z)});
+            uint64_t seen = largest.load();
+            while (m > seen && !largest.compare_exchange_weak(seen, m)) {}
+        });
+        if (!triangles_.empty() && largest.load() >= vertex_count)
+            throw SerializedError("a triangle refers to vertex " + std::to_string(largest.load()) + " of " + std::to_string(vertex_count));
         if (triangles_.empty()) throw SerializedError("the mesh has no triangles");
     }
 };

@@ -2,6 +2,8 @@
 
 #include "core/scene.h"
 
+#include <catch2/catch.hpp>
+
 #include <sys/wait.h>
 #include <unistd.h>
 #include <algorithm>
@@ -61,6 +63,15 @@ std::string interrupt_after_start(const std::string& command) {
 }
 
 std::string scene_xml(const std::string& body) { return "<scene version=\"3.0.0\">\n" + body + "\n</scene>\n"; }
+
+const Mesh& load_single_mesh(const std::filesystem::path& dir, const std::string& shape_xml, Ref<Scene>& keep) {
+    write_text(dir / "scene.xml", scene_xml(shape_xml));
+    keep = load_scene((dir / "scene.xml").string());
+    REQUIRE(keep->shapes().size() == 1);
+    auto* mesh = dynamic_cast<const Mesh*>(keep->shapes()[0].get());
+    REQUIRE(mesh != nullptr);
+    return *mesh;
+}
 
 Ref<Scene> load_scene_xml(const std::string& name, const std::string& body) {
     auto dir = scratch_dir(name);

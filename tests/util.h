@@ -2,6 +2,7 @@
 // Helpers shared by the tests: scratch directories, small files, and scene snippets.
 
 #include "core/integrator.h"
+#include "core/mesh.h"
 #include "core/xml.h"
 
 #include <filesystem>
@@ -40,6 +41,9 @@ int effort_scaled(int samples, int minimum);
 std::string scene_xml(const std::string& body);
 // That document written to a fresh scratch directory `name` as scene.xml, and loaded.
 Ref<Scene> load_scene_xml(const std::string& name, const std::string& body);
+// The scene of one mesh shape (`shape_xml`) written to `dir` as scene.xml and loaded into `keep`:
+// its mesh (REQUIREd to be the scene's only shape, and a mesh).
+const Mesh& load_single_mesh(const std::filesystem::path& dir, const std::string& shape_xml, Ref<Scene>& keep);
 // A perspective sensor at `origin` looking at `target` (up +y, fov in degrees along x) with a
 // box-filtered w x h film, as XML.
 std::string pinhole_camera(const std::string& origin, const std::string& target, int w, int h, float fov = 60);

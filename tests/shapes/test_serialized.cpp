@@ -26,15 +26,6 @@ TestMesh tetrahedron(float scale) {
     return m;
 }
 
-const Mesh& load(const std::filesystem::path& dir, const std::string& shape, Ref<Scene>& keep) {
-    write_text(dir / "scene.xml", scene_xml(shape));
-    keep = load_scene((dir / "scene.xml").string());
-    REQUIRE(keep->shapes().size() == 1);
-    auto* mesh = dynamic_cast<const Mesh*>(keep->shapes()[0].get());
-    REQUIRE(mesh);
-    return *mesh;
-}
-
 std::string serialized_shape(const std::string& file, int index, const std::string& extra = "") {
     return "<shape type=\"serialized\">\n<string name=\"filename\" value=\"" + file + "\"/>\n<integer name=\"shape_index\" value=\"" +
            std::to_string(index) + "\"/>" + extra + "</shape>";
@@ -64,7 +55,7 @@ TEST_CASE("serialized: several meshes in one file round-trip through the reader"
         for (int index = 0; index < 3; ++index) {
             INFO("shape_index " << index);
             Ref<Scene> keep;
-            const Mesh& m = load(dir, serialized_shape(name, index), keep);
+            const Mesh& m = load_single_mesh(dir, serialized_shape(name, index), keep);
             const TestMesh& expected = meshes[size_t(index)];
             CHECK(m.positions() == expected.positions);
             CHECK(m.triangles() == expected.triangles);
@@ -92,14 +83,15 @@ TEST_CASE("serialized: to_world, flip_normals and face_normals apply as for othe
     for (const Vec3& p : m.positions) m.normals.push_back(squared_length(p) > 0 ? glm::normalize(p) : Vec3(-0.57735f));
     write_text(dir / "one.serialized", encode_file({m}, 4));
     Ref<Scene> keep, keep2;
-    const Mesh& moved = load(
+    const Mesh& moved = load_single_mesh(
         dir,
         serialized_shape("one.serialized", 0,
                          "<transform name=\"to_world\"><translate x=\"5\"/></transform><boolean name=\"flip_normals\" value=\"true\"/>"),
         keep);
     CHECK(moved.positions()[1] == Vec3(6, 0, 0));
     CHECK(moved.flip_normals());
-    const Mesh& flat = load(dir, serialized_shape("one.serialized", 0, "<boolean name=\"face_normals\" value=\"true\"/>"), keep2);
+    const Mesh& flat =
+        load_single_mesh(dir, serialized_shape("one.serialized", 0, "<boolean name=\"face_normals\" value=\"true\"/>"), keep2);
     CHECK(flat.normals().empty());
 }
 

@@ -1,0 +1,206 @@
+// Meshes large enough to take the readers' and the mesh's bulk paths: binary PLY records read a
+// buffer at a time (and across buffer refills), serialized fields inflated straight into the
+// mesh's arrays (and double precision converted in chunks), and flat meshes too large to cache
+// their triangle frames. Each must give exactly what the small-file paths give.
+
+#include "core/mesh.h"
+#include "core/scene.h"
+#include "core/xml.h"
+#include "tests/serialized_writer.h"
+#include "tests/util.h"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <fstream>
+
+using namespace candela;
+using namespace candela::test;
+
+namespace {
+
+std::string ply_shape(const std::string& file, const std::string& extra = "") {
+    return "<shape type=\"ply\"><string name=\"filename\" value=\"" + file + "\"/>" + extra + "</shape>";
+}
+
+// A wavy n x n grid; every 97th cell is one quad (a polygon of four corners), the others two
+// triangles, so that triangle and polygon records interleave across the reader's buffers.
+struct Grid {
+    std::vector<glm::dvec3> positions;
+    std::vector<unsigned char> red;
+    std::vector<std::vector<int>> faces;
+};
+
+Grid make_grid(int n) {
+    Grid g;
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            g.positions.emplace_back(i * 0.01 + 1e-9 * j, j * 0.01, 0.05 * std::sin(0.3 * i) * std::cos(0.2 * j));
+            g.red.push_back((unsigned char)((i * 7 + j) % 256));
+        }
+    for (int j = 0; j + 1 < n; ++j)
+        for (int i = 0; i + 1 < n; ++i) {
+            int a = j * n + i, b = a + 1, c = a + n, d = c + 1;
+            if ((j * n + i) % 97 == 0)
+                g.faces.push_back({a, b, d, c});
+            else {
+                g.faces.push_back({a, b, d});
+                g.faces.push_back({a, d, c});
+            }
+        }
+    return g;
+}
+
+// Vertices as doubles x y z with an 8-bit red, green and blue (an attribute), faces as lists.
+void write_grid_ply(const Grid& g, const std::filesystem::path& path, const std::string& format) {
+    std::ofstream out(path, std::ios::binary);
+    out << "ply\nformat " << format << " 1.0\nelement vertex " << g.positions.size()
+        << "\nproperty double x\nproperty double y\nproperty double z\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n"
+        << "element face " << g.faces.size() << "\nproperty list uchar int vertex_indices\nend_header\n";
+    out.precision(17);
+    const bool big = format == "binary_big_endian";
+    auto put = [&](const void* data, size_t n) {
+        std::string bytes(static_cast<const char*>(data), n);
+        if (big) std::reverse(bytes.begin(), bytes.end());
+        out.write(bytes.data(), std::streamsize(n));
+    };
+    for (size_t v = 0; v < g.positions.size(); ++v) {
+        const unsigned char rgb[3] = {g.red[v], 10, 250};
+        if (format == "ascii") {
+            out << g.positions[v].x << " " << g.positions[v].y << " " << g.positions[v].z << " " << int(rgb[0]) << " " << int(rgb[1]) << " "
+                << int(rgb[2]) << "\n";
+            continue;
+        }
+        for (int k = 0; k < 3; ++k) put(&g.positions[v][k], 8);
+        for (unsigned char c : rgb) put(&c, 1);
+    }
+    for (const auto& f : g.faces) {
+        if (format == "ascii") {
+            out << f.size();
+            for (int i : f) out << " " << i;
+            out << "\n";
+            continue;
+        }
+        const unsigned char n = (unsigned char)f.size();
+        put(&n, 1);
+        for (int i : f) put(&i, 4);
+    }
+}
+
+}  // namespace
+
+TEST_CASE("ply: large binary files, read a buffer of records at a time, give the same mesh as ascii", "[mesh]") {
+    // 27-byte vertex records, 400^2 of them (4.3 MB): more than one 4 MB buffer, so the vertices
+    // come in two batches and the faces' records straddle the buffers' ends.
+    const Grid g = make_grid(400);
+    auto dir = scratch_dir("ply-large");
+    std::vector<std::vector<Vec3>> positions, normals;
+    std::vector<std::vector<glm::uvec3>> triangles;
+    std::vector<std::vector<float>> colours;
+    for (const char* format : {"ascii", "binary_little_endian", "binary_big_endian"}) {
+        INFO(format);
+        write_grid_ply(g, dir / (std::string(format) + ".ply"), format);
+        Ref<Scene> keep;
+        const Mesh& m = load_single_mesh(dir, ply_shape(std::string(format) + ".ply"), keep);
+        REQUIRE(m.positions().size() == g.positions.size());
+        // The quads become two triangles each: as many triangles as two per cell.
+        CHECK(m.triangle_count() == size_t(2 * 399 * 399));
+        REQUIRE(m.attributes().size() == 1);
+        CHECK(m.attributes()[0].name == "vertex_color");
+        positions.push_back(m.positions());
+        normals.push_back(m.normals());
+        triangles.push_back(m.triangles());
+        colours.push_back(m.attributes()[0].values);
+    }
+    // Doubles rounded once to float, wherever they were read from.
+    for (size_t v : {size_t(0), size_t(12345), g.positions.size() - 1}) CHECK(positions[1][v] == Vec3(g.positions[v]));
+    for (size_t k = 1; k < 3; ++k) {
+        CHECK(positions[k] == positions[0]);
+        CHECK(triangles[k] == triangles[0]);
+        CHECK(colours[k] == colours[0]);
+        CHECK(normals[k] == normals[0]);  // smooth normals, computed the same way
+    }
+}
+
+TEST_CASE("serialized: a large double-precision mesh is inflated field by field, as written", "[mesh][serialized]") {
+    // 260^2 = 67,600 vertices: more than one 65536-value chunk of each double field.
+    TestMesh m;
+    m.double_precision = true;
+    const int n = 260;
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            m.positions.emplace_back(0.01f * float(i), 0.01f * float(j), 0.1f * std::sin(0.1f * float(i + j)));
+            m.normals.push_back(glm::normalize(Vec3(0.1f * std::sin(float(i)), 0.1f, 1.0f)));
+            m.uvs.emplace_back(float(i) / n, float(j) / n);
+            m.colors.emplace_back(float(i % 7) / 7.0f, 0.5f, float(j % 5) / 5.0f);
+        }
+    for (int j = 0; j + 1 < n; ++j)
+        for (int i = 0; i + 1 < n; ++i) {
+            unsigned a = unsigned(j * n + i), b = a + 1, c = a + unsigned(n), d = c + 1;
+            m.triangles.push_back({a, b, d});
+            m.triangles.push_back({a, d, c});
+        }
+    auto dir = scratch_dir("serialized-large");
+    write_text(dir / "large.serialized", encode_file({m}, 4));
+    Ref<Scene> keep;
+    const Mesh& mesh =
+        load_single_mesh(dir, "<shape type=\"serialized\"><string name=\"filename\" value=\"large.serialized\"/></shape>", keep);
+    CHECK(mesh.positions() == m.positions);
+    CHECK(mesh.triangles() == m.triangles);
+    CHECK(mesh.uvs() == m.uvs);
+    REQUIRE(mesh.normals().size() == m.normals.size());
+    for (size_t v : {size_t(0), size_t(65535), size_t(65536), m.normals.size() - 1})
+        CHECK(glm::length(mesh.normals()[v] - m.normals[v]) < 1e-6f);
+    REQUIRE(mesh.attributes().size() == 1);
+    std::vector<float> colours;
+    for (const Vec3& c : m.colors) colours.insert(colours.end(), {c.x, c.y, c.z});
+    CHECK(mesh.attributes()[0].values == colours);
+}
+
+TEST_CASE("mesh: a flat mesh too large to cache its triangle frames gives every hit the same frame", "[mesh]") {
+    // 726 x 726 vertices: 1,051,250 triangles, past the 2^20 of the frame cache; the small mesh
+    // is the large one's first two triangles. Both are shaded flat (face_normals).
+    auto dir = scratch_dir("mesh-flat-large");
+    auto write = [&](const std::string& name, int n) {
+        std::ofstream out(dir / name, std::ios::binary);
+        const size_t triangles = size_t(2) * size_t(n - 1) * size_t(n - 1);
+        out << "ply\nformat binary_little_endian 1.0\nelement vertex " << n * n
+            << "\nproperty float x\nproperty float y\nproperty float z\nelement face " << triangles
+            << "\nproperty list uchar int vertex_indices\nend_header\n";
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) {
+                const float p[3] = {float(i), float(j), 0.3f * float((i * 31 + j * 17) % 5)};
+                out.write(reinterpret_cast<const char*>(p), 12);
+            }
+        for (int j = 0; j + 1 < n; ++j)
+            for (int i = 0; i + 1 < n; ++i) {
+                const int a = j * n + i, b = a + 1, c = a + n, d = c + 1;
+                const int two[2][3] = {{a, b, d}, {a, d, c}};
+                for (const auto& t : two) {
+                    const unsigned char three = 3;
+                    out.write(reinterpret_cast<const char*>(&three), 1);
+                    out.write(reinterpret_cast<const char*>(t), 12);
+                }
+            }
+    };
+    write("large.ply", 726);
+    write("small.ply", 2);
+    const std::string flat = "<boolean name=\"face_normals\" value=\"true\"/>";
+    Ref<Scene> keep_large, keep_small;
+    load_single_mesh(dir, ply_shape("large.ply", flat), keep_large);
+    load_single_mesh(dir, ply_shape("small.ply", flat), keep_small);
+    // Rays straight down onto both triangles of the first cell.
+    for (const Vec2& xy : {Vec2(0.7f, 0.2f), Vec2(0.2f, 0.7f)}) {
+        INFO(xy.x << ", " << xy.y);
+        Ray ray(Vec3(xy.x, xy.y, 10.0f), Vec3(0.0f, 0.0f, -1.0f));
+        SurfaceInteraction large, small;
+        REQUIRE(keep_large->intersect(ray, large));
+        REQUIRE(keep_small->intersect(ray, small));
+        CHECK(large.n == small.n);
+        CHECK(large.dpdu == small.dpdu);
+        CHECK(large.dpdv == small.dpdv);
+        CHECK(large.shading.n == small.shading.n);
+        CHECK(large.shading.s == small.shading.s);
+        CHECK(large.shading.t == small.shading.t);
+    }
+}
