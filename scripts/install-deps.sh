@@ -9,7 +9,7 @@ set -euo pipefail
 packages=(
   cmake g++ make pkg-config
   libembree-dev libopenimageio-dev openimageio-tools libopenexr-dev libglm-dev
-  libtinyobjloader-dev catch2 libtbb-dev libpugixml-dev libcli11-dev zlib1g-dev
+  catch2 libtbb-dev libpugixml-dev libcli11-dev zlib1g-dev
   libosmesa6-dev
   clang libclang-rt-14-dev llvm lld
   python3-dev pybind11-dev python3-numpy python3-pytest python3-nbclient python3-nbformat python3-ipykernel
