@@ -21,15 +21,6 @@ using namespace candela::test;
 
 namespace {
 
-const Mesh& load_mesh(const std::filesystem::path& dir, const std::string& shape_xml, Ref<Scene>& keep) {
-    write_text(dir / "scene.xml", scene_xml(shape_xml));
-    keep = load_scene((dir / "scene.xml").string());
-    REQUIRE(keep->shapes().size() == 1);
-    auto* mesh = dynamic_cast<const Mesh*>(keep->shapes()[0].get());
-    REQUIRE(mesh != nullptr);
-    return *mesh;
-}
-
 double total_area(const Mesh& m) {
     double a = 0.0;
     for (auto& t : m.triangles())
@@ -86,7 +77,7 @@ TEST_CASE("obj: concave n-gons, uv flip, de-duplication and smooth normals", "[m
     obj += "f 1/1 2/2 3/3 4/4 5/5 6/6\n";
     write_text(dir / "arrow.obj", obj);
     Ref<Scene> keep;
-    const Mesh& m = load_mesh(dir, R"(<shape type="obj"><string name="filename" value="arrow.obj"/></shape>)", keep);
+    const Mesh& m = load_single_mesh(dir, R"(<shape type="obj"><string name="filename" value="arrow.obj"/></shape>)", keep);
     check_arrow_triangulation(m);
     REQUIRE(m.uvs().size() == 6);
     CHECK(m.uvs()[1] == Vec2(1.0f, 0.75f));  // flip_tex_coords defaults to true
@@ -94,7 +85,7 @@ TEST_CASE("obj: concave n-gons, uv flip, de-duplication and smooth normals", "[m
     REQUIRE(m.normals().size() == 6);
     for (auto& n : m.normals()) CHECK(glm::length(n - Vec3(0, 0, 1)) < 1e-5f);
     Ref<Scene> keep2;
-    const Mesh& unflipped = load_mesh(
+    const Mesh& unflipped = load_single_mesh(
         dir, R"(<shape type="obj"><string name="filename" value="arrow.obj"/><boolean name="flip_tex_coords" value="false"/></shape>)",
         keep2);
     CHECK(unflipped.uvs()[1] == Vec2(1.0f, 0.25f));
@@ -108,11 +99,11 @@ TEST_CASE("obj: normals from the file, face_normals, and corners split by uv sea
                "vn 0 0 1\nvn 0 0.6 0.8\n"
                "f 1/1/1 2/2/1 3/3/2\nf 1/5/1 3/3/2 4/4/1\n");
     Ref<Scene> keep;
-    const Mesh& m = load_mesh(dir, R"(<shape type="obj"><string name="filename" value="two.obj"/></shape>)", keep);
+    const Mesh& m = load_single_mesh(dir, R"(<shape type="obj"><string name="filename" value="two.obj"/></shape>)", keep);
     CHECK(m.positions().size() == 5);  // vertex 1 appears with two different uvs
     CHECK(m.normals().size() == 5);
     Ref<Scene> keep2;
-    const Mesh& flat = load_mesh(
+    const Mesh& flat = load_single_mesh(
         dir, R"(<shape type="obj"><string name="filename" value="two.obj"/><boolean name="face_normals" value="true"/></shape>)", keep2);
     CHECK(flat.normals().empty());
 }
@@ -282,7 +273,7 @@ TEST_CASE("obj: corner forms, relative indices, CRLF, comments and skipped lines
     auto dir = scratch_dir("obj-forms");
     write_text(dir / "forms.obj", text);
     Ref<Scene> keep;
-    const Mesh& m = load_mesh(dir, R"(<shape type="obj"><string name="filename" value="forms.obj"/></shape>)", keep);
+    const Mesh& m = load_single_mesh(dir, R"(<shape type="obj"><string name="filename" value="forms.obj"/></shape>)", keep);
     // (v, vt, vn) keys in first-use order: 3 + 3 + 3 + 3 + 1 vertices.
     const std::vector<Vec3> p = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
     const std::vector<int> position_of = {0, 1, 2, 0, 2, 3, 0, 2, 3, 0, 1, 2, 3};
@@ -346,7 +337,7 @@ TEST_CASE("obj: a file of many chunks loads the same with 1 and 2 threads", "[me
     for (int threads : {1, 2}) {
         thread_arena(threads).execute([&] {
             Ref<Scene> keep;
-            const Mesh& m = load_mesh(dir, R"(<shape type="obj"><string name="filename" value="large.obj"/></shape>)", keep);
+            const Mesh& m = load_single_mesh(dir, R"(<shape type="obj"><string name="filename" value="large.obj"/></shape>)", keep);
             positions.push_back(m.positions());
             triangles.push_back(m.triangles());
         });
@@ -448,7 +439,7 @@ TEST_CASE("ply: ascii and binary files of both endiannesses give the same mesh",
         std::string name = std::string(format) + ".ply";
         write_ply(dir / name, format);
         Ref<Scene> keep;
-        const Mesh& m = load_mesh(dir, "<shape type=\"ply\"><string name=\"filename\" value=\"" + name + "\"/></shape>", keep);
+        const Mesh& m = load_single_mesh(dir, "<shape type=\"ply\"><string name=\"filename\" value=\"" + name + "\"/></shape>", keep);
         check_arrow_triangulation(m);
         positions.push_back(m.positions());
         uvs.push_back(m.uvs());
@@ -556,6 +547,6 @@ TEST_CASE("ply: values outside their declared type, bad list types and huge coun
                face_file("element face 1\nproperty list uchar int vertex_indices\nproperty list uchar float texcoord\n",
                          "3 0 1 2 6 0.5 0.5 7.5 0 0 1\n"));
     Ref<Scene> keep;
-    const Mesh& m = load_mesh(dir, "<shape type=\"ply\"><string name=\"filename\" value=\"texcoord.ply\"/></shape>", keep);
+    const Mesh& m = load_single_mesh(dir, "<shape type=\"ply\"><string name=\"filename\" value=\"texcoord.ply\"/></shape>", keep);
     CHECK(m.triangle_count() == 1);
 }
