@@ -203,7 +203,8 @@ void write_text(const fs::path& path, const std::string& text) {
 
 struct ChildRun {
     double seconds = 0.0;
-    double peak_mb = 0.0;  // ru_maxrss of the child, MiB
+    double peak_mb = 0.0;      // ru_maxrss of the child, MiB
+    double cpu_seconds = 0.0;  // its user and system time
     int status = 0;
     std::string output;  // its stderr and stdout
 };
@@ -228,6 +229,7 @@ ChildRun run_child(const std::vector<std::string>& argv) {
     wait4(pid, &r.status, 0, &usage);
     r.seconds = seconds_since(t0);
     r.peak_mb = double(usage.ru_maxrss) / 1024.0;
+    r.cpu_seconds = double(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) + 1e-6 * double(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
     std::ifstream in(log_name);
     r.output.assign(std::istreambuf_iterator<char>(in), {});
     close(log);
@@ -342,7 +344,7 @@ int load_run(const fs::path& dir, const std::string& candela, int rounds, bool o
     std::printf("start to first sample, peak resident memory; %llu triangles; %d rounds side by side\n", (unsigned long long)triangles,
                 rounds);
     std::vector<std::string> names = {"floor (ply)", "candela ply", "candela serialized", "candela obj"};
-    std::vector<std::vector<double>> time(names.size()), memory(names.size());
+    std::vector<std::vector<double>> time(names.size()), memory(names.size()), cpu(names.size());
     for (int r = 0; r < rounds; ++r) {
         for (size_t k = 0; k < names.size(); ++k) {
             if (k == 3 && (r > 0 || !obj)) continue;  // obj once: it is the slow format
@@ -357,17 +359,18 @@ int load_run(const fs::path& dir, const std::string& candela, int rounds, bool o
             ChildRun c = run_child(argv);
             time[k].push_back(c.seconds);
             memory[k].push_back(c.peak_mb);
-            std::printf("  round %d %-20s %7.2f s  %8.1f MB  %6.1f bytes/triangle\n", r + 1, names[k].c_str(), c.seconds, c.peak_mb,
-                        c.peak_mb * 1048576.0 / double(triangles));
+            cpu[k].push_back(c.cpu_seconds);
+            std::printf("  round %d %-20s %7.2f s (%6.2f s of CPU)  %8.1f MB  %6.1f bytes/triangle\n", r + 1, names[k].c_str(), c.seconds,
+                        c.cpu_seconds, c.peak_mb, c.peak_mb * 1048576.0 / double(triangles));
             std::fflush(stdout);
         }
     }
     const double floor_time = median(time[0]), floor_memory = median(memory[0]);
     for (size_t k = 0; k < names.size(); ++k)
         if (!time[k].empty())
-            std::printf("%-20s median %7.2f s (x%.2f of the floor)  %8.1f MB (x%.2f)  %6.1f bytes/triangle\n", names[k].c_str(),
-                        median(time[k]), median(time[k]) / floor_time, median(memory[k]), median(memory[k]) / floor_memory,
-                        median(memory[k]) * 1048576.0 / double(triangles));
+            std::printf("%-20s median %7.2f s (x%.2f of the floor; CPU x%.2f)  %8.1f MB (x%.2f)  %6.1f bytes/triangle\n", names[k].c_str(),
+                        median(time[k]), median(time[k]) / floor_time, median(cpu[k]) / median(cpu[0]), median(memory[k]),
+                        median(memory[k]) / floor_memory, median(memory[k]) * 1048576.0 / double(triangles));
     return 0;
 }
 

@@ -8,6 +8,7 @@
 #include "core/warp.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cstring>
 #include <map>
 #include <tuple>
@@ -70,38 +71,38 @@ void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
         }
     });
 
-    // Zero-area triangles cannot be hit or sampled: dropped, in place (a copy of the index
-    // array would double it at the moment memory peaks for large meshes), with their face
-    // attribute rows.
-    std::vector<unsigned char> keep(triangles_.size());
+    // Zero-area triangles cannot be hit or sampled: dropped, with their face attribute rows. A
+    // parallel pass looks for one; only a mesh that has some is compacted, in place and in order
+    // (a copy of the index array would double it when memory peaks for large meshes).
+    auto degenerate = [&](size_t i) {
+        const float a = triangle_area(triangles_[i]);
+        return !(a > 0.0f && std::isfinite(a));
+    };
+    std::atomic<bool> any_degenerate{false};
     parallel_chunks(triangles_.size(), 1 << 16, [&](size_t begin, size_t end) {
-        for (size_t i = begin; i < end; ++i) {
-            const glm::uvec3& t = triangles_[i];
-            float a = 0.5f * glm::length(glm::cross(positions_[t.y] - positions_[t.x], positions_[t.z] - positions_[t.x]));
-            keep[i] = a > 0.0f && std::isfinite(a);
-        }
+        for (size_t i = begin; i < end && !any_degenerate.load(std::memory_order_relaxed); ++i)
+            if (degenerate(i)) any_degenerate = true;
     });
-    size_t kept = 0;
-    for (size_t i = 0; i < triangles_.size(); ++i) {
-        if (!keep[i]) continue;
-        if (kept != i) {
-            triangles_[kept] = triangles_[i];
-            for (MeshAttribute& attr : attributes_) {
-                if (!attr.per_face) continue;
-                const size_t c = size_t(attr.channels);
-                std::copy_n(attr.values.begin() + std::ptrdiff_t(i * c), c, attr.values.begin() + std::ptrdiff_t(kept * c));
+    if (any_degenerate) {
+        size_t kept = 0;
+        for (size_t i = 0; i < triangles_.size(); ++i) {
+            if (degenerate(i)) continue;
+            if (kept != i) {
+                triangles_[kept] = triangles_[i];
+                for (MeshAttribute& attr : attributes_) {
+                    if (!attr.per_face) continue;
+                    const size_t c = size_t(attr.channels);
+                    std::copy_n(attr.values.begin() + std::ptrdiff_t(i * c), c, attr.values.begin() + std::ptrdiff_t(kept * c));
+                }
             }
+            ++kept;
         }
-        ++kept;
-    }
-    if (kept == 0) fail_mesh(props, "no triangle has a non-zero area");
-    if (kept != triangles_.size()) {
+        if (kept == 0) fail_mesh(props, "no triangle has a non-zero area");
         triangles_.resize(kept);
         triangles_.shrink_to_fit();
         for (MeshAttribute& attr : attributes_)
             if (attr.per_face) attr.values.resize(kept * size_t(attr.channels));
     }
-    keep = {};
     update_derived(normals_.empty() && smooth_if_missing);
 }
 
@@ -112,16 +113,23 @@ void Mesh::update_derived(bool recompute_normals) {
     if (positions_.capacity() == positions_.size()) positions_.reserve(positions_.size() + 1);
     bbox_ = BoundingBox();
     for (const Vec3& p : positions_) bbox_.expand(p);
-    std::vector<float> areas(triangles_.size());
-    parallel_chunks(triangles_.size(), 1 << 16, [&](size_t begin, size_t end) {
-        for (size_t i = begin; i < end; ++i) {
-            const glm::uvec3& t = triangles_[i];
-            const float a = 0.5f * glm::length(glm::cross(positions_[t.y] - positions_[t.x], positions_[t.z] - positions_[t.x]));
-            areas[i] = std::isfinite(a) ? a : 0.0f;
+    // The total area in double, summed over fixed chunks in order: the same whatever the thread
+    // count. The per-triangle areas are kept only for an emitter's area table (below).
+    const size_t chunk = size_t(1) << 16, chunks = (triangles_.size() + chunk - 1) / chunk;
+    std::vector<double> partial(chunks, 0.0);
+    std::vector<float> areas(emitter() ? triangles_.size() : 0);
+    parallel_for(chunks, [&](size_t c) {
+        double sum = 0.0;
+        for (size_t i = c * chunk; i < std::min(triangles_.size(), (c + 1) * chunk); ++i) {
+            float a = triangle_area(triangles_[i]);
+            a = std::isfinite(a) ? a : 0.0f;
+            sum += a;
+            if (!areas.empty()) areas[i] = a;
         }
+        partial[c] = sum;
     });
     double total = 0.0;
-    for (float a : areas) total += a;
+    for (double p : partial) total += p;
     area_ = float(total);
     cone_axis_ = Vec3(0.0f, 0.0f, 1.0f);
     cone_cos_ = -1.0f;
@@ -147,7 +155,6 @@ void Mesh::update_derived(bool recompute_normals) {
         }
         area_distribution_ = Distribution1D(std::move(areas));
     }
-    areas = {};
     if (recompute_normals) recompute_vertex_normals();
     // A flat triangle's frame is the same at every point of it: computed here once, not per hit,
     // up to a size where the 72 bytes per triangle would outweigh the mesh itself (larger flat
@@ -188,12 +195,27 @@ void Mesh::parameters_changed(const std::vector<std::string>& keys) {
     if (std::find(keys.begin(), keys.end(), "vertex_positions") != keys.end()) update_derived(!normals_.empty());
 }
 
+namespace {
+// acos(x) for x in [-1, 1] to float precision: Abramowitz and Stegun 4.4.46, acos(x) =
+// sqrt(1 - x) (a0 + a1 x + ... + a7 x^7) on [0, 1] (absolute error at most 2e-8), and
+// acos(-x) = pi - acos(x). A third of the cost of the library's acosf where it runs 3 times per
+// triangle of a large mesh.
+float acos_fast(float x) {
+    const float a = std::min(std::abs(x), 1.0f);
+    float p = -0.0012624911f;
+    for (float c : {0.0066700901f, -0.0170881256f, 0.0308918810f, -0.0501743046f, 0.0889789874f, -0.2145988016f, 1.5707963050f})
+        p = p * a + c;
+    const float r = std::sqrt(1.0f - a) * p;
+    return x < 0.0f ? Pi - r : r;
+}
+}  // namespace
+
 void Mesh::recompute_vertex_normals() {
-    // Each corner adds its face normal weighted by its angle, computed in float as Mitsuba does
-    // (acos in double made this a tenth of loading a large mesh) and summed in double. The
-    // corners' terms are computed in parallel, a block of triangles at a time, and summed in
-    // triangle order on one thread: the same sums whatever the thread count.
-    std::vector<glm::dvec3> sum(positions_.size(), glm::dvec3(0.0));
+    // Each corner adds its face's unit normal weighted by the corner's angle (Thürmer and
+    // Wüthrich 1998), in float as Mitsuba does. The corners' terms are computed in parallel, a
+    // block of triangles at a time, and added to the vertices in triangle order on one thread:
+    // the same normals whatever the thread count.
+    normals_.assign(positions_.size(), Vec3(0.0f));
     const size_t block = size_t(1) << 18;
     std::vector<Vec3> corner(3 * std::min(block, triangles_.size()));
     for (size_t first = 0; first < triangles_.size(); first += block) {
@@ -201,30 +223,34 @@ void Mesh::recompute_vertex_normals() {
         parallel_chunks(count, 1 << 12, [&](size_t begin, size_t end) {
             for (size_t i = begin; i < end; ++i) {
                 const glm::uvec3& t = triangles_[first + i];
-                const Vec3 p[3] = {positions_[t.x], positions_[t.y], positions_[t.z]};
-                const Vec3 face = glm::cross(p[1] - p[0], p[2] - p[0]);
+                const Vec3 p0 = positions_[t.x], p1 = positions_[t.y], p2 = positions_[t.z];
+                // Edges leaving each corner's successor: e0 = p1 - p0, e1 = p2 - p1, e2 = p0 - p2.
+                const Vec3 e0 = p1 - p0, e1 = p2 - p1, e2 = p0 - p2;
+                const float l0 = glm::length(e0), l1 = glm::length(e1), l2 = glm::length(e2);
+                const Vec3 face = glm::cross(e0, -e2);
                 const float len = glm::length(face);
-                for (int k = 0; k < 3; ++k) {
-                    Vec3& term = corner[3 * i + size_t(k)];
-                    term = Vec3(0.0f);
-                    const Vec3 e1 = p[(k + 1) % 3] - p[k], e2 = p[(k + 2) % 3] - p[k];
-                    const float l1 = glm::length(e1), l2 = glm::length(e2);
-                    if (!(len > 0.0f) || l1 == 0.0f || l2 == 0.0f) continue;
-                    const float angle = std::acos(std::clamp(glm::dot(e1, e2) / (l1 * l2), -1.0f, 1.0f));
-                    term = angle * (face / len);
+                Vec3* term = &corner[3 * i];
+                if (!(len > 0.0f) || l0 == 0.0f || l1 == 0.0f || l2 == 0.0f) {
+                    term[0] = term[1] = term[2] = Vec3(0.0f);
+                    continue;
                 }
+                const Vec3 n = face / len;
+                // The angle at p0 lies between e0 and -e2, at p1 between e1 and -e0, at p2
+                // between e2 and -e1.
+                term[0] = acos_fast(std::clamp(-glm::dot(e0, e2) / (l0 * l2), -1.0f, 1.0f)) * n;
+                term[1] = acos_fast(std::clamp(-glm::dot(e1, e0) / (l1 * l0), -1.0f, 1.0f)) * n;
+                term[2] = acos_fast(std::clamp(-glm::dot(e2, e1) / (l2 * l1), -1.0f, 1.0f)) * n;
             }
         });
         for (size_t i = 0; i < count; ++i) {
             const glm::uvec3& t = triangles_[first + i];
-            for (int k = 0; k < 3; ++k) sum[t[k]] += glm::dvec3(corner[3 * i + size_t(k)]);
+            for (int k = 0; k < 3; ++k) normals_[t[k]] += corner[3 * i + size_t(k)];
         }
     }
-    normals_.resize(positions_.size());
-    parallel_chunks(sum.size(), 1 << 16, [&](size_t begin, size_t end) {
+    parallel_chunks(normals_.size(), 1 << 16, [&](size_t begin, size_t end) {
         for (size_t i = begin; i < end; ++i) {
-            double len = glm::length(sum[i]);
-            normals_[i] = len > 0.0 ? Vec3(sum[i] / len) : Vec3(1.0f, 0.0f, 0.0f);
+            const float len = glm::length(normals_[i]);
+            normals_[i] = len > 0.0f ? normals_[i] / len : Vec3(1.0f, 0.0f, 0.0f);
         }
     });
 }

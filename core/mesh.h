@@ -81,6 +81,9 @@ protected:
     // and the vertex normals when `recompute_normals`.
     void update_derived(bool recompute_normals);
     void recompute_vertex_normals();
+    float triangle_area(const glm::uvec3& t) const {
+        return 0.5f * glm::length(glm::cross(positions_[t.y] - positions_[t.x], positions_[t.z] - positions_[t.x]));
+    }
 
     std::vector<Vec3> positions_, normals_;
     std::vector<Vec2> uvs_;
