@@ -1,9 +1,9 @@
 #pragma once
 // The BSDF interface. Everything happens in the local shading frame (normal = +z): `wi` points
 // back toward where the path came from (the camera side) and `wo` is the sampled or queried
-// direction. eval returns f * |cos(wo)|; pdf is per unit solid angle; sample returns the weight
-// f * |cos(wo)| / pdf (for a delta lobe, the weight alone). Every BSDF is one-sided unless
-// wrapped in `twosided`; transmissive ones are two-sided by nature.
+// direction. eval returns f * |cos(wo)|; pdf is per unit solid angle; eval_pdf both at once;
+// sample returns the weight f * |cos(wo)| / pdf (for a delta lobe, the weight alone). Every BSDF
+// is one-sided unless wrapped in `twosided`; transmissive ones are two-sided by nature.
 
 #include "core/object.h"
 #include "core/ray.h"
@@ -54,6 +54,12 @@ struct BSDFSample {
     bool valid() const { return pdf > 0.0f; }
 };
 
+// eval() and pdf() of one direction, as BSDF::eval_pdf returns them.
+struct BSDFEvalPdf {
+    Spectrum value{0.0f};  // f * |cos wo|
+    float pdf = 0.0f;
+};
+
 struct LocalShading;
 
 class BSDF : public Object {
@@ -63,6 +69,12 @@ public:
     virtual BSDFSample sample(const BSDFContext& ctx, const SurfaceInteraction& si, float u_lobe, const Vec2& u_dir) const = 0;
     virtual Spectrum eval(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const = 0;
     virtual float pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const = 0;
+    // eval() and pdf() together, equal to the two calls (as Mitsuba's eval_pdf): for next-event
+    // estimation and MIS, which need both. BSDFs whose two share work (texture lookups, the half
+    // vector, D and G1) override it to do that work once.
+    virtual BSDFEvalPdf eval_pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const {
+        return BSDFEvalPdf{eval(ctx, si, wo), pdf(ctx, si, wo)};
+    }
 
     // Directional albedo estimate for AOVs and light-path heuristics (not used for rendering).
     virtual Spectrum albedo(const SurfaceInteraction& si) const = 0;
@@ -85,12 +97,13 @@ public:
 
 protected:
     // Completes a sample whose direction, lobe and eta a smooth lobe has drawn: its pdf is pdf()
-    // (the density of the whole BSDF, as MIS needs) and its weight eval / pdf; invalid when the pdf
-    // is not positive or the weight not finite.
+    // (the density of the whole BSDF, as MIS needs) and its weight eval / pdf, both from one
+    // eval_pdf(); invalid when the pdf is not positive or the weight not finite.
     BSDFSample weighted_by_pdf(const BSDFContext& ctx, const SurfaceInteraction& si, BSDFSample bs) const {
-        bs.pdf = pdf(ctx, si, bs.wo);
+        const BSDFEvalPdf e = eval_pdf(ctx, si, bs.wo);
+        bs.pdf = e.pdf;
         if (!(bs.pdf > 0.0f)) return BSDFSample();
-        bs.weight = eval(ctx, si, bs.wo) / bs.pdf;
+        bs.weight = e.value / bs.pdf;
         if (!all_finite(bs.weight)) return BSDFSample();
         return bs;
     }

@@ -26,7 +26,9 @@ Spectrum sample_emitter_mis(const Scene& scene, const LightSampler& lights, Samp
     if (!light.valid()) return Spectrum(0.0f);
     const DirectionSample& ds = light.ds;
     Vec3 wo = si.to_local(ds.d);
-    Spectrum f = bsdf.eval(ctx, si, wo);
+    // eval and pdf together (the pdf weighs this sample against BSDF sampling below).
+    const BSDFEvalPdf f_pdf = bsdf.eval_pdf(ctx, si, wo);
+    const Spectrum& f = f_pdf.value;
     if (is_black(f)) return Spectrum(0.0f);
     Spectrum T(0.0f);
     if (medium.rng) {
@@ -36,7 +38,7 @@ Spectrum sample_emitter_mis(const Scene& scene, const LightSampler& lights, Samp
         T = scene.transmittance(shadow_ray(si, ds));  // through null surfaces and masks
     }
     if (is_black(T)) return Spectrum(0.0f);
-    float w = ds.delta ? 1.0f : power_heuristic(ds.pdf * light.pick_prob * shares.emitter, bsdf.pdf(ctx, si, wo) * shares.bsdf);
+    float w = ds.delta ? 1.0f : power_heuristic(ds.pdf * light.pick_prob * shares.emitter, f_pdf.pdf * shares.bsdf);
     return T * f * light.weight * (w / light.pick_prob);
 }
 

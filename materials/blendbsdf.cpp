@@ -63,6 +63,19 @@ public:
             if (p[k] > 0.0f) result += p[k] * nested_[k]->pdf(ctx, si, wo);
         return result;
     }
+    // eval() and pdf() with one eval_pdf of each nested BSDF that either needs.
+    BSDFEvalPdf eval_pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
+        float w[2], p[2];
+        weights(ctx, si, w, p);
+        BSDFEvalPdf result;
+        for (int k = 0; k < 2; ++k) {
+            if (!(w[k] > 0.0f) && !(p[k] > 0.0f)) continue;
+            const BSDFEvalPdf e = nested_[k]->eval_pdf(ctx, si, wo);
+            if (w[k] > 0.0f) result.value += w[k] * e.value;
+            if (p[k] > 0.0f) result.pdf += p[k] * e.pdf;
+        }
+        return result;
+    }
     Spectrum albedo(const SurfaceInteraction& si) const override {
         float w = weight(si);
         return (1.0f - w) * nested_[0]->albedo(si) + w * nested_[1]->albedo(si);

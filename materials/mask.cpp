@@ -50,6 +50,12 @@ public:
         float p_pass = pass_probability(ctx, opacity(si));
         return p_pass < 1.0f ? (1.0f - p_pass) * nested_->pdf(ctx, si, wo) : 0.0f;
     }
+    BSDFEvalPdf eval_pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
+        float a = opacity(si), p_pass = pass_probability(ctx, a);
+        if (!(a > 0.0f) && !(p_pass < 1.0f)) return BSDFEvalPdf{};
+        BSDFEvalPdf e = nested_->eval_pdf(ctx, si, wo);
+        return BSDFEvalPdf{a > 0.0f ? a * e.value : Spectrum(0.0f), p_pass < 1.0f ? (1.0f - p_pass) * e.pdf : 0.0f};
+    }
     Spectrum albedo(const SurfaceInteraction& si) const override { return opacity(si) * nested_->albedo(si); }
     // 1 - a (1 - t_nested), as Mitsuba: the pass, and whatever the nested BSDF lets pass.
     Spectrum null_transmission(const SurfaceInteraction& si) const override {

@@ -221,7 +221,13 @@ Vec3 MicrofacetDistribution::sample(const Vec3& wi, const Vec2& u, float& pdf_ou
 float MicrofacetDistribution::pdf(const Vec3& wi, const Vec3& m) const {
     if (!sample_visible_) return D(m) * m.z;
     if (wi.z <= 0.0f) return 0.0f;
-    return D(m) * G1(wi, m) * std::max(0.0f, glm::dot(wi, m)) / wi.z;
+    return pdf(wi, m, D(m), G1(wi, m));
+}
+
+float MicrofacetDistribution::pdf(const Vec3& wi, const Vec3& m, float D_m, float G1_wi) const {
+    if (!sample_visible_) return D_m * m.z;
+    if (wi.z <= 0.0f) return 0.0f;
+    return D_m * G1_wi * std::max(0.0f, glm::dot(wi, m)) / wi.z;
 }
 
 }  // namespace candela

@@ -30,9 +30,12 @@ public:
     float G1(const Vec3& v, const Vec3& m) const;
     float G(const Vec3& wi, const Vec3& wo, const Vec3& m) const { return G1(wi, m) * G1(wo, m); }
 
-    // A microfacet normal for incident direction wi (wi.z > 0), and its density.
+    // A microfacet normal for incident direction wi (wi.z > 0), and its density pdf(wi, m).
     Vec3 sample(const Vec3& wi, const Vec2& u, float& pdf) const;
     float pdf(const Vec3& wi, const Vec3& m) const;
+    // pdf(wi, m) from D(m) and G1(wi, m) the caller has already computed (eval and pdf of a BSDF
+    // share them); the same arithmetic as pdf(wi, m).
+    float pdf(const Vec3& wi, const Vec3& m, float D_m, float G1_wi) const;
 
     MicrofacetType type() const { return type_; }
     float alpha_u() const { return alpha_u_; }

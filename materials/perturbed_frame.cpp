@@ -61,4 +61,13 @@ float PerturbedFrameBSDF::pdf(const BSDFContext& ctx, const SurfaceInteraction& 
     return nested_->pdf(ctx, p.si, wo_p);
 }
 
+BSDFEvalPdf PerturbedFrameBSDF::eval_pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const {
+    const Perturbed p = perturb(si);
+    const Vec3 wo_p = p.local.to_local(wo);
+    if (Frame::cos_theta(wo) * Frame::cos_theta(wo_p) <= 0.0f) return BSDFEvalPdf{};
+    BSDFEvalPdf e = nested_->eval_pdf(ctx, p.si, wo_p);
+    e.value *= shadowing(p.local.n, wo);
+    return e;
+}
+
 }  // namespace candela

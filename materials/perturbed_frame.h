@@ -37,6 +37,7 @@ public:
     BSDFSample sample(const BSDFContext& ctx, const SurfaceInteraction& si, float u_lobe, const Vec2& u) const override;
     Spectrum eval(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override;
     float pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override;
+    BSDFEvalPdf eval_pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override;
     Spectrum albedo(const SurfaceInteraction& si) const override { return nested_->albedo(perturb(si).si); }
     // Local model: the nested BSDF's, shaded in the perturbed frame (bump / normal mapping).
     LocalShading local_shading() const override { return nested_->local_shading(); }

@@ -43,30 +43,15 @@ public:
     }
 
     Spectrum eval(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
-        float cos_i = Frame::cos_theta(si.wi), cos_o = Frame::cos_theta(wo);
-        if (cos_i <= 0.0f || cos_o <= 0.0f) return Spectrum(0.0f);
-        Spectrum result(0.0f);
-        if (ctx.allows(GlossyReflection)) {
-            Vec3 h = glm::normalize(si.wi + wo);
-            float F = fresnel_dielectric(glm::dot(si.wi, h), eta_).F;
-            result += specular_->eval(si) * (F * distribution_.D(h) * distribution_.G(si.wi, wo, h) / (4.0f * cos_i));
-        }
-        if (ctx.allows(DiffuseReflection)) {
-            float Fi = fresnel_dielectric(cos_i, eta_).F, Fo = fresnel_dielectric(cos_o, eta_).F;
-            result += diffuse_->eval(si) * ((1.0f - Fi) * (1.0f - Fo) * cos_o * InvPi);
-        }
-        return result;
+        return eval_pdf(ctx, si, wo, true, false).value;
     }
 
     float pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
-        float cos_i = Frame::cos_theta(si.wi), cos_o = Frame::cos_theta(wo);
-        if (cos_i <= 0.0f || cos_o <= 0.0f) return 0.0f;
-        float p_spec = specular_probability(ctx), result = 0.0f;
-        Vec3 h = glm::normalize(si.wi + wo);
-        if (p_spec > 0.0f && glm::dot(si.wi, h) > 0.0f && glm::dot(wo, h) > 0.0f)
-            result += p_spec * distribution_.pdf(si.wi, h) / (4.0f * glm::dot(wo, h));
-        if (ctx.allows(DiffuseReflection)) result += (1.0f - p_spec) * warp::square_to_cosine_hemisphere_pdf(wo);
-        return result;
+        return eval_pdf(ctx, si, wo, false, true).pdf;
+    }
+
+    BSDFEvalPdf eval_pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
+        return eval_pdf(ctx, si, wo, true, true);
     }
 
     Spectrum albedo(const SurfaceInteraction& si) const override {
@@ -89,6 +74,38 @@ public:
     std::string to_string() const override { return "pplastic"; }
 
 private:
+    // eval() and pdf(), either or both: one half vector, D(h) and G1(wi).
+    BSDFEvalPdf eval_pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo, bool with_value, bool with_pdf) const {
+        BSDFEvalPdf result;
+        float cos_i = Frame::cos_theta(si.wi), cos_o = Frame::cos_theta(wo);
+        if (cos_i <= 0.0f || cos_o <= 0.0f) return result;
+        const bool specular = ctx.allows(GlossyReflection);
+        Vec3 h = glm::normalize(si.wi + wo);
+        float D = 0.0f, G1_wi = 0.0f;
+        if (specular) {
+            D = distribution_.D(h);
+            G1_wi = distribution_.G1(si.wi, h);
+        }
+        if (with_value) {
+            if (specular) {
+                float F = fresnel_dielectric(glm::dot(si.wi, h), eta_).F;
+                result.value += specular_->eval(si) * (F * D * (G1_wi * distribution_.G1(wo, h)) / (4.0f * cos_i));
+            }
+            if (ctx.allows(DiffuseReflection)) {
+                float Fi = fresnel_dielectric(cos_i, eta_).F, Fo = fresnel_dielectric(cos_o, eta_).F;
+                result.value += diffuse_->eval(si) * ((1.0f - Fi) * (1.0f - Fo) * cos_o * InvPi);
+            }
+        }
+        if (with_pdf) {
+            // specular_probability is 0 unless `specular`.
+            float p_spec = specular_probability(ctx);
+            if (p_spec > 0.0f && glm::dot(si.wi, h) > 0.0f && glm::dot(wo, h) > 0.0f)
+                result.pdf += p_spec * distribution_.pdf(si.wi, h, D, G1_wi) / (4.0f * glm::dot(wo, h));
+            if (ctx.allows(DiffuseReflection)) result.pdf += (1.0f - p_spec) * warp::square_to_cosine_hemisphere_pdf(wo);
+        }
+        return result;
+    }
+
     float specular_probability(const BSDFContext& ctx) const {
         return specular_lobe_probability(ctx, GlossyReflection, DiffuseReflection, specular_weight_);
     }

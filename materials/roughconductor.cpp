@@ -10,6 +10,8 @@
 //   specular_reflectance   rgb or texture   extra factor (default 1)
 //
 // f(wi, wo) cos(wo) = F(wi . h) D(h) G1(wi) G1(wo) / (4 cos(wi)), h = normalize(wi + wo).
+// With visible normals sampled (pdf D(m) G1(wi) (wi . m) / cos(wi) / (4 wo . m)) the weight of a
+// sample is F(wi . m) G1(wo) (wo . m = wi . m), as Mitsuba 3 computes it.
 
 #include "core/bsdf.h"
 #include "core/local_model.h"
@@ -32,34 +34,34 @@ public:
     BSDFSample sample(const BSDFContext& ctx, const SurfaceInteraction& si, float, const Vec2& u) const override {
         BSDFSample bs;
         if (!ctx.allows(GlossyReflection) || Frame::cos_theta(si.wi) <= 0.0f) return bs;
+        MicrofacetDistribution distribution = roughness_.at(si);
         float pdf_m;
-        Vec3 m = roughness_.at(si).sample(si.wi, u, pdf_m);
+        Vec3 m = distribution.sample(si.wi, u, pdf_m);
         Vec3 wo = reflect(si.wi, m);
         if (wo.z <= 0.0f || !(pdf_m > 0.0f)) return bs;
         bs.wo = wo;
         bs.pdf = pdf_m / (4.0f * glm::dot(wo, m));
         bs.lobe = GlossyReflection;
-        bs.weight = eval(ctx, si, wo) / bs.pdf;
+        if (distribution.sample_visible())
+            bs.weight = specular_->eval(si) * fresnel_conductor(glm::dot(si.wi, m), eta_->eval(si), k_->eval(si)) * distribution.G1(wo, m);
+        else
+            bs.weight = eval(ctx, si, wo) / bs.pdf;
         if (!all_finite(bs.weight)) return BSDFSample();
         return bs;
     }
 
     Spectrum eval(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
-        float cos_i = Frame::cos_theta(si.wi), cos_o = Frame::cos_theta(wo);
-        if (!ctx.allows(GlossyReflection) || cos_i <= 0.0f || cos_o <= 0.0f) return Spectrum(0.0f);
-        Vec3 h = glm::normalize(si.wi + wo);
-        MicrofacetDistribution distribution = roughness_.at(si);
-        float D = distribution.D(h);
-        if (D == 0.0f) return Spectrum(0.0f);
-        float G = distribution.G(si.wi, wo, h);
-        Spectrum F = fresnel_conductor(glm::dot(si.wi, h), eta_->eval(si), k_->eval(si));
-        return specular_->eval(si) * F * (D * G / (4.0f * cos_i));
+        return eval_pdf(ctx, si, wo, false).value;
     }
 
     float pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
         if (!ctx.allows(GlossyReflection) || Frame::cos_theta(si.wi) <= 0.0f || Frame::cos_theta(wo) <= 0.0f) return 0.0f;
         Vec3 h = glm::normalize(si.wi + wo);
         return roughness_.at(si).pdf(si.wi, h) / (4.0f * glm::dot(wo, h));
+    }
+
+    BSDFEvalPdf eval_pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
+        return eval_pdf(ctx, si, wo, true);
     }
 
     Spectrum albedo(const SurfaceInteraction& si) const override {
@@ -88,6 +90,22 @@ public:
     std::string to_string() const override { return "roughconductor"; }
 
 private:
+    // eval(), and with `with_pdf` pdf() too: one roughness lookup, one D(h) and G1(wi).
+    BSDFEvalPdf eval_pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo, bool with_pdf) const {
+        BSDFEvalPdf result;
+        float cos_i = Frame::cos_theta(si.wi), cos_o = Frame::cos_theta(wo);
+        if (!ctx.allows(GlossyReflection) || cos_i <= 0.0f || cos_o <= 0.0f) return result;
+        Vec3 h = glm::normalize(si.wi + wo);
+        MicrofacetDistribution distribution = roughness_.at(si);
+        float D = distribution.D(h), G1_wi = distribution.G1(si.wi, h);
+        if (with_pdf) result.pdf = distribution.pdf(si.wi, h, D, G1_wi) / (4.0f * glm::dot(wo, h));
+        if (D == 0.0f) return result;
+        float G = G1_wi * distribution.G1(wo, h);
+        Spectrum F = fresnel_conductor(glm::dot(si.wi, h), eta_->eval(si), k_->eval(si));
+        result.value = specular_->eval(si) * F * (D * G / (4.0f * cos_i));
+        return result;
+    }
+
     MicrofacetRoughness roughness_;
     Ref<Texture> eta_, k_, specular_;
 };

@@ -10,7 +10,9 @@
 //   reflection:    f cos(wo) = F D G / (4 |cos wi|)
 //   transmission:  f cos(wo) = (1 - F) D G |wi.m| |wo.m| / (|cos wi| (wi.m + eta' wo.m)^2)
 // in radiance mode; importance transport multiplies transmission by eta'^2. Reflection is
-// sampled with probability F(wi . m), refraction with 1 - F.
+// sampled with probability F(wi . m), refraction with 1 - F. With visible normals sampled the
+// weight of a sample is G1(wo) (as Mitsuba 3), times F or 1 - F when only that lobe may be
+// sampled, and 1 / eta'^2 for refraction in radiance mode.
 
 #include "core/bsdf.h"
 #include "core/local_model.h"
@@ -51,11 +53,13 @@ public:
         if (cos_i == 0.0f || (!has_r && !has_t)) return bs;
         // Sample a normal visible from wi mirrored into the upper hemisphere.
         Vec3 wi_up = cos_i > 0.0f ? si.wi : -si.wi;
+        MicrofacetDistribution distribution = roughness_.at(si);
         float pdf_m;
-        Vec3 m = roughness_.at(si).sample(wi_up, u, pdf_m);
+        Vec3 m = distribution.sample(wi_up, u, pdf_m);
         if (!(pdf_m > 0.0f)) return bs;
         DielectricFresnel fr = fresnel_dielectric(glm::dot(si.wi, m), eta_);
-        if (choose_fresnel_lobe(has_r, has_t, fr.F, u_lobe).reflect) {
+        FresnelChoice choice = choose_fresnel_lobe(has_r, has_t, fr.F, u_lobe);
+        if (choice.reflect) {
             bs.wo = reflect(si.wi, m);
             bs.lobe = GlossyReflection;
             if (bs.wo.z * cos_i <= 0.0f) return BSDFSample();
@@ -66,39 +70,34 @@ public:
             bs.eta = fr.eta_it;
             if (bs.wo.z * cos_i >= 0.0f) return BSDFSample();
         }
-        return weighted_by_pdf(ctx, si, bs);
+        if (!distribution.sample_visible()) return weighted_by_pdf(ctx, si, bs);
+        // The weight in closed form, eval / pdf = G1(wo) times the lobe's factor (D, G1(wi), the
+        // Jacobian and the lobe's probability cancel); the pdf is pdf()'s, through the half vector
+        // of wi and wo as next-event estimation sees it (through the sampled m it can differ by
+        // 0.2% near total internal reflection, where that half vector is ill-conditioned).
+        float G1_wo = distribution.G1(bs.wo, m);
+        if (!(G1_wo > 0.0f)) return BSDFSample();
+        bs.pdf = pdf(ctx, si, bs.wo);
+        if (bs.lobe == GlossyReflection) {
+            bs.weight = reflectance_->eval(si) * (choice.weight_factor * G1_wo);
+        } else {
+            float radiance = ctx.mode == TransportMode::Radiance ? fr.eta_ti * fr.eta_ti : 1.0f;
+            bs.weight = transmittance_->eval(si) * (choice.weight_factor * G1_wo * radiance);
+        }
+        if (!(bs.pdf > 0.0f) || !all_finite(bs.weight)) return BSDFSample();
+        return bs;
     }
 
     Spectrum eval(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
-        Geometry g;
-        if (eta_ == 1.0f || !half_vector(si.wi, wo, g)) return Spectrum(0.0f);
-        if (g.reflect ? !ctx.allows(GlossyReflection) : !ctx.allows(GlossyTransmission)) return Spectrum(0.0f);
-        MicrofacetDistribution distribution = roughness_.at(si);
-        float D = distribution.D(g.m);
-        if (D == 0.0f) return Spectrum(0.0f);
-        float G = distribution.G(si.wi, wo, g.m);
-        float F = fresnel_dielectric(g.wi_m, eta_).F;
-        float cos_i = std::abs(Frame::cos_theta(si.wi));
-        if (g.reflect) return reflectance_->eval(si) * (F * D * G / (4.0f * cos_i));
-        float denom = g.wi_m + g.eta_p * g.wo_m;
-        float value = (1.0f - F) * D * G * std::abs(g.wi_m * g.wo_m) / (cos_i * denom * denom);
-        if (ctx.mode == TransportMode::Importance) value *= g.eta_p * g.eta_p;
-        return transmittance_->eval(si) * value;
+        return eval_pdf(ctx, si, wo, true, false).value;
     }
 
     float pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
-        Geometry g;
-        if (eta_ == 1.0f || !half_vector(si.wi, wo, g)) return 0.0f;
-        bool has_r = ctx.allows(GlossyReflection), has_t = ctx.allows(GlossyTransmission);
-        if (g.reflect ? !has_r : !has_t) return 0.0f;
-        Vec3 wi_up = Frame::cos_theta(si.wi) > 0.0f ? si.wi : -si.wi;
-        float pdf_m = roughness_.at(si).pdf(wi_up, g.m);
-        float F = fresnel_dielectric(g.wi_m, eta_).F;
-        float lobe = (has_r && has_t) ? (g.reflect ? F : 1.0f - F) : 1.0f;
-        if (g.reflect) return pdf_m * lobe / (4.0f * std::abs(g.wo_m));
-        float denom = g.wi_m + g.eta_p * g.wo_m;
-        // Jacobian of the refraction half vector: eta'^2 |wo.m| / (wi.m + eta' wo.m)^2.
-        return pdf_m * lobe * g.eta_p * g.eta_p * std::abs(g.wo_m) / (denom * denom);
+        return eval_pdf(ctx, si, wo, false, true).pdf;
+    }
+
+    BSDFEvalPdf eval_pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
+        return eval_pdf(ctx, si, wo, true, true);
     }
 
     Spectrum albedo(const SurfaceInteraction& si) const override {
@@ -134,6 +133,40 @@ private:
         Vec3 m;       // half vector, m.z > 0
         float wi_m, wo_m;
     };
+
+    // eval() and pdf(), either or both: one half vector, roughness lookup, D, G1(wi) and Fresnel.
+    BSDFEvalPdf eval_pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo, bool with_value, bool with_pdf) const {
+        BSDFEvalPdf result;
+        Geometry g;
+        if (eta_ == 1.0f || !half_vector(si.wi, wo, g)) return result;
+        bool has_r = ctx.allows(GlossyReflection), has_t = ctx.allows(GlossyTransmission);
+        if (g.reflect ? !has_r : !has_t) return result;
+        MicrofacetDistribution distribution = roughness_.at(si);
+        float D = distribution.D(g.m);
+        float G1_wi = distribution.G1(si.wi, g.m);
+        float F = fresnel_dielectric(g.wi_m, eta_).F;
+        float cos_i = std::abs(Frame::cos_theta(si.wi));
+        float denom = g.wi_m + g.eta_p * g.wo_m;
+        if (with_pdf) {
+            // G1 is even in its direction: G1(wi_up) = G1(wi).
+            Vec3 wi_up = Frame::cos_theta(si.wi) > 0.0f ? si.wi : -si.wi;
+            float pdf_m = distribution.pdf(wi_up, g.m, D, G1_wi);
+            float lobe = (has_r && has_t) ? (g.reflect ? F : 1.0f - F) : 1.0f;
+            // Jacobian of the refraction half vector: eta'^2 |wo.m| / (wi.m + eta' wo.m)^2.
+            result.pdf = g.reflect ? pdf_m * lobe / (4.0f * std::abs(g.wo_m))
+                                   : pdf_m * lobe * g.eta_p * g.eta_p * std::abs(g.wo_m) / (denom * denom);
+        }
+        if (!with_value || D == 0.0f) return result;
+        float G = G1_wi * distribution.G1(wo, g.m);
+        if (g.reflect) {
+            result.value = reflectance_->eval(si) * (F * D * G / (4.0f * cos_i));
+            return result;
+        }
+        float value = (1.0f - F) * D * G * std::abs(g.wi_m * g.wo_m) / (cos_i * denom * denom);
+        if (ctx.mode == TransportMode::Importance) value *= g.eta_p * g.eta_p;
+        result.value = transmittance_->eval(si) * value;
+        return result;
+    }
 
     // The generalised half vector of (wi, wo) and the side checks of Walter et al.
     bool half_vector(const Vec3& wi, const Vec3& wo, Geometry& g) const {

@@ -49,34 +49,15 @@ public:
     }
 
     Spectrum eval(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
-        float cos_i = Frame::cos_theta(si.wi), cos_o = Frame::cos_theta(wo);
-        if (cos_i <= 0.0f || cos_o <= 0.0f) return Spectrum(0.0f);
-        Spectrum result(0.0f);
-        if (ctx.allows(GlossyReflection)) {
-            Vec3 h = glm::normalize(si.wi + wo);
-            float D = distribution_.D(h);
-            if (D > 0.0f) {
-                float F = fresnel_dielectric(glm::dot(si.wi, h), eta_).F;
-                result += specular_->eval(si) * (F * D * distribution_.G(si.wi, wo, h) / (4.0f * cos_i));
-            }
-        }
-        if (ctx.allows(DiffuseReflection)) {
-            const Spectrum rho_p = coated_base_albedo(diffuse_->eval(si), internal_reflectance_, nonlinear_);
-            result += rho_p * (transmittance(cos_i) * transmittance(cos_o) * cos_o * InvPi / (eta_ * eta_));
-        }
-        return result;
+        return eval_pdf(ctx, si, wo, true, false).value;
     }
 
     float pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
-        float cos_i = Frame::cos_theta(si.wi), cos_o = Frame::cos_theta(wo);
-        if (cos_i <= 0.0f || cos_o <= 0.0f) return 0.0f;
-        float p_spec = specular_probability(ctx, cos_i), result = 0.0f;
-        if (p_spec > 0.0f) {
-            Vec3 h = glm::normalize(si.wi + wo);
-            result += p_spec * distribution_.pdf(si.wi, h) / (4.0f * glm::dot(wo, h));
-        }
-        if (p_spec < 1.0f) result += (1.0f - p_spec) * warp::square_to_cosine_hemisphere_pdf(wo);
-        return result;
+        return eval_pdf(ctx, si, wo, false, true).pdf;
+    }
+
+    BSDFEvalPdf eval_pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
+        return eval_pdf(ctx, si, wo, true, true);
     }
 
     Spectrum albedo(const SurfaceInteraction& si) const override {
@@ -107,6 +88,38 @@ public:
 
 private:
     static constexpr int TableSize = 64;
+
+    // eval() and pdf(), either or both: one half vector, D(h) and G1(wi).
+    BSDFEvalPdf eval_pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo, bool with_value, bool with_pdf) const {
+        BSDFEvalPdf result;
+        float cos_i = Frame::cos_theta(si.wi), cos_o = Frame::cos_theta(wo);
+        if (cos_i <= 0.0f || cos_o <= 0.0f) return result;
+        const bool specular = ctx.allows(GlossyReflection);
+        Vec3 h(0.0f);
+        float D = 0.0f, G1_wi = 0.0f;
+        if (specular) {
+            h = glm::normalize(si.wi + wo);
+            D = distribution_.D(h);
+            G1_wi = distribution_.G1(si.wi, h);
+        }
+        if (with_value) {
+            if (specular && D > 0.0f) {
+                float F = fresnel_dielectric(glm::dot(si.wi, h), eta_).F;
+                result.value += specular_->eval(si) * (F * D * (G1_wi * distribution_.G1(wo, h)) / (4.0f * cos_i));
+            }
+            if (ctx.allows(DiffuseReflection)) {
+                const Spectrum rho_p = coated_base_albedo(diffuse_->eval(si), internal_reflectance_, nonlinear_);
+                result.value += rho_p * (transmittance(cos_i) * transmittance(cos_o) * cos_o * InvPi / (eta_ * eta_));
+            }
+        }
+        if (with_pdf) {
+            // specular_probability is 0 unless `specular`.
+            float p_spec = specular_probability(ctx, cos_i);
+            if (p_spec > 0.0f) result.pdf += p_spec * distribution_.pdf(si.wi, h, D, G1_wi) / (4.0f * glm::dot(wo, h));
+            if (p_spec < 1.0f) result.pdf += (1.0f - p_spec) * warp::square_to_cosine_hemisphere_pdf(wo);
+        }
+        return result;
+    }
 
     float specular_probability(const BSDFContext& ctx, float cos_i) const {
         return specular_lobe_probability(ctx, GlossyReflection, DiffuseReflection, specular_weight_, 1.0f - transmittance(cos_i));

@@ -45,6 +45,11 @@ public:
         return back_->pdf(ctx, mirrored(si), Vec3(wo.x, wo.y, -wo.z));
     }
 
+    BSDFEvalPdf eval_pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
+        if (Frame::cos_theta(si.wi) >= 0.0f) return front_->eval_pdf(ctx, si, wo);
+        return back_->eval_pdf(ctx, mirrored(si), Vec3(wo.x, wo.y, -wo.z));
+    }
+
     Spectrum albedo(const SurfaceInteraction& si) const override {
         return Frame::cos_theta(si.wi) >= 0.0f ? front_->albedo(si) : back_->albedo(mirrored(si));
     }

@@ -73,6 +73,13 @@ SamplingCheck check_sampling(const BSDF& bsdf, const SurfaceInteraction& si, con
         // The sample must agree with eval and pdf (float rounding aside).
         float pdf = bsdf.pdf(ctx, si, bs.wo);
         Spectrum f = bsdf.eval(ctx, si, bs.wo);
+        // eval_pdf is the two calls, bit for bit.
+        const BSDFEvalPdf both = bsdf.eval_pdf(ctx, si, bs.wo);
+        if (both.pdf != pdf || both.value != f) {
+            std::ostringstream s;
+            s << "eval_pdf (" << both.value.x << ", " << both.pdf << ") != eval, pdf (" << f.x << ", " << pdf << ")";
+            fail(s.str());
+        }
         if (std::abs(pdf - bs.pdf) > 1e-3f * std::max(pdf, bs.pdf)) {
             std::ostringstream s;
             s << "sample pdf " << bs.pdf << " != pdf() " << pdf;

@@ -35,7 +35,8 @@ struct SamplingCheck {
 };
 // Draws `n` samples: histograms smooth lobes on a 10 x 20 spherical grid against pdf(), counts
 // delta lobes against `deltas`, counts failed samples against what is left, and checks that each
-// smooth sample's weight is eval / pdf and its pdf equals pdf().
+// smooth sample's weight is eval / pdf, its pdf equals pdf() and eval_pdf() equals eval() and
+// pdf() bit for bit.
 SamplingCheck check_sampling(const BSDF& bsdf, const SurfaceInteraction& si, const BSDFContext& ctx, int n,
                              const std::vector<DeltaExpectation>& deltas, uint64_t seed);
 
