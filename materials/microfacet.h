@@ -44,10 +44,13 @@ public:
     bool is_anisotropic() const { return alpha_u_ != alpha_v_; }
 
 private:
-    // Slopes of visible normals for alpha = 1, for an incident direction at cos_theta_i in the
-    // x-z plane.
+    // GGX's slopes of visible normals for alpha = 1, for an incident direction at cos_theta_i in
+    // the x-z plane (Beckmann's are sampled in sample(), which shares Lambda's terms with them).
     Vec2 sample_visible_slope(float cos_theta_i, const Vec2& u) const;
     Vec3 sample_visible_normal(const Vec3& wi, const Vec2& u) const;
+    // The normal of alpha = 1 slopes sampled for the stretched incident direction w, rotated to
+    // w's azimuth and unstretched.
+    Vec3 normal_from_slope(const Vec3& w, const Vec2& slope) const;
     Vec3 sample_all_normals(const Vec2& u) const;
 
     MicrofacetType type_;
@@ -77,7 +80,8 @@ private:
 // (Walter et al. 2007), at least 1: the local model's highlight for a microfacet lobe.
 inline float phong_exponent(float alpha) { return std::max(2.0f / (alpha * alpha) - 2.0f, 1.0f); }
 
-// Inverse error function (Giles 2010 approximation refined by Newton's method).
+// Inverse error function in float (Giles 2011's single-precision approximation; relative error
+// below 3e-7).
 float erf_inv(float x);
 
 }  // namespace candela

@@ -1,7 +1,12 @@
-// Fresnel and Snell against closed forms.
+// Fresnel and Snell against closed forms; the microfacet distributions against their integrals,
+// and their sampling against their pdf.
 
+#include "core/rng.h"
 #include "materials/fresnel.h"
 #include "materials/microfacet.h"
+#include "tests/bsdf_harness.h"
+#include "tests/stats.h"
+#include "tests/util.h"
 
 #include <catch2/catch.hpp>
 
@@ -105,5 +110,83 @@ TEST_CASE("microfacet: D is normalised and G1 matches the masking integral", "[m
             INFO("type " << int(type) << " alpha " << alpha);
             CHECK(norm * dA == Approx(1.0).epsilon(2e-3));
             CHECK(projected * dA == Approx(v.z * (1.0 + d.lambda(v))).epsilon(2e-3));
+        }
+}
+
+namespace {
+// F(x) of Beckmann's visible slopes (alpha = 1, incidence at tan theta in the x-z plane), in
+// double (at normal incidence, cot = infinity, the Gaussian's CDF).
+double beckmann_slope_cdf(double x, double tan_theta) {
+    const double cot = 1.0 / tan_theta;
+    const double inv_sqrt_pi = 1.0 / std::sqrt(3.14159265358979323846);
+    const double norm = 1.0 + std::erf(cot) + tan_theta * std::exp(-cot * cot) * inv_sqrt_pi;
+    return (1.0 + std::erf(x) + tan_theta * std::exp(-x * x) * inv_sqrt_pi) / norm;
+}
+}  // namespace
+
+TEST_CASE("microfacet: Beckmann's visible slopes invert their CDF to within 2e-6, in x and in y", "[microfacet]") {
+    // alpha = 1 and wi in the x-z plane: m = normalize(-x, -y, 1) for the sampled slopes (x, y).
+    MicrofacetDistribution d(MicrofacetType::Beckmann, 1.0f, 1.0f);
+    PCG32 rng(5, 3);
+    double worst_x = 0.0, worst_y = 0.0;
+    for (float cos_theta : {1.0f, 0.99999f, 0.999f, 0.95f, 0.7f, 0.4f, 0.1f, 0.01f, 0.001f})
+        for (int i = 0; i < 20000; ++i) {
+            const float ux = rng.next_float(), uy = rng.next_float();
+            const Vec3 wi(safe_sqrt(1.0f - cos_theta * cos_theta), 0.0f, cos_theta);
+            float pdf;
+            const Vec3 m = d.sample(wi, Vec2(ux, uy), pdf);
+            REQUIRE(pdf > 0.0f);
+            const double x = -double(m.x) / m.z, y = -double(m.y) / m.z;
+            const double u_x = std::clamp(double(ux), 1e-6, 1.0 - 1e-6), u_y = std::clamp(double(uy), 1e-6, 1.0 - 1e-6);
+            worst_x = std::max(worst_x, std::abs(beckmann_slope_cdf(x, double(wi.x) / wi.z) - u_x));
+            worst_y = std::max(worst_y, std::abs(0.5 * (1.0 + std::erf(y)) - u_y));
+        }
+    INFO("largest |F(x) - u_x| " << worst_x << ", |F(y) - u_y| " << worst_y);
+    CHECK(worst_x < 2e-6);
+    CHECK(worst_y < 2e-6);
+}
+
+TEST_CASE("microfacet: sample() draws normals with the density pdf() reports (chi-square)", "[microfacet]") {
+    // The histogram is over (cos theta, phi) of m: roughnesses that spread normals over the
+    // hemisphere, isotropic and anisotropic, from normal to grazing incidence. `--rng-seed N`
+    // draws other samples (the default seed is 0).
+    struct Case {
+        MicrofacetType type;
+        float alpha_u, alpha_v;
+    };
+    const std::vector<Case> cases = {{MicrofacetType::Beckmann, 0.6f, 0.6f},
+                                     {MicrofacetType::Beckmann, 1.0f, 1.0f},
+                                     {MicrofacetType::Beckmann, 0.3f, 0.9f},
+                                     {MicrofacetType::GGX, 0.6f, 0.6f},
+                                     {MicrofacetType::GGX, 0.3f, 0.9f}};
+    const std::vector<float> incidences = {1.0f, 0.9f, 0.5f, 0.1f, 0.01f};
+    const double alpha = sidak(0.01, int(cases.size() * incidences.size()));
+    const int n = test::effort_scaled(200000, 50000);
+    PCG32 rng(1000 + Catch::rngSeed(), 7);
+    for (const Case& c : cases)
+        for (float cos_theta : incidences) {
+            MicrofacetDistribution d(c.type, c.alpha_u, c.alpha_v);
+            const Vec3 wi = test::direction(cos_theta, 0.7f);
+            test::SphericalHistogram hist(10, 20);
+            double failed = 0.0;
+            for (int i = 0; i < n; ++i) {
+                const float a = rng.next_float();
+                float pdf;
+                const Vec3 m = d.sample(wi, Vec2(a, rng.next_float()), pdf);
+                if (pdf > 0.0f)
+                    hist.add(m);
+                else
+                    failed += 1.0;
+            }
+            std::vector<double> observed = hist.counts;
+            std::vector<double> expected = hist.expected([&](const Vec3& m) { return double(d.pdf(wi, m)); }, double(n));
+            double total = 0.0;
+            for (double e : expected) total += e;
+            observed.push_back(failed);
+            expected.push_back(std::max(0.0, n - total));
+            const ChiSquareResult chi2 = chi_square(observed, expected);
+            INFO((c.type == MicrofacetType::GGX ? "ggx" : "beckmann")
+                 << " alpha " << c.alpha_u << ", " << c.alpha_v << ", cos theta_i " << cos_theta << ": " << chi2.details);
+            CHECK(chi2.p_value > alpha);
         }
 }
