@@ -10,17 +10,18 @@
 #include <algorithm>
 #include <atomic>
 #include <cstring>
+#include <limits>
 #include <map>
 #include <tuple>
 
 namespace candela {
 
 void Mesh::check_mesh_memory(uint64_t vertices, uint64_t triangles, uint64_t file_bytes, const SourceLocation& where) {
-    // Per vertex: position, normal and uv, and recompute_vertex_normals()'s double sums (56
-    // bytes, rounded up to 64). Per triangle: the indices (Embree reads them and the positions
-    // in place), Embree's BVH with its build's working memory (about 95 bytes per triangle at
-    // high quality, measured by bench_scale), and an emitter's area table (12 bytes); a small
-    // flat mesh's cached triangle frames come on top and are not counted.
+    // Per vertex: position, normal and uv (32 bytes), rounded up to 64 for the readers'
+    // temporaries (the OBJ reader's corner indices). Per triangle: the indices (Embree reads them
+    // and the positions in place), Embree's BVH with its build's working memory (about 95 bytes
+    // per triangle at high quality, measured by bench_scale), and an emitter's area table (12
+    // bytes); a small flat mesh's cached triangle frames come on top and are not counted.
     const uint64_t per_vertex = 64, per_triangle = 12 + 96 + 12;
     uint64_t bytes =
         saturating_add(saturating_add(saturating_mul(vertices, per_vertex), saturating_mul(triangles, per_triangle)), file_bytes);
@@ -201,10 +202,11 @@ namespace {
 // acos(-x) = pi - acos(x). A third of the cost of the library's acosf where it runs 3 times per
 // triangle of a large mesh.
 float acos_fast(float x) {
-    const float a = std::min(std::abs(x), 1.0f);
-    float p = -0.0012624911f;
-    for (float c : {0.0066700901f, -0.0170881256f, 0.0308918810f, -0.0501743046f, 0.0889789874f, -0.2145988016f, 1.5707963050f})
-        p = p * a + c;
+    const float a = std::min(std::fabs(x), 1.0f);
+    const float p = 1.5707963050f +
+                    a * (-0.2145988016f +
+                         a * (0.0889789874f +
+                              a * (-0.0501743046f + a * (0.0308918810f + a * (-0.0170881256f + a * (0.0066700901f - a * 0.0012624911f))))));
     const float r = std::sqrt(1.0f - a) * p;
     return x < 0.0f ? Pi - r : r;
 }
@@ -221,25 +223,50 @@ void Mesh::recompute_vertex_normals() {
     for (size_t first = 0; first < triangles_.size(); first += block) {
         const size_t count = std::min(block, triangles_.size() - first);
         parallel_chunks(count, 1 << 12, [&](size_t begin, size_t end) {
-            for (size_t i = begin; i < end; ++i) {
-                const glm::uvec3& t = triangles_[first + i];
-                const Vec3 p0 = positions_[t.x], p1 = positions_[t.y], p2 = positions_[t.z];
-                // Edges leaving each corner's successor: e0 = p1 - p0, e1 = p2 - p1, e2 = p0 - p2.
-                const Vec3 e0 = p1 - p0, e1 = p2 - p1, e2 = p0 - p2;
-                const float l0 = glm::length(e0), l1 = glm::length(e1), l2 = glm::length(e2);
-                const Vec3 face = glm::cross(e0, -e2);
-                const float len = glm::length(face);
-                Vec3* term = &corner[3 * i];
-                if (!(len > 0.0f) || l0 == 0.0f || l1 == 0.0f || l2 == 0.0f) {
-                    term[0] = term[1] = term[2] = Vec3(0.0f);
-                    continue;
+            // Batches of triangles as structures of arrays: the arithmetic loop below is plain
+            // float code over arrays, which the compiler turns into SIMD (square roots and
+            // divisions dominate it).
+            constexpr size_t Batch = 64;
+            float e[3][3][Batch];  // e[edge][axis][triangle]: e0 = p1 - p0, e1 = p2 - p1, e2 = p0 - p2
+            float angle[3][Batch], unit[3][Batch];
+            for (size_t b = begin; b < end; b += Batch) {
+                const size_t n = std::min(Batch, end - b);
+                for (size_t j = 0; j < n; ++j) {
+                    const glm::uvec3& t = triangles_[first + b + j];
+                    const Vec3 p0 = positions_[t.x], p1 = positions_[t.y], p2 = positions_[t.z];
+                    const Vec3 edges[3] = {p1 - p0, p2 - p1, p0 - p2};
+                    for (int k = 0; k < 3; ++k)
+                        for (int axis = 0; axis < 3; ++axis) e[k][axis][j] = edges[k][axis];
                 }
-                const Vec3 n = face / len;
-                // The angle at p0 lies between e0 and -e2, at p1 between e1 and -e0, at p2
-                // between e2 and -e1.
-                term[0] = acos_fast(std::clamp(-glm::dot(e0, e2) / (l0 * l2), -1.0f, 1.0f)) * n;
-                term[1] = acos_fast(std::clamp(-glm::dot(e1, e0) / (l1 * l0), -1.0f, 1.0f)) * n;
-                term[2] = acos_fast(std::clamp(-glm::dot(e2, e1) / (l2 * l1), -1.0f, 1.0f)) * n;
+                for (size_t j = 0; j < n; ++j) {
+                    auto dot = [&](int k, int m) { return e[k][0][j] * e[m][0][j] + e[k][1][j] * e[m][1][j] + e[k][2][j] * e[m][2][j]; };
+                    const float s0 = dot(0, 0), s1 = dot(1, 1), s2 = dot(2, 2);  // squared edge lengths
+                    // The face normal e0 x (-e2) = e2 x e0.
+                    const float cx = e[2][1][j] * e[0][2][j] - e[2][2][j] * e[0][1][j];
+                    const float cy = e[2][2][j] * e[0][0][j] - e[2][0][j] * e[0][2][j];
+                    const float cz = e[2][0][j] * e[0][1][j] - e[2][1][j] * e[0][0][j];
+                    const float face = cx * cx + cy * cy + cz * cz;
+                    // Branch-free, so that the loop vectorizes: a degenerate triangle (excluded
+                    // by finalize(), but vertex_positions may move) gets weight 0 via `valid`,
+                    // and its divisions see safe denominators.
+                    const float valid = float((face > 0.0f) & (s0 > 0.0f) & (s1 > 0.0f) & (s2 > 0.0f));
+                    const float smallest = std::numeric_limits<float>::min();
+                    const float inverse = valid / std::sqrt(std::max(face, smallest));
+                    unit[0][j] = cx * inverse;
+                    unit[1][j] = cy * inverse;
+                    unit[2][j] = cz * inverse;
+                    // The angle at p0 lies between e0 and -e2, at p1 between e1 and -e0, at p2
+                    // between e2 and -e1: cos = -(e_k . e_(k-1)) / (|e_k| |e_(k-1)|).
+                    auto corner_angle = [&](float edge_dot, float squared_a, float squared_b) {
+                        const float cosine = -edge_dot / std::sqrt(std::max(squared_a * squared_b, smallest));
+                        return acos_fast(std::min(1.0f, std::max(-1.0f, cosine)));
+                    };
+                    angle[0][j] = corner_angle(dot(0, 2), s0, s2);
+                    angle[1][j] = corner_angle(dot(1, 0), s1, s0);
+                    angle[2][j] = corner_angle(dot(2, 1), s2, s1);
+                }
+                for (size_t j = 0; j < n; ++j)
+                    for (int k = 0; k < 3; ++k) corner[3 * (b + j) + size_t(k)] = angle[k][j] * Vec3(unit[0][j], unit[1][j], unit[2][j]);
             }
         });
         for (size_t i = 0; i < count; ++i) {
