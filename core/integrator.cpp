@@ -135,7 +135,11 @@ void check_film_memory(const Film& film, const RenderWindow& window, const Sampl
     uint64_t sums = saturating_mul(stored, uint64_t(values.values() + 1) * sizeof(double));
     if (layout.pixel_stats()) sums = saturating_add(sums, saturating_mul(stored, sizeof(PixelStats)));
     uint64_t develop = saturating_add(saturating_add(blocks, stats), saturating_add(sums, image));
-    uint64_t write = saturating_add(image, uint64_t(32) << 20);  // the image and write_exr's band buffers
+    // The image, and write_exr's buffer for one band of rows: 16 MB, or 16 rows when those are
+    // more, or the whole image when it is less.
+    const uint64_t row =
+        saturating_mul(uint64_t(window.stored.size.x), (values.channels().size() + layout.channels().size()) * sizeof(float));
+    uint64_t write = saturating_add(image, std::min(image, std::max(uint64_t(16) << 20, saturating_mul(row, 16))));
     std::string what = film_description(film);
     if (int n = layout.layer_count()) what += " with " + std::to_string(n) + (n == 1 ? " AOV" : " AOVs");
     check_memory(std::max(develop, write), what, film.location());
