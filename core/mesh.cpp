@@ -51,10 +51,11 @@ void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
     // and per-triangle passes run in parallel chunks, each writing only its own elements, so the
     // results are the same whatever the thread count.
     bool finite = true;
+    const bool identity = to_world_.is_identity();  // the common case: no pass to transform
     parallel_chunks(positions_.size(), 1 << 16, [&](size_t begin, size_t end) {
         bool chunk_finite = true;
         for (size_t i = begin; i < end; ++i) {
-            positions_[i] = to_world_.apply_point(positions_[i]);
+            if (!identity) positions_[i] = to_world_.apply_point(positions_[i]);
             chunk_finite = chunk_finite && all_finite(positions_[i]);
         }
         if (!chunk_finite) finite = false;  // a benign race: every writer stores false

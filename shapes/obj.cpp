@@ -16,58 +16,14 @@
 // face corner that names a missing element is an error giving the file's line. The file is
 // memory-mapped and parsed in parallel, chunks of it at a time.
 
+#include "core/mapped_file.h"
 #include "core/mesh.h"
 #include "core/registry.h"
 #include "shapes/obj_reader.h"
 
-#include <fcntl.h>
-#include <sys/mman.h>
-#include <sys/stat.h>
-#include <unistd.h>
-#include <cerrno>
-#include <cstring>
+#include <memory>
 
 namespace candela {
-
-namespace {
-
-// A file mapped read-only into memory (its pages are the page cache's: the text is not copied).
-class MappedFile {
-public:
-    explicit MappedFile(const std::string& path) {
-        int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-        if (fd < 0) throw ObjError(0, std::string("cannot open it: ") + std::strerror(errno));
-        struct stat st {};
-        if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-            ::close(fd);
-            throw ObjError(0, "not a regular file");
-        }
-        size_ = size_t(st.st_size);
-        if (size_ > 0) {
-            void* p = ::mmap(nullptr, size_, PROT_READ, MAP_PRIVATE, fd, 0);
-            if (p == MAP_FAILED) {
-                int error = errno;
-                ::close(fd);
-                throw ObjError(0, std::string("cannot map it: ") + std::strerror(error));
-            }
-            data_ = static_cast<const char*>(p);
-        }
-        ::close(fd);
-    }
-    ~MappedFile() {
-        if (data_) ::munmap(const_cast<char*>(data_), size_);
-    }
-    MappedFile(const MappedFile&) = delete;
-    MappedFile& operator=(const MappedFile&) = delete;
-    const char* data() const { return data_; }
-    size_t size() const { return size_; }
-
-private:
-    const char* data_ = nullptr;
-    size_t size_ = 0;
-};
-
-}  // namespace
 
 class ObjMesh final : public Mesh {
 public:
@@ -81,9 +37,14 @@ public:
         options.before_allocating = [&](uint64_t vertices, uint64_t triangles, uint64_t temporary) {
             check_mesh_memory(vertices, triangles, temporary, where);
         };
+        std::unique_ptr<MappedFile> file;
         try {
-            MappedFile file(path);
-            read_obj(file.data(), file.size(), options, positions_, uvs_, normals_, triangles_);
+            file = std::make_unique<MappedFile>(path);
+        } catch (const std::runtime_error& e) {
+            props.fail("filename", "OBJ file \"" + path + "\": " + e.what());
+        }
+        try {
+            read_obj(reinterpret_cast<const char*>(file->data()), file->size(), options, positions_, uvs_, normals_, triangles_);
         } catch (const ObjError& e) {
             std::string at = e.line ? ", line " + std::to_string(e.line) : std::string();
             props.fail("filename", "OBJ file \"" + path + "\"" + at + ": " + e.what());

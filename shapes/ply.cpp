@@ -19,6 +19,7 @@
 // Integer-typed attribute values are normalised by their type's maximum and decoded from sRGB
 // to linear, as Mitsuba's loader does (8-bit colours 0..255 become linear 0..1).
 
+#include "core/mapped_file.h"
 #include "core/memory_budget.h"
 #include "core/mesh.h"
 #include "core/parallel.h"
@@ -27,10 +28,12 @@
 #include "geometry2d/polygon.h"
 
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <fstream>
 #include <limits>
+#include <memory>
 #include <sstream>
 
 namespace candela {
@@ -222,17 +225,17 @@ inline double decode(const unsigned char* p, PlyType type, bool swap) {
     }
 }
 
-// Reads the body in the file's encoding: ascii value by value, binary through a buffer of its
-// own (a read call per value costs more than the decoding).
+// Reads the body in the file's encoding: ascii value by value from the stream, binary straight
+// from the file's memory map (a read call per value would cost more than the decoding, and the
+// map is no copy of the file).
 class PlyBodyReader {
 public:
-    static constexpr size_t BufferBytes = size_t(1) << 22;
-
-    PlyBodyReader(std::istream& in, int format, int first_line) : in_(in), format_(format), line_(first_line) {
+    // `binary_body`: the bytes after the header (binary formats only).
+    PlyBodyReader(std::istream& in, int format, int first_line, const unsigned char* binary_body, size_t binary_size)
+        : in_(in), format_(format), line_(first_line), data_(binary_body), size_(binary_size) {
         const uint16_t probe = 1;
         const bool host_big = *reinterpret_cast<const unsigned char*>(&probe) == 0;
         swap_ = format == 2 ? !host_big : host_big;
-        if (format != 0) buffer_.resize(BufferBytes);
     }
 
     bool binary() const { return format_ != 0; }
@@ -242,18 +245,19 @@ public:
         if (format_ == 0) return read_ascii(type);
         return decode(take(type_size(type)), type, swap_);
     }
-    // Binary: the next `n` bytes (at most BufferBytes) without consuming them.
-    const unsigned char* peek(size_t n) {
-        if (end_ - pos_ < n) refill(n);
-        return buffer_.data() + pos_;
+    // Binary: the next `n` bytes, without consuming them.
+    const unsigned char* peek(size_t n) const {
+        if (size_ - pos_ < n) throw PlyError("unexpected end of file");
+        return data_ + pos_;
     }
-    // Binary: the next `n` bytes (at most BufferBytes), valid until the next call.
+    // Binary: the next `n` bytes.
     const unsigned char* take(size_t n) {
-        if (end_ - pos_ < n) refill(n);
-        const unsigned char* p = buffer_.data() + pos_;
+        const unsigned char* p = peek(n);
         pos_ += n;
         return p;
     }
+    // Binary: how many bytes are left.
+    size_t left() const { return size_ - pos_; }
     // ascii: each element instance sits on its own line.
     void end_element() {
         if (format_ == 0) {
@@ -286,21 +290,12 @@ private:
         return v;
     }
 
-    void refill(size_t n) {
-        const size_t left = end_ - pos_;
-        std::memmove(buffer_.data(), buffer_.data() + pos_, left);
-        in_.read(reinterpret_cast<char*>(buffer_.data() + left), std::streamsize(buffer_.size() - left));
-        pos_ = 0;
-        end_ = left + size_t(in_.gcount());
-        if (end_ < n) throw PlyError("unexpected end of file");
-    }
-
     std::istream& in_;
     int format_;  // 0 ascii, 1 little endian, 2 big endian
     bool swap_ = false;
-    std::vector<unsigned char> buffer_;  // binary only
-    size_t pos_ = 0, end_ = 0;           // the unread bytes of buffer_
     int line_;
+    const unsigned char* data_;  // binary: the body, its size, and the bytes read
+    size_t size_, pos_ = 0;
     std::vector<std::string> tokens_;
     size_t token_ = 0;
     bool have_line_ = false;
@@ -405,7 +400,19 @@ private:
         }
         check_mesh_memory(vertices, faces, 0, location);
 
-        PlyBodyReader body(in, format, line_no);
+        // Binary bodies are read from the file's memory map.
+        std::unique_ptr<MappedFile> mapped;
+        size_t body_start = 0;
+        if (format != 0) {
+            body_start = size_t(in.tellg());
+            try {
+                mapped = std::make_unique<MappedFile>(path);
+            } catch (const std::runtime_error& e) {
+                throw PlyError(e.what());
+            }
+            if (mapped->size() < body_start) throw PlyError("the file changed while it was read");
+        }
+        PlyBodyReader body(in, format, line_no, mapped ? mapped->data() + body_start : nullptr, mapped ? mapped->size() - body_start : 0);
         for (const PlyElement& e : elements) {
             if (e.name == "vertex")
                 read_vertices(e, body, face_normals);
@@ -497,7 +504,7 @@ private:
             offset[k] = record;
             record += type_size(e.properties[k].type);
         }
-        if (record == 0 || record > PlyBodyReader::BufferBytes) return false;
+        if (record == 0) return false;
         const size_t base = positions_.size();
         positions_.resize(base + e.count);
         if (normals) normals_.resize(base + e.count);
@@ -505,31 +512,28 @@ private:
         for (size_t a = 0; a < attributes.size(); ++a)
             attributes_[first_attribute + a].values.resize((base + e.count) * attributes[a].properties.size());
         const bool swap = body.swap();
-        const size_t batch = PlyBodyReader::BufferBytes / record;
-        for (size_t first = 0; first < e.count; first += batch) {
-            const size_t count = std::min(batch, e.count - first);
-            const unsigned char* data = body.take(count * record);
-            auto value = [&](const unsigned char* r, int k) {
-                return to_float(decode(r + offset[size_t(k)], e.properties[size_t(k)].type, swap));
-            };
-            parallel_chunks(count, 1 << 14, [&](size_t begin, size_t end) {
-                for (size_t i = begin; i < end; ++i) {
-                    const unsigned char* r = data + i * record;
-                    const size_t v = base + first + i;
-                    positions_[v] = Vec3(value(r, position[0]), value(r, position[1]), value(r, position[2]));
-                    if (normals) normals_[v] = Vec3(value(r, normal[0]), value(r, normal[1]), value(r, normal[2]));
-                    if (uvs) uvs_[v] = Vec2(value(r, uv[0]), value(r, uv[1]));
-                    for (size_t a = 0; a < attributes.size(); ++a) {
-                        const std::vector<int>& props = attributes[a].properties;
-                        for (size_t c = 0; c < props.size(); ++c) {
-                            const size_t k = size_t(props[c]);
-                            attributes_[first_attribute + a].values[v * props.size() + c] =
-                                to_float(attribute_value(decode(r + offset[k], e.properties[k].type, swap), e.properties[k].type));
-                        }
+        // check_body_size() found the records in the file: count * record does not overflow.
+        const unsigned char* data = body.take(e.count * record);
+        auto value = [&](const unsigned char* r, int k) {
+            return to_float(decode(r + offset[size_t(k)], e.properties[size_t(k)].type, swap));
+        };
+        parallel_chunks(e.count, 1 << 14, [&](size_t begin, size_t end) {
+            for (size_t i = begin; i < end; ++i) {
+                const unsigned char* r = data + i * record;
+                const size_t v = base + i;
+                positions_[v] = Vec3(value(r, position[0]), value(r, position[1]), value(r, position[2]));
+                if (normals) normals_[v] = Vec3(value(r, normal[0]), value(r, normal[1]), value(r, normal[2]));
+                if (uvs) uvs_[v] = Vec2(value(r, uv[0]), value(r, uv[1]));
+                for (size_t a = 0; a < attributes.size(); ++a) {
+                    const std::vector<int>& props = attributes[a].properties;
+                    for (size_t c = 0; c < props.size(); ++c) {
+                        const size_t k = size_t(props[c]);
+                        attributes_[first_attribute + a].values[v * props.size() + c] =
+                            to_float(attribute_value(decode(r + offset[k], e.properties[k].type, swap), e.properties[k].type));
                     }
                 }
-            });
-        }
+            }
+        });
         return true;
     }
 
@@ -561,6 +565,7 @@ private:
         // The most common layout of all, a face element of nothing but binary triangles with a
         // one-byte count, takes a loop of its own; any other face falls through to the general one.
         const bool only_list = e.properties.size() == 1 && binary_triangles && type_size(count_type) == 1;
+        if (only_list && read_triangle_records(e, body, index_type, count_type)) return;
         for (size_t i = 0; i < e.count; ++i) {
             if (only_list && decode(body.peek(1), count_type, false) == 3.0) {
                 const unsigned char* face = body.take(13) + 1;
@@ -617,6 +622,39 @@ private:
             if (!attributes.empty())
                 for (size_t t = before; t < triangles_.size(); ++t) append_attributes(e, attributes, values, first_attribute);
         }
+    }
+
+    // A face element of nothing but triangles, 13-byte records of a count of 3 and three 4-byte
+    // indices, as most binary files are: checked and decoded in parallel chunks. False, with
+    // nothing read, when some face is not a triangle or names a missing vertex (the face-by-face
+    // loop then reads them and names the first such face).
+    bool read_triangle_records(const PlyElement& e, PlyBodyReader& body, PlyType index_type, PlyType count_type) {
+        constexpr size_t Record = 13;
+        if (body.left() / Record < e.count) return false;
+        const unsigned char* data = body.peek(e.count * Record);
+        const uint64_t vertices = positions_.size();
+        const bool swap = body.swap(), signed_index = index_type == PlyType::Int32;
+        const size_t base = triangles_.size();
+        triangles_.resize(base + e.count);
+        std::atomic<bool> valid{true};
+        parallel_chunks(e.count, 1 << 16, [&](size_t begin, size_t end) {
+            for (size_t i = begin; i < end && valid.load(std::memory_order_relaxed); ++i) {
+                const unsigned char* r = data + i * Record;
+                uint32_t v[3];
+                std::memcpy(v, r + 1, 12);
+                if (swap)
+                    for (uint32_t& x : v) x = __builtin_bswap32(x);
+                const uint32_t largest = std::max({v[0], v[1], v[2]});
+                if (decode(r, count_type, false) != 3.0 || largest >= vertices || (signed_index && largest > 0x7FFFFFFFu)) valid = false;
+                triangles_[base + i] = glm::uvec3(v[0], v[1], v[2]);
+            }
+        });
+        if (!valid) {
+            triangles_.resize(base);
+            return false;
+        }
+        body.take(e.count * Record);
+        return true;
     }
 
     // A list's length: its count type is an integer type (checked in the header), so only a

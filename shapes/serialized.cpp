@@ -21,6 +21,7 @@
 // description says otherwise), does not change the shading: the face_normals parameter does.
 // Without normals in the file, smooth vertex normals are computed as for OBJ and PLY files.
 
+#include "core/mapped_file.h"
 #include "core/memory_budget.h"
 #include "core/mesh.h"
 #include "core/parallel.h"
@@ -33,7 +34,9 @@
 #include <cstring>
 #include <fstream>
 #include <limits>
+#include <memory>
 #include <sstream>
+#include <string_view>
 
 namespace candela {
 
@@ -69,7 +72,7 @@ uint64_t read_le(const unsigned char* p, int bytes) {
 
 // Inflates the zlib stream starting at `offset` until its end marker, or until it has given
 // `limit` bytes; `complete` tells whether the end marker was reached.
-std::vector<unsigned char> inflate_stream(const std::string& file, size_t offset, size_t limit, bool& complete) {
+std::vector<unsigned char> inflate_stream(std::string_view file, size_t offset, size_t limit, bool& complete) {
     z_stream zs;
     std::memset(&zs, 0, sizeof(zs));
     if (inflateInit(&zs) != Z_OK) throw SerializedError("cannot initialise zlib");
@@ -97,7 +100,7 @@ std::vector<unsigned char> inflate_stream(const std::string& file, size_t offset
 // never held twice (decompressed buffer and parsed copy).
 class StreamInflater {
 public:
-    StreamInflater(const std::string& file, size_t offset) {
+    StreamInflater(std::string_view file, size_t offset) {
         if (inflateInit(&zs_) != Z_OK) throw SerializedError("cannot initialise zlib");
         zs_.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(file.data() + offset));
         zs_.avail_in = uInt(std::min<size_t>(file.size() - offset, std::numeric_limits<uInt>::max()));
@@ -245,7 +248,7 @@ private:
     // The size of the mesh's decompressed fields as its header declares them, checked before
     // anything is inflated in full: against what the compressed bytes can hold (DEFLATE expands
     // at most 1032:1, zlib's technical notes) and against the memory budget.
-    uint64_t stream_size(const std::string& file, size_t offset, int version, const SourceLocation& location) const {
+    uint64_t stream_size(std::string_view file, size_t offset, int version, const SourceLocation& location) const {
         bool complete = false;
         std::vector<unsigned char> head = inflate_stream(file, offset, MaxHeaderBytes, complete);
         FieldReader h(head);
@@ -271,16 +274,14 @@ private:
     // Loads mesh `index`.
     void read(const std::string& path, size_t index, bool skip_normals, const SourceLocation& location) {
         // The compressed file, read once into one buffer (it is a third of the mesh's size).
-        std::string file;
-        {
-            std::ifstream f(path, std::ios::binary | std::ios::ate);
-            if (!f) throw SerializedError("cannot open the file");
-            const std::streamoff size = f.tellg();
-            if (size < 0) throw SerializedError("cannot determine the file size");
-            file.resize(size_t(size));
-            f.seekg(0);
-            if (!f.read(file.data(), size)) throw SerializedError("cannot read the file");
+        // The compressed file, memory-mapped (not copied).
+        std::unique_ptr<MappedFile> mapped;
+        try {
+            mapped = std::make_unique<MappedFile>(path);
+        } catch (const std::runtime_error& e) {
+            throw SerializedError(e.what());
         }
+        const std::string_view file(reinterpret_cast<const char*>(mapped->data()), mapped->size());
         auto bytes = [&](size_t at) { return reinterpret_cast<const unsigned char*>(file.data() + at); };
         if (file.size() < 4 || read_le(bytes(0), 2) != FileMagic) throw SerializedError("not a serialized mesh (no 0x041C header)");
         int version = int(read_le(bytes(2), 2));
