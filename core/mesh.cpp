@@ -50,7 +50,7 @@ void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
     // Large meshes (10^7 triangles) spend seconds here when done on one core: the per-vertex
     // and per-triangle passes run in parallel chunks, each writing only its own elements, so the
     // results are the same whatever the thread count.
-    bool finite = true;
+    std::atomic<bool> finite{true};
     const bool identity = to_world_.is_identity();  // the common case: no pass to transform
     parallel_chunks(positions_.size(), 1 << 16, [&](size_t begin, size_t end) {
         bool chunk_finite = true;
@@ -58,7 +58,7 @@ void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
             if (!identity) positions_[i] = to_world_.apply_point(positions_[i]);
             chunk_finite = chunk_finite && all_finite(positions_[i]);
         }
-        if (!chunk_finite) finite = false;  // a benign race: every writer stores false
+        if (!chunk_finite) finite = false;
     });
     if (!finite) fail_mesh(props, "a vertex is not a finite number");
     for (const Vec2& uv : uvs_)

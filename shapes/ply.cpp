@@ -558,33 +558,16 @@ private:
         std::vector<double> values(e.properties.size(), 0.0);
         std::vector<unsigned> corner;
         const PlyType index_type = e.properties[size_t(list)].type;
-        // Binary triangles, the common case, take their three indices in one buffer read.
+        // Binary triangles, the common case, take their three indices at once.
         const bool binary_triangles = body.binary() && type_size(index_type) == 4;
         triangles_.reserve(triangles_.size() + e.count);
         const PlyType count_type = e.properties[size_t(list)].count_type;
         // The most common layout of all, a face element of nothing but binary triangles with a
-        // one-byte count, takes a loop of its own; any other face falls through to the general one.
+        // one-byte count, is read in parallel; any other element, or one with a bad face, is read
+        // face by face below.
         const bool only_list = e.properties.size() == 1 && binary_triangles && type_size(count_type) == 1;
         if (only_list && read_triangle_records(e, body, index_type, count_type)) return;
         for (size_t i = 0; i < e.count; ++i) {
-            if (only_list && decode(body.peek(1), count_type, false) == 3.0) {
-                const unsigned char* face = body.take(13) + 1;
-                uint32_t v[3];
-                std::memcpy(v, face, 12);
-                if (body.swap())
-                    for (uint32_t& x : v) x = __builtin_bswap32(x);
-                if (std::max({v[0], v[1], v[2]}) >= positions_.size() ||
-                    (index_type == PlyType::Int32 && std::max({v[0], v[1], v[2]}) > 0x7FFFFFFFu)) {
-                    for (int j = 0; j < 3; ++j) {
-                        const double idx = decode(face + 4 * j, index_type, body.swap());
-                        if (idx < 0 || idx >= double(positions_.size()))
-                            throw PlyError("face " + std::to_string(i) + " refers to vertex " + std::to_string(int64_t(idx)) +
-                                           ", which does not exist (vertices must come before faces)");
-                    }
-                }
-                triangles_.push_back({v[0], v[1], v[2]});
-                continue;
-            }
             corner.clear();
             for (size_t k = 0; k < e.properties.size(); ++k) {
                 const PlyProperty& p = e.properties[k];

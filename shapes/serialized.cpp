@@ -32,10 +32,8 @@
 #include <algorithm>
 #include <atomic>
 #include <cstring>
-#include <fstream>
 #include <limits>
 #include <memory>
-#include <sstream>
 #include <string_view>
 
 namespace candela {
@@ -211,9 +209,6 @@ public:
         if (pos_ >= data_.size()) throw SerializedError("the mesh name is not terminated");
         ++pos_;
         return s;
-    }
-    void check_count(uint64_t count, size_t size, const char* what) {
-        if (count > (data_.size() - pos_) / size) throw SerializedError(std::string("the data ends inside the ") + what);
     }
     size_t position() const { return pos_; }
     void need(size_t bytes, const char* what) {
