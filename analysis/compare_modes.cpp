@@ -83,6 +83,9 @@ std::vector<std::string> split_methods(const std::string& list) {
 Ref<Integrator> method_integrator(const std::string& spec, const Scene& scene, const std::function<void(RasterSettings&)>& adjust_raster) {
     Properties props = method_properties(spec);
     if (spec == "path" && scene.integrator().to_string() == "path") return nullptr;  // the scene's own
+    // Methods are refused in a variant they do not render in, as in a scene file; the raster
+    // modes draw the local model in RGB in every variant.
+    if (props.plugin_type() != "raster") props.set_variant(scene.variant());
     Ref<Integrator> integrator = create_plugin_as<Integrator>(ObjectKind::Integrator, props);
     if (auto* r = dynamic_cast<RasterIntegrator*>(integrator.get()); r && adjust_raster) adjust_raster(r->settings());
     return integrator;

@@ -149,7 +149,7 @@ SceneValidation validate_scene(const ValidationCase& c, const ValidationSettings
     Ref<Scene> scene;
     Image reference;
     try {
-        scene = load_scene(c.scene_path);
+        scene = load_scene(c.scene_path, {}, settings.variant);
         reference = read_image(c.reference_path);
     } catch (const SceneError& e) {
         r.reason = e.what();

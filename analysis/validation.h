@@ -6,6 +6,8 @@
 
 #include "analysis/image_metrics.h"
 
+#include "core/variant.h"
+
 #include <string>
 #include <vector>
 
@@ -26,6 +28,7 @@ struct ValidationSettings {
     int reference_spp = 2048;  // the references' sample count, for their variance in the z-test
     int threads = 0;
     int64_t seed = -1;  // -1: each scene's sampler's seed
+    Variant variant = Variant::ScalarRGB;
     AgreementThresholds thresholds;
     double alpha = 0.01;  // family-wise significance of the per-pixel z-test
 };

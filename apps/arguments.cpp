@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "core/text.h"
+#include "core/variant.h"
 #include "core/warning.h"
 
 #include <algorithm>
@@ -162,8 +163,22 @@ void add_threads_option(CLI::App* cmd, int& threads) {
         });
 }
 
+void add_variant_option(CLI::App* cmd, std::string& variant) {
+    cmd->add_option("--variant", variant,
+                    std::string("What radiance carries, by Mitsuba 3's variant names: scalar_rgb (default) or scalar_spectral "
+                                "(wavelengths sampled per path; measured spectra used per wavelength)"))
+        ->check([](const std::string& name) -> std::string {
+            auto v = parse_variant(name);
+            if (!v) return "--variant \"" + name + "\" is not a variant (known: " + variant_names() + ")";
+            if (*v == Variant::ScalarSpectralPolarized)
+                return "--variant scalar_spectral_polarized (polarized rendering) is not implemented yet; use scalar_spectral or scalar_rgb";
+            return "";
+        });
+}
+
 void SceneInput::add_to(CLI::App* cmd) {
     cmd->add_option("scene", words, "Scene file (Mitsuba 3 XML)")->required()->expected(1, -1);
+    add_variant_option(cmd, variant);
     cmd->add_option("-D", defines, "Set a scene parameter: -D name=value (repeatable: -D a=1 -D b=2)")
         ->expected(1)
         ->allow_extra_args(false)
@@ -197,7 +212,7 @@ const std::string& SceneInput::resolve() {
 Ref<Scene> SceneInput::load() {
     resolve();
     use_search_folders(search_path);
-    return load_scene(scene, parse_defines(defines));
+    return load_scene(scene, parse_defines(defines), *parse_variant(variant));
 }
 
 bool refuse_unknown_command(const CLI::App& app, int argc, char** argv, int& code) {

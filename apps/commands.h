@@ -82,6 +82,9 @@ CLI::Validator one_of(const std::string& option, const std::vector<std::string>&
 // name that would do.
 void check_exr_output(const std::string& path);
 // --seed S (a whole number, 0 or more); `default_text` says what it is when not given.
+// --variant NAME: Mitsuba's variant names (core/variant.h); a name that is none, or a variant not
+// implemented, is a parse error naming the known ones.
+void add_variant_option(CLI::App* cmd, std::string& variant);
 void add_seed_option(CLI::App* cmd, int64_t& seed, const std::string& default_text);
 // --threads N (0, the default: one per core).
 void add_threads_option(CLI::App* cmd, int& threads);
@@ -91,6 +94,7 @@ void add_threads_option(CLI::App* cmd, int& threads);
 struct SceneInput {
     std::string scene;  // the scene file, once resolve() has sorted the words
     std::vector<std::string> words, defines, search_path;
+    std::string variant = "scalar_rgb";  // --variant: Mitsuba's variant name (core/variant.h)
 
     void add_to(CLI::App* cmd);
     // Sorts the positional words into the scene file and parameters: InputError for no scene

@@ -75,6 +75,7 @@ FarmRequest make_request(FarmArgs& a) {
     r.search_path = absolute_search_folders(a.input.search_path);
     r.aovs = a.aovs;
     r.sampler = a.sampler;
+    r.variant = a.input.variant;
     AovLayout check_names(a.aovs);
     Ref<Scene> scene = a.input.load();
     if (std::string reason = scene->integrator().parts_refusal(); !reason.empty())

@@ -67,6 +67,7 @@ std::string repeat_command(const RenderArgs& a, const RenderStats& stats) {
     r.aovs = a.aovs;
     r.sampler = a.sampler;
     r.mode = a.mode;
+    r.variant = a.input.variant;
     return shell_join(render_words(r));
 }
 
@@ -203,6 +204,9 @@ void apply_mode(Scene& scene, const RenderArgs& a) {
                                    " does not apply to the raster mode, which takes no Monte Carlo samples; its anti-aliasing "
                                    "samples are --aa N (supersampling per pixel)");
     if (!a.sampler.empty()) warn(SourceLocation{}, "--sampler " + a.sampler + " does not apply to the raster mode (its samples are --aa)");
+    if (scene.spectral())
+        warn(SourceLocation{},
+             std::string("--variant ") + variant_name(scene.variant()) + ": the raster mode draws its local model in RGB in every variant");
     RasterSettings settings = existing ? existing->settings() : RasterSettings{};
     a.raster.apply(settings);
     scene.set_integrator(std::make_shared<RasterIntegrator>(settings));

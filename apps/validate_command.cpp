@@ -12,6 +12,7 @@
 
 #include "analysis/validation.h"
 #include "core/file_output.h"
+#include "core/variant.h"
 
 #include <cstdio>
 
@@ -23,6 +24,7 @@ struct ValidateArgs {
     std::string dir, report = "validation-report.html";
     ValidationSettings settings;
     int64_t seed = -1;
+    std::string variant = "scalar_rgb";
     bool quiet = false;
 };
 
@@ -42,6 +44,7 @@ void print_scene(const SceneValidation& r) {
 int validate(ValidateArgs& a) {
     check_output_path(a.report);
     if (a.seed >= 0) a.settings.seed = a.seed;
+    a.settings.variant = *parse_variant(a.variant);
     std::vector<ValidationCase> cases = find_validation_cases(a.dir);
     std::vector<SceneValidation> reports;
     for (const ValidationCase& c : cases) {
@@ -74,6 +77,7 @@ void add_validate_command(CLI::App& app, std::function<int()>& run) {
         ->check(positive_number("--block-tolerance"));
     add_seed_option(cmd, a->seed, "default: each scene's sampler's");
     add_threads_option(cmd, s.threads);
+    add_variant_option(cmd, a->variant);
     cmd->add_flag("--quiet,-q", a->quiet, "Only the summary line");
     cmd->callback([a, &run] { run = [a] { return validate(*a); }; });
 }

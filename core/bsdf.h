@@ -51,6 +51,9 @@ struct BSDFSample {
     float eta = 1.0f;          // relative IOR along the sampled direction (1 for reflection)
     uint32_t lobe = BSDFNone;  // the one lobe that was chosen
     Spectrum weight{0.0f};     // f * |cos wo| / pdf
+    // The direction depends on the wavelength (dispersion): it was sampled for the first (hero)
+    // wavelength only, and the path must terminate the others (Wavelengths::terminate_secondary).
+    bool dispersed = false;
     bool valid() const { return pdf > 0.0f; }
 };
 

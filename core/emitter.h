@@ -59,7 +59,7 @@ public:
     // is the surface hit; for infinite ones only the direction matters.
     virtual Spectrum eval(const SurfaceInteraction& si) const = 0;
     // Radiance arriving along a ray that escaped the scene in direction `d` (infinite emitters).
-    virtual Spectrum eval_environment(const Vec3& d) const { return Spectrum(0.0f); }
+    virtual Spectrum eval_environment(const Vec3& d, const Wavelengths* wavelengths) const { return Spectrum(0.0f); }
     // Emitted flux in W (approximate where exact is costly); used to pick lights.
     virtual Spectrum power() const = 0;
     // A ray leaving the emitter: the origin from `u_position`, the direction from `u_direction`.

@@ -9,6 +9,7 @@
 #include "core/scene.h"
 #include "core/shape.h"
 #include "core/warning.h"
+#include "core/wavelengths.h"
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/task_arena.h>
@@ -214,7 +215,8 @@ public:
           block_origin_(scene.sensor().film().crop_offset() + window.stored.offset),
           values_(values),
           first_hit_(layers.first_hit()),
-          differential_scale_(1.0f / std::sqrt(float(std::max(spp, 1)))) {}
+          differential_scale_(1.0f / std::sqrt(float(std::max(spp, 1)))),
+          spectral_(scene.spectral()) {}
 
     // Samples `samples` of every pixel the tile samples, unless the render was interrupted before.
     void sample_tile(Tile& tile, const SampleRange& samples, Sampler& sampler, Interruption& interruption, RenderCounters& counters,
@@ -252,7 +254,13 @@ private:
             FirstHitAovs aov;
             record.first_hit = first_hit_ ? &aov : nullptr;
             Ray ray = sensor_.sample_ray(record.film_pos, record.aperture, sample_time(sampler));
+            Wavelengths wavelengths;
+            if (spectral_) {
+                wavelengths = sample_wavelengths(sampler);
+                ray.wavelengths = &wavelengths;
+            }
             Spectrum L = integrator_.sample_radiance(scene_, sampler, ray, record);
+            if (spectral_) L = spectral_to_linear_srgb(L, wavelengths);
             ++taken;
             if (!values_.fill(L, record.valid, record.channels, values)) {
                 ++nonfinite;
@@ -274,6 +282,15 @@ private:
         return sensor_.sample_time(u);
     }
 
+    // The spectral variant's wavelengths, from their own dimension (then the path continues at
+    // the first bounce's dimensions, as after the time).
+    static Wavelengths sample_wavelengths(Sampler& sampler) {
+        sampler.set_dimension(SampleDimensions::Wavelength);
+        float u = sampler.next_1d();
+        sampler.set_dimension(SampleDimensions::FirstBounce);
+        return sample_visible_wavelengths(u);
+    }
+
     const SamplingIntegrator& integrator_;
     const Scene& scene_;
     const Sensor& sensor_;
@@ -282,6 +299,7 @@ private:
     const SampleLayout& values_;
     const bool first_hit_;
     const float differential_scale_;
+    const bool spectral_;
 };
 
 // Adaptive sampling's check, between passes. A pixel's error is Cycles' estimate
@@ -407,7 +425,14 @@ ImageRect sums_rect(const Film& film, const ImageRect& region) {
 
 void SampleRecord::record_first_hit(const SurfaceInteraction& si) {
     if (!first_hit) return;
-    first_hit->albedo = si.shape->bsdf()->albedo(si);
+    if (si.wavelengths) {
+        // The albedo layer is a colour in every variant: the BSDF's albedo in RGB.
+        SurfaceInteraction rgb = si;
+        rgb.wavelengths = nullptr;
+        first_hit->albedo = si.shape->bsdf()->albedo(rgb);
+    } else {
+        first_hit->albedo = si.shape->bsdf()->albedo(si);
+    }
     first_hit->normal = si.shading.n;
     first_hit->depth = si.t;
 }

@@ -151,6 +151,12 @@ Spectrum Properties::get_rgb(const std::string& name, const Spectrum& def) const
     const Entry* e = find(name, Type::RGB);
     return e ? as_rgb(e->value) : def;
 }
+std::shared_ptr<const SpectrumTexture> Properties::measured_spectrum(const std::string& name) const {
+    auto it = entries_.find(name);
+    if (it == entries_.end()) return nullptr;
+    auto o = std::get_if<Ref<Object>>(&it->second.value);
+    return o ? std::dynamic_pointer_cast<const SpectrumTexture>(*o) : nullptr;
+}
 Transform Properties::get_transform(const std::string& name, const Transform& def) const {
     asked_.insert(name);
     auto it = entries_.find(name);

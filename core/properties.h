@@ -8,6 +8,7 @@
 #include "core/object.h"
 #include "core/spectrum.h"
 #include "core/transform.h"
+#include "core/variant.h"
 
 #include <map>
 #include <memory>
@@ -19,6 +20,7 @@
 namespace candela {
 
 class Texture;
+class SpectrumTexture;
 class FileResolver;
 
 class Properties {
@@ -33,6 +35,10 @@ public:
     Properties(std::string plugin_type, SourceLocation where) : plugin_type_(std::move(plugin_type)), location_(std::move(where)) {}
 
     const std::string& plugin_type() const { return plugin_type_; }
+    // The variant the scene is loaded for (the loader sets it on every object's properties):
+    // plugins not marked for it are refused (core/registry.h).
+    Variant variant() const { return variant_; }
+    void set_variant(Variant v) { variant_ = v; }
     const SourceLocation& location() const { return location_; }
     std::string id;
 
@@ -85,6 +91,9 @@ public:
     // "{face}"), made absolute relative to the file that names it.
     std::string get_path(const std::string& name) const;
 
+    // The measured spectrum an rgb parameter was given as (a <spectrum> of samples, a file, a
+    // black body), for the spectral variant; null when it was a colour or is absent.
+    std::shared_ptr<const SpectrumTexture> measured_spectrum(const std::string& name) const;
     // A texture-valued parameter: a nested/referenced texture, or an rgb/float constant.
     Ref<Texture> get_texture(const std::string& name, const Spectrum& def) const;
     Ref<Texture> get_texture(const std::string& name) const;  // required
@@ -116,6 +125,7 @@ public:
     std::vector<std::string> names() const;
 
 private:
+    Variant variant_ = Variant::ScalarRGB;
     struct Entry {
         Type type;
         Value value;

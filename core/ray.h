@@ -9,6 +9,7 @@ namespace candela {
 class Shape;
 class BSDF;
 class Emitter;
+struct Wavelengths;
 
 struct Ray {
     Vec3 o{0.0f}, d{0.0f, 0.0f, 1.0f};
@@ -16,6 +17,10 @@ struct Ray {
     // When the ray travels (motion blur): the camera ray's shutter time, kept by every ray that
     // continues its path. Animated shapes, sensors and emitters take their pose at this time.
     float time = 0.0f;
+    // The spectral variant's wavelengths of the camera sample (core/wavelengths.h), kept by every
+    // ray of its path and by the interactions they find; null in the RGB variant. The path owns
+    // them: a dispersive interface terminates the secondary ones (surface_step).
+    Wavelengths* wavelengths = nullptr;
 
     Ray() = default;
     Ray(const Vec3& origin, const Vec3& dir, float t_max = Infinity) : o(origin), d(dir), tmax(t_max) {}
@@ -51,6 +56,7 @@ inline Ray unit_direction(const Ray& ray) {
     Ray r(ray.o, ray.d / length, ray.tmax * length);
     r.tmin = ray.tmin * length;
     r.time = ray.time;
+    r.wavelengths = ray.wavelengths;
     return r;
 }
 
@@ -66,8 +72,9 @@ struct SurfaceInteraction {
     Vec3 wi{0.0f, 0.0f, 1.0f};  // toward the ray's origin, in the shading frame
     const Shape* shape = nullptr;
     unsigned prim_index = 0;
-    Vec2 prim_uv{0.0f};  // where on primitive prim_index: barycentrics (b1, b2) on a triangle
-    float time = 0.0f;   // the time of the ray that found it; rays spawned here keep it
+    Vec2 prim_uv{0.0f};                  // where on primitive prim_index: barycentrics (b1, b2) on a triangle
+    float time = 0.0f;                   // the time of the ray that found it; rays spawned here keep it
+    Wavelengths* wavelengths = nullptr;  // the same for the spectral variant's wavelengths
 
     bool is_valid() const { return shape != nullptr; }
     Vec3 to_world(const Vec3& v) const { return shading.to_world(v); }
@@ -77,6 +84,7 @@ struct SurfaceInteraction {
     Ray spawn_ray(const Vec3& d) const {
         Ray r(offset_ray_origin(p, p_error, n, d), d);
         r.time = time;
+        r.wavelengths = wavelengths;
         return r;
     }
     // A shadow ray toward `target`, stopping just short of it. As in Mitsuba 3 its direction is
@@ -89,6 +97,7 @@ struct SurfaceInteraction {
         Vec3 t = target_normal == Vec3(0.0f) ? target : offset_ray_origin(target, target_error, target_normal, o - target);
         Ray r(o, t - o, 1.0f - ShadowEpsilon);
         r.time = time;
+        r.wavelengths = wavelengths;
         return r;
     }
 };

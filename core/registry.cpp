@@ -11,13 +11,32 @@
 namespace candela {
 
 namespace {
-std::map<std::pair<ObjectKind, std::string>, PluginFactory>& registry() {
-    static std::map<std::pair<ObjectKind, std::string>, PluginFactory> instance;
+struct PluginEntry {
+    PluginFactory factory;
+    bool spectral = false;
+};
+std::map<std::pair<ObjectKind, std::string>, PluginEntry>& registry() {
+    static std::map<std::pair<ObjectKind, std::string>, PluginEntry> instance;
     return instance;
+}
+
+bool carries_colour(ObjectKind kind) {
+    switch (kind) {
+        case ObjectKind::BSDF:
+        case ObjectKind::Emitter:
+        case ObjectKind::Texture:
+        case ObjectKind::Integrator:
+        case ObjectKind::Medium:
+        case ObjectKind::Phase:
+        case ObjectKind::Volume: return true;
+        default: return false;
+    }
 }
 }  // namespace
 
-void register_plugin(ObjectKind kind, const std::string& type, PluginFactory factory) { registry()[{kind, type}] = std::move(factory); }
+void register_plugin(ObjectKind kind, const std::string& type, PluginFactory factory, bool spectral) {
+    registry()[{kind, type}] = PluginEntry{std::move(factory), spectral};
+}
 
 bool plugin_exists(ObjectKind kind, const std::string& type) { return registry().count({kind, type}) != 0; }
 
@@ -111,9 +130,12 @@ Ref<Object> create_plugin(ObjectKind kind, const Properties& props) {
         throw SceneError(props.location(), "unknown " + what + (nearest.empty() ? "" : " (nearest supported: \"" + nearest + "\")") +
                                                " (known: " + known + ")");
     }
+    if (props.variant() != Variant::ScalarRGB && carries_colour(kind) && !it->second.spectral)
+        throw SceneError(props.location(), std::string(kind_tag(kind)) + " type \"" + it->first.second + "\" does not render in variant " +
+                                               variant_name(props.variant()) + " yet; it renders in scalar_rgb (--variant scalar_rgb)");
     Ref<Object> obj;
     try {
-        obj = it->second(props);
+        obj = it->second.factory(props);
     } catch (const SceneError&) {
         throw;
     } catch (const std::exception& e) {

@@ -14,7 +14,11 @@ namespace candela {
 
 using PluginFactory = std::function<Ref<Object>(const Properties&)>;
 
-void register_plugin(ObjectKind kind, const std::string& type, PluginFactory factory);
+// `spectral`: the plugin also renders in the spectral variant (core/variant.h). Plugins of the
+// kinds that carry colour (BSDFs, emitters, textures, integrators, media, phase functions,
+// volumes) are refused in that variant unless they say so; shapes, sensors, films, filters and
+// samplers carry none and render in every variant.
+void register_plugin(ObjectKind kind, const std::string& type, PluginFactory factory, bool spectral = false);
 bool plugin_exists(ObjectKind kind, const std::string& type);
 std::vector<std::string> plugin_names(ObjectKind kind);
 
@@ -30,8 +34,9 @@ Ref<T> create_plugin_as(ObjectKind kind, const Properties& props) {
 
 template <typename T>
 struct PluginRegistration {
-    PluginRegistration(ObjectKind kind, const char* type) {
-        register_plugin(kind, type, [](const Properties& p) -> Ref<Object> { return std::make_shared<T>(p); });
+    PluginRegistration(ObjectKind kind, const char* type, bool spectral = false) {
+        register_plugin(
+            kind, type, [](const Properties& p) -> Ref<Object> { return std::make_shared<T>(p); }, spectral);
     }
 };
 
@@ -40,5 +45,9 @@ struct PluginRegistration {
 // Registers class `Class` (constructible from `const Properties&`) under a Mitsuba type name.
 #define CANDELA_REGISTER(Class, kind, type_name) \
     static ::candela::PluginRegistration<Class> CANDELA_CONCAT(candela_registration_, __LINE__)(kind, type_name)
+// The same for a plugin that renders in the spectral variant too (its values at the path's
+// wavelengths: core/wavelengths.h).
+#define CANDELA_REGISTER_SPECTRAL(Class, kind, type_name) \
+    static ::candela::PluginRegistration<Class> CANDELA_CONCAT(candela_registration_, __LINE__)(kind, type_name, true)
 
 }  // namespace candela

@@ -98,6 +98,7 @@ constexpr const char* DefaultSampler = "stratified";
 struct SampleDimensions {
     static constexpr uint32_t Film = 0, Aperture = 2, FirstBounce = 4, PerBounce = 7;
     static constexpr uint32_t Time = 0x7fffff00u;
+    static constexpr uint32_t Wavelength = 0x7fffff01u;  // the spectral variant's wavelengths
     // Offsets within a bounce.
     static constexpr uint32_t LightPick = 0, LightPosition = 1, Lobe = 3, Direction = 4, Roulette = 6;
     static constexpr uint32_t bounce(uint32_t k) { return FirstBounce + PerBounce * k; }

@@ -10,6 +10,7 @@ namespace candela {
 
 Scene::Scene(const Properties& props) {
     source_file = props.location().file;
+    variant_ = props.variant();
     // Shape groups are not drawn themselves, only through the instances that reference them.
     for (auto& obj : props.get_objects(ObjectKind::Shape)) {
         auto shape = std::static_pointer_cast<Shape>(obj);
@@ -81,6 +82,7 @@ bool Scene::intersect(const Ray& ray, SurfaceInteraction& si) const {
     RayHit hit;
     const Shape* shape = accel_.intersect(ray, hit);
     si.time = ray.time;
+    si.wavelengths = ray.wavelengths;
     if (!shape) {
         si.shape = nullptr;
         si.t = Infinity;
@@ -125,9 +127,9 @@ Spectrum Scene::transmittance(const Ray& shadow_ray, const Medium* medium, PCG32
     }
 }
 
-Spectrum Scene::eval_environment(const Vec3& d) const {
+Spectrum Scene::eval_environment(const Vec3& d, const Wavelengths* wavelengths) const {
     Spectrum L(0.0f);
-    for (const Emitter* e : infinite_emitters_) L += e->eval_environment(d);
+    for (const Emitter* e : infinite_emitters_) L += e->eval_environment(d, wavelengths);
     return L;
 }
 

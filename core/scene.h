@@ -48,7 +48,7 @@ public:
     const std::vector<Ref<Emitter>>& emitters() const { return emitters_; }
     const std::vector<const Emitter*>& infinite_emitters() const { return infinite_emitters_; }
     // Radiance from all infinite emitters along an escaped ray.
-    Spectrum eval_environment(const Vec3& d) const;
+    Spectrum eval_environment(const Vec3& d, const Wavelengths* wavelengths = nullptr) const;
 
     Sensor& sensor() const { return *sensor_; }
     Integrator& integrator() const { return *integrator_; }
@@ -60,6 +60,10 @@ public:
     // emitters derive from the scene's bounds.
     void update_geometry();
 
+    // The variant it was loaded for (core/variant.h): the spectral variant samples wavelengths.
+    Variant variant() const { return variant_; }
+    bool spectral() const { return variant_ != Variant::ScalarRGB; }
+
     std::string source_file;  // the scene file it was loaded from
     // The scene file's parameters after <default>s and -D overrides, substituted ($name) as
     // everywhere else; analytic scenes state their exact answer as the parameter "expected".
@@ -69,6 +73,7 @@ public:
     std::vector<std::string> input_files;
 
 private:
+    Variant variant_ = Variant::ScalarRGB;
     std::vector<Ref<Shape>> shapes_;
     std::vector<Ref<Emitter>> emitters_;
     std::vector<const Emitter*> infinite_emitters_;

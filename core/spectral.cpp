@@ -270,6 +270,11 @@ double interpolate_samples(const std::vector<double>& w, const std::vector<doubl
 }
 }  // namespace
 
+double SampledSpectrum::at(double wavelength_nm) const {
+    if (wavelengths.size() < 2 || !(wavelength_nm >= wavelengths.front() && wavelength_nm <= wavelengths.back())) return 0.0;
+    return interpolate_samples(wavelengths, values, wavelength_nm);
+}
+
 Spectrum spectrum_to_rgb(const SampledSpectrum& s, bool weight_by_d65, bool bounded, bool* clamped) {
     auto value = [&](double x) { return interpolate_samples(s.wavelengths, s.values, x); };
     return finish(integrate_xyz(value, weight_by_d65, s.wavelengths.front(), s.wavelengths.back()), bounded, clamped);
@@ -298,6 +303,17 @@ double blackbody_radiance(double wavelength_nm, double temperature) {
     double lambda = wavelength_nm * 1e-9;
     // W m^-2 sr^-1 per metre of wavelength, times 1e-9 for per nanometre.
     return 1e-9 * c0 / (std::pow(lambda, 5.0) * (std::exp(c1 / (lambda * temperature)) - 1.0));
+}
+
+SampledSpectrum blackbody_samples(double temperature, double lambda_min, double lambda_max, double scale) {
+    SampledSpectrum s;
+    int steps = std::max(1, int(std::ceil(lambda_max - lambda_min)));
+    for (int i = 0; i <= steps; ++i) {
+        double w = lambda_min + (lambda_max - lambda_min) * i / steps;
+        s.wavelengths.push_back(w);
+        s.values.push_back(scale * blackbody_radiance(w, temperature));
+    }
+    return s;
 }
 
 Spectrum blackbody_rgb(double temperature, double lambda_min, double lambda_max) {

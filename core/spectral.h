@@ -22,6 +22,18 @@ constexpr double CieD65Normalization = 1.0 / 98.99741751876255;
 struct SampledSpectrum {
     std::vector<double> wavelengths;  // nm, non-decreasing
     std::vector<double> values;
+    // Linearly interpolated between samples, zero outside the sampled range (Mitsuba's
+    // irregular and regular spectra).
+    double at(double wavelength_nm) const;
+};
+
+// What a spectrum or colour stands for where the scene uses it: the same spectrum means a
+// different colour as a reflectance, as an index of refraction and as an emission, and an RGB
+// colour becomes a different spectrum in the spectral variant (core/wavelengths.h).
+enum class SpectrumRole {
+    Reflectance,  // weighted by D65, clamped to [0, 1]: a flat spectrum is grey
+    Unbounded,    // eta, k, int_ior, ext_ior: weighted by D65, only negatives clamped
+    Emission,     // directly inside an <emitter>: not weighted, negatives clamped
 };
 
 // A malformed spectrum (the loader adds the file and line of the element).
@@ -61,6 +73,10 @@ double blackbody_radiance(double wavelength_nm, double temperature);
 // The emitted colour of a black body restricted to [lambda_min, lambda_max] nm: the emission
 // conversion above applied to Planck's law, i.e. what Mitsuba's spectral variants render.
 Spectrum blackbody_rgb(double temperature, double lambda_min = CieMin, double lambda_max = CieMax);
+
+// Planck's law times `scale` sampled every nanometre over [lambda_min, lambda_max]: what the
+// spectral variant interpolates per wavelength.
+SampledSpectrum blackbody_samples(double temperature, double lambda_min, double lambda_max, double scale = 1.0);
 
 // The tabulated functions, linearly interpolated as Mitsuba does (zero outside 360-830 nm).
 Vec3d cie1931_xyz(double wavelength_nm);

@@ -51,15 +51,32 @@ Vec2 Texture::eval_1_gradient(const SurfaceInteraction& si) const {
     return Vec2(height(h, 0.0f) - height(-h, 0.0f), height(0.0f, h) - height(0.0f, -h)) / (2.0f * h);
 }
 
-Spectrum Texture::eval_at(const Vec3& p, const Vec3& n, const Vec2& uv) const {
+Spectrum Texture::eval_at(const Vec3& p, const Vec3& n, const Vec2& uv, SpectrumRole role, const Wavelengths* wavelengths) const {
     SurfaceInteraction at;
     at.p = p;
     at.n = n;
     at.shading = Frame(n);
     at.uv = uv;
-    return eval(at);
+    return wavelengths ? eval_spectrum(at, *wavelengths, role) : eval_rgb(at);
+}
+
+Spectrum emission_at(const Spectrum& rgb, const SpectrumTexture* measured, const Wavelengths* w) {
+    if (!w) return rgb;
+    if (measured) return measured->eval_spectrum(SurfaceInteraction(), *w, SpectrumRole::Emission);
+    return rgb_at_wavelengths(rgb, SpectrumRole::Emission, w);
+}
+
+Spectrum SpectrumTexture::eval_spectrum(const SurfaceInteraction&, const Wavelengths& w, SpectrumRole) const {
+    Spectrum out;
+    for (int j = 0; j < WavelengthSamples; ++j) out[j] = float(spectrum_.at(w.lambda[j]));
+    return out;
 }
 
 void ConstantTexture::traverse(ParameterVisitor& visitor) { expose_color(visitor, "value", value_); }
+
+void ConstantTexture::parameters_changed(const std::vector<std::string>&) {
+    for (SpectrumRole role : {SpectrumRole::Reflectance, SpectrumRole::Unbounded, SpectrumRole::Emission})
+        spectra_[int(role)] = RGBSpectrum(value_, role);
+}
 
 }  // namespace candela

@@ -6,6 +6,7 @@
 #include "core/ray.h"
 #include "core/spectrum.h"
 #include "core/transform.h"
+#include "core/wavelengths.h"
 
 namespace candela {
 
@@ -49,14 +50,29 @@ public:
     // The colour at texture coordinates uv, unfiltered beyond the texture's own reconstruction
     // (bilinear or nearest).
     virtual Spectrum eval(const Vec2& uv) const = 0;
-    // The colour at a surface point: what BSDFs and emitters ask. By default the lookup at the
-    // point's texture coordinates (texture_uv); textures that read more of the hit (mesh_attribute:
-    // the shape's per-vertex data) override these two.
-    virtual Spectrum eval(const SurfaceInteraction& si) const { return eval(texture_uv(si)); }
+    // The value at a surface point as a reflectance: what BSDFs ask. In the RGB variant the
+    // colour; in the spectral variant (si.wavelengths set) its values at the path's wavelengths.
+    Spectrum eval(const SurfaceInteraction& si) const { return eval_as(si, SpectrumRole::Reflectance); }
+    // The same for a value of another role (an emission, an index of refraction: see
+    // rgb_at_wavelengths in core/wavelengths.h).
+    Spectrum eval_as(const SurfaceInteraction& si, SpectrumRole role) const {
+        return si.wavelengths ? eval_spectrum(si, *si.wavelengths, role) : eval_rgb(si);
+    }
+    // The colour at a surface point. By default the lookup at the point's texture coordinates
+    // (texture_uv); textures that read more of the hit (mesh_attribute: the shape's per-vertex
+    // data) override this and eval_1.
+    virtual Spectrum eval_rgb(const SurfaceInteraction& si) const { return eval(texture_uv(si)); }
     virtual float eval_1(const SurfaceInteraction& si) const { return eval_1(texture_uv(si)); }
-    // The colour at a sampled surface point (an emitter's position sample: no ray hit), looked up
-    // as at a hit there, so that the mapping applies as it does when a path finds the point.
-    Spectrum eval_at(const Vec3& p, const Vec3& n, const Vec2& uv) const;
+    // The value at the wavelengths: by default the colour's spectrum for `role`; a measured
+    // spectrum (SpectrumTexture) gives its own values.
+    virtual Spectrum eval_spectrum(const SurfaceInteraction& si, const Wavelengths& w, SpectrumRole role) const {
+        return rgb_at_wavelengths(eval_rgb(si), role, &w);
+    }
+    // The value at a sampled surface point (an emitter's position sample: no ray hit), looked up
+    // as at a hit there, so that the mapping applies as it does when a path finds the point; at
+    // `wavelengths` when they are given.
+    Spectrum eval_at(const Vec3& p, const Vec3& n, const Vec2& uv, SpectrumRole role = SpectrumRole::Reflectance,
+                     const Wavelengths* wavelengths = nullptr) const;
     // d eval_1 / d(u, v) at a surface point, with (u, v) the surface's own parameters: the
     // texture's gradient under the uv mapping; under another mapping central differences along
     // dp/du and dp/dv (bump mapping).
@@ -106,11 +122,15 @@ struct UVTransform {
 
 class ConstantTexture : public Texture {
 public:
-    explicit ConstantTexture(const Spectrum& value) : value_(value) {}
+    explicit ConstantTexture(const Spectrum& value) : value_(value) { parameters_changed({}); }
     Spectrum eval(const Vec2&) const override { return value_; }
     // The same value everywhere: no texture coordinates to find (the mapping is never asked;
     // BSDFs and emitters look their constants up once or more per path vertex).
-    Spectrum eval(const SurfaceInteraction&) const override { return value_; }
+    Spectrum eval_rgb(const SurfaceInteraction&) const override { return value_; }
+    // The spectra of the value, made once (not per lookup).
+    Spectrum eval_spectrum(const SurfaceInteraction&, const Wavelengths& w, SpectrumRole role) const override {
+        return spectra_[int(role)].at(w);
+    }
     float eval_1(const SurfaceInteraction&) const override { return eval_1(Vec2(0.0f)); }
     // A grey value (a float parameter) is returned exactly, not through the luminance weights.
     float eval_1(const Vec2&) const override { return value_.x == value_.y && value_.y == value_.z ? value_.x : luminance(value_); }
@@ -120,9 +140,30 @@ public:
     const Spectrum& value() const { return value_; }
     // Mitsuba's srgb texture: "value".
     void traverse(ParameterVisitor& visitor) override;
+    void parameters_changed(const std::vector<std::string>&) override;
 
 private:
     Spectrum value_;
+    RGBSpectrum spectra_[3];  // value_'s spectrum for each SpectrumRole
+};
+
+// A constant emission (an emitter's intensity, irradiance or radiance) at the wavelengths `w`: its
+// measured spectrum when the scene gave one (Properties::measured_spectrum), else the colour's
+// emission spectrum; in the RGB variant (no wavelengths) the colour itself.
+class SpectrumTexture;
+Spectrum emission_at(const Spectrum& rgb, const SpectrumTexture* measured, const Wavelengths* w);
+
+// A measured or analytic spectrum (a <spectrum> of wavelength:value pairs or a file, Planck's
+// law, an equal-energy emission): in the spectral variant its own values at the path's
+// wavelengths, whatever the role; elsewhere the colour it was converted to for its role.
+class SpectrumTexture final : public ConstantTexture {
+public:
+    SpectrumTexture(const Spectrum& rgb, SampledSpectrum spectrum) : ConstantTexture(rgb), spectrum_(std::move(spectrum)) {}
+    Spectrum eval_spectrum(const SurfaceInteraction&, const Wavelengths& w, SpectrumRole) const override;
+    const SampledSpectrum& spectrum() const { return spectrum_; }
+
+private:
+    SampledSpectrum spectrum_;
 };
 
 }  // namespace candela

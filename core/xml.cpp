@@ -126,7 +126,7 @@ Ref<Object> create_moving_shape(const Properties& props) {
 
 class XmlLoader {
 public:
-    explicit XmlLoader(const SceneParameters& defines) : params_(defines), defines_(defines) {}
+    XmlLoader(const SceneParameters& defines, Variant variant) : params_(defines), defines_(defines), variant_(variant) {}
 
     // A -D name the scene neither declares (<default>) nor uses ($name) changes nothing: a
     // warning names it and the scene's parameters (Mitsuba ignores it silently).
@@ -156,6 +156,7 @@ public:
         doc.resolver = resolver;
         pugi::xml_node root = doc.xml.document_element();
         Properties scene_props("scene", where(doc, root));
+        scene_props.set_variant(variant_);
         read_scene_element(doc, root, scene_props, 0);
         auto scene = std::make_shared<Scene>(scene_props);
         scene_props.check_all_used();
@@ -425,6 +426,7 @@ private:
         check_attributes(doc, node, {"type", "id", "name"});
         std::string type = attr(doc, node, "type");
         Properties props(type, where(doc, node));
+        props.set_variant(variant_);
         std::string id = attr_or(doc, node, "id", "");
         props.id = id;
         if (!id.empty() && ids_.count(id)) throw SceneError(where(doc, node), "duplicate id \"" + id + "\"");
@@ -468,13 +470,18 @@ private:
         check_attributes(doc, node, {"type", "id", "name"});
         SourceLocation loc = where(doc, node);
         Properties props(attr(doc, node, "type"), loc);
+        props.set_variant(variant_);
         props.set_file_resolver(doc.resolver);
         read_children(doc, node, props);
         std::string name = has_attr(node, "name") ? property_name(doc, node) : "";
         SpectrumRole role = spectrum_role(std::strcmp(node.parent().name(), "emitter") == 0, name);
         Ref<Object> texture;
-        Spectrum rgb = spectrum_plugin_rgb(props, role, &texture);
+        SampledSpectrum measured;
+        Spectrum rgb = spectrum_plugin_rgb(props, role, &texture, &measured);
         props.check_all_used();
+        // The spectral variant uses a measured spectrum per wavelength, not through its colour.
+        if (!texture && variant_ != Variant::ScalarRGB && !measured.wavelengths.empty())
+            texture = std::make_shared<SpectrumTexture>(rgb, std::move(measured));
         if (!texture) texture = std::make_shared<ConstantTexture>(rgb);
         std::string id = attr_or(doc, node, "id", "");
         if (!id.empty()) {
@@ -484,7 +491,7 @@ private:
         }
         if (name.empty())
             parent.set_object(next_arg_name(), texture, loc);
-        else if (std::dynamic_pointer_cast<ConstantTexture>(texture))
+        else if (std::dynamic_pointer_cast<ConstantTexture>(texture) && !std::dynamic_pointer_cast<SpectrumTexture>(texture))
             parent.set(name, Properties::Type::RGB, rgb, loc);
         else
             parent.set_object(name, texture, loc);
@@ -570,10 +577,18 @@ private:
             role = role == SpectrumRole::Emission ? SpectrumRole::Reflectance : role;
         else if (!intent.empty())
             throw SceneError(loc, "intent must be reflectance or illuminant, not \"" + intent + "\"");
-        props.set(name, Properties::Type::RGB, colour_value(doc, node, role), loc);
+        SampledSpectrum measured;
+        Spectrum rgb = colour_value(doc, node, role, &measured);
+        // The spectral variant uses a measured spectrum per wavelength, not through its colour.
+        if (variant_ != Variant::ScalarRGB && !measured.wavelengths.empty())
+            props.set_object(name, std::make_shared<SpectrumTexture>(rgb, std::move(measured)), loc);
+        else
+            props.set(name, Properties::Type::RGB, rgb, loc);
     }
 
-    Spectrum colour_value(Document& doc, const pugi::xml_node& node, SpectrumRole role) {
+    // The colour of a colour element; `measured` receives the spectrum behind it when there is one
+    // (samples, a file, a black body, an equal-energy emission).
+    Spectrum colour_value(Document& doc, const pugi::xml_node& node, SpectrumRole role, SampledSpectrum* measured) {
         std::string tag = node.name();
         SourceLocation loc = where(doc, node);
         if (tag == "blackbody") {
@@ -582,15 +597,17 @@ private:
             if (!t.empty() && (t.back() == 'K' || t.back() == 'k')) t.pop_back();
             double temperature = parse_double(doc, node, t), scale = parse_double(doc, node, attr_or(doc, node, "scale", "1"));
             if (!(temperature > 0.0)) throw SceneError(loc, "the temperature must be positive (in kelvin)");
+            *measured = blackbody_samples(temperature, CieMin, CieMax, scale);
             return blackbody_rgb(temperature) * float(scale);
         }
         if (tag == "spectrum" && has_attr(node, "filename") == has_attr(node, "value"))
             throw SceneError(loc, "<spectrum> takes either value or filename");
-        if (tag == "spectrum" && has_attr(node, "filename")) return spectrum_from_file(doc, node, role);
+        if (tag == "spectrum" && has_attr(node, "filename")) return spectrum_from_file(doc, node, role, measured);
         std::string text = attr(doc, node, "value");
         if (tag == "spectrum" && text.find(':') != std::string::npos) {
             try {
-                return sampled_spectrum_rgb(parse_spectrum_pairs(text), role, loc);
+                *measured = parse_spectrum_pairs(text);
+                return sampled_spectrum_rgb(*measured, role, loc);
             } catch (const SpectrumFormatError& e) {
                 throw SceneError(loc, std::string("<spectrum>: ") + e.what());
             }
@@ -601,6 +618,8 @@ private:
             if (!parse_srgb(trim(text), v, rgb)) throw SceneError(loc, "<srgb> value needs \"#rrggbb\" or 1 or 3 numbers");
         } else if (v.size() == 1) {
             rgb = tag == "rgb" ? Spectrum(float(v[0])) : uniform_spectrum_rgb(v[0], role);
+            // An emitter's single value is an equal-energy spectrum, not the emission of a grey.
+            if (tag != "rgb" && role == SpectrumRole::Emission) *measured = SampledSpectrum{{CieMin, CieMax}, {v[0], v[0]}};
         } else if (v.size() == 3 && (tag == "rgb" || doc.upgrade)) {
             // <rgb>, or a pre-2.0 <spectrum> of three bins: Mitsuba 0.6's RGB builds read it as rgb.
             rgb = Spectrum(float(v[0]), float(v[1]), float(v[2]));
@@ -614,7 +633,7 @@ private:
 
     // <spectrum filename="x.spd"/>: found through the file resolver, one "wavelength value" pair
     // per line with '#' comments.
-    Spectrum spectrum_from_file(Document& doc, const pugi::xml_node& node, SpectrumRole role) {
+    Spectrum spectrum_from_file(Document& doc, const pugi::xml_node& node, SpectrumRole role, SampledSpectrum* measured) {
         SourceLocation loc = where(doc, node);
         std::string name = attr(doc, node, "filename");
         auto found = doc.resolver->find_file(name);
@@ -624,7 +643,8 @@ private:
         ss << in.rdbuf();
         if (!in) throw SceneError(loc, "cannot read spectrum file \"" + found->string() + "\"");
         try {
-            return sampled_spectrum_rgb(parse_spd(ss.str()), role, loc);
+            *measured = parse_spd(ss.str());
+            return sampled_spectrum_rgb(*measured, role, loc);
         } catch (const SpectrumFormatError& e) {
             throw SceneError(loc, "spectrum file \"" + found->string() + "\": " + e.what());
         }
@@ -700,7 +720,8 @@ private:
 
     std::vector<std::unique_ptr<Document>> docs_;
     SceneParameters params_;
-    SceneParameters defines_;                     // as given (-D)
+    SceneParameters defines_;  // as given (-D)
+    Variant variant_;
     mutable std::set<std::string> known_params_;  // declared by <default> or used as $name
     std::map<std::string, Ref<Object>> ids_;
     std::map<std::string, std::pair<Document*, pugi::xml_node>> declared_;  // ids declared anywhere in the files read
@@ -733,19 +754,20 @@ std::string not_a_scene_file(const std::string& path) {
 
 }  // namespace
 
-Ref<Scene> load_scene(const std::string& path, const SceneParameters& defines) {
+Ref<Scene> load_scene(const std::string& path, const SceneParameters& defines, Variant variant) {
     if (std::string reason = not_a_scene_file(path); !reason.empty()) throw SceneError(SourceLocation{path, 0}, reason);
     std::ifstream in(path, std::ios::binary);
     std::stringstream ss;
     ss << in.rdbuf();
-    XmlLoader loader(defines);
+    XmlLoader loader(defines, variant);
     auto scene = loader.load(ss.str(), path);
     loader.warn_unused_defines(path);
     return scene;
 }
 
-Ref<Scene> load_scene_from_string(const std::string& xml, const std::string& virtual_path, const SceneParameters& defines) {
-    XmlLoader loader(defines);
+Ref<Scene> load_scene_from_string(const std::string& xml, const std::string& virtual_path, const SceneParameters& defines,
+                                  Variant variant) {
+    XmlLoader loader(defines, variant);
     auto scene = loader.load(xml, virtual_path);
     loader.warn_unused_defines(virtual_path);
     return scene;

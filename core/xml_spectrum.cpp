@@ -79,7 +79,7 @@ Spectrum checked(const Properties& props, const SampledSpectrum& s, SpectrumRole
 
 }  // namespace
 
-Spectrum spectrum_plugin_rgb(const Properties& props, SpectrumRole role, Ref<Object>* texture) {
+Spectrum spectrum_plugin_rgb(const Properties& props, SpectrumRole role, Ref<Object>* texture, SampledSpectrum* measured) {
     const std::string& type = props.plugin_type();
     if (type == "uniform") return Spectrum(props.get_float("value", 1.0f));
     if (type == "srgb") {
@@ -102,16 +102,20 @@ Spectrum spectrum_plugin_rgb(const Properties& props, SpectrumRole role, Ref<Obj
         }
         return props.get_rgb("color", Spectrum(1.0f)) * scale;
     }
-    if (type == "regular") return checked(props, regular_samples(props), role);
+    if (type == "regular") {
+        *measured = regular_samples(props);
+        return checked(props, *measured, role);
+    }
     if (type == "irregular") {
-        SampledSpectrum s{parse_numbers(props, "wavelengths"), parse_numbers(props, "values")};
-        return checked(props, s, role);
+        *measured = SampledSpectrum{parse_numbers(props, "wavelengths"), parse_numbers(props, "values")};
+        return checked(props, *measured, role);
     }
     if (type == "blackbody") {
         float temperature = props.get_float("temperature");
         float lo = props.get_float("lambda_min", float(CieMin)), hi = props.get_float("lambda_max", float(CieMax));
         if (!(temperature > 0.0f)) props.fail("temperature", "the temperature must be positive (in kelvin)");
         if (!(hi > lo)) props.fail("lambda_max", "lambda_max must exceed lambda_min");
+        *measured = blackbody_samples(temperature, lo, hi);
         return blackbody_rgb(temperature, lo, hi);
     }
     std::vector<std::string> known = {"blackbody", "d65", "irregular", "regular", "srgb", "uniform"};

@@ -10,12 +10,6 @@
 
 namespace candela {
 
-enum class SpectrumRole {
-    Reflectance,  // weighted by D65, clamped to [0, 1]: a flat spectrum is grey
-    Unbounded,    // eta, k, int_ior, ext_ior: weighted by D65, only negatives clamped
-    Emission,     // directly inside an <emitter>: not weighted, negatives clamped
-};
-
 // The role of a spectrum property called `name` (an emitter's own properties are emissions).
 SpectrumRole spectrum_role(bool inside_emitter, const std::string& name);
 
@@ -28,6 +22,7 @@ Spectrum sampled_spectrum_rgb(const SampledSpectrum& s, SpectrumRole role, const
 // read into `props`: the colour it stands for. A d65 spectrum around a nested texture stands for
 // that texture: `texture` is set and the colour is meaningless. Unknown types and bad parameters
 // are SceneErrors at the element.
-Spectrum spectrum_plugin_rgb(const Properties& props, SpectrumRole role, Ref<Object>* texture);
+// `measured` receives the spectrum itself for regular, irregular and blackbody spectra.
+Spectrum spectrum_plugin_rgb(const Properties& props, SpectrumRole role, Ref<Object>* texture, SampledSpectrum* measured);
 
 }  // namespace candela

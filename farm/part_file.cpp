@@ -168,6 +168,7 @@ std::string RenderIdentity::difference(const RenderIdentity& o) const {
     check("resolution", std::to_string(image.x) + "x" + std::to_string(image.y),
           std::to_string(o.image.x) + "x" + std::to_string(o.image.y));
     check("integrator", integrator, o.integrator);
+    check("variant", variant, o.variant);
     check("film channels", "\"" + film_channels + "\"", "\"" + o.film_channels + "\"");
     check("integrator channels", "\"" + integrator_channels + "\"", "\"" + o.integrator_channels + "\"");
     check("AOVs", "\"" + aovs + "\"", "\"" + o.aovs + "\"");
@@ -195,6 +196,7 @@ RenderIdentity render_identity(const Scene& scene, const std::string& scene_path
     id.spp = stats.spp;
     id.image = scene.sensor().film().crop_size();
     id.integrator = scene.integrator().to_string();
+    id.variant = variant_name(scene.variant());
     id.film_channels = join_names(pixel_format_channels(values.format()));
     id.integrator_channels = join_names(values.integrator_channels());
     id.aovs = layout.names();
@@ -253,6 +255,7 @@ void write_part(const std::string& path, const PixelSums& sums, const PartHeader
     m["candela.spp"] = std::to_string(id.spp);
     m["candela.imageSize"] = std::to_string(id.image.x) + "x" + std::to_string(id.image.y);
     m["candela.integrator"] = id.integrator;
+    m["candela.variant"] = id.variant;
     m["candela.filmChannels"] = id.film_channels;
     m["candela.integratorChannels"] = id.integrator_channels;
     m["candela.aovs"] = id.aovs;
@@ -294,6 +297,7 @@ PartHeader read_part_header(const std::string& path) {
     if (std::sscanf(r.text("candela.imageSize").c_str(), "%dx%d", &id.image.x, &id.image.y) != 2)
         throw InputError(path + ": part metadata candela.imageSize is not WIDTHxHEIGHT");
     id.integrator = r.text("candela.integrator");
+    if (!r.text_or_empty("candela.variant").empty()) id.variant = r.text_or_empty("candela.variant");
     id.film_channels = r.text("candela.filmChannels");
     id.integrator_channels = r.text_or_empty("candela.integratorChannels");
     id.aovs = r.text_or_empty("candela.aovs");

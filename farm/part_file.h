@@ -22,7 +22,7 @@
 // reach (candela.origin: where its first pixel lies in the image).
 // Metadata (string attributes): candela.partFormat, the render's identity (candela.scene,
 // candela.sceneHash, candela.seed, candela.sampler, candela.spp, candela.imageSize,
-// candela.integrator, candela.filmChannels, candela.integratorChannels, candela.aovs, candela.version, candela.float32, candela.command), what the
+// candela.integrator, candela.variant, candela.filmChannels, candela.integratorChannels, candela.aovs, candela.version, candela.float32, candela.command), what the
 // part holds (candela.coverage: boxes "x,y,w,h@start:end" joined by ';'; candela.partial: "true"
 // when it holds less than it was asked to render, so that it must be resumed or completed) and how
 // it was made (candela.renderTime, candela.started, candela.finished, candela.host,
@@ -47,11 +47,12 @@ struct RenderIdentity {
     int spp = 0;          // samples per pixel of the whole render
     Vec2i image{0};       // the image size (the film's crop window)
     std::string integrator;
-    std::string film_channels;        // the film's pixel format as its channels ("R,G,B,A")
-    std::string integrator_channels;  // SamplingIntegrator::channel_names(), joined by ','
-    std::string aovs;                 // AovLayout::names()
-    std::string version;              // Candela's
-    bool float32 = true;              // the film's component format, which the final image takes
+    std::string variant = "scalar_rgb";  // core/variant.h (parts written before it existed are RGB)
+    std::string film_channels;           // the film's pixel format as its channels ("R,G,B,A")
+    std::string integrator_channels;     // SamplingIntegrator::channel_names(), joined by ','
+    std::string aovs;                    // AovLayout::names()
+    std::string version;                 // Candela's
+    bool float32 = true;                 // the film's component format, which the final image takes
     // The render command without --samples, --crop, -o and --threads; a missing piece is this
     // plus those options.
     std::string command;

@@ -70,6 +70,7 @@ std::vector<std::string> render_words(const FarmRequest& r) {
     }
     if (!r.sampler.empty()) cmd.insert(cmd.end(), {"--sampler", r.sampler});
     if (!r.mode.empty()) cmd.insert(cmd.end(), {"--mode", r.mode});
+    if (!r.variant.empty() && r.variant != "scalar_rgb") cmd.insert(cmd.end(), {"--variant", r.variant});
     return cmd;
 }
 

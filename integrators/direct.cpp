@@ -63,7 +63,7 @@ public:
             const bool first = crossed == 0;
             SurfaceInteraction si;
             if (!scene.intersect(ray, si)) {
-                if (!hide_emitters_) L += beta * scene.eval_environment(ray.d);
+                if (!hide_emitters_) L += beta * scene.eval_environment(ray.d, ray.wavelengths);
                 return L;
             }
             const BSDF& bsdf = *si.shape->bsdf();
@@ -131,6 +131,6 @@ private:
     std::unique_ptr<LightSampler> lights_;
 };
 
-CANDELA_REGISTER(DirectIntegrator, ObjectKind::Integrator, "direct");
+CANDELA_REGISTER_SPECTRAL(DirectIntegrator, ObjectKind::Integrator, "direct");
 
 }  // namespace candela

@@ -58,7 +58,7 @@ Spectrum environment_mis(const Scene& scene, const LightSampler& lights, const S
                          bool from_delta, StrategyShares shares) {
     Spectrum L(0.0f);
     for (const Emitter* e : scene.infinite_emitters()) {
-        Spectrum Le = e->eval_environment(d);
+        Spectrum Le = e->eval_environment(d, from.wavelengths);
         if (is_black(Le)) continue;
         float w = 1.0f;
         if (!from_delta) {

@@ -45,7 +45,7 @@ Spectrum PathIntegrator::sample_radiance(const Scene& scene, Sampler& sampler, c
     SurfaceInteraction si;
     if (!scene.intersect(ray, si)) {
         record.valid = environment_seen;
-        return settings_.hide_emitters ? Spectrum(0.0f) : scene.eval_environment(ray.d);
+        return settings_.hide_emitters ? Spectrum(0.0f) : scene.eval_environment(ray.d, ray.wavelengths);
     }
     record.record_first_hit(si);
     Spectrum L(0.0f);
@@ -81,6 +81,6 @@ Spectrum PathIntegrator::continue_path(const Scene& scene, Sampler& sampler, con
     return L;
 }
 
-CANDELA_REGISTER(PathIntegrator, ObjectKind::Integrator, "path");
+CANDELA_REGISTER_SPECTRAL(PathIntegrator, ObjectKind::Integrator, "path");
 
 }  // namespace candela

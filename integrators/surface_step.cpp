@@ -2,6 +2,7 @@
 
 #include "core/sampler.h"
 #include "core/scene.h"
+#include "core/wavelengths.h"
 
 namespace candela {
 
@@ -44,6 +45,7 @@ bool surface_step(const Scene& scene, const LightSampler& lights, const PathSett
     const BSDFSample bs = bsdf.sample(ctx, si, u_lobe, u_direction);
     if (!bs.valid() || bs.lobe != Null) path.scattered = true;
     if (!bs.valid() || is_black(bs.weight)) return false;
+    if (bs.dispersed && si.wavelengths) si.wavelengths->terminate_secondary();
     path.weights.beta *= bs.weight;
     if (bs.lobe == Null) {
         // No scattering event: neither the depth nor the vertex MIS weights refer to changes.

@@ -48,7 +48,7 @@ public:
 
     Spectrum eval(const SurfaceInteraction& si) const override {
         if (Frame::cos_theta(si.wi) <= 0.0f) return Spectrum(0.0f);  // back side
-        return radiance_->eval(si);
+        return radiance_->eval_as(si, SpectrumRole::Emission);
     }
 
     DirectionSample sample_direction(const SurfaceInteraction& ref, const Vec2& u, Spectrum& weight) const override {
@@ -60,7 +60,7 @@ public:
             weight = Spectrum(0.0f);
             return ds;
         }
-        weight = radiance_at(ds) / ds.pdf;
+        weight = radiance_at(ds, ref.wavelengths) / ds.pdf;
         return ds;
     }
 
@@ -192,9 +192,9 @@ private:
 
     // The radiance at a sampled point. A constant radiance (the common case) needs no lookup
     // point: building a SurfaceInteraction per light sample cost about 20 instructions.
-    Spectrum radiance_at(const DirectionSample& ds) const {
-        if (constant_radiance_) return constant_radiance_->value();
-        return radiance_->eval_at(ds.p, ds.n, ds.uv);
+    Spectrum radiance_at(const DirectionSample& ds, const Wavelengths* wavelengths) const {
+        if (constant_radiance_ && !wavelengths) return constant_radiance_->value();
+        return radiance_->eval_at(ds.p, ds.n, ds.uv, SpectrumRole::Emission, wavelengths);
     }
 
     Ref<Texture> radiance_;
@@ -203,6 +203,6 @@ private:
     Transform open_pose_;                                 // its pose at the shutter's opening
 };
 
-CANDELA_REGISTER(AreaEmitter, ObjectKind::Emitter, "area");
+CANDELA_REGISTER_SPECTRAL(AreaEmitter, ObjectKind::Emitter, "area");
 
 }  // namespace candela

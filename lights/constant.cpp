@@ -10,6 +10,7 @@
 #include "core/properties.h"
 #include "core/registry.h"
 #include "core/scene.h"
+#include "core/texture.h"
 #include "core/warp.h"
 #include "lights/scene_disk.h"
 
@@ -20,6 +21,7 @@ public:
     explicit ConstantEmitter(const Properties& props) {
         type_ = EmitterType::Infinite;
         radiance_ = props.get_rgb("radiance", Spectrum(1.0f));
+        measured_ = props.measured_spectrum("radiance");
     }
 
     void set_scene(const Scene& scene) override {
@@ -27,8 +29,8 @@ public:
         disk_.radius = std::max(scene.bbox().bounding_radius(), 1e-3f);
     }
 
-    Spectrum eval(const SurfaceInteraction&) const override { return radiance_; }
-    Spectrum eval_environment(const Vec3&) const override { return radiance_; }
+    Spectrum eval(const SurfaceInteraction& si) const override { return emission_at(radiance_, measured_.get(), si.wavelengths); }
+    Spectrum eval_environment(const Vec3&, const Wavelengths* w) const override { return emission_at(radiance_, measured_.get(), w); }
 
     DirectionSample sample_direction(const SurfaceInteraction& ref, const Vec2& u, Spectrum& weight) const override {
         DirectionSample ds;
@@ -38,7 +40,7 @@ public:
         ds.n = -ds.d;
         ds.pdf = InvFourPi;
         ds.emitter = this;
-        weight = radiance_ * FourPi;
+        weight = emission_at(radiance_, measured_.get(), ref.wavelengths) * FourPi;
         return ds;
     }
 
@@ -68,9 +70,10 @@ public:
 
 private:
     Spectrum radiance_;
+    std::shared_ptr<const SpectrumTexture> measured_;  // the spectral variant's radiance, if measured
     SceneDisk disk_;
 };
 
-CANDELA_REGISTER(ConstantEmitter, ObjectKind::Emitter, "constant");
+CANDELA_REGISTER_SPECTRAL(ConstantEmitter, ObjectKind::Emitter, "constant");
 
 }  // namespace candela

@@ -9,6 +9,7 @@
 #include "core/parameters.h"
 #include "core/registry.h"
 #include "core/scene.h"
+#include "core/texture.h"
 #include "lights/scene_disk.h"
 
 namespace candela {
@@ -18,6 +19,7 @@ public:
     explicit DirectionalEmitter(const Properties& props) {
         type_ = EmitterType::DeltaDirection;
         irradiance_ = props.get_rgb("irradiance", Spectrum(1.0f));
+        measured_ = props.measured_spectrum("irradiance");
         if (props.has("direction") && props.has("to_world")) props.fail("direction", "give either direction or to_world, not both");
         Vec3 d = props.has("direction") ? props.get_vector("direction") : props.get_transform("to_world").apply_vector(Vec3(0, 0, 1));
         if (!(squared_length(d) > 0.0f)) props.fail("direction", "the light's direction must not be zero");
@@ -38,7 +40,7 @@ public:
         ds.pdf = 1.0f;
         ds.delta = true;
         ds.emitter = this;
-        weight = irradiance_;
+        weight = emission_at(irradiance_, measured_.get(), ref.wavelengths);
         return ds;
     }
     float pdf_direction(const SurfaceInteraction&, const DirectionSample&) const override { return 0.0f; }
@@ -64,10 +66,11 @@ public:
 
 private:
     Spectrum irradiance_;
+    std::shared_ptr<const SpectrumTexture> measured_;  // the spectral variant's irradiance, if measured
     Vec3 direction_;
     SceneDisk disk_;
 };
 
-CANDELA_REGISTER(DirectionalEmitter, ObjectKind::Emitter, "directional");
+CANDELA_REGISTER_SPECTRAL(DirectionalEmitter, ObjectKind::Emitter, "directional");
 
 }  // namespace candela

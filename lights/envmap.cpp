@@ -20,6 +20,7 @@
 #include "core/parameters.h"
 #include "core/registry.h"
 #include "core/scene.h"
+#include "core/wavelengths.h"
 #include "lights/scene_disk.h"
 
 namespace candela {
@@ -58,8 +59,11 @@ public:
         disk_.radius = std::max(scene.bbox().bounding_radius(), 1e-3f);
     }
 
-    Spectrum eval_environment(const Vec3& d) const override { return lookup(uv_of(d)); }
-    Spectrum eval(const SurfaceInteraction& si) const override { return eval_environment(-si.wi_world()); }
+    // In the spectral variant the interpolated colour's emission spectrum (unbounded, times D65).
+    Spectrum eval_environment(const Vec3& d, const Wavelengths* w) const override {
+        return rgb_at_wavelengths(lookup(uv_of(d)), SpectrumRole::Emission, w);
+    }
+    Spectrum eval(const SurfaceInteraction& si) const override { return eval_environment(-si.wi_world(), si.wavelengths); }
 
     DirectionSample sample_direction(const SurfaceInteraction& ref, const Vec2& u, Spectrum& weight) const override {
         DirectionSample ds;
@@ -84,7 +88,7 @@ public:
             weight = Spectrum(0.0f);
             return ds;
         }
-        weight = eval_environment(ds.d) / ds.pdf;
+        weight = eval_environment(ds.d, ref.wavelengths) / ds.pdf;
         return ds;
     }
 
@@ -193,6 +197,6 @@ private:
     Spectrum integral_{0.0f};
 };
 
-CANDELA_REGISTER(EnvironmentMap, ObjectKind::Emitter, "envmap");
+CANDELA_REGISTER_SPECTRAL(EnvironmentMap, ObjectKind::Emitter, "envmap");
 
 }  // namespace candela

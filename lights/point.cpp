@@ -15,6 +15,7 @@
 #include "core/parameters.h"
 #include "core/registry.h"
 #include "core/scene.h"
+#include "core/texture.h"
 #include "core/warp.h"
 #include "lights/point_source.h"
 
@@ -25,6 +26,7 @@ public:
     explicit PointEmitter(const Properties& props) {
         type_ = EmitterType::DeltaPosition;
         intensity_ = props.get_rgb("intensity", Spectrum(1.0f));
+        measured_ = props.measured_spectrum("intensity");
         if (props.has("position") && props.has("to_world")) props.fail("position", "give either position or to_world, not both");
         motion_ = props.has("position") ? AnimatedTransform(Transform::translate(props.get_point("position")))
                                         : props.get_animated_transform("to_world");
@@ -41,7 +43,7 @@ public:
     DirectionSample sample_direction(const SurfaceInteraction& ref, const Vec2&, Spectrum& weight) const override {
         const Vec3 position = motion_.is_animated() ? motion_.eval(ref.time).apply_point(Vec3(0.0f)) : position_;
         DirectionSample ds = sample_point_source(position, ref, this);
-        weight = ds.dist > 0.0f ? intensity_ * attenuation_(ds.dist) : Spectrum(0.0f);
+        weight = ds.dist > 0.0f ? emission_at(intensity_, measured_.get(), ref.wavelengths) * attenuation_(ds.dist) : Spectrum(0.0f);
         return ds;
     }
     float pdf_direction(const SurfaceInteraction&, const DirectionSample&) const override { return 0.0f; }
@@ -73,11 +75,12 @@ public:
 
 private:
     Spectrum intensity_;
+    std::shared_ptr<const SpectrumTexture> measured_;  // the spectral variant's intensity, if measured
     AnimatedTransform motion_;
     Vec3 position_;  // at shutter_open
     Attenuation attenuation_;
 };
 
-CANDELA_REGISTER(PointEmitter, ObjectKind::Emitter, "point");
+CANDELA_REGISTER_SPECTRAL(PointEmitter, ObjectKind::Emitter, "point");
 
 }  // namespace candela

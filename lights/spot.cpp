@@ -33,6 +33,7 @@ public:
     explicit SpotEmitter(const Properties& props) {
         type_ = EmitterType::DeltaPosition;
         intensity_ = props.get_rgb("intensity", Spectrum(1.0f));
+        measured_ = props.measured_spectrum("intensity");
         motion_ = props.get_animated_transform("to_world");
         cutoff_ = radians(props.get_float("cutoff_angle", 20.0f));
         if (!(cutoff_ > 0.0f && cutoff_ < Pi)) props.fail("cutoff_angle", "cutoff_angle must be in (0, 180) degrees");
@@ -80,8 +81,15 @@ public:
         DirectionSample ds = sample_point_source(position, ref, this);
         Vec3 local = glm::normalize(world_to_local.apply_vector(-ds.d));
         float f = ds.dist > 0.0f ? falloff(local) : 0.0f;
-        weight = f > 0.0f ? intensity_ * (f * attenuation_(ds.dist)) : Spectrum(0.0f);
-        if (texture_ && f > 0.0f) weight *= texture_->eval(texture_uv(local));
+        if (!(f > 0.0f)) {
+            weight = Spectrum(0.0f);
+        } else if (texture_) {
+            // Textured: the emission spectrum of intensity times the texture's colour.
+            weight = rgb_at_wavelengths(intensity_ * texture_->eval(texture_uv(local)), SpectrumRole::Emission, ref.wavelengths) *
+                     (f * attenuation_(ds.dist));
+        } else {
+            weight = emission_at(intensity_, measured_.get(), ref.wavelengths) * (f * attenuation_(ds.dist));
+        }
         return ds;
     }
     float pdf_direction(const SurfaceInteraction&, const DirectionSample&) const override { return 0.0f; }
@@ -167,6 +175,7 @@ private:
     }
 
     Spectrum intensity_, power_;
+    std::shared_ptr<const SpectrumTexture> measured_;  // the spectral variant's intensity, if measured
     AnimatedTransform motion_;
     Transform to_world_, world_to_local_;  // the pose at shutter_open
     float cutoff_, beam_, cos_cutoff_, cos_beam_, exponent_ = -1.0f;
@@ -175,6 +184,6 @@ private:
     Vec3 position_, axis_;
 };
 
-CANDELA_REGISTER(SpotEmitter, ObjectKind::Emitter, "spot");
+CANDELA_REGISTER_SPECTRAL(SpotEmitter, ObjectKind::Emitter, "spot");
 
 }  // namespace candela

@@ -112,6 +112,6 @@ private:
     Ref<BSDF> nested_[2];
 };
 
-CANDELA_REGISTER(BlendBSDF, ObjectKind::BSDF, "blendbsdf");
+CANDELA_REGISTER_SPECTRAL(BlendBSDF, ObjectKind::BSDF, "blendbsdf");
 
 }  // namespace candela

@@ -42,6 +42,6 @@ protected:
     }
 };
 
-CANDELA_REGISTER(BlinnPhongBSDF, ObjectKind::BSDF, "blinnphong");
+CANDELA_REGISTER_SPECTRAL(BlinnPhongBSDF, ObjectKind::BSDF, "blinnphong");
 
 }  // namespace candela

@@ -51,6 +51,6 @@ private:
     float scale_ = 1.0f;
 };
 
-CANDELA_REGISTER(BumpMapBSDF, ObjectKind::BSDF, "bumpmap");
+CANDELA_REGISTER_SPECTRAL(BumpMapBSDF, ObjectKind::BSDF, "bumpmap");
 
 }  // namespace candela

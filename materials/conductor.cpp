@@ -58,11 +58,12 @@ public:
 
 private:
     Spectrum reflectance(const SurfaceInteraction& si, float cos_i) const {
-        return specular_->eval(si) * fresnel_conductor(cos_i, eta_->eval(si), k_->eval(si));
+        return specular_->eval(si) *
+               fresnel_conductor(cos_i, eta_->eval_as(si, SpectrumRole::Unbounded), k_->eval_as(si, SpectrumRole::Unbounded));
     }
     Ref<Texture> eta_, k_, specular_;
 };
 
-CANDELA_REGISTER(ConductorBSDF, ObjectKind::BSDF, "conductor");
+CANDELA_REGISTER_SPECTRAL(ConductorBSDF, ObjectKind::BSDF, "conductor");
 
 }  // namespace candela

@@ -3,14 +3,21 @@
 // path is in.
 //
 // Parameters (Mitsuba 3):
-//   int_ior                  float or name   interior index (default bk7 = 1.5046)
-//   ext_ior                  float or name   exterior index (default air = 1.000277)
+//   int_ior                  float, name     interior index (default bk7 = 1.5046); a named glass
+//                            or spectrum     (glass-BK7, glass-BAF10, glass-F2, glass-SF11,
+//                                            glass-fused-silica: Sellmeier, materials/ior.h) or,
+//                                            in the spectral variant, a <spectrum> of indices
+//   ext_ior                  float, name     exterior index (default air = 1.000277), likewise
+//                            or spectrum
 //   specular_reflectance     rgb or texture  factor on reflection (default 1)
 //   specular_transmittance   rgb or texture  factor on transmission (default 1)
 //
 // Reflection is sampled with probability F and refraction with 1 - F. In radiance mode the
 // refracted radiance is scaled by (n_incident / n_transmitted)^2 (the eta^2 law); not for
 // importance transport.
+// Dispersion (not in Mitsuba 3): in the spectral variant an index that varies with wavelength is
+// taken at the path's first (hero) wavelength, and the other wavelengths end there (their
+// directions would differ); the RGB variant uses the indices at 589.3 nm.
 
 #include "core/bsdf.h"
 #include "core/local_model.h"
@@ -25,7 +32,10 @@ namespace candela {
 class DielectricBSDF final : public BSDF {
 public:
     explicit DielectricBSDF(const Properties& props) {
-        eta_ = read_relative_ior(props, "bk7");
+        int_ior_ = read_spectral_ior(props, "int_ior", "bk7");
+        ext_ior_ = read_spectral_ior(props, "ext_ior", "air");
+        eta_ = int_ior_.value / ext_ior_.value;
+        dispersive_ = int_ior_.dispersive() || ext_ior_.dispersive();
         reflectance_ = props.get_reflectance("specular_reflectance", Spectrum(1.0f));
         transmittance_ = props.get_reflectance("specular_transmittance", Spectrum(1.0f));
         flags_ = DeltaReflection | DeltaTransmission;
@@ -34,7 +44,13 @@ public:
     BSDFSample sample(const BSDFContext& ctx, const SurfaceInteraction& si, float u_lobe, const Vec2&) const override {
         BSDFSample bs;
         float cos_i = Frame::cos_theta(si.wi);
-        DielectricFresnel fr = fresnel_dielectric(cos_i, eta_);
+        float eta = eta_;
+        if (dispersive_ && si.wavelengths) {
+            const float hero = si.wavelengths->lambda[0];
+            eta = int_ior_.at(hero) / ext_ior_.at(hero);
+            bs.dispersed = true;
+        }
+        DielectricFresnel fr = fresnel_dielectric(cos_i, eta);
         FresnelChoice c = choose_fresnel_lobe(ctx.allows(DeltaReflection), ctx.allows(DeltaTransmission), fr.F, u_lobe);
         if (!(c.pdf > 0.0f)) return bs;
         bs.pdf = c.pdf;
@@ -77,10 +93,12 @@ public:
     std::string to_string() const override { return "dielectric"; }
 
 private:
-    float eta_;
+    float eta_;  // int_ior / ext_ior at 589.3 nm
+    SpectralIOR int_ior_, ext_ior_;
+    bool dispersive_ = false;
     Ref<Texture> reflectance_, transmittance_;
 };
 
-CANDELA_REGISTER(DielectricBSDF, ObjectKind::BSDF, "dielectric");
+CANDELA_REGISTER_SPECTRAL(DielectricBSDF, ObjectKind::BSDF, "dielectric");
 
 }  // namespace candela

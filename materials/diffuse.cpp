@@ -62,6 +62,6 @@ private:
     Ref<Texture> reflectance_;
 };
 
-CANDELA_REGISTER(DiffuseBSDF, ObjectKind::BSDF, "diffuse");
+CANDELA_REGISTER_SPECTRAL(DiffuseBSDF, ObjectKind::BSDF, "diffuse");
 
 }  // namespace candela

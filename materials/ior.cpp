@@ -6,6 +6,7 @@
 #include "materials/ior_data.h"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 
 namespace candela {
@@ -23,8 +24,59 @@ std::optional<float> named_ior(const std::string& name) {
         {"pet", 1.5750f},      {"diamond", 2.419f},
     };
     auto it = table.find(to_lower(name));
-    if (it == table.end()) return std::nullopt;
+    if (it == table.end()) {
+        if (const SellmeierGlass* glass = named_glass(name)) return float(glass->ior(589.3));
+        return std::nullopt;
+    }
     return it->second;
+}
+
+double SellmeierGlass::ior(double lambda_nm) const {
+    const double l2 = (lambda_nm * 1e-3) * (lambda_nm * 1e-3);
+    double n2 = 1.0;
+    for (int i = 0; i < 3; ++i) n2 += B[i] * l2 / (l2 - C[i]);
+    return std::sqrt(n2);
+}
+
+const SellmeierGlass* named_glass(const std::string& name) {
+    // Schott's catalogue (N-BK7, N-BAF10, F2, SF11) and Malitson 1965 (fused silica, C = the
+    // square of his resonance wavelengths 0.0684043, 0.1162414 and 9.896161 um).
+    static const SellmeierGlass glasses[] = {
+        {"glass-BK7", {1.03961212, 0.231792344, 1.01046945}, {0.00600069867, 0.0200179144, 103.560653}},
+        {"glass-BAF10", {1.5851495, 0.143559385, 1.08521269}, {0.00926681282, 0.0424489805, 105.613573}},
+        {"glass-F2", {1.34533359, 0.209073176, 0.937357162}, {0.00997743871, 0.0470450767, 111.886764}},
+        {"glass-SF11", {1.73759695, 0.313747346, 1.89878101}, {0.013188707, 0.0623068142, 155.23629}},
+        {"glass-fused-silica", {0.6961663, 0.4079426, 0.8974794}, {0.0684043 * 0.0684043, 0.1162414 * 0.1162414, 9.896161 * 9.896161}},
+    };
+    for (const SellmeierGlass& g : glasses)
+        if (to_lower(name) == to_lower(g.name)) return &g;
+    return nullptr;
+}
+
+float SpectralIOR::at(float lambda_nm) const {
+    if (glass) return float(glass->ior(lambda_nm));
+    if (samples) return float(samples->spectrum().at(lambda_nm));
+    return value;
+}
+
+SpectralIOR read_spectral_ior(const Properties& props, const std::string& param, const std::string& default_name) {
+    SpectralIOR ior;
+    if (auto measured = props.measured_spectrum(param)) {
+        props.get_texture(param);  // marks it used
+        ior.samples = measured;
+        ior.value = float(measured->spectrum().at(589.3));
+        const SampledSpectrum& s = measured->spectrum();
+        for (double v : s.values)
+            if (!(v > 0.0)) props.fail(param, param + " must be positive at every wavelength");
+        if (!(s.wavelengths.front() <= CieMin && s.wavelengths.back() >= CieMax))
+            props.fail(param, param + " must cover the visible range 360-830 nm (it is sampled there)");
+        return ior;
+    }
+    ior.value = read_ior(props, param, default_name);
+    Properties::Type type;
+    if (props.has(param) && (props.get_raw(param, &type), type == Properties::Type::String))
+        ior.glass = named_glass(props.get_string(param));
+    return ior;
 }
 
 float read_ior(const Properties& props, const std::string& param, const std::string& default_name) {
@@ -62,11 +114,13 @@ const std::map<std::string, std::pair<std::string, ComplexIOR>>& conductor_table
             take(".k.spd", k_text);
         }
         std::map<std::string, std::pair<std::string, ComplexIOR>> out;
-        out["none"] = {"none", {Spectrum(0.0f), Spectrum(1.0f)}};
+        out["none"] = {"none", {Spectrum(0.0f), Spectrum(1.0f), {}, {}}};
         for (auto& [name, eta] : eta_text) {
             auto k = k_text.find(name);
             if (k == k_text.end()) continue;
-            ComplexIOR ior{spectrum_to_rgb(parse_spd(eta), false, false), spectrum_to_rgb(parse_spd(k->second), false, false)};
+            SampledSpectrum eta_spectrum = parse_spd(eta), k_spectrum = parse_spd(k->second);
+            ComplexIOR ior{spectrum_to_rgb(eta_spectrum, false, false), spectrum_to_rgb(k_spectrum, false, false), eta_spectrum,
+                           k_spectrum};
             out[to_lower(name)] = {name, ior};
         }
         return out;
@@ -108,8 +162,13 @@ void read_conductor_ior(const Properties& props, Ref<Texture>& eta, Ref<Texture>
         props.fail("material", "unknown conductor \"" + name + "\" (nearest: \"" + nearest_name(name, named_conductors()) +
                                    "\") (known: " + known + ")");
     }
-    eta = std::make_shared<ConstantTexture>(ior->eta);
-    k = std::make_shared<ConstantTexture>(ior->k);
+    // Measured: the spectral variant uses the spectra themselves, per wavelength.
+    auto constant = [](const Spectrum& rgb, const SampledSpectrum& spectrum) -> Ref<Texture> {
+        if (spectrum.wavelengths.empty()) return std::make_shared<ConstantTexture>(rgb);
+        return std::make_shared<SpectrumTexture>(rgb, spectrum);
+    };
+    eta = constant(ior->eta, ior->eta_spectrum);
+    k = constant(ior->k, ior->k_spectrum);
 }
 
 }  // namespace candela

@@ -91,6 +91,6 @@ private:
     Ref<BSDF> nested_;
 };
 
-CANDELA_REGISTER(MaskBSDF, ObjectKind::BSDF, "mask");
+CANDELA_REGISTER_SPECTRAL(MaskBSDF, ObjectKind::BSDF, "mask");
 
 }  // namespace candela

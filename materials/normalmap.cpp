@@ -23,12 +23,12 @@ public:
 
 protected:
     // (2 rgb - 1): tangent-space normals, in the shading frame (x along dp/du).
-    Vec3 perturbation(const SurfaceInteraction& si) const override { return 2.0f * map_->eval(si) - Vec3(1.0f); }
+    Vec3 perturbation(const SurfaceInteraction& si) const override { return 2.0f * map_->eval_rgb(si) - Vec3(1.0f); }
 
 private:
     Ref<Texture> map_;
 };
 
-CANDELA_REGISTER(NormalMapBSDF, ObjectKind::BSDF, "normalmap");
+CANDELA_REGISTER_SPECTRAL(NormalMapBSDF, ObjectKind::BSDF, "normalmap");
 
 }  // namespace candela

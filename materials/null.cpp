@@ -32,6 +32,6 @@ public:
     std::string to_string() const override { return "null"; }
 };
 
-CANDELA_REGISTER(NullBSDF, ObjectKind::BSDF, "null");
+CANDELA_REGISTER_SPECTRAL(NullBSDF, ObjectKind::BSDF, "null");
 
 }  // namespace candela

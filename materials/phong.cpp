@@ -37,6 +37,6 @@ protected:
     }
 };
 
-CANDELA_REGISTER(PhongBSDF, ObjectKind::BSDF, "phong");
+CANDELA_REGISTER_SPECTRAL(PhongBSDF, ObjectKind::BSDF, "phong");
 
 }  // namespace candela

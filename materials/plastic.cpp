@@ -98,6 +98,6 @@ private:
     bool nonlinear_;
 };
 
-CANDELA_REGISTER(PlasticBSDF, ObjectKind::BSDF, "plastic");
+CANDELA_REGISTER_SPECTRAL(PlasticBSDF, ObjectKind::BSDF, "plastic");
 
 }  // namespace candela

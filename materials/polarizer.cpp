@@ -50,6 +50,6 @@ private:
     Ref<Texture> transmittance_;
 };
 
-CANDELA_REGISTER(PolarizerBSDF, ObjectKind::BSDF, "polarizer");
+CANDELA_REGISTER_SPECTRAL(PolarizerBSDF, ObjectKind::BSDF, "polarizer");
 
 }  // namespace candela

@@ -114,6 +114,6 @@ private:
     float eta_;
 };
 
-CANDELA_REGISTER(PolarizedPlasticBSDF, ObjectKind::BSDF, "pplastic");
+CANDELA_REGISTER_SPECTRAL(PolarizedPlasticBSDF, ObjectKind::BSDF, "pplastic");
 
 }  // namespace candela

@@ -43,7 +43,10 @@ public:
         bs.pdf = pdf_m / (4.0f * glm::dot(wo, m));
         bs.lobe = GlossyReflection;
         if (distribution.sample_visible())
-            bs.weight = specular_->eval(si) * fresnel_conductor(glm::dot(si.wi, m), eta_->eval(si), k_->eval(si)) * distribution.G1(wo, m);
+            bs.weight = specular_->eval(si) *
+                        fresnel_conductor(glm::dot(si.wi, m), eta_->eval_as(si, SpectrumRole::Unbounded),
+                                          k_->eval_as(si, SpectrumRole::Unbounded)) *
+                        distribution.G1(wo, m);
         else
             bs.weight = eval(ctx, si, wo) / bs.pdf;
         if (!all_finite(bs.weight)) return BSDFSample();
@@ -65,7 +68,8 @@ public:
     }
 
     Spectrum albedo(const SurfaceInteraction& si) const override {
-        return specular_->eval(si) * fresnel_conductor(std::max(Frame::cos_theta(si.wi), 0.0f), eta_->eval(si), k_->eval(si));
+        return specular_->eval(si) * fresnel_conductor(std::max(Frame::cos_theta(si.wi), 0.0f), eta_->eval_as(si, SpectrumRole::Unbounded),
+                                                       k_->eval_as(si, SpectrumRole::Unbounded));
     }
     // Local model: highlight ks = F0 (conductor Fresnel at normal incidence) with shininess
     // 2 / alpha^2 - 2 (the Phong exponent whose lobe matches a Beckmann distribution of
@@ -101,7 +105,8 @@ private:
         if (with_pdf) result.pdf = distribution.pdf(si.wi, h, D, G1_wi) / (4.0f * glm::dot(wo, h));
         if (D == 0.0f) return result;
         float G = G1_wi * distribution.G1(wo, h);
-        Spectrum F = fresnel_conductor(glm::dot(si.wi, h), eta_->eval(si), k_->eval(si));
+        Spectrum F =
+            fresnel_conductor(glm::dot(si.wi, h), eta_->eval_as(si, SpectrumRole::Unbounded), k_->eval_as(si, SpectrumRole::Unbounded));
         result.value = specular_->eval(si) * F * (D * G / (4.0f * cos_i));
         return result;
     }
@@ -110,6 +115,6 @@ private:
     Ref<Texture> eta_, k_, specular_;
 };
 
-CANDELA_REGISTER(RoughConductorBSDF, ObjectKind::BSDF, "roughconductor");
+CANDELA_REGISTER_SPECTRAL(RoughConductorBSDF, ObjectKind::BSDF, "roughconductor");
 
 }  // namespace candela

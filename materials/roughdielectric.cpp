@@ -191,6 +191,6 @@ private:
     Ref<Texture> reflectance_, transmittance_;
 };
 
-CANDELA_REGISTER(RoughDielectricBSDF, ObjectKind::BSDF, "roughdielectric");
+CANDELA_REGISTER_SPECTRAL(RoughDielectricBSDF, ObjectKind::BSDF, "roughdielectric");
 
 }  // namespace candela

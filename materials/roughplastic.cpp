@@ -173,6 +173,6 @@ private:
     std::array<float, TableSize> transmittance_{};
 };
 
-CANDELA_REGISTER(RoughPlasticBSDF, ObjectKind::BSDF, "roughplastic");
+CANDELA_REGISTER_SPECTRAL(RoughPlasticBSDF, ObjectKind::BSDF, "roughplastic");
 
 }  // namespace candela

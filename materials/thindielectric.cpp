@@ -83,6 +83,6 @@ private:
     Ref<Texture> reflectance_, transmittance_;
 };
 
-CANDELA_REGISTER(ThinDielectricBSDF, ObjectKind::BSDF, "thindielectric");
+CANDELA_REGISTER_SPECTRAL(ThinDielectricBSDF, ObjectKind::BSDF, "thindielectric");
 
 }  // namespace candela

@@ -76,6 +76,6 @@ private:
     Ref<BSDF> front_, back_;
 };
 
-CANDELA_REGISTER(TwoSidedBSDF, ObjectKind::BSDF, "twosided");
+CANDELA_REGISTER_SPECTRAL(TwoSidedBSDF, ObjectKind::BSDF, "twosided");
 
 }  // namespace candela

@@ -87,7 +87,10 @@ FAMILIES = [
 FAMILY_BY_KIND = {k: f for f in FAMILIES for k in f.kinds}
 FAMILY_BY_FOLDER = {f.folder: f for f in FAMILIES}
 
-REGISTER_RE = re.compile(r'CANDELA_REGISTER\(\s*([\w:<>]+)\s*,\s*ObjectKind::(\w+)\s*,\s*"([^"]+)"\s*\)')
+REGISTER_RE = re.compile(r'CANDELA_REGISTER(_SPECTRAL)?\(\s*([\w:<>]+)\s*,\s*ObjectKind::(\w+)\s*,\s*"([^"]+)"\s*\)')
+# Kinds that carry colour: refused in the spectral variant unless registered with
+# CANDELA_REGISTER_SPECTRAL (core/registry.h).
+COLOUR_KINDS = {"BSDF", "Emitter", "Texture", "Integrator", "Medium", "Phase", "Volume"}
 HEADER_REF_RE = re.compile(r"\b((?:%s)/[\w/]+\.h)\b" % "|".join(re.escape(f.folder) for f in FAMILIES))
 # Words a parameter table's type column is made of.
 TYPE_WORDS = {
@@ -109,6 +112,7 @@ class Plugin:
     path: str  # relative to ROOT, with forward slashes
     names: list[tuple[str, str]]  # (type name, ObjectKind enum), in file order
     comment: list[str]  # the opening comment, "// " stripped
+    spectral: bool = False  # renders in the spectral variant too (core/variant.h)
 
 
 @dataclasses.dataclass
@@ -156,14 +160,15 @@ def find_plugins() -> list[Plugin]:
     for family in FAMILIES:
         for path in source_files(family.folder, (".cpp", ".h")):
             text = read_text(path)
-            names = [(m.group(3), m.group(2)) for m in REGISTER_RE.finditer(text)]
+            names = [(m.group(4), m.group(3)) for m in REGISTER_RE.finditer(text)]
+            spectral = all(m.group(1) or m.group(3) not in COLOUR_KINDS for m in REGISTER_RE.finditer(text))
             if not names:
                 continue
             for name, kind in names:
                 if kind not in KIND_BY_ENUM:
                     raise SourceError(f"{path}: plugin {name!r} registers as ObjectKind::{kind}, which "
                                       "scripts/gen-plugin-docs.py does not know (add it to KINDS and FAMILIES)")
-            plugins.append(Plugin(path, names, opening_comment(text)))
+            plugins.append(Plugin(path, names, opening_comment(text), spectral))
     seen = {}
     for p in plugins:
         for name, kind in p.names:
@@ -524,7 +529,8 @@ def family_page(family: Family, plugins: list[Plugin], headers: list[SharedHeade
         out.append(f"## {plugin_heading(p)}")
         out.append("")
         tags = ", ".join(f'`<{KIND_BY_ENUM[k].tag} type="{name}">`' for name, k in p.names)
-        out.append(f"{tags} from {source_link(p.path)}")
+        variants = "scalar_rgb and scalar_spectral" if p.spectral else "scalar_rgb only"
+        out.append(f"{tags} from {source_link(p.path)} (renders in {variants})")
         out.append("")
         if p.comment:
             out.append(render_comment(p.comment))

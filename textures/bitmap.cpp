@@ -150,6 +150,6 @@ private:
     UVTransform to_uv_;
 };
 
-CANDELA_REGISTER(BitmapTexture, ObjectKind::Texture, "bitmap");
+CANDELA_REGISTER_SPECTRAL(BitmapTexture, ObjectKind::Texture, "bitmap");
 
 }  // namespace candela

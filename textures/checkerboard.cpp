@@ -26,8 +26,11 @@ public:
     Spectrum eval(const Vec2& uv_in) const override { return first_color(uv_in) ? color0_->eval(uv_in) : color1_->eval(uv_in); }
     float eval_1(const Vec2& uv_in) const override { return first_color(uv_in) ? color1_->eval_1(uv_in) : color0_->eval_1(uv_in); }
     // At a surface point the nested textures see the whole point (their own mappings apply; a mesh_attribute needs the whole point).
-    Spectrum eval(const SurfaceInteraction& si) const override {
-        return first_color(texture_uv(si)) ? color0_->eval(si) : color1_->eval(si);
+    Spectrum eval_rgb(const SurfaceInteraction& si) const override {
+        return first_color(texture_uv(si)) ? color0_->eval_rgb(si) : color1_->eval_rgb(si);
+    }
+    Spectrum eval_spectrum(const SurfaceInteraction& si, const Wavelengths& w, SpectrumRole role) const override {
+        return first_color(texture_uv(si)) ? color0_->eval_spectrum(si, w, role) : color1_->eval_spectrum(si, w, role);
     }
     float eval_1(const SurfaceInteraction& si) const override {
         return first_color(texture_uv(si)) ? color1_->eval_1(si) : color0_->eval_1(si);
@@ -46,6 +49,6 @@ private:
     UVTransform to_uv_;
 };
 
-CANDELA_REGISTER(CheckerboardTexture, ObjectKind::Texture, "checkerboard");
+CANDELA_REGISTER_SPECTRAL(CheckerboardTexture, ObjectKind::Texture, "checkerboard");
 
 }  // namespace candela

@@ -28,7 +28,7 @@ public:
         scale_ = props.get_float("scale", 1.0f);
     }
 
-    Spectrum eval(const SurfaceInteraction& si) const override {
+    Spectrum eval_rgb(const SurfaceInteraction& si) const override {
         if (!si.shape) uv_only("a value away from any shape");
         Spectrum value;
         if (!si.shape->eval_attribute(name_, si, value))
@@ -36,7 +36,7 @@ public:
                              "mesh_attribute: the " + si.shape->to_string() + " it is evaluated on has no attribute \"" + name_ + "\"");
         return value * scale_;
     }
-    float eval_1(const SurfaceInteraction& si) const override { return luminance(eval(si)); }
+    float eval_1(const SurfaceInteraction& si) const override { return luminance(eval_rgb(si)); }
 
     Spectrum eval(const Vec2&) const override { uv_only("a lookup by uv alone"); }
     Spectrum mean() const override { uv_only("its average"); }
@@ -54,6 +54,6 @@ private:
     SourceLocation where_;
 };
 
-CANDELA_REGISTER(MeshAttributeTexture, ObjectKind::Texture, "mesh_attribute");
+CANDELA_REGISTER_SPECTRAL(MeshAttributeTexture, ObjectKind::Texture, "mesh_attribute");
 
 }  // namespace candela

@@ -32,6 +32,6 @@ public:
     std::string to_string() const override { return "rawconstant"; }
 };
 
-CANDELA_REGISTER(RawConstantTexture, ObjectKind::Texture, "rawconstant");
+CANDELA_REGISTER_SPECTRAL(RawConstantTexture, ObjectKind::Texture, "rawconstant");
 
 }  // namespace candela

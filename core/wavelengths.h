@@ -1,0 +1,57 @@
+#pragma once
+// The spectral variant's wavelengths and the conversions at both ends of a path (Mitsuba 3's
+// scalar_spectral; pbrt-v4's SampledWavelengths): each camera sample draws WavelengthSamples
+// wavelengths, one per component of a Spectrum, and every value along its path is the value at
+// those wavelengths; the pixel loop turns the result into linear sRGB through the CIE 1931
+// matching functions before the film sees it, so films, AOVs, farm parts and files stay RGB.
+
+#include "core/rgb2spec.h"
+#include "core/spectral.h"
+#include "core/spectrum.h"
+
+namespace candela {
+
+constexpr int WavelengthSamples = 3;  // one per Spectrum component
+
+struct Wavelengths {
+    Vec3 lambda{550.0f};  // nm
+    Vec3 pdf{1.0f};       // per nm, of each wavelength as drawn; 0 for a terminated one
+
+    // At a dispersive interface only the first (hero) wavelength goes on: the others' pdf becomes
+    // 0 and the hero's is divided by WavelengthSamples, so that the pixel's average over the
+    // samples still estimates the colour (pbrt-v4, SampledWavelengths::TerminateSecondary).
+    void terminate_secondary();
+    bool secondary_terminated() const { return pdf.y == 0.0f && pdf.z == 0.0f; }
+};
+
+// Mitsuba's and pbrt-v4's visible-wavelength density over [360, 830] nm,
+// p(l) = 0.003939804229326285 / cosh^2(0.0072 (l - 538)), which follows the sum of the CIE
+// matching functions closely and so spreads colour noise evenly; zero outside the range.
+float visible_wavelength_pdf(float lambda_nm);
+// WavelengthSamples wavelengths from one uniform number: u + j / WavelengthSamples (mod 1), each
+// by inverting p's distribution (a stratified set, as Mitsuba's sample_shifted).
+Wavelengths sample_visible_wavelengths(float u);
+
+// A path's values at the wavelengths as linear sRGB: the Monte Carlo estimate of
+// CIE_Y_NORMALIZATION * integral of cmf(l) L(l) dl, averaged over the wavelengths (each divided
+// by its pdf), through Mitsuba's XYZ to sRGB matrix.
+Spectrum spectral_to_linear_srgb(const Spectrum& values, const Wavelengths& w);
+
+// The spectrum an RGB input stands for, as Mitsuba's spectral variants make it (Jakob and Hanika
+// 2019, core/rgb2spec.h):
+//   Reflectance  the smooth spectrum in [0, 1] whose colour under D65 is rgb (clamped to [0, 1])
+//   Unbounded    2 max(rgb) times the reflectance spectrum of rgb / (2 max(rgb))
+//   Emission     the unbounded spectrum times D65 (normalised to luminance 1): white rgb
+//                emits D65, sRGB's white
+struct RGBSpectrum {
+    SigmoidPolynomial shape;
+    float scale = 1.0f;
+    bool times_d65 = false;
+    RGBSpectrum() = default;
+    RGBSpectrum(const Spectrum& rgb, SpectrumRole role);
+    Spectrum at(const Wavelengths& w) const;
+};
+// The same at the wavelengths `w`; with none (the RGB variant) rgb itself.
+Spectrum rgb_at_wavelengths(const Spectrum& rgb, SpectrumRole role, const Wavelengths* w);
+
+}  // namespace candela
