@@ -64,7 +64,8 @@ public:
     virtual Spectrum power() const = 0;
     // A ray leaving the emitter: the origin from `u_position`, the direction from `u_direction`.
     // A failed sample is not valid().
-    virtual EmitterRay sample_ray(const Vec2& u_position, const Vec2& u_direction) const = 0;
+    // `wavelengths`: the light path's, in the spectral variant (null in RGB): the weight is at them.
+    virtual EmitterRay sample_ray(const Vec2& u_position, const Vec2& u_direction, Wavelengths* wavelengths) const = 0;
     // The factor on the flux of a sample_ray ray where it first meets a surface at distance
     // `dist`: 1 for physical emitters; point and spot lights with the lecture's distance
     // attenuation give d^2 / (a0 + a1 d + a2 d^2), the ratio of their law to the inverse square.

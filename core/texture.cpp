@@ -66,7 +66,13 @@ Spectrum emission_at(const Spectrum& rgb, const SpectrumTexture* measured, const
     return rgb_at_wavelengths(rgb, SpectrumRole::Emission, w);
 }
 
-Spectrum SpectrumTexture::eval_spectrum(const SurfaceInteraction&, const Wavelengths& w, SpectrumRole) const {
+void SpectrumTexture::parameters_changed(const std::vector<std::string>& keys) {
+    ConstantTexture::parameters_changed(keys);
+    spectrum_ = SampledSpectrum();
+}
+
+Spectrum SpectrumTexture::eval_spectrum(const SurfaceInteraction& si, const Wavelengths& w, SpectrumRole role) const {
+    if (spectrum_.wavelengths.empty()) return ConstantTexture::eval_spectrum(si, w, role);
     Spectrum out;
     for (int j = 0; j < WavelengthSamples; ++j) out[j] = float(spectrum_.at(w.lambda[j]));
     return out;

@@ -159,8 +159,10 @@ Spectrum emission_at(const Spectrum& rgb, const SpectrumTexture* measured, const
 class SpectrumTexture final : public ConstantTexture {
 public:
     SpectrumTexture(const Spectrum& rgb, SampledSpectrum spectrum) : ConstantTexture(rgb), spectrum_(std::move(spectrum)) {}
-    Spectrum eval_spectrum(const SurfaceInteraction&, const Wavelengths& w, SpectrumRole) const override;
+    Spectrum eval_spectrum(const SurfaceInteraction& si, const Wavelengths& w, SpectrumRole role) const override;
     const SampledSpectrum& spectrum() const { return spectrum_; }
+    // An edited value ("value", traverse) is a colour: it replaces the measured spectrum.
+    void parameters_changed(const std::vector<std::string>& keys) override;
 
 private:
     SampledSpectrum spectrum_;

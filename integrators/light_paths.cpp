@@ -1,5 +1,7 @@
 #include "integrators/light_paths.h"
 
+#include "core/wavelengths.h"
+
 #include "core/random_2d.h"
 #include "core/sampler.h"
 
@@ -36,7 +38,7 @@ bool LightPathTracer::start(PCG32& rng, LightPathStart& s) const {
     const Vec2 u_position = next_vec2(rng), u_direction = next_vec2(rng);
     s.emitter = lights_->sample(SurfaceInteraction(), u_pick, s.pick_prob);
     if (!s.emitter || !(s.pick_prob > 0.0f)) return false;
-    s.ray = s.emitter->sample_ray(u_position, u_direction);
+    s.ray = s.emitter->sample_ray(u_position, u_direction, s.wavelengths);
     if (!s.ray.valid() || is_black(s.ray.weight) || !all_finite(s.ray.weight)) return false;
     s.beta = s.ray.weight / s.pick_prob;
     return true;
@@ -50,6 +52,7 @@ bool LightPathTracer::scatter(PCG32& rng, const SurfaceInteraction& si, const BS
     Vec2 u_dir = next_vec2(rng);
     BSDFSample bs = bsdf.sample(ctx, si, u_lobe, u_dir);
     if (!bs.valid() || is_black(bs.weight)) return false;
+    if (bs.dispersed && si.wavelengths) si.wavelengths->terminate_secondary();
     float correction = shading_normal_correction(si, bs.wo);
     if (!(correction > 0.0f)) return false;
     beta *= bs.weight * correction;

@@ -37,6 +37,9 @@ struct LightPathStart {
     float pick_prob = 0.0f;
     EmitterRay ray;
     Spectrum beta{0.0f};  // ray.weight / pick_prob
+    // The path's wavelengths in the spectral variant (set before start(); null in RGB): the
+    // emitted weight and every value along the path are at them.
+    Wavelengths* wavelengths = nullptr;
 };
 
 // The sample count and seed of a render: the sensor's sampler, unless the options override them.
@@ -90,7 +93,9 @@ void LightPathTracer::follow(PCG32& rng, const LightPathStart& start, Visit&& vi
     origin.p = start.ray.ray.o;
     origin.p_error = start.ray.p_error;
     origin.n = start.ray.n;
+    origin.wavelengths = start.wavelengths;
     Ray ray = start.ray.n == Vec3(0.0f) ? start.ray.ray : origin.spawn_ray(start.ray.ray.d);
+    ray.wavelengths = start.wavelengths;
     Spectrum beta = start.beta;
     const float beta_start = max_component(beta);
     bool all_delta = true;

@@ -35,6 +35,7 @@
 #include "core/random_2d.h"
 #include "core/registry.h"
 #include "core/scene.h"
+#include "core/wavelengths.h"
 #include "integrators/light_paths.h"
 #include "integrators/path_settings.h"
 
@@ -79,7 +80,7 @@ private:
     void connect_area_emitter(const Scene& scene, const LightPathStart& start, PCG32& rng, ChunkSplats& out) const;
     void connect_environment(const Scene& scene, const LightPathStart& start, PCG32& rng, ChunkSplats& out) const;
     void connect_vertex(const Scene& scene, const LightVertex& v, PCG32& rng, ChunkSplats& out) const;
-    void splat(const Scene& scene, const Vec2& film_pos, const Spectrum& value, ChunkSplats& out) const;
+    void splat(const Scene& scene, const Vec2& film_pos, const Spectrum& value, const Wavelengths* wavelengths, ChunkSplats& out) const;
     // max_depth counts segments, camera included (settings_.within_depth).
     PathSettings settings_;
 };
@@ -87,6 +88,12 @@ private:
 void ParticleTracerIntegrator::trace_path(const LightPathTracer& tracer, PCG32& rng, ChunkSplats& out) const {
     const Scene& scene = tracer.scene();
     LightPathStart start;
+    // The spectral variant: the path's own wavelengths, from its own stream (RGB draws nothing).
+    Wavelengths wavelengths;
+    if (scene.spectral()) {
+        wavelengths = sample_visible_wavelengths(rng.next_float());
+        start.wavelengths = &wavelengths;
+    }
     if (!tracer.start(rng, start)) return;
     if (!settings_.hide_emitters && settings_.within_depth(1)) {
         if (start.emitter->is_infinite())
@@ -114,12 +121,13 @@ void ParticleTracerIntegrator::connect_area_emitter(const Scene& scene, const Li
     si.shading = Frame(start.ray.n);
     si.uv = start.ray.uv;
     si.shape = start.emitter->shape();
+    si.wavelengths = start.wavelengths;
     si.wi = si.to_local(ss.d);
     Spectrum Le = start.emitter->eval(si);
     if (is_black(Le)) return;
     float cos_theta = std::abs(glm::dot(si.n, ss.d));
     if (scene.occluded(si.spawn_ray_to(ss.p))) return;
-    splat(scene, ss.film_pos, Le * (cos_theta * ss.weight / (start.ray.pdf_position * start.pick_prob)), out);
+    splat(scene, ss.film_pos, Le * (cos_theta * ss.weight / (start.ray.pdf_position * start.pick_prob)), start.wavelengths, out);
 }
 
 // An infinite emitter seen directly: a direction toward it drawn from the sensor's position
@@ -130,6 +138,7 @@ void ParticleTracerIntegrator::connect_environment(const Scene& scene, const Lig
     const Vec2 u_dir = next_vec2(rng), u_lens = next_vec2(rng);
     SurfaceInteraction eye;
     eye.p = scene.sensor().to_world().apply_point(Vec3(0.0f));
+    eye.wavelengths = start.wavelengths;
     Spectrum radiance_over_pdf;
     DirectionSample ds = start.emitter->sample_direction(eye, u_dir, radiance_over_pdf);
     if (!(ds.pdf > 0.0f) || is_black(radiance_over_pdf)) return;
@@ -137,7 +146,7 @@ void ParticleTracerIntegrator::connect_environment(const Scene& scene, const Lig
     SensorSample ss = scene.sensor().sample_direction(eye.p + ds.d * far, u_lens);
     if (!(ss.pdf > 0.0f)) return;
     if (scene.occluded(Ray(ss.p, -ss.d))) return;  // the camera ray must escape
-    splat(scene, ss.film_pos, radiance_over_pdf * (far * far * ss.weight / start.pick_prob), out);
+    splat(scene, ss.film_pos, radiance_over_pdf * (far * far * ss.weight / start.pick_prob), start.wavelengths, out);
 }
 
 // A light path vertex seen by the sensor: beta f |cos| (adjoint, shading-corrected) times the
@@ -154,10 +163,13 @@ void ParticleTracerIntegrator::connect_vertex(const Scene& scene, const LightVer
     Spectrum f = v.bsdf->eval(ctx, *v.si, wo);
     if (is_black(f)) return;
     if (scene.occluded(v.si->spawn_ray_to(ss.p))) return;
-    splat(scene, ss.film_pos, v.beta * f * (correction * ss.weight), out);
+    splat(scene, ss.film_pos, v.beta * f * (correction * ss.weight), v.si->wavelengths, out);
 }
 
-void ParticleTracerIntegrator::splat(const Scene& scene, const Vec2& film_pos, const Spectrum& value, ChunkSplats& out) const {
+void ParticleTracerIntegrator::splat(const Scene& scene, const Vec2& film_pos, const Spectrum& path_value, const Wavelengths* wavelengths,
+                                     ChunkSplats& out) const {
+    // The film takes colours: in the spectral variant the path's values through CIE 1931.
+    const Spectrum value = wavelengths ? spectral_to_linear_srgb(path_value, *wavelengths) : path_value;
     if (!storable_sample_value(value)) {
         ++out.nonfinite;
         return;
@@ -248,6 +260,6 @@ RenderResult ParticleTracerIntegrator::render(const Scene& scene, const RenderOp
     return result;
 }
 
-CANDELA_REGISTER(ParticleTracerIntegrator, ObjectKind::Integrator, "ptracer");
+CANDELA_REGISTER_SPECTRAL(ParticleTracerIntegrator, ObjectKind::Integrator, "ptracer");
 
 }  // namespace candela

@@ -71,7 +71,7 @@ public:
 
     // Light paths: a point uniform by area, a cosine-weighted direction on the front side; the
     // cosine cancels, leaving the weight pi L(uv) / pdf_area.
-    EmitterRay sample_ray(const Vec2& u_position, const Vec2& u_direction) const override {
+    EmitterRay sample_ray(const Vec2& u_position, const Vec2& u_direction, Wavelengths* wavelengths) const override {
         EmitterRay r;
         PositionSample ps = shape_->sample_position(u_position);
         if (motion_) ps = to_world_sample(open_pose_, ps);
@@ -84,7 +84,7 @@ public:
         r.p_error = ps.p_error;
         r.uv = ps.uv;
         r.pdf_position = ps.pdf;
-        r.weight = radiance_->eval_at(ps.p, ps.n, ps.uv) * (Pi / ps.pdf);
+        r.weight = radiance_->eval_at(ps.p, ps.n, ps.uv, SpectrumRole::Emission, wavelengths) * (Pi / ps.pdf);
         return r;
     }
 
@@ -192,7 +192,7 @@ private:
 
     // The radiance at a sampled point. A constant radiance (the common case) needs no lookup
     // point: building a SurfaceInteraction per light sample cost about 20 instructions.
-    Spectrum radiance_at(const DirectionSample& ds, const Wavelengths* wavelengths) const {
+    Spectrum radiance_at(const DirectionSample& ds, Wavelengths* wavelengths) const {
         if (constant_radiance_ && !wavelengths) return constant_radiance_->value();
         return radiance_->eval_at(ds.p, ds.n, ds.uv, SpectrumRole::Emission, wavelengths);
     }

@@ -49,12 +49,12 @@ public:
     // Flux through the scene's bounding disk: L * 4pi * (pi r^2).
     Spectrum power() const override { return radiance_ * (FourPi * disk_.area()); }
     // Light paths: a direction uniform over the sphere, then a point on the bounding disk across it.
-    EmitterRay sample_ray(const Vec2& u_position, const Vec2& u_direction) const override {
+    EmitterRay sample_ray(const Vec2& u_position, const Vec2& u_direction, Wavelengths* wavelengths) const override {
         EmitterRay r;
         r.ray = disk_.ray(warp::square_to_uniform_sphere(u_direction), u_position);
         r.pdf_position = 1.0f / disk_.area();
         r.pdf_direction = InvFourPi;
-        r.weight = radiance_ * (FourPi * disk_.area());
+        r.weight = emission_at(radiance_, measured_.get(), wavelengths) * (FourPi * disk_.area());
         return r;
     }
     // Local model: uniform ambient radiance.
@@ -66,6 +66,8 @@ public:
     }
     // Mitsuba's parameter names (core/parameters.h).
     void traverse(ParameterVisitor& visitor) override { expose_color(visitor, "radiance.value", radiance_); }
+    // An edited colour replaces the measured spectrum the scene gave (the spectral variant uses it).
+    void parameters_changed(const std::vector<std::string>&) override { measured_.reset(); }
     std::string to_string() const override { return "constant"; }
 
 private:

@@ -45,13 +45,13 @@ public:
     }
     float pdf_direction(const SurfaceInteraction&, const DirectionSample&) const override { return 0.0f; }
     // Light paths start uniformly on the scene's bounding disk across the beam (lights/scene_disk.h).
-    EmitterRay sample_ray(const Vec2& u_position, const Vec2&) const override {
+    EmitterRay sample_ray(const Vec2& u_position, const Vec2&, Wavelengths* wavelengths) const override {
         EmitterRay r;
         r.ray = disk_.ray(direction_, u_position);
         r.pdf_position = 1.0f / disk_.area();
         r.pdf_direction = 1.0f;
         r.delta_direction = true;
-        r.weight = irradiance_ * disk_.area();
+        r.weight = emission_at(irradiance_, measured_.get(), wavelengths) * disk_.area();
         return r;
     }
     Spectrum eval(const SurfaceInteraction&) const override { return Spectrum(0.0f); }
@@ -59,6 +59,8 @@ public:
     Spectrum power() const override { return irradiance_ * disk_.area(); }
     // Mitsuba's parameter names (core/parameters.h).
     void traverse(ParameterVisitor& visitor) override { expose_color(visitor, "irradiance.value", irradiance_); }
+    // An edited colour replaces the measured spectrum the scene gave (the spectral variant uses it).
+    void parameters_changed(const std::vector<std::string>&) override { measured_.reset(); }
     std::string to_string() const override { return "directional"; }
 
     const Vec3& direction() const { return direction_; }

@@ -103,9 +103,10 @@ public:
     Spectrum power() const override { return integral_ * disk_.area(); }
     // Light paths: a direction toward the map drawn as for next-event estimation (the light
     // travels the opposite way), then a point on the bounding disk across it.
-    EmitterRay sample_ray(const Vec2& u_position, const Vec2& u_direction) const override {
+    EmitterRay sample_ray(const Vec2& u_position, const Vec2& u_direction, Wavelengths* wavelengths) const override {
         SurfaceInteraction center;
         center.p = disk_.center;
+        center.wavelengths = wavelengths;
         Spectrum radiance_over_pdf;
         DirectionSample ds = sample_direction(center, u_direction, radiance_over_pdf);
         EmitterRay r;

@@ -48,8 +48,9 @@ public:
     }
     float pdf_direction(const SurfaceInteraction&, const DirectionSample&) const override { return 0.0f; }
     // Light paths leave uniformly over the sphere.
-    EmitterRay sample_ray(const Vec2&, const Vec2& u_direction) const override {
-        return point_source_ray(position_, warp::square_to_uniform_sphere(u_direction), InvFourPi, intensity_);
+    EmitterRay sample_ray(const Vec2&, const Vec2& u_direction, Wavelengths* wavelengths) const override {
+        return point_source_ray(position_, warp::square_to_uniform_sphere(u_direction), InvFourPi,
+                                emission_at(intensity_, measured_.get(), wavelengths));
     }
     float ray_attenuation(float dist) const override { return attenuation_.ray_factor(dist); }
     Spectrum eval(const SurfaceInteraction&) const override { return Spectrum(0.0f); }
@@ -67,6 +68,8 @@ public:
     }
     // Mitsuba's parameter names (core/parameters.h).
     void traverse(ParameterVisitor& visitor) override { expose_color(visitor, "intensity.value", intensity_); }
+    // An edited colour replaces the measured spectrum the scene gave (the spectral variant uses it).
+    void parameters_changed(const std::vector<std::string>&) override { measured_.reset(); }
     std::string to_string() const override { return "point"; }
 
     const Vec3& position() const { return position_; }

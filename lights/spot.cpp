@@ -81,28 +81,27 @@ public:
         DirectionSample ds = sample_point_source(position, ref, this);
         Vec3 local = glm::normalize(world_to_local.apply_vector(-ds.d));
         float f = ds.dist > 0.0f ? falloff(local) : 0.0f;
-        if (!(f > 0.0f)) {
-            weight = Spectrum(0.0f);
-        } else if (texture_) {
-            // Textured: the emission spectrum of intensity times the texture's colour.
-            weight = rgb_at_wavelengths(intensity_ * texture_->eval(texture_uv(local)), SpectrumRole::Emission, ref.wavelengths) *
-                     (f * attenuation_(ds.dist));
-        } else {
-            weight = emission_at(intensity_, measured_.get(), ref.wavelengths) * (f * attenuation_(ds.dist));
-        }
+        weight = f > 0.0f ? intensity_ * (f * attenuation_(ds.dist)) : Spectrum(0.0f);
+        if (texture_ && f > 0.0f) weight *= texture_->eval(texture_uv(local));
+        if (ref.wavelengths && f > 0.0f)  // textured: the emission spectrum of that colour
+            weight = texture_ ? rgb_at_wavelengths(weight, SpectrumRole::Emission, ref.wavelengths)
+                              : emission_at(intensity_, measured_.get(), ref.wavelengths) * (f * attenuation_(ds.dist));
         return ds;
     }
     float pdf_direction(const SurfaceInteraction&, const DirectionSample&) const override { return 0.0f; }
     // Light paths leave uniformly over the cone (as in Mitsuba), weighted by the falloff and the
     // texture. The density is carried through to_world (its Jacobian |det M| / |M v|^3), so a
     // scaled spot stays correct.
-    EmitterRay sample_ray(const Vec2&, const Vec2& u_direction) const override {
+    EmitterRay sample_ray(const Vec2&, const Vec2& u_direction, Wavelengths* wavelengths) const override {
         Vec3 local = warp::square_to_uniform_cone(u_direction, cos_cutoff_);
         Vec3 world = to_world_.apply_vector(local);
         float len = glm::length(world);
         float pdf = warp::square_to_uniform_cone_pdf(local, cos_cutoff_) * len * len * len / std::abs(to_world_.determinant3());
         Spectrum intensity = intensity_ * falloff(local);
         if (texture_) intensity *= texture_->eval(texture_uv(local));
+        if (wavelengths)  // textured: the emission spectrum of that colour
+            intensity = texture_ ? rgb_at_wavelengths(intensity, SpectrumRole::Emission, wavelengths)
+                                 : emission_at(intensity_, measured_.get(), wavelengths) * falloff(local);
         EmitterRay r = point_source_ray(position_, world / len, std::isfinite(pdf) ? pdf : 0.0f, intensity);
         return r;
     }
@@ -126,7 +125,11 @@ public:
     }
     // Mitsuba's parameter names (core/parameters.h).
     void traverse(ParameterVisitor& visitor) override { expose_color(visitor, "intensity.value", intensity_); }
-    void parameters_changed(const std::vector<std::string>&) override { power_ = intensity_ * integrated_profile(); }
+    // An edited colour replaces the measured spectrum the scene gave (the spectral variant uses it).
+    void parameters_changed(const std::vector<std::string>&) override {
+        power_ = intensity_ * integrated_profile();
+        measured_.reset();
+    }
     std::string to_string() const override { return "spot"; }
 
     const Vec3& position() const { return position_; }

@@ -55,7 +55,7 @@ const SellmeierGlass* named_glass(const std::string& name) {
 
 float SpectralIOR::at(float lambda_nm) const {
     if (glass) return float(glass->ior(lambda_nm));
-    if (samples) return float(samples->spectrum().at(lambda_nm));
+    if (samples && !samples->spectrum().wavelengths.empty()) return float(samples->spectrum().at(lambda_nm));
     return value;
 }
 

@@ -87,7 +87,7 @@ TEST_CASE("rgb2spec: the round trip of random colours", "[rgb2spec]") {
     CHECK(bright.mean() <= 1.2e-3);
 }
 
-TEST_CASE("rgb2spec: greys are flat spectra; black and white are exact", "[rgb2spec]") {
+TEST_CASE("rgb2spec: greys are flat spectra and black and white are exact", "[rgb2spec]") {
     for (float v : {0.0f, 1e-6f, 0.01f, 0.18f, 0.5f, 0.75f, 0.999f, 1.0f}) {
         SigmoidPolynomial s = rgb_to_reflectance_spectrum(Vec3(v));
         CAPTURE(v, s.c2);

@@ -121,3 +121,44 @@ TEST_CASE("spectral: plugins that do not render in the variant stop at their lin
         CHECK(message.find("scalar_rgb") != std::string::npos);
     }
 }
+
+TEST_CASE("spectral: ptracer's light paths and path's camera paths estimate the same image", "[render][spectral][ptracer]") {
+    // A measured emission spectrum on a coloured floor: both estimators carry their own
+    // wavelengths (ptracer per light path). Their whole-image means over independent seeds agree.
+    auto scene = [](const std::string& integrator) {
+        return R"(<scene version="3.0.0">)" + integrator + R"(
+    <sensor type="perspective"><float name="fov" value="50"/>
+        <transform name="to_world"><lookat origin="0, 2, 3" target="0, 0, 0" up="0, 1, 0"/></transform>
+        <sampler type="independent"><integer name="sample_count" value="8"/></sampler>
+        <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/>
+            <rfilter type="box"/><string name="component_format" value="float32"/></film></sensor>
+    <shape type="rectangle"><transform name="to_world"><scale value="3"/><rotate x="1" angle="-90"/></transform>
+        <bsdf type="diffuse"><rgb name="reflectance" value="0.8, 0.3, 0.1"/></bsdf></shape>
+    <shape type="rectangle"><transform name="to_world"><scale value="0.5"/><rotate x="1" angle="90"/><translate y="1.5"/></transform>
+        <emitter type="area"><spectrum name="radiance" value="400:1, 500:3, 600:2, 700:5"/></emitter></shape>
+</scene>)";
+    };
+    const int seeds = effort_scaled(12, 6);
+    auto image_means = [&](const std::string& integrator, int channel) {
+        Ref<Scene> s =
+            load_scene_from_string(scene(integrator), scratch_dir("spectral_ptracer").string() + "/scene.xml", {}, Variant::ScalarSpectral);
+        std::vector<double> means;
+        for (int k = 0; k < seeds; ++k) {
+            RenderOptions options;
+            options.seed = 1000 + k;
+            means.push_back(channel_mean(s->integrator().render(*s, options).image, channel).mean);
+        }
+        return mean_and_error(means);  // independent renders: the spread of their means
+    };
+    const double z = two_sided_z(sidak(0.01, 3));
+    double brightest = 0.0;  // the red channel (the floor is red): power is judged against it
+    for (int c = 0; c < 3; ++c) {
+        MeanAndError path = image_means(R"(<integrator type="path"/>)", c);
+        if (c == 0) brightest = path.mean;
+        MeanAndError light = image_means(R"(<integrator type="ptracer"/>)", c);
+        const double error = std::sqrt(path.std_error * path.std_error + light.std_error * light.std_error);
+        INFO("channel " << c << ": path " << path.mean << " +- " << path.std_error << ", ptracer " << light.mean << " +- " << light.std_error);
+        CHECK(std::abs(path.mean - light.mean) <= z * error);
+        CHECK(error < 0.02 * brightest);  // power: a disagreement of 2% of the image's level would show
+    }
+}
