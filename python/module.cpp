@@ -22,6 +22,7 @@
 #include "core/progress.h"
 #include "core/registry.h"
 #include "core/scene.h"
+#include "core/variant.h"
 #include "core/xml.h"
 #include "integrators/estimators.h"
 #include "viewer/view_server.h"
@@ -87,12 +88,25 @@ void register_exceptions(py::module_& m) {
 
 SceneParameters string_map(const std::map<std::string, std::string>& params) { return SceneParameters(params.begin(), params.end()); }
 
-SceneHandle load_file(const std::string& path, const std::map<std::string, std::string>& params) {
-    return without_gil([&] { return SceneHandle{load_scene(path, string_map(params))}; });
+// The variant of a Mitsuba name that Candela renders in (core/variant.h); InputError otherwise.
+Variant variant_of(const std::string& name) {
+    const std::optional<Variant> v = parse_variant(name);
+    if (!v) throw InputError("\"" + name + "\" is not a variant (known: " + variant_names() + ")");
+    if (*v == Variant::ScalarSpectralPolarized)
+        throw InputError(
+            "variant scalar_spectral_polarized (polarized rendering) is not implemented yet; use scalar_spectral or scalar_rgb");
+    return *v;
 }
 
-SceneHandle load_string(const std::string& xml, const std::string& virtual_path, const std::map<std::string, std::string>& params) {
-    return without_gil([&] { return SceneHandle{load_scene_from_string(xml, virtual_path, string_map(params))}; });
+SceneHandle load_file(const std::string& path, const std::map<std::string, std::string>& params, const std::string& variant) {
+    const Variant v = variant_of(variant);
+    return without_gil([&] { return SceneHandle{load_scene(path, string_map(params), v)}; });
+}
+
+SceneHandle load_string(const std::string& xml, const std::string& virtual_path, const std::map<std::string, std::string>& params,
+                        const std::string& variant) {
+    const Variant v = variant_of(variant);
+    return without_gil([&] { return SceneHandle{load_scene_from_string(xml, virtual_path, string_map(params), v)}; });
 }
 
 // The XML tag of a plugin type ("diffuse" -> "bsdf"), or None.
@@ -112,8 +126,11 @@ ImageBuffer render(SceneHandle& handle, int spp, uint64_t seed, int threads, con
                    const std::vector<std::string>& aovs) {
     Ref<Scene> scene = handle.scene;
     Ref<Integrator> integrator;
+    // Loaded in the scene's variant: an integrator that does not render in it is refused as it
+    // would be in the scene's file.
     if (!integrator_xml.empty())
-        integrator = without_gil([&] { return load_scene_from_string(integrator_xml, "<integrator>.xml")->integrator_ref(); });
+        integrator =
+            without_gil([&] { return load_scene_from_string(integrator_xml, "<integrator>.xml", {}, scene->variant())->integrator_ref(); });
     std::atomic<bool> interrupt{false};
     ProgressSink sink;
     RenderOptions options;
@@ -362,8 +379,10 @@ py::dict converge(SceneHandle& h, const std::vector<int>& spp_counts, py::object
     return d;
 }
 
-py::dict validate(const std::string& scene_path, const std::string& reference_path, int spp, int reference_spp, int threads) {
+py::dict validate(const std::string& scene_path, const std::string& reference_path, int spp, int reference_spp, int threads,
+                  const std::string& variant) {
     ValidationSettings settings;
+    settings.variant = variant_of(variant);
     settings.spp = spp;
     settings.reference_spp = reference_spp;
     settings.threads = threads;
@@ -501,6 +520,9 @@ PYBIND11_MODULE(_candela, m) {
                                })
         .def_property_readonly("spp", [](const SceneHandle& h) { return h.scene->sensor().sampler().sample_count(); })
         .def_property_readonly(
+            "variant", [](const SceneHandle& h) { return std::string(variant_name(h.scene->variant())); },
+            "The variant the scene was loaded in (Mitsuba's name: scalar_rgb or scalar_spectral)")
+        .def_property_readonly(
             "parameters", [](const SceneHandle& h) { return h.scene->parameters; },
             "The scene file's $name parameters after <default>s and overrides (analytic scenes state "
             "their exact answer as \"expected\")")
@@ -527,8 +549,8 @@ PYBIND11_MODULE(_candela, m) {
         });
     m.def("evaluate_expression", [](const std::string& text) { return evaluate_expression(text); });
     m.def("start_viewer", &start_viewer, py::arg("scene"), py::arg("port"), py::arg("bind"));
-    m.def("load_file", &load_file, py::arg("path"), py::arg("params"));
-    m.def("load_string", &load_string, py::arg("xml"), py::arg("virtual_path"), py::arg("params"));
+    m.def("load_file", &load_file, py::arg("path"), py::arg("params"), py::arg("variant") = "scalar_rgb");
+    m.def("load_string", &load_string, py::arg("xml"), py::arg("virtual_path"), py::arg("params"), py::arg("variant") = "scalar_rgb");
     m.def("plugin_tag", &plugin_tag, py::arg("type"));
     m.def("render", &render, py::arg("scene"), py::arg("spp"), py::arg("seed"), py::arg("threads"), py::arg("integrator_xml"),
           py::arg("progress"), py::arg("aovs"));
@@ -548,7 +570,7 @@ PYBIND11_MODULE(_candela, m) {
     m.def("converge", &converge, py::arg("scene"), py::arg("spp_counts"), py::arg("expected"), py::arg("reference"), py::arg("seed"),
           py::arg("threads"));
     m.def("validate", &validate, py::arg("scene_path"), py::arg("reference_path"), py::arg("spp"), py::arg("reference_spp"),
-          py::arg("threads"));
+          py::arg("threads"), py::arg("variant") = "scalar_rgb");
     m.def("estimate_irradiance", &estimate_irradiance_points, py::arg("scene"), py::arg("points"), py::arg("normals"), py::arg("samples"),
           py::arg("seed"), py::arg("threads"), py::arg("max_depth"));
     m.attr("default_compared_methods") = DefaultComparedMethods;

@@ -8,6 +8,7 @@ images, edit their parameters and render again, and check renders against refere
     params["red.reflectance.value"] = [0.2, 0.6, 0.2]
     params.update()
     image2 = candela.render(scene, seed=1)
+    spectral = candela.load_file("scenes/cbox.xml", variant="scalar_spectral")
 
 Scripts written for Mitsuba 3 run with ``import candela.mitsuba as mi`` (see candela/mitsuba.py
 and docs/python.md for what that covers).
@@ -51,37 +52,71 @@ def _parameters(params: dict) -> dict:
     return out
 
 
-def load_file(path, **params) -> Scene:
+# The variants Candela renders, by Mitsuba 3's names (core/variant.h; docs/python.md "Variants").
+_VARIANTS = ("scalar_rgb", "scalar_spectral")
+_DEFAULT_VARIANT = "scalar_rgb"
+
+
+def _variant_argument(variant) -> str:
+    """The variant name a loader was given (None: the default). The native loader refuses a name
+    that is no variant Candela renders with InputError."""
+    if variant is None:
+        return _DEFAULT_VARIANT
+    if not isinstance(variant, str):
+        raise TypeError(f"variant must be a variant's name (a str, one of {', '.join(_VARIANTS)}), got {variant!r}")
+    return variant
+
+
+def _check_no_variant_parameter(scene: Scene, variant) -> Scene:
+    """`variant=` chooses the rendering variant, never a scene parameter: a scene that declares a
+    `$variant` parameter of its own, loaded with `variant=` given, is refused rather than read one
+    way silently."""
+    if variant is not None and "variant" in scene.parameters:
+        raise InputError(f"the scene declares a parameter named 'variant', and variant={variant!r} was given: the "
+                         "keyword chooses the rendering variant (candela.variants()), not the scene's parameter, "
+                         "which keeps its <default>; rename the parameter to set it from Python")
+    return scene
+
+
+def load_file(path, *, variant: str | None = None, **params) -> Scene:
     """Loads a Mitsuba 3 XML scene; keyword arguments set its ``$name`` parameters
-    (``load_file("cbox.xml", spp=64, res=256)``). Errors raise SceneError with ``file:line``."""
-    return _candela.load_file(os.fspath(path), _parameters(params))
+    (``load_file("cbox.xml", spp=64, res=256)``). Errors raise SceneError with ``file:line``.
+    ``variant`` (keyword only; default scalar_rgb) is the variant to load it in: one of
+    candela.variants(); a plugin that does not render in it raises SceneError at its line. It is
+    never a scene parameter (see _check_no_variant_parameter)."""
+    scene = _candela.load_file(os.fspath(path), _parameters(params), _variant_argument(variant))
+    return _check_no_variant_parameter(scene, variant)
 
 
-def load_string(xml: str, **params) -> Scene:
-    """Loads a scene from XML text; files it names are found relative to the working directory."""
+def load_string(xml: str, *, variant: str | None = None, **params) -> Scene:
+    """Loads a scene from XML text; files it names are found relative to the working directory.
+    ``variant`` as in load_file."""
     if not isinstance(xml, str):
         raise TypeError(f"load_string expects XML text (a str), got {type(xml).__name__}")
-    return _candela.load_string(xml, os.path.join(os.getcwd(), "<string>.xml"), _parameters(params))
+    scene = _candela.load_string(xml, os.path.join(os.getcwd(), "<string>.xml"), _parameters(params), _variant_argument(variant))
+    return _check_no_variant_parameter(scene, variant)
 
 
-def load_dict(d: dict, **params):
+def load_dict(d: dict, *, variant: str | None = None, **params):
     """Loads a scene from Mitsuba 3's dictionary format (``{'type': 'scene', ...}``). A dictionary
     of another plugin (``{'type': 'path', 'max_depth': 8}``) is checked and returned as a Plugin,
     for ``render(..., integrator=...)`` or as a value in another dictionary. Errors raise
-    SceneError naming the key path (``sphere.bsdf.reflectance: ...``)."""
+    SceneError naming the key path (``sphere.bsdf.reflectance: ...``). ``variant`` as in
+    load_file (a plugin is checked in it)."""
+    name = _variant_argument(variant)
     if isinstance(d, dict) and d.get("type") != "scene":
         kind, holder = plugin_scene(d)
         if holder is not None:
-            _load_dict_scene(holder, {}, prefix_strip="object")
+            _load_dict_scene(holder, {}, name, prefix_strip="object")
         return Plugin(d, kind)
-    return _load_dict_scene(d, params)
+    return _check_no_variant_parameter(_load_dict_scene(d, params, name), variant)
 
 
-def _load_dict_scene(d: dict, params: dict, prefix_strip: str | None = None) -> Scene:
+def _load_dict_scene(d: dict, params: dict, variant: str, prefix_strip: str | None = None) -> Scene:
     xml, paths = scene_xml(d)
     virtual = os.path.join(os.getcwd(), "<dict>.xml")
     try:
-        return _candela.load_string(xml, virtual, _parameters(params))
+        return _candela.load_string(xml, virtual, _parameters(params), variant)
     except SceneError as e:
         line = getattr(e, "line", 0)
         path = paths[line - 1] if 0 < line <= len(paths) else ""
@@ -122,13 +157,22 @@ def render(scene: Scene, spp: int | None = None, seed: int = 0, sensor: int = 0,
             raise TypeError(f"integrator must be an integrator's name, dictionary or Plugin, got {integrator!r}")
         xml, _ = scene_xml({"type": "scene", "integrator": integrator.dictionary})
         integrator_xml = xml
-    buffer = _candela.render(scene, int(spp or 0), int(seed), int(threads or 0), integrator_xml, progress, list(aovs or []))
+    try:
+        buffer = _candela.render(scene, int(spp or 0), int(seed), int(threads or 0), integrator_xml, progress, list(aovs or []))
+    except SceneError as e:
+        # The integrator is loaded again in the scene's variant, which may refuse it: said at the
+        # argument, as load_dict says a key path.
+        if integrator_xml and e.file.endswith("<integrator>.xml"):
+            raise SceneError(f"integrator: {e.message}", "integrator", 0, e.message) from None
+        raise
     return Image(buffer)
 
 
 def variants() -> list[str]:
-    """Candela renders in RGB on the CPU (Mitsuba's scalar_rgb)."""
-    return ["scalar_rgb"]
+    """The variants Candela renders, by Mitsuba 3's names, all on the CPU: scalar_rgb (linear
+    Rec. 709 RGB, the default) and scalar_spectral (wavelengths sampled per path, developed to
+    RGB). load_file, load_string and load_dict take one as ``variant=``."""
+    return list(_VARIANTS)
 
 
 class Viewer:

@@ -53,10 +53,15 @@ def converge(scene, spp=(4, 16, 64, 256), expected: float | None = None, referen
     return result
 
 
-def validate(scene_path, reference_path, spp: int = 0, reference_spp: int = 2048, threads: int = 0) -> dict:
+def validate(scene_path, reference_path, spp: int = 0, reference_spp: int = 2048, threads: int = 0,
+             variant: str = "scalar_rgb") -> dict:
     """Renders a scene file and compares it with its reference EXR as ``candela validate`` does:
-    the metrics, ``passed`` and the ``reason``, and the per-pixel z-test's counts."""
-    return _candela.validate(os.fspath(scene_path), os.fspath(reference_path), int(spp), int(reference_spp), int(threads))
+    the metrics, ``passed`` and the ``reason``, and the per-pixel z-test's counts. ``variant``:
+    the variant the scene is loaded in (``--variant``; see candela.variants())."""
+    if not isinstance(variant, str):
+        raise TypeError(f"variant must be a variant's name (a str), got {variant!r}")
+    return _candela.validate(os.fspath(scene_path), os.fspath(reference_path), int(spp), int(reference_spp), int(threads),
+                             variant)
 
 
 def estimate_irradiance(scene, points, normals, samples: int = 65536, seed: int = 0, threads: int = 0, max_depth: int = -1) -> dict:

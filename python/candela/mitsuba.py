@@ -9,12 +9,13 @@
     params.update()
     mi.util.write_bitmap("cbox.png", mi.render(scene, spp=64, seed=1))
 
-What is here behaves as Mitsuba's does, rendered by Candela: RGB variants (the LLVM and CUDA ones
-run on Candela's CPU renderer, with a notice), scenes from files, strings and dictionaries,
-rendering, traverse/update, the transform and 3-vector types, Bitmap and mi.util's image writers,
-the Cornell box dictionary. What is not here (autodiff and Dr.Jit arrays, Python plugins, ray
-queries from Python, spectral and polarised rendering, ...) raises NotImplementedError naming the
-feature instead of answering differently from Mitsuba. docs/python.md has the table.
+What is here behaves as Mitsuba's does, rendered by Candela: RGB and spectral variants (the LLVM
+and CUDA ones run on Candela's CPU renderer, with a notice), scenes from files, strings and
+dictionaries, rendering, traverse/update, the transform and 3-vector types, Bitmap and mi.util's
+image writers, the Cornell box dictionary. What is not here (autodiff and Dr.Jit arrays, Python
+plugins, ray queries from Python, polarised and monochrome rendering, ...) raises
+NotImplementedError naming the feature instead of answering differently from Mitsuba.
+docs/python.md has the table.
 """
 
 from __future__ import annotations
@@ -54,9 +55,11 @@ __all__ = [
 # --------------------------------------------------------------------------------------------------
 
 # Mitsuba's variant names: backend, optional autodiff, colour representation, optional
-# polarisation and precision. Candela renders RGB in single precision on the CPU.
+# polarisation and precision. Candela renders RGB and spectral in single precision on the CPU:
+# each name renders as candela's scalar variant of its colour representation.
 _VARIANT = re.compile(r"^(scalar|llvm|cuda)(_ad)?_(rgb|mono|spectral)(_polarized)?(_double|_half)?$")
-_LISTED_VARIANTS = ["scalar_rgb", "llvm_rgb", "llvm_ad_rgb", "cuda_rgb", "cuda_ad_rgb"]
+_LISTED_VARIANTS = ["scalar_rgb", "scalar_spectral", "llvm_rgb", "llvm_ad_rgb", "llvm_spectral", "llvm_ad_spectral", "cuda_rgb",
+                    "cuda_ad_rgb", "cuda_spectral", "cuda_ad_spectral"]
 _state = {"variant": None}
 _noticed: set[str] = set()
 _lock = threading.Lock()
@@ -72,31 +75,42 @@ def _variant_problem(name) -> Exception | None:
                            f"{', '.join(_LISTED_VARIANTS)} (and their _double forms)")
     colour, polarized = m.group(3), m.group(4)
     if polarized:
-        return NotImplementedError(f"variant {name!r}: polarized rendering is not available in Candela "
-                                   "(it renders RGB; use an *_rgb variant)")
-    if colour == "spectral":
-        return NotImplementedError(f"variant {name!r}: spectral rendering is not available in Candela "
-                                   "(it renders RGB; use an *_rgb variant)")
+        return NotImplementedError(f"variant {name!r}: polarized rendering is not implemented in Candela yet "
+                                   "(it renders RGB and spectral; use an *_rgb or *_spectral variant)")
     if colour == "mono":
         return NotImplementedError(f"variant {name!r}: monochrome rendering is not available in Candela "
-                                   "(it renders RGB; use an *_rgb variant)")
+                                   "(it renders RGB and spectral; use an *_rgb or *_spectral variant)")
     return None
+
+
+def _candela_variant(name: str) -> str:
+    """The candela variant a Mitsuba variant name renders as: scalar_rgb or scalar_spectral."""
+    return "scalar_" + _VARIANT.match(name).group(3)
+
+
+def _set_state(name: str | None) -> None:
+    """Makes `name` (None: none yet) the variant, with Mitsuba's is_* flags that go with it."""
+    global is_rgb, is_spectral
+    _state["variant"] = name
+    spectral = name is not None and _candela_variant(name) == "scalar_spectral"
+    is_rgb, is_spectral = not spectral, spectral
 
 
 def set_variant(*names: str) -> None:
     """Sets the variant: the first of `names` that Candela renders (Mitsuba picks the first one
-    available). RGB variants all render on Candela's CPU renderer in single precision; any but
-    scalar_rgb prints a one-line notice on stderr the first time it is set. Spectral, polarized and
-    monochrome variants raise NotImplementedError."""
+    available). RGB and spectral variants all render on Candela's CPU renderer in single precision,
+    as scalar_rgb and scalar_spectral; any but those two prints a one-line notice on stderr the
+    first time it is set. Polarized and monochrome variants raise NotImplementedError."""
     if not names:
         raise TypeError("set_variant() needs at least one variant name")
     first_problem = None
     for name in names:
         problem = _variant_problem(name)
         if problem is None:
+            renders_as = _candela_variant(name)
             with _lock:
-                _state["variant"] = name
-                notice = name != "scalar_rgb" and name not in _noticed
+                _set_state(name)
+                notice = name != renders_as and name not in _noticed
                 _noticed.add(name)
             if notice:
                 m = _VARIANT.match(name)
@@ -107,7 +121,7 @@ def set_variant(*names: str) -> None:
                     parts.append("without automatic differentiation")
                 if m.group(5):
                     parts.append("in single precision")
-                print(f"candela.mitsuba: variant {name!r} renders as scalar_rgb on Candela's CPU renderer "
+                print(f"candela.mitsuba: variant {name!r} renders as {renders_as} on Candela's CPU renderer "
                       f"({', '.join(parts)})", file=sys.stderr)
             return
         if first_problem is None:
@@ -121,7 +135,7 @@ def variant() -> str | None:
 
 
 def variants() -> list[str]:
-    """The variants Candela renders (all on its CPU renderer, in RGB)."""
+    """The variants Candela renders (all on its CPU renderer, as scalar_rgb or scalar_spectral)."""
     return list(_LISTED_VARIANTS)
 
 
@@ -133,23 +147,26 @@ def variant_context(*names: str):
     try:
         yield
     finally:
-        _state["variant"] = previous
+        with _lock:
+            _set_state(previous)
 
 
 scoped_set_variant = variant_context
 
-# Every variant Candela renders is RGB.
+# Mitsuba's flags of the current variant (module attributes, as in Mitsuba; set_variant updates
+# is_rgb and is_spectral). Candela renders neither polarized nor monochrome variants.
 is_rgb = True
 is_spectral = False
 is_polarized = False
 is_monochromatic = False
 
 
-def _ensure_variant():
-    # Mitsuba refuses to load without a variant; scripts always set one, so a missing one is
-    # taken as scalar_rgb instead of failing.
+def _ensure_variant() -> str:
+    """The candela variant to load in. Mitsuba refuses to load without a variant; scripts always
+    set one, so a missing one is taken as scalar_rgb instead of failing."""
     if _state["variant"] is None:
-        _state["variant"] = "scalar_rgb"
+        _set_state("scalar_rgb")
+    return _candela_variant(_state["variant"])
 
 
 # --------------------------------------------------------------------------------------------------
@@ -164,23 +181,29 @@ Scene = _candela.Scene
 _recipes: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 
 
+def _load_scene(load, params: dict):
+    """`load(parameters, variant)` in the current variant. Keyword arguments are the scene's
+    parameters, all of them (one named `variant` included), as in Mitsuba, whose loaders take the
+    variant from set_variant."""
+    return load(_candela._parameters(params), _ensure_variant())
+
+
 def load_file(path, update_scene: bool = False, parallel: bool = True, optimize: bool = True, **params):
     """Loads a Mitsuba 3 XML scene; keyword arguments set its ``$name`` parameters. ``update_scene``,
     ``parallel`` and ``optimize`` are accepted and have no effect (Candela loads in parallel and
     never rewrites the file)."""
-    _ensure_variant()
-    scene = _candela.load_file(path, **params)
+    scene = _load_scene(lambda p, v: _native.load_file(os.fspath(path), p, v), params)
     _recipes[scene] = ("file", os.path.abspath(os.fspath(path)), dict(params))
     return scene
 
 
 def load_string(string: str, parallel: bool = True, optimize: bool = True, **params):
     """Loads a scene from XML text (files it names are found relative to the working directory)."""
-    _ensure_variant()
     if not isinstance(string, str):
         raise TypeError(f"load_string expects XML text (a str), got {type(string).__name__}")
-    scene = _candela.load_string(string, **params)
-    _recipes[scene] = ("string", string, dict(params), os.path.join(os.getcwd(), "<string>.xml"))
+    virtual = os.path.join(os.getcwd(), "<string>.xml")
+    scene = _load_scene(lambda p, v: _native.load_string(string, virtual, p, v), params)
+    _recipes[scene] = ("string", string, dict(params), virtual)
     return scene
 
 
@@ -188,10 +211,10 @@ def load_dict(d: dict, parallel: bool = True, optimize: bool = True):
     """Loads a scene dictionary (``'type': 'scene'``) as a Scene; any other plugin's dictionary
     is checked and returned as a candela.Plugin, which render(integrator=...) and other
     dictionaries take."""
-    _ensure_variant()
+    variant_name = _ensure_variant()
     if not isinstance(d, dict):
         raise TypeError(f"load_dict expects a dictionary, got {type(d).__name__}")
-    result = _candela.load_dict(d)
+    result = _candela.load_dict(d, variant=variant_name)
     if isinstance(result, _candela.Scene):
         try:
             _recipes[result] = ("dict", copy.deepcopy(d))
@@ -246,14 +269,14 @@ def _sensor_xml(sensor: dict) -> str:
     return "\n".join(xml_text.splitlines()[1:-1])
 
 
-def _load_recipe(recipe, sensor: dict | None = None):
+def _load_recipe(recipe, variant: str, sensor: dict | None = None):
     kind = recipe[0]
     if kind == "dict":
         d = recipe[1]
         if sensor is not None:
             d = {k: v for k, v in d.items() if not _is_sensor(v)}
             d["_candela_sensor"] = sensor
-        return _candela.load_dict(d)
+        return _candela.load_dict(d, variant=variant)
     if kind == "file":
         with open(recipe[1], encoding="utf-8") as f:
             text = f.read()
@@ -263,7 +286,7 @@ def _load_recipe(recipe, sensor: dict | None = None):
     if sensor is not None:
         text, at = _without_sensors_xml(text)
         text = text[:at] + _sensor_xml(sensor) + text[at:]
-    return _native.load_string(text, virtual, _candela._parameters(params))
+    return _native.load_string(text, virtual, _candela._parameters(params), variant)
 
 
 def _render_with_sensor(scene, sensor, spp, seed, integrator):
@@ -274,8 +297,9 @@ def _render_with_sensor(scene, sensor, spp, seed, integrator):
     if recipe is None:
         raise NotImplementedError("mi.render(..., sensor=<a sensor object>) for a scene not loaded by candela.mitsuba's "
                                   "load_file, load_string or load_dict is not available")
-    moved = _load_recipe(recipe, sensor.dictionary)
-    fresh = _load_recipe(recipe)
+    # Loaded again in the scene's own variant, whatever the current one is.
+    moved = _load_recipe(recipe, scene.variant, sensor.dictionary)
+    fresh = _load_recipe(recipe, scene.variant)
     changes = {}
     wanted = dict(_native.parameter_list(moved))
     for name, _ in _native.parameter_list(scene):

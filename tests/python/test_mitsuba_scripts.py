@@ -79,3 +79,22 @@ def test_edit_with_traverse(tmp_path):
     assert np.array_equal(decode_png((tmp_path / "blue_wall.png").read_bytes()), blue_reference.to_srgb8())
     wide_reference = cli_render(wide, tmp_path / "cli_wide.exr", 16, 0, {"res": 32})
     assert np.array_equal(np.asarray(candela.read_image(tmp_path / "wide.exr")), np.asarray(wide_reference))
+
+
+def test_render_spectral(tmp_path):
+    out = run_script("render_spectral.py", tmp_path)
+    assert "rendered (30, 40, 3) in scalar_spectral" in out.stdout
+    assert out.stderr == ""  # scalar_spectral renders as itself: no notice
+    # The same scene written as XML, rendered by the command line in the spectral variant (the
+    # dictionary's transforms as <translate>, <rotate>, <scale>, <lookat>).
+    reference = np.asarray(cli_render(SCRIPTS / "render_spectral.xml", tmp_path / "cli.exr", 16, 0,
+                                      extra=("--variant", "scalar_spectral")))
+    image = np.asarray(candela.read_image(tmp_path / "spectral_scene.exr"))
+    assert image.shape == reference.shape == (30, 40, 3)
+    assert np.all(np.isfinite(image)) and image.mean() > 0.05
+    assert_same_expectation(image, reference, "spectral load_dict scene vs XML")
+    # The ball's measured reflectance is green: so is the ball, in the picture's centre.
+    r, g, b = image[12:18, 17:23].reshape(-1, 3).mean(axis=0)
+    assert g > r and g > b
+    png = decode_png((tmp_path / "spectral_scene.png").read_bytes())
+    assert np.array_equal(png, candela.image.srgb8(image))
