@@ -157,7 +157,8 @@ TEST_CASE("spectral: ptracer's light paths and path's camera paths estimate the 
         if (c == 0) brightest = path.mean;
         MeanAndError light = image_means(R"(<integrator type="ptracer"/>)", c);
         const double error = std::sqrt(path.std_error * path.std_error + light.std_error * light.std_error);
-        INFO("channel " << c << ": path " << path.mean << " +- " << path.std_error << ", ptracer " << light.mean << " +- " << light.std_error);
+        INFO("channel " << c << ": path " << path.mean << " +- " << path.std_error << ", ptracer " << light.mean << " +- "
+                        << light.std_error);
         CHECK(std::abs(path.mean - light.mean) <= z * error);
         CHECK(error < 0.02 * brightest);  // power: a disagreement of 2% of the image's level would show
     }
