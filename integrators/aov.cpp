@@ -35,6 +35,7 @@
 #include "core/scene.h"
 #include "core/text.h"
 #include "core/warning.h"
+#include "core/wavelengths.h"
 #include "integrators/nested.h"
 
 #include <unordered_map>
@@ -124,7 +125,10 @@ public:
         for (size_t i = 0; i < nested_.size(); ++i) {
             SampleRecord inner;
             Spectrum L = sample_nested(nested_[i], scene, sampler, ray, record, inner);
-            for (int k = 0; k < 3; ++k) *rgba++ = L[k];
+            // Channels are colours: in the spectral variant the nested values through CIE 1931
+            // (the film's own channels, `result`, are converted by the pixel loop).
+            const Spectrum colour = ray.wavelengths ? spectral_to_linear_srgb(L, *ray.wavelengths) : L;
+            for (int k = 0; k < 3; ++k) *rgba++ = colour[k];
             *rgba++ = inner.valid ? 1.0f : 0.0f;
             for (size_t c = 0; c < nested_[i].channels.size(); ++c) *out++ = inner.channels[c];
             if (i == 0) {
@@ -152,7 +156,13 @@ private:
             for (int k = 0; k < 2; ++k) *out++ = hit ? v[k] : 0.0f;
         };
         switch (type) {
-            case AovType::Albedo: put3(hit ? si.shape->bsdf()->albedo(si) : Spectrum(0.0f)); break;
+            case AovType::Albedo: {
+                // A colour in every variant: the BSDF's albedo in RGB.
+                SurfaceInteraction rgb = si;
+                rgb.wavelengths = nullptr;
+                put3(hit ? si.shape->bsdf()->albedo(rgb) : Spectrum(0.0f));
+                break;
+            }
             case AovType::Depth: *out++ = hit ? si.t : 0.0f; break;
             case AovType::Position: put3(si.p); break;
             case AovType::UV: put2(si.uv); break;
@@ -195,6 +205,6 @@ private:
     std::unordered_map<const Shape*, uint32_t> shape_index_;
 };
 
-CANDELA_REGISTER(AovIntegrator, ObjectKind::Integrator, "aov");
+CANDELA_REGISTER_SPECTRAL(AovIntegrator, ObjectKind::Integrator, "aov");
 
 }  // namespace candela

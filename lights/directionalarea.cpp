@@ -58,12 +58,12 @@ public:
         ds.uv = hit.uv;
         ds.dist = glm::length(hit.p - ref.p);
         ds.pdf = 1.0f;
-        weight = radiance_->eval(hit);
+        weight = radiance_->eval_as(hit, SpectrumRole::Emission);
         return ds;
     }
     float pdf_direction(const SurfaceInteraction&, const DirectionSample&) const override { return 0.0f; }
     // Light paths: a point uniform by area, leaving along the normal (a delta in direction).
-    EmitterRay sample_ray(const Vec2& u_position, const Vec2&, Wavelengths*) const override {
+    EmitterRay sample_ray(const Vec2& u_position, const Vec2&, Wavelengths* wavelengths) const override {
         EmitterRay r;
         PositionSample ps = shape_->sample_position(u_position);
         if (!(ps.pdf > 0.0f)) return r;
@@ -74,7 +74,7 @@ public:
         r.pdf_position = ps.pdf;
         r.pdf_direction = 1.0f;
         r.delta_direction = true;
-        r.weight = radiance_->eval_at(ps.p, ps.n, ps.uv) / ps.pdf;
+        r.weight = radiance_->eval_at(ps.p, ps.n, ps.uv, SpectrumRole::Emission, wavelengths) / ps.pdf;
         return r;
     }
     Spectrum eval(const SurfaceInteraction&) const override { return Spectrum(0.0f); }
@@ -101,6 +101,6 @@ private:
     const Scene* scene_ = nullptr;
 };
 
-CANDELA_REGISTER(DirectionalAreaEmitter, ObjectKind::Emitter, "directionalarea");
+CANDELA_REGISTER_SPECTRAL(DirectionalAreaEmitter, ObjectKind::Emitter, "directionalarea");
 
 }  // namespace candela

@@ -58,21 +58,22 @@ public:
         if (!(uv.x >= 0.0f && uv.x <= 1.0f && uv.y >= 0.0f && uv.y <= 1.0f)) return ds;
         ds.uv = uv;
         float cos_theta = local.z / ds.dist;
-        weight = image_->eval(uv) * (Pi * scale_ / (local.z * local.z * cos_theta));
+        weight =
+            rgb_at_wavelengths(image_->eval(uv), SpectrumRole::Emission, ref.wavelengths) * (Pi * scale_ / (local.z * local.z * cos_theta));
         return ds;
     }
     float pdf_direction(const SurfaceInteraction&, const DirectionSample&) const override { return 0.0f; }
     // Light paths leave through a point uniform on the image plane at depth 1 (area 4 tan_x tan_y):
     // solid-angle density 1 / (4 tan_x tan_y cos^3 theta), which the intensity pi scale T / cos^3
     // divides into the constant weight pi scale T(uv) 4 tan_x tan_y.
-    EmitterRay sample_ray(const Vec2&, const Vec2& u_direction, Wavelengths*) const override {
+    EmitterRay sample_ray(const Vec2&, const Vec2& u_direction, Wavelengths* wavelengths) const override {
         Vec3 local = projection_.direction(u_direction);  // z = 1
         float len = glm::length(local), cos_theta = 1.0f / len;
         float image_area = 4.0f * projection_.tan_half_x * projection_.tan_half_x / projection_.aspect;
         Vec3 d = glm::normalize(projection_.to_world.apply_vector(local / len));
         EmitterRay r = point_source_ray(position_, d, 1.0f / (image_area * cos_theta * cos_theta * cos_theta), Spectrum(0.0f));
         r.uv = u_direction;
-        r.weight = image_->eval(u_direction) * (Pi * scale_ * image_area);
+        r.weight = rgb_at_wavelengths(image_->eval(u_direction), SpectrumRole::Emission, wavelengths) * (Pi * scale_ * image_area);
         return r;
     }
     Spectrum eval(const SurfaceInteraction&) const override { return Spectrum(0.0f); }
@@ -97,6 +98,6 @@ private:
     Spectrum power_{0.0f};
 };
 
-CANDELA_REGISTER(ProjectorEmitter, ObjectKind::Emitter, "projector");
+CANDELA_REGISTER_SPECTRAL(ProjectorEmitter, ObjectKind::Emitter, "projector");
 
 }  // namespace candela
