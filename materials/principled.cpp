@@ -136,7 +136,7 @@ public:
             value += p.base * (brdf * InvPi * burley_diffuse(cos_i, cos_o, cos_d, p.roughness, p.flatness) * std::abs(cos_o));
             if (p.sheen > 0.0f && p.metallic < 1.0f)
                 value +=
-                    sheen_color(p.base, p.sheen_tint) * (p.sheen * (1.0f - p.metallic) * schlick_weight(std::abs(cos_d)) * std::abs(cos_o));
+                    sheen_color(p.base, p.base_luminance, p.sheen_tint) * (p.sheen * (1.0f - p.metallic) * schlick_weight(std::abs(cos_d)) * std::abs(cos_o));
         }
         return value;
     }
@@ -264,7 +264,7 @@ private:
     Spectrum principled_fresnel(const Params& p, float F, float cos_ih) const {
         float eta_it = cos_ih >= 0.0f ? eta_ : 1.0f / eta_;
         Spectrum metal = p.metallic * schlick_fresnel(p.base, cos_ih, eta_);
-        Spectrum tinted = (1.0f - p.metallic) * p.spec_tint * schlick_fresnel(tint_color(p.base) * schlick_r0(eta_it), cos_ih, eta_);
+        Spectrum tinted = (1.0f - p.metallic) * p.spec_tint * schlick_fresnel(tint_color(p.base, p.base_luminance) * schlick_r0(eta_it), cos_ih, eta_);
         return Spectrum((1.0f - p.metallic) * (1.0f - p.spec_tint) * F) + metal + tinted;
     }
 
@@ -275,6 +275,6 @@ private:
     float eta_ = 1.5f, specular_rate_ = 1.0f, clearcoat_rate_ = 1.0f, diffuse_rate_ = 1.0f;
 };
 
-CANDELA_REGISTER(PrincipledBSDF, ObjectKind::BSDF, "principled");
+CANDELA_REGISTER_SPECTRAL(PrincipledBSDF, ObjectKind::BSDF, "principled");
 
 }  // namespace candela

@@ -25,6 +25,7 @@ PrincipledCommon::PrincipledCommon(const Properties& props) {
 
 void PrincipledCommon::eval(const SurfaceInteraction& si, Values& v) const {
     v.base = base_color->eval(si);
+    v.base_luminance = luminance(si.wavelengths ? base_color->eval_rgb(si) : v.base);
     v.roughness = roughness->eval_1(si);
     v.anisotropic = anisotropic->eval_1(si);
     v.spec_trans = has_spec_trans ? spec_trans->eval_1(si) : 0.0f;
@@ -67,12 +68,11 @@ float burley_diffuse(float cos_i, float cos_o, float cos_d, float roughness, flo
     return lerp(flatness, lambert + retro, subsurface);
 }
 
-Spectrum tint_color(const Spectrum& base) {
-    float lum = luminance(base);
-    return lum > 0.0f ? base / lum : Spectrum(1.0f);
-}
+Spectrum tint_color(const Spectrum& base, float base_luminance) { return base_luminance > 0.0f ? base / base_luminance : Spectrum(1.0f); }
 
-Spectrum sheen_color(const Spectrum& base, float sheen_tint) { return Spectrum(1.0f) + sheen_tint * (tint_color(base) - Spectrum(1.0f)); }
+Spectrum sheen_color(const Spectrum& base, float base_luminance, float sheen_tint) {
+    return Spectrum(1.0f) + sheen_tint * (tint_color(base, base_luminance) - Spectrum(1.0f));
+}
 
 float GTR1::D(const Vec3& m) const {
     float a2 = alpha * alpha, c2 = m.z * m.z;

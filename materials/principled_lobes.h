@@ -16,6 +16,9 @@ bool principled_lobe_present(const Properties& props, const std::string& name);
 struct PrincipledCommon {
     struct Values {
         Spectrum base{0.5f};
+        // The luminance of base_color's colour: what tints divide by (in the spectral variant,
+        // where `base` holds values at wavelengths, the colour's own luminance).
+        float base_luminance = luminance(Spectrum(0.5f));
         float roughness = 0.5f, anisotropic = 0.0f, spec_trans = 0.0f, spec_tint = 0.0f, sheen = 0.0f, sheen_tint = 0.0f, flatness = 0.0f;
     };
     explicit PrincipledCommon(const Properties& props);
@@ -54,9 +57,9 @@ bool facet_sides_agree(const Vec3& m, const Vec3& wi, const Vec3& wo, bool refle
 // expanded, F_D90 = 1/2 + R_R).
 float burley_diffuse(float cos_i, float cos_o, float cos_d, float roughness, float flatness);
 // The sheen colour: white, tinted toward base / luminance(base) by sheen_tint.
-Spectrum sheen_color(const Spectrum& base, float sheen_tint);
+Spectrum sheen_color(const Spectrum& base, float base_luminance, float sheen_tint);
 // base / luminance(base) (white for a black base): the hue that tints specular and sheen.
-Spectrum tint_color(const Spectrum& base);
+Spectrum tint_color(const Spectrum& base, float base_luminance);
 
 // The clearcoat lobe's normal distribution, Berry's GTR1 (Burley 2012, appendix B), isotropic,
 // sampled in proportion to D(m) cos(theta_m).

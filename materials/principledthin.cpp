@@ -95,7 +95,7 @@ public:
             MicrofacetDistribution dist = specular_distribution(p, !reflection);
             float DG = dist.D(h) * dist.G(wi, wo, h) / (4.0f * ci);
             if (reflection && ctx.allows(GlossyReflection)) {
-                Spectrum tinted = schlick_fresnel(tint_color(p.base) * schlick_r0(p.eta), glm::dot(wi, h), p.eta);
+                Spectrum tinted = schlick_fresnel(tint_color(p.base, p.base_luminance) * schlick_r0(p.eta), glm::dot(wi, h), p.eta);
                 value += (Spectrum(F) + p.spec_tint * (tinted - Spectrum(F))) * (p.spec_trans * DG);
             }
             if (!reflection && ctx.allows(GlossyTransmission)) value += p.base * (p.spec_trans * (1.0f - F) * DG);
@@ -103,7 +103,7 @@ public:
         if (reflection && p.spec_trans < 1.0f && p.diff_trans < 1.0f && ctx.allows(DiffuseReflection)) {
             float cos_d = glm::dot(h, wo), scale = (1.0f - p.spec_trans) * (1.0f - p.diff_trans) * co;
             value += p.base * (scale * InvPi * burley_diffuse(ci, co, cos_d, p.roughness, p.flatness));
-            if (p.sheen > 0.0f) value += sheen_color(p.base, p.sheen_tint) * (scale * p.sheen * schlick_weight(std::abs(cos_d)));
+            if (p.sheen > 0.0f) value += sheen_color(p.base, p.base_luminance, p.sheen_tint) * (scale * p.sheen * schlick_weight(std::abs(cos_d)));
         }
         if (!reflection && has_diff_trans_ && p.spec_trans < 1.0f && p.diff_trans > 0.0f && ctx.allows(DiffuseTransmission))
             value += p.base * ((1.0f - p.spec_trans) * p.diff_trans * InvPi * co);
@@ -197,6 +197,6 @@ private:
     std::array<float, 4> rates_{};
 };
 
-CANDELA_REGISTER(PrincipledThinBSDF, ObjectKind::BSDF, "principledthin");
+CANDELA_REGISTER_SPECTRAL(PrincipledThinBSDF, ObjectKind::BSDF, "principledthin");
 
 }  // namespace candela
