@@ -135,8 +135,8 @@ public:
             float cos_d = glm::dot(h, wo);
             value += p.base * (brdf * InvPi * burley_diffuse(cos_i, cos_o, cos_d, p.roughness, p.flatness) * std::abs(cos_o));
             if (p.sheen > 0.0f && p.metallic < 1.0f)
-                value +=
-                    sheen_color(p.base, p.base_luminance, p.sheen_tint) * (p.sheen * (1.0f - p.metallic) * schlick_weight(std::abs(cos_d)) * std::abs(cos_o));
+                value += sheen_color(p.base, p.base_luminance, p.sheen_tint) *
+                         (p.sheen * (1.0f - p.metallic) * schlick_weight(std::abs(cos_d)) * std::abs(cos_o));
         }
         return value;
     }
@@ -264,7 +264,8 @@ private:
     Spectrum principled_fresnel(const Params& p, float F, float cos_ih) const {
         float eta_it = cos_ih >= 0.0f ? eta_ : 1.0f / eta_;
         Spectrum metal = p.metallic * schlick_fresnel(p.base, cos_ih, eta_);
-        Spectrum tinted = (1.0f - p.metallic) * p.spec_tint * schlick_fresnel(tint_color(p.base, p.base_luminance) * schlick_r0(eta_it), cos_ih, eta_);
+        Spectrum tinted =
+            (1.0f - p.metallic) * p.spec_tint * schlick_fresnel(tint_color(p.base, p.base_luminance) * schlick_r0(eta_it), cos_ih, eta_);
         return Spectrum((1.0f - p.metallic) * (1.0f - p.spec_tint) * F) + metal + tinted;
     }
 

@@ -103,7 +103,8 @@ public:
         if (reflection && p.spec_trans < 1.0f && p.diff_trans < 1.0f && ctx.allows(DiffuseReflection)) {
             float cos_d = glm::dot(h, wo), scale = (1.0f - p.spec_trans) * (1.0f - p.diff_trans) * co;
             value += p.base * (scale * InvPi * burley_diffuse(ci, co, cos_d, p.roughness, p.flatness));
-            if (p.sheen > 0.0f) value += sheen_color(p.base, p.base_luminance, p.sheen_tint) * (scale * p.sheen * schlick_weight(std::abs(cos_d)));
+            if (p.sheen > 0.0f)
+                value += sheen_color(p.base, p.base_luminance, p.sheen_tint) * (scale * p.sheen * schlick_weight(std::abs(cos_d)));
         }
         if (!reflection && has_diff_trans_ && p.spec_trans < 1.0f && p.diff_trans > 0.0f && ctx.allows(DiffuseTransmission))
             value += p.base * ((1.0f - p.spec_trans) * p.diff_trans * InvPi * co);
