@@ -15,6 +15,7 @@
 
 #include "core/properties.h"
 #include "core/registry.h"
+#include "core/wavelengths.h"
 #include "core/spectral.h"
 #include "integrators/nested.h"
 
@@ -49,7 +50,8 @@ public:
             SampleRecord inner;
             Spectrum L = sample_nested(nested_[i], scene, sampler, ray, record, inner, i == 0);
             for (size_t c = 0; c < nested_[i].channels.size(); ++c) *out++ = inner.channels[c];
-            Vec3d xyz = linear_srgb_to_xyz(Vec3d(L));
+            // The sample's colour (in the spectral variant its values through CIE 1931), then XYZ.
+            Vec3d xyz = linear_srgb_to_xyz(Vec3d(ray.wavelengths ? spectral_to_linear_srgb(L, *ray.wavelengths) : L));
             for (int k = 0; k < 3; ++k) *out++ = float(xyz[k]);
             if (i == 0) {
                 result = L;
@@ -67,6 +69,6 @@ private:
     std::vector<std::string> names_;
 };
 
-CANDELA_REGISTER(MomentIntegrator, ObjectKind::Integrator, "moment");
+CANDELA_REGISTER_SPECTRAL(MomentIntegrator, ObjectKind::Integrator, "moment");
 
 }  // namespace candela

@@ -274,7 +274,8 @@ private:
         return phi;
     }
 
-    Spectrum sigma_a(const SurfaceInteraction& si) const { return scale_ * sigma_a_->eval(si); }
+    // An absorption coefficient: unbounded in the spectral variant (the pigments' RGB too, as pbrt-v4 upsamples them).
+    Spectrum sigma_a(const SurfaceInteraction& si) const { return scale_ * sigma_a_->eval_as(si, SpectrumRole::Unbounded); }
 
     float eta_ = 1.55f, s_ = 0.0f, scale_ = 1.0f;
     std::array<float, PMax + 1> v_{};
@@ -283,6 +284,6 @@ private:
     Ref<Texture> sigma_a_;
 };
 
-CANDELA_REGISTER(HairBSDF, ObjectKind::BSDF, "hair");
+CANDELA_REGISTER_SPECTRAL(HairBSDF, ObjectKind::BSDF, "hair");
 
 }  // namespace candela

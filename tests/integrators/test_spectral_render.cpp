@@ -108,16 +108,16 @@ TEST_CASE("spectral: scalar_rgb is the default, bit for bit", "[render][spectral
 
 TEST_CASE("spectral: plugins that do not render in the variant stop at their line", "[spectral][errors]") {
     const std::string xml = furnace_xml(R"(<rgb name="radiance" value="1"/>)", R"(
-        <bsdf type="hair"/>)",
+        <bsdf type="measured"><string name="filename" value="none.bsdf"/></bsdf>)",
                                         4);
     try {
         render_spectral(xml);
-        FAIL("hair rendered in scalar_spectral");
+        FAIL("measured rendered in scalar_spectral");
     } catch (const SceneError& e) {
         const std::string message = e.what();
         INFO(message);
         CHECK(message.find("scene.xml:12:") != std::string::npos);
-        CHECK(message.find("bsdf type \"hair\" does not render in variant scalar_spectral") != std::string::npos);
+        CHECK(message.find("bsdf type \"measured\" does not render in variant scalar_spectral") != std::string::npos);
         CHECK(message.find("scalar_rgb") != std::string::npos);
     }
 }

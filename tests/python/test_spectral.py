@@ -45,8 +45,8 @@ SCENE = """<scene version="3.0.0">
 </scene>
 """
 
-HAIR = SCENE.replace('<bsdf type="diffuse"><rgb name="reflectance" value="0.7, 0.7, 0.7"/></bsdf>',
-                     '<bsdf type="hair"/>')
+PHOTONS = SCENE.replace('<integrator type="path"><integer name="max_depth" value="3"/></integrator>',
+                        '<integrator type="photonmapper"/>')
 
 
 @pytest.fixture(autouse=True)
@@ -107,12 +107,12 @@ def test_scalar_rgb_is_the_default_bit_for_bit(scene_file, tmp_path):
 
 def test_plugins_not_spectral_ready_name_scalar_rgb(tmp_path):
     with pytest.raises(candela.SceneError, match="scalar_rgb") as e:
-        candela.load_string(HAIR, variant="scalar_spectral")
-    assert "hair" in e.value.message and e.value.line > 0
-    assert candela.load_string(HAIR).variant == "scalar_rgb"
+        candela.load_string(PHOTONS, variant="scalar_spectral")
+    assert "photonmapper" in e.value.message and e.value.line > 0
+    assert candela.load_string(PHOTONS).variant == "scalar_rgb"
     # A dictionary: at its key path.
-    d = {"type": "scene", "ball": {"type": "sphere", "bsdf": {"type": "hair"}}}
-    with pytest.raises(candela.SceneError, match=r"^ball\.bsdf: .*scalar_rgb"):
+    d = {"type": "scene", "ball": {"type": "sphere"}, "integrator": {"type": "photonmapper"}}
+    with pytest.raises(candela.SceneError, match=r"^integrator: .*scalar_rgb"):
         candela.load_dict(d, variant="scalar_spectral")
     candela.load_dict(d)
     with pytest.raises(candela.SceneError, match="scalar_rgb"):
@@ -207,7 +207,7 @@ def test_mitsuba_loads_and_renders_in_the_current_variant(scene_file, tmp_path):
     reference = cli_render(scene_file, tmp_path / "cli.exr", 8, 3, {"spp": 8}, extra=("--variant", "scalar_spectral"))
     assert np.array_equal(np.asarray(image), np.asarray(reference))
     with pytest.raises(candela.SceneError, match="scalar_rgb"):
-        mi.load_string(HAIR)
+        mi.load_string(PHOTONS)
     with pytest.raises(candela.SceneError, match="scalar_rgb"):
         mi.load_dict({"type": "sppm"})
     # Rendered from a sensor object, the scene is loaded again in its own variant, whatever the
