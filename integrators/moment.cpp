@@ -15,8 +15,8 @@
 
 #include "core/properties.h"
 #include "core/registry.h"
-#include "core/wavelengths.h"
 #include "core/spectral.h"
+#include "core/wavelengths.h"
 #include "integrators/nested.h"
 
 namespace candela {
