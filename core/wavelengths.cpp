@@ -39,20 +39,31 @@ const double TanhLow = std::tanh(A * (CieMin - Center)), TanhHigh = std::tanh(A 
 
 float visible_wavelength_pdf(float lambda_nm) {
     if (!(lambda_nm >= float(CieMin) && lambda_nm <= float(CieMax))) return 0.0f;
-    double c = std::cosh(A * (double(lambda_nm) - Center));
-    return float(Norm / (c * c));
+    const float c = std::cosh(float(A) * (lambda_nm - float(Center)));
+    return float(Norm) / (c * c);
+}
+
+Wavelengths Wavelengths::at(const Vec3& lambda_nm) {
+    Wavelengths w;
+    w.lambda = lambda_nm;
+    for (int j = 0; j < WavelengthSamples; ++j) {
+        w.pdf[j] = visible_wavelength_pdf(w.lambda[j]);
+        w.d65[j] = float(cie_d65(w.lambda[j]));
+    }
+    return w;
 }
 
 Wavelengths sample_visible_wavelengths(float u) {
-    Wavelengths w;
+    // Float arithmetic suffices: a wavelength rounded to float (about 3e-5 nm) is far finer than
+    // the 5 nm steps of the tables it is looked up in.
+    Vec3 lambda;
     for (int j = 0; j < WavelengthSamples; ++j) {
-        double uj = double(u) + double(j) / WavelengthSamples;
-        if (uj >= 1.0) uj -= 1.0;
-        double lambda = Center + std::atanh(TanhLow + (TanhHigh - TanhLow) * uj) / A;
-        w.lambda[j] = float(std::clamp(lambda, CieMin, CieMax));
-        w.pdf[j] = visible_wavelength_pdf(w.lambda[j]);
+        float uj = u + float(j) / WavelengthSamples;
+        if (uj >= 1.0f) uj -= 1.0f;
+        const float l = float(Center) + std::atanh(float(TanhLow) + float(TanhHigh - TanhLow) * uj) / float(A);
+        lambda[j] = std::clamp(l, float(CieMin), float(CieMax));
     }
-    return w;
+    return Wavelengths::at(lambda);
 }
 
 Spectrum spectral_to_linear_srgb(const Spectrum& values, const Wavelengths& w) {
@@ -82,7 +93,7 @@ Spectrum RGBSpectrum::at(const Wavelengths& w) const {
     Spectrum out;
     for (int j = 0; j < WavelengthSamples; ++j) {
         out[j] = scale * shape(w.lambda[j]);
-        if (times_d65) out[j] *= float(cie_d65(w.lambda[j]));
+        if (times_d65) out[j] *= w.d65[j];
     }
     return out;
 }

@@ -16,6 +16,10 @@ constexpr int WavelengthSamples = 3;  // one per Spectrum component
 struct Wavelengths {
     Vec3 lambda{550.0f};  // nm
     Vec3 pdf{1.0f};       // per nm, of each wavelength as drawn; 0 for a terminated one
+    Vec3 d65{1.0f};       // CIE D65 at each wavelength (normalised as cie_d65): what emission multiplies
+
+    // These wavelengths with the visible density's pdf and D65 filled in.
+    static Wavelengths at(const Vec3& lambda_nm);
 
     // At a dispersive interface only the first (hero) wavelength goes on: the others' pdf becomes
     // 0 and the hero's is divided by WavelengthSamples, so that the pixel's average over the

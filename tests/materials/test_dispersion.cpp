@@ -68,8 +68,7 @@ TEST_CASE("dispersion: a prism deviates each wavelength by the angle Snell's law
     const Vec3 d_in = glm::normalize(rotate_y(-entry_normal, -incidence));
     double previous_deviation = 0.0;
     for (float lambda : {400.0f, 486.1f, 550.0f, 587.6f, 656.3f, 800.0f}) {
-        Wavelengths w = sample_visible_wavelengths(0.0f);
-        w.lambda = Vec3(lambda, 700.0f, 500.0f);
+        Wavelengths w = Wavelengths::at(Vec3(lambda, 700.0f, 500.0f));
         bool dispersed = false;
         Vec3 inside = refract_through(*glass.bsdf, entry_normal, d_in, w, &dispersed);
         CHECK(dispersed);
