@@ -15,8 +15,8 @@ Medium::Medium(const Properties& props) {
     microflake_ = phase_->is_microflake();
 }
 
-MediumPoint Medium::eval(const Vec3& p, const Vec3& d) const {
-    MediumPoint mp = coefficients(p);
+MediumPoint Medium::eval(const Vec3& p, const Vec3& d, const Wavelengths* w) const {
+    MediumPoint mp = coefficients(p, w);
     if (!microflake_) return mp;
     float area = phase_->projected_area(MediumInteraction{p, -d});
     mp.sigma_t *= area;
@@ -34,7 +34,7 @@ Spectrum Medium::transmittance(const Ray& ray, float tmax, PCG32& rng) const { r
 
 // --- majorants ---------------------------------------------------------------------------------
 
-MajorantGrid::MajorantGrid(const Volume& volume, const glm::ivec3& resolution, float scale)
+MajorantGrid::MajorantGrid(const Volume& volume, const glm::ivec3& resolution, float scale, bool spectral)
     : volume_(&volume), resolution_(glm::max(resolution, glm::ivec3(1))) {
     maxima_.resize(size_t(resolution_.x) * size_t(resolution_.y) * size_t(resolution_.z));
     Vec3 cell_size = Vec3(1.0f) / Vec3(resolution_);
@@ -43,7 +43,8 @@ MajorantGrid::MajorantGrid(const Volume& volume, const glm::ivec3& resolution, f
         for (int y = 0; y < resolution_.y; ++y)
             for (int x = 0; x < resolution_.x; ++x) {
                 Vec3 lo = Vec3(float(x), float(y), float(z)) * cell_size;
-                maxima_[i++] = volume.max_in_local_box(lo, lo + cell_size) * scale;
+                maxima_[i++] = spectral ? Spectrum(volume.max_spectrum_in_local_box(lo, lo + cell_size) * scale)
+                                        : volume.max_in_local_box(lo, lo + cell_size) * scale;
             }
 }
 
@@ -146,7 +147,7 @@ bool sample_free_flight(const Medium& medium, const Ray& ray, float tmax, PCG32&
             // (f sigma_s, pdf sigma_t / mu) or null (f sigma_n, pdf sigma_n / mu).
             t0 += step;
             Spectrum decay = relative_decay(majorant, mu_c, step);
-            point = medium.eval(ray(t0), ray.d);
+            point = medium.eval(ray(t0), ray.d, ray.wavelengths);
             Spectrum sigma_n = glm::max(majorant - point.sigma_t, Spectrum(0.0f));
             float p_real = std::clamp(point.sigma_t[c] / mu_c, 0.0f, 1.0f);
             if (rng.next_float() < p_real) {
@@ -171,7 +172,7 @@ Spectrum ratio_tracking_transmittance(const Medium& medium, const Ray& ray, floa
         float mu = max_component(seg.sigma_maj);
         if (!(mu > 0.0f)) continue;
         for (float t = seg.t0 + exponential_step(rng, mu); t < seg.t1; t += exponential_step(rng, mu)) {
-            T *= glm::max(Spectrum(1.0f) - medium.eval(ray(t), ray.d).sigma_t / mu, Spectrum(0.0f));
+            T *= glm::max(Spectrum(1.0f) - medium.eval(ray(t), ray.d, ray.wavelengths).sigma_t / mu, Spectrum(0.0f));
             // Russian roulette once little is left: unbiased, and it ends long walks early.
             if (max_component(T) < 0.1f) {
                 if (rng.next_float() < 0.5f) return Spectrum(0.0f);

@@ -121,9 +121,11 @@ Spectrum Scene::transmittance(const Ray& shadow_ray, const Medium* medium, PCG32
         Vec3 origin = offset_ray_origin(si.p, si.p_error, si.n, ray.d);
         float remaining = ray.tmax - glm::dot(origin - ray.o, ray.d);  // inf stays inf
         if (!(remaining > 0.0f)) return T;
-        float time = ray.time;
+        const float time = ray.time;
+        Wavelengths* wavelengths = ray.wavelengths;
         ray = Ray(origin, ray.d, remaining);
         ray.time = time;
+        ray.wavelengths = wavelengths;
     }
 }
 

@@ -32,7 +32,7 @@ struct SampledSpectrum {
 // colour becomes a different spectrum in the spectral variant (core/wavelengths.h).
 enum class SpectrumRole {
     Reflectance,  // weighted by D65, clamped to [0, 1]: a flat spectrum is grey
-    Unbounded,    // eta, k, int_ior, ext_ior: weighted by D65, only negatives clamped
+    Unbounded,    // eta, k, int_ior, ext_ior, sigma_t: weighted by D65, only negatives clamped
     Emission,     // directly inside an <emitter>: not weighted, negatives clamped
 };
 
@@ -53,7 +53,7 @@ void check_spectrum(const SampledSpectrum& s);
 // (Mitsuba's spectrum_list_to_srgb), then linear sRGB. Bounded colours are clamped to [0, 1],
 // others only to >= 0; `clamped` reports whether clamping changed anything.
 //   reflectance:                       weight_by_d65 = true,  bounded = true  (a flat spectrum is grey)
-//   eta, k, int_ior, ext_ior spectra:  weight_by_d65 = true,  bounded = false
+//   eta, k, int_ior, ext_ior, sigma_t spectra:  weight_by_d65 = true,  bounded = false
 //   emission, and named-conductor data: weight_by_d65 = false, bounded = false
 Spectrum spectrum_to_rgb(const SampledSpectrum& s, bool weight_by_d65, bool bounded, bool* clamped = nullptr);
 

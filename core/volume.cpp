@@ -1,6 +1,7 @@
 #include "core/volume.h"
 
 #include "core/registry.h"
+#include "core/texture.h"
 
 namespace candela {
 
@@ -18,6 +19,21 @@ void Volume::set_to_world(const Transform& to_world) {
         bbox_.expand(to_world_.apply_point(Vec3(float(corner & 1), float((corner >> 1) & 1), float((corner >> 2) & 1))));
 }
 
+Spectrum Volume::eval_spectrum(const Vec3& p_world, const Wavelengths& w, SpectrumRole role) const {
+    const Spectrum value = eval(p_world);
+    // A grey value is the flat spectrum of itself (rgb_at_wavelengths would give the same for a
+    // reflectance in [0, 1] or an unbounded value, without the table lookup).
+    if (channels_ == 1 && role != SpectrumRole::Emission) return value;
+    return rgb_at_wavelengths(value, role, &w);
+}
+
+float Volume::max_spectrum_in_local_box(const Vec3& lo, const Vec3& hi) const {
+    // A trilinear lookup is a convex combination of voxels, so its largest channel is at most
+    // the box's largest channel maximum.
+    const float m = std::max(max_component(max_in_local_box(lo, hi)), 0.0f);
+    return channels_ == 1 ? m : 2.0f * m;
+}
+
 Ref<Volume> get_volume(const Properties& props, const std::string& name, const Spectrum& def) {
     if (props.has(name)) {
         Properties::Type type;
@@ -32,9 +48,14 @@ Ref<Volume> get_volume(const Properties& props, const std::string& name, const S
             }
         }
     }
-    // A constant (float, rgb, or a <spectrum> constant texture), read as an rgb.
+    // A constant (float, rgb, or a <spectrum> constant texture), read as an rgb; in the spectral
+    // variant a measured spectrum goes along, to be used per wavelength.
     Properties constant("constvolume", props.location_of(name));
-    constant.set_rgb("value", props.get_rgb(name, def));
+    constant.set_variant(props.variant());
+    if (auto measured = props.measured_spectrum(name))
+        constant.set_object("value", std::const_pointer_cast<SpectrumTexture>(measured), props.location_of(name));
+    else
+        constant.set_rgb("value", props.get_rgb(name, def));
     return create_plugin_as<Volume>(ObjectKind::Volume, constant);
 }
 

@@ -7,11 +7,18 @@
 // A volume holds 1 (grey), 3 (rgb) or 6 values per point. Six are not a colour but the
 // entries S_xx, S_yy, S_zz, S_xy, S_xz, S_yz of a symmetric 3x3 matrix (SGGX's S, Mitsuba's
 // eval_6): only eval_channels reads them, and get_volume refuses them where a colour is meant.
+//
+// In the spectral variant a medium asks for the values at the path's wavelengths, for the role
+// its parameter plays (eval_spectrum: albedo a reflectance, sigma_t unbounded, as Mitsuba 3's
+// spectral variants upsample them): a grey value is the flat spectrum of itself, a colour is
+// interpolated as a colour and then upsampled (rgb_at_wavelengths), a measured spectrum (a
+// constvolume given a <spectrum>) gives its own values.
 
 #include "core/object.h"
 #include "core/properties.h"
 #include "core/spectrum.h"
 #include "core/transform.h"
+#include "core/wavelengths.h"
 
 namespace candela {
 
@@ -32,6 +39,13 @@ public:
     // coordinates lie in the box [lo, hi] (a majorant grid's cell).
     virtual Spectrum max_in_local_box(const Vec3& lo, const Vec3& hi) const = 0;
     Spectrum max() const { return max_in_local_box(Vec3(0.0f), Vec3(1.0f)); }
+    // The value at a world-space point at the wavelengths `w`, as a spectrum of role `role`.
+    virtual Spectrum eval_spectrum(const Vec3& p_world, const Wavelengths& w, SpectrumRole role) const;
+    // A bound, the same at every wavelength, on eval_spectrum(p, w, Unbounded) for every w and
+    // every point whose local coordinates lie in [lo, hi] (the spectral variant's majorants).
+    // By default the value itself for a grey volume (a flat spectrum), else 2 max(rgb) over the
+    // box: the unbounded spectrum of rgb is 2 max(rgb) times a sigmoid, which lies in [0, 1].
+    virtual float max_spectrum_in_local_box(const Vec3& lo, const Vec3& hi) const;
     // One value everywhere (constvolume).
     virtual bool is_constant() const { return false; }
     // Voxels along each axis (1 for a constant), for sizing majorant grids.

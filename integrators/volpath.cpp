@@ -26,6 +26,10 @@
 //   volpathmis  uses each channel's own majorant (Mitsuba's volpathmis): a medium that is thin in
 //               one channel and dense in another gets free flights suited to each.
 // For grey media (equal channels) both are plain delta tracking with weight albedo.
+//
+// In scalar_spectral the three channels are the path's three wavelengths (core/wavelengths.h):
+// every medium query takes them (sigma_t unbounded, the albedo a reflectance, as Mitsuba 3's
+// spectral variants upsample them), and the same spectral MIS spans the wavelengths.
 
 #include "core/bsdf.h"
 #include "core/medium.h"
@@ -41,10 +45,13 @@ namespace candela {
 
 namespace {
 
-// A point in a medium as a SurfaceInteraction for the light samplers: no normal (zero), no error.
-SurfaceInteraction medium_vertex(const Vec3& p) {
+// A point in a medium as a SurfaceInteraction for the light samplers: no normal (zero), no error;
+// it keeps the ray's time and wavelengths.
+SurfaceInteraction medium_vertex(const Ray& ray, float t) {
     SurfaceInteraction it;
-    it.p = p;
+    it.p = ray(t);
+    it.time = ray.time;
+    it.wavelengths = ray.wavelengths;
     it.p_error = 0.0f;
     it.n = Vec3(0.0f);
     it.shading.n = Vec3(0.0f);
@@ -77,6 +84,9 @@ public:
         CameraPath path;
         path.weights.shared_majorant = !spectral_mis_;
         path.weights.channel = int(rng.next_bounded(3));
+        // The camera is the first vertex: what the path finds before scattering (the sky seen
+        // directly or through null surfaces and media) is looked up at its wavelengths.
+        path.from.at.wavelengths = camera_ray.wavelengths;
         record.valid = !settings_.hide_emitters && !scene.infinite_emitters().empty();
         if (settings_.max_depth == 0) return Spectrum(0.0f);
         const Spectrum L = trace(scene, sampler, camera_ray, scene.sensor().medium(), rng, path, record);
@@ -111,8 +121,7 @@ Spectrum VolPathIntegrator::trace(const Scene& scene, Sampler& sampler, Ray ray,
             if (collided) {
                 path.scattered = true;
                 if (!settings_.may_extend(path.depth)) break;
-                SurfaceInteraction at = medium_vertex(ray(t));
-                at.time = ray.time;
+                SurfaceInteraction at = medium_vertex(ray, t);
                 const PhaseFunction& phase = medium->phase();
                 if (medium->sample_emitters()) {
                     sampler.set_dimension(dims + SampleDimensions::LightPick);
@@ -125,6 +134,7 @@ Spectrum VolPathIntegrator::trace(const Scene& scene, Sampler& sampler, Ray ray,
                 path.scatter(at, ps.pdf, !medium->sample_emitters());
                 ray = Ray(at.p, ps.wo);
                 ray.time = at.time;
+                ray.wavelengths = at.wavelengths;
                 if (!survive_roulette(settings_, sampler, dims, path)) break;
                 continue;
             }
@@ -170,7 +180,7 @@ struct VolPathMis : VolPathIntegrator {
     explicit VolPathMis(const Properties& props) : VolPathIntegrator(props, true) {}
 };
 
-CANDELA_REGISTER(VolPath, ObjectKind::Integrator, "volpath");
-CANDELA_REGISTER(VolPathMis, ObjectKind::Integrator, "volpathmis");
+CANDELA_REGISTER_SPECTRAL(VolPath, ObjectKind::Integrator, "volpath");
+CANDELA_REGISTER_SPECTRAL(VolPathMis, ObjectKind::Integrator, "volpathmis");
 
 }  // namespace candela

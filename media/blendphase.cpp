@@ -81,6 +81,6 @@ private:
     Ref<PhaseFunction> first_, second_;
 };
 
-CANDELA_REGISTER(BlendPhase, ObjectKind::Phase, "blendphase");
+CANDELA_REGISTER_SPECTRAL(BlendPhase, ObjectKind::Phase, "blendphase");
 
 }  // namespace candela

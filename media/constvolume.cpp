@@ -1,8 +1,11 @@
 // constvolume: one value everywhere in its unit cube (Mitsuba 3's `constvolume`).
 //
 // Parameters:
-//   value      float, rgb, or a string of six numbers
-//                             the value (default 1). Six numbers "S_xx, S_yy, S_zz, S_xy, S_xz,
+//   value      float, rgb, spectrum, or a string of six numbers
+//                             the value (default 1); in scalar_spectral an rgb is upsampled for
+//                             the role of the medium parameter it serves (an albedo as a
+//                             reflectance, sigma_t unbounded) and a measured <spectrum> is used
+//                             per wavelength. Six numbers "S_xx, S_yy, S_zz, S_xy, S_xz,
 //                             S_yz" give the symmetric matrix of an `sggx` phase function (the
 //                             form of Mitsuba 2's constvolume and of Mitsuba's sggx tests; Mitsuba
 //                             3 itself takes six values only from a gridvolume)
@@ -11,6 +14,7 @@
 
 #include "core/registry.h"
 #include "core/text.h"
+#include "core/texture.h"
 #include "core/volume.h"
 
 namespace candela {
@@ -26,7 +30,13 @@ public:
             value_ = props.get_rgb("value", Spectrum(1.0f));
             if (!all_finite(value_)) props.fail("value", "the value must be finite");
             for (int k = 0; k < 3; ++k) values_[k] = value_[k];
+            measured_ = props.measured_spectrum("value");
+            if (measured_)
+                for (double v : measured_->spectrum().values)
+                    if (v < 0.0) props.fail("value", "constvolume: a measured spectrum must not be negative");
         }
+        for (SpectrumRole role : {SpectrumRole::Reflectance, SpectrumRole::Unbounded, SpectrumRole::Emission})
+            spectra_[int(role)] = RGBSpectrum(value_, role);
     }
     Spectrum eval(const Vec3&) const override { return value_; }
     void eval_channels(const Vec3&, float* out) const override { max_channels(out); }
@@ -34,6 +44,21 @@ public:
         for (int k = 0; k < channels_; ++k) out[k] = values_[k];
     }
     Spectrum max_in_local_box(const Vec3&, const Vec3&) const override { return value_; }
+    Spectrum eval_spectrum(const Vec3&, const Wavelengths& w, SpectrumRole role) const override {
+        return measured_ ? measured_->eval_spectrum(SurfaceInteraction(), w, role) : spectra_[int(role)].at(w);
+    }
+    float max_spectrum_in_local_box(const Vec3& lo, const Vec3& hi) const override {
+        // A measured spectrum is linearly interpolated between its samples and zero beyond them:
+        // its largest sample bounds it.
+        if (!measured_) {
+            // A grey value is the flat spectrum of itself.
+            if (value_.x == value_.y && value_.y == value_.z) return std::max(value_.x, 0.0f);
+            return Volume::max_spectrum_in_local_box(lo, hi);
+        }
+        double m = 0.0;
+        for (double v : measured_->spectrum().values) m = std::max(m, v);
+        return float(m);
+    }
     bool is_constant() const override { return true; }
     std::string to_string() const override { return "constvolume"; }
 
@@ -51,8 +76,10 @@ private:
 
     Spectrum value_;
     float values_[6] = {};
+    RGBSpectrum spectra_[3];                           // value_'s spectrum for each SpectrumRole
+    std::shared_ptr<const SpectrumTexture> measured_;  // the spectral variant's measured value
 };
 
-CANDELA_REGISTER(ConstVolume, ObjectKind::Volume, "constvolume");
+CANDELA_REGISTER_SPECTRAL(ConstVolume, ObjectKind::Volume, "constvolume");
 
 }  // namespace candela

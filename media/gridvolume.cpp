@@ -10,8 +10,13 @@
 //   use_grid_bbox   boolean     place the unit cube on the bounding box stored in the file, before
 //                               to_world (default false)
 //   to_world        transform   places the unit cube [0, 1]^3 (default identity)
-//   raw             boolean     accepted for Mitsuba's scenes: it only matters for spectral
-//                               upsampling, and Candela renders RGB (default false)
+//   raw             boolean     Mitsuba's switch that turns spectral upsampling off (default
+//                               false); true is accepted in scalar_rgb, where it changes nothing,
+//                               and refused in scalar_spectral for a grid of 3 channels
+//
+// In scalar_spectral a grey grid (1 channel) gives its value at every wavelength; a 3-channel
+// grid is interpolated as a colour and the colour upsampled for the role of the medium
+// parameter it serves (core/volume.h). Majorants: the grey value, or 2 max(rgb) (core/volume.h).
 //
 // The .vol format (little endian): bytes 1-3 "VOL", byte 4 the version (3), bytes 5-8 the
 // encoding (int32; 1 = float32, the only one), then the int32 resolutions x, y, z, the int32
@@ -45,8 +50,10 @@ public:
             wrap_ = Wrap::Mirror;
         else
             props.fail("wrap_mode", "wrap_mode must be clamp, repeat or mirror, not \"" + wrap + "\"");
-        props.get_bool("raw", false);
+        const bool raw = props.get_bool("raw", false);
         read_file(props.get_file_path("filename"), props.location_of("filename"));
+        if (raw && channels_ == 3 && props.variant() != Variant::ScalarRGB)
+            props.fail("raw", "gridvolume: raw colour data (no spectral upsampling) is not implemented in the spectral variant");
         if (props.get_bool("use_grid_bbox", false)) {
             Vec3 extent = file_bbox_.max - file_bbox_.min;
             if (!(min_component(extent) > 0.0f)) props.fail("use_grid_bbox", "the bounding box stored in the file is empty");
@@ -171,6 +178,6 @@ private:
     std::vector<float> max_;  // per channel, over all voxels
 };
 
-CANDELA_REGISTER(GridVolume, ObjectKind::Volume, "gridvolume");
+CANDELA_REGISTER_SPECTRAL(GridVolume, ObjectKind::Volume, "gridvolume");
 
 }  // namespace candela

@@ -48,6 +48,6 @@ private:
     float g_;
 };
 
-CANDELA_REGISTER(HenyeyGreenstein, ObjectKind::Phase, "hg");
+CANDELA_REGISTER_SPECTRAL(HenyeyGreenstein, ObjectKind::Phase, "hg");
 
 }  // namespace candela

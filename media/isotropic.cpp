@@ -22,6 +22,6 @@ public:
     std::string to_string() const override { return "isotropic"; }
 };
 
-CANDELA_REGISTER(IsotropicPhase, ObjectKind::Phase, "isotropic");
+CANDELA_REGISTER_SPECTRAL(IsotropicPhase, ObjectKind::Phase, "isotropic");
 
 }  // namespace candela

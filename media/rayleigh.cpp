@@ -33,6 +33,6 @@ private:
     static float density(float mu) { return (3.0f / 16.0f) * InvPi * (1.0f + mu * mu); }
 };
 
-CANDELA_REGISTER(RayleighPhase, ObjectKind::Phase, "rayleigh");
+CANDELA_REGISTER_SPECTRAL(RayleighPhase, ObjectKind::Phase, "rayleigh");
 
 }  // namespace candela

@@ -150,6 +150,6 @@ private:
     float trace_bound_ = 3.0f;
 };
 
-CANDELA_REGISTER(SggxPhase, ObjectKind::Phase, "sggx");
+CANDELA_REGISTER_SPECTRAL(SggxPhase, ObjectKind::Phase, "sggx");
 
 }  // namespace candela

@@ -98,6 +98,6 @@ private:
     float step_ = 2.0f;
 };
 
-CANDELA_REGISTER(TabulatedPhase, ObjectKind::Phase, "tabphase");
+CANDELA_REGISTER_SPECTRAL(TabulatedPhase, ObjectKind::Phase, "tabphase");
 
 }  // namespace candela
