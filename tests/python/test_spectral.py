@@ -122,7 +122,7 @@ def test_plugins_not_spectral_ready_name_scalar_rgb(tmp_path):
 
 def test_an_integrator_override_is_loaded_in_the_scene_variant():
     spectral = candela.load_string(SCENE, variant="scalar_spectral", spp=1)
-    for integrator in ("sppm", {"type": "photonmapper"}, candela.load_dict({"type": "volpath"})):
+    for integrator in ("sppm", {"type": "photonmapper"}, candela.load_dict({"type": "photonmapper"})):
         with pytest.raises(candela.SceneError, match=r"^integrator: .*scalar_rgb"):
             candela.render(spectral, integrator=integrator)
     # Those that render in the variant do, as in the scene file.
