@@ -256,7 +256,7 @@ private:
             Ray ray = sensor_.sample_ray(record.film_pos, record.aperture, sample_time(sampler));
             Wavelengths wavelengths;
             if (spectral_) {
-                wavelengths = sample_wavelengths(sampler);
+                wavelengths = draw_wavelengths(sampler);
                 ray.wavelengths = &wavelengths;
             }
             Spectrum L = integrator_.sample_radiance(scene_, sampler, ray, record);
@@ -280,15 +280,6 @@ private:
         float u = sampler.next_1d();
         sampler.set_dimension(SampleDimensions::FirstBounce);
         return sensor_.sample_time(u);
-    }
-
-    // The spectral variant's wavelengths, from their own dimension (then the path continues at
-    // the first bounce's dimensions, as after the time).
-    static Wavelengths sample_wavelengths(Sampler& sampler) {
-        sampler.set_dimension(SampleDimensions::Wavelength);
-        float u = sampler.next_1d();
-        sampler.set_dimension(SampleDimensions::FirstBounce);
-        return sample_visible_wavelengths(u);
     }
 
     const SamplingIntegrator& integrator_;

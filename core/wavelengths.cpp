@@ -1,5 +1,7 @@
 #include "core/wavelengths.h"
 
+#include "core/sampler.h"
+
 #include "core/variant.h"
 
 #include <algorithm>
@@ -64,6 +66,13 @@ Wavelengths sample_visible_wavelengths(float u) {
         lambda[j] = std::clamp(l, float(CieMin), float(CieMax));
     }
     return Wavelengths::at(lambda);
+}
+
+Wavelengths draw_wavelengths(Sampler& sampler) {
+    sampler.set_dimension(SampleDimensions::Wavelength);
+    const float u = sampler.next_1d();
+    sampler.set_dimension(SampleDimensions::FirstBounce);
+    return sample_visible_wavelengths(u);
 }
 
 Spectrum spectral_to_linear_srgb(const Spectrum& values, const Wavelengths& w) {

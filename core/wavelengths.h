@@ -36,6 +36,12 @@ float visible_wavelength_pdf(float lambda_nm);
 // by inverting p's distribution (a stratified set, as Mitsuba's sample_shifted).
 Wavelengths sample_visible_wavelengths(float u);
 
+// A camera sample's wavelengths, from the sampler's own dimension for them
+// (SampleDimensions::Wavelength); the sampler is left at the first bounce's dimensions, where a
+// path continues.
+class Sampler;
+Wavelengths draw_wavelengths(Sampler& sampler);
+
 // A path's values at the wavelengths as linear sRGB: the Monte Carlo estimate of
 // CIE_Y_NORMALIZATION * integral of cmf(l) L(l) dl, averaged over the wavelengths (each divided
 // by its pdf), through Mitsuba's XYZ to sRGB matrix.

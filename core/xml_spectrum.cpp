@@ -82,7 +82,12 @@ Spectrum checked(const Properties& props, const SampledSpectrum& s, SpectrumRole
 
 Spectrum spectrum_plugin_rgb(const Properties& props, SpectrumRole role, Ref<Object>* texture, SampledSpectrum* measured) {
     const std::string& type = props.plugin_type();
-    if (type == "uniform") return Spectrum(props.get_float("value", 1.0f));
+    if (type == "uniform") {
+        const float value = props.get_float("value", 1.0f);
+        // In an emitter the spectral variant emits it flat (equal energy), as Mitsuba's does.
+        if (role == SpectrumRole::Emission) *measured = SampledSpectrum{{CieMin, CieMax}, {value, value}};
+        return Spectrum(value);
+    }
     if (type == "srgb") {
         Spectrum color = props.get_rgb("color");
         bool unbounded = props.get_bool("unbounded", false);

@@ -1,5 +1,7 @@
 #include "integrators/estimators.h"
 
+#include "core/wavelengths.h"
+
 #include "core/bsdf.h"
 #include "core/parallel.h"
 #include "core/registry.h"
@@ -107,6 +109,17 @@ Estimate run(const EstimatorOptions& options, F one) {
 
 }  // namespace
 
+namespace {
+// One sample's value as a colour: in the spectral variant `value` is evaluated at wavelengths
+// drawn for the sample and converted through CIE 1931, in RGB it is evaluated as it is.
+template <typename F>
+Spectrum coloured(const Scene& scene, Sampler& sampler, F&& value) {
+    if (!scene.spectral()) return value(nullptr);
+    Wavelengths w = draw_wavelengths(sampler);
+    return spectral_to_linear_srgb(value(&w), w);
+}
+}  // namespace
+
 SurfaceInteraction virtual_vertex(const Scene& scene, const Vec3& p, const Vec3& n_in) {
     SurfaceInteraction si;
     si.p = p;
@@ -135,7 +148,13 @@ Estimate estimate_irradiance(const Scene& scene, const Vec3& p, const Vec3& n, c
     SurfaceInteraction vertex = virtual_vertex(scene, p, n);
     const BSDF& white = white_lambertian();
     // E = pi * L_o for a white Lambertian surface; its path has made no segment yet.
-    return run(options, [&](Sampler& sampler) { return Pi * path.continue_path(scene, sampler, vertex, white, 0); });
+    return run(options, [&](Sampler& sampler) {
+        return coloured(scene, sampler, [&](Wavelengths* w) {
+            SurfaceInteraction at = vertex;
+            at.wavelengths = w;
+            return Pi * path.continue_path(scene, sampler, at, white, 0);
+        });
+    });
 }
 
 std::vector<Spectrum> estimate_irradiance_at(const Scene& scene, const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
@@ -172,8 +191,12 @@ Estimate estimate_radiance(const Scene& scene, const Vec3& origin, const Vec3& d
     path.prepare(scene);
     Ray ray(origin, glm::normalize(direction));
     return run(options, [&](Sampler& sampler) {
-        SampleRecord record;
-        return path.sample_radiance(scene, sampler, ray, record);
+        return coloured(scene, sampler, [&](Wavelengths* w) {
+            SampleRecord record;
+            Ray along = ray;
+            along.wavelengths = w;
+            return path.sample_radiance(scene, sampler, along, record);
+        });
     });
 }
 

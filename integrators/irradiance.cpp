@@ -80,6 +80,6 @@ private:
     float max_value_ = 0.0f;
 };
 
-CANDELA_REGISTER(IrradianceIntegrator, ObjectKind::Integrator, "irradiance");
+CANDELA_REGISTER_SPECTRAL(IrradianceIntegrator, ObjectKind::Integrator, "irradiance");
 
 }  // namespace candela

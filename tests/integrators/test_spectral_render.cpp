@@ -6,6 +6,7 @@
 #include "core/error.h"
 #include "core/spectral.h"
 #include "core/xml.h"
+#include "integrators/estimators.h"
 #include "tests/stats.h"
 #include "tests/util.h"
 
@@ -189,4 +190,22 @@ TEST_CASE("spectral: the aov integrator's albedo layer is the RGB albedo in both
         }
     CHECK(same);
     CHECK(radiance_difference > 0.0);  // the radiance itself was rendered spectrally
+}
+
+TEST_CASE("spectral: the irradiance estimate under a uniform sky is pi L per channel", "[spectral][estimate]") {
+    // A white sky of radiance L (its spectrum L times D65, whose colour is white within the
+    // coefficient table's fit) over an open plane: E = pi L, with the estimate's own error bars
+    // (each sample carries its wavelengths, so colour noise is in them).
+    Ref<Scene> scene = load_scene(source_path("scenes/furnace/sky_irradiance.xml"), {}, Variant::ScalarSpectral);
+    EstimatorOptions options;
+    options.samples = uint64_t(effort_scaled(1 << 16, 1 << 13));
+    Estimate e = estimate_irradiance(*scene, Vec3(0.0f), Vec3(0, 1, 0), options);
+    const double expected = Pi * 0.7, z = two_sided_z(sidak(0.01, 3));
+    for (int c = 0; c < 3; ++c) {
+        INFO("channel " << c << ": " << e.mean[c] << " +- " << e.std_error[c] << " expected " << expected);
+        // The sky's colour is white within 2e-3 (tests/core/test_wavelengths.cpp).
+        CHECK(std::abs(e.mean[c] - expected) <= z * e.std_error[c] + 2e-3 * expected);
+        CHECK(e.std_error[c] < 0.01 * expected);
+    }
+    CHECK(e.nonfinite == 0);
 }
