@@ -94,6 +94,7 @@ TEST_CASE("farm cli: merge refuses overlapping and foreign parts and non-parts w
     const std::string seed = part("seed.exr", "'" + Cbox + "' -D res=20 --spp 8 --seed 4 --aov variance,albedo --samples 4:8");
     const std::string scene = part("scene.exr", "'" + Cbox + "' -D res=20 -D spp=2 --spp 8 --seed 3 --aov variance,albedo --samples 4:8");
     const std::string aovs = part("aovs.exr", "'" + Cbox + "' -D res=20 --spp 8 --seed 3 --samples 4:8");
+    const std::string spectral = part("spectral.exr", Render + " --samples 4:8 --variant scalar_spectral");
     REQUIRE(run_command(program("render " + Render + " -q -o " + q(dir / "whole.exr")), dir / "log.txt") == 0);
     struct Case {
         std::string parts, message;
@@ -102,6 +103,7 @@ TEST_CASE("farm cli: merge refuses overlapping and foreign parts and non-parts w
                           {a + " " + seed, "seed 3 against 4"},
                           {a + " " + scene, "scene hash"},
                           {a + " " + aovs, "AOVs"},
+                          {a + " " + spectral, "variant scalar_rgb against scalar_spectral"},
                           {a + " " + q(dir / "whole.exr"), "not a part"},
                           {a + " " + q(dir / "nothing.exr"), "nothing.exr"}};
     for (const Case& c : cases) {
