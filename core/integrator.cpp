@@ -256,11 +256,14 @@ private:
             Ray ray = sensor_.sample_ray(record.film_pos, record.aperture, sample_time(sampler));
             Wavelengths wavelengths;
             if (spectral_) {
-                wavelengths = draw_wavelengths(sampler);
+                wavelengths = draw_wavelengths(sampler, sensor_.response());
                 ray.wavelengths = &wavelengths;
             }
             Spectrum L = integrator_.sample_radiance(scene_, sampler, ray, record);
-            if (spectral_) L = spectral_to_linear_srgb(L, wavelengths);
+            if (spectral_) {
+                if (const SensorResponse* response = sensor_.response()) L *= response->at(wavelengths);
+                L = spectral_to_linear_srgb(L, wavelengths);
+            }
             ++taken;
             if (!values_.fill(L, record.valid, record.channels, values)) {
                 ++nonfinite;

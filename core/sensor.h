@@ -5,6 +5,7 @@
 #include "core/ray.h"
 #include "core/sampler.h"
 #include "core/transform.h"
+#include "core/wavelengths.h"
 
 #include <optional>
 
@@ -100,6 +101,8 @@ public:
     // or the pixel's centre (Mitsuba's jitter = false).
     Vec2 pixel_offset(const Vec2& u) const { return jitter_ ? u : Vec2(0.5f); }
     bool jitter() const { return jitter_; }
+    // The spectral variant's sensor response (`srf`), or null: see SensorResponse.
+    const SensorResponse* response() const { return response_.get(); }
 
 protected:
     Ref<Medium> medium_;
@@ -108,6 +111,7 @@ protected:
     Transform to_world_;
     bool jitter_ = true;
     float shutter_open_ = 0.0f, shutter_open_time_ = 0.0f;
+    std::shared_ptr<const SensorResponse> response_;
 };
 
 }  // namespace candela

@@ -68,11 +68,50 @@ Wavelengths sample_visible_wavelengths(float u) {
     return Wavelengths::at(lambda);
 }
 
-Wavelengths draw_wavelengths(Sampler& sampler) {
+Wavelengths draw_wavelengths(Sampler& sampler, const SensorResponse* response) {
     sampler.set_dimension(SampleDimensions::Wavelength);
     const float u = sampler.next_1d();
     sampler.set_dimension(SampleDimensions::FirstBounce);
-    return sample_visible_wavelengths(u);
+    return response ? response->sample(u) : sample_visible_wavelengths(u);
+}
+
+SensorResponse::SensorResponse(SampledSpectrum srf) : srf_(std::move(srf)) {
+    check_spectrum(srf_);
+    lo_ = std::max(CieMin, srf_.wavelengths.front());
+    hi_ = std::min(CieMax, srf_.wavelengths.back());
+    if (!(hi_ > lo_)) throw SpectrumFormatError("the sensor response lies outside 360-830 nm");
+    const int bins = std::max(1, int(std::ceil(hi_ - lo_)));
+    std::vector<float> weights(size_t(bins), 0.0f);
+    for (int i = 0; i < bins; ++i) {
+        // The bin's mean response (from its ends and middle, Simpson's rule).
+        const double a = lo_ + (hi_ - lo_) * i / bins, b = lo_ + (hi_ - lo_) * (i + 1) / bins;
+        const double mean = (srf_.at(a) + 4.0 * srf_.at(0.5 * (a + b)) + srf_.at(b)) / 6.0;
+        if (mean < 0.0) throw SpectrumFormatError("the sensor response must not be negative");
+        weights[size_t(i)] = float(mean);
+    }
+    bins_ = Distribution1D(std::move(weights));
+    if (!(bins_.total() > 0.0f)) throw SpectrumFormatError("the sensor response is zero over 360-830 nm");
+}
+
+Wavelengths SensorResponse::sample(float u) const {
+    Vec3 lambda, pdf;
+    for (int j = 0; j < WavelengthSamples; ++j) {
+        float uj = u + float(j) / WavelengthSamples;
+        if (uj >= 1.0f) uj -= 1.0f;
+        float pdf_unit = 0.0f;
+        const float x = bins_.sample_continuous(uj, &pdf_unit);
+        lambda[j] = float(lo_ + (hi_ - lo_) * double(x));
+        pdf[j] = float(double(pdf_unit) / (hi_ - lo_));
+    }
+    Wavelengths w = Wavelengths::at(lambda);
+    w.pdf = pdf;
+    return w;
+}
+
+Spectrum SensorResponse::at(const Wavelengths& w) const {
+    Spectrum out;
+    for (int j = 0; j < WavelengthSamples; ++j) out[j] = float(srf_.at(w.lambda[j]));
+    return out;
 }
 
 Spectrum spectral_to_linear_srgb(const Spectrum& values, const Wavelengths& w) {

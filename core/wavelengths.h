@@ -5,6 +5,7 @@
 // those wavelengths; the pixel loop turns the result into linear sRGB through the CIE 1931
 // matching functions before the film sees it, so films, AOVs, farm parts and files stay RGB.
 
+#include "core/distribution.h"
 #include "core/rgb2spec.h"
 #include "core/spectral.h"
 #include "core/spectrum.h"
@@ -36,11 +37,29 @@ float visible_wavelength_pdf(float lambda_nm);
 // by inverting p's distribution (a stratified set, as Mitsuba's sample_shifted).
 Wavelengths sample_visible_wavelengths(float u);
 
+// A sensor's spectral response (Mitsuba's `srf` on a sensor, spectral variant): wavelengths are
+// drawn in proportion to it (piecewise constant over 1 nm bins of its samples within 360-830 nm,
+// with the same 1/3 shifts as the visible density), and each sample's values are weighted by it,
+// so that the image is CIE_Y_NORMALIZATION * integral of srf(l) L(l) cmf(l) dl in XYZ.
+class SensorResponse {
+public:
+    // Throws SpectrumFormatError for a response that is not positive somewhere in 360-830 nm.
+    explicit SensorResponse(SampledSpectrum srf);
+    Wavelengths sample(float u) const;
+    // The response at the wavelengths: what a sample's values are multiplied by.
+    Spectrum at(const Wavelengths& w) const;
+
+private:
+    SampledSpectrum srf_;
+    double lo_ = CieMin, hi_ = CieMax;
+    Distribution1D bins_;
+};
+
 // A camera sample's wavelengths, from the sampler's own dimension for them
-// (SampleDimensions::Wavelength); the sampler is left at the first bounce's dimensions, where a
-// path continues.
+// (SampleDimensions::Wavelength): from the visible density, or from the sensor's response when
+// it has one. The sampler is left at the first bounce's dimensions, where a path continues.
 class Sampler;
-Wavelengths draw_wavelengths(Sampler& sampler);
+Wavelengths draw_wavelengths(Sampler& sampler, const SensorResponse* response = nullptr);
 
 // A path's values at the wavelengths as linear sRGB: the Monte Carlo estimate of
 // CIE_Y_NORMALIZATION * integral of cmf(l) L(l) dl, averaged over the wavelengths (each divided

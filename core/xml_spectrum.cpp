@@ -25,7 +25,8 @@ namespace candela {
 SpectrumRole spectrum_role(bool inside_emitter, const std::string& name) {
     if (inside_emitter) return SpectrumRole::Emission;
     // Mitsuba 3's unbounded spectra (xml.cpp, is_unbounded_spectrum), sigma_t among them.
-    if (name == "eta" || name == "k" || name == "int_ior" || name == "ext_ior" || name == "sigma_t") return SpectrumRole::Unbounded;
+    if (name == "eta" || name == "k" || name == "int_ior" || name == "ext_ior" || name == "sigma_t" || name == "srf")
+        return SpectrumRole::Unbounded;
     return SpectrumRole::Reflectance;
 }
 

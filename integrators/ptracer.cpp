@@ -91,7 +91,9 @@ void ParticleTracerIntegrator::trace_path(const LightPathTracer& tracer, PCG32& 
     // The spectral variant: the path's own wavelengths, from its own stream (RGB draws nothing).
     Wavelengths wavelengths;
     if (scene.spectral()) {
-        wavelengths = sample_visible_wavelengths(rng.next_float());
+        const float u = rng.next_float();
+        const SensorResponse* response = scene.sensor().response();
+        wavelengths = response ? response->sample(u) : sample_visible_wavelengths(u);
         start.wavelengths = &wavelengths;
     }
     if (!tracer.start(rng, start)) return;
@@ -168,8 +170,13 @@ void ParticleTracerIntegrator::connect_vertex(const Scene& scene, const LightVer
 
 void ParticleTracerIntegrator::splat(const Scene& scene, const Vec2& film_pos, const Spectrum& path_value, const Wavelengths* wavelengths,
                                      ChunkSplats& out) const {
-    // The film takes colours: in the spectral variant the path's values through CIE 1931.
-    const Spectrum value = wavelengths ? spectral_to_linear_srgb(path_value, *wavelengths) : path_value;
+    // The film takes colours: in the spectral variant the path's values, weighted by the sensor's
+    // response when it has one, through CIE 1931.
+    Spectrum value = path_value;
+    if (wavelengths) {
+        if (const SensorResponse* response = scene.sensor().response()) value *= response->at(*wavelengths);
+        value = spectral_to_linear_srgb(value, *wavelengths);
+    }
     if (!storable_sample_value(value)) {
         ++out.nonfinite;
         return;

@@ -5,6 +5,7 @@
 #include "core/parameters.h"
 #include "core/properties.h"
 #include "core/registry.h"
+#include "core/texture.h"
 
 namespace candela {
 
@@ -40,9 +41,20 @@ ProjectiveCamera::ProjectiveCamera(const Properties& props) {
     jitter_ = props.get_bool("jitter", true);
     if (!(props.get_float("cone_scale", 1.0f) > 0.0f)) props.fail("cone_scale", "cone_scale must be positive");
 
-    if (props.has("srf"))
-        props.fail("srf",
-                   "a sensor response function (srf) needs a spectral variant; Candela renders in RGB, where Mitsuba rejects it too");
+    if (props.has("srf")) {
+        if (props.variant() == Variant::ScalarRGB)
+            props.fail("srf",
+                       "a sensor response function (srf) needs a spectral variant (--variant scalar_spectral); Mitsuba's RGB "
+                       "variants reject it too");
+        auto measured = props.measured_spectrum("srf");
+        if (!measured) props.fail("srf", "srf must be a spectrum of samples (wavelength:value pairs, a file, regular or irregular)");
+        props.get_texture("srf");  // read: it is the response below
+        try {
+            response_ = std::make_shared<SensorResponse>(measured->spectrum());
+        } catch (const SpectrumFormatError& e) {
+            props.fail("srf", e.what());
+        }
+    }
 }
 
 PinholeProjection ProjectiveCamera::pinhole_projection(const Properties& props) const {

@@ -17,8 +17,10 @@
 //                                  anisotropic bitmap filtering (default 1, positive); accepted
 //                                  and unused, as Candela's bitmap filters (nearest, bilinear)
 //                                  take no footprint, in Mitsuba neither
-//   srf                spectrum    rejected: a sensor response needs a spectral variant, and
-//                                  Candela renders in RGB (Mitsuba's RGB variants reject it too)
+//   srf                spectrum    the sensor's spectral response, spectral variant only (RGB
+//                                  rejects it, as Mitsuba's RGB variants do): wavelengths are
+//                                  drawn in proportion to it and each sample is weighted by it,
+//                                  so a pixel is the colour of srf(l) L(l) (core/wavelengths.h)
 //   film, sampler      nested      default: hdrfilm and independent
 
 #include "core/animated_transform.h"
