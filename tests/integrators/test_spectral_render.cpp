@@ -68,7 +68,7 @@ TEST_CASE("spectral: lossless BSDFs under an equal-energy sky render its colour"
           R"(<bsdf type="dielectric"><float name="int_ior" value="1.5"/><float name="ext_ior" value="1"/></bsdf>)",
           R"(<bsdf type="dielectric"><string name="int_ior" value="glass-SF11"/><float name="ext_ior" value="1"/></bsdf>)",
           R"(<bsdf type="conductor"><string name="material" value="none"/></bsdf>)"}) {
-        check_colour(render_spectral(furnace_xml(sky, bsdf, effort_scaled(64, 16))), expected, bsdf);
+        check_colour(render_spectral(furnace_xml(sky, bsdf, 64)), expected, bsdf);
     }
 }
 
@@ -79,8 +79,7 @@ TEST_CASE("spectral: an RGB sky is its colour times D65, white for white", "[ren
     for (Vec3 rgb : {Vec3(1.0f), Vec3(0.9f, 0.5f, 0.2f), Vec3(0.1f, 0.3f, 2.0f)}) {
         char sky[128];
         std::snprintf(sky, sizeof sky, R"(<rgb name="radiance" value="%g, %g, %g"/>)", rgb.x, rgb.y, rgb.z);
-        RenderResult r =
-            render_spectral(furnace_xml(sky, R"(<bsdf type="diffuse"><rgb name="reflectance" value="1"/></bsdf>)", effort_scaled(64, 16)));
+        RenderResult r = render_spectral(furnace_xml(sky, R"(<bsdf type="diffuse"><rgb name="reflectance" value="1"/></bsdf>)", 64));
         // The exact expectation is the colour of the upsampled spectrum (within 5e-3 of rgb: the
         // test of core/wavelengths); compare with it through its own estimate's error bars.
         const double z = two_sided_z(sidak(0.01, FurnaceTests));
@@ -139,7 +138,7 @@ TEST_CASE("spectral: ptracer's light paths and path's camera paths estimate the 
         <emitter type="area"><spectrum name="radiance" value="400:1, 500:3, 600:2, 700:5"/></emitter></shape>
 </scene>)";
     };
-    const int seeds = effort_scaled(12, 6);
+    const int seeds = 12;
     auto image_means = [&](const std::string& integrator, int channel) {
         Ref<Scene> s =
             load_scene_from_string(scene(integrator), scratch_dir("spectral_ptracer").string() + "/scene.xml", {}, Variant::ScalarSpectral);
@@ -198,7 +197,7 @@ TEST_CASE("spectral: the irradiance estimate under a uniform sky is pi L per cha
     // (each sample carries its wavelengths, so colour noise is in them).
     Ref<Scene> scene = load_scene(source_path("scenes/furnace/sky_irradiance.xml"), {}, Variant::ScalarSpectral);
     EstimatorOptions options;
-    options.samples = uint64_t(effort_scaled(1 << 16, 1 << 13));
+    options.samples = uint64_t(1) << 16;
     Estimate e = estimate_irradiance(*scene, Vec3(0.0f), Vec3(0, 1, 0), options);
     const double expected = Pi * 0.7, z = two_sided_z(sidak(0.01, 3));
     for (int c = 0; c < 3; ++c) {
@@ -213,8 +212,8 @@ TEST_CASE("spectral: the irradiance estimate under a uniform sky is pi L per cha
 TEST_CASE("spectral: a sensor response (srf) weights the wavelengths it lets through", "[render][spectral][srf]") {
     // A triangular response 500-580 nm under an equal-energy sky on a lossless sphere: every pixel
     // is the colour of the response itself, CIE_Y_NORMALIZATION * integral of srf cmf.
-    std::string xml = furnace_xml(R"(<spectrum name="radiance" value="1"/>)",
-                                  R"(<bsdf type="diffuse"><rgb name="reflectance" value="1"/></bsdf>)", effort_scaled(64, 16));
+    std::string xml =
+        furnace_xml(R"(<spectrum name="radiance" value="1"/>)", R"(<bsdf type="diffuse"><rgb name="reflectance" value="1"/></bsdf>)", 64);
     const std::string fov = R"(<float name="fov" value="35"/>)";
     xml.replace(xml.find(fov), fov.size(), fov + R"(<spectrum name="srf" value="500:0, 540:1, 580:0"/>)");
     auto srf = [](double l) { return std::max(0.0, 1.0 - std::abs(l - 540.0) / 40.0); };

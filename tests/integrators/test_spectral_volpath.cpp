@@ -66,7 +66,7 @@ TEST_CASE("spectral volpath: Beer-Lambert rendered through a slab of measured si
         INFO(integrator);
         const std::string xml = scene_xml(std::string(R"(<integrator type=")") + integrator + R"("/>
         <sensor type="orthographic"><transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>)" +
-                                          box_film(16, effort_scaled(256, 32)) + R"(</sensor>
+                                          box_film(16, 256) + R"(</sensor>
         <shape type="rectangle"><transform name="to_world"><scale value="10"/></transform>
             <bsdf type="diffuse"><rgb name="reflectance" value="0"/></bsdf>
             <emitter type="area"><spectrum name="radiance" value="1"/></emitter></shape>
@@ -118,7 +118,7 @@ TEST_CASE("spectral volpath: furnace, a sphere of albedo-1 medium under an equal
                        scene_xml(std::string(R"(<integrator type=")") + integrator + R"("/>)" +
                                  R"(<sensor type="perspective"><float name="fov" value="40"/>
                 <transform name="to_world"><lookat origin="0, 0, 3" target="0, 0, 0" up="0, 1, 0"/></transform>)" +
-                                 box_film(24, effort_scaled(256, 32)) + R"(</sensor>
+                                 box_film(24, 256) + R"(</sensor>
                 <emitter type="constant"><spectrum name="radiance" value="1"/></emitter>)" +
                                  c.medium + R"(<shape type="sphere">)" + c.boundary + R"(<ref name="interior" id="m"/></shape>)"));
             Ref<Scene> scene = load_scene((dir / "scene.xml").string(), {}, Variant::ScalarSpectral);
