@@ -170,8 +170,6 @@ void add_variant_option(CLI::App* cmd, std::string& variant) {
         ->check([](const std::string& name) -> std::string {
             auto v = parse_variant(name);
             if (!v) return "--variant \"" + name + "\" is not a variant (known: " + variant_names() + ")";
-            if (*v == Variant::ScalarSpectralPolarized)
-                return "--variant scalar_spectral_polarized (polarized rendering) is not implemented yet; use scalar_spectral or scalar_rgb";
             return "";
         });
 }

@@ -5,6 +5,7 @@
 // sample returns the weight f * |cos(wo)| / pdf (for a delta lobe, the weight alone). Every BSDF
 // is one-sided unless wrapped in `twosided`; transmissive ones are two-sided by nature.
 
+#include "core/mueller.h"
 #include "core/object.h"
 #include "core/ray.h"
 #include "core/spectrum.h"
@@ -77,6 +78,20 @@ public:
     // vector, D and G1) override it to do that work once.
     virtual BSDFEvalPdf eval_pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const {
         return BSDFEvalPdf{eval(ctx, si, wo), pdf(ctx, si, wo)};
+    }
+
+    // The polarized variant (core/mueller.h): the Mueller matrix, at the path's wavelengths, of
+    // light that arrives along -wo and leaves along wi, in the implicit Stokes bases of those two
+    // local directions (Mitsuba's convention). For a delta `lobe` (what sample() chose, wo its
+    // direction) the matrix of that lobe; for any other `lobe` the smooth lobes at wo, as eval()
+    // sums them. Only its polarising part is used: the path divides it by its (0, 0) element per
+    // wavelength and keeps eval()'s and sample()'s values as the intensity, so a BSDF may return
+    // it times any positive factor per wavelength. False for a BSDF that depolarises (the matrix
+    // diag(1, 0, 0, 0), `M` untouched): the default, and Mitsuba's for every BSDF without a
+    // polarised model.
+    virtual bool eval_mueller(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo, uint32_t lobe,
+                              MuellerSpectrum& M) const {
+        return false;
     }
 
     // Directional albedo estimate for AOVs and light-path heuristics (not used for rendering).

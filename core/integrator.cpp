@@ -2,6 +2,7 @@
 
 #include "core/bsdf.h"
 #include "core/memory_budget.h"
+#include "core/mueller.h"
 #include "core/parallel.h"
 #include "core/progress.h"
 #include "core/registry.h"
@@ -216,7 +217,8 @@ public:
           values_(values),
           first_hit_(layers.first_hit()),
           differential_scale_(1.0f / std::sqrt(float(std::max(spp, 1)))),
-          spectral_(scene.spectral()) {}
+          spectral_(scene.spectral()),
+          polarized_(scene.polarized()) {}
 
     // Samples `samples` of every pixel the tile samples, unless the render was interrupted before.
     void sample_tile(Tile& tile, const SampleRange& samples, Sampler& sampler, Interruption& interruption, RenderCounters& counters,
@@ -255,8 +257,10 @@ private:
             record.first_hit = first_hit_ ? &aov : nullptr;
             Ray ray = sensor_.sample_ray(record.film_pos, record.aperture, sample_time(sampler));
             Wavelengths wavelengths;
+            StokesSpectrum stokes;  // what a polarized path sums besides its S0
             if (spectral_) {
                 wavelengths = draw_wavelengths(sampler, sensor_.response());
+                if (polarized_) wavelengths.stokes = &stokes;
                 ray.wavelengths = &wavelengths;
             }
             Spectrum L = integrator_.sample_radiance(scene_, sampler, ray, record);
@@ -293,7 +297,7 @@ private:
     const SampleLayout& values_;
     const bool first_hit_;
     const float differential_scale_;
-    const bool spectral_;
+    const bool spectral_, polarized_;
 };
 
 // Adaptive sampling's check, between passes. A pixel's error is Cycles' estimate

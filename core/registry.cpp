@@ -54,12 +54,10 @@ namespace {
 // in it, and rendering these plugins as something else would give a silently wrong picture.
 const char* unsupported_reason(ObjectKind kind, const std::string& type) {
     static const char* differentiable = "differentiable rendering is not supported (render media with volpath or volpathmis)";
-    static const char* polarisation = "polarisation is not supported (Candela renders unpolarised RGB only)";
+    static const char* polarisation = "it is not implemented yet (the polarized variant renders the other BSDFs)";
     static const std::map<std::pair<ObjectKind, std::string>, const char*> table = {
         {{ObjectKind::Integrator, "prbvolpath"}, differentiable},
-        {{ObjectKind::Integrator, "stokes"}, polarisation},
         {{ObjectKind::BSDF, "measured_polarized"}, polarisation},
-        {{ObjectKind::BSDF, "retarder"}, polarisation},
     };
     auto it = table.find({kind, type});
     return it == table.end() ? nullptr : it->second;

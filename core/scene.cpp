@@ -2,6 +2,7 @@
 
 #include "core/bsdf.h"
 #include "core/medium.h"
+#include "core/mueller.h"
 #include "core/registry.h"
 
 #include <algorithm>
@@ -99,13 +100,13 @@ bool Scene::intersect(const Ray& ray, SurfaceInteraction& si) const {
     return true;
 }
 
-Spectrum Scene::transmittance(const Ray& shadow_ray) const {
+Spectrum Scene::transmittance(const Ray& shadow_ray, MuellerSpectrum* crossed) const {
     if (!has_null_surfaces_) return occluded(shadow_ray) ? Spectrum(0.0f) : Spectrum(1.0f);
     PCG32 unused;
-    return transmittance(shadow_ray, nullptr, unused);
+    return transmittance(shadow_ray, nullptr, unused, crossed);
 }
 
-Spectrum Scene::transmittance(const Ray& shadow_ray, const Medium* medium, PCG32& rng) const {
+Spectrum Scene::transmittance(const Ray& shadow_ray, const Medium* medium, PCG32& rng, MuellerSpectrum* mueller) const {
     // Cross the surfaces one by one, at most MaxNullCrossings of them.
     Spectrum T(1.0f);
     Ray ray = unit_direction(shadow_ray);  // distances along it are measured below
@@ -115,8 +116,18 @@ Spectrum Scene::transmittance(const Ray& shadow_ray, const Medium* medium, PCG32
         if (medium) T *= medium->transmittance(ray, found ? si.t : ray.tmax, rng);
         if (!found || is_black(T)) return T;
         if (crossed == MaxNullCrossings) return Spectrum(0.0f);
-        T *= si.shape->bsdf()->null_transmission(si);
+        const BSDF& bsdf = *si.shape->bsdf();
+        T *= bsdf.null_transmission(si);
         if (is_black(T)) return T;
+        if (mueller) {
+            BSDFContext ctx;
+            ctx.lobes = Null;
+            MuellerSpectrum N;
+            if (normalized_world_mueller(bsdf, ctx, si, -si.wi, Null, N))
+                multiply_right(*mueller, N);
+            else
+                multiply_right_depolarizer(*mueller);
+        }
         if (si.shape->is_medium_transition()) medium = si.shape->target_medium(si, ray.d);
         Vec3 origin = offset_ray_origin(si.p, si.p_error, si.n, ray.d);
         float remaining = ray.tmax - glm::dot(origin - ray.o, ray.d);  // inf stays inf

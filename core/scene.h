@@ -14,6 +14,8 @@
 
 namespace candela {
 
+struct MuellerSpectrum;
+
 // The most surfaces with a Null lobe (null, mask, polarizer) that one ray crosses without
 // scattering: a shadow ray, or a path between two scattering vertices. A ray that keeps meeting
 // such surfaces (coplanar layers the ray offsets cannot separate, a degenerate stack) is taken as
@@ -31,11 +33,14 @@ public:
     // The fraction of light that travels along the shadow ray unblocked: 0 or 1 from one any-hit
     // query, unless the scene has surfaces with a Null lobe (null, mask, polarizer); then the
     // product of the null_transmission() of every surface the ray crosses (0 at an opaque one).
-    Spectrum transmittance(const Ray& ray) const;
+    // With `crossed` (the polarized variant; identity on entry) also the product, from the ray's
+    // origin outward, of the crossed surfaces' normalised Mueller matrices (for light travelling
+    // back along the ray; normalized_world_mueller of their Null lobe).
+    Spectrum transmittance(const Ray& ray, MuellerSpectrum* crossed = nullptr) const;
     // The same for a shadow ray that starts in `medium` (null: vacuum): each stretch also takes
     // its medium's transmittance (ratio tracking draws from `rng`), and the medium changes where
     // the ray crosses a shape with an interior or exterior medium.
-    Spectrum transmittance(const Ray& ray, const Medium* medium, PCG32& rng) const;
+    Spectrum transmittance(const Ray& ray, const Medium* medium, PCG32& rng, MuellerSpectrum* crossed = nullptr) const;
     // Whether any shape or the sensor carries a participating medium.
     bool has_media() const { return has_media_; }
     // Whether a shape, the sensor or an emitter has an animated to_world (motion blur).
@@ -63,6 +68,7 @@ public:
     // The variant it was loaded for (core/variant.h): the spectral variant samples wavelengths.
     Variant variant() const { return variant_; }
     bool spectral() const { return variant_ != Variant::ScalarRGB; }
+    bool polarized() const { return variant_ == Variant::ScalarSpectralPolarized; }
 
     std::string source_file;  // the scene file it was loaded from
     // The scene file's parameters after <default>s and -D overrides, substituted ($name) as

@@ -14,10 +14,15 @@ namespace candela {
 
 constexpr int WavelengthSamples = 3;  // one per Spectrum component
 
+struct StokesSpectrum;
+
 struct Wavelengths {
     Vec3 lambda{550.0f};  // nm
     Vec3 pdf{1.0f};       // per nm, of each wavelength as drawn; 0 for a terminated one
     Vec3 d65{1.0f};       // CIE D65 at each wavelength (normalised as cie_d65): what emission multiplies
+    // The polarized variant: where the sample's Stokes vector sums (core/mueller.h), in the
+    // implicit basis of light arriving along -ray.d; null in the other variants.
+    StokesSpectrum* stokes = nullptr;
 
     // These wavelengths with the visible density's pdf and D65 filled in.
     static Wavelengths at(const Vec3& lambda_nm);

@@ -58,23 +58,25 @@ public:
 
     Spectrum sample_radiance(const Scene& scene, Sampler& sampler, const Ray& camera_ray, SampleRecord& record) const override {
         Spectrum L(0.0f), beta(1.0f);
+        PolarizedPath camera(camera_ray.wavelengths);  // the polarized variant's null crossings
         Ray ray = camera_ray;
         for (int crossed = 0; crossed <= MaxNullCrossings; ++crossed) {
             const bool first = crossed == 0;
             SurfaceInteraction si;
             if (!scene.intersect(ray, si)) {
-                if (!hide_emitters_) L += beta * scene.eval_environment(ray.d, ray.wavelengths);
+                if (!hide_emitters_) L += camera.contribute(beta * scene.eval_environment(ray.d, ray.wavelengths));
                 return L;
             }
             const BSDF& bsdf = *si.shape->bsdf();
             if (first) record.record_first_hit(si);
             if ((bsdf.flags() & ~uint32_t(Null)) != 0) record.valid = true;
-            if (const Emitter* emitter = si.shape->emitter(); emitter && !hide_emitters_) L += beta * emitter->eval(si);
-            L += beta * scattered_direct(scene, sampler, si, bsdf);
+            if (const Emitter* emitter = si.shape->emitter(); emitter && !hide_emitters_) L += camera.contribute(beta * emitter->eval(si));
+            L += scattered_direct(scene, sampler, si, bsdf, beta, camera);
             // Through a null surface, as path crosses it: what lies behind, seen directly still.
             if (!bsdf.has_null_lobe()) return L;
             beta *= bsdf.null_transmission(si);
             if (is_black(beta)) return L;
+            camera.scatter(bsdf, null_lobe(), si, -si.wi, Null);
             ray = si.spawn_ray(ray.d);
         }
         return L;  // more null surfaces than a ray crosses: blocked
@@ -83,42 +85,60 @@ public:
     std::string to_string() const override { return "direct"; }
 
 private:
-    // The direct light that the non-null lobes of `bsdf` scatter toward si.wi.
-    Spectrum scattered_direct(const Scene& scene, Sampler& sampler, const SurfaceInteraction& si, const BSDF& bsdf) const {
+    static BSDFContext null_lobe() {
+        BSDFContext ctx;
+        ctx.lobes = Null;
+        return ctx;
+    }
+
+    // The direct light that the non-null lobes of `bsdf` scatter toward si.wi, times `beta`, what
+    // the camera ray lost on its way to si (`camera`: its polarisation).
+    Spectrum scattered_direct(const Scene& scene, Sampler& sampler, const SurfaceInteraction& si, const BSDF& bsdf, const Spectrum& beta,
+                              const PolarizedPath& camera) const {
         BSDFContext ctx;
         ctx.lobes = AllLobes & ~uint32_t(Null);
         if ((bsdf.flags() & ctx.lobes) == 0) return Spectrum(0.0f);
         Spectrum L(0.0f);
         if (bsdf.has_smooth_lobe())
-            for (int i = 0; i < emitter_samples_; ++i)
-                L += sample_emitter_mis(scene, *lights_, sampler, si, bsdf, ctx, shares_) / float(emitter_samples_);
+            for (int i = 0; i < emitter_samples_; ++i) {
+                StokesSpectrum arriving;
+                const Spectrum nee =
+                    sample_emitter_mis(scene, *lights_, sampler, si, bsdf, ctx, shares_, {}, camera.active() ? &arriving : nullptr);
+                L += camera.contribute(beta * nee / float(emitter_samples_), &arriving);
+            }
         for (int i = 0; i < bsdf_samples_; ++i) {
             float u_lobe = sampler.next_1d();
             Vec2 u_dir = sampler.next_2d();
             BSDFSample bs = bsdf.sample(ctx, si, u_lobe, u_dir);
             if (!bs.valid() || is_black(bs.weight)) continue;
+            PolarizedPath branch = camera;
+            branch.scatter(bsdf, ctx, si, bs.wo, bs.lobe);
             Ray ray = si.spawn_ray(si.to_world(bs.wo));
-            L += bs.weight * emission_along(scene, ray, si, bs.pdf, is_delta(bs.lobe)) / float(bsdf_samples_);
+            L += emission_along(scene, ray, si, bs.pdf, is_delta(bs.lobe), beta * bs.weight / float(bsdf_samples_), branch);
         }
         return L;
     }
 
-    // The emission a BSDF sample from `from` (pdf `pdf`) finds along `ray`: the emitters it hits,
-    // through null surfaces (their null_transmission, as shadow rays see them), or the
-    // environment, each weighted against light sampling.
-    Spectrum emission_along(const Scene& scene, Ray ray, const SurfaceInteraction& from, float pdf, bool delta) const {
-        Spectrum L(0.0f), T(1.0f);
+    // The emission a BSDF sample from `from` (pdf `pdf`, weight `T`, polarisation `path`) finds
+    // along `ray`: the emitters it hits, through null surfaces (their null_transmission, as
+    // shadow rays see them), or the environment, each weighted against light sampling.
+    Spectrum emission_along(const Scene& scene, Ray ray, const SurfaceInteraction& from, float pdf, bool delta, Spectrum T,
+                            PolarizedPath path) const {
+        Spectrum L(0.0f);
         for (int crossed = 0; crossed <= MaxNullCrossings; ++crossed) {
             SurfaceInteraction si;
-            if (!scene.intersect(ray, si)) return L + T * environment_mis(scene, *lights_, from, ray.d, pdf, delta, shares_);
+            if (!scene.intersect(ray, si))
+                return L + path.contribute(T * environment_mis(scene, *lights_, from, ray.d, pdf, delta, shares_));
             if (const Emitter* emitter = si.shape->emitter()) {
                 Spectrum Le = emitter->eval(si);
-                if (!is_black(Le)) L += T * Le * (delta ? 1.0f : emitter_hit_weight(*lights_, from, pdf, *emitter, si, shares_));
+                if (!is_black(Le))
+                    L += path.contribute(T * Le * (delta ? 1.0f : emitter_hit_weight(*lights_, from, pdf, *emitter, si, shares_)));
             }
             const BSDF& bsdf = *si.shape->bsdf();
             if (!bsdf.has_null_lobe()) return L;
             T *= bsdf.null_transmission(si);
             if (is_black(T)) return L;
+            path.scatter(bsdf, null_lobe(), si, -si.wi, Null);
             ray = si.spawn_ray(ray.d);
         }
         return L;

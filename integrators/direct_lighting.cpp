@@ -2,8 +2,52 @@
 
 #include "core/sampler.h"
 #include "core/scene.h"
+#include "core/wavelengths.h"
 
 namespace candela {
+
+PolarizedPath::PolarizedPath(const Wavelengths* wavelengths) : stokes(wavelengths ? wavelengths->stokes : nullptr) {
+    if (stokes) product = identity_spectrum();
+}
+
+Spectrum PolarizedPath::contribute(const Spectrum& c, const StokesSpectrum* arriving) const {
+    if (!stokes) return c;
+    Spectrum s0;
+    for (int k = 0; k < 3; ++k) {
+        const Mueller& P = product.w[k];
+        // Unpolarised light is the first column's direction: P (1, 0, 0, 0).
+        const Stokes s = arriving ? P * arriving->w[k] : Stokes(P.m[0][0], P.m[1][0], P.m[2][0], P.m[3][0]);
+        stokes->w[k] += c[k] * s;
+        s0[k] = c[k] * s[0];
+    }
+    return s0;
+}
+
+void PolarizedPath::scatter(const BSDF& bsdf, const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo, uint32_t lobe) {
+    if (!stokes) return;
+    MuellerSpectrum N;
+    if (normalized_world_mueller(bsdf, ctx, si, wo, lobe, N))
+        multiply_right(product, N);
+    else
+        multiply_right_depolarizer(product);
+}
+
+StokesSpectrum arriving_light(const MuellerSpectrum& crossed, const BSDF* bsdf, const BSDFContext& ctx, const SurfaceInteraction& si,
+                              const Vec3& wo) {
+    StokesSpectrum s;
+    for (int k = 0; k < 3; ++k) {
+        const Mueller& Q = crossed.w[k];
+        s.w[k] = Stokes(Q.m[0][0], Q.m[1][0], Q.m[2][0], Q.m[3][0]);
+    }
+    if (!bsdf) return s;
+    MuellerSpectrum N;
+    if (!normalized_world_mueller(*bsdf, ctx, si, wo, BSDFNone, N)) {
+        for (Stokes& v : s.w) v = Stokes(v[0], 0.0f, 0.0f, 0.0f);
+        return s;
+    }
+    for (int k = 0; k < 3; ++k) s.w[k] = N.w[k] * s.w[k];
+    return s;
+}
 
 LightSample draw_light_sample(const LightSampler& lights, Sampler& sampler, const SurfaceInteraction& at) {
     float u_pick = sampler.next_1d();
@@ -21,7 +65,8 @@ Ray shadow_ray(const SurfaceInteraction& at, const DirectionSample& ds) {
 }
 
 Spectrum sample_emitter_mis(const Scene& scene, const LightSampler& lights, Sampler& sampler, const SurfaceInteraction& si,
-                            const BSDF& bsdf, const BSDFContext& ctx, StrategyShares shares, const PathMedium& medium) {
+                            const BSDF& bsdf, const BSDFContext& ctx, StrategyShares shares, const PathMedium& medium,
+                            StokesSpectrum* arriving) {
     const LightSample light = draw_light_sample(lights, sampler, si);
     if (!light.valid()) return Spectrum(0.0f);
     const DirectionSample& ds = light.ds;
@@ -31,13 +76,17 @@ Spectrum sample_emitter_mis(const Scene& scene, const LightSampler& lights, Samp
     const Spectrum& f = f_pdf.value;
     if (is_black(f)) return Spectrum(0.0f);
     Spectrum T(0.0f);
+    MuellerSpectrum crossed;
+    if (arriving) crossed = identity_spectrum();
+    MuellerSpectrum* polarized = arriving ? &crossed : nullptr;
     if (medium.rng) {
         const Medium* start = si.shape->is_medium_transition() ? si.shape->target_medium(si, ds.d) : medium.medium;
-        T = scene.transmittance(shadow_ray(si, ds), start, *medium.rng);  // through media, null surfaces and masks
+        T = scene.transmittance(shadow_ray(si, ds), start, *medium.rng, polarized);  // through media, null surfaces and masks
     } else {
-        T = scene.transmittance(shadow_ray(si, ds));  // through null surfaces and masks
+        T = scene.transmittance(shadow_ray(si, ds), polarized);  // through null surfaces and masks
     }
     if (is_black(T)) return Spectrum(0.0f);
+    if (arriving) *arriving = arriving_light(crossed, &bsdf, ctx, si, wo);
     float w = ds.delta ? 1.0f : power_heuristic(ds.pdf * light.pick_prob * shares.emitter, f_pdf.pdf * shares.bsdf);
     return T * f * light.weight * (w / light.pick_prob);
 }

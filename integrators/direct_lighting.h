@@ -16,6 +16,27 @@ class Medium;
 class Scene;
 class Sampler;
 
+// The polarized variant's part of a camera path (core/mueller.h): the product of the Mueller
+// matrices it has met since the camera, in world bases and each divided by its (0, 0) element
+// (the intensity stays in the path's throughput, as in the other variants), and the sample's
+// Stokes sum it adds to. Inactive (stokes null, every call a no-op) in the other variants.
+struct PolarizedPath {
+    StokesSpectrum* stokes = nullptr;
+    MuellerSpectrum product;
+
+    PolarizedPath() = default;
+    // Active when the wavelengths carry a Stokes sum (the polarized variant).
+    explicit PolarizedPath(const Wavelengths* wavelengths);
+    bool active() const { return stokes != nullptr; }
+    // A contribution `c` to the sample (its intensity, as the other variants add it) of light
+    // reaching the path's current vertex with normalised Stokes vectors `arriving` (null:
+    // unpolarised, as every emitter emits): adds the Stokes vector the camera sees to the sum and
+    // returns its S0, what the film adds.
+    Spectrum contribute(const Spectrum& c, const StokesSpectrum* arriving = nullptr) const;
+    // The path goes on from `si` through `lobe` of `bsdf` toward `wo` (local).
+    void scatter(const BSDF& bsdf, const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo, uint32_t lobe);
+};
+
 struct StrategyShares {
     float emitter = 1.0f, bsdf = 1.0f;
 };
@@ -51,9 +72,16 @@ Ray shadow_ray(const SurfaceInteraction& at, const DirectionSample& ds);
 // radiance times the BSDF and the shadow ray's transmittance (through null surfaces, and media
 // when `medium` has an rng: the ray starts in the medium on its side of si), over the light's
 // pdf, weighted against BSDF sampling (weight 1 for delta lights). Draws one 1D and one 2D
-// number.
+// number. With `arriving` (the polarized variant) also the normalised Stokes vectors of that
+// light as it leaves si toward si.wi (what PolarizedPath::contribute takes).
 Spectrum sample_emitter_mis(const Scene& scene, const LightSampler& lights, Sampler& sampler, const SurfaceInteraction& si,
-                            const BSDF& bsdf, const BSDFContext& ctx, StrategyShares shares = {}, const PathMedium& medium = {});
+                            const BSDF& bsdf, const BSDFContext& ctx, StrategyShares shares = {}, const PathMedium& medium = {},
+                            StokesSpectrum* arriving = nullptr);
+// The light arriving at a vertex from a shadow ray that crossed polarising null surfaces
+// (`crossed`, Scene::transmittance's product), then scattered there by `bsdf` toward si.wi
+// (skipped for a null `bsdf`: a medium's phase function keeps the polarisation, as in Mitsuba).
+StokesSpectrum arriving_light(const MuellerSpectrum& crossed, const BSDF* bsdf, const BSDFContext& ctx, const SurfaceInteraction& si,
+                              const Vec3& wo);
 
 // The MIS weight of the emission of `emitter` at `hit`, found by a BSDF sample of solid-angle pdf
 // `bsdf_pdf` from `from` (not a delta lobe), against next-event estimation from `from`.

@@ -42,16 +42,18 @@ void PathIntegrator::prepare(const Scene& scene) { lights_ = create_light_sample
 Spectrum PathIntegrator::sample_radiance(const Scene& scene, Sampler& sampler, const Ray& ray, SampleRecord& record) const {
     if (settings_.max_depth == 0) return Spectrum(0.0f);
     const bool environment_seen = !settings_.hide_emitters && !scene.infinite_emitters().empty();
+    // Emission seen directly reaches the camera unpolarised (what the polarized variant sums).
+    const PolarizedPath camera(ray.wavelengths);
     SurfaceInteraction si;
     if (!scene.intersect(ray, si)) {
         record.valid = environment_seen;
-        return settings_.hide_emitters ? Spectrum(0.0f) : scene.eval_environment(ray.d, ray.wavelengths);
+        return settings_.hide_emitters ? Spectrum(0.0f) : camera.contribute(scene.eval_environment(ray.d, ray.wavelengths));
     }
     record.record_first_hit(si);
     Spectrum L(0.0f);
     // Seen directly: no MIS (the camera ray is a delta "lobe"). A hidden emitter still scatters
     // what reaches it, as in Mitsuba 3: only its emission on the first segment is left out.
-    if (const Emitter* emitter = si.shape->emitter(); emitter && !settings_.hide_emitters) L += emitter->eval(si);
+    if (const Emitter* emitter = si.shape->emitter(); emitter && !settings_.hide_emitters) L += camera.contribute(emitter->eval(si));
     bool scattered = false;
     L += continue_path(scene, sampler, si, *si.shape->bsdf(), 0, &scattered);
     record.valid = scattered || environment_seen;
@@ -62,6 +64,7 @@ Spectrum PathIntegrator::continue_path(const Scene& scene, Sampler& sampler, con
                                        uint32_t depth, bool* scattered_somewhere) const {
     Spectrum L(0.0f);
     CameraPath path;
+    path.polarization = PolarizedPath(start.wavelengths);
     path.depth = depth;
     path.from.at = start;
     SurfaceInteraction si = start;

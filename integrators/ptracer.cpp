@@ -63,6 +63,10 @@ constexpr uint64_t BatchChunks = 64;  // chunks traced before their splats are a
 class ParticleTracerIntegrator final : public Integrator {
 public:
     explicit ParticleTracerIntegrator(const Properties& props) {
+        if (props.variant() == Variant::ScalarSpectralPolarized)
+            props.fail(
+                "ptracer does not render in variant scalar_spectral_polarized yet (its light paths carry no Stokes vector); "
+                "it renders in scalar_spectral and scalar_rgb");
         settings_ = read_path_settings(props, DepthSettings | HideEmittersSetting);
         int per_pass = props.get_int("samples_per_pass", -1);
         if (per_pass == 0 || per_pass < -1) props.fail("samples_per_pass", "samples_per_pass must be positive (or -1)");

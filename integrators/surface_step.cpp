@@ -36,8 +36,12 @@ bool surface_step(const Scene& scene, const LightSampler& lights, const PathSett
     if (!may_scatter) ctx.lobes = Null;
     // draw_light_sample takes the light pick, then the light position (LightPick, LightPosition).
     sampler.set_dimension(dims + SampleDimensions::LightPick);
-    if (may_scatter && bsdf.has_smooth_lobe())
-        L += path.weights.estimate_weight() * sample_emitter_mis(scene, lights, sampler, si, bsdf, BSDFContext(), {}, medium);
+    if (may_scatter && bsdf.has_smooth_lobe()) {
+        StokesSpectrum arriving;
+        const Spectrum nee = sample_emitter_mis(scene, lights, sampler, si, bsdf, BSDFContext(), {}, medium,
+                                                path.polarization.active() ? &arriving : nullptr);
+        L += path.polarization.contribute(path.weights.estimate_weight() * nee, &arriving);
+    }
 
     sampler.set_dimension(dims + SampleDimensions::Lobe);
     const float u_lobe = sampler.next_1d();
@@ -47,6 +51,7 @@ bool surface_step(const Scene& scene, const LightSampler& lights, const PathSett
     if (!bs.valid() || is_black(bs.weight)) return false;
     if (bs.dispersed && si.wavelengths) si.wavelengths->terminate_secondary();
     path.weights.beta *= bs.weight;
+    path.polarization.scatter(bsdf, ctx, si, bs.wo, bs.lobe);
     if (bs.lobe == Null) {
         // No scattering event: neither the depth nor the vertex MIS weights refer to changes.
         if (++path.null_crossings > MaxNullCrossings) return false;
@@ -66,14 +71,15 @@ Spectrum emission_found(const LightSampler& lights, const PathSettings& settings
     if (!emitter || (settings.hide_emitters && path.depth == 0)) return Spectrum(0.0f);
     const Spectrum Le = emitter->eval(hit);
     if (is_black(Le)) return Spectrum(0.0f);
-    return path.weights.estimate_weight() * Le *
-           (path.from.delta ? 1.0f : emitter_hit_weight(lights, path.from.at, path.from.pdf, *emitter, hit));
+    return path.polarization.contribute(path.weights.estimate_weight() * Le *
+                                        (path.from.delta ? 1.0f : emitter_hit_weight(lights, path.from.at, path.from.pdf, *emitter, hit)));
 }
 
 Spectrum environment_found(const Scene& scene, const LightSampler& lights, const PathSettings& settings, const CameraPath& path,
                            const Vec3& direction) {
     if (settings.hide_emitters && path.depth == 0) return Spectrum(0.0f);
-    return path.weights.estimate_weight() * environment_mis(scene, lights, path.from.at, direction, path.from.pdf, path.from.delta);
+    return path.polarization.contribute(path.weights.estimate_weight() *
+                                        environment_mis(scene, lights, path.from.at, direction, path.from.pdf, path.from.delta));
 }
 
 }  // namespace candela

@@ -34,10 +34,11 @@ struct CameraPath {
     // estimate_weight() is beta itself.
     TrackingWeights weights;
     ScatterVertex from;
-    uint32_t depth = 0;      // scattering events so far (max_depth counts them)
-    float eta = 1.0f;        // relative indices crossed: roulette keeps paths inside glass alive
-    int null_crossings = 0;  // Null lobes crossed since the last scattering event
-    bool scattered = false;  // met a surface that is not purely null, or scattered (the film's alpha)
+    uint32_t depth = 0;          // scattering events so far (max_depth counts them)
+    float eta = 1.0f;            // relative indices crossed: roulette keeps paths inside glass alive
+    int null_crossings = 0;      // Null lobes crossed since the last scattering event
+    bool scattered = false;      // met a surface that is not purely null, or scattered (the film's alpha)
+    PolarizedPath polarization;  // the polarized variant's Mueller product (inactive otherwise)
     // The roulette owed for the surface scattering at this vertex block (decided at the next
     // vertex, after the emission the scattered ray found has been added), or none.
     bool roulette_pending = false;

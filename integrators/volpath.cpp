@@ -82,6 +82,7 @@ public:
         PCG32 rng(hash_combine(float_bits(record.film_pos.x), float_bits(record.film_pos.y)),
                   hash_combine(float_bits(record.aperture.x), float_bits(record.aperture.y)));
         CameraPath path;
+        path.polarization = PolarizedPath(camera_ray.wavelengths);
         path.weights.shared_majorant = !spectral_mis_;
         path.weights.channel = int(rng.next_bounded(3));
         // The camera is the first vertex: what the path finds before scattering (the sky seen
@@ -97,8 +98,9 @@ public:
 private:
     Spectrum trace(const Scene& scene, Sampler& sampler, Ray ray, const Medium* medium, PCG32& rng, CameraPath& path,
                    SampleRecord& record) const;
+    // Next-event estimation at a medium point; `arriving` as sample_emitter_mis gives it.
     Spectrum sample_phase_light(const Scene& scene, Sampler& sampler, const SurfaceInteraction& at, const Medium& medium, const Vec3& wi,
-                                PCG32& rng) const;
+                                PCG32& rng, StokesSpectrum* arriving) const;
 
     PathSettings settings_;
     bool spectral_mis_;
@@ -125,7 +127,10 @@ Spectrum VolPathIntegrator::trace(const Scene& scene, Sampler& sampler, Ray ray,
                 const PhaseFunction& phase = medium->phase();
                 if (medium->sample_emitters()) {
                     sampler.set_dimension(dims + SampleDimensions::LightPick);
-                    L += path.weights.estimate_weight() * sample_phase_light(scene, sampler, at, *medium, -ray.d, rng);
+                    StokesSpectrum arriving;
+                    const Spectrum nee =
+                        sample_phase_light(scene, sampler, at, *medium, -ray.d, rng, path.polarization.active() ? &arriving : nullptr);
+                    L += path.polarization.contribute(path.weights.estimate_weight() * nee, &arriving);
                 }
                 sampler.set_dimension(dims + SampleDimensions::Direction);
                 PhaseSample ps = phase.sample(MediumInteraction{at.p, -ray.d}, sampler.next_2d());
@@ -160,15 +165,19 @@ Spectrum VolPathIntegrator::trace(const Scene& scene, Sampler& sampler, Ray ray,
 // shadow ray through media and null surfaces, weighted against phase sampling by the power
 // heuristic.
 Spectrum VolPathIntegrator::sample_phase_light(const Scene& scene, Sampler& sampler, const SurfaceInteraction& at, const Medium& medium,
-                                               const Vec3& wi, PCG32& rng) const {
+                                               const Vec3& wi, PCG32& rng, StokesSpectrum* arriving) const {
     const LightSample light = draw_light_sample(*lights_, sampler, at);
     if (!light.valid()) return Spectrum(0.0f);
     const DirectionSample& ds = light.ds;
     const MediumInteraction mi{at.p, wi};
     const Spectrum f = Spectrum(medium.phase().eval(mi, ds.d));
     if (is_black(f)) return Spectrum(0.0f);
-    const Spectrum T = scene.transmittance(shadow_ray(at, ds), &medium, rng);  // through media and null surfaces
+    MuellerSpectrum crossed;
+    if (arriving) crossed = identity_spectrum();
+    const Spectrum T =
+        scene.transmittance(shadow_ray(at, ds), &medium, rng, arriving ? &crossed : nullptr);  // through media and null surfaces
     if (is_black(T)) return Spectrum(0.0f);
+    if (arriving) *arriving = arriving_light(crossed, nullptr, BSDFContext(), at, ds.d);
     const float mis = ds.delta ? 1.0f : power_heuristic(ds.pdf * light.pick_prob, medium.phase().pdf(mi, ds.d));
     return T * f * light.weight * (mis / light.pick_prob);
 }

@@ -76,6 +76,33 @@ public:
         }
         return result;
     }
+    // Polarized: the smooth lobes' matrices, each scaled to its eval() intensity, blended as eval()
+    // blends them; a delta lobe's matrix is that of the (first) nested BSDF that has the lobe.
+    bool eval_mueller(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo, uint32_t lobe,
+                      MuellerSpectrum& M) const override {
+        if (is_delta(lobe)) {
+            for (const Ref<BSDF>& nested : nested_)
+                if (nested->flags() & lobe) return nested->eval_mueller(ctx, si, wo, lobe, M);
+            return false;
+        }
+        const float w = weight(si);
+        const float share[2] = {1.0f - w, w};
+        bool polarizing = false;
+        M = MuellerSpectrum();
+        for (int k = 0; k < 2; ++k) {
+            if (!(share[k] > 0.0f)) continue;
+            const Spectrum f = share[k] * nested_[k]->eval(ctx, si, wo);
+            MuellerSpectrum part;
+            const bool polarized = nested_[k]->eval_mueller(ctx, si, wo, lobe, part);
+            polarizing = polarizing || polarized;
+            for (int i = 0; i < 3; ++i) {
+                const float m00 = polarized ? part.w[i](0, 0) : 0.0f;
+                const Mueller unit = m00 > 0.0f ? (1.0f / m00) * part.w[i] : Mueller::depolarizer();
+                M.w[i] = M.w[i] + f[i] * unit;
+            }
+        }
+        return polarizing;
+    }
     Spectrum albedo(const SurfaceInteraction& si) const override {
         float w = weight(si);
         return (1.0f - w) * nested_[0]->albedo(si) + w * nested_[1]->albedo(si);

@@ -39,6 +39,13 @@ public:
     }
     Spectrum eval(const BSDFContext&, const SurfaceInteraction&, const Vec3&) const override { return Spectrum(0.0f); }
     float pdf(const BSDFContext&, const SurfaceInteraction&, const Vec3&) const override { return 0.0f; }
+    // Polarized: the mirror's Fresnel matrix with the complex index eta + i k (Mitsuba's).
+    bool eval_mueller(const BSDFContext&, const SurfaceInteraction& si, const Vec3& wo, uint32_t lobe, MuellerSpectrum& M) const override {
+        if (lobe != DeltaReflection) return false;
+        fresnel_reflection_mueller(Vec3(0, 0, 1), si.wi, wo, eta_->eval_as(si, SpectrumRole::Unbounded),
+                                   k_->eval_as(si, SpectrumRole::Unbounded), M);
+        return true;
+    }
     Spectrum albedo(const SurfaceInteraction& si) const override { return reflectance(si, std::max(Frame::cos_theta(si.wi), 0.0f)); }
     // Local model: a mirror reflecting the environment with weight F0, the conductor Fresnel
     // reflectance at normal incidence (times specular_reflectance); no highlight (a perfect

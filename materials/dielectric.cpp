@@ -70,6 +70,20 @@ public:
 
     Spectrum eval(const BSDFContext&, const SurfaceInteraction&, const Vec3&) const override { return Spectrum(0.0f); }
     float pdf(const BSDFContext&, const SurfaceInteraction&, const Vec3&) const override { return 0.0f; }
+    // Polarized: Fresnel's reflection or refraction matrix of the sampled lobe (Mitsuba's), at
+    // each wavelength's index.
+    bool eval_mueller(const BSDFContext&, const SurfaceInteraction& si, const Vec3& wo, uint32_t lobe, MuellerSpectrum& M) const override {
+        Spectrum eta(eta_);
+        if (dispersive_ && si.wavelengths)
+            for (int k = 0; k < 3; ++k) eta[k] = int_ior_.at(si.wavelengths->lambda[k]) / ext_ior_.at(si.wavelengths->lambda[k]);
+        if (lobe == DeltaReflection)
+            fresnel_reflection_mueller(Vec3(0, 0, 1), si.wi, wo, eta, Spectrum(0.0f), M);
+        else if (lobe == DeltaTransmission)
+            fresnel_transmission_mueller(Vec3(0, 0, 1), si.wi, wo, eta, M);
+        else
+            return false;
+        return true;
+    }
     Spectrum albedo(const SurfaceInteraction& si) const override {
         float F = fresnel_dielectric(Frame::cos_theta(si.wi), eta_).F;
         return reflectance_->eval(si) * F + transmittance_->eval(si) * (1.0f - F);

@@ -62,6 +62,28 @@ Spectrum fresnel_conductor(float cos_theta_i, const Spectrum& eta, const Spectru
     return F;
 }
 
+void fresnel_reflection_mueller(const Vec3& m, const Vec3& wi, const Vec3& wo, const Spectrum& eta, const Spectrum& k, MuellerSpectrum& M) {
+    const float cos_i = glm::dot(wo, m);
+    for (int i = 0; i < 3; ++i) M.w[i] = facet_to_local_bases(specular_reflection(cos_i, std::complex<float>(eta[i], k[i])), m, wi, wo);
+}
+
+void fresnel_transmission_mueller(const Vec3& m, const Vec3& wi, const Vec3& wo, const Spectrum& eta, MuellerSpectrum& M) {
+    const float cos_i = glm::dot(wo, m);
+    for (int i = 0; i < 3; ++i) M.w[i] = facet_to_local_bases(specular_transmission(cos_i, eta[i]), m, wi, wo);
+}
+
+Mueller coated_diffuse_mueller(const Vec3& wi, const Vec3& wo, float eta) {
+    const Mueller in = specular_transmission(std::abs(Frame::cos_theta(wo)), eta);
+    // Out through the coating from inside, along the direction that refracts to wi.
+    const float cos_inside = std::abs(fresnel_dielectric(Frame::cos_theta(wi), eta).cos_theta_t);
+    const Mueller out = specular_transmission(cos_inside, 1.0f / eta);
+    // out diag(1, 0, 0, 0) in: the outer product of out's first column and in's first row.
+    Mueller diffuse;
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) diffuse(i, j) = out(i, 0) * in(0, j);
+    return facet_to_local_bases(diffuse, Vec3(0, 0, 1), wi, wo);
+}
+
 float fresnel_diffuse_reflectance(float eta) {
     if (eta < 1.0f) return -1.4399f * eta * eta + 0.7099f * eta + 0.6681f + 0.0636f / eta;
     float x = 1.0f / eta;

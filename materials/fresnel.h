@@ -3,6 +3,7 @@
 // the local shading frame (normal +z). eta is the relative index of refraction n_inside /
 // n_outside, "inside" being the -z side.
 
+#include "core/mueller.h"
 #include "core/spectrum.h"
 
 namespace candela {
@@ -25,6 +26,20 @@ Spectrum fresnel_conductor(float cos_theta_i, const Spectrum& eta, const Spectru
 // Hemispherical average of the dielectric Fresnel reflectance, 2 int F(mu) mu dmu, by the
 // polynomial fits of Egan & Hilgeman (eta < 1) and d'Eon & Irving (eta >= 1), as Mitsuba uses.
 float fresnel_diffuse_reflectance(float eta);
+
+// The polarized variant (core/mueller.h): the Mueller matrices, per wavelength and in
+// BSDF::eval_mueller's bases, of reflection and refraction at a facet with normal m (local; +z for
+// a smooth surface) for light that arrives along -wo and leaves along wi: Mitsuba's
+// specular_reflection / specular_transmission at the incidence cosine wo . m, turned from the
+// facet's plane of incidence to the implicit bases. eta: relative index (inside over outside),
+// k its imaginary part (0 for dielectrics).
+void fresnel_reflection_mueller(const Vec3& m, const Vec3& wi, const Vec3& wo, const Spectrum& eta, const Spectrum& k, MuellerSpectrum& M);
+void fresnel_transmission_mueller(const Vec3& m, const Vec3& wi, const Vec3& wo, const Spectrum& eta, MuellerSpectrum& M);
+
+// The diffuse base under a smooth coating, polarized (Mitsuba's pplastic): refraction into the
+// coating from wo, a depolarising base, refraction out toward wi; in eval_mueller's bases, with
+// (0, 0) element (1 - F(cos wo)) (1 - F(cos wi)). eta: the coating's relative index.
+Mueller coated_diffuse_mueller(const Vec3& wi, const Vec3& wo, float eta);
 
 // How a delta BSDF splits between reflection (probability R) and transmission: with both lobes
 // allowed, pick by R (the weight then needs no Fresnel factor); with one, take it surely and

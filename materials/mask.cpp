@@ -56,6 +56,13 @@ public:
         BSDFEvalPdf e = nested_->eval_pdf(ctx, si, wo);
         return BSDFEvalPdf{a > 0.0f ? a * e.value : Spectrum(0.0f), p_pass < 1.0f ? (1.0f - p_pass) * e.pdf : 0.0f};
     }
+    // Polarized: what passes is unchanged (the identity); the rest is the nested BSDF's.
+    bool eval_mueller(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo, uint32_t lobe,
+                      MuellerSpectrum& M) const override {
+        if (lobe != Null) return nested_->eval_mueller(ctx, si, wo, lobe, M);
+        M = identity_spectrum();
+        return true;
+    }
     Spectrum albedo(const SurfaceInteraction& si) const override { return opacity(si) * nested_->albedo(si); }
     // 1 - a (1 - t_nested), as Mitsuba: the pass, and whatever the nested BSDF lets pass.
     Spectrum null_transmission(const SurfaceInteraction& si) const override {

@@ -22,6 +22,11 @@ public:
     float pdf(const BSDFContext&, const SurfaceInteraction&, const Vec3&) const override { return 0.0f; }
     Spectrum albedo(const SurfaceInteraction&) const override { return Spectrum(0.0f); }
     Spectrum null_transmission(const SurfaceInteraction&) const override { return Spectrum(1.0f); }
+    // Polarized: light passes unchanged (the identity, not a depolariser).
+    bool eval_mueller(const BSDFContext&, const SurfaceInteraction&, const Vec3&, uint32_t, MuellerSpectrum& M) const override {
+        M = identity_spectrum();
+        return true;
+    }
     // Local model: nothing but the environment seen straight through.
     LocalShading local_shading() const override {
         LocalShading s;

@@ -54,6 +54,15 @@ Spectrum PerturbedFrameBSDF::eval(const BSDFContext& ctx, const SurfaceInteracti
     return nested_->eval(ctx, p.si, wo_p) * shadowing(p.local.n, wo);
 }
 
+bool PerturbedFrameBSDF::eval_mueller(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo, uint32_t lobe,
+                                      MuellerSpectrum& M) const {
+    const Perturbed p = perturb(si);
+    const Vec3 wo_p = p.local.to_local(wo);
+    if (!nested_->eval_mueller(ctx, p.si, wo_p, lobe, M)) return false;
+    for (Mueller& m : M.w) m = local_to_parent(m, p.local, p.si.wi, wo_p);
+    return true;
+}
+
 float PerturbedFrameBSDF::pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const {
     const Perturbed p = perturb(si);
     const Vec3 wo_p = p.local.to_local(wo);

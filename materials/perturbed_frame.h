@@ -38,6 +38,9 @@ public:
     Spectrum eval(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override;
     float pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override;
     BSDFEvalPdf eval_pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override;
+    // The nested BSDF's matrix, from the perturbed frame's Stokes bases to the original one's.
+    bool eval_mueller(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo, uint32_t lobe,
+                      MuellerSpectrum& M) const override;
     Spectrum albedo(const SurfaceInteraction& si) const override { return nested_->albedo(perturb(si).si); }
     // Local model: the nested BSDF's, shaded in the perturbed frame (bump / normal mapping).
     LocalShading local_shading() const override { return nested_->local_shading(); }

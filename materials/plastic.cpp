@@ -69,6 +69,19 @@ public:
         return (1.0f - p_spec) * warp::square_to_cosine_hemisphere_pdf(wo);
     }
 
+    // Polarized: the coating's Fresnel reflection matrix for the mirror lobe and, for the diffuse
+    // one, refraction in, a depolarising base and refraction out (as pplastic).
+    bool eval_mueller(const BSDFContext&, const SurfaceInteraction& si, const Vec3& wo, uint32_t lobe, MuellerSpectrum& M) const override {
+        if (Frame::cos_theta(si.wi) <= 0.0f || Frame::cos_theta(wo) <= 0.0f) return false;
+        if (lobe == DeltaReflection) {
+            fresnel_reflection_mueller(Vec3(0, 0, 1), si.wi, wo, Spectrum(eta_), Spectrum(0.0f), M);
+            return true;
+        }
+        const Mueller diffuse = coated_diffuse_mueller(si.wi, wo, eta_);
+        for (Mueller& m : M.w) m = diffuse;
+        return true;
+    }
+
     Spectrum albedo(const SurfaceInteraction& si) const override {
         float Fi = fresnel_dielectric(std::max(Frame::cos_theta(si.wi), 0.0f), eta_).F;
         return specular_->eval(si) * Fi + diffuse_->eval(si) * (1.0f - Fi);

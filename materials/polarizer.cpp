@@ -1,17 +1,21 @@
-// polarizer: an ideal linear polariser, as Mitsuba 3's RGB (unpolarised) variants render it: a
-// neutral filter that lets half the light pass straight through, unbent, times `transmittance`.
-// Polarisation itself is not tracked, so the angle has no effect (two crossed polarisers pass a
-// quarter, not nothing, exactly as in Mitsuba's RGB variants).
+// polarizer: an ideal linear polariser (Mitsuba 3's). Light passes straight through, unbent; half
+// of unpolarised light passes, times `transmittance`. In scalar_spectral_polarized it is a linear
+// polariser turned by theta about the beam, whose absorbing axis is the surface's v direction
+// (the local y axis) projected onto the plane normal to the beam (Korger et al. 2013, "The
+// polarization properties of a tilted polarizer"), as Mitsuba computes it: two crossed
+// polarisers pass nothing, and light through two at an angle a follows Malus' law, cos^2 a. In
+// the unpolarised variants (RGB, spectral) the angle has no effect and each passes half, as in
+// Mitsuba's.
 //
 // Parameters (Mitsuba 3):
-//   theta           rgb or texture   rotation of the absorbing axis in degrees (default 0; read,
-//                                    no effect without polarisation)
+//   theta           rgb or texture   rotation of the polariser about the beam, in degrees
+//                                    (default 0)
 //   transmittance   rgb or texture   extra factor on what passes (default 1)
-//   polarizing      boolean          false: a plain neutral-density filter (default true; the same
-//                                    here, 0.5 transmittance either way)
+//   polarizing      boolean          false: a neutral-density filter that passes half and keeps
+//                                    the polarisation (default true)
 //
 // Its one lobe is Null with weight 0.5 transmittance: crossed without a bounce, and shadow rays
-// keep that fraction.
+// keep that fraction (and, polarized, its matrix).
 
 #include "core/bsdf.h"
 #include "core/local_model.h"
@@ -24,9 +28,9 @@ namespace candela {
 class PolarizerBSDF final : public BSDF {
 public:
     explicit PolarizerBSDF(const Properties& props) {
-        props.get_texture("theta", Spectrum(0.0f));
+        theta_ = props.get_texture("theta", Spectrum(0.0f));
         transmittance_ = props.get_texture("transmittance", Spectrum(1.0f));
-        props.get_bool("polarizing", true);
+        polarizing_ = props.get_bool("polarizing", true);
         flags_ = Null;
     }
 
@@ -35,6 +39,24 @@ public:
     }
     Spectrum eval(const BSDFContext&, const SurfaceInteraction&, const Vec3&) const override { return Spectrum(0.0f); }
     float pdf(const BSDFContext&, const SurfaceInteraction&, const Vec3&) const override { return 0.0f; }
+    bool eval_mueller(const BSDFContext&, const SurfaceInteraction& si, const Vec3&, uint32_t lobe, MuellerSpectrum& M) const override {
+        if (lobe != Null) return false;
+        if (!polarizing_) {
+            M = identity_spectrum();
+            return true;
+        }
+        // The light travels along wi; its implicit basis is turned to the effective transmitting
+        // axis, perpendicular to the absorbing one.
+        const Vec3 forward = si.wi;
+        const Vec3 v_axis = Vec3(0, 1, 0) - forward.y * forward;
+        if (!(squared_length(v_axis) > 1e-12f)) return false;  // along the absorbing axis: nothing to turn
+        const Vec3 absorbing = glm::normalize(v_axis);
+        const Vec3 transmitting = glm::cross(forward, absorbing);
+        const Mueller R = rotate_stokes_basis(forward, transmitting, stokes_basis(forward));
+        const Spectrum theta = theta_->eval_as(si, SpectrumRole::Unbounded);
+        for (int k = 0; k < 3; ++k) M.w[k] = R * rotated_element(glm::radians(theta[k]), linear_polarizer()) * transpose(R);
+        return true;
+    }
     Spectrum albedo(const SurfaceInteraction& si) const override { return null_transmission(si); }
     Spectrum null_transmission(const SurfaceInteraction& si) const override { return 0.5f * transmittance_->eval(si); }
     // Local model: the environment seen straight through, at half strength.
@@ -47,7 +69,8 @@ public:
     std::string to_string() const override { return "polarizer"; }
 
 private:
-    Ref<Texture> transmittance_;
+    Ref<Texture> theta_, transmittance_;
+    bool polarizing_ = true;
 };
 
 CANDELA_REGISTER_SPECTRAL(PolarizerBSDF, ObjectKind::BSDF, "polarizer");

@@ -73,6 +73,29 @@ public:
     }
     std::string to_string() const override { return "pplastic"; }
 
+    // Polarized (Mitsuba's pplastic): the Fresnel reflection matrix of the microfacet at the half
+    // vector for the specular term, plus refraction in, a depolarising base and refraction out for
+    // the diffuse one, each times its eval() intensity at each wavelength.
+    bool eval_mueller(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo, uint32_t, MuellerSpectrum& M) const override {
+        const float cos_i = Frame::cos_theta(si.wi), cos_o = Frame::cos_theta(wo);
+        if (cos_i <= 0.0f || cos_o <= 0.0f) return false;
+        M = MuellerSpectrum();
+        if (ctx.allows(GlossyReflection)) {
+            const Vec3 h = glm::normalize(si.wi + wo);
+            const float value = distribution_.D(h) * distribution_.G1(si.wi, h) * distribution_.G1(wo, h) / (4.0f * cos_i);
+            MuellerSpectrum F;
+            fresnel_reflection_mueller(h, si.wi, wo, Spectrum(eta_), Spectrum(0.0f), F);
+            const Spectrum s = specular_->eval(si) * value;
+            for (int k = 0; k < 3; ++k) M.w[k] = M.w[k] + s[k] * F.w[k];
+        }
+        if (ctx.allows(DiffuseReflection)) {
+            const Mueller diffuse = coated_diffuse_mueller(si.wi, wo, eta_);
+            const Spectrum d = diffuse_->eval(si) * (cos_o * InvPi);
+            for (int k = 0; k < 3; ++k) M.w[k] = M.w[k] + d[k] * diffuse;
+        }
+        return true;
+    }
+
 private:
     // eval() and pdf(), either or both: one half vector, D(h) and G1(wi).
     BSDFEvalPdf eval_pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo, bool with_value, bool with_pdf) const {

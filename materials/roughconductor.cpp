@@ -93,6 +93,15 @@ public:
     }
     std::string to_string() const override { return "roughconductor"; }
 
+    // Polarized: the Fresnel matrix of the microfacet at the half vector (Mitsuba's); D, G and
+    // the specular factor are eval()'s intensity.
+    bool eval_mueller(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo, uint32_t, MuellerSpectrum& M) const override {
+        if (!ctx.allows(GlossyReflection) || Frame::cos_theta(si.wi) <= 0.0f || Frame::cos_theta(wo) <= 0.0f) return false;
+        fresnel_reflection_mueller(glm::normalize(si.wi + wo), si.wi, wo, eta_->eval_as(si, SpectrumRole::Unbounded),
+                                   k_->eval_as(si, SpectrumRole::Unbounded), M);
+        return true;
+    }
+
 private:
     // eval(), and with `with_pdf` pdf() too: one roughness lookup, one D(h) and G1(wi).
     BSDFEvalPdf eval_pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo, bool with_pdf) const {

@@ -126,6 +126,24 @@ public:
     }
     std::string to_string() const override { return "roughdielectric"; }
 
+    // Polarized: Fresnel's reflection or refraction matrix of the microfacet at the generalised
+    // half vector (Mitsuba's); D, G and the rest are eval()'s intensity.
+    bool eval_mueller(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo, uint32_t lobe,
+                      MuellerSpectrum& M) const override {
+        if (eta_ == 1.0f) {
+            if (lobe != DeltaTransmission) return false;
+            fresnel_transmission_mueller(Vec3(0, 0, 1), si.wi, wo, Spectrum(eta_), M);
+            return true;
+        }
+        Geometry g;
+        if (!half_vector(si.wi, wo, g)) return false;
+        if (g.reflect)
+            fresnel_reflection_mueller(g.m, si.wi, wo, Spectrum(eta_), Spectrum(0.0f), M);
+        else
+            fresnel_transmission_mueller(g.m, si.wi, wo, Spectrum(eta_), M);
+        return true;
+    }
+
 private:
     struct Geometry {
         bool reflect;

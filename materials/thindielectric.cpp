@@ -56,6 +56,23 @@ public:
     }
 
     Spectrum eval(const BSDFContext&, const SurfaceInteraction&, const Vec3&) const override { return Spectrum(0.0f); }
+    // Polarized (beyond Mitsuba, whose sheet depolarises): the interreflections summed per
+    // polarisation, R_s = 2 R1_s / (1 + R1_s) and likewise p, T = 1 - R; a diattenuator, with the
+    // first surface's phase (0 or pi) on reflection. One matrix for every wavelength.
+    bool eval_mueller(const BSDFContext&, const SurfaceInteraction& si, const Vec3& wo, uint32_t lobe, MuellerSpectrum& M) const override {
+        if (lobe != DeltaReflection && lobe != Null) return false;
+        const FresnelAmplitudes f = fresnel_amplitudes(std::abs(Frame::cos_theta(si.wi)), std::complex<float>(eta_, 0.0f));
+        const float r1_s = std::norm(f.a_s), r1_p = std::norm(f.a_p);
+        const float r_s = 2.0f * r1_s / (1.0f + r1_s), r_p = 2.0f * r1_p / (1.0f + r1_p);
+        Mueller facet = lobe == Null ? diattenuator(1.0f - r_s, 1.0f - r_p) : diattenuator(r_s, r_p);
+        if (lobe == DeltaReflection && f.a_s.real() * f.a_p.real() < 0.0f) {
+            facet(2, 2) = -facet(2, 2);
+            facet(3, 3) = -facet(3, 3);
+        }
+        const Mueller local = facet_to_local_bases(facet, Vec3(0, 0, 1), si.wi, wo);
+        for (Mueller& m : M.w) m = local;
+        return true;
+    }
     float pdf(const BSDFContext&, const SurfaceInteraction&, const Vec3&) const override { return 0.0f; }
     Spectrum albedo(const SurfaceInteraction& si) const override {
         float R = sheet_reflectance(Frame::cos_theta(si.wi));

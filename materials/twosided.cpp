@@ -50,6 +50,25 @@ public:
         return back_->eval_pdf(ctx, mirrored(si), Vec3(wo.x, wo.y, -wo.z));
     }
 
+    // Seen from the back the nested BSDF works in mirrored coordinates (z -> -z), which turn the
+    // handedness of its Stokes bases: S2 and S3 change sign, M -> F M F with F = diag(1, 1, -1, -1),
+    // before its bases are re-expressed in this frame's.
+    bool eval_mueller(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo, uint32_t lobe,
+                      MuellerSpectrum& M) const override {
+        if (Frame::cos_theta(si.wi) >= 0.0f) return front_->eval_mueller(ctx, si, wo, lobe, M);
+        const SurfaceInteraction flipped = mirrored(si);
+        const Vec3 wo_flipped(wo.x, wo.y, -wo.z);
+        if (!back_->eval_mueller(ctx, flipped, wo_flipped, lobe, M)) return false;
+        const Frame mirror(Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, -1));
+        for (Mueller& m : M.w) {
+            for (int i = 0; i < 4; ++i)
+                for (int j = 0; j < 4; ++j)
+                    if ((i >= 2) != (j >= 2)) m(i, j) = -m(i, j);
+            m = local_to_parent(m, mirror, flipped.wi, wo_flipped);
+        }
+        return true;
+    }
+
     Spectrum albedo(const SurfaceInteraction& si) const override {
         return Frame::cos_theta(si.wi) >= 0.0f ? front_->albedo(si) : back_->albedo(mirrored(si));
     }

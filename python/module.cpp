@@ -92,9 +92,6 @@ SceneParameters string_map(const std::map<std::string, std::string>& params) { r
 Variant variant_of(const std::string& name) {
     const std::optional<Variant> v = parse_variant(name);
     if (!v) throw InputError("\"" + name + "\" is not a variant (known: " + variant_names() + ")");
-    if (*v == Variant::ScalarSpectralPolarized)
-        throw InputError(
-            "variant scalar_spectral_polarized (polarized rendering) is not implemented yet; use scalar_spectral or scalar_rgb");
     return *v;
 }
 
