@@ -137,9 +137,9 @@ Mueller specular_transmission(float cos_theta_i, float eta) {
 }
 
 Mueller rotate_stokes_basis(const Vec3& forward, const Vec3& current, const Vec3& target) {
-    float theta = std::acos(std::clamp(glm::dot(current, target), -1.0f, 1.0f));
-    if (glm::dot(forward, glm::cross(current, target)) < 0.0f) theta = -theta;
-    return rotator(theta);
+    // The signed angle from current to target about forward, by atan2 (acos of the dot product
+    // loses half the digits near 0 and pi, where most turns between nearby bases are).
+    return rotator(std::atan2(glm::dot(forward, glm::cross(current, target)), glm::dot(current, target)));
 }
 
 Mueller rotate_mueller_basis(const Mueller& M, const Vec3& in_forward, const Vec3& in_current, const Vec3& in_target,

@@ -8,8 +8,8 @@
 // Mitsuba's.
 //
 // Parameters (Mitsuba 3):
-//   theta           rgb or texture   rotation of the polariser about the beam, in degrees
-//                                    (default 0)
+//   theta           float or texture rotation of the polariser about the beam, in degrees
+//                                    (default 0; one number at every wavelength)
 //   transmittance   rgb or texture   extra factor on what passes (default 1)
 //   polarizing      boolean          false: a neutral-density filter that passes half and keeps
 //                                    the polarisation (default true)
@@ -53,8 +53,9 @@ public:
         const Vec3 absorbing = glm::normalize(v_axis);
         const Vec3 transmitting = glm::cross(forward, absorbing);
         const Mueller R = rotate_stokes_basis(forward, transmitting, stokes_basis(forward));
-        const Spectrum theta = theta_->eval_as(si, SpectrumRole::Unbounded);
-        for (int k = 0; k < 3; ++k) M.w[k] = R * rotated_element(glm::radians(theta[k]), linear_polarizer()) * transpose(R);
+        // An angle is one number (a colour's luminance), not a spectrum.
+        const Mueller m = R * rotated_element(glm::radians(theta_->eval_1(si)), linear_polarizer()) * transpose(R);
+        for (Mueller& w : M.w) w = m;
         return true;
     }
     Spectrum albedo(const SurfaceInteraction& si) const override { return null_transmission(si); }

@@ -8,8 +8,9 @@
 // (RGB, spectral) it is clear, as a `null` surface times `transmittance`, as in Mitsuba's.
 //
 // Parameters (Mitsuba 3):
-//   theta           rgb or texture   rotation of the fast axis about the beam, degrees (default 0)
-//   delta           rgb or texture   retardance in degrees, 360 a full wavelength (default 90)
+//   theta           float or texture rotation of the fast axis about the beam, degrees (default 0)
+//   delta           float or texture retardance in degrees, 360 a full wavelength (default 90);
+//                                    both one number at every wavelength
 //   transmittance   rgb or texture   factor on what passes (default 1)
 //
 // Its one lobe is Null: crossed without a bounce; shadow rays keep `transmittance` (and,
@@ -43,10 +44,10 @@ public:
         const Vec3 u_axis = Vec3(1, 0, 0) - forward.x * forward;
         if (!(squared_length(u_axis) > 1e-12f)) return false;  // along the fast axis
         const Mueller R = rotate_stokes_basis(forward, glm::normalize(u_axis), stokes_basis(forward));
-        const Spectrum theta = theta_->eval_as(si, SpectrumRole::Unbounded), delta = delta_->eval_as(si, SpectrumRole::Unbounded);
-        const float falloff = std::abs(Frame::cos_theta(si.wi));
-        for (int k = 0; k < 3; ++k)
-            M.w[k] = R * rotated_element(glm::radians(theta[k]), linear_retarder(glm::radians(delta[k]) * falloff)) * transpose(R);
+        // Angles are one number each (a colour's luminance), not spectra.
+        const float theta = glm::radians(theta_->eval_1(si)), delta = glm::radians(delta_->eval_1(si));
+        const Mueller m = R * rotated_element(theta, linear_retarder(delta * std::abs(Frame::cos_theta(si.wi)))) * transpose(R);
+        for (Mueller& w : M.w) w = m;
         return true;
     }
     Spectrum albedo(const SurfaceInteraction& si) const override { return null_transmission(si); }

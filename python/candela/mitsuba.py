@@ -55,11 +55,12 @@ __all__ = [
 # --------------------------------------------------------------------------------------------------
 
 # Mitsuba's variant names: backend, optional autodiff, colour representation, optional
-# polarisation and precision. Candela renders RGB and spectral in single precision on the CPU:
-# each name renders as candela's scalar variant of its colour representation.
+# polarisation and precision. Candela renders RGB, spectral and spectral polarized in single
+# precision on the CPU: each name renders as candela's scalar variant of its colour representation.
 _VARIANT = re.compile(r"^(scalar|llvm|cuda)(_ad)?_(rgb|mono|spectral)(_polarized)?(_double|_half)?$")
 _LISTED_VARIANTS = ["scalar_rgb", "scalar_spectral", "llvm_rgb", "llvm_ad_rgb", "llvm_spectral", "llvm_ad_spectral", "cuda_rgb",
-                    "cuda_ad_rgb", "cuda_spectral", "cuda_ad_spectral"]
+                    "cuda_ad_rgb", "cuda_spectral", "cuda_ad_spectral", "scalar_spectral_polarized", "llvm_spectral_polarized",
+                    "llvm_ad_spectral_polarized", "cuda_spectral_polarized", "cuda_ad_spectral_polarized"]
 _state = {"variant": None}
 _noticed: set[str] = set()
 _lock = threading.Lock()
@@ -74,26 +75,29 @@ def _variant_problem(name) -> Exception | None:
         return ImportError(f"Requested an unsupported variant {name!r}. The variants candela.mitsuba renders: "
                            f"{', '.join(_LISTED_VARIANTS)} (and their _double forms)")
     colour, polarized = m.group(3), m.group(4)
-    if polarized:
-        return NotImplementedError(f"variant {name!r}: polarized rendering is not implemented in Candela yet "
-                                   "(it renders RGB and spectral; use an *_rgb or *_spectral variant)")
     if colour == "mono":
         return NotImplementedError(f"variant {name!r}: monochrome rendering is not available in Candela "
                                    "(it renders RGB and spectral; use an *_rgb or *_spectral variant)")
+    if polarized and colour != "spectral":
+        return NotImplementedError(f"variant {name!r}: Candela renders polarisation in the spectral variant only "
+                                   "(use an *_spectral_polarized variant)")
     return None
 
 
 def _candela_variant(name: str) -> str:
-    """The candela variant a Mitsuba variant name renders as: scalar_rgb or scalar_spectral."""
-    return "scalar_" + _VARIANT.match(name).group(3)
+    """The candela variant a Mitsuba variant name renders as: scalar_rgb, scalar_spectral or
+    scalar_spectral_polarized."""
+    m = _VARIANT.match(name)
+    return "scalar_" + m.group(3) + (m.group(4) or "")
 
 
 def _set_state(name: str | None) -> None:
     """Makes `name` (None: none yet) the variant, with Mitsuba's is_* flags that go with it."""
-    global is_rgb, is_spectral
+    global is_rgb, is_spectral, is_polarized
     _state["variant"] = name
-    spectral = name is not None and _candela_variant(name) == "scalar_spectral"
-    is_rgb, is_spectral = not spectral, spectral
+    candela_variant = _candela_variant(name) if name is not None else "scalar_rgb"
+    spectral = candela_variant != "scalar_rgb"
+    is_rgb, is_spectral, is_polarized = not spectral, spectral, candela_variant == "scalar_spectral_polarized"
 
 
 def set_variant(*names: str) -> None:
@@ -154,7 +158,7 @@ def variant_context(*names: str):
 scoped_set_variant = variant_context
 
 # Mitsuba's flags of the current variant (module attributes, as in Mitsuba; set_variant updates
-# is_rgb and is_spectral). Candela renders neither polarized nor monochrome variants.
+# is_rgb, is_spectral and is_polarized). Candela renders no monochrome variant.
 is_rgb = True
 is_spectral = False
 is_polarized = False

@@ -25,7 +25,7 @@ def scalar_rgb():
 def test_variants():
     assert "scalar_rgb" in mi.variants() and "llvm_ad_rgb" in mi.variants() and "cuda_ad_rgb" in mi.variants()
     assert "scalar_spectral" in mi.variants() and "llvm_ad_spectral" in mi.variants()
-    assert all(v.endswith(("_rgb", "_spectral")) for v in mi.variants())
+    assert all(v.endswith(("_rgb", "_spectral", "_spectral_polarized")) for v in mi.variants())
     assert mi.variant() == "scalar_rgb"
     mi.set_variant("llvm_ad_rgb")
     assert mi.variant() == "llvm_ad_rgb"
@@ -39,11 +39,10 @@ def test_variants():
 
 
 @pytest.mark.parametrize("name, words", [
-    ("scalar_spectral_polarized", "polarized rendering is not implemented in Candela yet"),
-    ("cuda_spectral_polarized", "polarized rendering"),
-    ("scalar_rgb_polarized", "polarized rendering"),
+    ("scalar_rgb_polarized", "polarisation in the spectral variant only"),
+    ("cuda_ad_rgb_polarized", "polarisation in the spectral variant only"),
     ("scalar_mono", "monochrome rendering"),
-    ("llvm_ad_mono_polarized_double", "polarized"),
+    ("llvm_ad_mono_polarized_double", "monochrome"),
 ])
 def test_variants_candela_does_not_render(name, words):
     with pytest.raises(NotImplementedError, match=words):
