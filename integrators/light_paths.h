@@ -29,6 +29,9 @@ struct LightVertex {
     Spectrum beta;   // flux weight arriving at si (W): the emitted weight times the scattering weights
     uint32_t depth;  // segments from the emitter to si (1: the first hit)
     bool caustic;    // every scattering before si was by a delta lobe, and there was at least one
+    // The polarized variant: the Stokes vectors of the light arriving at si, per unit of its
+    // intensity as it left the emitter (world bases along its travel); null in the other variants.
+    const StokesSpectrum* stokes = nullptr;
 };
 
 // Where a light path starts: an emitter picked by power and a ray it emits.
@@ -40,6 +43,7 @@ struct LightPathStart {
     // The path's wavelengths in the spectral variant (set before start(); null in RGB): the
     // emitted weight and every value along the path are at them.
     Wavelengths* wavelengths = nullptr;
+    bool polarized = false;  // the polarized variant: the path carries a Stokes vector
 };
 
 // The sample count and seed of a render: the sensor's sampler, unless the options override them.
@@ -60,6 +64,12 @@ PCG32 light_path_rng(uint64_t seed, uint64_t stream, uint64_t index);
 // multiply f |cos_s wo| by |cos_s wi| |cos_g wo| / (|cos_s wo| |cos_g wi|). Zero when wi or wo
 // lies on different sides of the geometric and the shading surface (a light leak).
 float shading_normal_correction(const SurfaceInteraction& si, const Vec3& wo_local);
+
+// The polarized variant: the Stokes vectors `s` of light arriving at si (along -si.wi) after it
+// leaves through `lobe` of `bsdf` toward wo_local: the BSDF's Mueller matrix with the directions
+// swapped (the light's travel, Mitsuba's importance transport), divided by its (0, 0) element
+// (the intensity is the path's beta).
+void scatter_stokes(const SurfaceInteraction& si, const BSDF& bsdf, const Vec3& wo_local, uint32_t lobe, StokesSpectrum& s);
 
 class LightPathTracer {
 public:
@@ -99,6 +109,9 @@ void LightPathTracer::follow(PCG32& rng, const LightPathStart& start, Visit&& vi
     Spectrum beta = start.beta;
     const float beta_start = max_component(beta);
     bool all_delta = true;
+    StokesSpectrum stokes;
+    if (start.polarized)
+        for (Stokes& s : stokes.w) s = Stokes(1, 0, 0, 0);  // emitters emit unpolarised light
     SurfaceInteraction si;
     // A Null lobe (null, mask, a thindielectric sheet) passes the path on as the camera side
     // does (integrators/surface_step.h): no hit counted, at most MaxNullCrossings in a row; the
@@ -115,11 +128,12 @@ void LightPathTracer::follow(PCG32& rng, const LightPathStart& start, Visit&& vi
             attenuation = a;
         }
         const BSDF& bsdf = *si.shape->bsdf();
-        if (!visit(LightVertex{&si, &bsdf, beta, depth, depth > 1 && all_delta})) return;
+        if (!visit(LightVertex{&si, &bsdf, beta, depth, depth > 1 && all_delta, start.polarized ? &stokes : nullptr})) return;
         if (depth >= max_hits_) return;
         Vec3 wo;
         uint32_t lobe = 0;
         if (!scatter(rng, si, bsdf, beta, wo, lobe)) return;
+        if (start.polarized) scatter_stokes(si, bsdf, si.to_local(wo), lobe, stokes);
         if (lobe == Null) {
             if (++null_crossings > MaxNullCrossings) return;
         } else {

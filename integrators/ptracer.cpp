@@ -23,6 +23,10 @@
 // single direction, shows environments black, as in Mitsuba). `directionalarea` lights work
 // as in Mitsuba's ptracer: their beams are traced, and they are black to the eye.
 //
+// In scalar_spectral_polarized a light path carries the Stokes vector of its light (emitted
+// unpolarised; each BSDF's Mueller matrix with the directions swapped, Mitsuba's importance
+// transport), and a connection splats the S0 of what leaves toward the sensor.
+//
 // Splats go through the film's reconstruction filter (of unit integral) without normalisation;
 // each pass is divided by its number of paths. Only the "variance" AOV is available: the
 // variance of the pixel mean, from the spread of the independent passes.
@@ -63,10 +67,6 @@ constexpr uint64_t BatchChunks = 64;  // chunks traced before their splats are a
 class ParticleTracerIntegrator final : public Integrator {
 public:
     explicit ParticleTracerIntegrator(const Properties& props) {
-        if (props.variant() == Variant::ScalarSpectralPolarized)
-            props.fail(
-                "ptracer does not render in variant scalar_spectral_polarized yet (its light paths carry no Stokes vector); "
-                "it renders in scalar_spectral and scalar_rgb");
         settings_ = read_path_settings(props, DepthSettings | HideEmittersSetting);
         int per_pass = props.get_int("samples_per_pass", -1);
         if (per_pass == 0 || per_pass < -1) props.fail("samples_per_pass", "samples_per_pass must be positive (or -1)");
@@ -99,6 +99,7 @@ void ParticleTracerIntegrator::trace_path(const LightPathTracer& tracer, PCG32& 
         const SensorResponse* response = scene.sensor().response();
         wavelengths = response ? response->sample(u) : sample_visible_wavelengths(u);
         start.wavelengths = &wavelengths;
+        start.polarized = scene.polarized();
     }
     if (!tracer.start(rng, start)) return;
     if (!settings_.hide_emitters && settings_.within_depth(1)) {
@@ -169,7 +170,14 @@ void ParticleTracerIntegrator::connect_vertex(const Scene& scene, const LightVer
     Spectrum f = v.bsdf->eval(ctx, *v.si, wo);
     if (is_black(f)) return;
     if (scene.occluded(v.si->spawn_ray_to(ss.p))) return;
-    splat(scene, ss.film_pos, v.beta * f * (correction * ss.weight), v.si->wavelengths, out);
+    Spectrum value = v.beta * f * (correction * ss.weight);
+    if (v.stokes) {
+        // Polarized: the sensor measures S0 of the light that leaves toward it.
+        StokesSpectrum toward_sensor = *v.stokes;
+        scatter_stokes(*v.si, *v.bsdf, wo, BSDFNone, toward_sensor);
+        for (int k = 0; k < 3; ++k) value[k] *= toward_sensor.w[k][0];
+    }
+    splat(scene, ss.film_pos, value, v.si->wavelengths, out);
 }
 
 void ParticleTracerIntegrator::splat(const Scene& scene, const Vec2& film_pos, const Spectrum& path_value, const Wavelengths* wavelengths,

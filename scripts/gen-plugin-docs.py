@@ -529,7 +529,14 @@ def family_page(family: Family, plugins: list[Plugin], headers: list[SharedHeade
         out.append(f"## {plugin_heading(p)}")
         out.append("")
         tags = ", ".join(f'`<{KIND_BY_ENUM[k].tag} type="{name}">`' for name, k in p.names)
-        variants = "scalar_rgb and scalar_spectral" if p.spectral else "scalar_rgb only"
+        # Every plugin of the spectral variant renders in the polarized one too; a plugin whose
+        # comment says it renders only there (stokes) refuses the others at its line.
+        if "Renders only in scalar_spectral_polarized" in " ".join(p.comment):
+            variants = "scalar_spectral_polarized only"
+        elif p.spectral:
+            variants = "scalar_rgb, scalar_spectral and scalar_spectral_polarized"
+        else:
+            variants = "scalar_rgb only"
         out.append(f"{tags} from {source_link(p.path)} (renders in {variants})")
         out.append("")
         if p.comment:

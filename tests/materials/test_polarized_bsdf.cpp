@@ -135,7 +135,7 @@ TEST_CASE("polarized BSDFs: the (0, 0) element is the unpolarised value", "[muel
     }
 }
 
-TEST_CASE("polarized BSDFs: world bases keep the degree of polarisation; depolarisers say so", "[mueller][bsdf]") {
+TEST_CASE("polarized BSDFs: world bases keep the degree of polarisation and depolarisers say so", "[mueller][bsdf]") {
     BSDFUnderTest conductor = make_bsdf(R"(<bsdf type="roughconductor"><string name="material" value="Al"/></bsdf>)");
     PCG32 rng(9, 9);
     for (int i = 0; i < 200; ++i) {
