@@ -137,9 +137,14 @@ Mueller specular_transmission(float cos_theta_i, float eta) {
 }
 
 Mueller rotate_stokes_basis(const Vec3& forward, const Vec3& current, const Vec3& target) {
-    // The signed angle from current to target about forward, by atan2 (acos of the dot product
-    // loses half the digits near 0 and pi, where most turns between nearby bases are).
-    return rotator(std::atan2(glm::dot(forward, glm::cross(current, target)), glm::dot(current, target)));
+    // The signed angle theta from current to target about forward, through its cosine and sine
+    // (not an arccosine, which loses half the digits near 0 and pi, where most turns between
+    // nearby bases are): cos 2 theta and sin 2 theta by the double-angle formulas.
+    const float c = glm::dot(current, target), s = glm::dot(forward, glm::cross(current, target));
+    const float r2 = c * c + s * s;
+    if (!(r2 > 0.0f)) return Mueller::identity();
+    const float cos2 = (c * c - s * s) / r2, sin2 = 2.0f * c * s / r2;
+    return from_rows({1, 0, 0, 0, 0, cos2, sin2, 0, 0, -sin2, cos2, 0, 0, 0, 0, 1});
 }
 
 Mueller rotate_mueller_basis(const Mueller& M, const Vec3& in_forward, const Vec3& in_current, const Vec3& in_target,
@@ -149,21 +154,21 @@ Mueller rotate_mueller_basis(const Mueller& M, const Vec3& in_forward, const Vec
     return R_out * M * transpose(R_in);
 }
 
-Mueller local_to_parent(const Mueller& M, const Frame& frame, const Vec3& wi, const Vec3& wo) {
+BasisChange local_to_parent(const Frame& frame, const Vec3& wi, const Vec3& wo) {
     const Vec3 in_local = -wo, in_parent = frame.to_world(in_local);
     const Vec3 out_parent = frame.to_world(wi);
-    return rotate_mueller_basis(M, in_parent, frame.to_world(stokes_basis(in_local)), stokes_basis(in_parent), out_parent,
-                                frame.to_world(stokes_basis(wi)), stokes_basis(out_parent));
+    return BasisChange{rotate_stokes_basis(out_parent, frame.to_world(stokes_basis(wi)), stokes_basis(out_parent)),
+                       transpose(rotate_stokes_basis(in_parent, frame.to_world(stokes_basis(in_local)), stokes_basis(in_parent)))};
 }
 
-Mueller facet_to_local_bases(const Mueller& M, const Vec3& m, const Vec3& wi, const Vec3& wo) {
+BasisChange facet_to_local_bases(const Vec3& m, const Vec3& wi, const Vec3& wo) {
     // The s axis is perpendicular to the plane of incidence; when the light travels along the
     // normal every axis is, and both take the first tangent of m's frame (the x axis for +z).
     Vec3 s_in = glm::cross(m, -wo), s_out = glm::cross(m, wi);
     const float len_in = glm::length(s_in), len_out = glm::length(s_out);
     s_in = len_in > 1e-7f ? s_in / len_in : stokes_basis(m);
     s_out = len_out > 1e-7f ? s_out / len_out : stokes_basis(m);
-    return rotate_mueller_basis(M, -wo, s_in, stokes_basis(-wo), wi, s_out, stokes_basis(wi));
+    return BasisChange{rotate_stokes_basis(wi, s_out, stokes_basis(wi)), transpose(rotate_stokes_basis(-wo, s_in, stokes_basis(-wo)))};
 }
 
 void multiply_right(MuellerSpectrum& a, const MuellerSpectrum& b) {
@@ -184,9 +189,10 @@ MuellerSpectrum identity_spectrum() {
 bool normalized_world_mueller(const BSDF& bsdf, const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo, uint32_t lobe,
                               MuellerSpectrum& N) {
     if (!bsdf.eval_mueller(ctx, si, wo, lobe, N)) return false;
+    const BasisChange to_world = local_to_parent(si.shading, si.wi, wo);
     for (Mueller& m : N.w) {
         const float m00 = m.m[0][0];
-        m = m00 > 0.0f && std::isfinite(m00) ? (1.0f / m00) * local_to_parent(m, si.shading, si.wi, wo) : Mueller();
+        m = m00 > 0.0f && std::isfinite(m00) ? (1.0f / m00) * to_world.apply(m) : Mueller();
     }
     return true;
 }

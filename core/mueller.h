@@ -91,16 +91,24 @@ Mueller rotate_stokes_basis(const Vec3& forward, const Vec3& current, const Vec3
 Mueller rotate_mueller_basis(const Mueller& M, const Vec3& in_forward, const Vec3& in_current, const Vec3& in_target,
                              const Vec3& out_forward, const Vec3& out_current, const Vec3& out_target);
 
-// A BSDF's Mueller matrix for light that arrives along -wo and leaves along wi (directions in
-// the local frame `frame`), expressed in the implicit bases of -wo and wi in that frame,
-// re-expressed in the implicit bases of the same directions in the frame's parent coordinates
-// (world space for a shading frame; the shading frame for a perturbed one).
-Mueller local_to_parent(const Mueller& M, const Frame& frame, const Vec3& wi, const Vec3& wo);
-
-// A matrix of reflection (or transmission) at a facet with normal m (the frame's normal for a
-// smooth surface), given in the s/p frame of the plane of incidence, re-expressed in the
-// implicit local bases of -wo and wi, as BSDF::eval_mueller returns it.
-Mueller facet_to_local_bases(const Mueller& M, const Vec3& m, const Vec3& wi, const Vec3& wo);
+// A change of the input and output bases of Mueller matrices: M -> out M in_transposed, the same
+// rotations for every wavelength (computed once).
+struct BasisChange {
+    Mueller out, in_transposed;
+    Mueller apply(const Mueller& M) const { return out * M * in_transposed; }
+    void apply(MuellerSpectrum& M) const {
+        for (Mueller& m : M.w) m = apply(m);
+    }
+};
+// For a BSDF's matrices of light that arrives along -wo and leaves along wi (directions in the
+// local frame `frame`), expressed in the implicit bases of -wo and wi in that frame: the change to
+// the implicit bases of the same directions in the frame's parent coordinates (world space for a
+// shading frame; the shading frame for a perturbed one).
+BasisChange local_to_parent(const Frame& frame, const Vec3& wi, const Vec3& wo);
+// For matrices of reflection (or transmission) at a facet with normal m (the frame's normal for a
+// smooth surface), given in the s/p frame of the plane of incidence: the change to the implicit
+// local bases of -wo and wi, as BSDF::eval_mueller returns them.
+BasisChange facet_to_local_bases(const Vec3& m, const Vec3& wi, const Vec3& wo);
 
 class BSDF;
 struct BSDFContext;

@@ -10,11 +10,10 @@ PolarizedPath::PolarizedPath(const Wavelengths* wavelengths) : stokes(wavelength
     if (stokes) product = identity_spectrum();
 }
 
-Spectrum PolarizedPath::contribute(const Spectrum& c, const StokesSpectrum* arriving) const {
-    if (!stokes) return c;
+Spectrum PolarizedPath::contribute_polarized(const Spectrum& c, const StokesSpectrum* arriving) const {
     Spectrum s0;
     for (int k = 0; k < 3; ++k) {
-        const Mueller& P = product.w[k];
+        const Mueller& P = product->w[k];
         // Unpolarised light is the first column's direction: P (1, 0, 0, 0).
         const Stokes s = arriving ? P * arriving->w[k] : Stokes(P.m[0][0], P.m[1][0], P.m[2][0], P.m[3][0]);
         stokes->w[k] += c[k] * s;
@@ -23,13 +22,13 @@ Spectrum PolarizedPath::contribute(const Spectrum& c, const StokesSpectrum* arri
     return s0;
 }
 
-void PolarizedPath::scatter(const BSDF& bsdf, const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo, uint32_t lobe) {
-    if (!stokes) return;
+void PolarizedPath::scatter_polarized(const BSDF& bsdf, const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo,
+                                      uint32_t lobe) {
     MuellerSpectrum N;
     if (normalized_world_mueller(bsdf, ctx, si, wo, lobe, N))
-        multiply_right(product, N);
+        multiply_right(*product, N);
     else
-        multiply_right_depolarizer(product);
+        multiply_right_depolarizer(*product);
 }
 
 StokesSpectrum arriving_light(const MuellerSpectrum& crossed, const BSDF* bsdf, const BSDFContext& ctx, const SurfaceInteraction& si,

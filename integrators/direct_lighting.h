@@ -10,6 +10,8 @@
 #include "core/rng.h"
 #include "lights/light_sampler.h"
 
+#include <optional>
+
 namespace candela {
 
 class Medium;
@@ -22,7 +24,8 @@ class Sampler;
 // Stokes sum it adds to. Inactive (stokes null, every call a no-op) in the other variants.
 struct PolarizedPath {
     StokesSpectrum* stokes = nullptr;
-    MuellerSpectrum product;
+    // Only in the polarized variant (an empty optional costs the other variants nothing per path).
+    std::optional<MuellerSpectrum> product;
 
     PolarizedPath() = default;
     // Active when the wavelengths carry a Stokes sum (the polarized variant).
@@ -32,9 +35,17 @@ struct PolarizedPath {
     // reaching the path's current vertex with normalised Stokes vectors `arriving` (null:
     // unpolarised, as every emitter emits): adds the Stokes vector the camera sees to the sum and
     // returns its S0, what the film adds.
-    Spectrum contribute(const Spectrum& c, const StokesSpectrum* arriving = nullptr) const;
+    Spectrum contribute(const Spectrum& c, const StokesSpectrum* arriving = nullptr) const {
+        return stokes ? contribute_polarized(c, arriving) : c;  // inline: the other variants pay a test
+    }
     // The path goes on from `si` through `lobe` of `bsdf` toward `wo` (local).
-    void scatter(const BSDF& bsdf, const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo, uint32_t lobe);
+    void scatter(const BSDF& bsdf, const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo, uint32_t lobe) {
+        if (stokes) scatter_polarized(bsdf, ctx, si, wo, lobe);
+    }
+
+private:
+    Spectrum contribute_polarized(const Spectrum& c, const StokesSpectrum* arriving) const;
+    void scatter_polarized(const BSDF& bsdf, const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo, uint32_t lobe);
 };
 
 struct StrategyShares {

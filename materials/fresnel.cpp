@@ -64,12 +64,18 @@ Spectrum fresnel_conductor(float cos_theta_i, const Spectrum& eta, const Spectru
 
 void fresnel_reflection_mueller(const Vec3& m, const Vec3& wi, const Vec3& wo, const Spectrum& eta, const Spectrum& k, MuellerSpectrum& M) {
     const float cos_i = glm::dot(wo, m);
-    for (int i = 0; i < 3; ++i) M.w[i] = facet_to_local_bases(specular_reflection(cos_i, std::complex<float>(eta[i], k[i])), m, wi, wo);
+    const BasisChange to_local = facet_to_local_bases(m, wi, wo);
+    // One index at every wavelength (the usual case): one matrix.
+    const bool uniform = eta.x == eta.y && eta.y == eta.z && k.x == k.y && k.y == k.z;
+    for (int i = 0; i < 3; ++i)
+        M.w[i] = uniform && i > 0 ? M.w[0] : to_local.apply(specular_reflection(cos_i, std::complex<float>(eta[i], k[i])));
 }
 
 void fresnel_transmission_mueller(const Vec3& m, const Vec3& wi, const Vec3& wo, const Spectrum& eta, MuellerSpectrum& M) {
     const float cos_i = glm::dot(wo, m);
-    for (int i = 0; i < 3; ++i) M.w[i] = facet_to_local_bases(specular_transmission(cos_i, eta[i]), m, wi, wo);
+    const BasisChange to_local = facet_to_local_bases(m, wi, wo);
+    const bool uniform = eta.x == eta.y && eta.y == eta.z;
+    for (int i = 0; i < 3; ++i) M.w[i] = uniform && i > 0 ? M.w[0] : to_local.apply(specular_transmission(cos_i, eta[i]));
 }
 
 Mueller coated_diffuse_mueller(const Vec3& wi, const Vec3& wo, float eta) {
@@ -81,7 +87,7 @@ Mueller coated_diffuse_mueller(const Vec3& wi, const Vec3& wo, float eta) {
     Mueller diffuse;
     for (int i = 0; i < 4; ++i)
         for (int j = 0; j < 4; ++j) diffuse(i, j) = out(i, 0) * in(0, j);
-    return facet_to_local_bases(diffuse, Vec3(0, 0, 1), wi, wo);
+    return facet_to_local_bases(Vec3(0, 0, 1), wi, wo).apply(diffuse);
 }
 
 float fresnel_diffuse_reflectance(float eta) {

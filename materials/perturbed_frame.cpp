@@ -59,7 +59,7 @@ bool PerturbedFrameBSDF::eval_mueller(const BSDFContext& ctx, const SurfaceInter
     const Perturbed p = perturb(si);
     const Vec3 wo_p = p.local.to_local(wo);
     if (!nested_->eval_mueller(ctx, p.si, wo_p, lobe, M)) return false;
-    for (Mueller& m : M.w) m = local_to_parent(m, p.local, p.si.wi, wo_p);
+    local_to_parent(p.local, p.si.wi, wo_p).apply(M);
     return true;
 }
 

@@ -69,7 +69,7 @@ public:
             facet(2, 2) = -facet(2, 2);
             facet(3, 3) = -facet(3, 3);
         }
-        const Mueller local = facet_to_local_bases(facet, Vec3(0, 0, 1), si.wi, wo);
+        const Mueller local = facet_to_local_bases(Vec3(0, 0, 1), si.wi, wo).apply(facet);
         for (Mueller& m : M.w) m = local;
         return true;
     }

@@ -60,12 +60,11 @@ public:
         const Vec3 wo_flipped(wo.x, wo.y, -wo.z);
         if (!back_->eval_mueller(ctx, flipped, wo_flipped, lobe, M)) return false;
         const Frame mirror(Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, -1));
-        for (Mueller& m : M.w) {
+        for (Mueller& m : M.w)
             for (int i = 0; i < 4; ++i)
                 for (int j = 0; j < 4; ++j)
                     if ((i >= 2) != (j >= 2)) m(i, j) = -m(i, j);
-            m = local_to_parent(m, mirror, flipped.wi, wo_flipped);
-        }
+        local_to_parent(mirror, flipped.wi, wo_flipped).apply(M);
         return true;
     }
 

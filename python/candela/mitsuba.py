@@ -102,9 +102,10 @@ def _set_state(name: str | None) -> None:
 
 def set_variant(*names: str) -> None:
     """Sets the variant: the first of `names` that Candela renders (Mitsuba picks the first one
-    available). RGB and spectral variants all render on Candela's CPU renderer in single precision,
-    as scalar_rgb and scalar_spectral; any but those two prints a one-line notice on stderr the
-    first time it is set. Polarized and monochrome variants raise NotImplementedError."""
+    available). RGB, spectral and spectral polarized variants all render on Candela's CPU renderer
+    in single precision, as scalar_rgb, scalar_spectral and scalar_spectral_polarized; any but
+    those three prints a one-line notice on stderr the first time it is set. RGB polarized and
+    monochrome variants raise NotImplementedError."""
     if not names:
         raise TypeError("set_variant() needs at least one variant name")
     first_problem = None

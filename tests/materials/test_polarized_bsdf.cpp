@@ -61,7 +61,7 @@ int check_physical(const MuellerSpectrum& M, PCG32& rng, const std::string& what
             const Stokes out = m * random_polarised(rng);
             const float scale = std::max(std::abs(m(0, 0)), 1e-6f);
             CHECK(out[0] >= -1e-5f * scale);
-            if (out[0] > 1e-4f * scale) {
+            if (out[0] > 1e-2f * scale) {  // the degree of nearly extinguished light is ill-conditioned
                 CHECK(degree_of_polarization(out) <= 1.0f + 2e-4f);
                 ++checked;
             }
