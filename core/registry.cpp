@@ -50,14 +50,12 @@ std::vector<std::string> plugin_names(ObjectKind kind) {
 namespace {
 
 // Mitsuba 3 plugins that Candela deliberately does not have, with the reason. Candela renders
-// unpolarised RGB without derivatives: polarisation and differentiable integrators have no place
-// in it, and rendering these plugins as something else would give a silently wrong picture.
+// without derivatives: differentiable integrators have no place in it, and rendering these
+// plugins as something else would give a silently wrong picture.
 const char* unsupported_reason(ObjectKind kind, const std::string& type) {
     static const char* differentiable = "differentiable rendering is not supported (render media with volpath or volpathmis)";
-    static const char* polarisation = "it is not implemented yet (the polarized variant renders the other BSDFs)";
     static const std::map<std::pair<ObjectKind, std::string>, const char*> table = {
         {{ObjectKind::Integrator, "prbvolpath"}, differentiable},
-        {{ObjectKind::BSDF, "measured_polarized"}, polarisation},
     };
     auto it = table.find({kind, type});
     return it == table.end() ? nullptr : it->second;

@@ -24,7 +24,7 @@ std::vector<std::string> plugin_names(ObjectKind kind);
 
 // Builds the plugin named by props.plugin_type(), then checks that it read every property.
 // An unknown type is a SceneError at the object's location naming the nearest supported type;
-// Mitsuba plugins that Candela deliberately lacks (polarisation, differentiable ones) say why.
+// Mitsuba plugins that Candela deliberately lacks (differentiable ones) say why.
 Ref<Object> create_plugin(ObjectKind kind, const Properties& props);
 
 template <typename T>

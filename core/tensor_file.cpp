@@ -164,6 +164,14 @@ std::vector<uint8_t> TensorFile::bytes(const std::string& name) const {
     return std::vector<uint8_t>(begin, begin + std::ptrdiff_t(f.count()));
 }
 
+std::vector<uint16_t> TensorFile::uint16s(const std::string& name) const {
+    const TensorField& f = field(name);
+    if (f.dtype != TensorType::UInt16) fail("field \"" + name + "\" is " + tensor_type_name(f.dtype) + ", expected uint16");
+    std::vector<uint16_t> out(size_t(f.count()));
+    if (!out.empty()) std::memcpy(out.data(), data_.data() + f.offset, out.size() * sizeof(uint16_t));
+    return out;
+}
+
 std::string TensorFile::describe() const {
     std::string out;
     for (const auto& [name, f] : fields_) {

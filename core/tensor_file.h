@@ -48,6 +48,8 @@ public:
     std::vector<float> floats(const std::string& name) const;
     // A uint8 field's bytes; InputError when the field is missing or of another type.
     std::vector<uint8_t> bytes(const std::string& name) const;
+    // A uint16 field's values; InputError when the field is missing or of another type.
+    std::vector<uint16_t> uint16s(const std::string& name) const;
     // "name: float32 [2, 3], ..." for error messages.
     std::string describe() const;
 

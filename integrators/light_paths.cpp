@@ -22,10 +22,10 @@ PCG32 light_path_rng(uint64_t seed, uint64_t stream, uint64_t index) {
 
 void scatter_stokes(const SurfaceInteraction& si, const BSDF& bsdf, const Vec3& wo_local, uint32_t lobe, StokesSpectrum& s) {
     // eval_mueller's light arrives along -wo and leaves along wi: here it arrives along -si.wi.
+    // Its directions are always the light's, so the context is the radiance one.
     SurfaceInteraction leaving = si;
     leaving.wi = wo_local;
-    BSDFContext ctx;
-    ctx.mode = TransportMode::Importance;
+    const BSDFContext ctx;
     MuellerSpectrum N;
     if (!normalized_world_mueller(bsdf, ctx, leaving, si.wi, lobe, N)) {
         for (Stokes& v : s.w) v = Stokes(v[0], 0.0f, 0.0f, 0.0f);
