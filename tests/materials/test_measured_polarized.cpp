@@ -323,7 +323,7 @@ TEST_CASE("measured_polarized: interpolated matrices are physical (degree of pol
     CHECK(polarised > 0.05f);  // the material polarises (the test has content)
 }
 
-TEST_CASE("measured_polarized: the unpolarised variants use the (0, 0) element; `wavelength` fixes the wavelength",
+TEST_CASE("measured_polarized: the unpolarised variants use the (0, 0) element and `wavelength` fixes the wavelength",
           "[bsdf][measured_polarized][spectral]") {
     const Model& m = model();
     std::vector<Node> nodes = interior_nodes(2.0f);
