@@ -29,9 +29,13 @@
 // u -> (theta, phi) -> h -> wo). Every table is interpolated bilinearly and blended linearly
 // between the slices (core/distribution.h: Marginal2D).
 //
+// In the spectral variants a spectral file's table is interpolated at the path's wavelengths
+// (clamped at the table's ends), as Mitsuba's spectral variants read it; an RGB file's colour is
+// upsampled as a reflectance.
+//
 // Differences from Mitsuba 3: negative rgb values (colours outside sRGB) are clamped to zero, as
-// RGL's own reader (powitacq) does; spectral files are converted to RGB instead of refused (an
-// RGB variant of Mitsuba refuses them); pdf() takes sin(theta_h) from h's x and y (Mitsuba's
+// RGL's own reader (powitacq) does; in RGB, spectral files are converted to RGB instead of refused
+// (an RGB variant of Mitsuba refuses them); pdf() takes sin(theta_h) from h's x and y (Mitsuba's
 // sqrt(1 - cos^2) in float made it several times too large at the mirror direction); a sample's
 // pdf and weight come from pdf() and eval() of its direction (the same values but for rounding);
 // negative vndf or luminance values are read as 0 (with a warning), and a slice whose density
@@ -45,6 +49,7 @@
 #include "core/spectral.h"
 #include "core/tensor_file.h"
 #include "core/warning.h"
+#include "core/wavelengths.h"
 #include "materials/fresnel.h"
 
 #include <cmath>
@@ -112,7 +117,7 @@ public:
         Vec2 u_m = half_vector_u(wi, sym.apply(wo), in);
         float unused;
         Vec2 s = vndf_.invert(u_m, in.params, &unused);
-        return reflectance(s, u_m, in);
+        return reflectance(s, u_m, in, si.wavelengths);
     }
 
     float pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
@@ -186,12 +191,22 @@ private:
         return std::max(2.0f * Pi * Pi * u_theta * sin_theta_m, 1e-6f) * 4.0f * cos_im;
     }
 
-    // f cos(wo) at sample-space point s (half vector at u_m).
-    Spectrum reflectance(const Vec2& s, const Vec2& u_m, const Incidence& in) const {
+    // f cos(wo) at sample-space point s (half vector at u_m): in RGB, or at the path's wavelengths
+    // (a spectral file's table interpolated in wavelength, clamped at its ends; an RGB file's
+    // colour upsampled as a reflectance).
+    Spectrum reflectance(const Vec2& s, const Vec2& u_m, const Incidence& in, const Wavelengths* wavelengths) const {
         Spectrum f;
-        for (int c = 0; c < 3; ++c) {
-            float params[3] = {in.params[0], in.params[1], float(c)};
-            f[c] = std::max(rgb_.eval(s, params), 0.0f);
+        if (wavelengths && has_spectra_) {
+            for (int k = 0; k < 3; ++k) {
+                float params[3] = {in.params[0], in.params[1], wavelengths->lambda[k]};
+                f[k] = std::max(spectra_.eval(s, params), 0.0f);
+            }
+        } else {
+            for (int c = 0; c < 3; ++c) {
+                float params[3] = {in.params[0], in.params[1], float(c)};
+                f[c] = std::max(rgb_.eval(s, params), 0.0f);
+            }
+            if (wavelengths) f = rgb_at_wavelengths(f, SpectrumRole::Reflectance, wavelengths);
         }
         if (jacobian_) {
             float sigma = sigma_.eval(in.u);
@@ -206,6 +221,8 @@ private:
 
     std::string path_, description_;
     Marginal2D ndf_, sigma_, vndf_, luminance_, rgb_;
+    Marginal2D spectra_;  // a spectral file's table, parametrised by wavelength too (the spectral variant)
+    bool has_spectra_ = false;
     bool isotropic_ = true, jacobian_ = false;
     int reduction_ = 1;
     Spectrum albedo_{0.0f};
@@ -297,9 +314,10 @@ void MeasuredBSDF::load(const TensorFile& file, const SourceLocation& where) {
     expect_dim(file, "luminance", 3, ls[2], "the sample space is square");
     std::vector<float> rgb = file.has_field("rgb") ? read_floats(file, "rgb", 5) : std::vector<float>();
     const std::string colour = file.has_field("rgb") ? "rgb" : "spectra";
+    std::vector<float> wavelengths, spectra;  // kept for the spectral variant
     if (colour == "spectra") {
-        std::vector<float> wavelengths = read_floats(file, "wavelengths", 1);
-        std::vector<float> spectra = read_floats(file, "spectra", 5);
+        wavelengths = read_floats(file, "wavelengths", 1);
+        spectra = read_floats(file, "spectra", 5);
         expect_dim(file, "spectra", 2, wavelengths.size(), "the size of wavelengths");
         std::vector<double> w(wavelengths.begin(), wavelengths.end());
         std::vector<Vec3d> weights;
@@ -347,6 +365,15 @@ void MeasuredBSDF::load(const TensorFile& file, const SourceLocation& where) {
     } catch (const std::invalid_argument& e) {
         file.fail(std::string("the vndf or luminance tables: ") + e.what());
     }
+    if (colour == "spectra") {
+        try {
+            auto [width, height] = grid("luminance", 2);  // the spectra's nodes are the luminance's
+            spectra_ = Marginal2D(spectra.data(), width, height, {phi_i, theta_i, wavelengths}, Marginal2D::Mode::Interpolant);
+            has_spectra_ = true;
+        } catch (const std::invalid_argument& e) {
+            file.fail(std::string("field \"spectra\": ") + e.what());
+        }
+    }
 }
 
 Spectrum MeasuredBSDF::normal_incidence_albedo() const {
@@ -365,6 +392,6 @@ Spectrum MeasuredBSDF::normal_incidence_albedo() const {
     return sum / float(n * n);
 }
 
-CANDELA_REGISTER(MeasuredBSDF, ObjectKind::BSDF, "measured");
+CANDELA_REGISTER_SPECTRAL(MeasuredBSDF, ObjectKind::BSDF, "measured");
 
 }  // namespace candela

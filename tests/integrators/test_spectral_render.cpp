@@ -107,17 +107,17 @@ TEST_CASE("spectral: scalar_rgb is the default, bit for bit", "[render][spectral
 }
 
 TEST_CASE("spectral: plugins that do not render in the variant stop at their line", "[spectral][errors]") {
-    const std::string xml = furnace_xml(R"(<rgb name="radiance" value="1"/>)", R"(
-        <bsdf type="measured"><string name="filename" value="none.bsdf"/></bsdf>)",
-                                        4);
+    std::string xml = furnace_xml(R"(<rgb name="radiance" value="1"/>)", R"(<bsdf type="diffuse"/>)", 4);
+    const std::string path = R"(<integrator type="path"/>)";
+    xml.replace(xml.find(path), path.size(), R"(<integrator type="sppm"/>)");
     try {
         render_spectral(xml);
-        FAIL("measured rendered in scalar_spectral");
+        FAIL("sppm rendered in scalar_spectral");
     } catch (const SceneError& e) {
         const std::string message = e.what();
         INFO(message);
-        CHECK(message.find("scene.xml:12:") != std::string::npos);
-        CHECK(message.find("bsdf type \"measured\" does not render in variant scalar_spectral") != std::string::npos);
+        CHECK(message.find("scene.xml:2:") != std::string::npos);
+        CHECK(message.find("integrator type \"sppm\" does not render in variant scalar_spectral") != std::string::npos);
         CHECK(message.find("scalar_rgb") != std::string::npos);
     }
 }

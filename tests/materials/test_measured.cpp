@@ -13,6 +13,7 @@
 #include "core/spectral.h"
 #include "core/tensor_file.h"
 #include "core/warp.h"
+#include "core/wavelengths.h"
 #include "materials/fresnel.h"
 #include "materials/microfacet.h"
 #include "tests/bsdf_harness.h"
@@ -63,7 +64,8 @@ struct Table {
     std::vector<Marginal2D> warps;  // per slice, the VNDF warp the file describes
 
     size_t slice(size_t p, size_t t) const { return p * theta_i.size() + t; }
-    std::vector<OutField> fields(bool spectral = false) const {
+    // `spectrum` scales the grey measurement per wavelength (spectral files).
+    std::vector<OutField> fields(bool spectral = false, float (*spectrum)(float) = nullptr) const {
         uint64_t P = phi_i.size(), T = theta_i.size(), N = uint64_t(n);
         std::vector<OutField> f = {
             {"description", TensorType::UInt8, {9}, "synthetic"},
@@ -84,8 +86,8 @@ struct Table {
         std::vector<float> spectra;
         for (size_t s = 0; s < P * T; ++s)
             for (size_t w = 0; w < wavelengths.size(); ++w)
-                spectra.insert(spectra.end(), luminance.begin() + std::ptrdiff_t(s * N * N),
-                               luminance.begin() + std::ptrdiff_t((s + 1) * N * N));
+                for (size_t i = 0; i < N * N; ++i)
+                    spectra.push_back(luminance[s * N * N + i] * (spectrum ? spectrum(wavelengths[w]) : 1.0f));
         f.push_back({"wavelengths", TensorType::Float32, {uint64_t(wavelengths.size())}, float_bytes(wavelengths)});
         f.push_back({"spectra", TensorType::Float32, {P, T, uint64_t(wavelengths.size()), N, N}, float_bytes(spectra)});
         return f;
@@ -165,10 +167,10 @@ const Table& half_table() {
 }
 
 // Writes the table as a .bsdf file in the scratch folder and loads it through the scene loader.
-std::filesystem::path write_table(const Table& t, const std::string& name, bool spectral = false) {
+std::filesystem::path write_table(const Table& t, const std::string& name, bool spectral = false, float (*spectrum)(float) = nullptr) {
     static const std::filesystem::path dir = scratch_dir("measured");
     std::filesystem::path path = dir / (name + ".bsdf");
-    write_bytes(path, tensor_bytes(t.fields(spectral)));
+    write_bytes(path, tensor_bytes(t.fields(spectral, spectrum)));
     return path;
 }
 BSDFUnderTest load_measured(const std::filesystem::path& path) {
@@ -471,6 +473,43 @@ TEST_CASE("measured: a spectral file is converted to RGB as Mitsuba converts a r
     CHECK(d.nonzero > 1000);
     CHECK(d.eval < 1e-4);
     CHECK(d.pdf == 0.0);
+}
+
+TEST_CASE("measured: in the spectral variants a spectral file is read at the path's wavelengths", "[bsdf][measured][spectral]") {
+    // A ramp over wavelength times the grey measurement, against the flat one: their ratio at each
+    // path wavelength is the ramp there (linear between the table's wavelengths, so exact), and
+    // clamped to its ends outside them. An RGB file's reflectance is upsampled (before the
+    // D / (4 sigma) factor): a grey one is the same at every wavelength, its RGB value.
+    auto ramp = [](float lambda) { return 0.2f + 0.6f * (lambda - 360.0f) / 470.0f; };
+    BSDFUnderTest flat = load_measured(write_table(iso_table(), "spectral-flat", true));
+    BSDFUnderTest ramped = load_measured(write_table(iso_table(), "spectral-ramp", true, +ramp));
+    Table grey = iso_table();
+    const size_t nodes = size_t(grey.n * grey.n);
+    for (size_t s = 0; s < grey.theta_i.size() * grey.phi_i.size(); ++s)
+        for (size_t ch = 0; ch < 3; ++ch)
+            for (size_t i = 0; i < nodes; ++i) grey.rgb[(s * 3 + ch) * nodes + i] = 0.3f * grey.luminance[s * nodes + i];
+    BSDFUnderTest rgb = load_measured(write_table(grey, "spectral-grey-rgb"));
+    PCG32 rng(3, 8);
+    int checked = 0;
+    for (int i = 0; i < 500; ++i) {
+        Wavelengths w = Wavelengths::at(Vec3(340.0f + 500.0f * rng.next_float(), 360.0f + 470.0f * rng.next_float(), 850.0f));
+        SurfaceInteraction si = local_interaction(spherical(1.4f * rng.next_float(), 6.2831853f * rng.next_float()));
+        si.wavelengths = &w;
+        const Vec3 wo = spherical(1.4f * rng.next_float(), 6.2831853f * rng.next_float());
+        const Spectrum a = ramped.bsdf->eval(BSDFContext(), si, wo), b = flat.bsdf->eval(BSDFContext(), si, wo);
+        if (!(b.x > 1e-4f)) continue;
+        ++checked;
+        for (int k = 0; k < 3; ++k) {
+            const float lambda = std::clamp(w.lambda[k], 360.0f, 830.0f);
+            CHECK(a[k] / b[k] == Approx(ramp(lambda)).epsilon(1e-4));
+            CHECK(b[k] == Approx(b.x).epsilon(1e-6));  // flat: the same at every wavelength
+        }
+        SurfaceInteraction plain = si;
+        plain.wavelengths = nullptr;
+        const Spectrum colour = rgb.bsdf->eval(BSDFContext(), plain, wo), upsampled = rgb.bsdf->eval(BSDFContext(), si, wo);
+        for (int k = 0; k < 3; ++k) CHECK(upsampled[k] == Approx(colour[k]).epsilon(1e-4).margin(1e-8));
+    }
+    CHECK(checked > 300);
 }
 
 TEST_CASE("measured: malformed tensor files are InputErrors naming the file and the fault", "[bsdf][measured][errors]") {
