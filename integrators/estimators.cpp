@@ -3,6 +3,7 @@
 #include "core/wavelengths.h"
 
 #include "core/bsdf.h"
+#include "core/mueller.h"
 #include "core/parallel.h"
 #include "core/registry.h"
 #include "core/sampler.h"
@@ -110,12 +111,16 @@ Estimate run(const EstimatorOptions& options, F one) {
 }  // namespace
 
 namespace {
-// One sample's value as a colour: in the spectral variant `value` is evaluated at wavelengths
-// drawn for the sample and converted through CIE 1931, in RGB it is evaluated as it is.
+// One sample's value as a colour: in the spectral variants `value` is evaluated at wavelengths
+// drawn for the sample (in the polarized one with a Stokes sum, so paths carry their Mueller
+// product and the value is the sensor's S0) and converted through CIE 1931, in RGB it is
+// evaluated as it is.
 template <typename F>
 Spectrum coloured(const Scene& scene, Sampler& sampler, F&& value) {
     if (!scene.spectral()) return value(nullptr);
     Wavelengths w = draw_wavelengths(sampler);
+    StokesSpectrum stokes;
+    if (scene.polarized()) w.stokes = &stokes;
     return spectral_to_linear_srgb(value(&w), w);
 }
 }  // namespace
