@@ -165,8 +165,9 @@ void add_threads_option(CLI::App* cmd, int& threads) {
 
 void add_variant_option(CLI::App* cmd, std::string& variant) {
     cmd->add_option("--variant", variant,
-                    std::string("What radiance carries, by Mitsuba 3's variant names: scalar_rgb (default) or scalar_spectral "
-                                "(wavelengths sampled per path; measured spectra used per wavelength)"))
+                    std::string("What radiance carries, by Mitsuba 3's variant names: scalar_rgb (default), scalar_spectral "
+                                "(wavelengths sampled per path; measured spectra used per wavelength) or "
+                                "scalar_spectral_polarized (spectral, with Stokes vectors and Mueller matrices)"))
         ->check([](const std::string& name) -> std::string {
             auto v = parse_variant(name);
             if (!v) return "--variant \"" + name + "\" is not a variant (known: " + variant_names() + ")";

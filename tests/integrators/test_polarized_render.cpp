@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "core/xml.h"
+#include "integrators/estimators.h"
 #include "materials/fresnel.h"
 #include "tests/stats.h"
 #include "tests/util.h"
@@ -108,6 +109,24 @@ TEST_CASE("polarized: Malus' law in light that reaches a floor through two polar
             }
             CHECK(channel_mean(aligned.image, 1).mean > 0.05);
         }
+    }
+}
+
+TEST_CASE("polarized: the irradiance estimate under two polarisers follows Malus' law", "[render][polarized][estimate]") {
+    // The `estimate` command's estimator, at the floor below the polarisers (the same seed for
+    // every angle: the ratio is exact but for rounding).
+    auto irradiance = [](float degrees) {
+        Ref<Scene> scene = load_scene_from_string(lit_through("path", degrees), scratch_dir("polarized_estimate").string() + "/scene.xml",
+                                                  {}, Variant::ScalarSpectralPolarized);
+        EstimatorOptions options;
+        options.samples = 4096;
+        return estimate_irradiance(*scene, Vec3(0.0f), Vec3(0, 0, 1), options).mean;
+    };
+    const Spectrum aligned = irradiance(0.0f);
+    REQUIRE(aligned.y > 0.1f);
+    for (float degrees : {45.0f, 60.0f, 90.0f}) {
+        const Spectrum turned = irradiance(degrees);
+        for (int c = 0; c < 3; ++c) CHECK(turned[c] == Approx(sqr(std::cos(glm::radians(degrees))) * aligned[c]).margin(1e-5));
     }
 }
 
