@@ -180,6 +180,57 @@ TEST_CASE("polarized: light reflected at Brewster's angle, arctan(n), is s-polar
     }
 }
 
+TEST_CASE("polarized: ptracer's light paths and path's camera paths see the same polarisation", "[render][polarized][ptracer]") {
+    // Light through a polariser falls on a rough gold sphere and a rough pplastic floor, whose
+    // Fresnel terms depend on the light's polarisation: turning the polariser from 30 to 120
+    // degrees changes the image by about 5%. Camera paths (Mueller products toward the light) and
+    // light paths (Stokes vectors toward the camera, matrices with directions swapped) must agree
+    // at both angles: whole-image means over independent seeds, z-tests at 1% (Sidak over 2).
+    auto scene = [](const std::string& integrator, float degrees) {
+        return R"(<scene version="3.0.0"><integrator type=")" + integrator + R"("/>
+    <sensor type="perspective"><transform name="to_world"><lookat origin="0, -4, 2" target="0, 0, 0" up="0, 0, 1"/></transform>
+        <sampler type="independent"><integer name="sample_count" value="32"/></sampler>
+        <film type="hdrfilm"><integer name="width" value="24"/><integer name="height" value="24"/>
+            <rfilter type="box"/><string name="component_format" value="float32"/></film></sensor>
+    <shape type="rectangle"><transform name="to_world"><scale value="0.7"/><rotate x="1" angle="180"/><translate z="3"/></transform>
+        <emitter type="area"><rgb name="radiance" value="10"/></emitter></shape>
+    <shape type="rectangle"><transform name="to_world"><rotate x="1" angle="180"/><translate z="2.5"/></transform>
+        <bsdf type="polarizer"><float name="theta" value=")" +
+               std::to_string(degrees) + R"("/></bsdf></shape>
+    <shape type="sphere"><transform name="to_world"><translate z="0.5"/><scale value="0.6"/></transform>
+        <bsdf type="roughconductor"><string name="material" value="Au"/><float name="alpha" value="0.3"/></bsdf></shape>
+    <shape type="rectangle"><transform name="to_world"><scale value="3"/></transform>
+        <bsdf type="pplastic"><float name="alpha" value="0.3"/></bsdf></shape>
+</scene>)";
+    };
+    const int seeds = 12;
+    auto image_mean = [&](const std::string& integrator, float degrees) {
+        Ref<Scene> s = load_scene_from_string(scene(integrator, degrees), scratch_dir("polarized_ptracer").string() + "/scene.xml", {},
+                                              Variant::ScalarSpectralPolarized);
+        std::vector<double> means;
+        for (int k = 0; k < seeds; ++k) {
+            RenderOptions options;
+            options.seed = 2000 + k;
+            means.push_back(channel_mean(s->integrator().render(*s, options).image, 1).mean);
+        }
+        return mean_and_error(means);
+    };
+    const double z = two_sided_z(sidak(0.01, 2));
+    MeanAndError at30 = image_mean("path", 30.0f), at120 = image_mean("path", 120.0f);
+    for (float degrees : {30.0f, 120.0f}) {
+        const MeanAndError path = degrees == 30.0f ? at30 : at120, light = image_mean("ptracer", degrees);
+        const double error = std::sqrt(path.std_error * path.std_error + light.std_error * light.std_error);
+        INFO(degrees << " degrees: path " << path.mean << " +- " << path.std_error << ", ptracer " << light.mean << " +- "
+                     << light.std_error);
+        CHECK(std::abs(path.mean - light.mean) <= z * error);
+        CHECK(error < 0.01 * path.mean);  // power: a disagreement of 1% would show
+    }
+    // The polarisation matters here: the two angles differ by far more than the error.
+    const double between = std::sqrt(at30.std_error * at30.std_error + at120.std_error * at120.std_error);
+    INFO("30 degrees " << at30.mean << ", 120 degrees " << at120.mean);
+    CHECK(std::abs(at30.mean - at120.mean) > 5.0 * between);
+}
+
 TEST_CASE("polarized: a quarter-wave plate at 45 degrees makes linear light circular", "[render][polarized]") {
     // At normal incidence (a narrow view: oblique rays see less retardance, as in Mitsuba).
     const std::string xml =
