@@ -22,7 +22,7 @@ GatherPoint walk_to_gather_point(const Scene& scene, Sampler& sampler, Ray ray, 
     int null_crossings = 0;
     for (++depth; within(depth);) {
         if (!scene.intersect(ray, si)) {
-            add_emission(scene.eval_environment(ray.d), depth);
+            add_emission(scene.eval_environment(ray.d, ray.wavelengths), depth);
             break;
         }
         if (const Emitter* e = si.shape->emitter()) add_emission(e->eval(si), depth);
@@ -39,6 +39,7 @@ GatherPoint walk_to_gather_point(const Scene& scene, Sampler& sampler, Ray ray, 
         const float u_lobe = sampler.next_1d();
         BSDFSample bs = bsdf.sample(BSDFContext(), si, u_lobe, u_dir);
         if (!bs.valid() || is_black(bs.weight)) break;
+        if (bs.dispersed && si.wavelengths) si.wavelengths->terminate_secondary();
         beta *= bs.weight;
         ray = si.spawn_ray(si.to_world(bs.wo));
         if (bs.lobe == Null) {

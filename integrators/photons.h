@@ -11,6 +11,7 @@
 #include "core/bsdf.h"
 #include "core/math.h"
 #include "core/spectrum.h"
+#include "core/wavelengths.h"
 
 #include <cstdint>
 #include <vector>
@@ -54,11 +55,15 @@ struct Photon {
     Vec3 n{0.0f};         // the surface's geometric normal on the side the photon arrived from
     Spectrum beta{0.0f};  // flux weight (W per emitted path)
     uint32_t depth = 0;   // segments from the emitter to p
+    // The spectral variants: the path crossed a dispersive interface, so only its first (hero)
+    // wavelength carries flux (core/wavelengths.h, terminate_secondary).
+    bool hero_only = false;
 };
 // The photon a light path leaves at a vertex.
 inline Photon make_photon(const SurfaceInteraction& si, const Spectrum& beta, uint32_t depth) {
     Vec3 wi = si.wi_world();
-    return {si.p, wi, glm::dot(wi, si.n) >= 0.0f ? si.n : -si.n, beta, depth};
+    return {si.p, wi,    glm::dot(wi, si.n) >= 0.0f ? si.n : -si.n,
+            beta, depth, si.wavelengths != nullptr && si.wavelengths->secondary_terminated()};
 }
 
 // A hash grid over points (any T with a position `p`) for radius queries. The points are kept

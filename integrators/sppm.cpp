@@ -31,6 +31,13 @@
 // within its radius from a hash grid and updates its statistics. Pixel value: the mean direct
 // term plus tau / (N_emitted pi R^2).
 //
+// In scalar_spectral each pass draws one set of wavelengths (its own stream), shared by the pass's
+// camera and light paths (pbrt-v4's SPPM); each pixel and light path works on its own copy (a
+// dispersive interface ends only that path's secondaries; a photon whose path dispersed carries
+// its hero wavelength alone), and the pass's direct term and gathered flux are converted to RGB
+// before they join the statistics. Not in scalar_spectral_polarized (its photons carry no Stokes
+// vector).
+//
 // Deterministic: camera samples depend on (seed, pixel, pass), light paths on (seed, index); each
 // visible point sums its photons in a fixed order (integrators/photon_grid.h). Not available:
 // AOVs (passes are correlated, so there is no per-pixel variance).
@@ -44,6 +51,7 @@
 #include "core/properties.h"
 #include "core/registry.h"
 #include "core/scene.h"
+#include "core/wavelengths.h"
 #include "integrators/light_paths.h"
 #include "integrators/path.h"
 #include "integrators/photons.h"
@@ -112,6 +120,10 @@ public:
         if (max_passes_ == 0 || max_passes_ < -1) props.fail("max_passes", "max_passes must be positive (or -1)");
         settings_ = read_path_settings(props, DepthSettings | HideEmittersSetting);
         photon_count_location_ = props.location_of("photon_count");
+        if (props.variant() == Variant::ScalarSpectralPolarized)
+            props.fail(
+                "sppm does not render in variant scalar_spectral_polarized yet (its photons carry no Stokes vector); "
+                "it renders in scalar_spectral and scalar_rgb");
     }
 
     RenderResult render(const Scene& scene, const RenderOptions& options) override;
@@ -129,10 +141,17 @@ private:
     }
     // The camera pass for one pixel: the emission and direct light found (returned) and the
     // visible point (vp.bsdf null when there is none).
-    Spectrum trace_camera(const Scene& scene, Sampler& sampler, const FilterSampler& filter, const Vec2i& pixel, GatherPoint& vp) const;
-    // The photons of light paths [begin, end) of pass `pass`.
-    void trace_photons(const LightPathTracer& tracer, uint64_t seed, uint64_t first, uint64_t count, PassPhotons& out) const;
-    // Radiance from the photons near a visible point (sum of f beta, and their number).
+    // `wavelengths`: the pixel's copy of the pass's wavelengths (spectral variant; null in RGB).
+    Spectrum trace_camera(const Scene& scene, Sampler& sampler, const FilterSampler& filter, const Vec2i& pixel, Wavelengths* wavelengths,
+                          GatherPoint& vp) const;
+    // The photons of light paths [begin, end) of pass `pass`, each path at its own copy of the
+    // pass's wavelengths (spectral variant; null in RGB).
+    void trace_photons(const LightPathTracer& tracer, uint64_t seed, uint64_t first, uint64_t count, const Wavelengths* wavelengths,
+                       PassPhotons& out) const;
+    // Radiance from the photons near a visible point (sum of f beta, and their number). A photon
+    // whose path dispersed carries only its hero wavelength: unless the visible point's own path
+    // did too (its conversion then weighs the hero alone), its flux is the hero's, tripled, as
+    // terminate_secondary weighs it.
     Spectrum gather(const PhotonGrid& grid, const GatherPoint& vp, float radius, uint64_t& found) const;
     // Stops the render (a SceneError at photon_count, exit code 2) before anything is allocated
     // when its buffers cannot fit in memory (core/memory_budget.h).
@@ -146,12 +165,13 @@ private:
 };
 
 Spectrum SPPMIntegrator::trace_camera(const Scene& scene, Sampler& sampler, const FilterSampler& filter, const Vec2i& pixel,
-                                      GatherPoint& vp) const {
+                                      Wavelengths* wavelengths, GatherPoint& vp) const {
     float filter_weight;
     Vec2 offset = filter.sample(sampler.next_2d(), filter_weight);
     if (!scene.sensor().jitter()) offset = Vec2(0.0f), filter_weight = 1.0f;  // the pixel's centre
     Vec2 pos = Vec2(pixel) + Vec2(0.5f) + offset;
     Ray ray = scene.sensor().sample_ray(pos, sampler.next_2d());
+    ray.wavelengths = wavelengths;
     WalkSettings walk;
     walk.max_depth = settings_.max_depth;
     walk.rr_depth = settings_.rr_depth;
@@ -162,12 +182,18 @@ Spectrum SPPMIntegrator::trace_camera(const Scene& scene, Sampler& sampler, cons
     return L;
 }
 
-void SPPMIntegrator::trace_photons(const LightPathTracer& tracer, uint64_t seed, uint64_t first, uint64_t count, PassPhotons& out) const {
+void SPPMIntegrator::trace_photons(const LightPathTracer& tracer, uint64_t seed, uint64_t first, uint64_t count,
+                                   const Wavelengths* wavelengths, PassPhotons& out) const {
     out.photons.clear();
     out.paths = count;
     for (uint64_t i = 0; i < count; ++i) {
         PCG32 rng = light_path_rng(seed, 1, first + i);
         LightPathStart start;
+        Wavelengths own;  // a dispersive interface ends this path's secondaries, not the pass's
+        if (wavelengths) {
+            own = *wavelengths;
+            start.wavelengths = &own;
+        }
         if (!tracer.start(rng, start)) continue;
         tracer.follow(rng, start, [&](const LightVertex& v) {
             // Direct light (depth 1) is next-event estimation's; the shortest camera path is one segment.
@@ -182,13 +208,15 @@ Spectrum SPPMIntegrator::gather(const PhotonGrid& grid, const GatherPoint& vp, f
     Spectrum phi(0.0f);
     found = 0;
     const BSDFContext ctx;
+    const bool hero_only_here = vp.si.wavelengths && vp.si.wavelengths->secondary_terminated();
     grid.for_each_within(vp.si.p, radius, [&](const Photon& ph, float) {
         if (!settings_.within_depth(vp.depth + ph.depth)) return;
         Vec3 wi = vp.si.to_local(ph.wi);
         float cos_theta = std::abs(Frame::cos_theta(wi));
         ++found;
         if (cos_theta < 1e-6f) return;
-        phi += ph.beta * vp.bsdf->eval(ctx, vp.si, wi) / cos_theta;  // f, without the cosine
+        const Spectrum beta = ph.hero_only && !hero_only_here ? Spectrum(float(WavelengthSamples) * ph.beta.x, 0.0f, 0.0f) : ph.beta;
+        phi += beta * vp.bsdf->eval(ctx, vp.si, wi) / cos_theta;  // f, without the cosine
     });
     return phi;
 }
@@ -199,10 +227,10 @@ Spectrum SPPMIntegrator::gather(const PhotonGrid& grid, const GatherPoint& vp, f
 // measured on the first work unit of the first pass (the same paths the render traces first).
 void SPPMIntegrator::check_render_memory(const LightPathTracer& tracer, uint64_t seed, uint64_t chunk, size_t pixels) const {
     PassPhotons pilot;
-    trace_photons(tracer, seed, 0, std::min<uint64_t>(chunk, uint64_t(photon_count_)), pilot);
+    trace_photons(tracer, seed, 0, std::min<uint64_t>(chunk, uint64_t(photon_count_)), nullptr, pilot);
     const double per_path = double(pilot.photons.size()) / double(std::max<uint64_t>(pilot.paths, 1));
     const uint64_t photons = uint64_t(std::ceil(per_path * double(photon_count_)));
-    const uint64_t per_pixel = sizeof(PixelState) + sizeof(GatherPoint) + sizeof(Spectrum);
+    const uint64_t per_pixel = sizeof(PixelState) + sizeof(GatherPoint) + sizeof(Spectrum) + sizeof(Wavelengths);
     const uint64_t per_photon = 3 * sizeof(Photon) + 5 * sizeof(uint32_t);
     const uint64_t bytes = saturating_add(saturating_mul(pixels, per_pixel), saturating_mul(photons, per_photon));
     char rate[32];
@@ -243,11 +271,29 @@ RenderResult SPPMIntegrator::render(const Scene& scene, const RenderOptions& opt
     std::atomic<uint64_t> rays{0};
     std::vector<GatherPoint> vps(pixels);
     std::vector<Spectrum> direct(pixels);
+    // The spectral variant: every pass draws one set of wavelengths from its own stream, shared by
+    // its camera and light paths (pbrt-v4's SPPM), each pixel and light path at its own copy; each
+    // pass's estimates are converted to RGB before they join the statistics (the conversion is
+    // linear, so the statistics stay unbiased over the passes' wavelengths).
+    const bool spectral = scene.spectral();
+    const SensorResponse* response = scene.sensor().response();
+    std::vector<Wavelengths> pixel_wavelengths(spectral ? pixels : 0);
+    auto to_rgb = [&](Spectrum value, size_t i) {
+        if (!spectral) return value;
+        if (response) value *= response->at(pixel_wavelengths[i]);
+        return spectral_to_linear_srgb(value, pixel_wavelengths[i]);
+    };
     std::vector<PassPhotons> chunks;
     std::vector<Photon> photons;
     PhotonGrid grid;
     int done = 0;
     for (int pass = 0; pass < passes && !interrupted(); ++pass) {
+        Wavelengths pass_wavelengths;
+        if (spectral) {
+            PCG32 rng = light_path_rng(samples.seed, 3, uint64_t(pass));
+            const float u = rng.next_float();
+            pass_wavelengths = response ? response->sample(u) : sample_visible_wavelengths(u);
+        }
         // (1) Camera pass.
         arena.execute([&] {
             parallel_chunks(pixels, 256, [&](size_t begin, size_t end) {
@@ -256,15 +302,21 @@ RenderResult SPPMIntegrator::render(const Scene& scene, const RenderOptions& opt
                 for (size_t i = begin; i != end; ++i) {
                     Vec2i pixel = offset + Vec2i(int(i % size_t(crop.x)), int(i / size_t(crop.x)));
                     sampler.start(pixel, uint32_t(pass));
-                    direct[i] = trace_camera(scene, sampler, filter, pixel, vps[i]);
+                    Wavelengths* w = nullptr;
+                    if (spectral) {
+                        pixel_wavelengths[i] = pass_wavelengths;
+                        w = &pixel_wavelengths[i];
+                    }
+                    direct[i] = to_rgb(trace_camera(scene, sampler, filter, pixel, w, vps[i]), i);
                 }
                 rays += thread_ray_count() - before;
             });
         });
         // (2) Photon pass, concatenated in path order.
         uint64_t first = uint64_t(pass) * uint64_t(photon_count_);
-        if (!trace_in_chunks(arena, uint64_t(photon_count_), chunk, chunks, interrupt, rays,
-                             [&](uint64_t b, uint64_t e, PassPhotons& out) { trace_photons(tracer, samples.seed, first + b, e - b, out); }))
+        if (!trace_in_chunks(arena, uint64_t(photon_count_), chunk, chunks, interrupt, rays, [&](uint64_t b, uint64_t e, PassPhotons& out) {
+                trace_photons(tracer, samples.seed, first + b, e - b, spectral ? &pass_wavelengths : nullptr, out);
+            }))
             break;
         photons.clear();
         for (const PassPhotons& c : chunks) photons.insert(photons.end(), c.photons.begin(), c.photons.end());
@@ -280,7 +332,7 @@ RenderResult SPPMIntegrator::render(const Scene& scene, const RenderOptions& opt
                     for (int c = 0; c < 3; ++c) s.direct[c] += all_finite(direct[i]) ? direct[i][c] : 0.0f;
                     if (!vps[i].bsdf) continue;
                     uint64_t m = 0;
-                    Spectrum phi = gather(grid, vps[i], s.radius, m) * vps[i].beta;
+                    Spectrum phi = to_rgb(gather(grid, vps[i], s.radius, m) * vps[i].beta, i);
                     if (m == 0 || !all_finite(phi)) continue;
                     double n_new = s.n + alpha_ * double(m), shrink = n_new / (s.n + double(m));
                     for (int c = 0; c < 3; ++c) s.tau[c] = (s.tau[c] + phi[c]) * shrink;
@@ -316,6 +368,6 @@ RenderResult SPPMIntegrator::render(const Scene& scene, const RenderOptions& opt
     return result;
 }
 
-CANDELA_REGISTER(SPPMIntegrator, ObjectKind::Integrator, "sppm");
+CANDELA_REGISTER_SPECTRAL(SPPMIntegrator, ObjectKind::Integrator, "sppm");
 
 }  // namespace candela

@@ -533,6 +533,8 @@ def family_page(family: Family, plugins: list[Plugin], headers: list[SharedHeade
         # comment says it renders only there (stokes) refuses the others at its line.
         if "Renders only in scalar_spectral_polarized" in " ".join(p.comment):
             variants = "scalar_spectral_polarized only"
+        elif p.spectral and "Not in scalar_spectral_polarized" in " ".join(p.comment):
+            variants = "scalar_rgb and scalar_spectral"
         elif p.spectral:
             variants = "scalar_rgb, scalar_spectral and scalar_spectral_polarized"
         else:

@@ -116,13 +116,13 @@ def test_plugins_not_spectral_ready_name_scalar_rgb(tmp_path):
         candela.load_dict(d, variant="scalar_spectral")
     candela.load_dict(d)
     with pytest.raises(candela.SceneError, match="scalar_rgb"):
-        candela.load_dict({"type": "sppm"}, variant="scalar_spectral")
-    assert candela.load_dict({"type": "sppm"}).kind == "integrator"
+        candela.load_dict({"type": "photonmapper"}, variant="scalar_spectral")
+    assert candela.load_dict({"type": "photonmapper"}).kind == "integrator"
 
 
 def test_an_integrator_override_is_loaded_in_the_scene_variant():
     spectral = candela.load_string(SCENE, variant="scalar_spectral", spp=1)
-    for integrator in ("sppm", {"type": "photonmapper"}, candela.load_dict({"type": "photonmapper"})):
+    for integrator in ("photonmapper", {"type": "photonmapper"}, candela.load_dict({"type": "photonmapper"})):
         with pytest.raises(candela.SceneError, match=r"^integrator: .*scalar_rgb"):
             candela.render(spectral, integrator=integrator)
     # Those that render in the variant do, as in the scene file.
@@ -237,7 +237,7 @@ def test_mitsuba_loads_and_renders_in_the_current_variant(scene_file, tmp_path):
     with pytest.raises(candela.SceneError, match="scalar_rgb"):
         mi.load_string(PHOTONS)
     with pytest.raises(candela.SceneError, match="scalar_rgb"):
-        mi.load_dict({"type": "sppm"})
+        mi.load_dict({"type": "photonmapper"})
     # Rendered from a sensor object, the scene is loaded again in its own variant, whatever the
     # current one is.
     T = mi.ScalarTransform4f
@@ -247,7 +247,7 @@ def test_mitsuba_loads_and_renders_in_the_current_variant(scene_file, tmp_path):
     mi.set_variant("scalar_rgb")
     assert mi.render(scene, sensor=camera, spp=2).shape == (8, 8, 3)
     with pytest.raises(candela.SceneError, match="scalar_rgb"):
-        mi.render(scene, integrator="sppm", sensor=camera, spp=1)
+        mi.render(scene, integrator="photonmapper", sensor=camera, spp=1)
 
 
 def test_mitsuba_cornell_box_in_the_spectral_variant():
