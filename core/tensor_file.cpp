@@ -148,29 +148,19 @@ const TensorField& TensorFile::field(const std::string& name) const {
     return it->second;
 }
 
-std::vector<float> TensorFile::floats(const std::string& name) const {
+template <typename T>
+std::vector<T> TensorFile::values(const std::string& name, TensorType type) const {
     const TensorField& f = field(name);
-    if (f.dtype != TensorType::Float32) fail("field \"" + name + "\" is " + tensor_type_name(f.dtype) + ", expected float32");
-    std::vector<float> out(size_t(f.count()));
+    if (f.dtype != type) fail("field \"" + name + "\" is " + tensor_type_name(f.dtype) + ", expected " + tensor_type_name(type));
+    std::vector<T> out(size_t(f.count()));
     // The format is little endian, as is every machine Candela builds for.
-    if (!out.empty()) std::memcpy(out.data(), data_.data() + f.offset, out.size() * sizeof(float));
+    if (!out.empty()) std::memcpy(out.data(), data_.data() + f.offset, out.size() * sizeof(T));
     return out;
 }
 
-std::vector<uint8_t> TensorFile::bytes(const std::string& name) const {
-    const TensorField& f = field(name);
-    if (f.dtype != TensorType::UInt8) fail("field \"" + name + "\" is " + tensor_type_name(f.dtype) + ", expected uint8");
-    auto begin = data_.begin() + std::ptrdiff_t(f.offset);
-    return std::vector<uint8_t>(begin, begin + std::ptrdiff_t(f.count()));
-}
-
-std::vector<uint16_t> TensorFile::uint16s(const std::string& name) const {
-    const TensorField& f = field(name);
-    if (f.dtype != TensorType::UInt16) fail("field \"" + name + "\" is " + tensor_type_name(f.dtype) + ", expected uint16");
-    std::vector<uint16_t> out(size_t(f.count()));
-    if (!out.empty()) std::memcpy(out.data(), data_.data() + f.offset, out.size() * sizeof(uint16_t));
-    return out;
-}
+std::vector<float> TensorFile::floats(const std::string& name) const { return values<float>(name, TensorType::Float32); }
+std::vector<uint8_t> TensorFile::bytes(const std::string& name) const { return values<uint8_t>(name, TensorType::UInt8); }
+std::vector<uint16_t> TensorFile::uint16s(const std::string& name) const { return values<uint16_t>(name, TensorType::UInt16); }
 
 std::string TensorFile::describe() const {
     std::string out;

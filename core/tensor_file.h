@@ -57,6 +57,10 @@ public:
     [[noreturn]] void fail(const std::string& message) const;
 
 private:
+    // The values of field `name`, which must be of type `type` (T its C++ type).
+    template <typename T>
+    std::vector<T> values(const std::string& name, TensorType type) const;
+
     std::string path_;
     std::vector<uint8_t> data_;
     std::map<std::string, TensorField> fields_;

@@ -17,60 +17,38 @@
 // Its one lobe is Null with weight 0.5 transmittance: crossed without a bounce, and shadow rays
 // keep that fraction (and, polarized, its matrix).
 
-#include "core/bsdf.h"
-#include "core/local_model.h"
-#include "core/properties.h"
 #include "core/registry.h"
-#include "core/texture.h"
+#include "materials/optical_element.h"
 
 namespace candela {
 
-class PolarizerBSDF final : public BSDF {
+class PolarizerBSDF final : public OpticalElementBSDF {
 public:
-    explicit PolarizerBSDF(const Properties& props) {
+    explicit PolarizerBSDF(const Properties& props) : OpticalElementBSDF(props, 0.5f) {
         theta_ = props.get_texture("theta", Spectrum(0.0f));
-        transmittance_ = props.get_texture("transmittance", Spectrum(1.0f));
         polarizing_ = props.get_bool("polarizing", true);
-        flags_ = Null;
     }
 
-    BSDFSample sample(const BSDFContext& ctx, const SurfaceInteraction& si, float, const Vec2&) const override {
-        return ctx.allows(Null) ? null_lobe_sample(si, 1.0f, null_transmission(si)) : BSDFSample();
-    }
-    Spectrum eval(const BSDFContext&, const SurfaceInteraction&, const Vec3&) const override { return Spectrum(0.0f); }
-    float pdf(const BSDFContext&, const SurfaceInteraction&, const Vec3&) const override { return 0.0f; }
     bool eval_mueller(const BSDFContext&, const SurfaceInteraction& si, const Vec3&, uint32_t lobe, MuellerSpectrum& M) const override {
         if (lobe != Null) return false;
         if (!polarizing_) {
             M = identity_spectrum();
             return true;
         }
-        // The light travels along wi; its implicit basis is turned to the effective transmitting
+        // The light travels along wi; the element's reference axis is the effective transmitting
         // axis, perpendicular to the absorbing one.
         const Vec3 forward = si.wi;
         const Vec3 v_axis = Vec3(0, 1, 0) - forward.y * forward;
         if (!(squared_length(v_axis) > 1e-12f)) return false;  // along the absorbing axis: nothing to turn
-        const Vec3 absorbing = glm::normalize(v_axis);
-        const Vec3 transmitting = glm::cross(forward, absorbing);
-        const Mueller R = rotate_stokes_basis(forward, transmitting, stokes_basis(forward));
+        const Vec3 transmitting = glm::cross(forward, glm::normalize(v_axis));
         // An angle is one number (a colour's luminance), not a spectrum.
-        const Mueller m = R * rotated_element(glm::radians(theta_->eval_1(si)), linear_polarizer()) * transpose(R);
-        for (Mueller& w : M.w) w = m;
+        on_beam(forward, transmitting, rotated_element(glm::radians(theta_->eval_1(si)), linear_polarizer()), M);
         return true;
-    }
-    Spectrum albedo(const SurfaceInteraction& si) const override { return null_transmission(si); }
-    Spectrum null_transmission(const SurfaceInteraction& si) const override { return 0.5f * transmittance_->eval(si); }
-    // Local model: the environment seen straight through, at half strength.
-    LocalShading local_shading() const override {
-        LocalShading s;
-        s.transmission = 0.5f * transmittance_->mean();
-        s.two_sided = true;
-        return s;
     }
     std::string to_string() const override { return "polarizer"; }
 
 private:
-    Ref<Texture> theta_, transmittance_;
+    Ref<Texture> theta_;
     bool polarizing_ = true;
 };
 

@@ -16,53 +16,32 @@
 // Its one lobe is Null: crossed without a bounce; shadow rays keep `transmittance` (and,
 // polarized, its matrix).
 
-#include "core/bsdf.h"
-#include "core/local_model.h"
-#include "core/properties.h"
 #include "core/registry.h"
-#include "core/texture.h"
+#include "materials/optical_element.h"
 
 namespace candela {
 
-class RetarderBSDF final : public BSDF {
+class RetarderBSDF final : public OpticalElementBSDF {
 public:
-    explicit RetarderBSDF(const Properties& props) {
+    explicit RetarderBSDF(const Properties& props) : OpticalElementBSDF(props, 1.0f) {
         theta_ = props.get_texture("theta", Spectrum(0.0f));
         delta_ = props.get_texture("delta", Spectrum(90.0f));
-        transmittance_ = props.get_texture("transmittance", Spectrum(1.0f));
-        flags_ = Null;
     }
 
-    BSDFSample sample(const BSDFContext& ctx, const SurfaceInteraction& si, float, const Vec2&) const override {
-        return ctx.allows(Null) ? null_lobe_sample(si, 1.0f, null_transmission(si)) : BSDFSample();
-    }
-    Spectrum eval(const BSDFContext&, const SurfaceInteraction&, const Vec3&) const override { return Spectrum(0.0f); }
-    float pdf(const BSDFContext&, const SurfaceInteraction&, const Vec3&) const override { return 0.0f; }
     bool eval_mueller(const BSDFContext&, const SurfaceInteraction& si, const Vec3&, uint32_t lobe, MuellerSpectrum& M) const override {
         if (lobe != Null) return false;
         const Vec3 forward = si.wi;  // the light travels along wi
         const Vec3 u_axis = Vec3(1, 0, 0) - forward.x * forward;
         if (!(squared_length(u_axis) > 1e-12f)) return false;  // along the fast axis
-        const Mueller R = rotate_stokes_basis(forward, glm::normalize(u_axis), stokes_basis(forward));
         // Angles are one number each (a colour's luminance), not spectra.
         const float theta = glm::radians(theta_->eval_1(si)), delta = glm::radians(delta_->eval_1(si));
-        const Mueller m = R * rotated_element(theta, linear_retarder(delta * std::abs(Frame::cos_theta(si.wi)))) * transpose(R);
-        for (Mueller& w : M.w) w = m;
+        on_beam(forward, glm::normalize(u_axis), rotated_element(theta, linear_retarder(delta * std::abs(Frame::cos_theta(si.wi)))), M);
         return true;
-    }
-    Spectrum albedo(const SurfaceInteraction& si) const override { return null_transmission(si); }
-    Spectrum null_transmission(const SurfaceInteraction& si) const override { return transmittance_->eval(si); }
-    // Local model: the environment seen straight through.
-    LocalShading local_shading() const override {
-        LocalShading s;
-        s.transmission = transmittance_->mean();
-        s.two_sided = true;
-        return s;
     }
     std::string to_string() const override { return "retarder"; }
 
 private:
-    Ref<Texture> theta_, delta_, transmittance_;
+    Ref<Texture> theta_, delta_;
 };
 
 CANDELA_REGISTER_SPECTRAL(RetarderBSDF, ObjectKind::BSDF, "retarder");

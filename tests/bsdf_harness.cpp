@@ -18,6 +18,18 @@ BSDFUnderTest make_bsdf(const std::string& bsdf_xml) {
     return t;
 }
 
+std::string lit_sphere_scene(const std::string& integrator_xml, const std::string& bsdf_xml) {
+    return scene_xml(integrator_xml + R"(
+        <sensor type="perspective"><float name="fov" value="40"/>
+            <transform name="to_world"><lookat origin="0, -4, 1" target="0, 0, 0" up="0, 0, 1"/></transform>
+            <sampler type="independent"><integer name="sample_count" value="4"/></sampler>
+            <film type="hdrfilm"><integer name="width" value="24"/><integer name="height" value="24"/><rfilter type="box"/></film></sensor>
+        <emitter type="constant"><rgb name="radiance" value="0.5"/></emitter>
+        <emitter type="point"><point name="position" x="2" y="-3" z="3"/><rgb name="intensity" value="20"/></emitter>
+        <shape type="sphere">)" +
+                     bsdf_xml + "</shape>");
+}
+
 SurfaceInteraction local_interaction(const Vec3& wi) {
     SurfaceInteraction si;
     si.p = Vec3(0.0f);

@@ -17,6 +17,11 @@ struct BSDFUnderTest {
 };
 BSDFUnderTest make_bsdf(const std::string& bsdf_xml);
 
+// A scene (XML) of a unit sphere made of `bsdf_xml`, rendered by `integrator_xml`, under a constant
+// sky of 0.5 and a point light, seen by a 24 x 24 camera at 4 spp with a box filter: what the
+// measured-material tests render.
+std::string lit_sphere_scene(const std::string& integrator_xml, const std::string& bsdf_xml);
+
 // A surface interaction at the origin with the standard frame, uv (0.3, 0.6), looking from wi.
 SurfaceInteraction local_interaction(const Vec3& wi);
 // A unit direction from cos(theta) and phi.

@@ -603,14 +603,8 @@ TEST_CASE("measured: a scene with a measured BSDF loads and renders finite pixel
     std::filesystem::path dir = scratch_dir("measured-scene");
     write_bytes(dir / "material.bsdf", tensor_bytes(quarter_table().fields()));
     auto render = [&](const std::string& integrator) {
-        write_text(dir / "scene.xml", scene_xml(integrator + R"(
-            <sensor type="perspective"><float name="fov" value="40"/>
-                <transform name="to_world"><lookat origin="0, -4, 1" target="0, 0, 0" up="0, 0, 1"/></transform>
-                <sampler type="independent"><integer name="sample_count" value="4"/></sampler>
-                <film type="hdrfilm"><integer name="width" value="24"/><integer name="height" value="24"/><rfilter type="box"/></film></sensor>
-            <emitter type="constant"><rgb name="radiance" value="0.5"/></emitter>
-            <emitter type="point"><point name="position" x="2" y="-3" z="3"/><rgb name="intensity" value="20"/></emitter>
-            <shape type="sphere"><bsdf type="measured"><string name="filename" value="material.bsdf"/></bsdf></shape>)"));
+        write_text(dir / "scene.xml",
+                   lit_sphere_scene(integrator, R"(<bsdf type="measured"><string name="filename" value="material.bsdf"/></bsdf>)"));
         return render_file((dir / "scene.xml").string(), {}).image;
     };
     // The path tracer, and the raster mode (its local model: a Lambertian of the albedo at

@@ -569,15 +569,8 @@ TEST_CASE("measured_polarized: scenes render finite pixels in the three variants
     std::filesystem::path dir = scratch_dir("measured-polarized-scene");
     write_bytes(dir / "gold.pbsdf", tensor_bytes(model().fields()));
     auto scene = [&](const std::string& integrator, const std::string& extra) {
-        return scene_xml(integrator + R"(
-            <sensor type="perspective"><float name="fov" value="40"/>
-                <transform name="to_world"><lookat origin="0, -4, 1" target="0, 0, 0" up="0, 0, 1"/></transform>
-                <sampler type="independent"><integer name="sample_count" value="4"/></sampler>
-                <film type="hdrfilm"><integer name="width" value="24"/><integer name="height" value="24"/><rfilter type="box"/></film></sensor>
-            <emitter type="constant"><rgb name="radiance" value="0.5"/></emitter>
-            <emitter type="point"><point name="position" x="2" y="-3" z="3"/><rgb name="intensity" value="20"/></emitter>
-            <shape type="sphere"><bsdf type="measured_polarized"><string name="filename" value="gold.pbsdf"/>)" +
-                         extra + "</bsdf></shape>");
+        return lit_sphere_scene(integrator,
+                                R"(<bsdf type="measured_polarized"><string name="filename" value="gold.pbsdf"/>)" + extra + "</bsdf>");
     };
     const std::string path = R"(<integrator type="path"><integer name="max_depth" value="4"/></integrator>)";
     struct Case {
