@@ -171,15 +171,6 @@ BasisChange facet_to_local_bases(const Vec3& m, const Vec3& wi, const Vec3& wo) 
     return BasisChange{rotate_stokes_basis(wi, s_out, stokes_basis(wi)), transpose(rotate_stokes_basis(-wo, s_in, stokes_basis(-wo)))};
 }
 
-void multiply_right(MuellerSpectrum& a, const MuellerSpectrum& b) {
-    for (int k = 0; k < 3; ++k) a.w[k] = a.w[k] * b.w[k];
-}
-
-void multiply_right_depolarizer(MuellerSpectrum& a) {
-    for (Mueller& m : a.w)
-        for (int i = 0; i < 4; ++i) m.m[i][1] = m.m[i][2] = m.m[i][3] = 0.0f;
-}
-
 MuellerSpectrum identity_spectrum() {
     MuellerSpectrum r;
     for (Mueller& m : r.w) m = Mueller::identity();
@@ -195,6 +186,40 @@ bool normalized_world_mueller(const BSDF& bsdf, const BSDFContext& ctx, const Su
         m = m00 > 0.0f && std::isfinite(m00) ? (1.0f / m00) * to_world.apply(m) : Mueller();
     }
     return true;
+}
+
+namespace {
+
+// Per wavelength, a = a b.
+void multiply_right(MuellerSpectrum& a, const MuellerSpectrum& b) {
+    for (int k = 0; k < 3; ++k) a.w[k] = a.w[k] * b.w[k];
+}
+
+// Per wavelength, a = a diag(1, 0, 0, 0): only light of the intensity S0 goes on.
+void multiply_right_depolarizer(MuellerSpectrum& a) {
+    for (Mueller& m : a.w)
+        for (int i = 0; i < 4; ++i) m.m[i][1] = m.m[i][2] = m.m[i][3] = 0.0f;
+}
+
+}  // namespace
+
+void multiply_by_bsdf(MuellerSpectrum& product, const BSDF& bsdf, const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo,
+                      uint32_t lobe) {
+    MuellerSpectrum N;
+    if (normalized_world_mueller(bsdf, ctx, si, wo, lobe, N))
+        multiply_right(product, N);
+    else
+        multiply_right_depolarizer(product);
+}
+
+void scatter_stokes(const BSDF& bsdf, const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo, uint32_t lobe,
+                    StokesSpectrum& s) {
+    MuellerSpectrum N;
+    if (!normalized_world_mueller(bsdf, ctx, si, wo, lobe, N)) {
+        for (Stokes& v : s.w) v = Stokes(v[0], 0.0f, 0.0f, 0.0f);
+        return;
+    }
+    for (int k = 0; k < 3; ++k) s.w[k] = N.w[k] * s.w[k];
 }
 
 float degree_of_polarization(const Stokes& s) { return s[0] > 0.0f ? std::sqrt(s[1] * s[1] + s[2] * s[2] + s[3] * s[3]) / s[0] : 0.0f; }

@@ -114,10 +114,6 @@ class BSDF;
 struct BSDFContext;
 struct SurfaceInteraction;
 
-// Per wavelength, a = a b (the path's product grows by one element further from the camera).
-void multiply_right(MuellerSpectrum& a, const MuellerSpectrum& b);
-// Per wavelength, a = a diag(1, 0, 0, 0): only light of the intensity S0 goes on.
-void multiply_right_depolarizer(MuellerSpectrum& a);
 MuellerSpectrum identity_spectrum();
 
 // What the polarized variant's paths use of a BSDF: BSDF::eval_mueller in world bases, divided
@@ -125,6 +121,19 @@ MuellerSpectrum identity_spectrum();
 // depolarises (N untouched).
 bool normalized_world_mueller(const BSDF& bsdf, const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo, uint32_t lobe,
                               MuellerSpectrum& N);
+
+// A path's product of normalised matrices grown by one element further from the camera:
+// product = product N, N normalized_world_mueller's matrix, or the depolariser where the BSDF
+// depolarises.
+void multiply_by_bsdf(MuellerSpectrum& product, const BSDF& bsdf, const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo,
+                      uint32_t lobe);
+// The normalised Stokes vectors `s` of light that arrives along -wo (local) after `lobe` of `bsdf`
+// sends it along si.wi: normalized_world_mueller's matrix applied, or only S0 kept where the BSDF
+// depolarises.
+void scatter_stokes(const BSDF& bsdf, const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo, uint32_t lobe,
+                    StokesSpectrum& s);
+// The first column of M: what M makes of unpolarised light of unit intensity.
+inline Stokes first_column(const Mueller& M) { return Stokes(M.m[0][0], M.m[1][0], M.m[2][0], M.m[3][0]); }
 
 // Degree of polarisation sqrt(S1^2 + S2^2 + S3^2) / S0 (0 for S0 = 0).
 float degree_of_polarization(const Stokes& s);

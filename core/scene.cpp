@@ -101,12 +101,16 @@ bool Scene::intersect(const Ray& ray, SurfaceInteraction& si) const {
 }
 
 Spectrum Scene::transmittance(const Ray& shadow_ray, MuellerSpectrum* crossed) const {
-    if (!has_null_surfaces_) return occluded(shadow_ray) ? Spectrum(0.0f) : Spectrum(1.0f);
+    if (!has_null_surfaces_) {
+        if (crossed) *crossed = identity_spectrum();
+        return occluded(shadow_ray) ? Spectrum(0.0f) : Spectrum(1.0f);
+    }
     PCG32 unused;
     return transmittance(shadow_ray, nullptr, unused, crossed);
 }
 
 Spectrum Scene::transmittance(const Ray& shadow_ray, const Medium* medium, PCG32& rng, MuellerSpectrum* mueller) const {
+    if (mueller) *mueller = identity_spectrum();
     // Cross the surfaces one by one, at most MaxNullCrossings of them.
     Spectrum T(1.0f);
     Ray ray = unit_direction(shadow_ray);  // distances along it are measured below
@@ -122,11 +126,7 @@ Spectrum Scene::transmittance(const Ray& shadow_ray, const Medium* medium, PCG32
         if (mueller) {
             BSDFContext ctx;
             ctx.lobes = Null;
-            MuellerSpectrum N;
-            if (normalized_world_mueller(bsdf, ctx, si, -si.wi, Null, N))
-                multiply_right(*mueller, N);
-            else
-                multiply_right_depolarizer(*mueller);
+            multiply_by_bsdf(*mueller, bsdf, ctx, si, -si.wi, Null);
         }
         if (si.shape->is_medium_transition()) medium = si.shape->target_medium(si, ray.d);
         Vec3 origin = offset_ray_origin(si.p, si.p_error, si.n, ray.d);

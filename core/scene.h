@@ -33,9 +33,9 @@ public:
     // The fraction of light that travels along the shadow ray unblocked: 0 or 1 from one any-hit
     // query, unless the scene has surfaces with a Null lobe (null, mask, polarizer); then the
     // product of the null_transmission() of every surface the ray crosses (0 at an opaque one).
-    // With `crossed` (the polarized variant; identity on entry) also the product, from the ray's
-    // origin outward, of the crossed surfaces' normalised Mueller matrices (for light travelling
-    // back along the ray; normalized_world_mueller of their Null lobe).
+    // With `crossed` (the polarized variant) also the product, from the ray's origin outward, of
+    // the crossed surfaces' normalised Mueller matrices (for light travelling back along the ray;
+    // normalized_world_mueller of their Null lobe): the identity when the ray crosses none.
     Spectrum transmittance(const Ray& ray, MuellerSpectrum* crossed = nullptr) const;
     // The same for a shadow ray that starts in `medium` (null: vacuum): each stretch also takes
     // its medium's transmittance (ratio tracking draws from `rng`), and the medium changes where

@@ -15,7 +15,7 @@ Spectrum PolarizedPath::contribute_polarized(const Spectrum& c, const StokesSpec
     for (int k = 0; k < 3; ++k) {
         const Mueller& P = product->w[k];
         // Unpolarised light is the first column's direction: P (1, 0, 0, 0).
-        const Stokes s = arriving ? P * arriving->w[k] : Stokes(P.m[0][0], P.m[1][0], P.m[2][0], P.m[3][0]);
+        const Stokes s = arriving ? P * arriving->w[k] : first_column(P);
         stokes->w[k] += c[k] * s;
         s0[k] = c[k] * s[0];
     }
@@ -24,27 +24,14 @@ Spectrum PolarizedPath::contribute_polarized(const Spectrum& c, const StokesSpec
 
 void PolarizedPath::scatter_polarized(const BSDF& bsdf, const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo,
                                       uint32_t lobe) {
-    MuellerSpectrum N;
-    if (normalized_world_mueller(bsdf, ctx, si, wo, lobe, N))
-        multiply_right(*product, N);
-    else
-        multiply_right_depolarizer(*product);
+    multiply_by_bsdf(*product, bsdf, ctx, si, wo, lobe);
 }
 
 StokesSpectrum arriving_light(const MuellerSpectrum& crossed, const BSDF* bsdf, const BSDFContext& ctx, const SurfaceInteraction& si,
                               const Vec3& wo) {
     StokesSpectrum s;
-    for (int k = 0; k < 3; ++k) {
-        const Mueller& Q = crossed.w[k];
-        s.w[k] = Stokes(Q.m[0][0], Q.m[1][0], Q.m[2][0], Q.m[3][0]);
-    }
-    if (!bsdf) return s;
-    MuellerSpectrum N;
-    if (!normalized_world_mueller(*bsdf, ctx, si, wo, BSDFNone, N)) {
-        for (Stokes& v : s.w) v = Stokes(v[0], 0.0f, 0.0f, 0.0f);
-        return s;
-    }
-    for (int k = 0; k < 3; ++k) s.w[k] = N.w[k] * s.w[k];
+    for (int k = 0; k < 3; ++k) s.w[k] = first_column(crossed.w[k]);
+    if (bsdf) scatter_stokes(*bsdf, ctx, si, wo, BSDFNone, s);
     return s;
 }
 
@@ -76,7 +63,6 @@ Spectrum sample_emitter_mis(const Scene& scene, const LightSampler& lights, Samp
     if (is_black(f)) return Spectrum(0.0f);
     Spectrum T(0.0f);
     MuellerSpectrum crossed;
-    if (arriving) crossed = identity_spectrum();
     MuellerSpectrum* polarized = arriving ? &crossed : nullptr;
     if (medium.rng) {
         const Medium* start = si.shape->is_medium_transition() ? si.shape->target_medium(si, ds.d) : medium.medium;

@@ -20,18 +20,12 @@ PCG32 light_path_rng(uint64_t seed, uint64_t stream, uint64_t index) {
     return PCG32(hash_combine(hash_combine(seed, stream), index), hash_combine(~seed, hash_combine(stream, index)));
 }
 
-void scatter_stokes(const SurfaceInteraction& si, const BSDF& bsdf, const Vec3& wo_local, uint32_t lobe, StokesSpectrum& s) {
+void scatter_stokes_forward(const SurfaceInteraction& si, const BSDF& bsdf, const Vec3& wo_local, uint32_t lobe, StokesSpectrum& s) {
     // eval_mueller's light arrives along -wo and leaves along wi: here it arrives along -si.wi.
     // Its directions are always the light's, so the context is the radiance one.
     SurfaceInteraction leaving = si;
     leaving.wi = wo_local;
-    const BSDFContext ctx;
-    MuellerSpectrum N;
-    if (!normalized_world_mueller(bsdf, ctx, leaving, si.wi, lobe, N)) {
-        for (Stokes& v : s.w) v = Stokes(v[0], 0.0f, 0.0f, 0.0f);
-        return;
-    }
-    for (int k = 0; k < 3; ++k) s.w[k] = N.w[k] * s.w[k];
+    scatter_stokes(bsdf, BSDFContext(), leaving, si.wi, lobe, s);
 }
 
 float shading_normal_correction(const SurfaceInteraction& si, const Vec3& wo_local) {

@@ -69,7 +69,7 @@ float shading_normal_correction(const SurfaceInteraction& si, const Vec3& wo_loc
 // leaves through `lobe` of `bsdf` toward wo_local: the BSDF's Mueller matrix with the directions
 // swapped (the light's travel, Mitsuba's importance transport), divided by its (0, 0) element
 // (the intensity is the path's beta).
-void scatter_stokes(const SurfaceInteraction& si, const BSDF& bsdf, const Vec3& wo_local, uint32_t lobe, StokesSpectrum& s);
+void scatter_stokes_forward(const SurfaceInteraction& si, const BSDF& bsdf, const Vec3& wo_local, uint32_t lobe, StokesSpectrum& s);
 
 class LightPathTracer {
 public:
@@ -133,7 +133,7 @@ void LightPathTracer::follow(PCG32& rng, const LightPathStart& start, Visit&& vi
         Vec3 wo;
         uint32_t lobe = 0;
         if (!scatter(rng, si, bsdf, beta, wo, lobe)) return;
-        if (start.polarized) scatter_stokes(si, bsdf, si.to_local(wo), lobe, stokes);
+        if (start.polarized) scatter_stokes_forward(si, bsdf, si.to_local(wo), lobe, stokes);
         if (lobe == Null) {
             if (++null_crossings > MaxNullCrossings) return;
         } else {

@@ -174,7 +174,7 @@ void ParticleTracerIntegrator::connect_vertex(const Scene& scene, const LightVer
     if (v.stokes) {
         // Polarized: the sensor measures S0 of the light that leaves toward it.
         StokesSpectrum toward_sensor = *v.stokes;
-        scatter_stokes(*v.si, *v.bsdf, wo, BSDFNone, toward_sensor);
+        scatter_stokes_forward(*v.si, *v.bsdf, wo, BSDFNone, toward_sensor);
         for (int k = 0; k < 3; ++k) value[k] *= toward_sensor.w[k][0];
     }
     splat(scene, ss.film_pos, value, v.si->wavelengths, out);

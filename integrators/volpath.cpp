@@ -173,7 +173,6 @@ Spectrum VolPathIntegrator::sample_phase_light(const Scene& scene, Sampler& samp
     const Spectrum f = Spectrum(medium.phase().eval(mi, ds.d));
     if (is_black(f)) return Spectrum(0.0f);
     MuellerSpectrum crossed;
-    if (arriving) crossed = identity_spectrum();
     const Spectrum T =
         scene.transmittance(shadow_ray(at, ds), &medium, rng, arriving ? &crossed : nullptr);  // through media and null surfaces
     if (is_black(T)) return Spectrum(0.0f);
