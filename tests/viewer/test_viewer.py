@@ -459,6 +459,7 @@ def browser(request):
 # Pixels of the canvas and of the newest decoded frames, read in one script (so no frame arrives
 # between them: the path side keeps refining and sending frames).
 PIXELS_JS = """
+if (window.candela.drawPending) return null;
 return arguments[0].map((source) => {
     let width, height, data;
     if (source === 'canvas') {
@@ -504,8 +505,9 @@ class Page:
 
     def pixels(self, *sources):
         """RGB bytes (H x W x 3) of the canvas and/or of the newest decoded frames of kinds 0, 1, 2,
-        read at one instant; one array for one source (default: the canvas), else a list."""
-        results = self.js(PIXELS_JS, list(sources or ["canvas"]))
+        read at one instant (one script, when no decoded frame waits to be drawn, so the canvas shows
+        the newest frames); one array for one source (default: the canvas), else a list."""
+        results = wait_until(lambda: self.js(PIXELS_JS, list(sources or ["canvas"])), 10, "no frame waiting to be drawn")
         arrays = []
         for source, result in zip(sources or ["canvas"], results):
             assert result is not None, f"no frame of kind {source}"

@@ -728,6 +728,9 @@
         get camera() { return camera ? JSON.parse(JSON.stringify(camera)) : null; },
         get settings() { return Object.assign({}, settings); },
         get split() { return split; },
+        // A decoded frame waits for the next animation frame to be drawn: the canvas does not show
+        // it yet (tests read the canvas and the frames only when nothing is pending).
+        get drawPending() { return needsDraw; },
         send,
         setCamera(c) { setCameraFields(c); cameraChanged(); },
         setSettings(s) { queueSettings(s); applySettings(s, false); },
