@@ -1338,6 +1338,13 @@ endif()
         def run_check(self):
             return check(self.root, {})
 
+        def assert_one_violation(self, *fragments):
+            """The demo tree has exactly one violation, whose message says each fragment."""
+            violations = self.run_check()[0]
+            self.assertEqual(len(violations), 1)
+            for fragment in fragments:
+                self.assertIn(fragment, violations[0].message)
+
         def test_parser(self):
             commands = parse_cmake('a(x "y ${z}" [=[w]=] (p q)) # c\nB(\n  "m\nn"\n)\n', "t")
             self.assertEqual([c.name for c in commands], ["a", "b"])
@@ -1385,35 +1392,24 @@ endif()
             text = text.replace("DEPENDS demo_base)\ndemo_folder(demo_mid", "DEPENDS demo_base demo_top)\ndemo_folder(demo_mid")
             write(self.root, "CMakeLists.txt", text)
             write(self.root, "low/low.cpp", '#include "top/top.h"\n#include "mid/sub/sub.h"\n')
-            violations = self.run_check()[0]
-            self.assertEqual(len(violations), 1)
-            self.assertIn('"mid/sub/sub.h" (target demo_mid) but demo_low does not link it', violations[0].message)
+            self.assert_one_violation('"mid/sub/sub.h" (target demo_mid) but demo_low does not link it')
 
         def test_unowned_folder(self):
             write(self.root, "loose/loose.h", "#pragma once\n")
             write(self.root, "mid/mid.cpp", '#include "loose/loose.h"\n')
-            violations = self.run_check()[0]
-            self.assertEqual(len(violations), 1)
-            self.assertIn("no target owns loose/", violations[0].message)
+            self.assert_one_violation("no target owns loose/")
 
         def test_header_only_target(self):
             write(self.root, "mid/mid.cpp", '#include "hdr/only.h"\n')
-            violations = self.run_check()[0]
-            self.assertEqual(len(violations), 1)
-            self.assertIn("(target demo_headers) but demo_mid does not link it", violations[0].message)
+            self.assert_one_violation("(target demo_headers) but demo_mid does not link it")
 
         def test_generated_header(self):
             write(self.root, "plug/plug.cpp", "#include <demo/version.h>\n")
-            violations = self.run_check()[0]
-            self.assertEqual(len(violations), 1)
-            self.assertIn("generated into <build>/generated", violations[0].message)
+            self.assert_one_violation("generated into <build>/generated")
 
         def test_cycle(self):
             write(self.root, "plug/plug.cpp", '#include "base/base.h"\n')
-            violations = self.run_check()[0]
-            self.assertEqual(len(violations), 1)
-            self.assertIn("demo_module does not link it", violations[0].message)
-            self.assertIn("cycle (demo_base depends on demo_module through add_dependencies)", violations[0].message)
+            self.assert_one_violation("demo_module does not link it", "cycle (demo_base depends on demo_module through add_dependencies)")
 
         def test_header_checked_for_its_folder(self):
             write(self.root, "low/low.h", '#pragma once\n#include "top/top.h"\n')

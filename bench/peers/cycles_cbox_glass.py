@@ -21,40 +21,8 @@ int_ior 1.5, ext_ior 1):
     sphere leaves it (camera and light are outside), so the factors cancel (eta^2 / eta^2).
   * Caustics: reflective and refractive caustics on, filter glossy (blur_glossy) 0, no clamping.
 
-Scene (all from cbox.xml, Mitsuba world coordinates, y up):
-  * `rectangle` = [-1,1]^2 in the z=0 plane, normal +z; `cube` = [-1,1]^3, outward normals.
-  * every to_world is composed in document order (each element left-multiplies:
-    M = translate * rotate * scale), rotations right-handed about the given axis
-    (Mitsuba's Transform4f::rotate = Rodrigues), written out explicitly below.
-  * walls: floor Rx(-90),T(y=-1); ceiling Rx(90),T(y=1); back T(z=-1);
-    left (red) Ry(90),T(x=-1); right (green) Ry(-90),T(x=1).  The box is open at z=+1.
-  * tall box:  S(0.3,0.6,0.3), Ry(15),  T(-0.33,-0.4,-0.28)
-    short box: S(0.3),         Ry(-18), T(0.33,-0.7,0.3)
-  * light: S(0.25), Rx(90), T(y=0.99): 0.5 x 0.5 quad facing -y, one-sided emitter of
-    radiance (17,12,4), black diffuse BSDF (= no reflection).  In Cycles: emission on the
-    front face, black on the back face, no BSDF.  A Cycles mesh emitter with Emission
-    strength 1 has radiance equal to its colour.
-  * diffuse BSDFs white (0.725,0.71,0.68), red (0.63,0.065,0.05), green (0.14,0.45,0.091):
-    Cycles Diffuse BSDF with roughness 0 (Lambert).  Mitsuba's diffuse is one-sided;
-    Cycles' is two-sided, but no path in this scene reaches the back of a wall
-    (the box interior only opens to the black environment at z=+1).
-  * camera: lookat origin (0,0,3.9) -> (0,0,0), up +y, fov 39.3077 deg along x,
-    square 256x256, box filter (1 px).  Mitsuba's camera frame is (left, up, dir) with
-    left = cross(up, dir) = -x, and camera +x maps to image LEFT, i.e. image right = +x.
-    A Blender camera looks down its local -z with local +x = image right, so its
-    world matrix has columns (-left, up, -dir) = identity here: image right = world +x,
-    image up = world +y, as in Mitsuba (no mirroring).
-  * integrator: Mitsuba path, max_depth=-1 (unbounded, Russian roulette from depth 5)
-    -> Cycles bounce limits all set to --bounces (default 64).
-
-Coordinates: by default the whole scene (geometry AND camera) is rotated by
-Rx(+90deg), Mitsuba (x,y,z) -> Blender (x,-z,y), so that Blender's z is up (as in
-cbox.py).  This is a rigid motion of everything and does not change the image;
---yup keeps Mitsuba's coordinates unchanged (a self-check).
-
-Render settings are those of cbox.py: no adaptive sampling, no denoising, BOX filter
-width 1, Standard view transform, float32 RGBA EXR (linear radiance), clamping off,
-light threshold 0, fixed thread count.
+Scene, coordinates and render settings: as cycles_cbox.py (its docstring states each one and
+where it comes from); only the sphere above is new.
 """
 import os
 import sys
