@@ -73,8 +73,9 @@ const Mesh& load_single_mesh(const std::filesystem::path& dir, const std::string
     return *mesh;
 }
 
-Ref<Scene> load_scene_xml(const std::string& name, const std::string& body) {
-    auto dir = scratch_dir(name);
+Ref<Scene> load_scene_xml(const std::string& name, const std::string& body) { return load_scene_xml_in(scratch_dir(name), body); }
+
+Ref<Scene> load_scene_xml_in(const std::filesystem::path& dir, const std::string& body) {
     write_text(dir / "scene.xml", scene_xml(body));
     return load_scene((dir / "scene.xml").string());
 }

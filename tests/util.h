@@ -41,6 +41,8 @@ int effort_scaled(int samples, int minimum);
 std::string scene_xml(const std::string& body);
 // That document written to a fresh scratch directory `name` as scene.xml, and loaded.
 Ref<Scene> load_scene_xml(const std::string& name, const std::string& body);
+// That document written to `dir` (beside the files it reads) as scene.xml, and loaded.
+Ref<Scene> load_scene_xml_in(const std::filesystem::path& dir, const std::string& body);
 // The scene of one mesh shape (`shape_xml`) written to `dir` as scene.xml and loaded into `keep`:
 // its mesh (REQUIREd to be the scene's only shape, and a mesh).
 const Mesh& load_single_mesh(const std::filesystem::path& dir, const std::string& shape_xml, Ref<Scene>& keep);

@@ -25,11 +25,7 @@ namespace {
 constexpr int LightTests = 32;
 const double Alpha = sidak(0.01, LightTests);
 
-Ref<Scene> scene_from(const std::string& body) {
-    auto dir = scratch_dir("lights");
-    write_text(dir / "scene.xml", scene_xml(body));
-    return load_scene((dir / "scene.xml").string());
-}
+Ref<Scene> scene_from(const std::string& body) { return load_scene_xml("lights", body); }
 
 void check_irradiance(const char* what, const std::string& body, Vec3 p, Vec3 n, double exact) {
     Ref<Scene> scene = scene_from(body);

@@ -24,11 +24,7 @@ constexpr int StatisticalTests = 2 * 3 + 3;  // textured area light: 2 points x 
 const double Alpha = sidak(0.01, StatisticalTests);
 const double Pi_d = 3.14159265358979323846;
 
-Ref<Scene> scene_from(const std::string& body) {
-    auto dir = scratch_dir("projected_lights");
-    write_text(dir / "scene.xml", scene_xml(body));
-    return load_scene((dir / "scene.xml").string());
-}
+Ref<Scene> scene_from(const std::string& body) { return load_scene_xml("projected_lights", body); }
 
 // A w x h float EXR whose texel (x, y) (row 0 on top) holds values[y * w + x].
 std::string write_texture(const std::string& name, int w, int h, const std::vector<Spectrum>& values) {

@@ -13,11 +13,6 @@ using namespace candela::test;
 
 namespace {
 
-Ref<Scene> scene_from(const std::filesystem::path& dir, const std::string& body) {
-    write_text(dir / "scene.xml", scene_xml(body));
-    return load_scene((dir / "scene.xml").string());
-}
-
 std::string curve_shape(const std::string& type, const std::string& file, const std::string& extra = "") {
     return "<shape type=\"" + type + "\">\n<string name=\"filename\" value=\"" + file + "\"/>" + extra + "</shape>";
 }
@@ -60,9 +55,9 @@ TEST_CASE("curves: a thick straight curve is hit like a cylinder of the same rad
     // A uniform cubic B-spline with collinear, evenly spaced control points is the straight
     // segment between (p0 + 4 p1 + p2) / 6 and (p1 + 4 p2 + p3) / 6: here z from 0 to 1.
     write_text(dir / "spline.txt", "0 0 -1 0.3\n0 0 0 0.3\n0 0 1 0.3\n0 0 2 0.3\n");
-    Ref<Scene> cylinder = scene_from(dir, R"(<shape type="cylinder"><float name="radius" value="0.3"/></shape>)");
-    Ref<Scene> linear = scene_from(dir, curve_shape("linearcurve", "line.txt"));
-    Ref<Scene> spline = scene_from(dir, curve_shape("bsplinecurve", "spline.txt"));
+    Ref<Scene> cylinder = load_scene_xml_in(dir, R"(<shape type="cylinder"><float name="radius" value="0.3"/></shape>)");
+    Ref<Scene> linear = load_scene_xml_in(dir, curve_shape("linearcurve", "line.txt"));
+    Ref<Scene> spline = load_scene_xml_in(dir, curve_shape("bsplinecurve", "spline.txt"));
     // Embree intersects round linear curves in closed form (float precision) and B-splines by
     // iterating to a tolerance of about 1e-4 of the curve's size.
     compare_with_cylinder(*linear, *cylinder, 1e-5f, 1);
@@ -103,7 +98,8 @@ TEST_CASE("curves: a thick straight linear curve renders like the cylinder", "[c
 TEST_CASE("curves: Mitsuba's normals and uv: u around the curve, v along all segments", "[curves]") {
     auto dir = scratch_dir("curves-uv");
     write_text(dir / "two.txt", "0 0 0 0.5\n2 0 0 0.5\n4 0 0 0.5\n");
-    Ref<Scene> s = scene_from(dir, curve_shape("linearcurve", "two.txt", "<transform name=\"to_world\"><translate y=\"1\"/></transform>"));
+    Ref<Scene> s =
+        load_scene_xml_in(dir, curve_shape("linearcurve", "two.txt", "<transform name=\"to_world\"><translate y=\"1\"/></transform>"));
     SurfaceInteraction si;
     REQUIRE(s->intersect(Ray(Vec3(1, 1, 3), Vec3(0, 0, -1)), si));
     CHECK(si.t == Approx(2.5f));
@@ -118,11 +114,11 @@ TEST_CASE("curves: Mitsuba's normals and uv: u around the curve, v along all seg
     CHECK(std::abs(glm::dot(si.shading.t, Vec3(1, 0, 0))) == Approx(1.0f));
     // Radii are not scaled by to_world; rays from inside a tube do not hit it.
     Ref<Scene> scaled =
-        scene_from(dir, curve_shape("linearcurve", "two.txt", "<transform name=\"to_world\"><scale value=\"2\"/></transform>"));
+        load_scene_xml_in(dir, curve_shape("linearcurve", "two.txt", "<transform name=\"to_world\"><scale value=\"2\"/></transform>"));
     REQUIRE(scaled->intersect(Ray(Vec3(2, 0, 3), Vec3(0, 0, -1)), si));
     CHECK(si.t == Approx(2.5f));
     CHECK(!scaled->intersect(Ray(Vec3(2, 0, 0), Vec3(0, 0, 1)), si));
-    Ref<Scene> flipped = scene_from(dir, curve_shape("linearcurve", "two.txt", "<boolean name=\"flip_normals\" value=\"true\"/>"));
+    Ref<Scene> flipped = load_scene_xml_in(dir, curve_shape("linearcurve", "two.txt", "<boolean name=\"flip_normals\" value=\"true\"/>"));
     REQUIRE(flipped->intersect(Ray(Vec3(1, 0, 3), Vec3(0, 0, -1)), si));
     CHECK(glm::length(si.n - Vec3(0, 0, -1)) < 1e-5f);
 }
@@ -146,7 +142,7 @@ TEST_CASE("curves: errors in a curve file name that file and line", "[curves][er
         INFO(c.type << ": " << c.text);
         write_text(dir / "bad.txt", c.text);
         try {
-            scene_from(dir, curve_shape(c.type, "bad.txt"));
+            load_scene_xml_in(dir, curve_shape(c.type, "bad.txt"));
             FAIL("expected an error");
         } catch (const SceneError& e) {
             INFO(e.what());
@@ -157,11 +153,11 @@ TEST_CASE("curves: errors in a curve file name that file and line", "[curves][er
     // An empty file, or an emitter on a curve: errors at the scene's lines.
     write_text(dir / "empty.txt", "\n\n");
     try {
-        scene_from(dir, curve_shape("linearcurve", "empty.txt"));
+        load_scene_xml_in(dir, curve_shape("linearcurve", "empty.txt"));
         FAIL("expected an error");
     } catch (const SceneError& e) {
         CHECK(e.location.line == 3);
     }
     write_text(dir / "ok.txt", "0 0 0 0.1\n1 0 0 0.1\n");
-    CHECK_THROWS_AS(scene_from(dir, curve_shape("linearcurve", "ok.txt", "<emitter type=\"area\"/>")), SceneError);
+    CHECK_THROWS_AS(load_scene_xml_in(dir, curve_shape("linearcurve", "ok.txt", "<emitter type=\"area\"/>")), SceneError);
 }

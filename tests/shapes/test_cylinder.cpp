@@ -20,11 +20,6 @@ using namespace candela::test;
 
 namespace {
 
-Ref<Scene> scene_from(const std::filesystem::path& dir, const std::string& body) {
-    write_text(dir / "scene.xml", scene_xml(body));
-    return load_scene((dir / "scene.xml").string());
-}
-
 SurfaceInteraction trace(const Scene& scene, Vec3 o, Vec3 d) {
     SurfaceInteraction si;
     scene.intersect(Ray(o, glm::normalize(d)), si);
@@ -58,7 +53,7 @@ constexpr int CylinderTests = 2;  // statistical checks in this file (Sidak, 1% 
 
 TEST_CASE("cylinder: exact hits, outward normals and Mitsuba's uv", "[cylinder]") {
     auto dir = scratch_dir("cylinder");
-    Ref<Scene> s = scene_from(dir, R"(<shape type="cylinder"/>)");
+    Ref<Scene> s = load_scene_xml_in(dir, R"(<shape type="cylinder"/>)");
     SurfaceInteraction si = trace(*s, Vec3(3, 0, 0.25f), Vec3(-1, 0, 0));
     REQUIRE(si.is_valid());
     CHECK(si.t == Approx(2.0f));
@@ -87,7 +82,7 @@ TEST_CASE("cylinder: exact hits, outward normals and Mitsuba's uv", "[cylinder]"
 
 TEST_CASE("cylinder: p0, p1, radius and to_world place it, flip_normals turns it inside out", "[cylinder]") {
     auto dir = scratch_dir("cylinder-placed");
-    Ref<Scene> s = scene_from(dir, R"(<shape type="cylinder"><point name="p0" x="1" y="2" z="3"/><point name="p1" x="1" y="2" z="5"/>
+    Ref<Scene> s = load_scene_xml_in(dir, R"(<shape type="cylinder"><point name="p0" x="1" y="2" z="3"/><point name="p1" x="1" y="2" z="5"/>
         <float name="radius" value="0.5"/><transform name="to_world"><scale value="2"/></transform></shape>)");
     // Axis from (2, 4, 6) to (2, 4, 10), radius 1.
     SurfaceInteraction si = trace(*s, Vec3(5, 4, 8), Vec3(-1, 0, 0));
@@ -95,7 +90,8 @@ TEST_CASE("cylinder: p0, p1, radius and to_world place it, flip_normals turns it
     CHECK(si.uv.y == Approx(0.5f));
     CHECK(s->shapes()[0]->surface_area() == Approx(TwoPi * 4.0f));
     // A tilted axis: the hit lies at distance radius from it.
-    Ref<Scene> tilted = scene_from(dir, R"(<shape type="cylinder"><point name="p1" x="1" y="1" z="1"/><float name="radius" value="0.3"/>
+    Ref<Scene> tilted =
+        load_scene_xml_in(dir, R"(<shape type="cylinder"><point name="p1" x="1" y="1" z="1"/><float name="radius" value="0.3"/>
         <boolean name="flip_normals" value="true"/></shape>)");
     si = trace(*tilted, Vec3(2, -1, 0.5f), Vec3(-1, 1, 0.2f));
     REQUIRE(si.is_valid());
@@ -110,14 +106,15 @@ TEST_CASE("cylinder: a to_world that shears it or squashes its cross-section is 
     auto dir = scratch_dir("cylinder-bad");
     for (const char* t : {R"(<scale x="2" y="1" z="1"/>)", R"(<matrix value="1 0.5 0 0  0 1 0 0  0 0 1 0  0 0 0 1"/>)"}) {
         INFO(t);
-        CHECK_THROWS_AS(scene_from(dir, std::string("<shape type=\"cylinder\"><transform name=\"to_world\">") + t + "</transform></shape>"),
-                        SceneError);
+        CHECK_THROWS_AS(
+            load_scene_xml_in(dir, std::string("<shape type=\"cylinder\"><transform name=\"to_world\">") + t + "</transform></shape>"),
+            SceneError);
     }
     // Stretching along the axis is allowed.
-    Ref<Scene> s = scene_from(dir, R"(<shape type="cylinder"><transform name="to_world"><scale z="3"/></transform></shape>)");
+    Ref<Scene> s = load_scene_xml_in(dir, R"(<shape type="cylinder"><transform name="to_world"><scale z="3"/></transform></shape>)");
     CHECK(s->shapes()[0]->surface_area() == Approx(TwoPi * 3.0f));
-    CHECK_THROWS_AS(scene_from(dir, R"(<shape type="cylinder"><float name="radius" value="0"/></shape>)"), SceneError);
-    CHECK_THROWS_AS(scene_from(dir, R"(<shape type="cylinder"><point name="p1" x="0" y="0" z="0"/></shape>)"), SceneError);
+    CHECK_THROWS_AS(load_scene_xml_in(dir, R"(<shape type="cylinder"><float name="radius" value="0"/></shape>)"), SceneError);
+    CHECK_THROWS_AS(load_scene_xml_in(dir, R"(<shape type="cylinder"><point name="p1" x="0" y="0" z="0"/></shape>)"), SceneError);
 }
 
 TEST_CASE("cylinder: renders like a finely tessellated tube (same random numbers)", "[cylinder][render]") {
@@ -177,7 +174,7 @@ TEST_CASE("cylinder: as an area light it gives the irradiance of the tessellated
     for (std::string shape :
          {std::string("<shape type=\"cylinder\">") + place + light + "</shape>",
           std::string("<shape type=\"obj\"><string name=\"filename\" value=\"tube.obj\"/>") + place + light + "</shape>"}) {
-        Ref<Scene> scene = scene_from(dir, shape);
+        Ref<Scene> scene = load_scene_xml_in(dir, shape);
         o.seed += 17;
         e.push_back(estimate_irradiance(*scene, Vec3(0.0f), Vec3(0, 1, 0), o));
     }
@@ -193,8 +190,8 @@ TEST_CASE("cylinder: as an area light it gives the irradiance of the tessellated
 
 TEST_CASE("cylinder: area-light samples are uniform by area and their densities match tracing", "[cylinder][sampling]") {
     auto dir = scratch_dir("cylinder-sampling");
-    Ref<Scene> scene =
-        scene_from(dir, R"(<shape type="cylinder"><point name="p0" x="-0.5" y="1" z="0.2"/><point name="p1" x="0.6" y="1.3" z="-0.3"/>
+    Ref<Scene> scene = load_scene_xml_in(
+        dir, R"(<shape type="cylinder"><point name="p0" x="-0.5" y="1" z="0.2"/><point name="p1" x="0.6" y="1.3" z="-0.3"/>
         <float name="radius" value="0.3"/><emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>)");
     const Shape& shape = *scene->shapes()[0];
     const Emitter& emitter = *scene->emitters()[0];

@@ -17,11 +17,6 @@ using namespace candela::test;
 
 namespace {
 
-Ref<Scene> scene_from(const std::filesystem::path& dir, const std::string& body) {
-    write_text(dir / "scene.xml", scene_xml(body));
-    return load_scene((dir / "scene.xml").string());
-}
-
 // A bumpy sphere as an OBJ: a latitude-longitude grid of (rings x 2 rings) quads, radius varying
 // with position, so that normals and silhouettes are not those of any analytic shape; with uvs
 // (phi / 2pi, theta / pi) or without.
@@ -145,7 +140,7 @@ TEST_CASE("instance: Embree memory grows with distinct meshes, not with instance
         instanced += "<shape type=\"instance\"><ref id=\"g\"/>" + t + "</shape>";
     }
     auto bytes = [&](const std::string& body) {
-        Ref<Scene> s = scene_from(dir, body);
+        Ref<Scene> s = load_scene_xml_in(dir, body);
         return s->accel().embree_bytes();
     };
     int64_t one = bytes("<shape type=\"obj\"><string name=\"filename\" value=\"bumpy.obj\"/></shape>");
@@ -156,13 +151,13 @@ TEST_CASE("instance: Embree memory grows with distinct meshes, not with instance
     CHECK(many_flat > (copies / 2) * one);  // copies cost their size each
     CHECK(many_instanced < 2 * one);        // instances cost a transform each
     // The triangles stored: one mesh's, whatever the number of instances.
-    Ref<Scene> s = scene_from(dir, instanced);
+    Ref<Scene> s = load_scene_xml_in(dir, instanced);
     CHECK(s->shapes().size() == size_t(copies));
 }
 
 TEST_CASE("instance: hits shade with the group's BSDFs and world-space geometry", "[instance]") {
     auto dir = scratch_dir("instance-hits");
-    Ref<Scene> s = scene_from(dir, R"(<shape type="shapegroup" id="g">
+    Ref<Scene> s = load_scene_xml_in(dir, R"(<shape type="shapegroup" id="g">
             <shape type="sphere"><float name="radius" value="0.5"/><bsdf type="diffuse" id="red"><rgb name="reflectance" value="0.8, 0.1, 0.1"/></bsdf></shape>
             <shape type="cube"><transform name="to_world"><scale value="0.25"/><translate x="2"/></transform><bsdf type="diffuse" id="blue"><rgb name="reflectance" value="0.1, 0.1, 0.8"/></bsdf></shape>
         </shape>
@@ -236,7 +231,7 @@ TEST_CASE("instance: what Mitsuba forbids in shape groups and instances is an er
     for (const Case& c : cases) {
         INFO(c.what);
         try {
-            scene_from(dir, c.body);
+            load_scene_xml_in(dir, c.body);
             FAIL("expected an error");
         } catch (const SceneError& e) {
             INFO(e.what());

@@ -36,11 +36,6 @@ void write_vol(const std::filesystem::path& path, int n, const std::function<dou
                 }
 }
 
-Ref<Scene> scene_from(const std::filesystem::path& dir, const std::string& body) {
-    write_text(dir / "scene.xml", scene_xml(body));
-    return load_scene((dir / "scene.xml").string());
-}
-
 std::string grid(const std::string& file, const std::string& extra = "") {
     return "<shape type=\"sdfgrid\">\n<string name=\"filename\" value=\"" + file + "\"/>" + extra + "</shape>";
 }
@@ -52,7 +47,7 @@ TEST_CASE("sdfgrid: a linear SDF is a plane, hit exactly, with any to_world", "[
     write_vol(dir / "plane.vol", 9, [](double, double, double z) { return z - 0.37; });
     for (const char* normals : {"smooth", "analytic"}) {
         INFO(normals);
-        Ref<Scene> s = scene_from(dir, grid("plane.vol", std::string("<string name=\"normals\" value=\"") + normals + "\"/>"));
+        Ref<Scene> s = load_scene_xml_in(dir, grid("plane.vol", std::string("<string name=\"normals\" value=\"") + normals + "\"/>"));
         PCG32 rng(3, 1);
         for (int i = 0; i < 200; ++i) {
             Vec3 target(rng.next_float(), rng.next_float(), 0.37f);
@@ -66,7 +61,7 @@ TEST_CASE("sdfgrid: a linear SDF is a plane, hit exactly, with any to_world", "[
     }
     // Placed by a rotation and a scale: the plane z = 0.37 of the unit cube, moved.
     Ref<Scene> s =
-        scene_from(dir, grid("plane.vol", R"(<transform name="to_world"><scale value="2"/><rotate x="1" angle="90"/></transform>)"));
+        load_scene_xml_in(dir, grid("plane.vol", R"(<transform name="to_world"><scale value="2"/><rotate x="1" angle="90"/></transform>)"));
     SurfaceInteraction si;
     REQUIRE(s->intersect(Ray(Vec3(1, -3, 1), Vec3(0, 1, 0)), si));
     CHECK(si.p.y == Approx(-0.74f).epsilon(1e-5));
@@ -84,7 +79,7 @@ TEST_CASE("sdfgrid: a sphere's SDF gives the sphere within the interpolation err
     const double h = 1.0 / (n - 1), bound = 3 * h * h / (8 * r);
     double error_sum[2] = {0, 0};
     for (int mode = 0; mode < 2; ++mode) {
-        Ref<Scene> s = scene_from(dir, grid("sphere.vol", mode ? R"(<string name="normals" value="analytic"/>)" : ""));
+        Ref<Scene> s = load_scene_xml_in(dir, grid("sphere.vol", mode ? R"(<string name="normals" value="analytic"/>)" : ""));
         PCG32 rng(9, 2);
         double worst = 0.0;
         for (int i = 0; i < 500; ++i) {
@@ -112,7 +107,7 @@ TEST_CASE("sdfgrid: smooth normals are continuous across voxel faces, analytic o
     // Two rays a hair apart on either side of the voxel face x = 3 / 8.
     double jump[2];
     for (int mode = 0; mode < 2; ++mode) {
-        Ref<Scene> s = scene_from(dir, grid("sphere.vol", mode ? R"(<string name="normals" value="analytic"/>)" : ""));
+        Ref<Scene> s = load_scene_xml_in(dir, grid("sphere.vol", mode ? R"(<string name="normals" value="analytic"/>)" : ""));
         SurfaceInteraction a, b;
         REQUIRE(s->intersect(Ray(Vec3(0.375f - 1e-4f, 0.55f, 2.0f), Vec3(0, 0, -1)), a));
         REQUIRE(s->intersect(Ray(Vec3(0.375f + 1e-4f, 0.55f, 2.0f), Vec3(0, 0, -1)), b));
@@ -126,7 +121,7 @@ TEST_CASE("sdfgrid: smooth normals are continuous across voxel faces, analytic o
 TEST_CASE("sdfgrid: the rasterizer's triangles lie on the surface, facing out", "[sdfgrid]") {
     auto dir = scratch_dir("sdfgrid-tessellate");
     write_vol(dir / "plane.vol", 5, [](double x, double y, double z) { return z - 0.3 - 0.1 * x; });
-    Ref<Scene> s = scene_from(dir, grid("plane.vol"));
+    Ref<Scene> s = load_scene_xml_in(dir, grid("plane.vol"));
     TriangleSoup soup;
     s->shapes()[0]->tessellate(soup, 64);
     REQUIRE(!soup.triangles.empty());
@@ -153,13 +148,13 @@ TEST_CASE("sdfgrid: bad grids and unsupported uses are errors at their lines", "
     for (const char* name : {"three.vol", "empty.vol", "short.vol", "notvol.vol"}) {
         INFO(name);
         try {
-            scene_from(dir, grid(name));
+            load_scene_xml_in(dir, grid(name));
             FAIL("expected an error");
         } catch (const SceneError& e) {
             INFO(e.what());
             CHECK(e.location.line == 3);
         }
     }
-    CHECK_THROWS_AS(scene_from(dir, grid("ok.vol", R"(<string name="normals" value="flat"/>)")), SceneError);
-    CHECK_THROWS_AS(scene_from(dir, grid("ok.vol", R"(<emitter type="area"/>)")), SceneError);
+    CHECK_THROWS_AS(load_scene_xml_in(dir, grid("ok.vol", R"(<string name="normals" value="flat"/>)")), SceneError);
+    CHECK_THROWS_AS(load_scene_xml_in(dir, grid("ok.vol", R"(<emitter type="area"/>)")), SceneError);
 }

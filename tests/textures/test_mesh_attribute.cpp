@@ -54,11 +54,6 @@ end_header
 3 4 5 6 1 2 3
 )";
 
-Ref<Scene> scene_from(const std::filesystem::path& dir, const std::string& body) {
-    write_text(dir / "scene.xml", scene_xml(body));
-    return load_scene((dir / "scene.xml").string());
-}
-
 const MeshAttribute* find(const Mesh& m, const std::string& name) {
     for (const MeshAttribute& a : m.attributes())
         if (a.name == name) return &a;
@@ -85,7 +80,7 @@ TEST_CASE("ply: extra properties become vertex_ and face_ attributes named as in
     write_text(dir / "attr.ply", AttributePly);
     std::vector<std::string> warnings;
     WarningSink previous = set_warning_sink([&](const std::string& line) { warnings.push_back(line); });
-    Ref<Scene> s = scene_from(dir, "<shape type=\"ply\"><string name=\"filename\" value=\"attr.ply\"/></shape>");
+    Ref<Scene> s = load_scene_xml_in(dir, "<shape type=\"ply\"><string name=\"filename\" value=\"attr.ply\"/></shape>");
     set_warning_sink(previous);
     REQUIRE(warnings.size() == 1);  // the properties left out, named, as Mitsuba warns
     CHECK_THAT(warnings[0], Catch::EndsWith("ignored: lonely, pair_0, pair_1"));
@@ -109,16 +104,16 @@ TEST_CASE("ply: extra properties become vertex_ and face_ attributes named as in
 TEST_CASE("mesh_attribute: vertex attributes interpolate, face attributes are constant, scale applies", "[texture][attributes]") {
     auto dir = scratch_dir("mesh-attribute");
     write_text(dir / "attr.ply", AttributePly);
-    Ref<Scene> vertex = scene_from(dir, textured("vertex_dir"));
+    Ref<Scene> vertex = load_scene_xml_in(dir, textured("vertex_dir"));
     // In the triangle (4, 5, 6) at (2.25, 0.25): barycentrics 0.5, 0.25, 0.25 of the
     // directions (1,0,0), (0,1,0), (0,0,1).
     Spectrum v = albedo_at(*vertex, 2.25f, 0.25f);
     CHECK(glm::length(v - Spectrum(0.5f, 0.25f, 0.25f)) < 1e-5f);
-    Ref<Scene> face = scene_from(dir, textured("face_w", "<float name=\"scale\" value=\"0.1\"/>"));
+    Ref<Scene> face = load_scene_xml_in(dir, textured("face_w", "<float name=\"scale\" value=\"0.1\"/>"));
     CHECK(glm::length(albedo_at(*face, 0.2f, 0.7f) - Spectrum(0.025f, 0.05f, 0.075f)) < 1e-6f);
     CHECK(glm::length(albedo_at(*face, 2.2f, 0.3f) - Spectrum(0.1f, 0.2f, 0.3f)) < 1e-6f);
     // One channel reads as grey; roughness-like scalar lookups take the luminance.
-    Ref<Scene> mass = scene_from(dir, textured("vertex_mass", "<float name=\"scale\" value=\"0.2\"/>"));
+    Ref<Scene> mass = load_scene_xml_in(dir, textured("vertex_mass", "<float name=\"scale\" value=\"0.2\"/>"));
     Spectrum grey = albedo_at(*mass, 2.25f, 0.25f);
     CHECK(grey.x == Approx(0.2f * (0.5f * 4.5f + 0.25f * 5.5f + 0.25f * 6.5f)));
     CHECK(grey.x == grey.y);
@@ -127,7 +122,7 @@ TEST_CASE("mesh_attribute: vertex attributes interpolate, face attributes are co
 TEST_CASE("mesh_attribute: through an instance the group's mesh attributes are read", "[texture][attributes][instance]") {
     auto dir = scratch_dir("mesh-attribute-instance");
     write_text(dir / "attr.ply", AttributePly);
-    Ref<Scene> s = scene_from(
+    Ref<Scene> s = load_scene_xml_in(
         dir,
         "<shape type=\"shapegroup\" id=\"g\">" + textured("vertex_dir") +
             "</shape><shape type=\"instance\"><ref id=\"g\"/><transform name=\"to_world\"><scale value=\"2\"/><translate x=\"10\"/></transform></shape>");
@@ -167,12 +162,12 @@ TEST_CASE("mesh_attribute: a bad name, a missing attribute and uv-only uses are 
     auto dir = scratch_dir("mesh-attribute-errors");
     write_text(dir / "attr.ply", AttributePly);
     try {
-        scene_from(dir, textured("color"));
+        load_scene_xml_in(dir, textured("color"));
         FAIL("expected an error");
     } catch (const SceneError& e) {
         CHECK(e.location.line == 4);  // the <string name="name"> line
     }
-    Ref<Scene> s = scene_from(dir, textured("vertex_nothing"));
+    Ref<Scene> s = load_scene_xml_in(dir, textured("vertex_nothing"));
     try {
         albedo_at(*s, 0.5f, 0.5f);
         FAIL("expected an error");
