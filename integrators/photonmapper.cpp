@@ -45,9 +45,22 @@
 // lookup radius (corners and contact shadows brighten, small features blur), and k-nearest
 // lookups are biased where the photon density varies. On the validation Cornell box the whole-
 // image mean is 0.5-0.9% below Mitsuba's reference (200k global photons), mostly at edges and corners.
+// In scalar_spectral the photons' flux is also blurred over wavelength, across a bin's width (below).
 //
-// Deterministic: photons depend on (seed, path index), maps on the order of whole work units,
-// lookups sum in a fixed order (integrators/photons.h), camera samples on (seed, pixel, index).
+// In scalar_spectral the maps, built once, serve every camera sample's wavelengths: each light
+// path draws its own wavelengths (from its own random numbers), and each photon keeps its flux as
+// a histogram over SpectralBins (32) bins of 14.7 nm over 360-830 nm, the range the wavelengths are
+// drawn from (integrators/photons.h, bin_photon_flux): an unbiased estimate of the flux per nm
+// averaged over each bin. The irradiance points hold the same histograms. A camera sample reads
+// the bins of its own wavelengths; direct light, final-gather rays and emission are evaluated at
+// them, as `path` does. Spectral bias: the photon maps' light is the average over its bin at
+// every wavelength, so spectral detail finer than a bin (an emission line, a narrow band's
+// edges) is spread across it; smooth spectra change by the second order of the bin width only.
+// Not in scalar_spectral_polarized (photons carry no Stokes vector).
+//
+// Deterministic: photons (their wavelengths too) depend on (seed, path index), maps on the order
+// of whole work units, lookups sum in a fixed order (integrators/photons.h), camera samples on
+// (seed, pixel, index).
 
 #include "core/bsdf.h"
 #include "core/memory_budget.h"
@@ -56,9 +69,12 @@
 #include "core/registry.h"
 #include "core/sampler.h"
 #include "core/scene.h"
+#include "core/wavelengths.h"
 #include "integrators/light_paths.h"
 #include "integrators/path.h"
 #include "integrators/photons.h"
+
+#include <array>
 
 namespace candela {
 
@@ -80,6 +96,10 @@ public:
         if (granularity_ < 0) props.fail("granularity", "granularity must be >= 0");
         settings_ = read_path_settings(props, DepthSettings | HideEmittersSetting);
         location_ = props.location();
+        if (props.variant() == Variant::ScalarSpectralPolarized)
+            props.fail(
+                "photonmapper does not render in variant scalar_spectral_polarized yet (its photons carry no Stokes vector); "
+                "it renders in scalar_spectral and scalar_rgb");
     }
 
     // The photon maps are built in prepare(), with the render's threads, seed and interruption.
@@ -109,8 +129,10 @@ private:
     // photon arrived from.
     struct IrradiancePoint {
         Vec3 p, n;
-        Spectrum E;
+        Spectrum E;  // RGB; the spectral variant keeps it binned, in irradiance_bins_
     };
+    // An irradiance point's histogram over wavelength (integrators/photons.h): W m^-2 nm^-1.
+    using BinnedIrradiance = std::array<float, SpectralBins>;
     using Neighbours = std::vector<std::pair<float, const Photon*>>;
 
     static PathSettings direct_settings() {
@@ -146,17 +168,20 @@ private:
     SourceLocation location_;
     PhotonMap global_, caustic_;
     std::vector<IrradiancePoint> irradiance_;
+    std::vector<BinnedIrradiance> irradiance_bins_;  // the spectral variant: one per irradiance point
     PointGrid<IrradiancePoint> irradiance_grid_;
     int lookup_size_ = 120, direct_samples_ = 16, glossy_samples_ = 32, granularity_ = 0;
     PathSettings settings_;  // max_depth counts segments, camera ray included
     PathIntegrator direct_;
     int threads_ = 0;
+    bool spectral_ = false;  // photons carry binned flux (integrators/photons.h)
     const std::atomic<bool>* interrupt_ = nullptr;
     uint64_t seed_ = 0;
 };
 
 void PhotonMapIntegrator::prepare(const Scene& scene) {
     direct_.prepare(scene);
+    spectral_ = scene.spectral();
     const LightPathTracer tracer(scene, settings_.max_depth < 0 ? -1 : settings_.max_depth - 1, settings_.rr_depth);
     const float scene_radius = std::max(scene.bbox().bounding_radius(), 1e-3f);
     bool specular = false;
@@ -176,10 +201,12 @@ void PhotonMapIntegrator::prepare(const Scene& scene) {
 
 // The maps' photons and, while a grid is built, a sorted copy, each photon's bucket and up to four
 // bucket starts per photon (PointGrid::build); then the irradiance points at every fourth global
-// photon with their own grid. A map may overshoot its target by part of a work unit: not counted.
+// photon with their own grid, and in the spectral variant their histograms (a photon's bins fit in
+// its padding). A map may overshoot its target by part of a work unit: not counted.
 void PhotonMapIntegrator::check_map_memory(bool caustic) const {
     const uint64_t caustic_photons = caustic ? caustic_.target : 0, grid_per_point = 5 * sizeof(uint32_t);
-    const uint64_t per_photon = 2 * sizeof(Photon) + grid_per_point, per_irradiance = 2 * sizeof(IrradiancePoint) + grid_per_point;
+    const uint64_t per_photon = 2 * sizeof(Photon) + grid_per_point,
+                   per_irradiance = 2 * sizeof(IrradiancePoint) + grid_per_point + (spectral_ ? sizeof(BinnedIrradiance) : 0);
     const uint64_t bytes = saturating_add(saturating_mul(saturating_add(global_.target, caustic_photons), per_photon),
                                           saturating_mul(global_.target / 4, per_irradiance));
     check_memory(
@@ -189,24 +216,35 @@ void PhotonMapIntegrator::check_map_memory(bool caustic) const {
 }
 
 // Irradiance at every fourth global photon from its lookup_size nearest photons on surfaces
-// facing the same way (normals within 25 degrees), in parallel (each point on its own).
+// facing the same way (normals within 25 degrees), in parallel (each point on its own). The
+// points are placed first and binned by their grid (which reorders them), then estimated in place.
 void PhotonMapIntegrator::precompute_irradiance() {
     irradiance_.assign(global_.photons.size() / 4, IrradiancePoint());
+    for (size_t i = 0; i < irradiance_.size(); ++i) irradiance_[i] = {global_.photons[4 * i].p, global_.photons[4 * i].n, Spectrum(0.0f)};
+    irradiance_grid_.build(irradiance_, 0.25f * global_.radius);
+    irradiance_bins_.assign(spectral_ ? irradiance_.size() : 0, BinnedIrradiance{});
     tbb::task_arena arena(threads_ > 0 ? threads_ : tbb::task_arena::automatic);
     arena.execute([&] {
         parallel_chunks(irradiance_.size(), 256, [&](size_t begin, size_t end) {
             thread_local Neighbours near;
             for (size_t i = begin; i != end; ++i) {
-                const Photon& at = global_.photons[4 * i];
+                IrradiancePoint& at = irradiance_[i];
                 float r2 = nearest_photons(
                     global_, at.p, [&](const Photon& ph) { return glm::dot(ph.n, at.n) > 0.9f; }, near);
+                if (!(r2 > 0.0f)) continue;
+                if (spectral_) {
+                    BinnedIrradiance& E = irradiance_bins_[i];
+                    for (const auto& entry : near)
+                        for (int k = 0; k < WavelengthSamples; ++k) E[entry.second->bin[k]] += entry.second->beta[k];
+                    for (float& e : E) e /= float(Pi * r2 * global_.emitted);
+                    continue;
+                }
                 Spectrum E(0.0f);
                 for (const auto& entry : near) E += entry.second->beta;
-                irradiance_[i] = {at.p, at.n, r2 > 0.0f ? E / float(Pi * r2 * global_.emitted) : Spectrum(0.0f)};
+                at.E = E / float(Pi * r2 * global_.emitted);
             }
         });
     });
-    irradiance_grid_.build(irradiance_, 0.25f * global_.radius);
 }
 
 // Traces light paths in whole work units, in path order, until the map holds its target; the
@@ -231,12 +269,21 @@ void PhotonMapIntegrator::build_map(const LightPathTracer& tracer, bool caustic,
             for (uint64_t i = b; i < e; ++i) {
                 PCG32 rng = light_path_rng(seed_, stream, first + i);
                 LightPathStart start;
+                // The spectral variant: the path's own wavelengths, from its own random numbers
+                // (RGB draws nothing), over the whole visible range whatever the sensor's response.
+                Wavelengths wavelengths;
+                if (spectral_) {
+                    wavelengths = sample_visible_wavelengths(rng.next_float());
+                    start.wavelengths = &wavelengths;
+                }
                 if (!tracer.start(rng, start)) continue;
                 tracer.follow(rng, start, [&](const LightVertex& v) {
                     if (!settings_.within_depth(v.depth + 1)) return false;
                     bool gathers = gathers_photons(*v.bsdf);
-                    if (gathers && (!caustic || v.caustic) && all_finite(v.beta))
+                    if (gathers && (!caustic || v.caustic) && all_finite(v.beta)) {
                         out.photons.push_back(make_photon(*v.si, v.beta, v.depth));
+                        if (spectral_) bin_photon_flux(out.photons.back(), wavelengths);  // as it arrives (dispersed or not)
+                    }
                     return !(caustic && gathers);  // a caustic path ends at its first diffuse surface
                 });
             }
@@ -271,18 +318,21 @@ float PhotonMapIntegrator::nearest_photons(const PhotonMap& map, const Vec3& p, 
     return near.empty() ? 0.0f : r2;
 }
 
-// Jensen's radiance estimate: sum f beta / (pi r^2 emitted) over the nearest photons.
+// Jensen's radiance estimate: sum f beta / (pi r^2 emitted) over the nearest photons (in the
+// spectral variant each photon's flux in the bins of the camera sample's wavelengths).
 Spectrum PhotonMapIntegrator::radiance_estimate(const PhotonMap& map, const GatherPoint& at) const {
     thread_local Neighbours near;  // reused: no allocation per lookup
     float r2 = nearest_photons(
         map, at.si.p, [&](const Photon& ph) { return settings_.within_depth(at.depth + ph.depth); }, near);
     if (!(r2 > 0.0f)) return Spectrum(0.0f);
     const BSDFContext ctx;
+    const CameraBins bins = spectral_ ? CameraBins(*at.si.wavelengths) : CameraBins();
     Spectrum sum(0.0f);
     for (const auto& entry : near) {
         Vec3 wi = at.si.to_local(entry.second->wi);
         float cos_theta = std::abs(Frame::cos_theta(wi));
-        if (cos_theta > 1e-6f) sum += entry.second->beta * at.bsdf->eval(ctx, at.si, wi) / cos_theta;
+        if (cos_theta > 1e-6f)
+            sum += (spectral_ ? binned_flux(*entry.second, bins) : entry.second->beta) * at.bsdf->eval(ctx, at.si, wi) / cos_theta;
     }
     return sum / float(Pi * r2 * map.emitted);
 }
@@ -302,7 +352,13 @@ Spectrum PhotonMapIntegrator::gathered_radiance(const GatherPoint& y) const {
     if (!nearest) return radiance_estimate(global_, y);
     // A Lambertian BSDF's f, looked up at y (its texture), for light from the normal's side.
     Vec3 wo(0.0f, 0.0f, Frame::cos_theta(y.si.wi) >= 0.0f ? 1.0f : -1.0f);
-    return y.bsdf->eval(BSDFContext(), y.si, wo) * nearest->E;
+    Spectrum E = nearest->E;
+    if (spectral_) {
+        const CameraBins bins(*y.si.wavelengths);
+        const BinnedIrradiance& binned = irradiance_bins_[size_t(nearest - irradiance_.data())];
+        for (int j = 0; j < WavelengthSamples; ++j) E[j] = binned[bins.bin[j]];
+    }
+    return y.bsdf->eval(BSDFContext(), y.si, wo) * E;
 }
 
 // Indirect light at x: gather rays by BSDF sampling, each followed through specular surfaces to a
@@ -350,6 +406,6 @@ Spectrum PhotonMapIntegrator::sample_radiance(const Scene& scene, Sampler& sampl
     return L + x.beta * final_gather(scene, sampler, x);
 }
 
-CANDELA_REGISTER(PhotonMapIntegrator, ObjectKind::Integrator, "photonmapper");
+CANDELA_REGISTER_SPECTRAL(PhotonMapIntegrator, ObjectKind::Integrator, "photonmapper");
 
 }  // namespace candela

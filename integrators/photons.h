@@ -13,6 +13,7 @@
 #include "core/spectrum.h"
 #include "core/wavelengths.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -51,19 +52,64 @@ GatherPoint walk_to_gather_point(const Scene& scene, Sampler& sampler, Ray ray, 
 
 struct Photon {
     Vec3 p{0.0f};
-    Vec3 wi{0.0f};        // unit direction back toward where the photon came from (world)
-    Vec3 n{0.0f};         // the surface's geometric normal on the side the photon arrived from
-    Spectrum beta{0.0f};  // flux weight (W per emitted path)
-    uint32_t depth = 0;   // segments from the emitter to p
+    Vec3 wi{0.0f};  // unit direction back toward where the photon came from (world)
+    Vec3 n{0.0f};   // the surface's geometric normal on the side the photon arrived from
+    // Flux weight (W per emitted path), at the path's wavelengths in the spectral variants; a
+    // binned photon (bin_photon_flux) keeps there each wavelength's share of its bin instead.
+    Spectrum beta{0.0f};
+    uint32_t depth = 0;  // segments from the emitter to p
     // The spectral variants: the path crossed a dispersive interface, so only its first (hero)
     // wavelength carries flux (core/wavelengths.h, terminate_secondary).
     bool hero_only = false;
+    // A binned photon: the wavelength bin of each of beta's components (they fill the padding,
+    // so a photon is as large with them as without).
+    uint8_t bin[WavelengthSamples] = {0, 0, 0};
 };
+static_assert(sizeof(Photon) == 14 * sizeof(float), "a photon's bins fit in its padding");
 // The photon a light path leaves at a vertex.
 inline Photon make_photon(const SurfaceInteraction& si, const Spectrum& beta, uint32_t depth) {
     Vec3 wi = si.wi_world();
     return {si.p, wi,    glm::dot(wi, si.n) >= 0.0f ? si.n : -si.n,
             beta, depth, si.wavelengths != nullptr && si.wavelengths->secondary_terminated()};
+}
+
+// Binned spectral photons (photonmapper's maps in the spectral variant, which serve every camera
+// sample's wavelengths; Mitsuba 0.6's spectral builds store photon flux as a histogram over
+// wavelength bins likewise): SpectralBins bins of equal width over the range the light paths'
+// wavelengths are drawn from, [CieMin, CieMax] nm. A photon's flux is the histogram whose bin b
+// holds the sum over its wavelengths i in b of beta_i / (WavelengthSamples p_i), divided by the
+// bin's width: an unbiased estimate of the flux per nm averaged over the bin (p_i the path's
+// wavelength density; a dispersed path's hero alone, at p / WavelengthSamples, so its hero is
+// weighed by 1 / p). A photon's wavelengths fall in at most WavelengthSamples bins, so the
+// histogram is stored sparsely: component i of beta in bin[i]. A camera wavelength reads its
+// bin's value: the flux is blurred over a bin's width.
+constexpr int SpectralBins = 32;
+constexpr float SpectralBinWidth = float((CieMax - CieMin) / SpectralBins);  // nm
+inline uint8_t spectral_bin(float lambda_nm) {
+    return uint8_t(std::clamp(int((lambda_nm - float(CieMin)) / SpectralBinWidth), 0, SpectralBins - 1));
+}
+// Turns a photon's flux at the wavelengths `w` of its path (as it arrived) into its histogram.
+inline void bin_photon_flux(Photon& photon, const Wavelengths& w) {
+    for (int i = 0; i < WavelengthSamples; ++i) {
+        photon.bin[i] = spectral_bin(w.lambda[i]);
+        photon.beta[i] = w.pdf[i] > 0.0f ? photon.beta[i] / (float(WavelengthSamples) * w.pdf[i] * SpectralBinWidth) : 0.0f;
+    }
+}
+// The bins of a camera sample's wavelengths.
+struct CameraBins {
+    uint8_t bin[WavelengthSamples] = {0, 0, 0};
+    CameraBins() = default;
+    explicit CameraBins(const Wavelengths& w) {
+        for (int j = 0; j < WavelengthSamples; ++j) bin[j] = spectral_bin(w.lambda[j]);
+    }
+};
+// A binned photon's flux per nm at camera wavelengths in the bins `at`.
+inline Spectrum binned_flux(const Photon& photon, const CameraBins& at) {
+    Spectrum flux(0.0f);
+    for (int j = 0; j < WavelengthSamples; ++j)
+        for (int i = 0; i < WavelengthSamples; ++i)
+            if (photon.bin[i] == at.bin[j]) flux[j] += photon.beta[i];
+    return flux;
 }
 
 // A hash grid over points (any T with a position `p`) for radius queries. The points are kept

@@ -3,10 +3,12 @@
 // photon maps of sppm and photonmapper included.
 
 #include "core/image.h"
+#include "integrators/photons.h"
 #include "tests/util.h"
 
 #include <catch2/catch.hpp>
 
+#include <regex>
 #include <tuple>
 
 using namespace candela;
@@ -112,4 +114,24 @@ TEST_CASE("limits: photon maps beyond --max-memory stop sppm and photonmapper at
         CHECK(run_command(render_cmd(dir / (name + "-small.xml"), dir / (name + "-small.exr"), "--max-memory 512M"),
                           dir / (name + "-small.txt")) == 0);
     }
+}
+
+TEST_CASE("limits: photonmapper's budget counts the spectral variant's binned irradiance points", "[cli][memory][photonmapper][spectral]") {
+    // The same 2e9 global photons in both variants: the spectral maps add a histogram of
+    // SpectralBins floats to each of the 5e8 irradiance points (photons keep their size).
+    auto dir = scratch_dir("limits-photons-spectral");
+    write_text(dir / "huge.xml",
+               photon_scene("<integrator type=\"photonmapper\"><integer name=\"global_photons\" value=\"2000000000\"/></integrator>"));
+    auto needed_gb = [&](const std::string& variant) {
+        run_command(render_cmd(dir / "huge.xml", dir / "huge.exr", "--max-memory 512M --variant " + variant), dir / (variant + ".txt"));
+        const std::string log = read_text(dir / (variant + ".txt"));
+        INFO(log);
+        std::smatch m;
+        REQUIRE(std::regex_search(log, m, std::regex("photonmapper's maps of 2000000000 global and 0 caustic photons needs ([0-9]+) GB")));
+        return std::stod(m[1]);
+    };
+    const double rgb = needed_gb("scalar_rgb"), spectral = needed_gb("scalar_spectral");
+    const double bins_gb = 5e8 * SpectralBins * sizeof(float) / double(1u << 30);
+    INFO("scalar_rgb " << rgb << " GB, scalar_spectral " << spectral << " GB, bins " << bins_gb << " GB");
+    CHECK(std::abs(spectral - rgb - bins_gb) <= 1.0);  // each figure is rounded to the gigabyte
 }

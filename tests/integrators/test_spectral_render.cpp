@@ -43,6 +43,23 @@ RenderResult render_spectral(const std::string& xml) {
     return scene->integrator().render(*scene, options);
 }
 
+// A furnace scene with integrator `type` is refused in `variant` at the integrator's line (2),
+// with a message that holds each of `parts`.
+void check_refused(const std::string& type, Variant variant, const std::vector<std::string>& parts) {
+    std::string xml = furnace_xml(R"(<rgb name="radiance" value="1"/>)", R"(<bsdf type="diffuse"/>)", 4);
+    const std::string path = R"(<integrator type="path"/>)";
+    xml.replace(xml.find(path), path.size(), R"(<integrator type=")" + type + R"("/>)");
+    try {
+        load_scene_from_string(xml, scratch_dir("spectral_render").string() + "/scene.xml", {}, variant);
+        FAIL(type << " loaded in " << variant_name(variant));
+    } catch (const SceneError& e) {
+        const std::string message = e.what();
+        INFO(message);
+        CHECK(message.find("scene.xml:2:") != std::string::npos);
+        for (const std::string& part : parts) CHECK(message.find(part) != std::string::npos);
+    }
+}
+
 constexpr int FurnaceTests = 7 * 3;  // z-tests below (per channel), at a 1% family-wise level (Sidak)
 
 void check_colour(const RenderResult& r, const Vec3d& expected, const std::string& what) {
@@ -107,19 +124,13 @@ TEST_CASE("spectral: scalar_rgb is the default, bit for bit", "[render][spectral
 }
 
 TEST_CASE("spectral: plugins that do not render in the variant stop at their line", "[spectral][errors]") {
-    std::string xml = furnace_xml(R"(<rgb name="radiance" value="1"/>)", R"(<bsdf type="diffuse"/>)", 4);
-    const std::string path = R"(<integrator type="path"/>)";
-    xml.replace(xml.find(path), path.size(), R"(<integrator type="photonmapper"/>)");
-    try {
-        render_spectral(xml);
-        FAIL("photonmapper rendered in scalar_spectral");
-    } catch (const SceneError& e) {
-        const std::string message = e.what();
-        INFO(message);
-        CHECK(message.find("scene.xml:2:") != std::string::npos);
-        CHECK(message.find("integrator type \"photonmapper\" does not render in variant scalar_spectral") != std::string::npos);
-        CHECK(message.find("scalar_rgb") != std::string::npos);
-    }
+    check_refused("radiosity", Variant::ScalarSpectral,
+                  {"integrator type \"radiosity\" does not render in variant scalar_spectral", "scalar_rgb"});
+}
+
+TEST_CASE("spectral: photonmapper stops at its line in scalar_spectral_polarized", "[spectral][errors][photonmapper]") {
+    check_refused("photonmapper", Variant::ScalarSpectralPolarized,
+                  {"photonmapper does not render in variant scalar_spectral_polarized", "scalar_spectral and scalar_rgb"});
 }
 
 TEST_CASE("spectral: ptracer's and sppm's light paths and path's camera paths estimate the same image", "[render][spectral][ptracer]") {
