@@ -6,9 +6,7 @@
 
 namespace candela {
 
-PolarizedPath::PolarizedPath(const Wavelengths* wavelengths) : stokes(wavelengths ? wavelengths->stokes : nullptr) {
-    if (stokes) product = identity_spectrum();
-}
+void PolarizedPath::begin_product() { product = identity_spectrum(); }
 
 Spectrum PolarizedPath::contribute_polarized(const Spectrum& c, const StokesSpectrum* arriving) const {
     Spectrum s0;
@@ -27,12 +25,15 @@ void PolarizedPath::scatter_polarized(const BSDF& bsdf, const BSDFContext& ctx, 
     multiply_by_bsdf(*product, bsdf, ctx, si, wo, lobe);
 }
 
-StokesSpectrum arriving_light(const MuellerSpectrum& crossed, const BSDF* bsdf, const BSDFContext& ctx, const SurfaceInteraction& si,
-                              const Vec3& wo) {
-    StokesSpectrum s;
-    for (int k = 0; k < 3; ++k) s.w[k] = first_column(crossed.w[k]);
-    if (bsdf) scatter_stokes(*bsdf, ctx, si, wo, BSDFNone, s);
-    return s;
+Spectrum shadow_transmittance(const Scene& scene, const Ray& shadow, const Medium* medium, PCG32* rng, const BSDF* bsdf,
+                              const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo, StokesSpectrum* arriving) {
+    if (!arriving) return rng ? scene.transmittance(shadow, medium, *rng) : scene.transmittance(shadow);
+    MuellerSpectrum crossed;
+    const Spectrum T = rng ? scene.transmittance(shadow, medium, *rng, &crossed) : scene.transmittance(shadow, &crossed);
+    if (is_black(T)) return T;
+    for (int k = 0; k < 3; ++k) arriving->w[k] = first_column(crossed.w[k]);
+    if (bsdf) scatter_stokes(*bsdf, ctx, si, wo, BSDFNone, *arriving);
+    return T;
 }
 
 LightSample draw_light_sample(const LightSampler& lights, Sampler& sampler, const SurfaceInteraction& at) {
@@ -61,17 +62,10 @@ Spectrum sample_emitter_mis(const Scene& scene, const LightSampler& lights, Samp
     const BSDFEvalPdf f_pdf = bsdf.eval_pdf(ctx, si, wo);
     const Spectrum& f = f_pdf.value;
     if (is_black(f)) return Spectrum(0.0f);
-    Spectrum T(0.0f);
-    MuellerSpectrum crossed;
-    MuellerSpectrum* polarized = arriving ? &crossed : nullptr;
-    if (medium.rng) {
-        const Medium* start = si.shape->is_medium_transition() ? si.shape->target_medium(si, ds.d) : medium.medium;
-        T = scene.transmittance(shadow_ray(si, ds), start, *medium.rng, polarized);  // through media, null surfaces and masks
-    } else {
-        T = scene.transmittance(shadow_ray(si, ds), polarized);  // through null surfaces and masks
-    }
+    // Through null surfaces and masks, and media when there is an rng (from the medium on ds's side).
+    const Medium* start = medium.rng && si.shape->is_medium_transition() ? si.shape->target_medium(si, ds.d) : medium.medium;
+    const Spectrum T = shadow_transmittance(scene, shadow_ray(si, ds), start, medium.rng, &bsdf, ctx, si, wo, arriving);
     if (is_black(T)) return Spectrum(0.0f);
-    if (arriving) *arriving = arriving_light(crossed, &bsdf, ctx, si, wo);
     float w = ds.delta ? 1.0f : power_heuristic(ds.pdf * light.pick_prob * shares.emitter, f_pdf.pdf * shares.bsdf);
     return T * f * light.weight * (w / light.pick_prob);
 }

@@ -8,6 +8,7 @@
 
 #include "core/bsdf.h"
 #include "core/rng.h"
+#include "core/wavelengths.h"
 #include "lights/light_sampler.h"
 
 #include <optional>
@@ -28,8 +29,14 @@ struct PolarizedPath {
     std::optional<MuellerSpectrum> product;
 
     PolarizedPath() = default;
-    // Active when the wavelengths carry a Stokes sum (the polarized variant).
-    explicit PolarizedPath(const Wavelengths* wavelengths);
+    explicit PolarizedPath(const Wavelengths* wavelengths) { begin(wavelengths); }
+    // (Re)starts the path in place: active, with the identity product, when the wavelengths carry
+    // a Stokes sum (the polarized variant). Inline, and no temporary to copy: the other variants
+    // pay a test (a temporary's fields read back as one block stalled store forwarding).
+    void begin(const Wavelengths* wavelengths) {
+        stokes = wavelengths ? wavelengths->stokes : nullptr;
+        if (stokes) begin_product();
+    }
     bool active() const { return stokes != nullptr; }
     // A contribution `c` to the sample (its intensity, as the other variants add it) of light
     // reaching the path's current vertex with normalised Stokes vectors `arriving` (null:
@@ -44,6 +51,7 @@ struct PolarizedPath {
     }
 
 private:
+    void begin_product();
     Spectrum contribute_polarized(const Spectrum& c, const StokesSpectrum* arriving) const;
     void scatter_polarized(const BSDF& bsdf, const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo, uint32_t lobe);
 };
@@ -88,11 +96,14 @@ Ray shadow_ray(const SurfaceInteraction& at, const DirectionSample& ds);
 Spectrum sample_emitter_mis(const Scene& scene, const LightSampler& lights, Sampler& sampler, const SurfaceInteraction& si,
                             const BSDF& bsdf, const BSDFContext& ctx, StrategyShares shares = {}, const PathMedium& medium = {},
                             StokesSpectrum* arriving = nullptr);
-// The light arriving at a vertex from a shadow ray that crossed polarising null surfaces
-// (`crossed`, Scene::transmittance's product), then scattered there by `bsdf` toward si.wi
-// (skipped for a null `bsdf`: a medium's phase function keeps the polarisation, as in Mitsuba).
-StokesSpectrum arriving_light(const MuellerSpectrum& crossed, const BSDF* bsdf, const BSDFContext& ctx, const SurfaceInteraction& si,
-                              const Vec3& wo);
+// The transmittance of a shadow ray from `si` (Scene::transmittance: through null surfaces, and
+// through media from `medium` when `rng` is given) and, with `arriving` (the polarized variant),
+// the light it brings as it leaves si toward si.wi: its Stokes vectors after the polarising null
+// surfaces it crossed and the scattering there by `bsdf` (toward `wo`, local; skipped for a null
+// `bsdf`: a medium's phase function keeps the polarisation, as in Mitsuba). The other variants
+// do not build the crossed surfaces' Mueller product (192 bytes).
+Spectrum shadow_transmittance(const Scene& scene, const Ray& shadow, const Medium* medium, PCG32* rng, const BSDF* bsdf,
+                              const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo, StokesSpectrum* arriving);
 
 // The MIS weight of the emission of `emitter` at `hit`, found by a BSDF sample of solid-angle pdf
 // `bsdf_pdf` from `from` (not a delta lobe), against next-event estimation from `from`.

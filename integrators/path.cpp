@@ -64,7 +64,7 @@ Spectrum PathIntegrator::continue_path(const Scene& scene, Sampler& sampler, con
                                        uint32_t depth, bool* scattered_somewhere) const {
     Spectrum L(0.0f);
     CameraPath path;
-    path.polarization = PolarizedPath(start.wavelengths);
+    path.polarization.begin(start.wavelengths);
     path.depth = depth;
     path.from.at = start;
     SurfaceInteraction si = start;

@@ -82,7 +82,7 @@ public:
         PCG32 rng(hash_combine(float_bits(record.film_pos.x), float_bits(record.film_pos.y)),
                   hash_combine(float_bits(record.aperture.x), float_bits(record.aperture.y)));
         CameraPath path;
-        path.polarization = PolarizedPath(camera_ray.wavelengths);
+        path.polarization.begin(camera_ray.wavelengths);
         path.weights.shared_majorant = !spectral_mis_;
         path.weights.channel = int(rng.next_bounded(3));
         // The camera is the first vertex: what the path finds before scattering (the sky seen
@@ -172,11 +172,8 @@ Spectrum VolPathIntegrator::sample_phase_light(const Scene& scene, Sampler& samp
     const MediumInteraction mi{at.p, wi};
     const Spectrum f = Spectrum(medium.phase().eval(mi, ds.d));
     if (is_black(f)) return Spectrum(0.0f);
-    MuellerSpectrum crossed;
-    const Spectrum T =
-        scene.transmittance(shadow_ray(at, ds), &medium, rng, arriving ? &crossed : nullptr);  // through media and null surfaces
+    const Spectrum T = shadow_transmittance(scene, shadow_ray(at, ds), &medium, &rng, nullptr, BSDFContext(), at, ds.d, arriving);
     if (is_black(T)) return Spectrum(0.0f);
-    if (arriving) *arriving = arriving_light(crossed, nullptr, BSDFContext(), at, ds.d);
     const float mis = ds.delta ? 1.0f : power_heuristic(ds.pdf * light.pick_prob, medium.phase().pdf(mi, ds.d));
     return T * f * light.weight * (mis / light.pick_prob);
 }

@@ -47,6 +47,15 @@ public:
         return warp::square_to_cosine_hemisphere_pdf(wo);
     }
 
+    // Both at once for next-event estimation (one virtual call, one texture lookup), equal to the two.
+    BSDFEvalPdf eval_pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
+        BSDFEvalPdf result;
+        if (!ctx.allows(DiffuseReflection) || Frame::cos_theta(si.wi) <= 0.0f || Frame::cos_theta(wo) <= 0.0f) return result;
+        result.value = reflectance_->eval(si) * (InvPi * Frame::cos_theta(wo));
+        result.pdf = warp::square_to_cosine_hemisphere_pdf(wo);
+        return result;
+    }
+
     Spectrum albedo(const SurfaceInteraction& si) const override { return reflectance_->eval(si); }
     // Local model: kd = reflectance; no highlight, no reflection.
     LocalShading local_shading() const override {
