@@ -10,7 +10,13 @@
 // of a single pair moves its ratio by 10% and more either way, while each pair is side by side.
 // A second render of the same scene is sampled by a profiling timer (SIGPROF every millisecond of
 // CPU time) to give (4) the share of the path tracer's time spent inside Embree, and from it the
-// rate at which Embree traces the path tracer's own rays. It prints figures and asserts nothing.
+// rate at which Embree traces the path tracer's own rays. Last, (5) raw Embree on the same rays
+// in packets of 8 and 16 (rtcIntersect8/16, consecutive rays, as a wavefront path tracer's batch
+// of incoherent secondary rays would be) and as one stream per chunk (rtcIntersect1M), each
+// against single rays in the same round: what batching could gain inside Embree (issue 34's
+// "measure before you choose"). Then (6) the same single rays and packets with the scene rebuilt
+// without RTC_SCENE_FLAG_ROBUST (Mitsuba 3's setting): what Candela's watertight traversal costs.
+// It prints figures and asserts nothing.
 
 #include "core/parallel.h"
 #include "core/profiling.h"
@@ -18,6 +24,7 @@
 #include "core/warp.h"
 #include "core/xml.h"
 
+#include <embree3/rtcore.h>
 #include <tbb/task_arena.h>
 
 #include <sys/time.h>
@@ -54,6 +61,29 @@ double embree_share(const Scene& scene, const RenderOptions& options) {
     scene.integrator().render(scene, options);
     setitimer(ITIMER_PROF, &off, nullptr);
     return double(g_samples_inside.load()) / double(std::max(1L, g_samples_total.load()));
+}
+
+// Closest hits of one packet of consecutive rays (RTCRayHit8 or RTCRayHit16 with its
+// rtcIntersect8/16); how many hit.
+template <typename Packet, typename Intersect>
+int intersect_packet(RTCScene scene, const Ray* rays, Packet& packet, Intersect intersect) {
+    constexpr int width = int(sizeof(packet.ray.org_x) / sizeof(float));
+    alignas(64) int valid[width];
+    for (int k = 0; k < width; ++k) {
+        const Ray& r = rays[k];
+        valid[k] = -1;
+        packet.ray.org_x[k] = r.o.x, packet.ray.org_y[k] = r.o.y, packet.ray.org_z[k] = r.o.z;
+        packet.ray.dir_x[k] = r.d.x, packet.ray.dir_y[k] = r.d.y, packet.ray.dir_z[k] = r.d.z;
+        packet.ray.tnear[k] = r.tmin, packet.ray.tfar[k] = r.tmax, packet.ray.time[k] = 0.0f;
+        packet.ray.mask[k] = 0xFFFFFFFFu, packet.ray.id[k] = 0, packet.ray.flags[k] = 0;
+        packet.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+    }
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    intersect(valid, scene, &context, &packet);
+    int hits = 0;
+    for (int k = 0; k < width; ++k) hits += packet.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
+    return hits;
 }
 
 }  // namespace
@@ -143,6 +173,79 @@ int main(int argc, char** argv) {
     double median = sorted.size() % 2 ? sorted[sorted.size() / 2] : 0.5 * (sorted[sorted.size() / 2 - 1] + sorted[sorted.size() / 2]);
     std::printf("ratio path/embree Mrays   median %.3f of %d rounds (lowest %.3f, highest %.3f)\n", median, rounds, sorted.front(),
                 sorted.back());
+    // Packets and streams: the ray records are filled per packet (a wavefront tracer keeps its
+    // batch in this layout), hits counted as in trace().
+    RTCScene embree = scene->accel().scene();
+    auto trace_packets = [&](int width) {
+        std::atomic<long long> packet_hits{0};
+        arena.execute([&] {
+            parallel_chunks(rays.size() / 16, 256, [&](size_t begin, size_t end) {
+                long long local = 0;
+                for (size_t p = begin * 16; p != end * 16; p += size_t(width)) {
+                    if (width == 8) {
+                        alignas(32) RTCRayHit8 packet;
+                        local += intersect_packet(embree, &rays[p], packet, rtcIntersect8);
+                    } else {
+                        alignas(64) RTCRayHit16 packet;
+                        local += intersect_packet(embree, &rays[p], packet, rtcIntersect16);
+                    }
+                }
+                packet_hits += local;
+            });
+        });
+        return packet_hits.load();
+    };
+    auto trace_stream = [&]() {
+        std::atomic<long long> stream_hits{0};
+        arena.execute([&] {
+            parallel_chunks(rays.size(), 4096, [&](size_t begin, size_t end) {
+                std::vector<RTCRayHit> stream(end - begin);
+                for (size_t i = begin; i != end; ++i) {
+                    RTCRayHit& rh = stream[i - begin];
+                    const Ray& r = rays[i];
+                    rh.ray.org_x = r.o.x, rh.ray.org_y = r.o.y, rh.ray.org_z = r.o.z;
+                    rh.ray.dir_x = r.d.x, rh.ray.dir_y = r.d.y, rh.ray.dir_z = r.d.z;
+                    rh.ray.tnear = r.tmin, rh.ray.tfar = r.tmax, rh.ray.time = 0.0f;
+                    rh.ray.mask = 0xFFFFFFFFu, rh.ray.id = 0, rh.ray.flags = 0;
+                    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+                }
+                RTCIntersectContext context;
+                rtcInitIntersectContext(&context);
+                context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+                rtcIntersect1M(embree, &context, stream.data(), unsigned(stream.size()), sizeof(RTCRayHit));
+                long long local = 0;
+                for (const RTCRayHit& rh : stream) local += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+                stream_hits += local;
+            });
+        });
+        return stream_hits.load();
+    };
+    auto mrays_of = [&](auto&& run) {
+        auto t0 = std::chrono::steady_clock::now();
+        long long h = run();
+        double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        if (h != hits) std::printf("(a batched trace found %lld hits, single rays %lld)\n", h, hits);
+        return double(rays.size() / 16 * 16) / s * 1e-6;
+    };
+    std::printf("batched embree            single Mrays/s  x8 packets  x16 packets  1M stream (ratios to single)\n");
+    for (int round = 0; round < rounds; ++round) {
+        double single = mrays_of([&] { return trace(rays.size() / 16 * 16); });
+        double x8 = mrays_of([&] { return trace_packets(8); });
+        double x16 = mrays_of([&] { return trace_packets(16); });
+        double stream = mrays_of(trace_stream);
+        std::printf("%5d  %24.2f  %10.3f  %11.3f  %9.3f\n", round + 1, single, x8 / single, x16 / single, stream / single);
+    }
+    rtcSetSceneFlags(embree, RTC_SCENE_FLAG_NONE);
+    rtcCommitScene(embree);
+    std::printf("without ROBUST            single Mrays/s  x8 packets  x16 packets  (ratios to single)\n");
+    for (int round = 0; round < rounds; ++round) {
+        double single = mrays_of([&] { return trace(rays.size() / 16 * 16); });
+        double x8 = mrays_of([&] { return trace_packets(8); });
+        double x16 = mrays_of([&] { return trace_packets(16); });
+        std::printf("%5d  %24.2f  %10.3f  %11.3f\n", round + 1, single, x8 / single, x16 / single);
+    }
+    rtcSetSceneFlags(embree, RTC_SCENE_FLAG_ROBUST);
+    rtcCommitScene(embree);
     double share = embree_share(*scene, options);
     std::printf("share of time inside Embree %.1f%% (%ld profiler ticks)\n", 100.0 * share, g_samples_total.load());
     std::printf("embree Mrays/s on its rays  %.2f (path tracer rays / time inside Embree)\n", path_mrays / share);
