@@ -7,7 +7,9 @@
 
 #include <algorithm>
 #include <csignal>
+#include <cstddef>
 #include <cstdio>
+#include <cstring>
 
 namespace candela {
 
@@ -111,15 +113,21 @@ const Shape* Accel::intersect(const Ray& ray, RayHit& hit) const {
     g_inside_embree = 0;
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return nullptr;
     hit.t = rh.ray.tfar;
-    hit.u = rh.hit.u;
     hit.v = rh.hit.v;
     hit.prim_index = rh.hit.primID;
-    if (rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID) {
-        hit.instance_geometry = rh.hit.geomID;
-        return shapes_[rh.hit.instID[0]];
-    }
-    hit.instance_geometry = RTC_INVALID_GEOMETRY_ID;
-    return shapes_[rh.hit.geomID];
+    const bool instance = rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID;
+    // u and instance_geometry in one 8-byte store: the shapes' fill_interaction may load u as
+    // part of an 8-byte block (GCC does, to broadcast it), and a load that spans two separate
+    // 4-byte stores waits for both to retire (store forwarding fails: a quarter of
+    // Mesh::fill_interaction's time).
+    // (Little-endian: the low half is the lower address.)
+    uint32_t u_bits;
+    std::memcpy(&u_bits, &rh.hit.u, sizeof(u_bits));
+    const uint32_t inside = instance ? rh.hit.geomID : RTC_INVALID_GEOMETRY_ID;
+    const uint64_t u_and_inside = uint64_t(u_bits) | (uint64_t(inside) << 32);
+    static_assert(offsetof(RayHit, instance_geometry) == offsetof(RayHit, u) + 4, "u, then instance_geometry");
+    std::memcpy(&hit.u, &u_and_inside, sizeof(u_and_inside));
+    return shapes_[instance ? rh.hit.instID[0] : rh.hit.geomID];
 }
 
 bool Accel::occluded(const Ray& ray) const {
