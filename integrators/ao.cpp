@@ -10,14 +10,18 @@
 // The hemisphere is the one on the side the camera sees (around the shading normal, turned
 // toward the viewer), so a surface seen from behind is as occluded as its visible side.
 // Directions below the geometric surface count as occluded. Camera rays that hit nothing give 1
-// (an open background, as in Mitsuba).
+// (an open background, as in Mitsuba). In scalar_spectral the value is that of a grey emission
+// (v times the D65 spectrum of white, core/wavelengths.h), so the film shows the same grey v as
+// in RGB, up to the RGB-to-spectrum table's error and the wavelengths' colour noise.
 
 #include "core/bsdf.h"
 #include "core/properties.h"
 #include "core/registry.h"
 #include "core/sampler.h"
 #include "core/scene.h"
+#include "core/spectral.h"
 #include "core/warp.h"
+#include "core/wavelengths.h"
 
 namespace candela {
 
@@ -36,7 +40,7 @@ public:
 
     Spectrum sample_radiance(const Scene& scene, Sampler& sampler, const Ray& ray, SampleRecord& record) const override {
         SurfaceInteraction si;
-        if (!scene.intersect(ray, si)) return Spectrum(1.0f);
+        if (!scene.intersect(ray, si)) return grey(1.0f, ray);
         record.valid = true;
         record.record_first_hit(si);
         // The hemisphere on the camera's side of the surface.
@@ -51,16 +55,19 @@ public:
             occlusion.tmax = ray_length_;
             if (!scene.occluded(occlusion)) ++open;
         }
-        return Spectrum(float(open) / float(shading_samples_));
+        return grey(float(open) / float(shading_samples_), ray);
     }
 
     std::string to_string() const override { return "ao"; }
 
 private:
+    // The value v as the film shows grey v: v itself in RGB, a grey emission at the path's wavelengths.
+    static Spectrum grey(float v, const Ray& ray) { return rgb_at_wavelengths(Spectrum(v), SpectrumRole::Emission, ray.wavelengths); }
+
     int shading_samples_ = 1;
     float requested_length_ = -1.0f, ray_length_ = 1.0f;
 };
 
-CANDELA_REGISTER(AmbientOcclusionIntegrator, ObjectKind::Integrator, "ao");
+CANDELA_REGISTER_SPECTRAL(AmbientOcclusionIntegrator, ObjectKind::Integrator, "ao");
 
 }  // namespace candela
