@@ -29,6 +29,13 @@
 // looks, so mirrors and glass show the solution in reflection. Radiosity renders the patches it
 // solves on: analytic shapes appear as their tessellation. Ctrl-C during the solve stops it and
 // shows the partial solution at one sample per pixel, marked partial.
+//
+// In scalar_spectral (and its polarized variant) the solve stays in RGB (emitters' and
+// albedos' RGB values, one radiosity per patch for every view), and what the camera sees of it
+// is that RGB radiance upsampled at the sample's wavelengths (an emission spectrum: RGB times
+// D65, core/wavelengths.h). Emission, direct light and the gathered bounce's BSDF are evaluated
+// at the wavelengths, so only light that has bounced once or more before the last surface
+// passes through RGB (as a render of RGB inputs would, up to the upsampling's nonlinearity).
 
 #include "integrators/radiosity.h"
 
@@ -39,6 +46,8 @@
 #include "core/registry.h"
 #include "core/sampler.h"
 #include "core/scene.h"
+#include "core/spectral.h"
+#include "core/wavelengths.h"
 #include "integrators/direct_lighting.h"
 #include "integrators/estimators.h"
 #include "integrators/radiosity_solver.h"
@@ -181,11 +190,11 @@ public:
         PatchHit hit;
         if (!patches_->intersect(ray, si, hit)) {
             record.valid = !scene.infinite_emitters().empty();
-            return scene.eval_environment(ray.d);
+            return scene.eval_environment(ray.d, ray.wavelengths);
         }
         record.valid = true;
         record.record_first_hit(si);
-        if (!final_gather_) return hit.element < 0 ? Spectrum(0.0f) : InvPi * radiosity_at(solution_.radiosity, hit);
+        if (!final_gather_) return hit.element < 0 ? Spectrum(0.0f) : InvPi * radiosity_at(solution_.radiosity, hit, si);
         return gather(scene, sampler, si);
     }
 
@@ -197,8 +206,10 @@ public:
     }
 
 private:
-    Spectrum radiosity_at(const std::vector<Spectrum> (&values)[2], const PatchHit& hit) const {
-        return RadiosityPatches::interpolate(values[patches_->elements()[size_t(hit.element)].back ? 1 : 0], hit);
+    // The solution at a hit, as radiance at the hit's wavelengths (RGB in the RGB variant).
+    Spectrum radiosity_at(const std::vector<Spectrum> (&values)[2], const PatchHit& hit, const SurfaceInteraction& at) const {
+        const Spectrum rgb = RadiosityPatches::interpolate(values[patches_->elements()[size_t(hit.element)].back ? 1 : 0], hit);
+        return rgb_at_wavelengths(rgb, SpectrumRole::Emission, at.wavelengths);
     }
 
     // Final gather at a camera hit: emission, direct light by light sampling, and one bounce
@@ -214,12 +225,13 @@ private:
         float u_lobe = sampler.next_1d();
         BSDFSample bs = bsdf.sample(ctx, si, u_lobe, sampler.next_2d());
         if (!bs.valid() || is_black(bs.weight)) return L;
+        if (bs.dispersed && si.wavelengths) si.wavelengths->terminate_secondary();
         bool delta = is_delta(bs.lobe);
         Ray ray = si.spawn_ray(si.to_world(bs.wo));
         SurfaceInteraction y;
         PatchHit hit;
-        if (!patches_->intersect(ray, y, hit)) return delta ? L + bs.weight * scene.eval_environment(ray.d) : L;
-        Spectrum incoming = hit.element < 0 ? Spectrum(0.0f) : InvPi * radiosity_at(solution_.reflected, hit);
+        if (!patches_->intersect(ray, y, hit)) return delta ? L + bs.weight * scene.eval_environment(ray.d, ray.wavelengths) : L;
+        Spectrum incoming = hit.element < 0 ? Spectrum(0.0f) : InvPi * radiosity_at(solution_.reflected, hit, y);
         if (delta && y.shape->emitter()) incoming += y.shape->emitter()->eval(y);
         return L + bs.weight * incoming;
     }
@@ -244,7 +256,7 @@ private:
     RadiosityStats stats_;
 };
 
-CANDELA_REGISTER(RadiosityIntegrator, ObjectKind::Integrator, "radiosity");
+CANDELA_REGISTER_SPECTRAL(RadiosityIntegrator, ObjectKind::Integrator, "radiosity");
 
 const RadiosityStats* radiosity_stats(const Integrator& integrator) {
     auto* radiosity = dynamic_cast<const RadiosityIntegrator*>(&integrator);

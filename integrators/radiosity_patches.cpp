@@ -218,6 +218,7 @@ bool RadiosityPatches::intersect(const Ray& ray, SurfaceInteraction& si, PatchHi
     }
     const auto& mesh = static_cast<const PatchMesh&>(*shape);
     mesh.fill_interaction(ray, rh, si);
+    si.wavelengths = ray.wavelengths;
     si.shape = mesh.source();
     si.prim_index = rh.prim_index;
     si.t = rh.t;

@@ -45,8 +45,8 @@ SCENE = """<scene version="3.0.0">
 </scene>
 """
 
-RADIOSITY = SCENE.replace('<integrator type="path"><integer name="max_depth" value="3"/></integrator>',
-                          '<integrator type="radiosity"/>')
+RASTER = SCENE.replace('<integrator type="path"><integer name="max_depth" value="3"/></integrator>',
+                       '<integrator type="raster"/>')
 
 
 @pytest.fixture(autouse=True)
@@ -107,22 +107,22 @@ def test_scalar_rgb_is_the_default_bit_for_bit(scene_file, tmp_path):
 
 def test_plugins_not_spectral_ready_name_scalar_rgb(tmp_path):
     with pytest.raises(candela.SceneError, match="scalar_rgb") as e:
-        candela.load_string(RADIOSITY, variant="scalar_spectral")
-    assert "radiosity" in e.value.message and e.value.line > 0
-    assert candela.load_string(RADIOSITY).variant == "scalar_rgb"
+        candela.load_string(RASTER, variant="scalar_spectral")
+    assert "raster" in e.value.message and e.value.line > 0
+    assert candela.load_string(RASTER).variant == "scalar_rgb"
     # A dictionary: at its key path.
-    d = {"type": "scene", "ball": {"type": "sphere"}, "integrator": {"type": "radiosity"}}
+    d = {"type": "scene", "ball": {"type": "sphere"}, "integrator": {"type": "raster"}}
     with pytest.raises(candela.SceneError, match=r"^integrator: .*scalar_rgb"):
         candela.load_dict(d, variant="scalar_spectral")
     candela.load_dict(d)
     with pytest.raises(candela.SceneError, match="scalar_rgb"):
-        candela.load_dict({"type": "radiosity"}, variant="scalar_spectral")
-    assert candela.load_dict({"type": "radiosity"}).kind == "integrator"
+        candela.load_dict({"type": "raster"}, variant="scalar_spectral")
+    assert candela.load_dict({"type": "raster"}).kind == "integrator"
 
 
 def test_an_integrator_override_is_loaded_in_the_scene_variant():
     spectral = candela.load_string(SCENE, variant="scalar_spectral", spp=1)
-    for integrator in ("radiosity", {"type": "radiosity"}, candela.load_dict({"type": "radiosity"})):
+    for integrator in ("raster", {"type": "raster"}, candela.load_dict({"type": "raster"})):
         with pytest.raises(candela.SceneError, match=r"^integrator: .*scalar_rgb"):
             candela.render(spectral, integrator=integrator)
     # Those that render in the variant do, as in the scene file.
@@ -235,9 +235,9 @@ def test_mitsuba_loads_and_renders_in_the_current_variant(scene_file, tmp_path):
     reference = cli_render(scene_file, tmp_path / "cli.exr", 8, 3, {"spp": 8}, extra=("--variant", "scalar_spectral"))
     assert np.array_equal(np.asarray(image), np.asarray(reference))
     with pytest.raises(candela.SceneError, match="scalar_rgb"):
-        mi.load_string(RADIOSITY)
+        mi.load_string(RASTER)
     with pytest.raises(candela.SceneError, match="scalar_rgb"):
-        mi.load_dict({"type": "radiosity"})
+        mi.load_dict({"type": "raster"})
     # Rendered from a sensor object, the scene is loaded again in its own variant, whatever the
     # current one is.
     T = mi.ScalarTransform4f
@@ -247,7 +247,7 @@ def test_mitsuba_loads_and_renders_in_the_current_variant(scene_file, tmp_path):
     mi.set_variant("scalar_rgb")
     assert mi.render(scene, sensor=camera, spp=2).shape == (8, 8, 3)
     with pytest.raises(candela.SceneError, match="scalar_rgb"):
-        mi.render(scene, integrator="radiosity", sensor=camera, spp=1)
+        mi.render(scene, integrator="raster", sensor=camera, spp=1)
 
 
 def test_mitsuba_cornell_box_in_the_spectral_variant():
