@@ -27,9 +27,12 @@ void PolarizedPath::scatter_polarized(const BSDF& bsdf, const BSDFContext& ctx, 
 
 Spectrum shadow_transmittance(const Scene& scene, const Ray& shadow, const Medium* medium, PCG32* rng, const BSDF* bsdf,
                               const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo, StokesSpectrum* arriving) {
-    if (!arriving) return rng ? scene.transmittance(shadow, medium, *rng) : scene.transmittance(shadow);
-    MuellerSpectrum crossed;
-    const Spectrum T = rng ? scene.transmittance(shadow, medium, *rng, &crossed) : scene.transmittance(shadow, &crossed);
+    auto transmittance = [&](MuellerSpectrum* crossed) {
+        return rng ? scene.transmittance(shadow, medium, *rng, crossed) : scene.transmittance(shadow, crossed);
+    };
+    if (!arriving) return transmittance(nullptr);
+    MuellerSpectrum crossed;  // only here: zeroing it per shadow ray cost the other variants (1105a23)
+    const Spectrum T = transmittance(&crossed);
     if (is_black(T)) return T;
     for (int k = 0; k < 3; ++k) arriving->w[k] = first_column(crossed.w[k]);
     if (bsdf) scatter_stokes(*bsdf, ctx, si, wo, BSDFNone, *arriving);

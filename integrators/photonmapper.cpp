@@ -96,10 +96,7 @@ public:
         if (granularity_ < 0) props.fail("granularity", "granularity must be >= 0");
         settings_ = read_path_settings(props, DepthSettings | HideEmittersSetting);
         location_ = props.location();
-        if (props.variant() == Variant::ScalarSpectralPolarized)
-            props.fail(
-                "photonmapper does not render in variant scalar_spectral_polarized yet (its photons carry no Stokes vector); "
-                "it renders in scalar_spectral and scalar_rgb");
+        refuse_polarized_photons(props, "photonmapper");
     }
 
     // The photon maps are built in prepare(), with the render's threads, seed and interruption.
@@ -219,8 +216,10 @@ void PhotonMapIntegrator::check_map_memory(bool caustic) const {
 // facing the same way (normals within 25 degrees), in parallel (each point on its own). The
 // points are placed first and binned by their grid (which reorders them), then estimated in place.
 void PhotonMapIntegrator::precompute_irradiance() {
-    irradiance_.assign(global_.photons.size() / 4, IrradiancePoint());
-    for (size_t i = 0; i < irradiance_.size(); ++i) irradiance_[i] = {global_.photons[4 * i].p, global_.photons[4 * i].n, Spectrum(0.0f)};
+    irradiance_.clear();
+    irradiance_.reserve(global_.photons.size() / 4);
+    for (size_t i = 0; i + 4 <= global_.photons.size(); i += 4)
+        irradiance_.push_back({global_.photons[i].p, global_.photons[i].n, Spectrum(0.0f)});
     irradiance_grid_.build(irradiance_, 0.25f * global_.radius);
     irradiance_bins_.assign(spectral_ ? irradiance_.size() : 0, BinnedIrradiance{});
     tbb::task_arena arena(threads_ > 0 ? threads_ : tbb::task_arena::automatic);

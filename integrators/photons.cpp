@@ -5,6 +5,13 @@
 
 namespace candela {
 
+void refuse_polarized_photons(const Properties& props, const char* name) {
+    if (props.variant() == Variant::ScalarSpectralPolarized)
+        props.fail(std::string(name) +
+                   " does not render in variant scalar_spectral_polarized yet (its photons carry no Stokes vector); "
+                   "it renders in scalar_spectral and scalar_rgb");
+}
+
 GatherPoint walk_to_gather_point(const Scene& scene, Sampler& sampler, Ray ray, Spectrum beta, uint32_t depth,
                                  const WalkSettings& settings) {
     GatherPoint end;

@@ -10,6 +10,7 @@
 
 #include "core/bsdf.h"
 #include "core/math.h"
+#include "core/properties.h"
 #include "core/spectrum.h"
 #include "core/wavelengths.h"
 
@@ -25,6 +26,10 @@ class Sampler;
 // Surfaces where photons are stored and gathered: a diffuse lobe and no delta lobe. Light and
 // camera paths pass through the others (delta, glossy-only) by BSDF sampling.
 inline bool gathers_photons(const BSDF& bsdf) { return (bsdf.flags() & Diffuse) != 0 && (bsdf.flags() & Delta) == 0; }
+
+// Stops a photon integrator (`name`) built for the polarized variant at its line: its photons
+// carry no Stokes vector.
+void refuse_polarized_photons(const Properties& props, const char* name);
 
 // Where a camera-side walk through non-gathering surfaces ends.
 struct GatherPoint {

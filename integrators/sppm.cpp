@@ -120,10 +120,7 @@ public:
         if (max_passes_ == 0 || max_passes_ < -1) props.fail("max_passes", "max_passes must be positive (or -1)");
         settings_ = read_path_settings(props, DepthSettings | HideEmittersSetting);
         photon_count_location_ = props.location_of("photon_count");
-        if (props.variant() == Variant::ScalarSpectralPolarized)
-            props.fail(
-                "sppm does not render in variant scalar_spectral_polarized yet (its photons carry no Stokes vector); "
-                "it renders in scalar_spectral and scalar_rgb");
+        refuse_polarized_photons(props, "sppm");
     }
 
     RenderResult render(const Scene& scene, const RenderOptions& options) override;
