@@ -105,6 +105,7 @@ int main(int argc, char** argv) {
         else
             scene_path = a;
     }
+    ray_count -= ray_count % 16;  // whole packets of 16 (and of 8) in the batched rounds
     Ref<Scene> scene = load_scene(scene_path);
     tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
     int used_threads = arena.max_concurrency();
@@ -225,25 +226,24 @@ int main(int argc, char** argv) {
         long long h = run();
         double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         if (h != hits) std::printf("(a batched trace found %lld hits, single rays %lld)\n", h, hits);
-        return double(rays.size() / 16 * 16) / s * 1e-6;
+        return double(rays.size()) / s * 1e-6;
     };
-    std::printf("batched embree            single Mrays/s  x8 packets  x16 packets  1M stream (ratios to single)\n");
-    for (int round = 0; round < rounds; ++round) {
-        double single = mrays_of([&] { return trace(rays.size() / 16 * 16); });
-        double x8 = mrays_of([&] { return trace_packets(8); });
-        double x16 = mrays_of([&] { return trace_packets(16); });
-        double stream = mrays_of(trace_stream);
-        std::printf("%5d  %24.2f  %10.3f  %11.3f  %9.3f\n", round + 1, single, x8 / single, x16 / single, stream / single);
-    }
+    // `rounds` rounds of single rays, packets and (with_stream) streams, as ratios to single rays.
+    auto batched_rounds = [&](const char* title, bool with_stream) {
+        std::printf("%-25s single Mrays/s  x8 packets  x16 packets%s  (ratios to single)\n", title, with_stream ? "  1M stream" : "");
+        for (int round = 0; round < rounds; ++round) {
+            double single = mrays_of([&] { return trace(rays.size()); });
+            double x8 = mrays_of([&] { return trace_packets(8); });
+            double x16 = mrays_of([&] { return trace_packets(16); });
+            std::printf("%5d  %24.2f  %10.3f  %11.3f", round + 1, single, x8 / single, x16 / single);
+            if (with_stream) std::printf("  %9.3f", mrays_of(trace_stream) / single);
+            std::printf("\n");
+        }
+    };
+    batched_rounds("batched embree", true);
     rtcSetSceneFlags(embree, RTC_SCENE_FLAG_NONE);
     rtcCommitScene(embree);
-    std::printf("without ROBUST            single Mrays/s  x8 packets  x16 packets  (ratios to single)\n");
-    for (int round = 0; round < rounds; ++round) {
-        double single = mrays_of([&] { return trace(rays.size() / 16 * 16); });
-        double x8 = mrays_of([&] { return trace_packets(8); });
-        double x16 = mrays_of([&] { return trace_packets(16); });
-        std::printf("%5d  %24.2f  %10.3f  %11.3f\n", round + 1, single, x8 / single, x16 / single);
-    }
+    batched_rounds("without ROBUST", false);
     rtcSetSceneFlags(embree, RTC_SCENE_FLAG_ROBUST);
     rtcCommitScene(embree);
     double share = embree_share(*scene, options);
