@@ -88,15 +88,21 @@ MeanAndError channel_mean(const Image& img, int ch, int x0, int y0, int w, int h
     return mean_and_error(v);
 }
 
+MeanAndError mean_difference(const Image& a, const Image& b, int ch, int x0, int y0, int w, int h) {
+    if (w < 0) w = a.width();
+    if (h < 0) h = a.height();
+    std::vector<double> diff;
+    for (int y = y0; y < y0 + h; ++y)
+        for (int x = x0; x < x0 + w; ++x) diff.push_back(double(a.at(x, y, ch)) - b.at(x, y, ch));
+    return mean_and_error(diff);
+}
+
 double largest_block_z(const Image& a, const Image& b, std::string* where) {
     double largest = 0.0;
     for (int ch = 0; ch < 3; ++ch)
         for (int block = -1; block < 16; ++block) {
             int x0 = block < 0 ? 0 : 8 * (block % 4), y0 = block < 0 ? 0 : 8 * (block / 4), size = block < 0 ? 32 : 8;
-            std::vector<double> diff;
-            for (int y = y0; y < y0 + size; ++y)
-                for (int x = x0; x < x0 + size; ++x) diff.push_back(double(a.at(x, y, ch)) - b.at(x, y, ch));
-            MeanAndError d = mean_and_error(diff);
+            MeanAndError d = mean_difference(a, b, ch, x0, y0, size, size);
             // A difference with no spread at all is 0 (equal images) or infinitely significant.
             // A NaN counts as infinitely significant, so that no later block hides it.
             double z = d.std_error > 0.0 ? std::abs(d.mean) / d.std_error : (d.mean == 0.0 ? 0.0 : INFINITY);

@@ -33,6 +33,8 @@ MeanAndVariance block_mean(const Image& img, int ch, int x0, int y0, int size);
 // The mean of channel `ch` over a w x h block of pixels (the whole image by default) and its
 // standard error from the pixels' spread (independent pixels: a box-filtered render).
 MeanAndError channel_mean(const Image& img, int ch, int x0 = 0, int y0 = 0, int w = -1, int h = -1);
+// The same for the pixels' differences a - b (paired, so what the two images share cancels).
+MeanAndError mean_difference(const Image& a, const Image& b, int ch, int x0 = 0, int y0 = 0, int w = -1, int h = -1);
 // Two independent 32 x 32 renders of one expectation: per channel, the mean pixel difference
 // over the whole image and over each of 16 blocks of 8 x 8 pixels, in units of its standard
 // error; the largest |z| of those 51 (3 x 17) z-tests, and where it was (`where`).

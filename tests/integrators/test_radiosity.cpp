@@ -224,10 +224,7 @@ TEST_CASE("radiosity: in scalar_spectral the Cornell box agrees with the spectra
         render_string(read_text(source_path("scenes/validation/cbox.xml")), dir / "path.xml", path, 0, nullptr, Variant::ScalarSpectral);
     const double z = two_sided_z(sidak(0.01, 3));
     for (int c = 0; c < 3; ++c) {
-        std::vector<double> difference;
-        for (int y = 0; y < r.image.height(); ++y)
-            for (int x = 0; x < r.image.width(); ++x) difference.push_back(double(r.image.at(x, y, c)) - double(p.image.at(x, y, c)));
-        const MeanAndError d = mean_and_error(difference);
+        const MeanAndError d = mean_difference(r.image, p.image, c);
         const double path_mean = channel_mean(p.image, c).mean;
         INFO("channel " << c << ": radiosity - path " << d.mean << " +- " << d.std_error << " (path " << path_mean << ")");
         CHECK(std::abs(d.mean) <= z * d.std_error + 0.02 * path_mean);
