@@ -6,9 +6,20 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdint>
 #include <cstring>
 
 namespace candela {
+
+void populate_pages(const void* data, size_t bytes, bool for_writing) {
+#if defined(MADV_POPULATE_WRITE) && defined(MADV_POPULATE_READ)
+    const uintptr_t page = uintptr_t(::sysconf(_SC_PAGESIZE));
+    const uintptr_t begin = (uintptr_t(data) + page - 1) / page * page, end = (uintptr_t(data) + bytes) / page * page;
+    if (end > begin) ::madvise(reinterpret_cast<void*>(begin), end - begin, for_writing ? MADV_POPULATE_WRITE : MADV_POPULATE_READ);
+#else
+    (void)data, (void)bytes, (void)for_writing;
+#endif
+}
 
 MappedFile::MappedFile(const std::string& path) {
     int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);

@@ -8,6 +8,14 @@
 
 namespace candela {
 
+// Asks the kernel to map the pages of [data, data + bytes) now (Linux's MADV_POPULATE_WRITE, or
+// _READ for a file mapping), as a first write or read would one page fault at a time. For a loop
+// that must run on one thread, such as inflating one zlib stream into fresh arrays, populating
+// them from another thread at the same time takes the kernel's page clearing off the loop. Only
+// whole pages inside the range are populated; without kernel support (before Linux 5.14) it does
+// nothing, and the pages fault in when first touched, as without it.
+void populate_pages(const void* data, size_t bytes, bool for_writing);
+
 class MappedFile {
 public:
     // Throws std::runtime_error saying what failed ("cannot open it: ...", "not a regular file",

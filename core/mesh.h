@@ -60,10 +60,10 @@ public:
     const std::vector<MeshAttribute>& attributes() const { return attributes_; }
 
     size_t triangle_count() const { return triangles_.size(); }
-    const std::vector<Vec3>& positions() const { return positions_; }
-    const std::vector<Vec3>& normals() const { return normals_; }
-    const std::vector<Vec2>& uvs() const { return uvs_; }
-    const std::vector<glm::uvec3>& triangles() const { return triangles_; }
+    const MeshArray<Vec3>& positions() const { return positions_; }
+    const MeshArray<Vec3>& normals() const { return normals_; }
+    const MeshArray<Vec2>& uvs() const { return uvs_; }
+    const MeshArray<glm::uvec3>& triangles() const { return triangles_; }
     // Its BSDF and emitter, and vertex_positions (core/parameters.h).
     void traverse(ParameterVisitor& visitor) override;
     void parameters_changed(const std::vector<std::string>& keys) override;
@@ -85,9 +85,9 @@ protected:
         return 0.5f * glm::length(glm::cross(positions_[t.y] - positions_[t.x], positions_[t.z] - positions_[t.x]));
     }
 
-    std::vector<Vec3> positions_, normals_;
-    std::vector<Vec2> uvs_;
-    std::vector<glm::uvec3> triangles_;
+    MeshArray<Vec3> positions_, normals_;
+    MeshArray<Vec2> uvs_;
+    MeshArray<glm::uvec3> triangles_;
     // Face attributes hold one row per entry of triangles_ (a polygon's row repeated for each of
     // its triangles); finalize() drops the rows of degenerate triangles with them.
     std::vector<MeshAttribute> attributes_;

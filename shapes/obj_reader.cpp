@@ -403,7 +403,7 @@ std::vector<Chunk> cut_chunks(const char* text, size_t size, size_t chunk_bytes)
 
 // Writes the triangles of polygon `ids` (k mesh vertices) to out[0, k - 2), by ear clipping;
 // false when a degenerate polygon gave fewer (the rest of the slots hold Unused).
-bool triangulate(const uint32_t* ids, size_t k, const std::vector<Vec3>& positions, std::vector<Vec3>& pts, glm::uvec3* out) {
+bool triangulate(const uint32_t* ids, size_t k, const MeshArray<Vec3>& positions, std::vector<Vec3>& pts, glm::uvec3* out) {
     pts.resize(k);
     for (size_t i = 0; i < k; ++i) pts[i] = positions[ids[i]];
     const auto tris = triangulate_polygon_3d(pts);
@@ -414,7 +414,7 @@ bool triangulate(const uint32_t* ids, size_t k, const std::vector<Vec3>& positio
 }
 
 // Removes the Unused slots that short polygons left, keeping the order.
-void drop_unused(const std::vector<Chunk>& chunks, std::vector<glm::uvec3>& triangles) {
+void drop_unused(const std::vector<Chunk>& chunks, MeshArray<glm::uvec3>& triangles) {
     bool any = false;
     for (const Chunk& c : chunks) any |= c.short_polygons;
     if (!any) return;
@@ -475,7 +475,7 @@ private:
 // Without merging: numbers the used positions in the order the faces first use them (what the
 // merge would give) when that is not the file's order, rewriting the faces' corners and moving
 // the positions; unused positions go.
-void renumber_by_first_use(const std::vector<Chunk>& chunks, std::vector<Vec3>& positions, std::vector<glm::uvec3>& triangles) {
+void renumber_by_first_use(const std::vector<Chunk>& chunks, MeshArray<Vec3>& positions, MeshArray<glm::uvec3>& triangles) {
     std::vector<uint32_t> number(positions.size(), None);
     uint32_t next = 0;
     auto renumber = [&](unsigned& v) {
@@ -495,7 +495,7 @@ void renumber_by_first_use(const std::vector<Chunk>& chunks, std::vector<Vec3>& 
             }
         }
     }
-    std::vector<Vec3> moved;
+    MeshArray<Vec3> moved;
     moved.reserve(size_t(next) + 1);
     moved.resize(next);
     for (size_t v = 0; v < positions.size(); ++v)
@@ -515,20 +515,20 @@ bool first_use_is_file_order(const std::vector<Chunk>& chunks, uint64_t position
 }
 
 template <typename T>
-void allocate(std::vector<T>& v, uint64_t n, uint64_t spare = 0) {
-    std::vector<T>().swap(v);
+void allocate(T& v, uint64_t n, uint64_t spare = 0) {
+    T().swap(v);
     v.reserve(size_t(n + spare));
     v.resize(size_t(n));
 }
 
 }  // namespace
 
-void read_obj(const char* text, size_t size, const ObjReadOptions& options, std::vector<Vec3>& positions, std::vector<Vec2>& uvs,
-              std::vector<Vec3>& normals, std::vector<glm::uvec3>& triangles) {
-    std::vector<Vec3>().swap(positions);
-    std::vector<Vec2>().swap(uvs);
-    std::vector<Vec3>().swap(normals);
-    std::vector<glm::uvec3>().swap(triangles);
+void read_obj(const char* text, size_t size, const ObjReadOptions& options, MeshArray<Vec3>& positions, MeshArray<Vec2>& uvs,
+              MeshArray<Vec3>& normals, MeshArray<glm::uvec3>& triangles) {
+    MeshArray<Vec3>().swap(positions);
+    MeshArray<Vec2>().swap(uvs);
+    MeshArray<Vec3>().swap(normals);
+    MeshArray<glm::uvec3>().swap(triangles);
     // 4 MB chunks: a few dozen per thread on large files, few enough that their bookkeeping costs
     // nothing; at least 64 kB, and about 64 of them on smaller files.
     size_t chunk_bytes = options.chunk_bytes ? options.chunk_bytes : std::clamp<size_t>(size / 64, size_t(64) << 10, size_t(4) << 20);
@@ -576,10 +576,10 @@ void read_obj(const char* text, size_t size, const ObjReadOptions& options, std:
     out.total_texcoords = total.texcoords;
     out.total_normals = total.normals;
     out.flip_tex_coords = options.flip_tex_coords;
-    std::vector<Vec3> file_positions, file_normals;
-    std::vector<Vec2> file_texcoords;
-    std::vector<Corner> corners;
-    std::vector<uint32_t> face_sizes;
+    MeshArray<Vec3> file_positions, file_normals;
+    MeshArray<Vec2> file_texcoords;
+    MeshArray<Corner> corners;
+    MeshArray<uint32_t> face_sizes;
     if (options.before_allocating) {
         if (out.merging) {
             uint64_t vertices = std::max({total.positions, total.texcoords, total.normals});
@@ -623,8 +623,8 @@ void read_obj(const char* text, size_t size, const ObjReadOptions& options, std:
     });
     for (const Chunk& c : chunks) {
         if (!c.failed) continue;
-        for (auto* v : {&positions, &normals}) std::vector<Vec3>().swap(*v);
-        std::vector<glm::uvec3>().swap(triangles);
+        for (auto* v : {&positions, &normals}) MeshArray<Vec3>().swap(*v);
+        MeshArray<glm::uvec3>().swap(triangles);
         throw ObjError(c.error_line, c.error);
     }
 
@@ -676,9 +676,9 @@ void read_obj(const char* text, size_t size, const ObjReadOptions& options, std:
             if (every_normal) normals[i] = file_normals[v.vn];
         }
     });
-    std::vector<Vec3>().swap(file_positions);
-    std::vector<Vec2>().swap(file_texcoords);
-    std::vector<Vec3>().swap(file_normals);
+    MeshArray<Vec3>().swap(file_positions);
+    MeshArray<Vec2>().swap(file_texcoords);
+    MeshArray<Vec3>().swap(file_normals);
     std::vector<Corner>().swap(vertices);
 
     // Pass 3: the triangles, each chunk's faces into its slots.

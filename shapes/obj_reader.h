@@ -21,6 +21,7 @@
 // (0, 0 for the others), normals only when every vertex has one.
 
 #include "core/math.h"
+#include "core/mesh_array.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -52,7 +53,7 @@ public:
 // Parses `size` bytes of OBJ text into a mesh's arrays (replacing what they held). Each array is
 // allocated once at its final size; `positions` with room for one more element (Embree reads
 // vertices with 16-byte loads, core/mesh.cpp). Throws ObjError, leaving the arrays empty.
-void read_obj(const char* text, size_t size, const ObjReadOptions& options, std::vector<Vec3>& positions, std::vector<Vec2>& uvs,
-              std::vector<Vec3>& normals, std::vector<glm::uvec3>& triangles);
+void read_obj(const char* text, size_t size, const ObjReadOptions& options, MeshArray<Vec3>& positions, MeshArray<Vec2>& uvs,
+              MeshArray<Vec3>& normals, MeshArray<glm::uvec3>& triangles);
 
 }  // namespace candela

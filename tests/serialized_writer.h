@@ -4,6 +4,7 @@
 // matpreview.serialized stand-in with it.
 
 #include "core/math.h"
+#include "core/mesh_array.h"
 
 #include <string>
 #include <vector>
@@ -11,9 +12,9 @@
 namespace candela::test {
 
 struct TestMesh {
-    std::vector<Vec3> positions, normals, colors;
-    std::vector<Vec2> uvs;
-    std::vector<glm::uvec3> triangles;
+    MeshArray<Vec3> positions, normals, colors;  // the types Mesh holds, to compare with them
+    MeshArray<Vec2> uvs;
+    MeshArray<glm::uvec3> triangles;
     bool double_precision = false, face_normals = false;
     std::string name = "mesh";
     uint64_t declared_vertices = 0;  // the vertex count the header states, when not the true one

@@ -125,9 +125,9 @@ namespace {
 // std::map in the order the faces first use them (what the plugin did with tinyobjloader): the
 // reference the parallel reader is compared against. Only for well-formed text.
 struct ReferenceObj {
-    std::vector<Vec3> positions, normals;
-    std::vector<Vec2> uvs;
-    std::vector<glm::uvec3> triangles;
+    MeshArray<Vec3> positions, normals;
+    MeshArray<Vec2> uvs;
+    MeshArray<glm::uvec3> triangles;
 };
 ReferenceObj reference_obj(const std::string& text, bool ignore_normals = false) {
     std::vector<Vec3> v, vn;
@@ -279,7 +279,7 @@ TEST_CASE("obj: corner forms, relative indices, CRLF, comments and skipped lines
     const std::vector<int> position_of = {0, 1, 2, 0, 2, 3, 0, 2, 3, 0, 1, 2, 3};
     REQUIRE(m.positions().size() == position_of.size());
     for (size_t i = 0; i < position_of.size(); ++i) CHECK(m.positions()[i] == p[size_t(position_of[i])]);
-    const std::vector<glm::uvec3> triangles = {{0, 1, 2}, {3, 4, 5}, {6, 7, 8}, {9, 10, 11}, {10, 11, 12}};
+    const MeshArray<glm::uvec3> triangles = {{0, 1, 2}, {3, 4, 5}, {6, 7, 8}, {9, 10, 11}, {10, 11, 12}};
     CHECK(m.triangles() == triangles);
     REQUIRE(m.uvs().size() == 13);
     CHECK(m.uvs()[1] == Vec2(1.0f, 1.0f));  // vt 1 0, flipped
@@ -322,8 +322,8 @@ TEST_CASE("obj: the mesh does not depend on chunks or threads, and matches a pla
     }
     // Unused positions are dropped, as the merge drops them.
     const ReferenceObj sparse = read_chunked("v 9 9 9\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 2 3 4\n", 0, 1);
-    CHECK(sparse.positions == std::vector<Vec3>{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
-    CHECK(sparse.triangles == std::vector<glm::uvec3>{{0, 1, 2}});
+    CHECK(sparse.positions == MeshArray<Vec3>{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
+    CHECK(sparse.triangles == MeshArray<glm::uvec3>{{0, 1, 2}});
 }
 
 TEST_CASE("obj: a file of many chunks loads the same with 1 and 2 threads", "[mesh]") {
@@ -332,8 +332,8 @@ TEST_CASE("obj: a file of many chunks loads the same with 1 and 2 threads", "[me
     const std::string text = grid_obj(250, 250, 7);
     REQUIRE(text.size() > (size_t(1) << 20));
     write_text(dir / "large.obj", text);
-    std::vector<std::vector<Vec3>> positions;
-    std::vector<std::vector<glm::uvec3>> triangles;
+    std::vector<MeshArray<Vec3>> positions;
+    std::vector<MeshArray<glm::uvec3>> triangles;
     for (int threads : {1, 2}) {
         thread_arena(threads).execute([&] {
             Ref<Scene> keep;
@@ -432,8 +432,8 @@ void write_ply(const std::filesystem::path& path, const std::string& format) {
 
 TEST_CASE("ply: ascii and binary files of both endiannesses give the same mesh", "[mesh]") {
     auto dir = scratch_dir("ply");
-    std::vector<std::vector<Vec3>> positions;
-    std::vector<std::vector<Vec2>> uvs;
+    std::vector<MeshArray<Vec3>> positions;
+    std::vector<MeshArray<Vec2>> uvs;
     for (const char* format : {"ascii", "binary_little_endian", "binary_big_endian"}) {
         INFO(format);
         std::string name = std::string(format) + ".ply";

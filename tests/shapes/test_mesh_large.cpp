@@ -94,8 +94,8 @@ TEST_CASE("ply: large binary files, read a buffer of records at a time, give the
     // come in two batches and the faces' records straddle the buffers' ends.
     const Grid g = make_grid(400);
     auto dir = scratch_dir("ply-large");
-    std::vector<std::vector<Vec3>> positions, normals;
-    std::vector<std::vector<glm::uvec3>> triangles;
+    std::vector<MeshArray<Vec3>> positions, normals;
+    std::vector<MeshArray<glm::uvec3>> triangles;
     std::vector<std::vector<float>> colours;
     for (const char* format : {"ascii", "binary_little_endian", "binary_big_endian"}) {
         INFO(format);
