@@ -76,8 +76,13 @@ public:
     // eval() and pdf() together, equal to the two calls (as Mitsuba's eval_pdf): for next-event
     // estimation and MIS, which need both. BSDFs whose two share work (texture lookups, the half
     // vector, D and G1) override it to do that work once.
+    // The default writes its result field by field: built as one aggregate from the two calls, the
+    // caller read it back as one block across two smaller stores (a store-forwarding stall).
     virtual BSDFEvalPdf eval_pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const {
-        return BSDFEvalPdf{eval(ctx, si, wo), pdf(ctx, si, wo)};
+        BSDFEvalPdf result;
+        result.value = eval(ctx, si, wo);
+        result.pdf = pdf(ctx, si, wo);
+        return result;
     }
 
     // The polarized variant (core/mueller.h): the Mueller matrix, at the path's wavelengths, of

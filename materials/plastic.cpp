@@ -69,6 +69,17 @@ public:
         return (1.0f - p_spec) * warp::square_to_cosine_hemisphere_pdf(wo);
     }
 
+    // Both at once for next-event estimation, equal to the two: the coating's Fresnel at wi once.
+    BSDFEvalPdf eval_pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
+        BSDFEvalPdf result;
+        const float cos_i = Frame::cos_theta(si.wi);
+        if (!ctx.allows(DiffuseReflection) || cos_i <= 0.0f || Frame::cos_theta(wo) <= 0.0f) return result;
+        const float Fi = fresnel_dielectric(cos_i, eta_).F;
+        result.value = diffuse_term(si, Fi, wo);
+        result.pdf = (1.0f - specular_probability(ctx, Fi)) * warp::square_to_cosine_hemisphere_pdf(wo);
+        return result;
+    }
+
     // Polarized: the coating's Fresnel reflection matrix for the mirror lobe and, for the diffuse
     // one, refraction in, a depolarising base and refraction out (as pplastic).
     bool eval_mueller(const BSDFContext&, const SurfaceInteraction& si, const Vec3& wo, uint32_t lobe, MuellerSpectrum& M) const override {
