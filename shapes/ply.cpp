@@ -507,8 +507,17 @@ private:
         if (record == 0) return false;
         const size_t base = positions_.size();
         positions_.resize(base + e.count);
-        if (normals) normals_.resize(base + e.count);
-        if (uvs) uvs_.resize(base + e.count);
+        // Mesh arrays resize without zero-filling (core/mesh_array.h): an earlier vertex element
+        // without normals or uvs leaves a gap, zeroed here as it always was; this element's range
+        // is written below.
+        if (normals) {
+            normals_.resize(base, Vec3(0.0f));
+            normals_.resize(base + e.count);
+        }
+        if (uvs) {
+            uvs_.resize(base, Vec2(0.0f));
+            uvs_.resize(base + e.count);
+        }
         for (size_t a = 0; a < attributes.size(); ++a)
             attributes_[first_attribute + a].values.resize((base + e.count) * attributes[a].properties.size());
         const bool swap = body.swap();
