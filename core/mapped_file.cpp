@@ -21,7 +21,7 @@ void populate_pages(const void* data, size_t bytes, bool for_writing) {
 #endif
 }
 
-MappedFile::MappedFile(const std::string& path) {
+int open_regular_file(const std::string& path, size_t& size) {
     int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
     if (fd < 0) throw std::runtime_error(std::string("cannot open it: ") + std::strerror(errno));
     struct stat st {};
@@ -29,7 +29,12 @@ MappedFile::MappedFile(const std::string& path) {
         ::close(fd);
         throw std::runtime_error("not a regular file");
     }
-    size_ = size_t(st.st_size);
+    size = size_t(st.st_size);
+    return fd;
+}
+
+MappedFile::MappedFile(const std::string& path) {
+    const int fd = open_regular_file(path, size_);
     if (size_ > 0) {
         void* p = ::mmap(nullptr, size_, PROT_READ, MAP_PRIVATE, fd, 0);
         if (p == MAP_FAILED) {

@@ -16,6 +16,11 @@ namespace candela {
 // nothing, and the pages fault in when first touched, as without it.
 void populate_pages(const void* data, size_t bytes, bool for_writing);
 
+// Opens a regular file read-only (close-on-exec) and gives its descriptor and size; throws
+// std::runtime_error saying what failed ("cannot open it: ...", "not a regular file"), for the
+// caller to name the file. MappedFile opens with it; the scene hash reads through it.
+int open_regular_file(const std::string& path, size_t& size);
+
 class MappedFile {
 public:
     // Throws std::runtime_error saying what failed ("cannot open it: ...", "not a regular file",
