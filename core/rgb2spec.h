@@ -5,11 +5,12 @@
 // coefficients of a linear sRGB colour (Rec. 709 primaries, D65 white) are interpolated
 // trilinearly in a precomputed table.
 //
-// The table (core/data/srgb_sigmoid.coeff, compiled in) is Candela's own, made by
-// core/data/gen_srgb_sigmoid.cpp from the CIE 1931 and D65 tables of core/spectral.cpp; its layout
-// is the paper's: three tables, one per largest component z, indexed by the other two divided by
-// z (x, y, 64 even steps in [0, 1]) and by z at smoothstep(smoothstep(k / 63)), k = 0..63, which
-// samples both the dark and the bright end densely; 9,437,448 bytes of float32. Every node is fitted so that spectrum_to_rgb
+// The table (compiled in by core/rgb2spec_table.cpp) is Candela's own, made when CMake
+// configures (cmake/srgb_sigmoid_table.cmake) by core/data/gen_srgb_sigmoid.cpp from the CIE 1931
+// and D65 tables of core/spectral.cpp. Its layout is the paper's: three tables, one per largest
+// component z, indexed by the other two divided by z (x, y, 64 even steps in [0, 1]) and by z at
+// smoothstep(smoothstep(k / 63)), k = 0..63, which samples both the dark and the bright end
+// densely; 9,437,448 bytes of float32. Every node is fitted so that spectrum_to_rgb
 // (weight_by_d65 = true) of its spectrum, sampled every 1 nm from 360 to 830 nm, is the node's
 // colour; the fit is least squares in linear sRGB (generator: its opening comment).
 //
@@ -67,7 +68,7 @@ struct SigmoidTable {
     const float* scale = nullptr;
     const float* coefficients = nullptr;
 };
-// The table compiled in (core/data/srgb_sigmoid.coeff).
+// The table compiled in (core/rgb2spec_table.cpp).
 const SigmoidTable& srgb_sigmoid_table();
 // rgb_to_reflectance_spectrum with another table (the generator checks its own with it).
 SigmoidPolynomial fetch_sigmoid_polynomial(const SigmoidTable& table, const Vec3& rgb);

@@ -1,14 +1,13 @@
-// gen_srgb_sigmoid: computes core/data/srgb_sigmoid.coeff, the coefficient table of
-// core/rgb2spec.h (Jakob and Hanika 2019, "A Low-Dimensional Function Space for Efficient
-// Spectral Upsampling"), from the CIE 1931 and D65 tables the renderer itself uses
-// (core/spectral.h). Not part of the renderer; an optional target:
+// gen_srgb_sigmoid: computes the coefficient table of core/rgb2spec.h (Jakob and Hanika 2019, "A
+// Low-Dimensional Function Space for Efficient Spectral Upsampling") from the CIE 1931 and D65
+// tables the renderer itself uses (core/spectral.h). Not part of the renderer: CMake builds and
+// runs it when the project configures (cmake/srgb_sigmoid_table.cmake), and core/rgb2spec_table.cpp
+// compiles its output in. By hand:
 //
-//   cmake --build build -j1 --target gen_srgb_sigmoid
-//   build/gen_srgb_sigmoid core/data/srgb_sigmoid.coeff [threads]
+//   gen_srgb_sigmoid OUTPUT.coeff [threads]
 //
-// then rebuild (CMake sees the new file) and run build/tests/candela_tests "[rgb2spec]".
-// Here (2 cores, 2 threads, Release): 13.8 s for the fits, 14.6 s in all with the check at the
-// end. The output does not depend on the thread count (each row is fitted on its own).
+// Here (2 cores, 2 threads, -O2): 15 s for the fits, 16 s in all with the check at the end. The
+// output does not depend on the thread count (each row is fitted on its own).
 //
 // The fit. A node's colour is `target`; its spectrum s(l) = S(a t^2 + b t + c), t = (l - 360) /
 // 470 in [0, 1] (the coefficients of t are of order 1-100, well conditioned; they are turned

@@ -1,0 +1,74 @@
+// The coefficient table of core/rgb2spec.h compiled into the program: srgb_sigmoid_table() and
+// rgb_to_reflectance_spectrum(). Kept apart from the lookup (core/rgb2spec.cpp) because the table's
+// generator, core/data/gen_srgb_sigmoid.cpp, is built from the lookup and must not need its own
+// output.
+
+#include "core/rgb2spec.h"
+
+#include "core/error.h"
+
+#include <cstdint>
+#include <cstring>
+#include <string>
+
+// The table file, compiled in by the assembler (no generated C array: 9 MB of it would take the
+// compiler minutes). CMakeLists.txt generates it in the build directory when it configures, and
+// defines its path, and its MD5 so that ccache, which does not read .incbin files, compiles this
+// file again when the table changes. File format (little-endian): "CSG1", uint32 resolution,
+// float32 scale[resolution], float32 coefficients[3 * resolution^3 * 3] (core/rgb2spec.h,
+// SigmoidTable).
+#if !defined(CANDELA_SRGB_SIGMOID_TABLE) || !defined(CANDELA_SRGB_SIGMOID_MD5)
+#error "CMakeLists.txt defines CANDELA_SRGB_SIGMOID_TABLE and CANDELA_SRGB_SIGMOID_MD5, the generated table's path and MD5"
+#endif
+
+asm(".pushsection .rodata, \"a\"\n"
+    ".balign 16\n"
+    ".globl candela_srgb_sigmoid_begin\n"
+    ".hidden candela_srgb_sigmoid_begin\n"
+    "candela_srgb_sigmoid_begin:\n"
+    ".incbin \"" CANDELA_SRGB_SIGMOID_TABLE
+    "\"\n"
+    ".globl candela_srgb_sigmoid_end\n"
+    ".hidden candela_srgb_sigmoid_end\n"
+    "candela_srgb_sigmoid_end:\n"
+    ".popsection\n");
+
+extern "C" {
+__attribute__((visibility("hidden"))) extern const unsigned char candela_srgb_sigmoid_begin[];
+__attribute__((visibility("hidden"))) extern const unsigned char candela_srgb_sigmoid_end[];
+}
+
+namespace candela {
+
+namespace {
+
+SigmoidTable load_embedded_table() {
+    static_assert(sizeof(float) == 4 && sizeof(uint32_t) == 4, "the table is float32");
+    const unsigned char* data = candela_srgb_sigmoid_begin;
+    size_t size = size_t(candela_srgb_sigmoid_end - candela_srgb_sigmoid_begin);
+    uint32_t resolution = 0;
+    const uint16_t endian_probe = 1;
+    bool little_endian = *reinterpret_cast<const unsigned char*>(&endian_probe) == 1;
+    if (size >= 8) std::memcpy(&resolution, data + 4, 4);
+    size_t expected = 8 + 4 * size_t(resolution) + 4 * 9 * size_t(resolution) * resolution * resolution;
+    if (!little_endian || size < 8 || std::memcmp(data, "CSG1", 4) != 0 || resolution < 2 || resolution > 1024 || size != expected)
+        throw InternalError("the compiled-in RGB-to-spectrum table (" CANDELA_SRGB_SIGMOID_TABLE ") is malformed (" + std::to_string(size) +
+                            " bytes)");
+    // The section is 16-byte aligned and the floats start at byte 8: aligned for float.
+    SigmoidTable table;
+    table.resolution = int(resolution);
+    table.scale = reinterpret_cast<const float*>(data + 8);
+    table.coefficients = table.scale + resolution;
+    return table;
+}
+
+}  // namespace
+
+const SigmoidTable& srgb_sigmoid_table() {
+    static const SigmoidTable table = load_embedded_table();
+    return table;
+}
+
+SigmoidPolynomial rgb_to_reflectance_spectrum(const Vec3& rgb) { return fetch_sigmoid_polynomial(srgb_sigmoid_table(), rgb); }
+
+}  // namespace candela
