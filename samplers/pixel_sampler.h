@@ -8,6 +8,7 @@
 #include "core/sampler.h"
 #include "samplers/sequences.h"
 
+#include <array>
 #include <string>
 
 namespace candela {
@@ -21,7 +22,14 @@ public:
 
 protected:
     void start_sample(const Vec2i& pixel, uint32_t index) override {
-        sequence_ = hash_combine(seed_, pixel_key(pixel));
+        uint64_t sequence = hash_combine(seed_, pixel_key(pixel));
+        // A pixel's samples come one after another (the pixel loop), so what depends only on the
+        // pixel's sequence is kept until the next pixel: the dimension seeds (below).
+        if (sequence != sequence_ || !started_) {
+            sequence_ = sequence;
+            started_ = true;
+            new_sequence();
+        }
         index_ = index;
         sample_key_ = hash_combine(sequence_, index_);
         dimension_ = 0;
@@ -33,8 +41,16 @@ protected:
 
     // A 32-bit seed for the permutations of dimension `dim` in this pixel; `salt` (below 8) tells
     // apart the several permutations one dimension may use. One SplitMix64 step of the pixel's
-    // sequence, as for the jitter below: these run once or twice per number drawn.
-    uint32_t dimension_seed(uint32_t dim, uint32_t salt = 0) const { return uint32_t(splitmix(sequence_, uint64_t(dim) * 8 + salt) >> 32); }
+    // sequence, as for the jitter below. They run once or twice per number drawn but depend only on
+    // the pixel, so the first CachedSeedKeys (dimensions below 64) are remembered for the pixel's
+    // other samples: a load in place of three dependent multiplies before each permutation.
+    uint32_t dimension_seed(uint32_t dim, uint32_t salt = 0) const {
+        const uint64_t key = uint64_t(dim) * 8 + salt;
+        if (key >= CachedSeedKeys) return uint32_t(splitmix(sequence_, key) >> 32);
+        CachedSeed& cached = seed_cache_[key];
+        if (cached.epoch != epoch_) cached = CachedSeed{epoch_, uint32_t(splitmix(sequence_, key) >> 32)};
+        return cached.seed;
+    }
     // A uniform number in [0, 1) for (sample, dimension dim): the jitter in a stratum.
     float jitter(uint32_t dim) const { return bits_to_unit(uint32_t(splitmix(sample_key_, dim) >> 32)); }
     // Two independent jitters for a 2D dimension from one hash: its low and high 32 bits.
@@ -46,6 +62,26 @@ protected:
     uint64_t sequence_ = 0;    // the pixel's sequence
     uint32_t index_ = 0;       // the sample index within the pixel
     uint64_t sample_key_ = 0;  // hash_combine(sequence_, index_), hashed once per sample, not per number
+
+private:
+    // A new pixel: every cached seed is out of date. Entries carry the epoch they were computed
+    // in; epoch 0 marks none, so when the counter wraps (after 2^32 pixels) the entries are cleared.
+    void new_sequence() {
+        if (++epoch_ == 0) {
+            for (CachedSeed& cached : seed_cache_) cached = CachedSeed{};
+            epoch_ = 1;
+        }
+    }
+
+    static constexpr uint64_t CachedSeedKeys = 64 * 8;
+    struct CachedSeed {
+        uint32_t epoch = 0;
+        uint32_t seed = 0;
+    };
+    bool started_ = false;
+    uint32_t epoch_ = 0;
+    // Memoised dimension_seed() values of the current pixel (4 kB per sampler, one per thread).
+    mutable std::array<CachedSeed, CachedSeedKeys> seed_cache_{};
 };
 
 }  // namespace candela

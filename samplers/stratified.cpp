@@ -32,7 +32,10 @@ public:
         uint32_t dim = dimension_++;
         uint32_t stratum = permute_index(index_, uint32_t(sample_count_), dimension_seed(dim));
         float j = jitter_ ? jitter(dim) : 0.5f;
-        return clamp_below_one((float(stratum) + j) / float(sample_count_));
+        // x / n as x * (1 / n) where that is exact (n a power of two): a division's latency
+        // would sit on every number drawn.
+        float x = float(stratum) + j;
+        return clamp_below_one(inv_sample_count_ != 0.0f ? x * inv_sample_count_ : x / float(sample_count_));
     }
 
     Vec2 next_2d() override {
@@ -49,12 +52,15 @@ protected:
     int round_sample_count(int spp) override {
         resolution_ = 1;
         while (int64_t(resolution_) * resolution_ < spp) ++resolution_;
-        return resolution_ * resolution_;  // at most 32768^2 = 2^30 for spp <= 2^30
+        const int count = resolution_ * resolution_;  // at most 32768^2 = 2^30 for spp <= 2^30
+        inv_sample_count_ = (count & (count - 1)) == 0 ? 1.0f / float(count) : 0.0f;
+        return count;
     }
 
 private:
     bool jitter_ = true;
     int resolution_ = 2;
+    float inv_sample_count_ = 0.0f;  // 1 / sample_count_ when exact, else 0
 };
 
 CANDELA_REGISTER(StratifiedSampler, ObjectKind::Sampler, "stratified");
