@@ -28,17 +28,29 @@ public:
 
     float next_1d() override {
         uint32_t i = point(dimension_++);
-        return bits_to_unit(reverse_bits(i) ^ hash_bits(sequence_, 0x48bc48ebu));
+        return bits_to_unit(reverse_bits(i) ^ scramble_1d_);
     }
     Vec2 next_2d() override {
         uint32_t i = point(dimension_);
         dimension_ += 2;
-        uint32_t x = reverse_bits(i) ^ hash_bits(sequence_, 0x98bc51abu);
-        uint32_t y = sobol_bits(i, 1) ^ hash_bits(sequence_, 0x68bc21ebu);
+        uint32_t x = reverse_bits(i) ^ scramble_x_;
+        uint32_t y = sobol_bits(i, 1) ^ scramble_y_;
         return Vec2(bits_to_unit(x), bits_to_unit(y));
     }
 
 protected:
+    // The pixel's scrambles depend on its sequence only: hashed when the pixel changes instead of
+    // on every number drawn (a pixel's samples come one after another).
+    void start_sample(const Vec2i& pixel, uint32_t index) override {
+        PixelSequenceSampler::start_sample(pixel, index);
+        if (scrambled_ && scrambled_sequence_ == sequence_) return;
+        scrambled_ = true;
+        scrambled_sequence_ = sequence_;
+        scramble_1d_ = hash_bits(sequence_, 0x48bc48ebu);
+        scramble_x_ = hash_bits(sequence_, 0x98bc51abu);
+        scramble_y_ = hash_bits(sequence_, 0x68bc21ebu);
+    }
+
     int round_sample_count(int spp) override {
         int r = 2;
         while (int64_t(r) * r < spp) r *= 2;
@@ -46,6 +58,9 @@ protected:
     }
 
 private:
+    bool scrambled_ = false;
+    uint64_t scrambled_sequence_ = 0;
+    uint32_t scramble_1d_ = 0, scramble_x_ = 0, scramble_y_ = 0;
     // The point of the (0, 2)-sequence that dimension `dim` of this sample takes.
     uint32_t point(uint32_t dim) const { return permute_index(index_, uint32_t(sample_count_), dimension_seed(dim)); }
 };
