@@ -40,12 +40,8 @@ public:
 
 protected:
     // The pixel's scrambles depend on its sequence only: hashed when the pixel changes instead of
-    // on every number drawn (a pixel's samples come one after another).
-    void start_sample(const Vec2i& pixel, uint32_t index) override {
-        PixelSequenceSampler::start_sample(pixel, index);
-        if (scrambled_ && scrambled_sequence_ == sequence_) return;
-        scrambled_ = true;
-        scrambled_sequence_ = sequence_;
+    // on every number drawn.
+    void sequence_changed() override {
         scramble_1d_ = hash_bits(sequence_, 0x48bc48ebu);
         scramble_x_ = hash_bits(sequence_, 0x98bc51abu);
         scramble_y_ = hash_bits(sequence_, 0x68bc21ebu);
@@ -58,8 +54,6 @@ protected:
     }
 
 private:
-    bool scrambled_ = false;
-    uint64_t scrambled_sequence_ = 0;
     uint32_t scramble_1d_ = 0, scramble_x_ = 0, scramble_y_ = 0;
     // The point of the (0, 2)-sequence that dimension `dim` of this sample takes.
     uint32_t point(uint32_t dim) const { return permute_index(index_, uint32_t(sample_count_), dimension_seed(dim)); }

@@ -24,11 +24,13 @@ protected:
     void start_sample(const Vec2i& pixel, uint32_t index) override {
         uint64_t sequence = hash_combine(seed_, pixel_key(pixel));
         // A pixel's samples come one after another (the pixel loop), so what depends only on the
-        // pixel's sequence is kept until the next pixel: the dimension seeds (below).
+        // pixel's sequence is kept until the next pixel: the dimension seeds (below) and what a
+        // sampler computes in sequence_changed().
         if (sequence != sequence_ || !started_) {
             sequence_ = sequence;
             started_ = true;
             new_sequence();
+            sequence_changed();
         }
         index_ = index;
         sample_key_ = hash_combine(sequence_, index_);
@@ -38,6 +40,9 @@ protected:
     // set_sample_count(); a count that changes is a warning at the sampler's line naming `rule`
     // (e.g. "a square, as Mitsuba does").
     void read_count_and_seed(const Properties& props, const std::string& rule);
+    // Called when start_sample() moves to another pixel's sequence (sequence_ is already the new
+    // one): where a sampler computes what depends on the pixel alone.
+    virtual void sequence_changed() {}
 
     // A 32-bit seed for the permutations of dimension `dim` in this pixel; `salt` (below 8) tells
     // apart the several permutations one dimension may use. One SplitMix64 step of the pixel's
