@@ -16,7 +16,11 @@ inline uint64_t mix64(uint64_t x) {
     return x;
 }
 
-inline uint64_t hash_combine(uint64_t a, uint64_t b) { return mix64(a ^ (mix64(b) + 0x9e3779b97f4a7c15ULL + (a << 6) + (a >> 2))); }
+// hash_combine(a, b) with mix64(b) given: for a b hashed with many a.
+inline uint64_t hash_combine_mixed(uint64_t a, uint64_t mixed_b) {
+    return mix64(a ^ (mixed_b + 0x9e3779b97f4a7c15ULL + (a << 6) + (a >> 2)));
+}
+inline uint64_t hash_combine(uint64_t a, uint64_t b) { return hash_combine_mixed(a, mix64(b)); }
 
 // Output n (from 0) of the SplitMix64 generator started at state `key` (Steele, Lea and Flood
 // 2014, "Fast Splittable Pseudorandom Number Generators"): a Weyl step by the golden-ratio

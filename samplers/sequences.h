@@ -76,11 +76,12 @@ inline uint32_t reverse_bits(uint32_t v) {
 // digit is flipped by a hash of the digits above it (Burley 2020, "Practical Hash-based Owen
 // Scrambling", JCGT 9(4): Laine and Karras's hash on the reversed bits, with his constants).
 // It keeps every (t, m, s)-net property of the points it scrambles.
-inline uint32_t owen_scramble(uint32_t v, uint32_t seed) {
+// owen_scramble_reversed takes v's digits already reversed (sobol_bits_reversed), saving a
+// reversal; both return the scrambled digits in the usual order.
+inline uint32_t owen_scramble_reversed(uint32_t v, uint32_t seed) {
     // In reversed order the most significant digit is bit 0, and each step below changes a bit
     // only by a function of the bits beneath it: a flip of each digit that depends only on the
     // digits before it, which is Owen's nested uniform scramble.
-    v = reverse_bits(v);
     v ^= v * 0x3d20adeau;
     v += seed;
     v *= (seed >> 16) | 1u;
@@ -88,6 +89,7 @@ inline uint32_t owen_scramble(uint32_t v, uint32_t seed) {
     v ^= v * 0x53a22864u;
     return reverse_bits(v);
 }
+inline uint32_t owen_scramble(uint32_t v, uint32_t seed) { return owen_scramble_reversed(reverse_bits(v), seed); }
 
 // The Sobol' sequence: dimension 0 is van der Corput's, dimensions 1 to 256 come from Joe and
 // Kuo's direction numbers (samplers/sobol_directions.cpp). Dimensions 0 and 1 form a
@@ -97,6 +99,9 @@ constexpr int SobolDimensions = 257;
 constexpr int SobolIndexBits = 52;
 // The 32 bits (a binary fraction) of dimension `dim` of point `index`, unscrambled.
 uint32_t sobol_bits(uint64_t index, int dim);
+// reverse_bits(sobol_bits(index, dim)), from bit-reversed generator matrices: the order Owen
+// scrambling works in, without reversing each point.
+uint32_t sobol_bits_reversed(uint64_t index, int dim);
 // The generator matrix of dimension `dim`: column j is the contribution of bit j of the index.
 const uint32_t* sobol_matrix(int dim);
 

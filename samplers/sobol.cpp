@@ -51,15 +51,23 @@ protected:
         build_index_solver();
     }
     void start_sample(const Vec2i& pixel, uint32_t index) override {
-        PixelSequenceSampler::start_sample(pixel, index);
+        SobolSamplerBase::start_sample(pixel, index);
         sobol_index_ = index_in_pixel(index, pixel + film_border_);
+    }
+    // Dimensions 0 and 1 are randomized per pixel: hashed once for the pixel's samples.
+    void sequence_changed() override {
+        pixel_hashes_[0] = hash_bits(sequence_, 0);
+        pixel_hashes_[1] = hash_bits(sequence_, 1);
     }
 
 private:
     float value(uint32_t dim) const {
         // Dimensions 0 and 1: the digits below the pixel's m leading ones.
-        if (dim < 2) return bits_to_unit(randomize(sobol_bits(sobol_index_, int(dim)) << log2_scale_, hash_bits(sequence_, dim)));
-        if (dim < uint32_t(SobolDimensions)) return bits_to_unit(randomize(sobol_bits(sobol_index_, int(dim)), hash_bits(seed_, dim)));
+        // Dimensions 0 and 1 shift the digits up by m: in reversed order, down.
+        if (dim < 2)
+            return bits_to_unit(randomize_reversed(sobol_bits_reversed(sobol_index_, int(dim)) >> log2_scale_, pixel_hashes_[dim]));
+        if (dim < uint32_t(SobolDimensions))
+            return bits_to_unit(randomize_reversed(sobol_bits_reversed(sobol_index_, int(dim)), uint32_t(dimension_hash(dim) >> 32)));
         return jitter(dim);
     }
 
@@ -117,6 +125,7 @@ private:
     std::vector<uint64_t> target_to_index_;  // per target digit: the index bits it flips
     std::vector<uint64_t> frame_digits_;     // per bit of i: the leading digits it contributes
     uint64_t sobol_index_ = 0;
+    uint32_t pixel_hashes_[2] = {0, 0};  // hash_bits(sequence_, 0 and 1)
 };
 
 CANDELA_REGISTER(SobolSampler, ObjectKind::Sampler, "sobol");

@@ -17,4 +17,10 @@ void SobolSamplerBase::read_parameters(const Properties& props) {
     read_count_and_seed(props, "a power of two, as pbrt-v4 does");
 }
 
+void SobolSamplerBase::hash_dimensions() {
+    for (uint32_t dim = 0; dim < uint32_t(SobolDimensions); ++dim) dimension_hashes_[dim] = hash_combine(seed_, dim);
+    hashed_seed_ = seed_;
+    hashes_ready_ = true;
+}
+
 }  // namespace candela

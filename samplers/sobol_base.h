@@ -12,6 +12,8 @@
 
 #include "samplers/pixel_sampler.h"
 
+#include <array>
+
 namespace candela {
 
 class SobolSamplerBase : public PixelSequenceSampler {
@@ -31,17 +33,38 @@ protected:
     enum class Randomization { None, PermuteDigits, Owen };
     // Reads sample_count, seed and randomization.
     void read_parameters(const Properties& props);
-    // The digits `bits` of one dimension randomized with `hash` (a per-dimension seed).
-    uint32_t randomize(uint32_t bits, uint32_t hash) const {
+    // Sobol' digits given in reversed order (sobol_bits_reversed), randomized with `hash` (a
+    // per-dimension seed) and returned in the usual order. Owen scrambling works on the reversed
+    // digits, so the reversed generator matrices save it a reversal per number drawn.
+    uint32_t randomize_reversed(uint32_t reversed, uint32_t hash) const {
         switch (randomization_) {
-            case Randomization::None: return bits;
-            case Randomization::PermuteDigits: return bits ^ hash;
-            default: return owen_scramble(bits, hash);
+            case Randomization::None: return reverse_bits(reversed);
+            case Randomization::PermuteDigits: return reverse_bits(reversed) ^ hash;
+            default: return owen_scramble_reversed(reversed, hash);
         }
+    }
+
+    // hash_combine(seed_, dim): the randomization's hash of dimension `dim` (zsobol's 2D draws use
+    // both halves, every other draw the high half, as hash_bits does). It depends only on the
+    // seed, so below SobolDimensions it is looked up, not hashed on every number drawn (two mix64
+    // chains each); the table follows set_seed() (checked in start_sample()).
+    uint64_t dimension_hash(uint32_t dim) const {
+        return dim < uint32_t(SobolDimensions) ? dimension_hashes_[dim] : hash_combine(seed_, dim);
+    }
+    void start_sample(const Vec2i& pixel, uint32_t index) override {
+        if (!hashes_ready_ || hashed_seed_ != seed_) hash_dimensions();
+        PixelSequenceSampler::start_sample(pixel, index);
     }
 
     Randomization randomization_ = Randomization::Owen;
     int log2_spp_ = 2;
+
+private:
+    void hash_dimensions();
+
+    bool hashes_ready_ = false;
+    uint64_t hashed_seed_ = 0;
+    std::array<uint64_t, SobolDimensions> dimension_hashes_{};
 };
 
 }  // namespace candela

@@ -37,6 +37,18 @@ const std::array<std::array<uint8_t, 4>, 24>& digit_permutations() {
     }();
     return all;
 }
+// Sobol' dimension 1 reversed (sobol_bits_reversed) of each byte value at each of the four
+// byte positions of an index below 2^32: one row per byte, XORed, in place of a walk over the
+// index's bits.
+const std::array<std::array<uint32_t, 256>, 4>& dimension1_byte_tables() {
+    static const std::array<std::array<uint32_t, 256>, 4> tables = [] {
+        std::array<std::array<uint32_t, 256>, 4> t{};
+        for (int byte = 0; byte < 4; ++byte)
+            for (uint32_t v = 0; v < 256; ++v) t[size_t(byte)][v] = sobol_bits_reversed(uint64_t(v) << (8 * byte), 1);
+        return t;
+    }();
+    return tables;
+}
 }  // namespace
 
 class ZSobolSampler final : public SobolSamplerBase {
@@ -51,15 +63,18 @@ public:
 
     float next_1d() override {
         uint32_t dim = dimension_++;
-        uint64_t i = sequence_index(dim);
-        return bits_to_unit(randomize(sobol_bits(i, 0), hash_bits(seed_, dim)));
+        uint32_t reversed[2];
+        sobol_point_reversed(dim, reversed);
+        return bits_to_unit(randomize_reversed(reversed[0], uint32_t(dimension_hash(dim) >> 32)));
     }
     Vec2 next_2d() override {
         uint32_t dim = dimension_;
         dimension_ += 2;
-        uint64_t i = sequence_index(dim);
-        uint64_t h = hash_combine(seed_, dim);
-        return Vec2(bits_to_unit(randomize(sobol_bits(i, 0), uint32_t(h))), bits_to_unit(randomize(sobol_bits(i, 1), uint32_t(h >> 32))));
+        uint32_t reversed[2];
+        sobol_point_reversed(dim, reversed);
+        uint64_t h = dimension_hash(dim);
+        return Vec2(bits_to_unit(randomize_reversed(reversed[0], uint32_t(h))),
+                    bits_to_unit(randomize_reversed(reversed[1], uint32_t(h >> 32))));
     }
 
 protected:
@@ -71,32 +86,107 @@ protected:
         while ((1 << log2_resolution_) < std::max(span.x, span.y)) ++log2_resolution_;
     }
     void start_sample(const Vec2i& pixel, uint32_t index) override {
-        PixelSequenceSampler::start_sample(pixel, index);
+        SobolSamplerBase::start_sample(pixel, index);
         const Vec2i cell = pixel + film_border_;
-        morton_index_ = (morton_2d(uint32_t(cell.x), uint32_t(cell.y)) << log2_spp_) | index;
+        const uint64_t pixel_morton = morton_2d(uint32_t(cell.x), uint32_t(cell.y));
+        morton_index_ = (pixel_morton << log2_spp_) | index;
+        // What the kept pixel parts depend on: a change to any of them makes them stale.
+        const PixelPartKey key{pixel_morton, seed_, log2_spp_, log2_resolution_};
+        if (!(key == pixel_part_key_)) {
+            pixel_part_key_ = key;
+            pixel_parts_valid_ = 0;
+        }
     }
 
 private:
-    // The sequence index of this sample in dimension `dim`: the Morton index with every base-4
-    // digit permuted by a hash of the digits above it. With an odd log2(spp) the lowest digit is
-    // binary and is flipped (or not) the same way.
-    uint64_t sequence_index(uint32_t dim) const {
-        const bool binary_last = log2_spp_ & 1;
-        const int digits = log2_resolution_ + (log2_spp_ + 1) / 2;
-        const uint64_t salt = (uint64_t(dim) << 32) ^ seed_;
-        const auto& permutations = digit_permutations();  // once: a function-local static is guarded
-        uint64_t index = 0;
-        for (int i = digits - 1; i >= (binary_last ? 1 : 0); --i) {
-            int shift = 2 * i - (binary_last ? 1 : 0);
-            uint32_t digit = uint32_t(morton_index_ >> shift) & 3u;
-            uint64_t higher = morton_index_ >> (shift + 2);
-            uint32_t p = hash_bits(higher ^ (uint64_t(i) << 56), salt) % 24;
-            index |= uint64_t(permutations[p][digit]) << shift;
+    // Dimensions 0 and 1 of this sample's point of the (0, 2)-sequence in dimension `dim`, as
+    // reversed digits (sobol_bits_reversed). Its sequence index is the Morton index with every
+    // base-4 digit permuted by a hash of the digits above it; with an odd log2(spp) the lowest
+    // digit is binary and is flipped (or not) the same way. The digits at and above the first
+    // pixel digit depend only on the pixel (the sample index fills the low log2(spp) bits), and
+    // the Sobol' digits are linear over GF(2) in the index's bits, so the point is the XOR of a
+    // pixel part and a sample part. For dimensions below 64 the pixel part is kept for the
+    // pixel's other samples: at 64 spp a draw hashes 3 digits in place of 3 plus log2 of the
+    // resolution, and its matrix products run over 6 index bits in place of all of them.
+    void sobol_point_reversed(uint32_t dim, uint32_t reversed[2]) const {
+        const int first_pixel_digit = (log2_spp_ + 1) / 2;
+        PixelPart computed;
+        const PixelPart* pixel = &computed;
+        if (dim < CachedPixelParts) {
+            if (!((pixel_parts_valid_ >> dim) & 1u)) {
+                pixel_parts_[dim] = pixel_part(dim, first_pixel_digit);
+                pixel_parts_valid_ |= uint64_t(1) << dim;
+            }
+            pixel = &pixel_parts_[dim];
+        } else {
+            computed = pixel_part(dim, first_pixel_digit);
         }
-        if (binary_last) index |= (morton_index_ & 1u) ^ (hash_bits(morton_index_ >> 1, salt) & 1u);
-        return index;
+        const bool binary_last = log2_spp_ & 1;
+        const uint64_t salt = pixel->mixed_salt;
+        uint64_t sample = permuted_digits(salt, binary_last ? 1 : 0, first_pixel_digit - 1);
+        // The top sample digit's permutation hashes only the pixel's digits above it: kept too.
+        if (first_pixel_digit > (binary_last ? 1 : 0)) sample |= permuted_digit(first_pixel_digit - 1, pixel->top_sample_permutation);
+        if (binary_last) sample |= (morton_index_ & 1u) ^ (uint32_t(hash_combine_mixed(morton_index_ >> 1, salt) >> 32) & 1u);
+        // Sample indices are below 2^30: dimension 0 reversed is the index's bits themselves,
+        // dimension 1 the XOR of a byte table's rows.
+        const auto& dimension1 = dimension1_byte_tables();
+        uint32_t dimension1_bits = 0;
+        for (int byte = 0; sample >> (8 * byte) != 0; ++byte) dimension1_bits ^= dimension1[size_t(byte)][(sample >> (8 * byte)) & 255u];
+        reversed[0] = pixel->reversed[0] ^ uint32_t(sample);
+        reversed[1] = pixel->reversed[1] ^ dimension1_bits;
     }
 
+    // The permuted pixel digits of dimension `dim`: their share of Sobol' dimensions 0 and 1,
+    // reversed, the permutation of the sample digit below them, and the dimension's salt for the
+    // digits' hashes, (dim << 32) ^ seed, already mixed (hash_combine_mixed).
+    struct PixelPart {
+        uint32_t reversed[2] = {0, 0};
+        uint32_t top_sample_permutation = 0;
+        uint64_t mixed_salt = 0;
+    };
+    PixelPart pixel_part(uint32_t dim, int first_pixel_digit) const {
+        const uint64_t salt = mix64((uint64_t(dim) << 32) ^ seed_);
+        const uint64_t index = permuted_digits(salt, first_pixel_digit, first_pixel_digit + log2_resolution_);
+        PixelPart part;
+        part.mixed_salt = salt;
+        part.reversed[0] = sobol_bits_reversed(index, 0);
+        part.reversed[1] = sobol_bits_reversed(index, 1);
+        if (first_pixel_digit > (log2_spp_ & 1)) part.top_sample_permutation = digit_permutation(first_pixel_digit - 1, salt);
+        return part;
+    }
+
+    // Base-4 digits [lowest, end) of the Morton index, each permuted by a hash of the digits
+    // above it and of `mixed_salt` (PixelPart), in place.
+    uint64_t permuted_digits(uint64_t mixed_salt, int lowest, int end) const {
+        uint64_t index = 0;
+        for (int i = end - 1; i >= lowest; --i) index |= permuted_digit(i, digit_permutation(i, mixed_salt));
+        return index;
+    }
+    // Where base-4 digit i starts: an odd log2(spp) shifts the base-4 digits up one bit.
+    int digit_shift(int i) const { return 2 * i - (log2_spp_ & 1); }
+    // Which of the 24 permutations digit i takes: a hash of the digits above it.
+    uint32_t digit_permutation(int i, uint64_t mixed_salt) const {
+        uint64_t higher = morton_index_ >> (digit_shift(i) + 2);
+        return uint32_t(hash_combine_mixed(higher ^ (uint64_t(i) << 56), mixed_salt) >> 32) % 24;
+    }
+    // Digit i of the Morton index under permutation p, in place.
+    uint64_t permuted_digit(int i, uint32_t p) const {
+        const int shift = digit_shift(i);
+        uint32_t digit = uint32_t(morton_index_ >> shift) & 3u;
+        return uint64_t(digit_permutations()[p][digit]) << shift;  // a function-local static: guarded once
+    }
+
+    struct PixelPartKey {
+        uint64_t pixel_morton = 0, seed = 0;
+        int log2_spp = -1, log2_resolution = -1;  // -1: nothing kept yet
+        bool operator==(const PixelPartKey& o) const {
+            return pixel_morton == o.pixel_morton && seed == o.seed && log2_spp == o.log2_spp && log2_resolution == o.log2_resolution;
+        }
+    };
+    static constexpr uint32_t CachedPixelParts = 64;
+    PixelPartKey pixel_part_key_;
+    mutable uint64_t pixel_parts_valid_ = 0;  // bit d: pixel_parts_[d] is the current pixel's
+    mutable std::array<PixelPart, CachedPixelParts> pixel_parts_{};
     int log2_resolution_ = 0;
     uint64_t morton_index_ = 0;
 };

@@ -232,6 +232,16 @@ TEST_CASE("samplers: the first two Sobol' dimensions form a (0, 2)-sequence", "[
     CHECK(is_02_net(pts));
 }
 
+TEST_CASE("samplers: the reversed Sobol' matrices give the reversed digits", "[sampler]") {
+    PCG32 rng;
+    for (int dim : {0, 1, 2, 17, 256}) {
+        for (int k = 0; k < 1000; ++k) {
+            uint64_t index = (uint64_t(rng.next_uint()) << 32 | rng.next_uint()) >> (k % 40);
+            REQUIRE(sobol_bits_reversed(index, dim) == reverse_bits(sobol_bits(index, dim)));
+        }
+    }
+}
+
 TEST_CASE("samplers: sobol's samples in a pixel are a (0, m, 2)-net over the pixel, zsobol's in every 2D dimension", "[sampler]") {
     for (int spp : {8, 16, 64}) {
         for (Vec2i pixel : {Vec2i(0, 0), Vec2i(13, 2), Vec2i(19, 30)}) {
@@ -267,6 +277,25 @@ TEST_CASE("samplers: a sample's numbers depend only on (seed, pixel, index), and
         // Another seed changes them.
         Ref<Sampler> other = make_sampler(name, 16, Vec2i(16), 8);
         CHECK(draw(*other, Vec2i(4, 9), 5) != first);
+        // What a sampler keeps for the pixel's other samples follows a new seed, count or film on
+        // the same pixel (the pixel loop's samplers are reseeded and resized in place).
+        s->set_seed(8);
+        CHECK(draw(*s, Vec2i(4, 9), 5) == draw(*other, Vec2i(4, 9), 5));
+        s->set_seed(7);
+        s->set_sample_count(64);
+        CHECK(draw(*s, Vec2i(4, 9), 5) == draw(*make_sampler(name, 64, Vec2i(16)), Vec2i(4, 9), 5));
+        s->set_film(Vec2i(40, 24), 0);
+        CHECK(draw(*s, Vec2i(4, 9), 5) == draw(*make_sampler(name, 64, Vec2i(40, 24)), Vec2i(4, 9), 5));
+        // Dimensions beyond the kept ones (64) and beyond the Sobol' table (257) as well.
+        for (uint32_t dim : {60u, 70u, 300u}) {
+            Ref<Sampler> fresh = make_sampler(name, 64, Vec2i(40, 24));
+            draw(*s, Vec2i(4, 9), 6);
+            s->set_dimension(dim);
+            draw(*fresh, Vec2i(4, 9), 6);
+            fresh->set_dimension(dim);
+            CHECK(s->next_2d() == fresh->next_2d());
+            CHECK(s->next_1d() == fresh->next_1d());
+        }
 
         write_text(dir / "scene.xml",
                    scene_with_sampler("<sampler type=\"" + name + "\"><integer name=\"sample_count\" value=\"16\"/></sampler>"));
