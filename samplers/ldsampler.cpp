@@ -56,7 +56,7 @@ protected:
 private:
     uint32_t scramble_1d_ = 0, scramble_x_ = 0, scramble_y_ = 0;
     // The point of the (0, 2)-sequence that dimension `dim` of this sample takes.
-    uint32_t point(uint32_t dim) const { return permute_index(index_, uint32_t(sample_count_), dimension_seed(dim)); }
+    uint32_t point(uint32_t dim) const { return permute_index(index_, count_divisor_, dimension_seed(dim)); }
 };
 
 CANDELA_REGISTER(LowDiscrepancySampler, ObjectKind::Sampler, "ldsampler");

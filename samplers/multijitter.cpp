@@ -36,7 +36,7 @@ public:
 
     float next_1d() override {
         uint32_t dim = dimension_++;
-        uint32_t stratum = permute_index(index_, uint32_t(sample_count_), dimension_seed(dim, 1));
+        uint32_t stratum = permute_index(index_, count_divisor_, dimension_seed(dim, 1));
         float j = jitter_ ? jitter(dim) : 0.5f;
         return clamp_below_one((float(stratum) + j) / float(sample_count_));
     }
@@ -47,10 +47,10 @@ public:
         const uint32_t nx = uint32_t(columns_), ny = uint32_t(rows_);
         // The cell (x, y) of this sample, then its substratum: sx shuffles the columns' x
         // substrata (the same shuffle in every row), sy the rows'.
-        uint32_t s = permute_index(index_, uint32_t(sample_count_), dimension_seed(dim, 2));
-        uint32_t y = s / nx, x = s - y * nx;
-        uint32_t sx = permute_index(x, nx, dimension_seed(dim, 3));
-        uint32_t sy = permute_index(y, ny, dimension_seed(dim, 4));
+        uint32_t s = permute_index(index_, count_divisor_, dimension_seed(dim, 2));
+        uint32_t y = columns_divisor_.quotient(s), x = s - y * nx;
+        uint32_t sx = permute_index(x, columns_divisor_, dimension_seed(dim, 3));
+        uint32_t sy = permute_index(y, rows_divisor_, dimension_seed(dim, 4));
         Vec2 j = jitter_ ? jitter_2d(dim) : Vec2(0.5f);
         return Vec2(clamp_below_one((float(x) + (float(sy) + j.x) / float(ny)) / float(nx)),
                     clamp_below_one((float(y) + (float(sx) + j.y) / float(nx)) / float(ny)));
@@ -60,12 +60,15 @@ protected:
     int round_sample_count(int spp) override {
         rows_ = std::max(1, int(std::sqrt(double(spp))));
         columns_ = (spp + rows_ - 1) / rows_;
+        rows_divisor_ = Divisor(uint32_t(rows_));
+        columns_divisor_ = Divisor(uint32_t(columns_));
         return rows_ * columns_;  // below spp + rows_, so within int for spp <= 2^30
     }
 
 private:
     bool jitter_ = true;
     int rows_ = 2, columns_ = 2;
+    Divisor rows_divisor_{2}, columns_divisor_{2};
 };
 
 CANDELA_REGISTER(MultijitterSampler, ObjectKind::Sampler, "multijitter");

@@ -60,6 +60,9 @@ protected:
         prime_ = 2;
         while (int64_t(prime_) * prime_ < spp || !is_prime(prime_)) ++prime_;
         rows_ = uint32_t(std::min<uint64_t>(array_rows(), 0xffffffffull));
+        prime_divisor_ = Divisor(uint32_t(prime_));
+        rows_divisor_ = Divisor(rows_);
+        substrata_divisor_ = Divisor(rows_ / uint32_t(prime_));
         return prime_ * prime_;  // the next prime above 2^15 is 32771: 32771^2 < 2^31
     }
 
@@ -73,12 +76,11 @@ private:
 
     // The stratum (symbol of column `dim`) and substratum of this sample, each relabelled by the
     // column's own permutation, jittered: (stratum + (substratum + jitter) / sub_count) / p.
-    float place(uint32_t dim, uint32_t symbol, uint32_t sub, uint32_t sub_count) const {
-        const uint32_t p = uint32_t(prime_);
-        uint32_t stratum = permute_index(symbol, p, dimension_seed(dim, 1));
+    float place(uint32_t dim, uint32_t symbol, uint32_t sub, const Divisor& sub_count) const {
+        uint32_t stratum = permute_index(symbol, prime_divisor_, dimension_seed(dim, 1));
         uint32_t substratum = permute_index(sub, sub_count, dimension_seed(dim, 2));
         float j = jitter_ ? jitter(dim) : 0.5f;
-        return clamp_below_one((float(stratum) + (float(substratum) + j) / float(sub_count)) / float(p));
+        return clamp_below_one((float(stratum) + (float(substratum) + j) / float(sub_count.n)) / float(prime_));
     }
 
     // Bose's OA(p^2, p + 1, p, 2): row i = (a0, a1) in base p; column 0 is a0, column 1 is a1,
@@ -87,11 +89,11 @@ private:
     float bose(uint32_t dim) const {
         const uint32_t p = uint32_t(prime_);
         const uint32_t group = dim / (p + 1), c = dim % (p + 1);
-        uint32_t row = permute_index(index_, uint32_t(sample_count_), dimension_seed(group, 0));
-        uint32_t a0 = row / p, a1 = row - a0 * p;
-        auto column = [&](uint32_t j) { return j == 0 ? a0 : j == 1 ? a1 : uint32_t((a0 + (j - 1) * a1) % p); };
+        uint32_t row = permute_index(index_, count_divisor_, dimension_seed(group, 0));
+        uint32_t a0 = prime_divisor_.quotient(row), a1 = row - a0 * p;
+        auto column = [&](uint32_t j) { return j == 0 ? a0 : j == 1 ? a1 : prime_divisor_.remainder(a0 + (j - 1) * a1); };
         uint32_t neighbour = (c ^ 1u) <= p ? (c ^ 1u) : 0;
-        return place(dim, column(c), column(neighbour), p);
+        return place(dim, column(c), column(neighbour), prime_divisor_);
     }
 
     // Bush's OA(p^t, p, t): row i has base-p digits c_0 ... c_{t-1}; column j holds the
@@ -99,19 +101,20 @@ private:
     // for Bose's array, each group of p dimensions has its own row shuffle.
     float bush(uint32_t dim) const {
         const uint32_t p = uint32_t(prime_);
-        uint32_t row = permute_index(index_, rows_, dimension_seed(dim / p, 0));
+        uint32_t row = permute_index(index_, rows_divisor_, dimension_seed(dim / p, 0));
         uint32_t x = dim % p, symbol = 0, rest = row;
         uint32_t digits[32];
         for (int k = 0; k < strength_; ++k, rest /= p) digits[k] = rest % p;
         for (int k = strength_ - 1; k >= 0; --k) symbol = uint32_t((uint64_t(symbol) * x + digits[k]) % p);
-        uint32_t sub_count = rows_ / p;
-        return place(dim, symbol, (row / p) % sub_count, sub_count);
+        return place(dim, symbol, substrata_divisor_.remainder(prime_divisor_.quotient(row)), substrata_divisor_);
     }
 
     bool jitter_ = true;
     int strength_ = 2;
     int prime_ = 2;
     uint32_t rows_ = 4;
+    // What the draws divide by: p, the array's rows and Bush's substrata per stratum (rows / p).
+    Divisor prime_divisor_{2}, rows_divisor_{4}, substrata_divisor_{2};
 };
 
 CANDELA_REGISTER(OrthogonalSampler, ObjectKind::Sampler, "orthogonal");

@@ -32,6 +32,8 @@ protected:
             new_sequence();
             sequence_changed();
         }
+        // Whatever changed the count (set_sample_count), the divisor follows it.
+        if (count_divisor_.n != uint32_t(sample_count_)) count_divisor_ = Divisor(uint32_t(sample_count_));
         index_ = index;
         sample_key_ = hash_combine(sequence_, index_);
         dimension_ = 0;
@@ -67,6 +69,7 @@ protected:
     uint64_t sequence_ = 0;    // the pixel's sequence
     uint32_t index_ = 0;       // the sample index within the pixel
     uint64_t sample_key_ = 0;  // hash_combine(sequence_, index_), hashed once per sample, not per number
+    Divisor count_divisor_;    // sample_count_, for permute_index over the pixel's sample indices
 
 private:
     // A new pixel: every cached seed is out of date. Entries carry the epoch they were computed

@@ -23,18 +23,41 @@ inline uint32_t hash_bits(uint64_t a, uint64_t b) { return uint32_t(hash_combine
 // A per-pixel key for hashing (x and y in one 64-bit word).
 uint64_t pixel_key(const Vec2i& pixel);
 
+// A divisor fixed for many divisions (a sampler's counts): x / n and x % n for every 32-bit x
+// without a division instruction, and the mask of the next power of two at least n, which
+// Kensler's permutation walks. For n not a power of two, M = floor((2^64 - 1) / n) + 1 makes x / n
+// the high 64 bits of M x and x % n the high 64 bits of (M x mod 2^64) n, exact for every 32-bit
+// x (Lemire, Kaser and Kurz 2019, "Faster remainder by direct computation").
+struct Divisor {
+    Divisor() : Divisor(1) {}
+    explicit Divisor(uint32_t n) : n(n) {
+        // n must be at least 1; the callers' counts are.
+        mask = n - 1;
+        mask |= mask >> 1;
+        mask |= mask >> 2;
+        mask |= mask >> 4;
+        mask |= mask >> 8;
+        mask |= mask >> 16;
+        power_of_two = (n & (n - 1)) == 0;
+        shift = power_of_two ? __builtin_ctz(n) : 0;
+        multiplier = power_of_two ? 0 : ~uint64_t(0) / n + 1;
+    }
+    uint32_t quotient(uint32_t x) const { return power_of_two ? x >> shift : uint32_t((unsigned __int128)multiplier * x >> 64); }
+    uint32_t remainder(uint32_t x) const { return power_of_two ? x & mask : uint32_t((unsigned __int128)(multiplier * x) * n >> 64); }
+
+    uint32_t n = 1;
+    uint32_t mask = 0;  // the bits below the next power of two at least n
+    bool power_of_two = true;
+    int shift = 0;  // log2(n) for a power of two
+    uint64_t multiplier = 0;
+};
+
 // Element i of a pseudo-random permutation of [0, n) chosen by `seed` (Kensler 2013, "Correlated
 // Multi-Jittered Sampling", section 3: an invertible hash on the next power of two, walked until
 // it lands below n, then rotated). i must be below n. Inline: the pixel-sequence samplers call
 // it once per number drawn, and the call cost about 7% of its instructions (callgrind).
-inline uint32_t permute_index(uint32_t i, uint32_t n, uint32_t seed) {
-    // Mask of the bits below the next power of two at least n.
-    uint32_t mask = n - 1;
-    mask |= mask >> 1;
-    mask |= mask >> 2;
-    mask |= mask >> 4;
-    mask |= mask >> 8;
-    mask |= mask >> 16;
+inline uint32_t permute_index(uint32_t i, const Divisor& n, uint32_t seed) {
+    const uint32_t mask = n.mask;
     // Every step is invertible on the masked bits (xor with a constant, multiplication by an odd
     // constant, xor with a right shift of the masked value), so the loop is a permutation of
     // [0, mask]; cycle walking restricts it to [0, n). Constants from Kensler's paper.
@@ -57,10 +80,8 @@ inline uint32_t permute_index(uint32_t i, uint32_t n, uint32_t seed) {
         i *= 0xc860a3dfu;
         i &= mask;
         i ^= i >> 5;
-    } while (i >= n);
-    // For a power of two n (every count the stratified sampler uses at 4^k spp) the mask gives
-    // the remainder without a division.
-    return mask + 1 == n ? (i + seed) & mask : (i + seed) % n;
+    } while (i >= n.n);
+    return n.remainder(i + seed);
 }
 
 inline uint32_t reverse_bits(uint32_t v) {

@@ -30,7 +30,7 @@ public:
 
     float next_1d() override {
         uint32_t dim = dimension_++;
-        uint32_t stratum = permute_index(index_, uint32_t(sample_count_), dimension_seed(dim));
+        uint32_t stratum = permute_index(index_, count_divisor_, dimension_seed(dim));
         float j = jitter_ ? jitter(dim) : 0.5f;
         // x / n as x * (1 / n) where that is exact (n a power of two): a division's latency
         // would sit on every number drawn.
@@ -41,8 +41,8 @@ public:
     Vec2 next_2d() override {
         uint32_t dim = dimension_;
         dimension_ += 2;
-        uint32_t stratum = permute_index(index_, uint32_t(sample_count_), dimension_seed(dim));
-        uint32_t y = stratum / uint32_t(resolution_), x = stratum - y * uint32_t(resolution_);
+        uint32_t stratum = permute_index(index_, count_divisor_, dimension_seed(dim));
+        uint32_t y = resolution_divisor_.quotient(stratum), x = stratum - y * uint32_t(resolution_);
         Vec2 j = jitter_ ? jitter_2d(dim) : Vec2(0.5f);
         float inv = 1.0f / float(resolution_);
         return Vec2(clamp_below_one((float(x) + j.x) * inv), clamp_below_one((float(y) + j.y) * inv));
@@ -52,6 +52,7 @@ protected:
     int round_sample_count(int spp) override {
         resolution_ = 1;
         while (int64_t(resolution_) * resolution_ < spp) ++resolution_;
+        resolution_divisor_ = Divisor(uint32_t(resolution_));
         const int count = resolution_ * resolution_;  // at most 32768^2 = 2^30 for spp <= 2^30
         inv_sample_count_ = (count & (count - 1)) == 0 ? 1.0f / float(count) : 0.0f;
         return count;
@@ -60,6 +61,7 @@ protected:
 private:
     bool jitter_ = true;
     int resolution_ = 2;
+    Divisor resolution_divisor_{2};
     float inv_sample_count_ = 0.0f;  // 1 / sample_count_ when exact, else 0
 };
 

@@ -232,6 +232,23 @@ TEST_CASE("samplers: the first two Sobol' dimensions form a (0, 2)-sequence", "[
     CHECK(is_02_net(pts));
 }
 
+TEST_CASE("samplers: Divisor's quotient and remainder are the division's for every 32-bit numerator", "[sampler]") {
+    PCG32 rng;
+    std::vector<uint32_t> divisors = {1,   2,     3,     5,     6,           7,           36,          100,
+                                      121, 32771, 65535, 65536, 0x7fffffffu, 0x80000001u, 0xfffffffeu, 0xffffffffu};
+    for (int k = 0; k < 200; ++k) divisors.push_back(1 + (rng.next_uint() >> (k % 32)));
+    for (uint32_t n : divisors) {
+        const Divisor d(n);
+        std::vector<uint32_t> numerators = {0, 1, n - 1, n, n + 1, 0x7fffffffu, 0x80000000u, 0xfffffffeu, 0xffffffffu, 0xffffffffu - n};
+        for (int k = 0; k < 2000; ++k) numerators.push_back(rng.next_uint() >> (k % 32));
+        for (uint32_t x : numerators) {
+            INFO(x << " / " << n);
+            REQUIRE(d.quotient(x) == x / n);
+            REQUIRE(d.remainder(x) == x % n);
+        }
+    }
+}
+
 TEST_CASE("samplers: the reversed Sobol' matrices give the reversed digits", "[sampler]") {
     PCG32 rng;
     for (int dim : {0, 1, 2, 17, 256}) {
