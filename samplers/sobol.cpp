@@ -19,6 +19,7 @@
 #include "core/registry.h"
 #include "samplers/sobol_base.h"
 
+#include <array>
 #include <vector>
 
 namespace candela {
@@ -50,9 +51,23 @@ protected:
         while ((1 << log2_scale_) < std::max(span.x, span.y)) ++log2_scale_;
         build_index_solver();
     }
+    // A pixel's point i is index_in_pixel(i, cell), which is linear over GF(2) in i and the cell
+    // (as are the Sobol' digits in the index), so its digits are those of the pixel's point 0
+    // XOR those of index_in_pixel(i, 0). The first are kept per pixel for dimensions below 64,
+    // the second are a table per (dimension, bit of i): a draw walks the few bits of the sample
+    // index instead of the 2m + log2(spp) bits of the whole index.
     void start_sample(const Vec2i& pixel, uint32_t index) override {
         SobolSamplerBase::start_sample(pixel, index);
-        sobol_index_ = index_in_pixel(index, pixel + film_border_);
+        if (columns_spp_bits_ != log2_spp_ || columns_scale_ != log2_scale_) build_sample_columns();
+        const Vec2i cell = pixel + film_border_;
+        if (!pixel_kept_ || cell != pixel_cell_ || pixel_scale_ != log2_scale_) {
+            pixel_kept_ = true;
+            pixel_cell_ = cell;
+            pixel_scale_ = log2_scale_;
+            pixel_index_ = index_in_pixel(0, cell);
+            pixel_digits_valid_ = 0;
+        }
+        sample_index_ = index;
     }
     // Dimensions 0 and 1 are randomized per pixel: hashed once for the pixel's samples.
     void sequence_changed() override {
@@ -62,13 +77,41 @@ protected:
 
 private:
     float value(uint32_t dim) const {
-        // Dimensions 0 and 1: the digits below the pixel's m leading ones.
-        // Dimensions 0 and 1 shift the digits up by m: in reversed order, down.
-        if (dim < 2)
-            return bits_to_unit(randomize_reversed(sobol_bits_reversed(sobol_index_, int(dim)) >> log2_scale_, pixel_hashes_[dim]));
+        // Dimensions 0 and 1: the digits below the pixel's m leading ones, shifted up by m (in
+        // reversed order, down).
+        if (dim < 2) return bits_to_unit(randomize_reversed(digits_reversed(dim) >> log2_scale_, pixel_hashes_[dim]));
         if (dim < uint32_t(SobolDimensions))
-            return bits_to_unit(randomize_reversed(sobol_bits_reversed(sobol_index_, int(dim)), uint32_t(dimension_hash(dim) >> 32)));
+            return bits_to_unit(randomize_reversed(digits_reversed(dim), uint32_t(dimension_hash(dim) >> 32)));
         return jitter(dim);
+    }
+
+    // sobol_bits_reversed(index_in_pixel(sample_index_, cell), dim), for dim below SobolDimensions.
+    uint32_t digits_reversed(uint32_t dim) const {
+        uint32_t v;
+        if (dim < KeptDimensions) {
+            if (!((pixel_digits_valid_ >> dim) & 1u)) {
+                pixel_digits_[dim] = sobol_bits_reversed(pixel_index_, int(dim));
+                pixel_digits_valid_ |= uint64_t(1) << dim;
+            }
+            v = pixel_digits_[dim];
+        } else {
+            v = sobol_bits_reversed(pixel_index_, int(dim));
+        }
+        const uint32_t* columns = sample_columns_.data() + size_t(dim) * size_t(log2_spp_);
+        for (uint32_t bits = sample_index_; bits != 0; bits &= bits - 1) v ^= columns[__builtin_ctz(bits)];
+        return v;
+    }
+
+    // Row `dim`, column j: the reversed digits of dimension dim at index_in_pixel(2^j, 0).
+    void build_sample_columns() {
+        sample_columns_.assign(size_t(SobolDimensions) * size_t(log2_spp_), 0);
+        for (int j = 0; j < log2_spp_; ++j) {
+            const uint64_t index = index_in_pixel(uint32_t(1) << j, Vec2i(0));
+            for (int dim = 0; dim < SobolDimensions; ++dim)
+                sample_columns_[size_t(dim) * size_t(log2_spp_) + size_t(j)] = sobol_bits_reversed(index, dim);
+        }
+        columns_spp_bits_ = log2_spp_;
+        columns_scale_ = log2_scale_;
     }
 
     // The leading m digits of dimensions 0 and 1 contributed by index bit j, as one 2m-bit word:
@@ -124,8 +167,20 @@ private:
     int log2_scale_ = 0;
     std::vector<uint64_t> target_to_index_;  // per target digit: the index bits it flips
     std::vector<uint64_t> frame_digits_;     // per bit of i: the leading digits it contributes
-    uint64_t sobol_index_ = 0;
-    uint32_t pixel_hashes_[2] = {0, 0};  // hash_bits(sequence_, 0 and 1)
+    uint32_t pixel_hashes_[2] = {0, 0};      // hash_bits(sequence_, 0 and 1)
+
+    // The sample columns (build_sample_columns) and what they were built for.
+    std::vector<uint32_t> sample_columns_;
+    int columns_spp_bits_ = -1, columns_scale_ = -1;
+    // The current pixel: its cell, index_in_pixel(0, cell) and the reversed digits kept for it.
+    static constexpr uint32_t KeptDimensions = 64;
+    bool pixel_kept_ = false;
+    Vec2i pixel_cell_{0};
+    int pixel_scale_ = -1;
+    uint64_t pixel_index_ = 0;
+    uint32_t sample_index_ = 0;
+    mutable uint64_t pixel_digits_valid_ = 0;  // bit d: pixel_digits_[d] is the current pixel's
+    mutable std::array<uint32_t, KeptDimensions> pixel_digits_{};
 };
 
 CANDELA_REGISTER(SobolSampler, ObjectKind::Sampler, "sobol");

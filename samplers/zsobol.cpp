@@ -106,8 +106,10 @@ private:
     // pixel digit depend only on the pixel (the sample index fills the low log2(spp) bits), and
     // the Sobol' digits are linear over GF(2) in the index's bits, so the point is the XOR of a
     // pixel part and a sample part. For dimensions below 64 the pixel part is kept for the
-    // pixel's other samples: at 64 spp a draw hashes 3 digits in place of 3 plus log2 of the
-    // resolution, and its matrix products run over 6 index bits in place of all of them.
+    // pixel's other samples, with the permutation of the top sample digit (which hashes only
+    // pixel digits): at 64 spp a draw hashes 2 digits in place of 3 plus log2 of the resolution,
+    // and dimension 1's matrix product reads one byte table row in place of a walk over the
+    // index's bits.
     void sobol_point_reversed(uint32_t dim, uint32_t reversed[2]) const {
         const int first_pixel_digit = (log2_spp_ + 1) / 2;
         PixelPart computed;
