@@ -6,9 +6,9 @@
 // number drawn in order, so a sample's numbers do not depend on the samples taken before it.
 
 #include "core/sampler.h"
+#include "samplers/kept_per_pixel.h"
 #include "samplers/sequences.h"
 
-#include <array>
 #include <string>
 
 namespace candela {
@@ -29,7 +29,7 @@ protected:
         if (sequence != sequence_ || !started_) {
             sequence_ = sequence;
             started_ = true;
-            new_sequence();
+            seeds_.forget();
             sequence_changed();
         }
         // Whatever changed the count (set_sample_count), the divisor follows it.
@@ -49,14 +49,12 @@ protected:
     // A 32-bit seed for the permutations of dimension `dim` in this pixel; `salt` (below 8) tells
     // apart the several permutations one dimension may use. One SplitMix64 step of the pixel's
     // sequence, as for the jitter below. They run once or twice per number drawn but depend only on
-    // the pixel, so the first CachedSeedKeys (dimensions below 64) are remembered for the pixel's
-    // other samples: a load in place of three dependent multiplies before each permutation.
+    // the pixel, so those of dimensions below 64 are kept for the pixel's other samples: a load in
+    // place of three dependent multiplies before each permutation.
     uint32_t dimension_seed(uint32_t dim, uint32_t salt = 0) const {
         const uint64_t key = uint64_t(dim) * 8 + salt;
-        if (key >= CachedSeedKeys) return uint32_t(splitmix(sequence_, key) >> 32);
-        CachedSeed& cached = seed_cache_[key];
-        if (cached.epoch != epoch_) cached = CachedSeed{epoch_, uint32_t(splitmix(sequence_, key) >> 32)};
-        return cached.seed;
+        auto compute = [&] { return uint32_t(splitmix(sequence_, key) >> 32); };
+        return key < seeds_.size ? seeds_.get(key, compute) : compute();
     }
     // A uniform number in [0, 1) for (sample, dimension dim): the jitter in a stratum.
     float jitter(uint32_t dim) const { return bits_to_unit(uint32_t(splitmix(sample_key_, dim) >> 32)); }
@@ -72,24 +70,9 @@ protected:
     Divisor count_divisor_;    // sample_count_, for permute_index over the pixel's sample indices
 
 private:
-    // A new pixel: every cached seed is out of date. Entries carry the epoch they were computed
-    // in; epoch 0 marks none, so when the counter wraps (after 2^32 pixels) the entries are cleared.
-    void new_sequence() {
-        if (++epoch_ == 0) {
-            for (CachedSeed& cached : seed_cache_) cached = CachedSeed{};
-            epoch_ = 1;
-        }
-    }
-
-    static constexpr uint64_t CachedSeedKeys = 64 * 8;
-    struct CachedSeed {
-        uint32_t epoch = 0;
-        uint32_t seed = 0;
-    };
     bool started_ = false;
-    uint32_t epoch_ = 0;
-    // Memoised dimension_seed() values of the current pixel (4 kB per sampler, one per thread).
-    mutable std::array<CachedSeed, CachedSeedKeys> seed_cache_{};
+    // The current pixel's dimension_seed() values, by key dim * 8 + salt (dimensions below 64).
+    mutable KeptPerPixel<uint32_t, 64 * 8> seeds_;
 };
 
 }  // namespace candela

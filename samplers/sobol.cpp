@@ -19,7 +19,6 @@
 #include "core/registry.h"
 #include "samplers/sobol_base.h"
 
-#include <array>
 #include <vector>
 
 namespace candela {
@@ -65,7 +64,7 @@ protected:
             pixel_cell_ = cell;
             pixel_scale_ = log2_scale_;
             pixel_index_ = index_in_pixel(0, cell);
-            pixel_digits_valid_ = 0;
+            pixel_digits_.forget();
         }
         sample_index_ = index;
     }
@@ -87,16 +86,8 @@ private:
 
     // sobol_bits_reversed(index_in_pixel(sample_index_, cell), dim), for dim below SobolDimensions.
     uint32_t digits_reversed(uint32_t dim) const {
-        uint32_t v;
-        if (dim < KeptDimensions) {
-            if (!((pixel_digits_valid_ >> dim) & 1u)) {
-                pixel_digits_[dim] = sobol_bits_reversed(pixel_index_, int(dim));
-                pixel_digits_valid_ |= uint64_t(1) << dim;
-            }
-            v = pixel_digits_[dim];
-        } else {
-            v = sobol_bits_reversed(pixel_index_, int(dim));
-        }
+        auto compute = [&] { return sobol_bits_reversed(pixel_index_, int(dim)); };
+        uint32_t v = dim < pixel_digits_.size ? pixel_digits_.get(dim, compute) : compute();
         const uint32_t* columns = sample_columns_.data() + size_t(dim) * size_t(log2_spp_);
         for (uint32_t bits = sample_index_; bits != 0; bits &= bits - 1) v ^= columns[__builtin_ctz(bits)];
         return v;
@@ -172,15 +163,14 @@ private:
     // The sample columns (build_sample_columns) and what they were built for.
     std::vector<uint32_t> sample_columns_;
     int columns_spp_bits_ = -1, columns_scale_ = -1;
-    // The current pixel: its cell, index_in_pixel(0, cell) and the reversed digits kept for it.
-    static constexpr uint32_t KeptDimensions = 64;
+    // The current pixel: its cell, index_in_pixel(0, cell) and the reversed digits kept for it
+    // (dimensions below 64).
     bool pixel_kept_ = false;
     Vec2i pixel_cell_{0};
     int pixel_scale_ = -1;
     uint64_t pixel_index_ = 0;
     uint32_t sample_index_ = 0;
-    mutable uint64_t pixel_digits_valid_ = 0;  // bit d: pixel_digits_[d] is the current pixel's
-    mutable std::array<uint32_t, KeptDimensions> pixel_digits_{};
+    mutable KeptPerPixel<uint32_t, 64> pixel_digits_;
 };
 
 CANDELA_REGISTER(SobolSampler, ObjectKind::Sampler, "sobol");

@@ -94,7 +94,7 @@ protected:
         const PixelPartKey key{pixel_morton, seed_, log2_spp_, log2_resolution_};
         if (!(key == pixel_part_key_)) {
             pixel_part_key_ = key;
-            pixel_parts_valid_ = 0;
+            pixel_parts_.forget();
         }
     }
 
@@ -112,17 +112,13 @@ private:
     // index's bits.
     void sobol_point_reversed(uint32_t dim, uint32_t reversed[2]) const {
         const int first_pixel_digit = (log2_spp_ + 1) / 2;
+        auto compute = [&] { return pixel_part(dim, first_pixel_digit); };
         PixelPart computed;
         const PixelPart* pixel = &computed;
-        if (dim < CachedPixelParts) {
-            if (!((pixel_parts_valid_ >> dim) & 1u)) {
-                pixel_parts_[dim] = pixel_part(dim, first_pixel_digit);
-                pixel_parts_valid_ |= uint64_t(1) << dim;
-            }
-            pixel = &pixel_parts_[dim];
-        } else {
-            computed = pixel_part(dim, first_pixel_digit);
-        }
+        if (dim < pixel_parts_.size)
+            pixel = &pixel_parts_.get(dim, compute);
+        else
+            computed = compute();
         const bool binary_last = log2_spp_ & 1;
         const uint64_t salt = pixel->mixed_salt;
         uint64_t sample = permuted_digits(salt, binary_last ? 1 : 0, first_pixel_digit - 1);
@@ -185,10 +181,8 @@ private:
             return pixel_morton == o.pixel_morton && seed == o.seed && log2_spp == o.log2_spp && log2_resolution == o.log2_resolution;
         }
     };
-    static constexpr uint32_t CachedPixelParts = 64;
     PixelPartKey pixel_part_key_;
-    mutable uint64_t pixel_parts_valid_ = 0;  // bit d: pixel_parts_[d] is the current pixel's
-    mutable std::array<PixelPart, CachedPixelParts> pixel_parts_{};
+    mutable KeptPerPixel<PixelPart, 64> pixel_parts_;  // dimensions below 64
     int log2_resolution_ = 0;
     uint64_t morton_index_ = 0;
 };
