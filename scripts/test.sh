@@ -44,8 +44,12 @@ checks() {
     return "$failed"
 }
 
+# The three build directories share one folder of RGB-to-spectrum tables (cmake/
+# srgb_sigmoid_table.cmake), so the first configure computes the table and the others reuse it.
+tables="-DCANDELA_SRGB_SIGMOID_DIR=$PWD/build-tables"
+
 release() {
-    cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DBUILD_TESTING=ON
+    cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DBUILD_TESTING=ON "$tables"
     cmake --build build -j"$jobs"
     ctest --test-dir build --output-on-failure --timeout 1500 -j"$jobs"
 }
@@ -59,7 +63,7 @@ release() {
 release_only='^(validate|converge|sppm: agrees|photonmapper: the Cornell box|radiosity: the Cornell box agrees|radiosity: the smooth display)|^farm\.slurm$'
 
 asan() {
-    CXX=clang++ cmake -S . -B build-asan -DCANDELA_FUZZ=ON -DBUILD_TESTING=ON
+    CXX=clang++ cmake -S . -B build-asan -DCANDELA_FUZZ=ON -DBUILD_TESTING=ON "$tables"
     cmake --build build-asan -j"$jobs" --target candela candela_tests
     CANDELA_TEST_EFFORT=0.1 ctest --test-dir build-asan --output-on-failure --timeout 1500 -j"$jobs" -E "$release_only"
 }
@@ -73,7 +77,7 @@ asan() {
 parallel_paths='^(determinism|obj: |film: a crop|render: AOVs|cli: render|cli: Ctrl-C|cli: estimate|raster: |rasterizer: |raster AO: deterministic|raster IBL: |light tree|light samplers|light paths: |radiosity: bit-identical|radiosity and ao: |ao: bit-identical|furnace: |example scenes|scenes/shapes|null transport)'
 
 tsan() {
-    CXX=clang++ cmake -S . -B build-tsan -DCANDELA_SANITIZE=thread -DBUILD_TESTING=ON
+    CXX=clang++ cmake -S . -B build-tsan -DCANDELA_SANITIZE=thread -DBUILD_TESTING=ON "$tables"
     cmake --build build-tsan -j"$jobs" --target candela candela_tests
     CANDELA_TEST_EFFORT=0.1 ctest --test-dir build-tsan --output-on-failure --timeout 1500 -j"$jobs" -R "$parallel_paths"
 }
