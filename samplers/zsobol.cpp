@@ -86,6 +86,9 @@ protected:
         // What the kept pixel parts depend on: a change to any of them makes them stale.
         const PixelPartKey key{pixel_morton, seed_, log2_spp_, log2_resolution_};
         if (!(key == pixel_part_key_)) {
+            // The recent pixel digits' permutations depend on the seed and the count, not the pixel.
+            if (key.seed != pixel_part_key_.seed || key.log2_spp != pixel_part_key_.log2_spp)
+                for (auto& levels : recent_permutations_) levels.fill(RecentPermutation{});
             pixel_part_key_ = key;
             pixel_parts_.forget();
         }
@@ -118,13 +121,23 @@ private:
         // The top sample digit's permutation hashes only the pixel's digits above it: kept too.
         if (first_pixel_digit > (binary_last ? 1 : 0)) sample |= permuted_digit(first_pixel_digit - 1, pixel->top_sample_permutation);
         if (binary_last) sample |= (morton_index_ & 1u) ^ (uint32_t(hash_combine_mixed(morton_index_ >> 1, salt) >> 32) & 1u);
-        // Sample indices are below 2^30: dimension 0 reversed is the index's bits themselves,
-        // dimension 1 the XOR of a byte table's rows.
+        // Sample indices are below 2^30.
+        uint32_t sample_reversed[2];
+        reversed_dimensions_0_1(uint32_t(sample), sample_reversed);
+        reversed[0] = pixel->reversed[0] ^ sample_reversed[0];
+        reversed[1] = pixel->reversed[1] ^ sample_reversed[1];
+    }
+
+    // Sobol' dimensions 0 and 1 of an index below 2^32, reversed (sobol_bits_reversed):
+    // dimension 0 is the index's bits themselves, dimension 1 the XOR of a byte table's rows, in
+    // place of a walk over the index's bits.
+    static void reversed_dimensions_0_1(uint32_t index, uint32_t reversed[2]) {
         const auto& dimension1 = dimension1_byte_tables();
         uint32_t dimension1_bits = 0;
-        for (int byte = 0; sample >> (8 * byte) != 0; ++byte) dimension1_bits ^= dimension1[size_t(byte)][(sample >> (8 * byte)) & 255u];
-        reversed[0] = pixel->reversed[0] ^ uint32_t(sample);
-        reversed[1] = pixel->reversed[1] ^ dimension1_bits;
+        for (int byte = 0; byte < 4 && (index >> (8 * byte)) != 0; ++byte)
+            dimension1_bits ^= dimension1[size_t(byte)][(index >> (8 * byte)) & 255u];
+        reversed[0] = index;
+        reversed[1] = dimension1_bits;
     }
 
     // The permuted pixel digits of dimension `dim`: their share of Sobol' dimensions 0 and 1,
@@ -137,11 +150,26 @@ private:
     };
     PixelPart pixel_part(uint32_t dim, int first_pixel_digit) const {
         const uint64_t salt = mix64((uint64_t(dim) << 32) ^ seed_);
-        const uint64_t index = permuted_digits(salt, first_pixel_digit, first_pixel_digit + log2_resolution_);
+        uint64_t index = 0;
+        for (int i = first_pixel_digit + log2_resolution_ - 1; i >= first_pixel_digit; --i) {
+            const int level = i - first_pixel_digit;
+            if (dim >= recent_permutations_.size() || level >= RecentLevels) {
+                index |= permuted_digit(i, digit_permutation(i, salt));
+                continue;
+            }
+            RecentPermutation& recent = recent_permutations_[dim][size_t(level)];
+            const uint64_t higher = morton_index_ >> (digit_shift(i) + 2);
+            if (recent.higher != higher) recent = RecentPermutation{higher, digit_permutation(i, salt)};
+            index |= permuted_digit(i, recent.permutation);
+        }
         PixelPart part;
         part.mixed_salt = salt;
-        part.reversed[0] = sobol_bits_reversed(index, 0);
-        part.reversed[1] = sobol_bits_reversed(index, 1);
+        if (index >> 32 == 0) {
+            reversed_dimensions_0_1(uint32_t(index), part.reversed);
+        } else {
+            part.reversed[0] = sobol_bits_reversed(index, 0);
+            part.reversed[1] = sobol_bits_reversed(index, 1);
+        }
         if (first_pixel_digit > (log2_spp_ & 1)) part.top_sample_permutation = digit_permutation(first_pixel_digit - 1, salt);
         return part;
     }
@@ -176,6 +204,17 @@ private:
     };
     PixelPartKey pixel_part_key_;
     mutable KeptPerPixel<PixelPart, 64> pixel_parts_;  // dimensions below 64
+    // The last permutation hashed for each pixel digit (level above the sample digits) of
+    // dimensions below 64, with the Morton digits above it that chose it. A tile's pixels come
+    // row by row and neighbours share their higher digits, so a new pixel's part rehashes about
+    // two digits in place of log2 of the resolution (the parts are computed once per pixel and
+    // pass: 7 passes at 64 spp).
+    struct RecentPermutation {
+        uint64_t higher = ~uint64_t(0);  // none: Morton digits above a digit are below 2^62
+        uint32_t permutation = 0;
+    };
+    static constexpr int RecentLevels = 16;
+    mutable std::array<std::array<RecentPermutation, RecentLevels>, 64> recent_permutations_{};
     int log2_resolution_ = 0;
     uint64_t morton_index_ = 0;
 };
