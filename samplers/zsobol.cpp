@@ -140,6 +140,17 @@ private:
         reversed[1] = dimension1_bits;
     }
 
+    // The last permutation hashed for each pixel digit (level above the sample digits) of
+    // dimensions below 64, with the Morton digits above it that chose it. A tile's pixels come
+    // row by row and neighbours share their higher digits, so a new pixel's part rehashes about
+    // two digits in place of log2 of the resolution (the parts are computed once per pixel and
+    // pass: 7 passes at 64 spp).
+    struct RecentPermutation {
+        uint64_t higher = ~uint64_t(0);  // none: Morton digits above a digit are below 2^62
+        uint32_t permutation = 0;
+    };
+    static constexpr int RecentLevels = 16;
+
     // The permuted pixel digits of dimension `dim`: their share of Sobol' dimensions 0 and 1,
     // reversed, the permutation of the sample digit below them, and the dimension's salt for the
     // digits' hashes, (dim << 32) ^ seed, already mixed (hash_combine_mixed).
@@ -150,18 +161,8 @@ private:
     };
     PixelPart pixel_part(uint32_t dim, int first_pixel_digit) const {
         const uint64_t salt = mix64((uint64_t(dim) << 32) ^ seed_);
-        uint64_t index = 0;
-        for (int i = first_pixel_digit + log2_resolution_ - 1; i >= first_pixel_digit; --i) {
-            const int level = i - first_pixel_digit;
-            if (dim >= recent_permutations_.size() || level >= RecentLevels) {
-                index |= permuted_digit(i, digit_permutation(i, salt));
-                continue;
-            }
-            RecentPermutation& recent = recent_permutations_[dim][size_t(level)];
-            const uint64_t higher = morton_index_ >> (digit_shift(i) + 2);
-            if (recent.higher != higher) recent = RecentPermutation{higher, digit_permutation(i, salt)};
-            index |= permuted_digit(i, recent.permutation);
-        }
+        RecentPermutation* recent = dim < recent_permutations_.size() ? recent_permutations_[dim].data() : nullptr;
+        const uint64_t index = permuted_digits(salt, first_pixel_digit, first_pixel_digit + log2_resolution_, recent);
         PixelPart part;
         part.mixed_salt = salt;
         if (index >> 32 == 0) {
@@ -175,10 +176,21 @@ private:
     }
 
     // Base-4 digits [lowest, end) of the Morton index, each permuted by a hash of the digits
-    // above it and of `mixed_salt` (PixelPart), in place.
-    uint64_t permuted_digits(uint64_t mixed_salt, int lowest, int end) const {
+    // above it and of `mixed_salt` (PixelPart), in place. With `recent` (the pixel digits of a
+    // dimension below 64: recent_permutations_), digit lowest + k reuses entry k's permutation
+    // while the digits above it are those it was hashed for (k below RecentLevels).
+    uint64_t permuted_digits(uint64_t mixed_salt, int lowest, int end, RecentPermutation* recent = nullptr) const {
         uint64_t index = 0;
-        for (int i = end - 1; i >= lowest; --i) index |= permuted_digit(i, digit_permutation(i, mixed_salt));
+        for (int i = end - 1; i >= lowest; --i) {
+            if (!recent || i - lowest >= RecentLevels) {
+                index |= permuted_digit(i, digit_permutation(i, mixed_salt));
+                continue;
+            }
+            RecentPermutation& kept = recent[i - lowest];
+            const uint64_t higher = morton_index_ >> (digit_shift(i) + 2);
+            if (kept.higher != higher) kept = RecentPermutation{higher, digit_permutation(i, mixed_salt)};
+            index |= permuted_digit(i, kept.permutation);
+        }
         return index;
     }
     // Where base-4 digit i starts: an odd log2(spp) shifts the base-4 digits up one bit.
@@ -204,16 +216,6 @@ private:
     };
     PixelPartKey pixel_part_key_;
     mutable KeptPerPixel<PixelPart, 64> pixel_parts_;  // dimensions below 64
-    // The last permutation hashed for each pixel digit (level above the sample digits) of
-    // dimensions below 64, with the Morton digits above it that chose it. A tile's pixels come
-    // row by row and neighbours share their higher digits, so a new pixel's part rehashes about
-    // two digits in place of log2 of the resolution (the parts are computed once per pixel and
-    // pass: 7 passes at 64 spp).
-    struct RecentPermutation {
-        uint64_t higher = ~uint64_t(0);  // none: Morton digits above a digit are below 2^62
-        uint32_t permutation = 0;
-    };
-    static constexpr int RecentLevels = 16;
     mutable std::array<std::array<RecentPermutation, RecentLevels>, 64> recent_permutations_{};
     int log2_resolution_ = 0;
     uint64_t morton_index_ = 0;
