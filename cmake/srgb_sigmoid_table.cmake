@@ -74,8 +74,8 @@ function(candela_srgb_sigmoid_table path_var md5_var)
       message(FATAL_ERROR "core/data/gen_srgb_sigmoid.cpp failed (${status}):\n${report}")
     endif()
     if(CANDELA_SRGB_SIGMOID_DIR STREQUAL "${CMAKE_BINARY_DIR}/srgb_sigmoid")
-      # The build directory's own: tables of earlier sources (and the generator that configures
-      # before 2026-12-05 built there) are no longer used by anything.
+      # The build directory's own: tables of earlier sources (and the generator, which configures
+      # before 55d82d6 built there) are no longer used by anything.
       file(GLOB stale ${CANDELA_SRGB_SIGMOID_DIR}/srgb_sigmoid_*.coeff)
       file(REMOVE_RECURSE ${stale} ${CANDELA_SRGB_SIGMOID_DIR}/build ${CANDELA_SRGB_SIGMOID_DIR}/gen_srgb_sigmoid)
     endif()
