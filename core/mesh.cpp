@@ -36,9 +36,20 @@ namespace {
 }  // namespace
 
 void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
-    for (const auto& t : triangles_)
-        if (t.x >= positions_.size() || t.y >= positions_.size() || t.z >= positions_.size())
-            fail_mesh(props, "a face refers to a vertex that does not exist");
+    if (normals_summed_ && (summed_triangles_ != triangles_.size() || !smooth_if_missing))
+        throw std::logic_error("finalize: the reader summed smooth normals for some of the triangles only");
+    // Large meshes (10^7 triangles) spend seconds here when done on one core: the per-vertex
+    // and per-triangle passes run in parallel chunks, each writing only its own elements, so the
+    // results are the same whatever the thread count.
+    std::atomic<bool> indices_valid{true};
+    parallel_chunks(triangles_.size(), 1 << 16, [&](size_t begin, size_t end) {
+        const size_t vertices = positions_.size();
+        bool valid = true;
+        for (size_t i = begin; i < end; ++i)
+            valid = valid && triangles_[i].x < vertices && triangles_[i].y < vertices && triangles_[i].z < vertices;
+        if (!valid) indices_valid = false;
+    });
+    if (!indices_valid) fail_mesh(props, "a face refers to a vertex that does not exist");
     if (!uvs_.empty() && uvs_.size() != positions_.size()) fail_mesh(props, "the uv count differs from the vertex count");
     if (!normals_.empty() && normals_.size() != positions_.size()) fail_mesh(props, "the normal count differs from the vertex count");
     for (const MeshAttribute& a : attributes_) {
@@ -47,15 +58,12 @@ void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
             fail_mesh(props, "attribute \"" + a.name + "\" does not have one value per " + (a.per_face ? "face" : "vertex"));
     }
 
-    // Large meshes (10^7 triangles) spend seconds here when done on one core: the per-vertex
-    // and per-triangle passes run in parallel chunks, each writing only its own elements, so the
-    // results are the same whatever the thread count.
     std::atomic<bool> finite{true};
     const bool identity = to_world_.is_identity();  // the common case: no pass to transform
     parallel_chunks(positions_.size(), 1 << 16, [&](size_t begin, size_t end) {
         bool chunk_finite = true;
         for (size_t i = begin; i < end; ++i) {
-            if (!identity) positions_[i] = to_world_.apply_point(positions_[i]);
+            if (!identity && !positions_in_world_) positions_[i] = to_world_.apply_point(positions_[i]);
             chunk_finite = chunk_finite && all_finite(positions_[i]);
         }
         if (!chunk_finite) finite = false;
@@ -63,9 +71,11 @@ void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
     if (!finite) fail_mesh(props, "a vertex is not a finite number");
     for (const Vec2& uv : uvs_)
         if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) fail_mesh(props, "a texture coordinate is not a finite number");
-    for (const Vec3& n : normals_)
-        if (!all_finite(n)) fail_mesh(props, "a normal is not a finite number");
-    parallel_chunks(normals_.size(), 1 << 16, [&](size_t begin, size_t end) {
+    // The file's normals (summed smooth normals are normalized below).
+    const size_t file_normals = normals_summed_ ? 0 : normals_.size();
+    for (size_t i = 0; i < file_normals; ++i)
+        if (!all_finite(normals_[i])) fail_mesh(props, "a normal is not a finite number");
+    parallel_chunks(file_normals, 1 << 16, [&](size_t begin, size_t end) {
         for (size_t i = begin; i < end; ++i) {
             Vec3 n = to_world_.apply_normal(normals_[i]);
             float len = glm::length(n);
@@ -106,6 +116,8 @@ void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
             if (attr.per_face) attr.values.resize(kept * size_t(attr.channels));
     }
     update_derived(normals_.empty() && smooth_if_missing);
+    if (normals_summed_) normalize_vertex_normals();
+    normals_summed_ = false;
 }
 
 void Mesh::update_derived(bool recompute_normals) {
@@ -113,8 +125,14 @@ void Mesh::update_derived(bool recompute_normals) {
     // readable 4 bytes past its last vertex: one element of spare capacity (readers reserve it
     // up front so that this reserve does not copy a large array).
     if (positions_.capacity() == positions_.size()) positions_.reserve(positions_.size() + 1);
+    // The bounds of fixed chunks, then of them (the same box whatever the thread count).
+    const size_t vertex_chunk = size_t(1) << 16;
+    std::vector<BoundingBox> boxes((positions_.size() + vertex_chunk - 1) / vertex_chunk);
+    parallel_for(boxes.size(), [&](size_t c) {
+        for (size_t i = c * vertex_chunk; i < std::min(positions_.size(), (c + 1) * vertex_chunk); ++i) boxes[c].expand(positions_[i]);
+    });
     bbox_ = BoundingBox();
-    for (const Vec3& p : positions_) bbox_.expand(p);
+    for (const BoundingBox& b : boxes) bbox_.expand(b);
     // The total area in double, summed over fixed chunks in order: the same whatever the thread
     // count. The per-triangle areas are kept only for an emitter's area table (below).
     const size_t chunk = size_t(1) << 16, chunks = (triangles_.size() + chunk - 1) / chunk;
@@ -213,6 +231,69 @@ float acos_fast(float x) {
 }
 }  // namespace
 
+// Corner k of triangles[i] gets corners[3 i + k]: its face's unit normal times the corner's angle.
+void Mesh::normal_corner_terms(const glm::uvec3* triangles, size_t count, Vec3* corners) const {
+    // Batches of triangles as structures of arrays: the arithmetic loop below is plain float code
+    // over arrays, which the compiler turns into SIMD (square roots and divisions dominate it).
+    // Each triangle's terms depend on it alone, so any batching gives the same values.
+    constexpr size_t Batch = 64;
+    float e[3][3][Batch];  // e[edge][axis][triangle]: e0 = p1 - p0, e1 = p2 - p1, e2 = p0 - p2
+    float angle[3][Batch], unit[3][Batch];
+    for (size_t b = 0; b < count; b += Batch) {
+        const size_t n = std::min(Batch, count - b);
+        for (size_t j = 0; j < n; ++j) {
+            const glm::uvec3& t = triangles[b + j];
+            const Vec3 p0 = positions_[t.x], p1 = positions_[t.y], p2 = positions_[t.z];
+            const Vec3 edges[3] = {p1 - p0, p2 - p1, p0 - p2};
+            for (int k = 0; k < 3; ++k)
+                for (int axis = 0; axis < 3; ++axis) e[k][axis][j] = edges[k][axis];
+        }
+        for (size_t j = 0; j < n; ++j) {
+            auto dot = [&](int k, int m) { return e[k][0][j] * e[m][0][j] + e[k][1][j] * e[m][1][j] + e[k][2][j] * e[m][2][j]; };
+            const float s0 = dot(0, 0), s1 = dot(1, 1), s2 = dot(2, 2);  // squared edge lengths
+            // The face normal e0 x (-e2) = e2 x e0.
+            const float cx = e[2][1][j] * e[0][2][j] - e[2][2][j] * e[0][1][j];
+            const float cy = e[2][2][j] * e[0][0][j] - e[2][0][j] * e[0][2][j];
+            const float cz = e[2][0][j] * e[0][1][j] - e[2][1][j] * e[0][0][j];
+            const float face = cx * cx + cy * cy + cz * cz;
+            // Branch-free, so that the loop vectorizes: a degenerate triangle (excluded by
+            // finalize(), but vertex_positions may move) gets weight 0 via `valid`, and its
+            // divisions see safe denominators.
+            const float valid = float((face > 0.0f) & (s0 > 0.0f) & (s1 > 0.0f) & (s2 > 0.0f));
+            const float smallest = std::numeric_limits<float>::min();
+            const float inverse = valid / std::sqrt(std::max(face, smallest));
+            unit[0][j] = cx * inverse;
+            unit[1][j] = cy * inverse;
+            unit[2][j] = cz * inverse;
+            // The angle at p0 lies between e0 and -e2, at p1 between e1 and -e0, at p2 between
+            // e2 and -e1: cos = -(e_k . e_(k-1)) / (|e_k| |e_(k-1)|).
+            auto corner_angle = [&](float edge_dot, float squared_a, float squared_b) {
+                const float cosine = -edge_dot / std::sqrt(std::max(squared_a * squared_b, smallest));
+                return acos_fast(std::min(1.0f, std::max(-1.0f, cosine)));
+            };
+            angle[0][j] = corner_angle(dot(0, 2), s0, s2);
+            angle[1][j] = corner_angle(dot(1, 0), s1, s0);
+            angle[2][j] = corner_angle(dot(2, 1), s2, s1);
+        }
+        for (size_t j = 0; j < n; ++j)
+            for (int k = 0; k < 3; ++k) corners[3 * (b + j) + size_t(k)] = angle[k][j] * Vec3(unit[0][j], unit[1][j], unit[2][j]);
+    }
+}
+
+void Mesh::add_corner_terms(const glm::uvec3* triangles, size_t count, const Vec3* corners) {
+    for (size_t i = 0; i < count; ++i)
+        for (int k = 0; k < 3; ++k) normals_[triangles[i][k]] += corners[3 * i + size_t(k)];
+}
+
+void Mesh::normalize_vertex_normals() {
+    parallel_chunks(normals_.size(), 1 << 16, [&](size_t begin, size_t end) {
+        for (size_t i = begin; i < end; ++i) {
+            const float len = glm::length(normals_[i]);
+            normals_[i] = len > 0.0f ? normals_[i] / len : Vec3(1.0f, 0.0f, 0.0f);
+        }
+    });
+}
+
 void Mesh::recompute_vertex_normals() {
     // Each corner adds its face's unit normal weighted by the corner's angle (Thürmer and
     // Wüthrich 1998), in float as Mitsuba does. The corners' terms are computed in parallel, a
@@ -227,80 +308,61 @@ void Mesh::recompute_vertex_normals() {
     const size_t block = size_t(1) << 18, blocks = (triangles_.size() + block - 1) / block;
     MeshArray<Vec3> corners[2];
     for (auto& c : corners) c.resize(3 * std::min(block, triangles_.size()));
-    // Corner k of triangle first + i is corner[3 i + k].
-    auto add_to_vertices = [&](size_t first, const MeshArray<Vec3>& corner) {
-        const size_t count = std::min(block, triangles_.size() - first);
-        for (size_t i = 0; i < count; ++i) {
-            const glm::uvec3& t = triangles_[first + i];
-            for (int k = 0; k < 3; ++k) normals_[t[k]] += corner[3 * i + size_t(k)];
-        }
-    };
-    auto compute_corners = [&](size_t first, size_t begin, size_t end, MeshArray<Vec3>& corner) {
-        // Batches of triangles as structures of arrays: the arithmetic loop below is plain
-        // float code over arrays, which the compiler turns into SIMD (square roots and
-        // divisions dominate it).
-        constexpr size_t Batch = 64;
-        float e[3][3][Batch];  // e[edge][axis][triangle]: e0 = p1 - p0, e1 = p2 - p1, e2 = p0 - p2
-        float angle[3][Batch], unit[3][Batch];
-        for (size_t b = begin; b < end; b += Batch) {
-            const size_t n = std::min(Batch, end - b);
-            for (size_t j = 0; j < n; ++j) {
-                const glm::uvec3& t = triangles_[first + b + j];
-                const Vec3 p0 = positions_[t.x], p1 = positions_[t.y], p2 = positions_[t.z];
-                const Vec3 edges[3] = {p1 - p0, p2 - p1, p0 - p2};
-                for (int k = 0; k < 3; ++k)
-                    for (int axis = 0; axis < 3; ++axis) e[k][axis][j] = edges[k][axis];
-            }
-            for (size_t j = 0; j < n; ++j) {
-                auto dot = [&](int k, int m) { return e[k][0][j] * e[m][0][j] + e[k][1][j] * e[m][1][j] + e[k][2][j] * e[m][2][j]; };
-                const float s0 = dot(0, 0), s1 = dot(1, 1), s2 = dot(2, 2);  // squared edge lengths
-                // The face normal e0 x (-e2) = e2 x e0.
-                const float cx = e[2][1][j] * e[0][2][j] - e[2][2][j] * e[0][1][j];
-                const float cy = e[2][2][j] * e[0][0][j] - e[2][0][j] * e[0][2][j];
-                const float cz = e[2][0][j] * e[0][1][j] - e[2][1][j] * e[0][0][j];
-                const float face = cx * cx + cy * cy + cz * cz;
-                // Branch-free, so that the loop vectorizes: a degenerate triangle (excluded
-                // by finalize(), but vertex_positions may move) gets weight 0 via `valid`,
-                // and its divisions see safe denominators.
-                const float valid = float((face > 0.0f) & (s0 > 0.0f) & (s1 > 0.0f) & (s2 > 0.0f));
-                const float smallest = std::numeric_limits<float>::min();
-                const float inverse = valid / std::sqrt(std::max(face, smallest));
-                unit[0][j] = cx * inverse;
-                unit[1][j] = cy * inverse;
-                unit[2][j] = cz * inverse;
-                // The angle at p0 lies between e0 and -e2, at p1 between e1 and -e0, at p2
-                // between e2 and -e1: cos = -(e_k . e_(k-1)) / (|e_k| |e_(k-1)|).
-                auto corner_angle = [&](float edge_dot, float squared_a, float squared_b) {
-                    const float cosine = -edge_dot / std::sqrt(std::max(squared_a * squared_b, smallest));
-                    return acos_fast(std::min(1.0f, std::max(-1.0f, cosine)));
-                };
-                angle[0][j] = corner_angle(dot(0, 2), s0, s2);
-                angle[1][j] = corner_angle(dot(1, 0), s1, s0);
-                angle[2][j] = corner_angle(dot(2, 1), s2, s1);
-            }
-            for (size_t j = 0; j < n; ++j)
-                for (int k = 0; k < 3; ++k) corner[3 * (b + j) + size_t(k)] = angle[k][j] * Vec3(unit[0][j], unit[1][j], unit[2][j]);
-        }
-    };
     // Step s computes block s's terms in chunks (items 1...) while item 0 adds block s - 1's.
     const size_t chunk = size_t(1) << 12;
     for (size_t step = 0; step <= blocks; ++step) {
         const size_t first = step * block, count = step < blocks ? std::min(block, triangles_.size() - first) : 0;
         parallel_for(1 + (count + chunk - 1) / chunk, [&](size_t item) {
             if (item == 0) {
-                if (step > 0) add_to_vertices(first - block, corners[(step - 1) % 2]);
+                if (step > 0)
+                    add_corner_terms(&triangles_[first - block], std::min(block, triangles_.size() - (first - block)),
+                                     corners[(step - 1) % 2].data());
                 return;
             }
             const size_t begin = (item - 1) * chunk;
-            compute_corners(first, begin, std::min(count, begin + chunk), corners[step % 2]);
+            normal_corner_terms(&triangles_[first + begin], std::min(count, begin + chunk) - begin, &corners[step % 2][3 * begin]);
         });
     }
-    parallel_chunks(normals_.size(), 1 << 16, [&](size_t begin, size_t end) {
-        for (size_t i = begin; i < end; ++i) {
-            const float len = glm::length(normals_[i]);
-            normals_[i] = len > 0.0f ? normals_[i] / len : Vec3(1.0f, 0.0f, 0.0f);
+    normalize_vertex_normals();
+}
+
+bool Mesh::begin_smooth_normals() {
+    positions_in_world_ = true;
+    normals_summed_ = true;
+    summed_triangles_ = 0;
+    // Sized by a reader that allocates every array before reading, else here.
+    normals_.resize(positions_.size());
+    std::fill(normals_.begin(), normals_.end(), Vec3(0.0f));
+    const bool identity = to_world_.is_identity();
+    for (Vec3& p : positions_) {
+        if (!identity) p = to_world_.apply_point(p);
+        if (!all_finite(p)) {
+            normals_summed_ = false;  // finalize() reports the vertex
+            normals_.clear();
+            return false;
         }
-    });
+    }
+    return true;
+}
+
+void Mesh::add_smooth_normals(size_t first, size_t last) {
+    if (!normals_summed_ || first != summed_triangles_ || last > triangles_.size())
+        throw std::logic_error("add_smooth_normals: ranges must follow each other, after begin_smooth_normals");
+    // The triangles finalize() keeps (it drops those without a positive finite area), a chunk
+    // at a time, then their terms added in order: the sums recompute_vertex_normals() makes.
+    constexpr size_t Chunk = 1 << 12;
+    glm::uvec3 kept[Chunk];
+    std::vector<Vec3> corners(3 * Chunk);
+    for (size_t begin = first; begin < last; begin += Chunk) {
+        size_t count = 0;
+        for (size_t i = begin; i < std::min(last, begin + Chunk); ++i) {
+            const float a = triangle_area(triangles_[i]);
+            if (a > 0.0f && std::isfinite(a)) kept[count++] = triangles_[i];
+        }
+        normal_corner_terms(kept, count, corners.data());
+        add_corner_terms(kept, count, corners.data());
+    }
+    summed_triangles_ = last;
 }
 
 void triangle_tangents(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec2& uv0, const Vec2& uv1, const Vec2& uv2, const Vec3& n,

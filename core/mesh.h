@@ -81,6 +81,17 @@ protected:
     // and the vertex normals when `recompute_normals`.
     void update_derived(bool recompute_normals);
     void recompute_vertex_normals();
+    // Smooth normals summed while a reader still reads, for a format that has all positions
+    // before any triangle and is read on one thread (serialized: one zlib stream), so that
+    // another thread sums the triangles read so far. Once every position is read,
+    // begin_smooth_normals() moves them to world space and zeroes the sums (false, and no sums,
+    // when a position is not finite: finalize() reports it). Then add_smooth_normals() for
+    // consecutive ranges of triangles in order, whose indices the reader has checked, up to the
+    // last; finalize() then only normalizes the sums. The normals are bit for bit those
+    // finalize() computes: degenerate triangles are skipped as it drops them, and the terms are
+    // added in the same order.
+    bool begin_smooth_normals();
+    void add_smooth_normals(size_t first, size_t last);
     float triangle_area(const glm::uvec3& t) const {
         return 0.5f * glm::length(glm::cross(positions_[t.y] - positions_[t.x], positions_[t.z] - positions_[t.x]));
     }
@@ -107,6 +118,15 @@ private:
     // fill_interaction()'s normals and frames for a mesh with vertex normals: triangle t hit at
     // barycentrics (b0, b1, b2).
     void fill_smooth_frame(const glm::uvec3& t, float b0, float b1, float b2, SurfaceInteraction& si) const;
+    // The smooth normals' pieces: each corner's term (its face's unit normal times its angle),
+    // their addition to the vertices in order, and the normalization of the sums.
+    void normal_corner_terms(const glm::uvec3* triangles, size_t count, Vec3* corners) const;
+    void add_corner_terms(const glm::uvec3* triangles, size_t count, const Vec3* corners);
+    void normalize_vertex_normals();
+    // Set by begin_smooth_normals() until finalize(): the positions are in world space, and
+    // normals_ holds the sums of the first summed_triangles_ triangles.
+    bool positions_in_world_ = false, normals_summed_ = false;
+    size_t summed_triangles_ = 0;
     std::vector<FlatTriangle> flat_;  // per entry of triangles_; empty with vertex normals
 
     Distribution1D area_distribution_;  // by triangle area; only in meshes that carry an emitter
