@@ -29,6 +29,10 @@ void Mesh::check_mesh_memory(uint64_t vertices, uint64_t triangles, uint64_t fil
 }
 namespace {
 // Errors in a mesh's data name the mesh file (at the filename property's line) when there is one.
+// Triangles per chunk of the area sums: fixed, so that the sums are the same whatever the thread
+// count (finalize() and update_derived() must chunk alike).
+constexpr size_t AreaChunk = size_t(1) << 16;
+
 [[noreturn]] void fail_mesh(const Properties& props, const std::string& message) {
     if (props.has("filename")) props.fail("filename", "mesh file \"" + props.get_string("filename") + "\": " + message);
     props.fail(message);
@@ -86,16 +90,28 @@ void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
     // Zero-area triangles cannot be hit or sampled: dropped, with their face attribute rows. A
     // parallel pass looks for one; only a mesh that has some is compacted, in place and in order
     // (a copy of the index array would double it when memory peaks for large meshes).
+    // The same pass sums the areas of its chunks, which update_derived() then need not compute
+    // again when there is nothing to drop.
     auto degenerate = [&](size_t i) {
         const float a = triangle_area(triangles_[i]);
         return !(a > 0.0f && std::isfinite(a));
     };
     std::atomic<bool> any_degenerate{false};
-    parallel_chunks(triangles_.size(), 1 << 16, [&](size_t begin, size_t end) {
-        for (size_t i = begin; i < end && !any_degenerate.load(std::memory_order_relaxed); ++i)
-            if (degenerate(i)) any_degenerate = true;
+    std::vector<double> chunk_areas((triangles_.size() + AreaChunk - 1) / AreaChunk);
+    parallel_for(chunk_areas.size(), [&](size_t c) {
+        double sum = 0.0;
+        for (size_t i = c * AreaChunk; i < std::min(triangles_.size(), (c + 1) * AreaChunk); ++i) {
+            const float a = triangle_area(triangles_[i]);
+            if (!(a > 0.0f && std::isfinite(a)) || any_degenerate.load(std::memory_order_relaxed)) {
+                any_degenerate = true;
+                return;
+            }
+            sum += a;
+        }
+        chunk_areas[c] = sum;
     });
     if (any_degenerate) {
+        chunk_areas.clear();
         size_t kept = 0;
         for (size_t i = 0; i < triangles_.size(); ++i) {
             if (degenerate(i)) continue;
@@ -115,12 +131,12 @@ void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
         for (MeshAttribute& attr : attributes_)
             if (attr.per_face) attr.values.resize(kept * size_t(attr.channels));
     }
-    update_derived(normals_.empty() && smooth_if_missing);
+    update_derived(normals_.empty() && smooth_if_missing, chunk_areas.empty() ? nullptr : &chunk_areas);
     if (normals_summed_) normalize_vertex_normals();
     normals_summed_ = false;
 }
 
-void Mesh::update_derived(bool recompute_normals) {
+void Mesh::update_derived(bool recompute_normals, const std::vector<double>* known_chunk_areas) {
     // Embree reads vertices with 16-byte loads, so the buffer it shares with positions_ must be
     // readable 4 bytes past its last vertex: one element of spare capacity (readers reserve it
     // up front so that this reserve does not copy a large array).
@@ -135,19 +151,24 @@ void Mesh::update_derived(bool recompute_normals) {
     for (const BoundingBox& b : boxes) bbox_.expand(b);
     // The total area in double, summed over fixed chunks in order: the same whatever the thread
     // count. The per-triangle areas are kept only for an emitter's area table (below).
-    const size_t chunk = size_t(1) << 16, chunks = (triangles_.size() + chunk - 1) / chunk;
-    std::vector<double> partial(chunks, 0.0);
+    const size_t chunks = (triangles_.size() + AreaChunk - 1) / AreaChunk;
     std::vector<float> areas(emitter() ? triangles_.size() : 0);
-    parallel_for(chunks, [&](size_t c) {
-        double sum = 0.0;
-        for (size_t i = c * chunk; i < std::min(triangles_.size(), (c + 1) * chunk); ++i) {
-            float a = triangle_area(triangles_[i]);
-            a = std::isfinite(a) ? a : 0.0f;
-            sum += a;
-            if (!areas.empty()) areas[i] = a;
-        }
-        partial[c] = sum;
-    });
+    std::vector<double> partial;
+    if (known_chunk_areas && areas.empty()) {
+        partial = *known_chunk_areas;
+    } else {
+        partial.assign(chunks, 0.0);
+        parallel_for(chunks, [&](size_t c) {
+            double sum = 0.0;
+            for (size_t i = c * AreaChunk; i < std::min(triangles_.size(), (c + 1) * AreaChunk); ++i) {
+                float a = triangle_area(triangles_[i]);
+                a = std::isfinite(a) ? a : 0.0f;
+                sum += a;
+                if (!areas.empty()) areas[i] = a;
+            }
+            partial[c] = sum;
+        });
+    }
     double total = 0.0;
     for (double p : partial) total += p;
     area_ = float(total);

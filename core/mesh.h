@@ -78,8 +78,9 @@ protected:
     // smooth normals (Thürmer & Wüthrich 1998), as Mitsuba does for OBJ and PLY files.
     void finalize(const Properties& props, bool smooth_if_missing);
     // What finalize() derives from the positions: bounds, area table, normal cone, flat frames,
-    // and the vertex normals when `recompute_normals`.
-    void update_derived(bool recompute_normals);
+    // and the vertex normals when `recompute_normals`. `known_chunk_areas`: the area sums of
+    // consecutive chunks of AreaChunk triangles (finalize() has them), else computed here.
+    void update_derived(bool recompute_normals, const std::vector<double>* known_chunk_areas = nullptr);
     void recompute_vertex_normals();
     // Smooth normals summed while a reader still reads, for a format that has all positions
     // before any triangle and is read on one thread (serialized: one zlib stream), so that

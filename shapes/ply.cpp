@@ -575,7 +575,7 @@ private:
         // one-byte count, is read in parallel; any other element, or one with a bad face, is read
         // face by face below.
         const bool only_list = e.properties.size() == 1 && binary_triangles && type_size(count_type) == 1;
-        if (only_list && read_triangle_records(e, body, index_type, count_type)) return;
+        if (only_list && read_triangle_records(e, body, index_type)) return;
         for (size_t i = 0; i < e.count; ++i) {
             corner.clear();
             for (size_t k = 0; k < e.properties.size(); ++k) {
@@ -620,7 +620,7 @@ private:
     // indices, as most binary files are: checked and decoded in parallel chunks. False, with
     // nothing read, when some face is not a triangle or names a missing vertex (the face-by-face
     // loop then reads them and names the first such face).
-    bool read_triangle_records(const PlyElement& e, PlyBodyReader& body, PlyType index_type, PlyType count_type) {
+    bool read_triangle_records(const PlyElement& e, PlyBodyReader& body, PlyType index_type) {
         constexpr size_t Record = 13;
         if (body.left() / Record < e.count) return false;
         const unsigned char* data = body.peek(e.count * Record);
@@ -628,18 +628,27 @@ private:
         const bool swap = body.swap(), signed_index = index_type == PlyType::Int32;
         const size_t base = triangles_.size();
         triangles_.resize(base + e.count);
+        // The count is one byte (int8 or uint8), so a triangle's is the byte 3. The checks are
+        // gathered per chunk without branching: a bad record is rare, and the element is then
+        // read again face by face, which names the problem.
+        const uint32_t index_limit =
+            signed_index ? uint32_t(std::min<uint64_t>(vertices, 0x80000000ull)) : uint32_t(std::min<uint64_t>(vertices, 0xFFFFFFFFull));
+        const bool all_indices_fit = vertices > 0xFFFFFFFFull && !signed_index;  // every uint32 index is below the count
         std::atomic<bool> valid{true};
         parallel_chunks(e.count, 1 << 16, [&](size_t begin, size_t end) {
-            for (size_t i = begin; i < end && valid.load(std::memory_order_relaxed); ++i) {
+            if (!valid.load(std::memory_order_relaxed)) return;
+            bool chunk_valid = true;
+            for (size_t i = begin; i < end; ++i) {
                 const unsigned char* r = data + i * Record;
                 uint32_t v[3];
                 std::memcpy(v, r + 1, 12);
                 if (swap)
                     for (uint32_t& x : v) x = __builtin_bswap32(x);
                 const uint32_t largest = std::max({v[0], v[1], v[2]});
-                if (decode(r, count_type, false) != 3.0 || largest >= vertices || (signed_index && largest > 0x7FFFFFFFu)) valid = false;
+                chunk_valid &= (r[0] == 3) & (all_indices_fit | (largest < index_limit));
                 triangles_[base + i] = glm::uvec3(v[0], v[1], v[2]);
             }
+            if (!chunk_valid) valid = false;
         });
         if (!valid) {
             triangles_.resize(base);
