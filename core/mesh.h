@@ -119,9 +119,8 @@ private:
     // fill_interaction()'s normals and frames for a mesh with vertex normals: triangle t hit at
     // barycentrics (b0, b1, b2).
     void fill_smooth_frame(const glm::uvec3& t, float b0, float b1, float b2, SurfaceInteraction& si) const;
-    // The smooth normals' pieces: each corner's term (its face's unit normal times its angle),
-    // their addition to the vertices in order, and the normalization of the sums.
-    void normal_corner_terms(const glm::uvec3* triangles, size_t count, Vec3* corners) const;
+    // The smooth normals' pieces (the corners' terms are computed in mesh.cpp): their addition to
+    // the vertices in order, and the normalization of the sums.
     void add_corner_terms(const glm::uvec3* triangles, size_t count, const Vec3* corners);
     void normalize_vertex_normals();
     // Set by begin_smooth_normals() until finalize(): the positions are in world space, and

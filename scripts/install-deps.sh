@@ -9,13 +9,14 @@ set -euo pipefail
 packages=(
   cmake g++ make pkg-config
   libembree-dev libopenimageio-dev openimageio-tools libopenexr-dev libglm-dev
-  catch2 libtbb-dev libpugixml-dev libcli11-dev zlib1g-dev
+  catch2 libtbb-dev libpugixml-dev libcli11-dev zlib1g-dev libisal-dev
   libosmesa6-dev
   clang libclang-rt-14-dev llvm lld
   python3-dev pybind11-dev python3-numpy python3-pytest python3-nbclient python3-nbformat python3-ipykernel
   libcivetweb-dev libturbojpeg0-dev nlohmann-json3-dev chromium chromium-driver python3-selenium
   clang-format python3
 )
+# libisal-dev: ISA-L's inflate reads serialized meshes (faster than zlib's on the one stream).
 # clang (Debian's clang 14) builds the sanitizer and fuzzing builds; libclang-rt-14-dev holds its
 # run-times (ASan, UBSan, TSan and libFuzzer: libclang_rt.fuzzer-x86_64.a); llvm gives
 # llvm-symbolizer, which turns sanitizer reports' addresses into file:line; lld links those
