@@ -1,10 +1,13 @@
 #include "core/mapped_file.h"
 
+#include "core/parallel.h"
+
 #include <fcntl.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdint>
 #include <cstring>
@@ -19,6 +22,17 @@ void populate_pages(const void* data, size_t bytes, bool for_writing) {
 #else
     (void)data, (void)bytes, (void)for_writing;
 #endif
+}
+
+void populate_pages_in_parallel(const void* data, size_t bytes, bool for_writing) {
+    // Chunks of 2 MB at absolute 2 MB boundaries, so that every page inside the range lies in
+    // exactly one chunk.
+    constexpr uintptr_t Chunk = uintptr_t(1) << 21;
+    const uintptr_t begin = uintptr_t(data), end = begin + bytes, first = begin / Chunk * Chunk;
+    parallel_chunks((end - first + Chunk - 1) / Chunk, 1, [&](size_t from, size_t to) {
+        const uintptr_t a = std::max(begin, first + from * Chunk), b = std::min(end, first + to * Chunk);
+        if (b > a) populate_pages(reinterpret_cast<const void*>(a), b - a, for_writing);
+    });
 }
 
 int open_regular_file(const std::string& path, size_t& size) {

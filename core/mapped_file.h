@@ -15,6 +15,11 @@ namespace candela {
 // whole pages inside the range are populated; without kernel support (before Linux 5.14) it does
 // nothing, and the pages fault in when first touched, as without it.
 void populate_pages(const void* data, size_t bytes, bool for_writing);
+// The same over all threads (core/parallel.h), for a loop that runs in parallel anyway: on this
+// project's virtual machines a page fault costs about as much as populating ten pages, and a
+// reader populating the 180 MB of a 10^7-triangle PLY's arrays and the file's pages this way
+// first parsed it in 0.55 s against 0.68 s.
+void populate_pages_in_parallel(const void* data, size_t bytes, bool for_writing);
 
 // Opens a regular file read-only (close-on-exec) and gives its descriptor and size; throws
 // std::runtime_error saying what failed ("cannot open it: ...", "not a regular file"), for the

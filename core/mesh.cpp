@@ -1,6 +1,7 @@
 #include "core/mesh.h"
 
 #include "core/error.h"
+#include "core/mapped_file.h"
 #include "core/parameters.h"
 
 #include "core/memory_budget.h"
@@ -332,11 +333,15 @@ void Mesh::recompute_vertex_normals() {
     // cores idle. The normals are zeroed in parallel too (a serial fill of a 10^7-triangle mesh's
     // was 0.05 s).
     normals_.resize(positions_.size());
+    populate_pages_in_parallel(normals_.data(), normals_.size() * sizeof(Vec3), true);
     parallel_chunks(normals_.size(), 1 << 16,
                     [&](size_t begin, size_t end) { std::fill(normals_.begin() + begin, normals_.begin() + end, Vec3(0.0f)); });
     const size_t block = size_t(1) << 18, blocks = (triangles_.size() + block - 1) / block;
     MeshArray<Vec3> corners[2];
-    for (auto& c : corners) c.resize(3 * std::min(block, triangles_.size()));
+    for (auto& c : corners) {
+        c.resize(3 * std::min(block, triangles_.size()));
+        populate_pages_in_parallel(c.data(), c.size() * sizeof(Vec3), true);
+    }
     // Step s computes block s's terms in chunks (items 1...) while item 0 adds block s - 1's.
     const size_t chunk = size_t(1) << 12;
     for (size_t step = 0; step <= blocks; ++step) {

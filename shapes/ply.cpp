@@ -523,6 +523,10 @@ private:
         const bool swap = body.swap();
         // check_body_size() found the records in the file: count * record does not overflow.
         const unsigned char* data = body.take(e.count * record);
+        populate_pages_in_parallel(data, e.count * record, false);
+        populate_pages_in_parallel(&positions_[base], e.count * sizeof(Vec3), true);
+        if (normals) populate_pages_in_parallel(&normals_[base], e.count * sizeof(Vec3), true);
+        if (uvs) populate_pages_in_parallel(&uvs_[base], e.count * sizeof(Vec2), true);
         auto value = [&](const unsigned char* r, int k) {
             return to_float(decode(r + offset[size_t(k)], e.properties[size_t(k)].type, swap));
         };
@@ -628,6 +632,8 @@ private:
         const bool swap = body.swap(), signed_index = index_type == PlyType::Int32;
         const size_t base = triangles_.size();
         triangles_.resize(base + e.count);
+        populate_pages_in_parallel(data, e.count * Record, false);
+        populate_pages_in_parallel(&triangles_[base], e.count * sizeof(glm::uvec3), true);
         // The count is one byte (int8 or uint8), so a triangle's is the byte 3. The checks are
         // gathered per chunk without branching: a bad record is rare, and the element is then
         // read again face by face, which names the problem.

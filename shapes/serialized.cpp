@@ -463,11 +463,13 @@ private:
         StreamJobs jobs(slices);
         parallel_for(2, [&](size_t task) {
             if (task == 0) {
+                // In the stream's order, ahead of the inflater; the normals to sum last.
                 populate_pages(file.data(), file.size(), false);
                 populate_pages(positions_.data(), positions_.size() * sizeof(Vec3), true);
-                populate_pages(normals_.data(), normals_.size() * sizeof(Vec3), true);
+                if (!sum_normals) populate_pages(normals_.data(), normals_.size() * sizeof(Vec3), true);
                 populate_pages(uvs_.data(), uvs_.size() * sizeof(Vec2), true);
                 populate_pages(triangles_.data(), triangles_.size() * sizeof(glm::uvec3), true);
+                if (sum_normals) populate_pages(normals_.data(), normals_.size() * sizeof(Vec3), true);
             }
             jobs.run(task == 1, [&] { return sum_normals ? sum_smooth_normals(progress, vertex_count) : FollowStep::Finished; });
         });
