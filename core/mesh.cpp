@@ -29,11 +29,11 @@ void Mesh::check_mesh_memory(uint64_t vertices, uint64_t triangles, uint64_t fil
     check_memory(bytes, "mesh of " + std::to_string(vertices) + " vertices and " + std::to_string(triangles) + " triangles", where);
 }
 namespace {
-// Errors in a mesh's data name the mesh file (at the filename property's line) when there is one.
 // Triangles per chunk of the area sums: fixed, so that the sums are the same whatever the thread
 // count (finalize() and update_derived() must chunk alike).
 constexpr size_t AreaChunk = size_t(1) << 16;
 
+// Errors in a mesh's data name the mesh file (at the filename property's line) when there is one.
 [[noreturn]] void fail_mesh(const Properties& props, const std::string& message) {
     if (props.has("filename")) props.fail("filename", "mesh file \"" + props.get_string("filename") + "\": " + message);
     props.fail(message);
