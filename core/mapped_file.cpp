@@ -28,6 +28,7 @@ void populate_pages_in_parallel(const void* data, size_t bytes, bool for_writing
     // Chunks of 2 MB at absolute 2 MB boundaries, so that every page inside the range lies in
     // exactly one chunk.
     constexpr uintptr_t Chunk = uintptr_t(1) << 21;
+    if (bytes == 0) return;
     const uintptr_t begin = uintptr_t(data), end = begin + bytes, first = begin / Chunk * Chunk;
     parallel_chunks((end - first + Chunk - 1) / Chunk, 1, [&](size_t from, size_t to) {
         const uintptr_t a = std::max(begin, first + from * Chunk), b = std::min(end, first + to * Chunk);

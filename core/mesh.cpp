@@ -367,7 +367,7 @@ bool Mesh::begin_smooth_normals() {
     summed_triangles_ = 0;
     // Sized by a reader that allocates every array before reading, else here.
     normals_.resize(positions_.size());
-    std::memset(static_cast<void*>(normals_.data()), 0, normals_.size() * sizeof(Vec3));  // +0.0f is all zero bits
+    if (!normals_.empty()) std::memset(static_cast<void*>(normals_.data()), 0, normals_.size() * sizeof(Vec3));  // +0.0f: zero bits
     const bool identity = to_world_.is_identity();
     for (Vec3& p : positions_) {
         if (!identity) p = to_world_.apply_point(p);

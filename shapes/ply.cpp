@@ -524,9 +524,9 @@ private:
         // check_body_size() found the records in the file: count * record does not overflow.
         const unsigned char* data = body.take(e.count * record);
         populate_pages_in_parallel(data, e.count * record, false);
-        populate_pages_in_parallel(&positions_[base], e.count * sizeof(Vec3), true);
-        if (normals) populate_pages_in_parallel(&normals_[base], e.count * sizeof(Vec3), true);
-        if (uvs) populate_pages_in_parallel(&uvs_[base], e.count * sizeof(Vec2), true);
+        populate_pages_in_parallel(positions_.data() + base, e.count * sizeof(Vec3), true);
+        if (normals) populate_pages_in_parallel(normals_.data() + base, e.count * sizeof(Vec3), true);
+        if (uvs) populate_pages_in_parallel(uvs_.data() + base, e.count * sizeof(Vec2), true);
         auto value = [&](const unsigned char* r, int k) {
             return to_float(decode(r + offset[size_t(k)], e.properties[size_t(k)].type, swap));
         };
@@ -633,7 +633,7 @@ private:
         const size_t base = triangles_.size();
         triangles_.resize(base + e.count);
         populate_pages_in_parallel(data, e.count * Record, false);
-        populate_pages_in_parallel(&triangles_[base], e.count * sizeof(glm::uvec3), true);
+        populate_pages_in_parallel(triangles_.data() + base, e.count * sizeof(glm::uvec3), true);
         // The count is one byte (int8 or uint8), so a triangle's is the byte 3. The checks are
         // gathered per chunk without branching: a bad record is rare, and the element is then
         // read again face by face, which names the problem.
