@@ -41,8 +41,6 @@ constexpr size_t AreaChunk = size_t(1) << 16;
 }  // namespace
 
 void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
-    if (normals_summed_ && (summed_triangles_ != triangles_.size() || !smooth_if_missing))
-        throw std::logic_error("finalize: the reader summed smooth normals for some of the triangles only");
     // Large meshes (10^7 triangles) spend seconds here when done on one core: the per-vertex
     // and per-triangle passes run in parallel chunks, each writing only its own elements, so the
     // results are the same whatever the thread count.
@@ -68,7 +66,7 @@ void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
     parallel_chunks(positions_.size(), 1 << 16, [&](size_t begin, size_t end) {
         bool chunk_finite = true;
         for (size_t i = begin; i < end; ++i) {
-            if (!identity && !positions_in_world_) positions_[i] = to_world_.apply_point(positions_[i]);
+            if (!identity) positions_[i] = to_world_.apply_point(positions_[i]);
             chunk_finite = chunk_finite && all_finite(positions_[i]);
         }
         if (!chunk_finite) finite = false;
@@ -76,11 +74,9 @@ void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
     if (!finite) fail_mesh(props, "a vertex is not a finite number");
     for (const Vec2& uv : uvs_)
         if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) fail_mesh(props, "a texture coordinate is not a finite number");
-    // The file's normals (summed smooth normals are normalized below).
-    const size_t file_normals = normals_summed_ ? 0 : normals_.size();
-    for (size_t i = 0; i < file_normals; ++i)
-        if (!all_finite(normals_[i])) fail_mesh(props, "a normal is not a finite number");
-    parallel_chunks(file_normals, 1 << 16, [&](size_t begin, size_t end) {
+    for (const Vec3& n : normals_)
+        if (!all_finite(n)) fail_mesh(props, "a normal is not a finite number");
+    parallel_chunks(normals_.size(), 1 << 16, [&](size_t begin, size_t end) {
         for (size_t i = begin; i < end; ++i) {
             Vec3 n = to_world_.apply_normal(normals_[i]);
             float len = glm::length(n);
@@ -133,8 +129,6 @@ void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
             if (attr.per_face) attr.values.resize(kept * size_t(attr.channels));
     }
     update_derived(normals_.empty() && smooth_if_missing, chunk_areas.empty() ? nullptr : &chunk_areas);
-    if (normals_summed_) normalize_vertex_normals();
-    normals_summed_ = false;
 }
 
 void Mesh::update_derived(bool recompute_normals, const std::vector<double>* known_chunk_areas) {
@@ -359,45 +353,6 @@ void Mesh::recompute_vertex_normals() {
         });
     }
     normalize_vertex_normals();
-}
-
-bool Mesh::begin_smooth_normals() {
-    positions_in_world_ = true;
-    normals_summed_ = true;
-    summed_triangles_ = 0;
-    // Sized by a reader that allocates every array before reading, else here.
-    normals_.resize(positions_.size());
-    if (!normals_.empty()) std::memset(static_cast<void*>(normals_.data()), 0, normals_.size() * sizeof(Vec3));  // +0.0f: zero bits
-    const bool identity = to_world_.is_identity();
-    for (Vec3& p : positions_) {
-        if (!identity) p = to_world_.apply_point(p);
-        if (!all_finite(p)) {
-            normals_summed_ = false;  // finalize() reports the vertex
-            normals_.clear();
-            return false;
-        }
-    }
-    return true;
-}
-
-void Mesh::add_smooth_normals(size_t first, size_t last) {
-    if (!normals_summed_ || first != summed_triangles_ || last > triangles_.size())
-        throw std::logic_error("add_smooth_normals: ranges must follow each other, after begin_smooth_normals");
-    // The triangles finalize() keeps (it drops those without a positive finite area), a chunk
-    // at a time, then their terms added in order: the sums recompute_vertex_normals() makes.
-    constexpr size_t Chunk = 1 << 12;
-    glm::uvec3 kept[Chunk];
-    std::vector<Vec3> corners(3 * Chunk);
-    for (size_t begin = first; begin < last; begin += Chunk) {
-        size_t count = 0;
-        for (size_t i = begin; i < std::min(last, begin + Chunk); ++i) {
-            const float a = triangle_area(triangles_[i]);
-            if (a > 0.0f && std::isfinite(a)) kept[count++] = triangles_[i];
-        }
-        normal_corner_terms(positions_.data(), kept, count, corners.data());
-        add_corner_terms(kept, count, corners.data());
-    }
-    summed_triangles_ = last;
 }
 
 void triangle_tangents(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec2& uv0, const Vec2& uv1, const Vec2& uv2, const Vec3& n,

@@ -82,17 +82,6 @@ protected:
     // consecutive chunks of AreaChunk triangles (finalize() has them), else computed here.
     void update_derived(bool recompute_normals, const std::vector<double>* known_chunk_areas = nullptr);
     void recompute_vertex_normals();
-    // Smooth normals summed while a reader still reads, for a format that has all positions
-    // before any triangle and is read on one thread (serialized: one zlib stream), so that
-    // another thread sums the triangles read so far. Once every position is read,
-    // begin_smooth_normals() moves them to world space and zeroes the sums (false, and no sums,
-    // when a position is not finite: finalize() reports it). Then add_smooth_normals() for
-    // consecutive ranges of triangles in order, whose indices the reader has checked, up to the
-    // last; finalize() then only normalizes the sums. The normals are bit for bit those
-    // finalize() computes: degenerate triangles are skipped as it drops them, and the terms are
-    // added in the same order.
-    bool begin_smooth_normals();
-    void add_smooth_normals(size_t first, size_t last);
     float triangle_area(const glm::uvec3& t) const {
         return 0.5f * glm::length(glm::cross(positions_[t.y] - positions_[t.x], positions_[t.z] - positions_[t.x]));
     }
@@ -123,10 +112,6 @@ private:
     // the vertices in order, and the normalization of the sums.
     void add_corner_terms(const glm::uvec3* triangles, size_t count, const Vec3* corners);
     void normalize_vertex_normals();
-    // Set by begin_smooth_normals() until finalize(): the positions are in world space, and
-    // normals_ holds the sums of the first summed_triangles_ triangles.
-    bool positions_in_world_ = false, normals_summed_ = false;
-    size_t summed_triangles_ = 0;
     std::vector<FlatTriangle> flat_;  // per entry of triangles_; empty with vertex normals
 
     Distribution1D area_distribution_;  // by triangle area; only in meshes that carry an emitter

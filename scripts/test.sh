@@ -71,12 +71,11 @@ asan() {
 # The tests that run the parallel code (every tbb::parallel_for of the sources): the pixel loop
 # (integrator and CLI renders, crops, AOVs, Ctrl-C), the rasterizer's tiles, per-vertex lighting,
 # ambient occlusion and environment prefiltering, the OBJ reader's chunks ("obj: "), the serialized
-# reader's inflater and the normals summed beside it, with PLY's parallel parse ("serialized:
-# smooth normals" reads both), the light
+# reader's two tasks and PLY's parallel parse ("serialized: a large mesh" reads both), the light
 # tree's build and its use by the render threads, the photon passes of sppm and photonmapper and
 # ptracer's splats ("light paths:" renders them with 1 and 2 threads), the radiosity solver, and
 # the estimators of `candela estimate`. Check a change with: ctest --test-dir build -N -R "$parallel_paths".
-parallel_paths='^(determinism|obj: |serialized: smooth normals|film: a crop|render: AOVs|cli: render|cli: Ctrl-C|cli: estimate|raster: |rasterizer: |raster AO: deterministic|raster IBL: |light tree|light samplers|light paths: |radiosity: bit-identical|radiosity and ao: |ao: bit-identical|furnace: |example scenes|scenes/shapes|null transport)'
+parallel_paths='^(determinism|obj: |serialized: a large mesh equals|film: a crop|render: AOVs|cli: render|cli: Ctrl-C|cli: estimate|raster: |rasterizer: |raster AO: deterministic|raster IBL: |light tree|light samplers|light paths: |radiosity: bit-identical|radiosity and ao: |ao: bit-identical|furnace: |example scenes|scenes/shapes|null transport)'
 
 tsan() {
     CXX=clang++ cmake -S . -B build-tsan -DCANDELA_SANITIZE=thread -DBUILD_TESTING=ON "$tables"

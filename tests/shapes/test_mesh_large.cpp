@@ -158,13 +158,12 @@ TEST_CASE("serialized: a large double-precision mesh is inflated field by field,
     CHECK(mesh.attributes()[0].values == colours);
 }
 
-TEST_CASE("serialized: smooth normals summed while the stream inflates equal those computed after it, bit for bit", "[mesh][serialized]") {
-    // A wavy 320 x 320 grid (203,522 triangles and more: three slices of the stream and part of a fourth),
-    // with degenerate triangles (a repeated corner, three collinear corners) that finalize()
-    // drops. The same mesh as a binary PLY is read whole and its normals computed after reading
-    // (Mesh::recompute_vertex_normals): the serialized reader's, summed on a second thread as the
-    // triangles inflate, must equal them exactly, with a to_world moving the positions first, in
-    // single and double precision, and on one thread (which then inflates and sums in turn).
+TEST_CASE("serialized: a large mesh equals the same mesh read from a PLY, its smooth normals bit for bit", "[mesh][serialized]") {
+    // A wavy 320 x 320 grid (203,522 triangles and more), with degenerate triangles (a repeated
+    // corner, three collinear corners) that finalize() drops. The same mesh as a binary PLY must
+    // give the same positions, triangles and smooth normals exactly, with a to_world moving the
+    // positions first, in single and double precision, on all threads and on one (the reader
+    // inflates on one thread while another populates the pages).
     const int n = 320;
     TestMesh m;
     size_t repeated = 0;
