@@ -233,7 +233,7 @@ private:
     // Triangles [first, first + count) from the stream.
     void read_triangles(StreamInflater& in, size_t first, size_t count, uint64_t vertex_count) {
         if (vertex_count <= 0xFFFFFFFFull && host_little_endian()) {
-            in.read(&triangles_[first], count * sizeof(glm::uvec3), "triangle indices");
+            in.read(triangles_.data() + first, count * sizeof(glm::uvec3), "triangle indices");
             return;
         }
         const int index_bytes = vertex_count > 0xFFFFFFFFull ? 8 : 4;
