@@ -230,22 +230,22 @@ private:
         return size;
     }
 
-    // Triangles [first, first + count) from the stream.
-    void read_triangles(StreamInflater& in, size_t first, size_t count, uint64_t vertex_count) {
+    // Every triangle from the stream.
+    void read_triangles(StreamInflater& in, uint64_t vertex_count) {
         if (vertex_count <= 0xFFFFFFFFull && host_little_endian()) {
-            in.read(triangles_.data() + first, count * sizeof(glm::uvec3), "triangle indices");
+            in.read(triangles_.data(), triangles_.size() * sizeof(glm::uvec3), "triangle indices");
             return;
         }
         const int index_bytes = vertex_count > 0xFFFFFFFFull ? 8 : 4;
         unsigned char index[3 * 8];
-        for (size_t i = first; i < first + count; ++i) {
+        for (glm::uvec3& t : triangles_) {
             in.read(index, size_t(3 * index_bytes), "triangle indices");
             uint64_t v[3];
             for (int k = 0; k < 3; ++k) v[k] = read_le(index + k * index_bytes, index_bytes);
             if (std::max({v[0], v[1], v[2]}) >= vertex_count)
                 throw SerializedError("a triangle refers to vertex " + std::to_string(std::max({v[0], v[1], v[2]})) + " of " +
                                       std::to_string(vertex_count));
-            triangles_[i] = glm::uvec3(unsigned(v[0]), unsigned(v[1]), unsigned(v[2]));
+            t = glm::uvec3(unsigned(v[0]), unsigned(v[1]), unsigned(v[2]));
         }
     }
 
@@ -313,7 +313,7 @@ private:
             if (flags & HasNormals) read_reals(in, skip_normals ? nullptr : floats(normals_), 3 * vertices, dbl, "vertex normals");
             if (flags & HasTexcoords) read_reals(in, floats(uvs_), 2 * vertices, dbl, "texture coordinates");
             if (flags & HasColors) read_reals(in, attributes_.back().values.data(), 3 * vertices, dbl, "vertex colours");
-            read_triangles(in, 0, triangles_.size(), vertex_count);
+            read_triangles(in, vertex_count);
         });
         // One byte more than declared shows a stream that holds more than its header says.
         if (!in.ends_here()) throw SerializedError("the compressed data holds more than its header declares");
