@@ -43,15 +43,22 @@ constexpr size_t AreaChunk = size_t(1) << 16;
 void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
     // Large meshes (10^7 triangles) spend seconds here when done on one core: the per-vertex
     // and per-triangle passes run in parallel chunks, each writing only its own elements, so the
-    // results are the same whatever the thread count.
+    // results are the same whatever the thread count. What a reader prepared ahead is not done
+    // again; a preparation that stopped short (at an error) is done here in full.
+    Prepared prepared = std::move(prepared_);
+    prepared_ = Prepared();
+    const bool triangles_prepared = prepared.positions && prepared.triangles == triangles_.size();
+    const bool normals_summed = prepared.normals && triangles_prepared;
+    if (prepared.normals && !normals_summed) normals_.clear();
     std::atomic<bool> indices_valid{true};
-    parallel_chunks(triangles_.size(), 1 << 16, [&](size_t begin, size_t end) {
-        const size_t vertices = positions_.size();
-        bool valid = true;
-        for (size_t i = begin; i < end; ++i)
-            valid = valid && triangles_[i].x < vertices && triangles_[i].y < vertices && triangles_[i].z < vertices;
-        if (!valid) indices_valid = false;
-    });
+    if (!triangles_prepared)
+        parallel_chunks(triangles_.size(), 1 << 16, [&](size_t begin, size_t end) {
+            const size_t vertices = positions_.size();
+            bool valid = true;
+            for (size_t i = begin; i < end; ++i)
+                valid = valid && triangles_[i].x < vertices && triangles_[i].y < vertices && triangles_[i].z < vertices;
+            if (!valid) indices_valid = false;
+        });
     if (!indices_valid) fail_mesh(props, "a face refers to a vertex that does not exist");
     if (!uvs_.empty() && uvs_.size() != positions_.size()) fail_mesh(props, "the uv count differs from the vertex count");
     if (!normals_.empty() && normals_.size() != positions_.size()) fail_mesh(props, "the normal count differs from the vertex count");
@@ -61,22 +68,24 @@ void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
             fail_mesh(props, "attribute \"" + a.name + "\" does not have one value per " + (a.per_face ? "face" : "vertex"));
     }
 
-    std::atomic<bool> finite{true};
+    std::atomic<bool> finite{prepared.finite};
     const bool identity = to_world_.is_identity();  // the common case: no pass to transform
-    parallel_chunks(positions_.size(), 1 << 16, [&](size_t begin, size_t end) {
-        bool chunk_finite = true;
-        for (size_t i = begin; i < end; ++i) {
-            if (!identity) positions_[i] = to_world_.apply_point(positions_[i]);
-            chunk_finite = chunk_finite && all_finite(positions_[i]);
-        }
-        if (!chunk_finite) finite = false;
-    });
+    if (!prepared.positions)
+        parallel_chunks(positions_.size(), 1 << 16, [&](size_t begin, size_t end) {
+            bool chunk_finite = true;
+            for (size_t i = begin; i < end; ++i) {
+                if (!identity) positions_[i] = to_world_.apply_point(positions_[i]);
+                chunk_finite = chunk_finite && all_finite(positions_[i]);
+            }
+            if (!chunk_finite) finite = false;
+        });
     if (!finite) fail_mesh(props, "a vertex is not a finite number");
     for (const Vec2& uv : uvs_)
         if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) fail_mesh(props, "a texture coordinate is not a finite number");
-    for (const Vec3& n : normals_)
-        if (!all_finite(n)) fail_mesh(props, "a normal is not a finite number");
-    parallel_chunks(normals_.size(), 1 << 16, [&](size_t begin, size_t end) {
+    const size_t file_normals = normals_summed ? 0 : normals_.size();
+    for (size_t i = 0; i < file_normals; ++i)
+        if (!all_finite(normals_[i])) fail_mesh(props, "a normal is not a finite number");
+    parallel_chunks(file_normals, 1 << 16, [&](size_t begin, size_t end) {
         for (size_t i = begin; i < end; ++i) {
             Vec3 n = to_world_.apply_normal(normals_[i]);
             float len = glm::length(n);
@@ -93,20 +102,25 @@ void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
         const float a = triangle_area(triangles_[i]);
         return !(a > 0.0f && std::isfinite(a));
     };
-    std::atomic<bool> any_degenerate{false};
+    std::atomic<bool> any_degenerate{prepared.degenerate};
     std::vector<double> chunk_areas((triangles_.size() + AreaChunk - 1) / AreaChunk);
-    parallel_for(chunk_areas.size(), [&](size_t c) {
-        double sum = 0.0;
-        for (size_t i = c * AreaChunk; i < std::min(triangles_.size(), (c + 1) * AreaChunk); ++i) {
-            const float a = triangle_area(triangles_[i]);
-            if (!(a > 0.0f && std::isfinite(a)) || any_degenerate.load(std::memory_order_relaxed)) {
-                any_degenerate = true;
-                return;
+    if (triangles_prepared) {
+        if (triangles_.size() % AreaChunk != 0) prepared.chunk_areas.push_back(prepared.open_chunk_area);
+        chunk_areas = std::move(prepared.chunk_areas);
+    }
+    if (!triangles_prepared)
+        parallel_for(chunk_areas.size(), [&](size_t c) {
+            double sum = 0.0;
+            for (size_t i = c * AreaChunk; i < std::min(triangles_.size(), (c + 1) * AreaChunk); ++i) {
+                const float a = triangle_area(triangles_[i]);
+                if (!(a > 0.0f && std::isfinite(a)) || any_degenerate.load(std::memory_order_relaxed)) {
+                    any_degenerate = true;
+                    return;
+                }
+                sum += a;
             }
-            sum += a;
-        }
-        chunk_areas[c] = sum;
-    });
+            chunk_areas[c] = sum;
+        });
     if (any_degenerate) {
         chunk_areas.clear();
         size_t kept = 0;
@@ -128,20 +142,24 @@ void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
         for (MeshAttribute& attr : attributes_)
             if (attr.per_face) attr.values.resize(kept * size_t(attr.channels));
     }
-    update_derived(normals_.empty() && smooth_if_missing, chunk_areas.empty() ? nullptr : &chunk_areas);
+    if (normals_summed) normalize_vertex_normals();
+    update_derived(normals_.empty() && smooth_if_missing, chunk_areas.empty() ? nullptr : &chunk_areas,
+                   prepared.positions ? &prepared.bounds : nullptr);
 }
 
-void Mesh::update_derived(bool recompute_normals, const std::vector<double>* known_chunk_areas) {
+void Mesh::update_derived(bool recompute_normals, const std::vector<double>* known_chunk_areas, const BoundingBox* known_bounds) {
     // Embree reads vertices with 16-byte loads, so the buffer it shares with positions_ must be
     // readable 4 bytes past its last vertex: one element of spare capacity (readers reserve it
     // up front so that this reserve does not copy a large array).
     if (positions_.capacity() == positions_.size()) positions_.reserve(positions_.size() + 1);
     // The bounds of fixed chunks, then of them (the same box whatever the thread count).
     const size_t vertex_chunk = size_t(1) << 16;
-    std::vector<BoundingBox> boxes((positions_.size() + vertex_chunk - 1) / vertex_chunk);
-    parallel_for(boxes.size(), [&](size_t c) {
-        for (size_t i = c * vertex_chunk; i < std::min(positions_.size(), (c + 1) * vertex_chunk); ++i) boxes[c].expand(positions_[i]);
-    });
+    std::vector<BoundingBox> boxes(known_bounds ? 1 : (positions_.size() + vertex_chunk - 1) / vertex_chunk);
+    if (known_bounds) boxes[0] = *known_bounds;
+    if (!known_bounds)
+        parallel_for(boxes.size(), [&](size_t c) {
+            for (size_t i = c * vertex_chunk; i < std::min(positions_.size(), (c + 1) * vertex_chunk); ++i) boxes[c].expand(positions_[i]);
+        });
     bbox_ = BoundingBox();
     for (const BoundingBox& b : boxes) bbox_.expand(b);
     // The total area in double, summed over fixed chunks in order: the same whatever the thread
@@ -353,6 +371,69 @@ void Mesh::recompute_vertex_normals() {
         });
     }
     normalize_vertex_normals();
+}
+
+void Mesh::prepare_normal_sums() {
+    normals_.resize(positions_.size());  // a reader may have reserved (and populated) them
+    if (!normals_.empty()) std::memset(static_cast<void*>(normals_.data()), 0, normals_.size() * sizeof(Vec3));  // +0.0f: zero bits
+    prepared_.normals = true;
+}
+
+bool Mesh::prepare_positions() {
+    // As finalize()'s pass does it, on this thread; the bounds as update_derived() takes them
+    // (a box's expansion gives the same box in any order).
+    const bool identity = to_world_.is_identity();
+    bool finite = true;
+    BoundingBox bounds;
+    for (Vec3& p : positions_) {
+        if (!identity) p = to_world_.apply_point(p);
+        finite = finite && all_finite(p);
+        bounds.expand(p);
+    }
+    prepared_.positions = true;
+    prepared_.finite = finite;
+    prepared_.bounds = bounds;
+    return finite;
+}
+
+bool Mesh::prepare_triangles(size_t first, size_t last) {
+    if (!prepared_.positions || first != prepared_.triangles || last > triangles_.size() || first > last)
+        throw std::logic_error("prepare_triangles: consecutive ranges from the first, after prepare_positions");
+    if (!prepared_.finite) return false;
+    const size_t vertices = positions_.size();
+    // A batch at a time: its indices checked, its areas summed in finalize()'s order (each chunk
+    // of AreaChunk triangles in double, from its first), the triangles finalize() keeps (a
+    // positive finite area) gathered, their smooth normals' terms computed and added in order.
+    constexpr size_t Batch = 1 << 10;
+    glm::uvec3 kept[Batch];
+    Vec3 corners[3 * Batch];
+    for (size_t begin = first; begin < last; begin += Batch) {
+        const size_t end = std::min(last, begin + Batch);
+        bool valid = true;
+        for (size_t i = begin; i < end; ++i)
+            valid = valid && triangles_[i].x < vertices && triangles_[i].y < vertices && triangles_[i].z < vertices;
+        if (!valid) return false;
+        size_t count = 0;
+        for (size_t i = begin; i < end; ++i) {
+            const float a = triangle_area(triangles_[i]);
+            if (a > 0.0f && std::isfinite(a)) {
+                prepared_.open_chunk_area += a;
+                kept[count++] = triangles_[i];
+            } else {
+                prepared_.degenerate = true;
+            }
+            if ((i + 1) % AreaChunk == 0) {
+                prepared_.chunk_areas.push_back(prepared_.open_chunk_area);
+                prepared_.open_chunk_area = 0.0;
+            }
+        }
+        if (prepared_.normals) {
+            normal_corner_terms(positions_.data(), kept, count, corners);
+            add_corner_terms(kept, count, corners);
+        }
+        prepared_.triangles = end;
+    }
+    return true;
 }
 
 void triangle_tangents(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec2& uv0, const Vec2& uv1, const Vec2& uv2, const Vec3& n,

@@ -79,9 +79,24 @@ protected:
     void finalize(const Properties& props, bool smooth_if_missing);
     // What finalize() derives from the positions: bounds, area table, normal cone, flat frames,
     // and the vertex normals when `recompute_normals`. `known_chunk_areas`: the area sums of
-    // consecutive chunks of AreaChunk triangles (finalize() has them), else computed here.
-    void update_derived(bool recompute_normals, const std::vector<double>* known_chunk_areas = nullptr);
+    // consecutive chunks of AreaChunk triangles (finalize() has them), and `known_bounds`, else
+    // computed here.
+    void update_derived(bool recompute_normals, const std::vector<double>* known_chunk_areas = nullptr,
+                        const BoundingBox* known_bounds = nullptr);
     void recompute_vertex_normals();
+    // finalize()'s passes done ahead, while the data still arrives, by a reader that reads on one
+    // thread and has another to spare (serialized: one zlib stream). prepare_normal_sums(), for
+    // a mesh that gets smooth normals, zeroes their sums (once positions_ is sized). Once every
+    // position is in, prepare_positions() moves them to world space, checks that they are finite
+    // (false when one is not) and takes their bounds. Then prepare_triangles() for consecutive
+    // ranges of triangles from the first checks their indices, sums their areas as finalize()
+    // does and adds their smooth normals' terms to the sums (false at an index out of range: the
+    // rest is left undone). finalize() then does only what was not done, with the same results
+    // bit for bit: degenerate triangles are skipped as it drops them, and every sum is made in
+    // the same order.
+    void prepare_normal_sums();
+    bool prepare_positions();
+    bool prepare_triangles(size_t first, size_t last);
     float triangle_area(const glm::uvec3& t) const {
         return 0.5f * glm::length(glm::cross(positions_[t.y] - positions_[t.x], positions_[t.z] - positions_[t.x]));
     }
@@ -112,6 +127,18 @@ private:
     // the vertices in order, and the normalization of the sums.
     void add_corner_terms(const glm::uvec3* triangles, size_t count, const Vec3* corners);
     void normalize_vertex_normals();
+    // What prepare_positions() and prepare_triangles() have done, until finalize() takes it.
+    struct Prepared {
+        bool positions = false;           // in world space
+        bool finite = true;               // ... and all of them finite
+        BoundingBox bounds;               // ... and their bounds
+        size_t triangles = 0;             // the first `triangles` have valid indices, their areas summed
+        bool degenerate = false;          // one of them has no positive finite area
+        bool normals = false;             // normals_ holds their smooth normals' sums (not normalized)
+        std::vector<double> chunk_areas;  // area sums of their complete chunks of AreaChunk
+        double open_chunk_area = 0.0;     // and of the chunk they end inside
+    };
+    Prepared prepared_;
     std::vector<FlatTriangle> flat_;  // per entry of triangles_; empty with vertex normals
 
     Distribution1D area_distribution_;  // by triangle area; only in meshes that carry an emitter

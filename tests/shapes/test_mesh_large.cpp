@@ -163,7 +163,7 @@ TEST_CASE("serialized: a large mesh equals the same mesh read from a PLY, its sm
     // corner, three collinear corners) that finalize() drops. The same mesh as a binary PLY must
     // give the same positions, triangles and smooth normals exactly, with a to_world moving the
     // positions first, in single and double precision, on all threads and on one (the reader
-    // inflates on one thread while another populates the pages).
+    // inflates on one thread while a thread of its own follows: serialized.cpp's Follower).
     const int n = 320;
     TestMesh m;
     size_t repeated = 0;
@@ -231,6 +231,10 @@ TEST_CASE("serialized: a large mesh equals the same mesh read from a PLY, its sm
             CHECK(mesh->positions() == ply.positions());
             CHECK(mesh->triangles() == ply.triangles());
             CHECK(mesh->normals() == ply.normals());
+            // The areas summed ahead by the follower, in finalize()'s chunks.
+            CHECK(mesh->surface_area() == ply.surface_area());
+            CHECK(mesh->bbox().min == ply.bbox().min);
+            CHECK(mesh->bbox().max == ply.bbox().max);
         }
 
     // A triangle index out of range in the last slice: the error, not a write past the normals.
@@ -241,6 +245,32 @@ TEST_CASE("serialized: a large mesh equals the same mesh read from a PLY, its sm
     CHECK_THROWS_WITH(
         load_single_mesh(dir, "<shape type=\"serialized\"><string name=\"filename\" value=\"broken.serialized\"/></shape>", keep),
         Catch::Contains("a triangle refers to vertex " + std::to_string(last + 1)));
+
+    // The stream cut short, or corrupt, while the follower waits on it: the error, and the
+    // follower stopped and joined (no hang, nothing read past the data).
+    const std::string whole = encode_file({m}, 4);
+    write_text(dir / "cut.serialized", whole.substr(0, whole.size() * 3 / 4));
+    std::string corrupt = whole;
+    for (size_t i = whole.size() / 2; i < whole.size() / 2 + 64; ++i) corrupt[i] = char(corrupt[i] ^ 0x5A);
+    write_text(dir / "corrupt.serialized", corrupt);
+    for (const char* file : {"cut.serialized", "corrupt.serialized"}) {
+        INFO(file);
+        CHECK_THROWS_WITH(load_single_mesh(dir,
+                                           "<shape type=\"serialized\"><string name=\"filename\" value=\"" + std::string(file) +
+                                               "\"/><boolean name=\"face_normals\" value=\"false\"/></shape>",
+                                           keep),
+                          Catch::Contains("cannot read serialized mesh"));
+    }
+    // Shaded flat (no normals to sum): the follower still prepares the rest, as finalize() would.
+    Ref<Scene> keep_flat_ply, keep_flat;
+    const std::string flat = "<boolean name=\"face_normals\" value=\"true\"/>";
+    const Mesh& flat_ply = load_single_mesh(dir, ply_shape("grid.ply", to_world + flat), keep_flat_ply);
+    const Mesh& flat_serialized = load_single_mesh(
+        dir, "<shape type=\"serialized\"><string name=\"filename\" value=\"grid.serialized\"/>" + to_world + flat + "</shape>", keep_flat);
+    CHECK(flat_serialized.normals().empty());
+    CHECK(flat_serialized.positions() == flat_ply.positions());
+    CHECK(flat_serialized.triangles() == flat_ply.triangles());
+    CHECK(flat_serialized.surface_area() == flat_ply.surface_area());
 }
 
 TEST_CASE("mesh: a flat mesh too large to cache its triangle frames gives every hit the same frame", "[mesh]") {
