@@ -345,8 +345,12 @@ int load_run(const fs::path& dir, const std::string& candela, int rounds, bool o
                 rounds);
     std::vector<std::string> names = {"floor (ply)", "candela ply", "candela serialized", "candela obj"};
     std::vector<std::vector<double>> time(names.size()), memory(names.size()), cpu(names.size());
+    // Each round runs the floor, PLY and serialized in a rotated order: a process's time depends
+    // on what ran just before it (on this project's virtual machines, whether the memory it
+    // touches first was used lately), so that no format always follows the same one.
     for (int r = 0; r < rounds; ++r) {
-        for (size_t k = 0; k < names.size(); ++k) {
+        for (size_t step = 0; step < names.size(); ++step) {
+            const size_t k = step < 3 ? (step + size_t(r)) % 3 : step;
             if (k == 3 && (r > 0 || !obj)) continue;  // obj once: it is the slow format
             std::vector<std::string> argv = k == 0 ? std::vector<std::string>{self_path(), "floor", (dir / "mesh.ply").string()}
                                                    : candela_render(candela,
@@ -367,10 +371,15 @@ int load_run(const fs::path& dir, const std::string& candela, int rounds, bool o
     }
     const double floor_time = median(time[0]), floor_memory = median(memory[0]);
     for (size_t k = 0; k < names.size(); ++k)
-        if (!time[k].empty())
-            std::printf("%-20s median %7.2f s (x%.2f of the floor; CPU x%.2f)  %8.1f MB (x%.2f)  %6.1f bytes/triangle\n", names[k].c_str(),
-                        median(time[k]), median(time[k]) / floor_time, median(cpu[k]) / median(cpu[0]), median(memory[k]),
-                        median(memory[k]) / floor_memory, median(memory[k]) * 1048576.0 / double(triangles));
+        if (!time[k].empty()) {
+            // Also the median of each round's ratio to that round's floor.
+            std::vector<double> ratios;
+            for (size_t r = 0; r < time[k].size(); ++r) ratios.push_back(time[k][r] / time[0][r]);
+            std::printf(
+                "%-20s median %7.2f s (x%.2f of the floor, rounds' median x%.2f; CPU x%.2f)  %8.1f MB (x%.2f)  %6.1f bytes/triangle\n",
+                names[k].c_str(), median(time[k]), median(time[k]) / floor_time, median(ratios), median(cpu[k]) / median(cpu[0]),
+                median(memory[k]), median(memory[k]) / floor_memory, median(memory[k]) * 1048576.0 / double(triangles));
+        }
     return 0;
 }
 

@@ -10,7 +10,9 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
+#include <new>
 
 namespace candela {
 
@@ -23,6 +25,20 @@ void populate_pages(const void* data, size_t bytes, bool for_writing) {
     (void)data, (void)bytes, (void)for_writing;
 #endif
 }
+
+void* allocate_large_array(size_t bytes) {
+    constexpr size_t HugePage = size_t(1) << 21;
+    const size_t rounded = (bytes + HugePage - 1) / HugePage * HugePage;
+    if (rounded < bytes) throw std::bad_alloc();
+    void* p = std::aligned_alloc(HugePage, rounded);
+    if (!p) throw std::bad_alloc();
+#ifdef MADV_HUGEPAGE
+    ::madvise(p, rounded, MADV_HUGEPAGE);  // advice only: without it, 4 kB pages
+#endif
+    return p;
+}
+
+void free_large_array(void* p) { std::free(p); }
 
 void populate_pages_in_parallel(const void* data, size_t bytes, bool for_writing) {
     // Chunks of 2 MB at absolute 2 MB boundaries, so that every page inside the range lies in
