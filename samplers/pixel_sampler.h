@@ -26,10 +26,8 @@ protected:
         // A pixel's samples come one after another (the pixel loop), so what depends only on the
         // pixel's sequence is kept until the next pixel: the dimension seeds (below) and what a
         // sampler computes in sequence_changed().
-        if (sequence != sequence_ || !started_) {
+        if (seeds_.keep_for(sequence)) {
             sequence_ = sequence;
-            started_ = true;
-            seeds_.forget();
             sequence_changed();
         }
         // Whatever changed the count (set_sample_count), the divisor follows it.
@@ -70,9 +68,9 @@ protected:
     Divisor count_divisor_;    // sample_count_, for permute_index over the pixel's sample indices
 
 private:
-    bool started_ = false;
-    // The current pixel's dimension_seed() values, by key dim * 8 + salt (dimensions below 64).
-    mutable KeptPerPixel<uint32_t, 64 * 8> seeds_;
+    // The current pixel's dimension_seed() values, by key dim * 8 + salt (dimensions below 64),
+    // kept for the pixel's sequence.
+    mutable KeptPerPixel<uint64_t, uint32_t, 64 * 8> seeds_;
 };
 
 }  // namespace candela

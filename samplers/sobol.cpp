@@ -19,6 +19,7 @@
 #include "core/registry.h"
 #include "samplers/sobol_base.h"
 
+#include <utility>
 #include <vector>
 
 namespace candela {
@@ -59,13 +60,7 @@ protected:
         SobolSamplerBase::start_sample(pixel, index);
         if (columns_spp_bits_ != log2_spp_ || columns_scale_ != log2_scale_) build_sample_columns();
         const Vec2i cell = pixel + film_border_;
-        if (!pixel_kept_ || cell != pixel_cell_ || pixel_scale_ != log2_scale_) {
-            pixel_kept_ = true;
-            pixel_cell_ = cell;
-            pixel_scale_ = log2_scale_;
-            pixel_index_ = index_in_pixel(0, cell);
-            pixel_digits_.forget();
-        }
+        if (pixel_digits_.keep_for({cell, log2_scale_})) pixel_index_ = index_in_pixel(0, cell);
         sample_index_ = index;
     }
     // Dimensions 0 and 1 are randomized per pixel: hashed once for the pixel's samples.
@@ -165,12 +160,9 @@ private:
     int columns_spp_bits_ = -1, columns_scale_ = -1;
     // The current pixel: its cell, index_in_pixel(0, cell) and the reversed digits kept for it
     // (dimensions below 64).
-    bool pixel_kept_ = false;
-    Vec2i pixel_cell_{0};
-    int pixel_scale_ = -1;
     uint64_t pixel_index_ = 0;
     uint32_t sample_index_ = 0;
-    mutable KeptPerPixel<uint32_t, 64> pixel_digits_;
+    mutable KeptPerPixel<std::pair<Vec2i, int>, uint32_t, 64> pixel_digits_;  // for the cell and the scale
 };
 
 CANDELA_REGISTER(SobolSampler, ObjectKind::Sampler, "sobol");

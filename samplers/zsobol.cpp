@@ -84,14 +84,7 @@ protected:
         const uint64_t pixel_morton = morton_2d(uint32_t(cell.x), uint32_t(cell.y));
         morton_index_ = (pixel_morton << log2_spp_) | index;
         // What the kept pixel parts depend on: a change to any of them makes them stale.
-        const PixelPartKey key{pixel_morton, seed_, log2_spp_, log2_resolution_};
-        if (!(key == pixel_part_key_)) {
-            // The recent pixel digits' permutations depend on the seed and the count, not the pixel.
-            if (key.seed != pixel_part_key_.seed || key.log2_spp != pixel_part_key_.log2_spp)
-                for (auto& levels : recent_permutations_) levels.fill(RecentPermutation{});
-            pixel_part_key_ = key;
-            pixel_parts_.forget();
-        }
+        pixel_parts_.keep_for({pixel_morton, seed_, log2_spp_, log2_resolution_});
     }
 
 private:
@@ -145,8 +138,11 @@ private:
     // row by row and neighbours share their higher digits, so a new pixel's part rehashes about
     // two digits in place of log2 of the resolution (the parts are computed once per pixel and
     // pass: 7 passes at 64 spp).
+    // Each is kept with the exact input of its hash (digit_permutation), so that it is valid
+    // whatever changed since (pixel, seed, sample count): nothing has to clear them.
     struct RecentPermutation {
-        uint64_t higher = ~uint64_t(0);  // none: Morton digits above a digit are below 2^62
+        uint64_t hashed = ~uint64_t(0);  // none: the digits above a digit are below 2^62, i below 64
+        uint64_t mixed_salt = 0;
         uint32_t permutation = 0;
     };
     static constexpr int RecentLevels = 16;
@@ -178,7 +174,7 @@ private:
     // Base-4 digits [lowest, end) of the Morton index, each permuted by a hash of the digits
     // above it and of `mixed_salt` (PixelPart), in place. With `recent` (the pixel digits of a
     // dimension below 64: recent_permutations_), digit lowest + k reuses entry k's permutation
-    // while the digits above it are those it was hashed for (k below RecentLevels).
+    // while its hash's input and salt are those it was computed from (k below RecentLevels).
     uint64_t permuted_digits(uint64_t mixed_salt, int lowest, int end, RecentPermutation* recent = nullptr) const {
         uint64_t index = 0;
         for (int i = end - 1; i >= lowest; --i) {
@@ -187,18 +183,19 @@ private:
                 continue;
             }
             RecentPermutation& kept = recent[i - lowest];
-            const uint64_t higher = morton_index_ >> (digit_shift(i) + 2);
-            if (kept.higher != higher) kept = RecentPermutation{higher, digit_permutation(i, mixed_salt)};
+            const uint64_t hashed = permutation_input(i);
+            if (kept.hashed != hashed || kept.mixed_salt != mixed_salt)
+                kept = RecentPermutation{hashed, mixed_salt, digit_permutation(i, mixed_salt)};
             index |= permuted_digit(i, kept.permutation);
         }
         return index;
     }
     // Where base-4 digit i starts: an odd log2(spp) shifts the base-4 digits up one bit.
     int digit_shift(int i) const { return 2 * i - (log2_spp_ & 1); }
-    // Which of the 24 permutations digit i takes: a hash of the digits above it.
+    // Which of the 24 permutations digit i takes: a hash of the digits above it (and of i).
+    uint64_t permutation_input(int i) const { return (morton_index_ >> (digit_shift(i) + 2)) ^ (uint64_t(i) << 56); }
     uint32_t digit_permutation(int i, uint64_t mixed_salt) const {
-        uint64_t higher = morton_index_ >> (digit_shift(i) + 2);
-        return uint32_t(hash_combine_mixed(higher ^ (uint64_t(i) << 56), mixed_salt) >> 32) % 24;
+        return uint32_t(hash_combine_mixed(permutation_input(i), mixed_salt) >> 32) % 24;
     }
     // Digit i of the Morton index under permutation p, in place.
     uint64_t permuted_digit(int i, uint32_t p) const {
@@ -209,13 +206,12 @@ private:
 
     struct PixelPartKey {
         uint64_t pixel_morton = 0, seed = 0;
-        int log2_spp = -1, log2_resolution = -1;  // -1: nothing kept yet
+        int log2_spp = 0, log2_resolution = 0;
         bool operator==(const PixelPartKey& o) const {
             return pixel_morton == o.pixel_morton && seed == o.seed && log2_spp == o.log2_spp && log2_resolution == o.log2_resolution;
         }
     };
-    PixelPartKey pixel_part_key_;
-    mutable KeptPerPixel<PixelPart, 64> pixel_parts_;  // dimensions below 64
+    mutable KeptPerPixel<PixelPartKey, PixelPart, 64> pixel_parts_;  // dimensions below 64
     mutable std::array<std::array<RecentPermutation, RecentLevels>, 64> recent_permutations_{};
     int log2_resolution_ = 0;
     uint64_t morton_index_ = 0;
