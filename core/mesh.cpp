@@ -53,11 +53,7 @@ void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
     std::atomic<bool> indices_valid{true};
     if (!triangles_prepared)
         parallel_chunks(triangles_.size(), 1 << 16, [&](size_t begin, size_t end) {
-            const size_t vertices = positions_.size();
-            bool valid = true;
-            for (size_t i = begin; i < end; ++i)
-                valid = valid && triangles_[i].x < vertices && triangles_[i].y < vertices && triangles_[i].z < vertices;
-            if (!valid) indices_valid = false;
+            if (!indices_in_range(begin, end)) indices_valid = false;
         });
     if (!indices_valid) fail_mesh(props, "a face refers to a vertex that does not exist");
     if (!uvs_.empty() && uvs_.size() != positions_.size()) fail_mesh(props, "the uv count differs from the vertex count");
@@ -69,15 +65,9 @@ void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
     }
 
     std::atomic<bool> finite{prepared.finite};
-    const bool identity = to_world_.is_identity();  // the common case: no pass to transform
     if (!prepared.positions)
         parallel_chunks(positions_.size(), 1 << 16, [&](size_t begin, size_t end) {
-            bool chunk_finite = true;
-            for (size_t i = begin; i < end; ++i) {
-                if (!identity) positions_[i] = to_world_.apply_point(positions_[i]);
-                chunk_finite = chunk_finite && all_finite(positions_[i]);
-            }
-            if (!chunk_finite) finite = false;
+            if (!positions_to_world(begin, end, nullptr)) finite = false;
         });
     if (!finite) fail_mesh(props, "a vertex is not a finite number");
     for (const Vec2& uv : uvs_)
@@ -107,8 +97,7 @@ void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
     if (triangles_prepared) {
         if (triangles_.size() % AreaChunk != 0) prepared.chunk_areas.push_back(prepared.open_chunk_area);
         chunk_areas = std::move(prepared.chunk_areas);
-    }
-    if (!triangles_prepared)
+    } else {
         parallel_for(chunk_areas.size(), [&](size_t c) {
             double sum = 0.0;
             for (size_t i = c * AreaChunk; i < std::min(triangles_.size(), (c + 1) * AreaChunk); ++i) {
@@ -121,6 +110,7 @@ void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
             }
             chunk_areas[c] = sum;
         });
+    }
     if (any_degenerate) {
         chunk_areas.clear();
         size_t kept = 0;
@@ -154,14 +144,14 @@ void Mesh::update_derived(bool recompute_normals, const std::vector<double>* kno
     if (positions_.capacity() == positions_.size()) positions_.reserve(positions_.size() + 1);
     // The bounds of fixed chunks, then of them (the same box whatever the thread count).
     const size_t vertex_chunk = size_t(1) << 16;
-    std::vector<BoundingBox> boxes(known_bounds ? 1 : (positions_.size() + vertex_chunk - 1) / vertex_chunk);
-    if (known_bounds) boxes[0] = *known_bounds;
-    if (!known_bounds)
+    bbox_ = known_bounds ? *known_bounds : BoundingBox();
+    if (!known_bounds) {
+        std::vector<BoundingBox> boxes((positions_.size() + vertex_chunk - 1) / vertex_chunk);
         parallel_for(boxes.size(), [&](size_t c) {
             for (size_t i = c * vertex_chunk; i < std::min(positions_.size(), (c + 1) * vertex_chunk); ++i) boxes[c].expand(positions_[i]);
         });
-    bbox_ = BoundingBox();
-    for (const BoundingBox& b : boxes) bbox_.expand(b);
+        for (const BoundingBox& b : boxes) bbox_.expand(b);
+    }
     // The total area in double, summed over fixed chunks in order: the same whatever the thread
     // count. The per-triangle areas are kept only for an emitter's area table (below).
     const size_t chunks = (triangles_.size() + AreaChunk - 1) / AreaChunk;
@@ -379,17 +369,30 @@ void Mesh::prepare_normal_sums() {
     prepared_.normals = true;
 }
 
-bool Mesh::prepare_positions() {
-    // As finalize()'s pass does it, on this thread; the bounds as update_derived() takes them
-    // (a box's expansion gives the same box in any order).
-    const bool identity = to_world_.is_identity();
+bool Mesh::indices_in_range(size_t begin, size_t end) const {
+    const size_t vertices = positions_.size();
+    bool valid = true;
+    for (size_t i = begin; i < end; ++i)
+        valid = valid && triangles_[i].x < vertices && triangles_[i].y < vertices && triangles_[i].z < vertices;
+    return valid;
+}
+
+bool Mesh::positions_to_world(size_t begin, size_t end, BoundingBox* bounds) {
+    const bool identity = to_world_.is_identity();  // the common case: nothing to transform
     bool finite = true;
-    BoundingBox bounds;
-    for (Vec3& p : positions_) {
-        if (!identity) p = to_world_.apply_point(p);
-        finite = finite && all_finite(p);
-        bounds.expand(p);
+    for (size_t i = begin; i < end; ++i) {
+        if (!identity) positions_[i] = to_world_.apply_point(positions_[i]);
+        finite = finite && all_finite(positions_[i]);
+        if (bounds) bounds->expand(positions_[i]);
     }
+    return finite;
+}
+
+bool Mesh::prepare_positions() {
+    // As finalize()'s pass does it, on this thread, with the bounds as update_derived() takes
+    // them (a box's expansion gives the same box in any order).
+    BoundingBox bounds;
+    const bool finite = positions_to_world(0, positions_.size(), &bounds);
     prepared_.positions = true;
     prepared_.finite = finite;
     prepared_.bounds = bounds;
@@ -400,7 +403,6 @@ bool Mesh::prepare_triangles(size_t first, size_t last) {
     if (!prepared_.positions || first != prepared_.triangles || last > triangles_.size() || first > last)
         throw std::logic_error("prepare_triangles: consecutive ranges from the first, after prepare_positions");
     if (!prepared_.finite) return false;
-    const size_t vertices = positions_.size();
     // A batch at a time: its indices checked, its areas summed in finalize()'s order (each chunk
     // of AreaChunk triangles in double, from its first), the triangles finalize() keeps (a
     // positive finite area) gathered, their smooth normals' terms computed and added in order.
@@ -409,10 +411,7 @@ bool Mesh::prepare_triangles(size_t first, size_t last) {
     Vec3 corners[3 * Batch];
     for (size_t begin = first; begin < last; begin += Batch) {
         const size_t end = std::min(last, begin + Batch);
-        bool valid = true;
-        for (size_t i = begin; i < end; ++i)
-            valid = valid && triangles_[i].x < vertices && triangles_[i].y < vertices && triangles_[i].z < vertices;
-        if (!valid) return false;
+        if (!indices_in_range(begin, end)) return false;
         size_t count = 0;
         for (size_t i = begin; i < end; ++i) {
             const float a = triangle_area(triangles_[i]);

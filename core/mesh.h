@@ -127,6 +127,11 @@ private:
     // the vertices in order, and the normalization of the sums.
     void add_corner_terms(const glm::uvec3* triangles, size_t count, const Vec3* corners);
     void normalize_vertex_normals();
+    // finalize()'s and the preparation's shared steps over [begin, end): whether the triangles'
+    // indices name existing vertices; the positions moved to world space, whether all are finite
+    // (expanding `bounds` when given).
+    bool indices_in_range(size_t begin, size_t end) const;
+    bool positions_to_world(size_t begin, size_t end, BoundingBox* bounds);
     // What prepare_positions() and prepare_triangles() have done, until finalize() takes it.
     struct Prepared {
         bool positions = false;           // in world space
