@@ -34,7 +34,7 @@ public:
         uint32_t i = point(dimension_);
         dimension_ += 2;
         uint32_t x = reverse_bits(i) ^ scramble_x_;
-        uint32_t y = sobol_bits(i, 1) ^ scramble_y_;
+        uint32_t y = sobol_dimension1(i) ^ scramble_y_;
         return Vec2(bits_to_unit(x), bits_to_unit(y));
     }
 

@@ -74,11 +74,13 @@ const uint32_t* sobol_matrix(int dim) { return sobol_matrices()[dim].data(); }
 
 uint32_t sobol_bits(uint64_t index, int dim) {
     if (dim == 0) return reverse_bits(uint32_t(index));  // van der Corput: index bits 32 and up fall below 2^-32
+    if (dim == 1 && index >> 32 == 0) return sobol_dimension1(uint32_t(index));
     return xor_columns(sobol_matrices()[size_t(dim)], index);
 }
 
 uint32_t sobol_bits_reversed(uint64_t index, int dim) {
     if (dim == 0) return uint32_t(index);
+    if (dim == 1 && index >> 32 == 0) return sobol_dimension1_reversed(uint32_t(index));
     return xor_columns(reversed_sobol_matrices()[size_t(dim)], index);
 }
 

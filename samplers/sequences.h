@@ -126,6 +126,45 @@ uint32_t sobol_bits_reversed(uint64_t index, int dim);
 // The generator matrix of dimension `dim`: column j is the contribution of bit j of the index.
 const uint32_t* sobol_matrix(int dim);
 
+// Sobol' dimension 1 for indices below 2^32 by byte tables, in place of a walk over the index's
+// set bits: entry [byte][v] is the XOR of the columns of v's set bits at that byte position, in
+// the usual and in reversed bit order. Built at compile time from the dimension's direction
+// numbers (Joe and Kuo's first polynomial, x + 1: m_1 = 1, m_k = m_{k-1} ^ 2 m_{k-1}; column j
+// is m_{j+1} / 2^{j+1}), so that the inline look-up has no initialisation guard: zsobol draws
+// dimensions 0 and 1 at every draw, ldsampler dimension 1 at every 2D draw.
+struct SobolDimension1Bytes {
+    uint32_t plain[4][256], reversed[4][256];
+};
+constexpr SobolDimension1Bytes make_sobol_dimension1_bytes() {
+    uint32_t columns[32] = {};
+    uint64_t m = 1;
+    for (int j = 0; j < 32; ++j) {
+        if (j > 0) m ^= m << 1;
+        columns[j] = uint32_t(m << (31 - j));
+    }
+    SobolDimension1Bytes t{};
+    for (int byte = 0; byte < 4; ++byte)
+        for (uint32_t v = 0; v < 256; ++v) {
+            uint32_t x = 0;
+            for (int bit = 0; bit < 8; ++bit)
+                if ((v >> bit) & 1u) x ^= columns[8 * byte + bit];
+            uint32_t r = 0;
+            for (int bit = 0; bit < 32; ++bit) r |= ((x >> bit) & 1u) << (31 - bit);
+            t.plain[byte][v] = x;
+            t.reversed[byte][v] = r;
+        }
+    return t;
+}
+inline constexpr SobolDimension1Bytes SobolDimension1 = make_sobol_dimension1_bytes();
+inline uint32_t xor_sobol_bytes(const uint32_t (&table)[4][256], uint32_t index) {
+    uint32_t v = 0;
+    for (int byte = 0; byte < 4 && (index >> (8 * byte)) != 0; ++byte) v ^= table[byte][(index >> (8 * byte)) & 255u];
+    return v;
+}
+// sobol_bits(index, 1) and sobol_bits_reversed(index, 1).
+inline uint32_t sobol_dimension1(uint32_t index) { return xor_sobol_bytes(SobolDimension1.plain, index); }
+inline uint32_t sobol_dimension1_reversed(uint32_t index) { return xor_sobol_bytes(SobolDimension1.reversed, index); }
+
 // One dimension of Joe and Kuo's table: the primitive polynomial's degree and inner
 // coefficients, and the initial direction numbers m_1 ... m_degree.
 struct SobolDirections {

@@ -30,18 +30,6 @@ constexpr uint8_t DigitPermutations[24] = {
     0xE4, 0xB4, 0xD8, 0x78, 0x9C, 0x6C, 0xE1, 0xB1, 0xC9, 0x39, 0x8D, 0x2D,
     0xD2, 0x72, 0xC6, 0x36, 0x4E, 0x1E, 0x93, 0x63, 0x87, 0x27, 0x4B, 0x1B,
 };
-// Sobol' dimension 1 reversed (sobol_bits_reversed) of each byte value at each of the four
-// byte positions of an index below 2^32: one row per byte, XORed, in place of a walk over the
-// index's bits.
-const std::array<std::array<uint32_t, 256>, 4>& dimension1_byte_tables() {
-    static const std::array<std::array<uint32_t, 256>, 4> tables = [] {
-        std::array<std::array<uint32_t, 256>, 4> t{};
-        for (int byte = 0; byte < 4; ++byte)
-            for (uint32_t v = 0; v < 256; ++v) t[size_t(byte)][v] = sobol_bits_reversed(uint64_t(v) << (8 * byte), 1);
-        return t;
-    }();
-    return tables;
-}
 }  // namespace
 
 class ZSobolSampler final : public SobolSamplerBase {
@@ -114,23 +102,9 @@ private:
         // The top sample digit's permutation hashes only the pixel's digits above it: kept too.
         if (first_pixel_digit > (binary_last ? 1 : 0)) sample |= permuted_digit(first_pixel_digit - 1, pixel->top_sample_permutation);
         if (binary_last) sample |= (morton_index_ & 1u) ^ (uint32_t(hash_combine_mixed(morton_index_ >> 1, salt) >> 32) & 1u);
-        // Sample indices are below 2^30.
-        uint32_t sample_reversed[2];
-        reversed_dimensions_0_1(uint32_t(sample), sample_reversed);
-        reversed[0] = pixel->reversed[0] ^ sample_reversed[0];
-        reversed[1] = pixel->reversed[1] ^ sample_reversed[1];
-    }
-
-    // Sobol' dimensions 0 and 1 of an index below 2^32, reversed (sobol_bits_reversed):
-    // dimension 0 is the index's bits themselves, dimension 1 the XOR of a byte table's rows, in
-    // place of a walk over the index's bits.
-    static void reversed_dimensions_0_1(uint32_t index, uint32_t reversed[2]) {
-        const auto& dimension1 = dimension1_byte_tables();
-        uint32_t dimension1_bits = 0;
-        for (int byte = 0; byte < 4 && (index >> (8 * byte)) != 0; ++byte)
-            dimension1_bits ^= dimension1[size_t(byte)][(index >> (8 * byte)) & 255u];
-        reversed[0] = index;
-        reversed[1] = dimension1_bits;
+        // Sample indices are below 2^30. Reversed, dimension 0 is the index's own bits.
+        reversed[0] = pixel->reversed[0] ^ uint32_t(sample);
+        reversed[1] = pixel->reversed[1] ^ sobol_dimension1_reversed(uint32_t(sample));
     }
 
     // The last permutation hashed for each pixel digit (level above the sample digits) of
@@ -155,18 +129,17 @@ private:
         uint32_t top_sample_permutation = 0;
         uint64_t mixed_salt = 0;
     };
-    PixelPart pixel_part(uint32_t dim, int first_pixel_digit) const {
+    // Out of line (GCC, clang): it runs once per pixel, pass and dimension, and inlined it made
+    // sobol_point_reversed, which runs at every draw, too large to inline into next_1d/next_2d
+    // (3% of a render's time).
+    [[gnu::noinline]] PixelPart pixel_part(uint32_t dim, int first_pixel_digit) const {
         const uint64_t salt = mix64((uint64_t(dim) << 32) ^ seed_);
         RecentPermutation* recent = dim < recent_permutations_.size() ? recent_permutations_[dim].data() : nullptr;
         const uint64_t index = permuted_digits(salt, first_pixel_digit, first_pixel_digit + log2_resolution_, recent);
         PixelPart part;
         part.mixed_salt = salt;
-        if (index >> 32 == 0) {
-            reversed_dimensions_0_1(uint32_t(index), part.reversed);
-        } else {
-            part.reversed[0] = sobol_bits_reversed(index, 0);
-            part.reversed[1] = sobol_bits_reversed(index, 1);
-        }
+        part.reversed[0] = sobol_bits_reversed(index, 0);
+        part.reversed[1] = sobol_bits_reversed(index, 1);
         if (first_pixel_digit > (log2_spp_ & 1)) part.top_sample_permutation = digit_permutation(first_pixel_digit - 1, salt);
         return part;
     }

@@ -259,6 +259,22 @@ TEST_CASE("samplers: the reversed Sobol' matrices give the reversed digits", "[s
     }
 }
 
+TEST_CASE("samplers: Sobol' dimension 1 from its byte tables is the generator matrix's XOR", "[sampler]") {
+    // Indices below 2^32 take the byte tables; the matrix's columns of the set bits are the definition.
+    PCG32 rng;
+    std::vector<uint64_t> indices = {0, 1, 255, 256, 65535, 65536, 0xffffffffu, uint64_t(1) << 32, (uint64_t(1) << 32) + 5};
+    for (int k = 0; k < 2000; ++k) indices.push_back(uint64_t(rng.next_uint()) >> (k % 32));
+    const uint32_t* columns = sobol_matrix(1);
+    for (uint64_t index : indices) {
+        uint32_t expected = 0;
+        for (int j = 0; j < 52; ++j)
+            if ((index >> j) & 1u) expected ^= columns[j];
+        INFO(index);
+        REQUIRE(sobol_bits(index, 1) == expected);
+        REQUIRE(sobol_bits_reversed(index, 1) == reverse_bits(expected));
+    }
+}
+
 TEST_CASE("samplers: sobol's samples in a pixel are a (0, m, 2)-net over the pixel, zsobol's in every 2D dimension", "[sampler]") {
     for (int spp : {8, 16, 64}) {
         for (Vec2i pixel : {Vec2i(0, 0), Vec2i(13, 2), Vec2i(19, 30)}) {
