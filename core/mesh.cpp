@@ -29,9 +29,6 @@ void Mesh::check_mesh_memory(uint64_t vertices, uint64_t triangles, uint64_t fil
     check_memory(bytes, "mesh of " + std::to_string(vertices) + " vertices and " + std::to_string(triangles) + " triangles", where);
 }
 namespace {
-// Triangles per chunk of the area sums: fixed, so that the sums are the same whatever the thread
-// count (finalize() and update_derived() must chunk alike).
-constexpr size_t AreaChunk = size_t(1) << 16;
 
 // Errors in a mesh's data name the mesh file (at the filename property's line) when there is one.
 [[noreturn]] void fail_mesh(const Properties& props, const std::string& message) {
@@ -44,16 +41,19 @@ void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
     // Large meshes (10^7 triangles) spend seconds here when done on one core: the per-vertex
     // and per-triangle passes run in parallel chunks, each writing only its own elements, so the
     // results are the same whatever the thread count. What a reader prepared ahead is not done
-    // again; a preparation that stopped short (at an error) is done here in full.
+    // again: a preparation that stopped at the end of an area chunk is continued, one that
+    // stopped elsewhere (at an error) is done here in full.
     Prepared prepared = std::move(prepared_);
     prepared_ = Prepared();
-    const bool triangles_prepared = prepared.positions && prepared.triangles == triangles_.size();
-    const bool normals_summed = prepared.normals && triangles_prepared;
-    if (prepared.normals && !normals_summed) normals_.clear();
+    // The triangles [0, done) were prepared: all of them, or (a reader that handed the rest over
+    // when its data ended) a whole number of area chunks, which the passes below continue.
+    const size_t done =
+        prepared.positions && (prepared.triangles == triangles_.size() || prepared.triangles % AreaChunk == 0) ? prepared.triangles : 0;
+    const bool triangles_prepared = done == triangles_.size() && prepared.positions;
     std::atomic<bool> indices_valid{true};
     if (!triangles_prepared)
-        parallel_chunks(triangles_.size(), 1 << 16, [&](size_t begin, size_t end) {
-            if (!indices_in_range(begin, end)) indices_valid = false;
+        parallel_chunks(triangles_.size() - done, 1 << 16, [&](size_t begin, size_t end) {
+            if (!indices_in_range(done + begin, done + end)) indices_valid = false;
         });
     if (!indices_valid) fail_mesh(props, "a face refers to a vertex that does not exist");
     if (!uvs_.empty() && uvs_.size() != positions_.size()) fail_mesh(props, "the uv count differs from the vertex count");
@@ -72,7 +72,7 @@ void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
     if (!finite) fail_mesh(props, "a vertex is not a finite number");
     for (const Vec2& uv : uvs_)
         if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) fail_mesh(props, "a texture coordinate is not a finite number");
-    const size_t file_normals = normals_summed ? 0 : normals_.size();
+    const size_t file_normals = prepared.normals ? 0 : normals_.size();
     for (size_t i = 0; i < file_normals; ++i)
         if (!all_finite(normals_[i])) fail_mesh(props, "a normal is not a finite number");
     parallel_chunks(file_normals, 1 << 16, [&](size_t begin, size_t end) {
@@ -92,13 +92,16 @@ void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
         const float a = triangle_area(triangles_[i]);
         return !(a > 0.0f && std::isfinite(a));
     };
-    std::atomic<bool> any_degenerate{prepared.degenerate};
+    std::atomic<bool> any_degenerate{done > 0 && prepared.degenerate};
     std::vector<double> chunk_areas((triangles_.size() + AreaChunk - 1) / AreaChunk);
     if (triangles_prepared) {
         if (triangles_.size() % AreaChunk != 0) prepared.chunk_areas.push_back(prepared.open_chunk_area);
         chunk_areas = std::move(prepared.chunk_areas);
     } else {
-        parallel_for(chunk_areas.size(), [&](size_t c) {
+        const size_t first_chunk = done / AreaChunk;
+        std::copy_n(prepared.chunk_areas.begin(), first_chunk, chunk_areas.begin());
+        parallel_for(chunk_areas.size() - first_chunk, [&](size_t item) {
+            const size_t c = first_chunk + item;
             double sum = 0.0;
             for (size_t i = c * AreaChunk; i < std::min(triangles_.size(), (c + 1) * AreaChunk); ++i) {
                 const float a = triangle_area(triangles_[i]);
@@ -132,7 +135,17 @@ void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
         for (MeshAttribute& attr : attributes_)
             if (attr.per_face) attr.values.resize(kept * size_t(attr.channels));
     }
-    if (normals_summed) normalize_vertex_normals();
+    // Smooth normals summed ahead for [0, done): the rest of the triangles' terms added in order,
+    // then normalized. Sums of a preparation that is not continued, or whose later triangles
+    // have moved in a compaction, are dropped, and update_derived() computes them afresh.
+    if (prepared.normals) {
+        if (prepared.triangles != done || (any_degenerate && !triangles_prepared)) {
+            normals_.clear();
+        } else {
+            if (!triangles_prepared) add_vertex_normal_terms(done);
+            normalize_vertex_normals();
+        }
+    }
     update_derived(normals_.empty() && smooth_if_missing, chunk_areas.empty() ? nullptr : &chunk_areas,
                    prepared.positions ? &prepared.bounds : nullptr);
 }
@@ -338,29 +351,34 @@ void Mesh::recompute_vertex_normals() {
     populate_pages_in_parallel(normals_.data(), normals_.size() * sizeof(Vec3), true);
     parallel_chunks(normals_.size(), 1 << 16,
                     [&](size_t begin, size_t end) { std::fill(normals_.begin() + begin, normals_.begin() + end, Vec3(0.0f)); });
-    const size_t block = size_t(1) << 18, blocks = (triangles_.size() + block - 1) / block;
+    add_vertex_normal_terms(0);
+    normalize_vertex_normals();
+}
+
+void Mesh::add_vertex_normal_terms(size_t first_triangle) {
+    const size_t total = triangles_.size() - first_triangle;
+    const size_t block = size_t(1) << 18, blocks = (total + block - 1) / block;
     MeshArray<Vec3> corners[2];
     for (auto& c : corners) {
-        c.resize(3 * std::min(block, triangles_.size()));
+        c.resize(3 * std::min(block, total));
         populate_pages_in_parallel(c.data(), c.size() * sizeof(Vec3), true);
     }
+    const glm::uvec3* triangles = triangles_.data() + first_triangle;
     // Step s computes block s's terms in chunks (items 1...) while item 0 adds block s - 1's.
     const size_t chunk = size_t(1) << 12;
     for (size_t step = 0; step <= blocks; ++step) {
-        const size_t first = step * block, count = step < blocks ? std::min(block, triangles_.size() - first) : 0;
+        const size_t first = step * block, count = step < blocks ? std::min(block, total - first) : 0;
         parallel_for(1 + (count + chunk - 1) / chunk, [&](size_t item) {
             if (item == 0) {
                 if (step > 0)
-                    add_corner_terms(&triangles_[first - block], std::min(block, triangles_.size() - (first - block)),
-                                     corners[(step - 1) % 2].data());
+                    add_corner_terms(triangles + (first - block), std::min(block, total - (first - block)), corners[(step - 1) % 2].data());
                 return;
             }
             const size_t begin = (item - 1) * chunk;
-            normal_corner_terms(positions_.data(), &triangles_[first + begin], std::min(count, begin + chunk) - begin,
+            normal_corner_terms(positions_.data(), triangles + first + begin, std::min(count, begin + chunk) - begin,
                                 &corners[step % 2][3 * begin]);
         });
     }
-    normalize_vertex_normals();
 }
 
 void Mesh::prepare_normal_sums() {

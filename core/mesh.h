@@ -84,6 +84,10 @@ protected:
     void update_derived(bool recompute_normals, const std::vector<double>* known_chunk_areas = nullptr,
                         const BoundingBox* known_bounds = nullptr);
     void recompute_vertex_normals();
+    // Triangles per chunk of the area sums: fixed, so that the sums are the same whatever the
+    // thread count (finalize() and update_derived() chunk alike, and a reader's preparation
+    // hands the rest over at a chunk's end).
+    static constexpr size_t AreaChunk = size_t(1) << 16;
     // finalize()'s passes done ahead, while the data still arrives, by a reader that reads on one
     // thread and has another to spare (serialized: one zlib stream). prepare_normal_sums(), for
     // a mesh that gets smooth normals, zeroes their sums (once positions_ is sized). Once every
@@ -126,6 +130,10 @@ private:
     // The smooth normals' pieces (the corners' terms are computed in mesh.cpp): their addition to
     // the vertices in order, and the normalization of the sums.
     void add_corner_terms(const glm::uvec3* triangles, size_t count, const Vec3* corners);
+    // Adds the corner terms of triangles [first_triangle, end) to normals_ in triangle order, the
+    // terms computed in parallel (recompute_vertex_normals from 0 on zeroed sums, finalize() after
+    // a partial preparation).
+    void add_vertex_normal_terms(size_t first_triangle);
     void normalize_vertex_normals();
     // finalize()'s and the preparation's shared steps over [begin, end): whether the triangles'
     // indices name existing vertices; the positions moved to world space, whether all are finite

@@ -88,6 +88,27 @@ void write_grid_ply(const Grid& g, const std::filesystem::path& path, const std:
     }
 }
 
+// A wavy n x n grid of vertices, two triangles per cell; with `repeat_every`, also a triangle with
+// a repeated corner (degenerate) after each cell whose index is a multiple of it, counted in
+// `repeated`.
+TestMesh wavy_grid(int n, int repeat_every = 0, size_t* repeated = nullptr) {
+    TestMesh m;
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i)
+            m.positions.emplace_back(0.01f * float(i), 0.01f * float(j), 0.05f * std::sin(0.3f * float(i)) * std::cos(0.2f * float(j)));
+    for (int j = 0; j + 1 < n; ++j)
+        for (int i = 0; i + 1 < n; ++i) {
+            unsigned a = unsigned(j * n + i), b = a + 1, c = a + unsigned(n), d = c + 1;
+            m.triangles.push_back({a, b, d});
+            m.triangles.push_back({a, d, c});
+            if (repeat_every > 0 && (j * n + i) % repeat_every == 0) {
+                m.triangles.push_back({a, a, d});
+                ++*repeated;
+            }
+        }
+    return m;
+}
+
 }  // namespace
 
 TEST_CASE("ply: large binary files, read a buffer of records at a time, give the same mesh as ascii", "[mesh]") {
@@ -165,21 +186,8 @@ TEST_CASE("serialized: a large mesh equals the same mesh read from a PLY, its sm
     // positions first, in single and double precision, on all threads and on one (the reader
     // inflates on one thread while a thread of its own follows: serialized.cpp's Follower).
     const int n = 320;
-    TestMesh m;
     size_t repeated = 0;
-    for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i)
-            m.positions.emplace_back(0.01f * float(i), 0.01f * float(j), 0.05f * std::sin(0.3f * float(i)) * std::cos(0.2f * float(j)));
-    for (int j = 0; j + 1 < n; ++j)
-        for (int i = 0; i + 1 < n; ++i) {
-            unsigned a = unsigned(j * n + i), b = a + 1, c = a + unsigned(n), d = c + 1;
-            m.triangles.push_back({a, b, d});
-            m.triangles.push_back({a, d, c});
-            if ((j * n + i) % 1009 == 0) {
-                m.triangles.push_back({a, a, d});  // a repeated corner
-                ++repeated;
-            }
-        }
+    TestMesh m = wavy_grid(n, 1009, &repeated);
     m.positions.emplace_back(-1.0f, -1.0f, 0.0f);  // three collinear vertices
     m.positions.emplace_back(-2.0f, -2.0f, 0.0f);
     m.positions.emplace_back(-3.0f, -3.0f, 0.0f);
@@ -318,5 +326,60 @@ TEST_CASE("mesh: a flat mesh too large to cache its triangle frames gives every 
         CHECK(large.shading.n == small.shading.n);
         CHECK(large.shading.s == small.shading.s);
         CHECK(large.shading.t == small.shading.t);
+    }
+}
+
+namespace {
+
+// A mesh made in memory whose finalize() finds the first `prepared` triangles prepared (the
+// serialized reader's follower hands the rest over at the end of an area chunk, or stops short
+// at an error), or nothing prepared (npos).
+class PartlyPreparedMesh : public Mesh {
+public:
+    static constexpr size_t npos = ~size_t(0);
+    static constexpr size_t Chunk = AreaChunk;
+    PartlyPreparedMesh(const Properties& props, const TestMesh& m, size_t prepared) : Mesh(props) {
+        positions_.assign(m.positions.begin(), m.positions.end());
+        triangles_.assign(m.triangles.begin(), m.triangles.end());
+        if (prepared != npos) {
+            prepare_normal_sums();
+            REQUIRE(prepare_positions());
+            REQUIRE(prepare_triangles(0, prepared));
+        }
+        finalize(props, true);
+    }
+};
+
+}  // namespace
+
+TEST_CASE("mesh: a preparation handed over at an area chunk's end is continued, bit for bit", "[mesh][serialized]") {
+    // A wavy 300 x 300 grid (179,402 triangles: two whole area chunks and part of a third).
+    // However much a reader prepared ahead, finalize() must give the mesh it gives from nothing:
+    // continued from a whole chunk (0, 1 or 2 of them, all), or done afresh after a stop
+    // elsewhere; with degenerate triangles in the prepared part or after it (all normals then
+    // summed again after the compaction).
+    TestMesh m = wavy_grid(300);
+    const size_t chunk = PartlyPreparedMesh::Chunk;
+    REQUIRE(m.triangles.size() > 2 * chunk);
+    REQUIRE(m.triangles.size() < 3 * chunk);
+    Properties props("test", SourceLocation{});
+    props.set_transform("to_world", Transform::rotate(Vec3(1.0f, 2.0f, 0.5f), 33.0f));
+
+    TestMesh degenerate_early = m, degenerate_late = m;
+    degenerate_early.triangles[100] = {5, 5, 6};
+    degenerate_late.triangles[2 * chunk + 100] = {7, 7, 8};
+    for (const TestMesh* grid : {&m, &degenerate_early, &degenerate_late}) {
+        const PartlyPreparedMesh fresh(props, *grid, PartlyPreparedMesh::npos);
+        REQUIRE(fresh.normals().size() == grid->positions.size());
+        for (size_t prepared : {size_t(0), chunk, 2 * chunk, grid->triangles.size(), chunk + 1024, size_t(5000)}) {
+            INFO("prepared " << prepared << ", degenerate " << (grid == &m ? "none" : grid == &degenerate_early ? "early" : "late"));
+            const PartlyPreparedMesh mesh(props, *grid, prepared);
+            CHECK(mesh.positions() == fresh.positions());
+            CHECK(mesh.triangles() == fresh.triangles());
+            CHECK(mesh.normals() == fresh.normals());
+            CHECK(mesh.surface_area() == fresh.surface_area());
+            CHECK(mesh.bbox().min == fresh.bbox().min);
+            CHECK(mesh.bbox().max == fresh.bbox().max);
+        }
     }
 }
