@@ -65,7 +65,7 @@ std::string exr_header_problem(const std::string& path) {
         }
         return false;
     };
-    for (int header = 0;; ++header) {
+    for (;;) {
         for (;;) {
             std::string name, type;
             if (!read_name(name)) return "";

@@ -84,8 +84,9 @@ inline uint32_t permute_index(uint32_t i, const Divisor& n, uint32_t seed) {
     return n.remainder(i + seed);
 }
 
-inline uint32_t reverse_bits(uint32_t v) {
-    // Inline: every Sobol and Owen-scrambled draw reverses bits once or twice.
+constexpr uint32_t reverse_bits(uint32_t v) {
+    // Inline: every Sobol and Owen-scrambled draw reverses bits once or twice. (constexpr: the
+    // byte tables of Sobol' dimension 1 below are built at compile time.)
     v = __builtin_bswap32(v);
     v = ((v & 0x0f0f0f0fu) << 4) | ((v & 0xf0f0f0f0u) >> 4);
     v = ((v & 0x33333333u) << 2) | ((v & 0xccccccccu) >> 2);
@@ -148,10 +149,8 @@ constexpr SobolDimension1Bytes make_sobol_dimension1_bytes() {
             uint32_t x = 0;
             for (int bit = 0; bit < 8; ++bit)
                 if ((v >> bit) & 1u) x ^= columns[8 * byte + bit];
-            uint32_t r = 0;
-            for (int bit = 0; bit < 32; ++bit) r |= ((x >> bit) & 1u) << (31 - bit);
             t.plain[byte][v] = x;
-            t.reversed[byte][v] = r;
+            t.reversed[byte][v] = reverse_bits(x);
         }
     return t;
 }
