@@ -51,7 +51,7 @@ void Mesh::finalize(const Properties& props, bool smooth_if_missing) {
         prepared.positions && (prepared.triangles == triangles_.size() || prepared.triangles % AreaChunk == 0) ? prepared.triangles : 0;
     const bool triangles_prepared = done == triangles_.size() && prepared.positions;
     std::atomic<bool> indices_valid{true};
-    if (!triangles_prepared)
+    if (!triangles_prepared && !prepared.indices_checked)
         parallel_chunks(triangles_.size() - done, 1 << 16, [&](size_t begin, size_t end) {
             if (!indices_in_range(done + begin, done + end)) indices_valid = false;
         });

@@ -101,6 +101,9 @@ protected:
     void prepare_normal_sums();
     bool prepare_positions();
     bool prepare_triangles(size_t first, size_t last);
+    // The reader has checked every triangle's indices itself (serialized, whose message names
+    // the index): finalize() does not check those it did not prepare again.
+    void indices_checked_by_reader() { prepared_.indices_checked = true; }
     float triangle_area(const glm::uvec3& t) const {
         return 0.5f * glm::length(glm::cross(positions_[t.y] - positions_[t.x], positions_[t.z] - positions_[t.x]));
     }
@@ -146,6 +149,7 @@ private:
         bool finite = true;               // ... and all of them finite
         BoundingBox bounds;               // ... and their bounds
         size_t triangles = 0;             // the first `triangles` have valid indices, their areas summed
+        bool indices_checked = false;     // every triangle's indices are valid (the reader checked them)
         bool degenerate = false;          // one of them has no positive finite area
         bool normals = false;             // normals_ holds their smooth normals' sums (not normalized)
         std::vector<double> chunk_areas;  // area sums of their complete chunks of AreaChunk

@@ -438,7 +438,8 @@ private:
         const size_t checked = follower.finish();
         // One byte more than declared shows a stream that holds more than its header says.
         if (!in.ends_here()) throw SerializedError("the compressed data holds more than its header declares");
-        // The other indices, checked in parallel (each chunk its largest).
+        // The other indices, checked in parallel (each chunk its largest), here rather than in
+        // finalize() so that the message names the index.
         std::atomic<uint64_t> largest{0};
         if (checked < triangles_.size())
             parallel_chunks(triangles_.size() - checked, 1 << 16, [&](size_t begin, size_t end) {
@@ -451,6 +452,7 @@ private:
         if (!triangles_.empty() && largest.load() >= vertex_count)
             throw SerializedError("a triangle refers to vertex " + std::to_string(largest.load()) + " of " + std::to_string(vertex_count));
         if (triangles_.empty()) throw SerializedError("the mesh has no triangles");
+        indices_checked_by_reader();
     }
 };
 
