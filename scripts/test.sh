@@ -55,12 +55,16 @@ release() {
 }
 
 # Run in the release stage only: the whole-scene verification against references with fixed
-# tolerances (and the error trends that come with them), which needs its full sample counts while
-# the sanitizers see the same code in smaller tests ("light paths:" runs sppm and photonmapper with
-# 1 and 2 threads, "radiosity: bit-identical" the solver and its final gather); and the real-Slurm
-# farm test, which drives the candela program through sbatch while the sanitizers see the
-# program's farm code in the "farm cli:" tests.
-release_only='^(validate|converge|sppm: agrees|photonmapper: the Cornell box|radiosity: the Cornell box agrees|radiosity: the smooth display)|^farm\.slurm$'
+# tolerances (and the error trends that come with them), and the agreements between estimators
+# with a stated power (the spectral and polarized light tracers against path, radiosity in
+# scalar_spectral against path, the raster mode's physical settings against path), which need
+# their full sample counts while the sanitizers see the same code in smaller tests ("light paths:"
+# runs sppm and photonmapper with 1 and 2 threads, "radiosity: bit-identical" the solver and its
+# final gather, "every integrator renders with every sampler in the spectral variants" each
+# integrator in scalar_spectral and scalar_spectral_polarized, "raster: " and "rasterizer: " the
+# raster mode); and the real-Slurm farm test, which drives the candela program through sbatch
+# while the sanitizers see the program's farm code in the "farm cli:" tests.
+release_only='^(validate|converge|sppm: agrees|photonmapper: the Cornell box|radiosity: the Cornell box agrees|radiosity: the smooth display|radiosity: in scalar_spectral the Cornell box agrees|spectral: (photonmapper agrees|photonmapper.s binned|ptracer.s and sppm.s)|polarized: ptracer.s light paths|raster: physical settings)|^farm\.slurm$'
 
 asan() {
     CXX=clang++ cmake -S . -B build-asan -DCANDELA_FUZZ=ON -DBUILD_TESTING=ON "$tables"

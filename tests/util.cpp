@@ -14,14 +14,16 @@
 
 namespace candela::test {
 
-int effort_scaled(int samples, int minimum) {
+double test_effort() {
     const char* text = std::getenv("CANDELA_TEST_EFFORT");
-    if (!text || !*text) return samples;
+    if (!text || !*text) return 1.0;
     char* end = nullptr;
     double effort = std::strtod(text, &end);
     if (*end || !(effort > 0.0 && effort <= 1.0)) throw std::invalid_argument("CANDELA_TEST_EFFORT must be a number in (0, 1]");
-    return std::max(minimum, int(samples * effort));
+    return effort;
 }
+
+int effort_scaled(int samples, int minimum) { return std::max(minimum, int(samples * test_effort())); }
 
 std::filesystem::path scratch_dir(const std::string& name) {
     // Per process: ctest runs test cases in parallel processes.

@@ -29,9 +29,10 @@ std::string read_text(const std::filesystem::path& path);
 // Loads a scene file with `params` and renders it with its own integrator.
 RenderResult render_file(const std::string& scene_path, const SceneParameters& params, int threads = 0, std::vector<std::string> aovs = {});
 
-// A statistical test's sample count scaled by CANDELA_TEST_EFFORT (a number in (0, 1], default
-// 1), never below `minimum`. The sanitizer run of scripts/test.sh sets it to run the long
-// statistical tests at reduced size. Their significance stays as stated: thresholds come from
+// CANDELA_TEST_EFFORT: a number in (0, 1], default 1. The sanitizer runs of scripts/test.sh set
+// it to run the long tests at reduced size.
+double test_effort();
+// A statistical test's sample count scaled by test_effort(), never below `minimum`. Their significance stays as stated: thresholds come from
 // the estimator's own variance and the Sidak correction, which hold at any sample count; what a
 // smaller count loses is power (larger errors go unseen), not honesty. Tests that assert a power
 // or a fixed tolerance must not use it.
