@@ -13,7 +13,7 @@
 #                fixed tolerances need) and the real-Slurm farm left to the release stage
 #                (release_only);
 #   4. tsan      clang build with ThreadSanitizer: the tests of the parallel paths (parallel_paths
-#                below);
+#                below) but those left to the release stage (release_only);
 #   5. fuzz      every libFuzzer target for FUZZ_SECONDS (default 45) each, two at a time.
 # A sanitizer report fails the test that caused it (every finding is fatal: core/
 # sanitizer_options.cpp). All five run by default, as CI runs them; STAGES selects some
@@ -78,13 +78,13 @@ asan() {
 # reader's follower thread and PLY's parallel parse ("serialized: a large mesh" reads both), the light
 # tree's build and its use by the render threads, the photon passes of sppm and photonmapper and
 # ptracer's splats ("light paths:" renders them with 1 and 2 threads), the radiosity solver, and
-# the estimators of `candela estimate`. Check a change with: ctest --test-dir build -N -R "$parallel_paths".
+# the estimators of `candela estimate`. Check a change with: ctest --test-dir build -N -R "$parallel_paths" -E "$release_only".
 parallel_paths='^(determinism|obj: |serialized: a large mesh equals|film: a crop|render: AOVs|cli: render|cli: Ctrl-C|cli: estimate|raster: |rasterizer: |raster AO: deterministic|raster IBL: |light tree|light samplers|light paths: |radiosity: bit-identical|radiosity and ao: |ao: bit-identical|furnace: |example scenes|scenes/shapes|null transport)'
 
 tsan() {
     CXX=clang++ cmake -S . -B build-tsan -DCANDELA_SANITIZE=thread -DBUILD_TESTING=ON "$tables"
     cmake --build build-tsan -j"$jobs" --target candela candela_tests
-    CANDELA_TEST_EFFORT=0.1 ctest --test-dir build-tsan --output-on-failure --timeout 1500 -j"$jobs" -R "$parallel_paths"
+    CANDELA_TEST_EFFORT=0.1 ctest --test-dir build-tsan --output-on-failure --timeout 1500 -j"$jobs" -R "$parallel_paths" -E "$release_only"
 }
 
 fuzz() {
