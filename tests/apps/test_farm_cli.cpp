@@ -162,8 +162,8 @@ std::string wait_for_handler(int signal) {
 TEST_CASE("farm cli: SIGTERM writes a resumable partial render, --resume gives the uninterrupted image, a checkpoint survives kill -9",
           "[farm][cli][interrupt]") {
     auto dir = scratch_dir("farm-cli-resume");
-    // Long enough to be interrupted half a second in: about 1.5 s in a Release build; the
-    // sanitizer builds, several times slower, take fewer samples.
+    // Long enough to be interrupted half a second in: about 1.2 s in a Release build; the
+    // sanitizer builds, several times slower, take a quarter of the samples (2 s under ASan).
     const int spp = effort_scaled(1024, 256);
     const std::string options = "'" + Cbox + "' -D res=32 --spp " + std::to_string(spp) + " --seed 9 --aov variance,albedo --threads 1";
     REQUIRE(run_command(program("render " + options + " -q -o " + q(dir / "reference.exr")), dir / "log.txt") == 0);
