@@ -174,11 +174,23 @@ Marginal2D::Marginal2D(const float* data, int width, int height, std::vector<std
     }
 }
 
-Marginal2D::Blend Marginal2D::blend(const float* params) const {
+Marginal2D::Blend Marginal2D::blend(const float* params) const { return blend_leading(params, params_.size()); }
+
+Marginal2D::Blend Marginal2D::blend_at_node(const float* params, int last_node) const {
+    if (params_.empty() || last_node < 0 || size_t(last_node) >= params_.back().size())
+        throw std::invalid_argument("blend_at_node: no such node of the last parameter");
+    // At a node the last parameter's interpolation weights are exactly 1 and 0, and lookup()
+    // skips the grids of weight 0: the same grids, weights and order as blend() gives.
+    Blend b = blend_leading(params, params_.size() - 1);
+    for (int k = 0; k < b.count; ++k) b.slice[size_t(k)] += param_strides_.back() * size_t(last_node);
+    return b;
+}
+
+Marginal2D::Blend Marginal2D::blend_leading(const float* params, size_t count) const {
     Blend b;
     b.slice[0] = 0;
     b.weight[0] = 1.0f;
-    for (size_t d = 0; d < params_.size(); ++d) {
+    for (size_t d = 0; d < count; ++d) {
         const std::vector<float>& v = params_[d];
         if (v.size() == 1) continue;
         float p = params[d];
@@ -223,14 +235,13 @@ Marginal2D::Patch Marginal2D::patch_at(const Vec2& p, const Blend& b) const {
     return q;
 }
 
-float Marginal2D::eval(const Vec2& p, const float* params) const {
-    Patch q = patch_at(p, blend(params));
+float Marginal2D::eval(const Vec2& p, const Blend& b) const {
+    Patch q = patch_at(p, b);
     float value = (1.0f - q.s) * q.c0 + q.s * q.c1;
     return mode_ == Mode::Distribution ? value * float(width_ - 1) * float(height_ - 1) : value;
 }
 
-Vec2 Marginal2D::sample(Vec2 u, const float* params, float* pdf) const {
-    Blend b = blend(params);
+Vec2 Marginal2D::sample(Vec2 u, const Blend& b, float* pdf) const {
     size_t n = size_t(width_) * size_t(height_), w = size_t(width_);
     u = glm::clamp(u, Vec2(1e-7f), Vec2(0.99999994f));
     // The row: the marginal density is linear between the totals of rows `row` and `row` + 1.
@@ -251,8 +262,7 @@ Vec2 Marginal2D::sample(Vec2 u, const float* params, float* pdf) const {
     return Vec2((float(col) + s) / float(width_ - 1), (float(row) + t) / float(height_ - 1));
 }
 
-Vec2 Marginal2D::invert(Vec2 p, const float* params, float* pdf) const {
-    Blend b = blend(params);
+Vec2 Marginal2D::invert(Vec2 p, const Blend& b, float* pdf) const {
     size_t n = size_t(width_) * size_t(height_), w = size_t(width_);
     Patch q = patch_at(p, b);
     float s = q.s, t = q.t;

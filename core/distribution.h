@@ -77,24 +77,36 @@ public:
     // or non-finite value or integrates to zero.
     Marginal2D(const float* data, int width, int height, std::vector<std::vector<float>> params, Mode mode);
 
-    // The interpolated value at p in [0, 1]^2 (a density in Distribution mode).
-    float eval(const Vec2& p, const float* params = nullptr) const;
-    // Distribution mode: maps u in [0, 1)^2 to a point with density *pdf.
-    Vec2 sample(Vec2 u, const float* params, float* pdf) const;
-    // The inverse of sample(): the u that sample() maps to p, and the density at p.
-    Vec2 invert(Vec2 p, const float* params, float* pdf) const;
-
-    int width() const { return width_; }
-    int height() const { return height_; }
-
-private:
-    // The grids a query blends (2^k for k parameters with more than one value) and their weights.
+    // The grids a query at some parameter values blends (2^k for k parameters with more than one
+    // value) and their weights. It depends on the parameters' values only: Marginal2Ds built with
+    // the same parameter values may share one.
     struct Blend {
         int count = 1;
         std::array<size_t, 1 << MaxParams> slice{};
         std::array<float, 1 << MaxParams> weight{};
     };
     Blend blend(const float* params) const;
+    // The blend at the leading parameters' values `params` with the last parameter at its node
+    // `last_node` exactly (a channel index, say): equal to blend() at that node's value, found
+    // without searching or weighing that parameter.
+    Blend blend_at_node(const float* params, int last_node) const;
+
+    // The interpolated value at p in [0, 1]^2 (a density in Distribution mode).
+    float eval(const Vec2& p, const float* params = nullptr) const { return eval(p, blend(params)); }
+    float eval(const Vec2& p, const Blend& b) const;
+    // Distribution mode: maps u in [0, 1)^2 to a point with density *pdf.
+    Vec2 sample(Vec2 u, const float* params, float* pdf) const { return sample(u, blend(params), pdf); }
+    Vec2 sample(Vec2 u, const Blend& b, float* pdf) const;
+    // The inverse of sample(): the u that sample() maps to p, and the density at p.
+    Vec2 invert(Vec2 p, const float* params, float* pdf) const { return invert(p, blend(params), pdf); }
+    Vec2 invert(Vec2 p, const Blend& b, float* pdf) const;
+
+    int width() const { return width_; }
+    int height() const { return height_; }
+
+private:
+    // blend() of the first `count` parameters.
+    Blend blend_leading(const float* params, size_t count) const;
     // Element i of every blended grid of `array` (grids of `stride` elements), weighted.
     static float lookup(const std::vector<float>& array, size_t stride, const Blend& b, size_t i);
     // The values at height t (in [0, 1] between rows `row` and `row` + 1) of columns col, col + 1.

@@ -94,8 +94,9 @@ public:
         Vec3 wi = sym.apply(si.wi);
         Incidence in = incidence(wi);
         float lum_pdf = 1.0f, vndf_pdf = 0.0f;
-        Vec2 s = luminance_.sample(Vec2(u.y, u.x), in.params, &lum_pdf);
-        Vec2 u_m = vndf_.sample(s, in.params, &vndf_pdf);
+        const Marginal2D::Blend slices = vndf_.blend(in.params);  // luminance_'s too (same slice parameters)
+        Vec2 s = luminance_.sample(Vec2(u.y, u.x), slices, &lum_pdf);
+        Vec2 u_m = vndf_.sample(s, slices, &vndf_pdf);
         float theta_m = u_to_theta(u_m.x), phi_m = u_to_phi(u_m.y) + (isotropic_ ? in.phi : 0.0f);
         float sin_theta_m = std::sin(theta_m);
         Vec3 m(std::cos(phi_m) * sin_theta_m, std::sin(phi_m) * sin_theta_m, std::cos(theta_m));
@@ -111,29 +112,24 @@ public:
 
     Spectrum eval(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
         if (!ctx.allows(GlossyReflection) || Frame::cos_theta(si.wi) <= 0.0f || Frame::cos_theta(wo) <= 0.0f) return Spectrum(0.0f);
-        Symmetry sym = symmetry(si.wi);
-        Vec3 wi = sym.apply(si.wi);
-        Incidence in = incidence(wi);
-        Vec2 u_m = half_vector_u(wi, sym.apply(wo), in);
-        float unused;
-        Vec2 s = vndf_.invert(u_m, in.params, &unused);
-        return reflectance(s, u_m, in, si.wavelengths);
+        const Lookup l = lookup(si.wi, wo);
+        return reflectance(l.s, l.u_m, l.in, si.wavelengths);
     }
 
     float pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
         if (!ctx.allows(GlossyReflection) || Frame::cos_theta(si.wi) <= 0.0f || Frame::cos_theta(wo) <= 0.0f) return 0.0f;
-        Symmetry sym = symmetry(si.wi);
-        Vec3 wi = sym.apply(si.wi);
-        Incidence in = incidence(wi);
-        Vec3 m = glm::normalize(wi + sym.apply(wo));
-        Vec2 u_m = half_vector_u(wi, sym.apply(wo), in);
-        float vndf_pdf = 0.0f;
-        Vec2 s = vndf_.invert(u_m, in.params, &vndf_pdf);
-        // sin(theta_m) from m's x and y: Mitsuba's sqrt(1 - cos^2) loses all precision near the
-        // pole (the mirror direction), where it made pdf() several times too large.
-        float sin_theta_m = std::sqrt(m.x * m.x + m.y * m.y);
-        float pdf = vndf_pdf * luminance_.eval(s, in.params) / jacobian(u_m.x, sin_theta_m, glm::dot(wi, m));
-        return pdf > 0.0f && std::isfinite(pdf) ? pdf : 0.0f;
+        return pdf_of(lookup(si.wi, wo));
+    }
+
+    // One lookup (the incidence's angles and the warp's inversion) for both: sample() and
+    // next-event estimation need the two together.
+    BSDFEvalPdf eval_pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
+        BSDFEvalPdf result;
+        if (!ctx.allows(GlossyReflection) || Frame::cos_theta(si.wi) <= 0.0f || Frame::cos_theta(wo) <= 0.0f) return result;
+        const Lookup l = lookup(si.wi, wo);
+        result.value = reflectance(l.s, l.u_m, l.in, si.wavelengths);
+        result.pdf = pdf_of(l);
+        return result;
     }
 
     Spectrum albedo(const SurfaceInteraction&) const override { return albedo_; }
@@ -174,14 +170,42 @@ private:
         return in;
     }
 
-    // The half vector of (wi, wo) on the unit square; its azimuth is relative to wi's for an
-    // isotropic material.
-    Vec2 half_vector_u(const Vec3& wi, const Vec3& wo, const Incidence& in) const {
-        Vec3 m = glm::normalize(wi + wo);
+    // The half vector m on the unit square; its azimuth is relative to wi's for an isotropic
+    // material.
+    Vec2 half_vector_u(const Vec3& m, const Incidence& in) const {
         float phi_m = std::atan2(m.y, m.x) - (isotropic_ ? in.phi : 0.0f);
         Vec2 u(theta_to_u(elevation(m)), phi_to_u(phi_m));
         u.y -= std::floor(u.y);
         return u;
+    }
+
+    // What eval() and pdf() of (wi, wo) share: wi turned into the tabulated range, its incidence,
+    // the half vector (on the unit square too) and the sample-space point the warp maps to it.
+    struct Lookup {
+        Vec3 wi, m;
+        Incidence in;
+        Marginal2D::Blend slices;  // of vndf_ and luminance_ at the incidence
+        Vec2 u_m, s;
+        float vndf_pdf = 0.0f;
+    };
+    Lookup lookup(const Vec3& wi_local, const Vec3& wo_local) const {
+        Lookup l;
+        const Symmetry sym = symmetry(wi_local);
+        l.wi = sym.apply(wi_local);
+        const Vec3 wo = sym.apply(wo_local);
+        l.in = incidence(l.wi);
+        l.m = glm::normalize(l.wi + wo);
+        l.u_m = half_vector_u(l.m, l.in);
+        l.slices = vndf_.blend(l.in.params);
+        l.s = vndf_.invert(l.u_m, l.slices, &l.vndf_pdf);
+        return l;
+    }
+    float pdf_of(const Lookup& l) const {
+        // sin(theta_m) from m's x and y: Mitsuba's sqrt(1 - cos^2) loses all precision near the
+        // pole (the mirror direction), where it made pdf() several times too large.
+        const float sin_theta_m = std::sqrt(l.m.x * l.m.x + l.m.y * l.m.y);
+        const float pdf = l.vndf_pdf * luminance_.eval(l.s, l.slices) / jacobian(l.u_m.x, sin_theta_m, glm::dot(l.wi, l.m));
+        return pdf > 0.0f && std::isfinite(pdf) ? pdf : 0.0f;
     }
 
     // d(wo) / d(u): 2 pi^2 u_theta sin(theta_m) from the square to half vectors (theta = u^2 pi / 2,
@@ -202,10 +226,7 @@ private:
                 f[k] = std::max(spectra_.eval(s, params), 0.0f);
             }
         } else {
-            for (int c = 0; c < 3; ++c) {
-                float params[3] = {in.params[0], in.params[1], float(c)};
-                f[c] = std::max(rgb_.eval(s, params), 0.0f);
-            }
+            for (int c = 0; c < 3; ++c) f[c] = std::max(rgb_.eval(s, rgb_.blend_at_node(in.params, c)), 0.0f);
             if (wavelengths) f = rgb_at_wavelengths(f, SpectrumRole::Reflectance, wavelengths);
         }
         if (jacobian_) {
@@ -351,6 +372,7 @@ void MeasuredBSDF::load(const TensorFile& file, const SourceLocation& where) {
         const std::vector<uint64_t>& s = file.field(name).shape;
         return std::pair<int, int>(int(s[first + 1]), int(s[first]));  // width, height
     };
+    // vndf_ and luminance_ take the same slice parameters, so that one Blend serves both.
     std::vector<std::vector<float>> slice_params = {phi_i, theta_i};
     try {
         auto [wn, hn] = grid("ndf", 0);
