@@ -123,7 +123,11 @@ protected:
     // (the density of the whole BSDF, as MIS needs) and its weight eval / pdf, both from one
     // eval_pdf(); invalid when the pdf is not positive or the weight not finite.
     BSDFSample weighted_by_pdf(const BSDFContext& ctx, const SurfaceInteraction& si, BSDFSample bs) const {
-        const BSDFEvalPdf e = eval_pdf(ctx, si, bs.wo);
+        return weighted_by_pdf(bs, eval_pdf(ctx, si, bs.wo));
+    }
+    // The same from eval_pdf's result `e` of bs.wo, for a BSDF that computes it from what sample()
+    // already has.
+    static BSDFSample weighted_by_pdf(BSDFSample bs, const BSDFEvalPdf& e) {
         bs.pdf = e.pdf;
         if (!(bs.pdf > 0.0f)) return BSDFSample();
         bs.weight = e.value / bs.pdf;

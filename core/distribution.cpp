@@ -174,19 +174,23 @@ Marginal2D::Marginal2D(const float* data, int width, int height, std::vector<std
     }
 }
 
-Marginal2D::Blend Marginal2D::blend(const float* params) const { return blend_leading(params, params_.size()); }
+Marginal2D::Blend Marginal2D::blend(const float* params) const { return blend_first(params, params_.size()); }
 
-Marginal2D::Blend Marginal2D::blend_at_node(const float* params, int last_node) const {
-    if (params_.empty() || last_node < 0 || size_t(last_node) >= params_.back().size())
-        throw std::invalid_argument("blend_at_node: no such node of the last parameter");
-    // At a node the last parameter's interpolation weights are exactly 1 and 0, and lookup()
-    // skips the grids of weight 0: the same grids, weights and order as blend() gives.
-    Blend b = blend_leading(params, params_.size() - 1);
-    for (int k = 0; k < b.count; ++k) b.slice[size_t(k)] += param_strides_.back() * size_t(last_node);
-    return b;
+Marginal2D::Blend Marginal2D::blend_leading(const float* params) const {
+    if (params_.empty()) throw std::invalid_argument("blend_leading: the table has no parameters");
+    return blend_first(params, params_.size() - 1);
 }
 
-Marginal2D::Blend Marginal2D::blend_leading(const float* params, size_t count) const {
+Marginal2D::Blend Marginal2D::at_node(Blend leading, int last_node) const {
+    if (params_.empty() || last_node < 0 || size_t(last_node) >= params_.back().size())
+        throw std::invalid_argument("at_node: no such node of the last parameter");
+    // At a node the last parameter's interpolation weights are exactly 1 and 0, and lookup()
+    // skips the grids of weight 0: the same grids, weights and order as blend() gives.
+    for (int k = 0; k < leading.count; ++k) leading.slice[size_t(k)] += param_strides_.back() * size_t(last_node);
+    return leading;
+}
+
+Marginal2D::Blend Marginal2D::blend_first(const float* params, size_t count) const {
     Blend b;
     b.slice[0] = 0;
     b.weight[0] = 1.0f;

@@ -86,10 +86,12 @@ public:
         std::array<float, 1 << MaxParams> weight{};
     };
     Blend blend(const float* params) const;
-    // The blend at the leading parameters' values `params` with the last parameter at its node
-    // `last_node` exactly (a channel index, say): equal to blend() at that node's value, found
-    // without searching or weighing that parameter.
-    Blend blend_at_node(const float* params, int last_node) const;
+    // For a last parameter that is only ever queried at its nodes (a channel index, say): the
+    // blend of the leading parameters' values `params` alone, and from it, without searching or
+    // weighing the last parameter, the blend with that parameter at node `last_node`; equal to
+    // blend() at that node's value.
+    Blend blend_leading(const float* params) const;
+    Blend at_node(Blend leading, int last_node) const;
 
     // The interpolated value at p in [0, 1]^2 (a density in Distribution mode).
     float eval(const Vec2& p, const float* params = nullptr) const { return eval(p, blend(params)); }
@@ -106,7 +108,7 @@ public:
 
 private:
     // blend() of the first `count` parameters.
-    Blend blend_leading(const float* params, size_t count) const;
+    Blend blend_first(const float* params, size_t count) const;
     // Element i of every blended grid of `array` (grids of `stride` elements), weighted.
     static float lookup(const std::vector<float>& array, size_t stride, const Blend& b, size_t i);
     // The values at height t (in [0, 1] between rows `row` and `row` + 1) of columns col, col + 1.

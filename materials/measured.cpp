@@ -90,46 +90,41 @@ public:
     BSDFSample sample(const BSDFContext& ctx, const SurfaceInteraction& si, float, const Vec2& u) const override {
         BSDFSample bs;
         if (!ctx.allows(GlossyReflection) || Frame::cos_theta(si.wi) <= 0.0f) return bs;
-        Symmetry sym = symmetry(si.wi);
-        Vec3 wi = sym.apply(si.wi);
-        Incidence in = incidence(wi);
+        const Incident at = incident(si.wi);
         float lum_pdf = 1.0f, vndf_pdf = 0.0f;
-        const Marginal2D::Blend slices = vndf_.blend(in.params);  // luminance_'s too (same slice parameters)
-        Vec2 s = luminance_.sample(Vec2(u.y, u.x), slices, &lum_pdf);
-        Vec2 u_m = vndf_.sample(s, slices, &vndf_pdf);
-        float theta_m = u_to_theta(u_m.x), phi_m = u_to_phi(u_m.y) + (isotropic_ ? in.phi : 0.0f);
+        Vec2 s = luminance_.sample(Vec2(u.y, u.x), at.slices, &lum_pdf);
+        Vec2 u_m = vndf_.sample(s, at.slices, &vndf_pdf);
+        float theta_m = u_to_theta(u_m.x), phi_m = u_to_phi(u_m.y) + (isotropic_ ? at.in.phi : 0.0f);
         float sin_theta_m = std::sin(theta_m);
         Vec3 m(std::cos(phi_m) * sin_theta_m, std::sin(phi_m) * sin_theta_m, std::cos(theta_m));
-        Vec3 wo = reflect(wi, m);
+        Vec3 wo = reflect(at.wi, m);
         if (wo.z <= 0.0f || !(vndf_pdf * lum_pdf > 0.0f)) return bs;
-        bs.wo = sym.apply(wo);  // each flip is its own inverse
+        bs.wo = at.sym.apply(wo);  // each flip is its own inverse
         bs.lobe = GlossyReflection;
         // pdf and weight from pdf() and eval() of the direction drawn (Mitsuba computes them from
         // the warp's own values, which equal these but for rounding: near the pole, where
         // theta_m is tiny, the half vector recomputed from wo differs by up to 1% in theta_m).
-        return weighted_by_pdf(ctx, si, bs);
+        // eval_pdf's own checks hold here (glossy allowed, both cosines positive).
+        return weighted_by_pdf(bs, eval_pdf_at(at, bs.wo, si.wavelengths));
     }
 
     Spectrum eval(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
         if (!ctx.allows(GlossyReflection) || Frame::cos_theta(si.wi) <= 0.0f || Frame::cos_theta(wo) <= 0.0f) return Spectrum(0.0f);
-        const Lookup l = lookup(si.wi, wo);
-        return reflectance(l.s, l.u_m, l.in, si.wavelengths);
+        const Incident at = incident(si.wi);
+        return reflectance(lookup(at, wo), at.in, si.wavelengths);
     }
 
     float pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
         if (!ctx.allows(GlossyReflection) || Frame::cos_theta(si.wi) <= 0.0f || Frame::cos_theta(wo) <= 0.0f) return 0.0f;
-        return pdf_of(lookup(si.wi, wo));
+        const Incident at = incident(si.wi);
+        return pdf_of(at, lookup(at, wo));
     }
 
     // One lookup (the incidence's angles and the warp's inversion) for both: sample() and
     // next-event estimation need the two together.
     BSDFEvalPdf eval_pdf(const BSDFContext& ctx, const SurfaceInteraction& si, const Vec3& wo) const override {
-        BSDFEvalPdf result;
-        if (!ctx.allows(GlossyReflection) || Frame::cos_theta(si.wi) <= 0.0f || Frame::cos_theta(wo) <= 0.0f) return result;
-        const Lookup l = lookup(si.wi, wo);
-        result.value = reflectance(l.s, l.u_m, l.in, si.wavelengths);
-        result.pdf = pdf_of(l);
-        return result;
+        if (!ctx.allows(GlossyReflection) || Frame::cos_theta(si.wi) <= 0.0f || Frame::cos_theta(wo) <= 0.0f) return BSDFEvalPdf();
+        return eval_pdf_at(incident(si.wi), wo, si.wavelengths);
     }
 
     Spectrum albedo(const SurfaceInteraction&) const override { return albedo_; }
@@ -179,33 +174,50 @@ private:
         return u;
     }
 
-    // What eval() and pdf() of (wi, wo) share: wi turned into the tabulated range, its incidence,
-    // the half vector (on the unit square too) and the sample-space point the warp maps to it.
-    struct Lookup {
-        Vec3 wi, m;
+    // What sample(), eval() and pdf() share for one wi: the symmetry that turns it into the
+    // tabulated range, the turned wi, its incidence, and the blend of the vndf_ and luminance_
+    // slices there (both take the same slice parameters).
+    struct Incident {
+        Symmetry sym;
+        Vec3 wi;
         Incidence in;
-        Marginal2D::Blend slices;  // of vndf_ and luminance_ at the incidence
+        Marginal2D::Blend slices;
+    };
+    Incident incident(const Vec3& wi_local) const {
+        Incident at;
+        at.sym = symmetry(wi_local);
+        at.wi = at.sym.apply(wi_local);
+        at.in = incidence(at.wi);
+        at.slices = vndf_.blend(at.in.params);
+        return at;
+    }
+    // What eval() and pdf() of (wi, wo) share: the half vector (on the unit square too) and the
+    // sample-space point the warp maps to it.
+    struct Lookup {
+        Vec3 m;
         Vec2 u_m, s;
         float vndf_pdf = 0.0f;
     };
-    Lookup lookup(const Vec3& wi_local, const Vec3& wo_local) const {
+    Lookup lookup(const Incident& at, const Vec3& wo_local) const {
         Lookup l;
-        const Symmetry sym = symmetry(wi_local);
-        l.wi = sym.apply(wi_local);
-        const Vec3 wo = sym.apply(wo_local);
-        l.in = incidence(l.wi);
-        l.m = glm::normalize(l.wi + wo);
-        l.u_m = half_vector_u(l.m, l.in);
-        l.slices = vndf_.blend(l.in.params);
-        l.s = vndf_.invert(l.u_m, l.slices, &l.vndf_pdf);
+        l.m = glm::normalize(at.wi + at.sym.apply(wo_local));
+        l.u_m = half_vector_u(l.m, at.in);
+        l.s = vndf_.invert(l.u_m, at.slices, &l.vndf_pdf);
         return l;
     }
-    float pdf_of(const Lookup& l) const {
+    float pdf_of(const Incident& at, const Lookup& l) const {
         // sin(theta_m) from m's x and y: Mitsuba's sqrt(1 - cos^2) loses all precision near the
         // pole (the mirror direction), where it made pdf() several times too large.
         const float sin_theta_m = std::sqrt(l.m.x * l.m.x + l.m.y * l.m.y);
-        const float pdf = l.vndf_pdf * luminance_.eval(l.s, l.slices) / jacobian(l.u_m.x, sin_theta_m, glm::dot(l.wi, l.m));
+        const float pdf = l.vndf_pdf * luminance_.eval(l.s, at.slices) / jacobian(l.u_m.x, sin_theta_m, glm::dot(at.wi, l.m));
         return pdf > 0.0f && std::isfinite(pdf) ? pdf : 0.0f;
+    }
+    BSDFEvalPdf eval_pdf_at(const Incident& at, const Vec3& wo_local, const Wavelengths* wavelengths) const {
+        const Lookup l = lookup(at, wo_local);
+        BSDFEvalPdf result;
+        result.value = reflectance(l, at.in, wavelengths);
+        result.pdf = pdf_of(at, l);
+        return result;
     }
 
     // d(wo) / d(u): 2 pi^2 u_theta sin(theta_m) from the square to half vectors (theta = u^2 pi / 2,
@@ -215,24 +227,25 @@ private:
         return std::max(2.0f * Pi * Pi * u_theta * sin_theta_m, 1e-6f) * 4.0f * cos_im;
     }
 
-    // f cos(wo) at sample-space point s (half vector at u_m): in RGB, or at the path's wavelengths
+    // f cos(wo) at the lookup's sample-space point and half vector: in RGB, or at the path's wavelengths
     // (a spectral file's table interpolated in wavelength, clamped at its ends; an RGB file's
     // colour upsampled as a reflectance).
-    Spectrum reflectance(const Vec2& s, const Vec2& u_m, const Incidence& in, const Wavelengths* wavelengths) const {
+    Spectrum reflectance(const Lookup& l, const Incidence& in, const Wavelengths* wavelengths) const {
         Spectrum f;
         if (wavelengths && has_spectra_) {
             for (int k = 0; k < 3; ++k) {
                 float params[3] = {in.params[0], in.params[1], wavelengths->lambda[k]};
-                f[k] = std::max(spectra_.eval(s, params), 0.0f);
+                f[k] = std::max(spectra_.eval(l.s, params), 0.0f);
             }
         } else {
-            for (int c = 0; c < 3; ++c) f[c] = std::max(rgb_.eval(s, rgb_.blend_at_node(in.params, c)), 0.0f);
+            const Marginal2D::Blend slices = rgb_.blend_leading(in.params);  // the channel is the last parameter
+            for (int c = 0; c < 3; ++c) f[c] = std::max(rgb_.eval(l.s, rgb_.at_node(slices, c)), 0.0f);
             if (wavelengths) f = rgb_at_wavelengths(f, SpectrumRole::Reflectance, wavelengths);
         }
         if (jacobian_) {
             float sigma = sigma_.eval(in.u);
             if (!(sigma > 0.0f)) return Spectrum(0.0f);
-            f *= ndf_.eval(u_m) / (4.0f * sigma);
+            f *= ndf_.eval(l.u_m) / (4.0f * sigma);
         }
         return f;
     }

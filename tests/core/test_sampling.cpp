@@ -211,8 +211,8 @@ TEST_CASE("distributions: Marginal2D samples its bilinear, parameter-blended den
 }
 
 TEST_CASE("distributions: Marginal2D's blend at a node of its last parameter is blend() at that node's value, bit for bit", "[sampling]") {
-    // Two interpolated parameters and a channel index (measured's rgb table): blend_at_node skips
-    // the channel's search and weights; every value must be the same float as blend()'s.
+    // Two interpolated parameters and a channel index (measured's rgb table): at_node skips the
+    // channel's search and weights; every value must be the same float as blend()'s.
     const int W = 5, H = 4;
     const std::vector<float> first = {-1.0f, 0.5f, 2.0f}, second = {0.0f, 1.0f}, channel = {0.0f, 1.0f, 2.0f};
     std::vector<float> data(first.size() * second.size() * channel.size() * size_t(W * H));
@@ -223,12 +223,14 @@ TEST_CASE("distributions: Marginal2D's blend at a node of its last parameter is 
     for (int i = 0; i < 2000; ++i) {
         const float params[3] = {-1.5f + 4.0f * rng.next_float(), -0.2f + 1.4f * rng.next_float(), 0.0f};
         const Vec2 p(rng.next_float(), rng.next_float());
+        const Marginal2D::Blend leading = m.blend_leading(params);
         for (int c = 0; c < 3; ++c) {
             const float with_value[3] = {params[0], params[1], float(c)};
-            differing += m.eval(p, m.blend_at_node(params, c)) != m.eval(p, with_value);
+            differing += m.eval(p, m.at_node(leading, c)) != m.eval(p, with_value);
         }
     }
     CHECK(differing == 0);
-    CHECK_THROWS_AS(m.blend_at_node(nullptr, 3), std::invalid_argument);
-    CHECK_THROWS_AS(m.blend_at_node(nullptr, -1), std::invalid_argument);
+    const float inside[3] = {0.0f, 0.5f, 0.0f};
+    CHECK_THROWS_AS(m.at_node(m.blend_leading(inside), 3), std::invalid_argument);
+    CHECK_THROWS_AS(m.at_node(m.blend_leading(inside), -1), std::invalid_argument);
 }
