@@ -1,6 +1,7 @@
 #include "core/image.h"
 
 #include "core/error.h"
+#include "core/exr_input.h"
 #include "core/file_output.h"
 #include "core/image_codecs.h"
 #include "core/spectral.h"
@@ -91,6 +92,26 @@ std::string image_format_of(const std::string& path) {
     return "";
 }
 
+#if defined(__has_feature)
+#if __has_feature(thread_sanitizer) || __has_feature(address_sanitizer)
+#define CANDELA_EXR_SINGLE_THREADED 1
+#endif
+#endif
+#if defined(__SANITIZE_THREAD__) || defined(__SANITIZE_ADDRESS__)
+#define CANDELA_EXR_SINGLE_THREADED 1
+#endif
+// Threads for OpenEXR's compression: one per core, except in sanitizer builds, which keep
+// OpenEXR on the calling thread: ThreadSanitizer for the reason core/sanitizer_options.cpp
+// gives, AddressSanitizer because LeakSanitizer's exit-time scan crashes on the dynamic TLS that
+// OpenEXR's pool threads leave behind once the image module is loaded (seen in CI).
+int exr_threads() {
+#ifdef CANDELA_EXR_SINGLE_THREADED
+    return 0;
+#else
+    return int(std::max(1u, std::thread::hardware_concurrency()));
+#endif
+}
+
 // The module is where the build put it (CANDELA_IMAGE_MODULE); a program copied elsewhere looks
 // for it beside itself.
 const ImageCodecs* load_image_codecs() {
@@ -128,7 +149,17 @@ DecodedImage decode_image(const std::string& path, bool pixels) {
                          "; Candela reads the formats Mitsuba 3 does: OpenEXR, PNG, JPEG, RGBE (.hdr), PFM, PPM, TGA, BMP");
     }
     DecodedImage decoded;
-    if (std::string error = image_codecs().read(path, format, pixels, decoded); !error.empty()) throw InputError(error);
+    std::string error;
+    // EXR files are read by OpenEXR, which every program links, without the module's load
+    // (core/exr_input.h); the few it leaves (multi-part, deep, subsampled) go to the module.
+    if (format == "exr") {
+        error = exr_header_problem(path);
+        if (!error.empty() || read_exr(path, pixels, exr_threads(), decoded, error)) {
+            if (!error.empty()) throw InputError(error);
+            return decoded;
+        }
+    }
+    if (error = image_codecs().read(path, format, pixels, decoded); !error.empty()) throw InputError(error);
     return decoded;
 }
 }  // namespace
@@ -173,28 +204,6 @@ void check_output_path(const std::string& path) {
         throw InputError(path + ": cannot write: it is not a regular file");
     if (read_only(p)) throw InputError(path + ": cannot write: the file is read-only");
 }
-
-namespace {
-#if defined(__has_feature)
-#if __has_feature(thread_sanitizer) || __has_feature(address_sanitizer)
-#define CANDELA_EXR_SINGLE_THREADED 1
-#endif
-#endif
-#if defined(__SANITIZE_THREAD__) || defined(__SANITIZE_ADDRESS__)
-#define CANDELA_EXR_SINGLE_THREADED 1
-#endif
-// Threads for OpenEXR's compression: one per core, except in sanitizer builds, which keep
-// OpenEXR on the calling thread: ThreadSanitizer for the reason core/sanitizer_options.cpp
-// gives, AddressSanitizer because LeakSanitizer's exit-time scan crashes on the dynamic TLS that
-// OpenEXR's pool threads leave behind once the image module is loaded (seen in CI).
-int exr_threads() {
-#ifdef CANDELA_EXR_SINGLE_THREADED
-    return 0;
-#else
-    return int(std::max(1u, std::thread::hardware_concurrency()));
-#endif
-}
-}  // namespace
 
 void write_exr(const Image& image, const std::string& path, bool float32) {
     // Written in bands of rows: each band is sanitised (never NaN or infinity; half floats
