@@ -1,5 +1,7 @@
 #include "core/exr_input.h"
 
+#include "core/text.h"
+
 #include <Imath/ImathBox.h>
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfDoubleAttribute.h>
@@ -13,7 +15,6 @@
 #include <OpenEXR/ImfTileDescriptionAttribute.h>
 
 #include <algorithm>
-#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -62,44 +63,33 @@ std::string exr_header_problem(const std::string& path) {
 }
 
 std::vector<int> exr_channel_order(const std::vector<std::string>& names) {
-    static const std::vector<const char*> usual = {"R",     "Red", "G",  "Green", "B",  "Blue", "Y",  "real", "imag",  "A",
-                                                   "Alpha", "AR",  "RA", "AG",    "GA", "AB",   "BA", "Z",    "Depth", "Zback"};
-    static const std::vector<const char*> positions = {"R", "Red",   "G",  "Green", "B",  "Blue", "X",  "Y",  "Z",     "real", "imag",
-                                                       "A", "Alpha", "AR", "RA",    "AG", "GA",   "AB", "BA", "Depth", "Zback"};
-    auto same = [](const std::string& a, const char* b) {
-        size_t i = 0;
-        for (; i < a.size() && b[i]; ++i)
-            if (std::tolower(static_cast<unsigned char>(a[i])) != std::tolower(static_cast<unsigned char>(b[i]))) return false;
-        return i == a.size() && !b[i];
-    };
+    // The names known, lower case (they match case-insensitively).
+    static const std::vector<std::string> usual = {"r",     "red", "g",  "green", "b",  "blue", "y",  "real", "imag",  "a",
+                                                   "alpha", "ar",  "ra", "ag",    "ga", "ab",   "ba", "z",    "depth", "zback"};
+    static const std::vector<std::string> positions = {"r", "red",   "g",  "green", "b",  "blue", "x",  "y",  "z",     "real", "imag",
+                                                       "a", "alpha", "ar", "ra",    "ag", "ga",   "ab", "ba", "depth", "zback"};
     struct Key {
-        std::string layer, suffix;
+        std::string layer, suffix, lower;  // lower: the suffix in lower case
         int rank;
         int index;
     };
     std::vector<Key> keys;
     for (size_t i = 0; i < names.size(); ++i) {
         const size_t dot = names[i].rfind('.');
-        if (dot == std::string::npos)
-            keys.push_back({"", names[i], 0, int(i)});
-        else
-            keys.push_back({names[i].substr(0, dot + 1), names[i].substr(dot + 1), 0, int(i)});
+        const std::string layer = dot == std::string::npos ? "" : names[i].substr(0, dot + 1);
+        const std::string suffix = dot == std::string::npos ? names[i] : names[i].substr(dot + 1);
+        keys.push_back({layer, suffix, to_lower(suffix), 0, int(i)});
     }
-    auto layer_has = [&](const std::string& layer, const char* suffix) {
+    auto layer_has = [&](const std::string& layer, const char* lower) {
         for (const Key& k : keys)
-            if (k.layer == layer && same(k.suffix, suffix)) return true;
+            if (k.layer == layer && k.lower == lower) return true;
         return false;
     };
     for (Key& k : keys) {
         // A layer with X and Y or Z holds positions or normals: X, Y, Z in that order.
-        const bool xyz = layer_has(k.layer, "X") && (layer_has(k.layer, "Y") || layer_has(k.layer, "Z"));
-        const std::vector<const char*>& known = xyz ? positions : usual;
-        k.rank = int(known.size());
-        for (int r = 0; r < int(known.size()); ++r)
-            if (same(k.suffix, known[size_t(r)])) {
-                k.rank = r;
-                break;
-            }
+        const bool xyz = layer_has(k.layer, "x") && (layer_has(k.layer, "y") || layer_has(k.layer, "z"));
+        const std::vector<std::string>& known = xyz ? positions : usual;
+        k.rank = int(std::find(known.begin(), known.end(), k.lower) - known.begin());
     }
     std::sort(keys.begin(), keys.end(), [](const Key& a, const Key& b) {
         if (a.layer != b.layer) return a.layer < b.layer;
@@ -156,37 +146,18 @@ bool read_exr_file(const std::string& path, bool pixels, int threads, DecodedIma
     }
     const Imath::Box2i window = header.dataWindow();
     const int64_t width = int64_t(window.max.x) - window.min.x + 1, height = int64_t(window.max.y) - window.min.y + 1;
-    const uint64_t channels = file_names.size();
-    if (width <= 0 || height <= 0 || channels == 0) {
-        error = path + ": image has no pixels";
-        return true;
-    }
-    // OpenEXR decodes whole chunks: tiles, or up to 256 scan lines (DWAB's chunk) however few lines
-    // the image has. Bounded as the module's reader bounded them (OpenImageIO reads 256 lines at
-    // a time), so that what it refused stays refused: a 3-line file 4 million pixels wide.
-    uint64_t block_width = uint64_t(width), block_height = std::max<uint64_t>(uint64_t(height), 256);
-    if (tiled && header.hasTileDescription()) {
-        block_height = uint64_t(height);
-        const uint64_t tw = std::max(1u, header.tileDescription().xSize), th = std::max(1u, header.tileDescription().ySize);
-        block_width = (block_width + tw - 1) / tw * tw;
-        block_height = (block_height + th - 1) / th * th;
-    }
-    if (block_width > MaxImageValues || block_height > MaxImageValues || block_width * block_height * channels > MaxImageValues) {
-        error = path + ": image of " + std::to_string(width) + " x " + std::to_string(height) + " pixels (read as " +
-                std::to_string(block_width) + " x " + std::to_string(block_height) + ") and " + std::to_string(channels) +
-                " channels is larger than the 2^28 values Candela reads";
-        return true;
-    }
+    const size_t channels = file_names.size();
+    const bool tiles = tiled && header.hasTileDescription();
+    error = image_size_problem(path, width, height, int64_t(channels), tiles ? int64_t(header.tileDescription().xSize) : 0,
+                               tiles ? int64_t(header.tileDescription().ySize) : 0);
+    if (!error.empty()) return true;
     ImageHeader& h = out.header;
     h.width = int(width);
     h.height = int(height);
-    h.integer_bits = 0;
-    const std::vector<int> order = exr_channel_order(file_names);
-    h.channels.clear();
-    for (int i : order) h.channels.push_back(file_names[size_t(i)]);
+    for (int i : exr_channel_order(file_names)) h.channels.push_back(file_names[size_t(i)]);
     h.metadata = exr_metadata(header);
     if (pixels) {
-        out.values.assign(uint64_t(width) * uint64_t(height) * channels, 0.0f);
+        out.values.assign(size_t(width) * size_t(height) * channels, 0.0f);
         Imf::FrameBuffer frame;
         const size_t x_stride = sizeof(float) * channels, y_stride = x_stride * size_t(width);
         for (size_t c = 0; c < channels; ++c)

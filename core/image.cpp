@@ -149,17 +149,18 @@ DecodedImage decode_image(const std::string& path, bool pixels) {
                          "; Candela reads the formats Mitsuba 3 does: OpenEXR, PNG, JPEG, RGBE (.hdr), PFM, PPM, TGA, BMP");
     }
     DecodedImage decoded;
-    std::string error;
     // EXR files are read by OpenEXR, which every program links, without the module's load
-    // (core/exr_input.h); the few it leaves (multi-part, deep, subsampled) go to the module.
+    // (core/exr_input.h); the few kinds it leaves (multi-part, deep, subsampled, 32-bit
+    // unsigned) go to the module.
     if (format == "exr") {
-        error = exr_header_problem(path);
-        if (!error.empty() || read_exr(path, pixels, exr_threads(), decoded, error)) {
+        if (std::string problem = exr_header_problem(path); !problem.empty()) throw InputError(problem);
+        std::string error;
+        if (read_exr(path, pixels, exr_threads(), decoded, error)) {
             if (!error.empty()) throw InputError(error);
             return decoded;
         }
     }
-    if (error = image_codecs().read(path, format, pixels, decoded); !error.empty()) throw InputError(error);
+    if (std::string error = image_codecs().read(path, format, pixels, decoded); !error.empty()) throw InputError(error);
     return decoded;
 }
 }  // namespace

@@ -15,6 +15,8 @@
 
 #include "core/image.h"
 
+#include <algorithm>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -28,6 +30,30 @@ struct DecodedImage {
     ImageHeader header;
     std::vector<float> values;  // width x height x channels, interleaved; empty when only the header was read
 };
+
+// The size check both readers (the module's and core/exr_input.h) make from a header before any
+// pixel is allocated: "" when it passes, else the message. Both decode whole blocks and allocate
+// for a block first: whole tiles (tile_width and tile_height above 0), or else 256 scan lines
+// however few lines the image has (OpenImageIO 2.4's read_scanlines; OpenEXR's largest chunk,
+// DWAB's). 3-line OpenEXR and BMP files 4 million pixels wide had OpenImageIO allocate 6 and
+// 2.9 GB (fuzz_image). The blocks' values are limited to MaxImageValues (image.h).
+inline std::string image_size_problem(const std::string& path, int64_t width, int64_t height, int64_t channels, int64_t tile_width,
+                                      int64_t tile_height) {
+    if (width <= 0 || height <= 0 || channels <= 0) return path + ": image has no pixels";
+    uint64_t block_width = uint64_t(width), block_height = uint64_t(height);
+    if (tile_width > 0 && tile_height > 0) {
+        block_width = (block_width + uint64_t(tile_width) - 1) / uint64_t(tile_width) * uint64_t(tile_width);
+        block_height = (block_height + uint64_t(tile_height) - 1) / uint64_t(tile_height) * uint64_t(tile_height);
+    } else {
+        block_height = std::max<uint64_t>(block_height, 256);
+    }
+    // Compared without overflow: w h c > M exactly when w h > floor(M / c), each factor first.
+    if (block_width > MaxImageValues || block_height > MaxImageValues || block_width * block_height > MaxImageValues / uint64_t(channels))
+        return path + ": image of " + std::to_string(width) + " x " + std::to_string(height) + " pixels (read as " +
+               std::to_string(block_width) + " x " + std::to_string(block_height) + ") and " + std::to_string(channels) +
+               " channels is larger than the 2^28 values Candela reads";
+    return "";
+}
 
 class ImageCodecs {
 public:

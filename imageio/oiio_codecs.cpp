@@ -54,21 +54,9 @@ std::string check_size(const std::string& path, const OIIO::ImageInput& in) {
     const OIIO::ImageSpec& spec = in.spec();
     // A volume image (DDS volume textures, ...) would fill depth times the buffer of a 2D one.
     if (spec.depth != 1) return path + ": is a volume image (depth " + std::to_string(spec.depth) + "); only 2D images are read";
-    if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) return path + ": image has no pixels";
-    // OpenImageIO reads in whole blocks and allocates for a block before reading it: whole
-    // tiles, or 256 scanlines however few lines the image has (OpenImageIO 2.4's read_scanlines).
-    // 3-line OpenEXR and BMP files 4 million pixels wide had it allocate 6 and 2.9 GB (fuzz_image).
-    uint64_t block_width = uint64_t(spec.width), block_height = uint64_t(spec.height);
-    if (spec.tile_width > 0 && spec.tile_height > 0) {
-        block_width = (block_width + spec.tile_width - 1) / spec.tile_width * spec.tile_width;
-        block_height = (block_height + spec.tile_height - 1) / spec.tile_height * spec.tile_height;
-    } else {
-        block_height = std::max<uint64_t>(block_height, 256);
-    }
-    if (block_width * block_height * uint64_t(spec.nchannels) > MaxImageValues)
-        return path + ": image of " + std::to_string(spec.width) + " x " + std::to_string(spec.height) + " pixels (read as " +
-               std::to_string(block_width) + " x " + std::to_string(block_height) + ") and " + std::to_string(spec.nchannels) +
-               " channels is larger than the 2^28 values Candela reads";
+    if (std::string problem = image_size_problem(path, spec.width, spec.height, spec.nchannels, spec.tile_width, spec.tile_height);
+        !problem.empty())
+        return problem;
     // A header promising more pixels than the file holds would have us allocate for them first.
     if (in.format_name() == std::string("pnm")) {
         const uint64_t least = least_pnm_pixel_bytes(path, spec), size = fs::file_size(path);
