@@ -60,6 +60,16 @@ public:
     virtual Spectrum eval(const SurfaceInteraction& si) const = 0;
     // Radiance arriving along a ray that escaped the scene in direction `d` (infinite emitters).
     virtual Spectrum eval_environment(const Vec3& d, const Wavelengths* wavelengths) const { return Spectrum(0.0f); }
+    // eval_environment(d) and the pdf_direction() of direction `d` from `ref` together (MIS at a ray
+    // that escaped): an emitter whose two share work (an environment map's coordinates of `d`)
+    // overrides it to do that work once.
+    virtual Spectrum eval_environment_pdf(const SurfaceInteraction& ref, const Vec3& d, float& pdf) const {
+        DirectionSample ds;
+        ds.d = d;
+        ds.dist = Infinity;
+        pdf = pdf_direction(ref, ds);
+        return eval_environment(d, ref.wavelengths);
+    }
     // Emitted flux in W (approximate where exact is costly); used to pick lights.
     virtual Spectrum power() const = 0;
     // A ray leaving the emitter: the origin from `u_position`, the direction from `u_direction`.

@@ -89,16 +89,14 @@ Spectrum environment_mis(const Scene& scene, const LightSampler& lights, const S
                          bool from_delta, StrategyShares shares) {
     Spectrum L(0.0f);
     for (const Emitter* e : scene.infinite_emitters()) {
-        Spectrum Le = e->eval_environment(d, from.wavelengths);
-        if (is_black(Le)) continue;
-        float w = 1.0f;
-        if (!from_delta) {
-            DirectionSample ds;
-            ds.d = d;
-            ds.dist = Infinity;
-            w = power_heuristic(bsdf_pdf * shares.bsdf, lights.pmf(from, e) * e->pdf_direction(from, ds) * shares.emitter);
+        if (from_delta) {
+            L += e->eval_environment(d, from.wavelengths);
+            continue;
         }
-        L += Le * w;
+        float pdf = 0.0f;
+        const Spectrum Le = e->eval_environment_pdf(from, d, pdf);
+        if (is_black(Le)) continue;
+        L += Le * power_heuristic(bsdf_pdf * shares.bsdf, lights.pmf(from, e) * pdf * shares.emitter);
     }
     return L;
 }

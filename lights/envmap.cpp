@@ -61,7 +61,7 @@ public:
 
     // In the spectral variant the interpolated colour's emission spectrum (unbounded, times D65).
     Spectrum eval_environment(const Vec3& d, const Wavelengths* w) const override {
-        return rgb_at_wavelengths(lookup(uv_of(d)), SpectrumRole::Emission, w);
+        return rgb_at_wavelengths(lookup(map_direction(d).uv), SpectrumRole::Emission, w);
     }
     Spectrum eval(const SurfaceInteraction& si) const override { return eval_environment(-si.wi_world(), si.wavelengths); }
 
@@ -82,21 +82,23 @@ public:
         ds.p = ref.p + ds.d * (2.0f * disk_.radius);
         ds.n = -ds.d;
         // The density of the direction as pdf_direction computes it: a sample landing exactly on a
-        // cell edge may round into the neighbouring cell, and MIS needs both to agree.
-        ds.pdf = pdf_direction(ref, ds);
+        // cell edge may round into the neighbouring cell, and MIS needs both to agree. The
+        // direction's map coordinates serve the density and the radiance both (one atan2 and acos).
+        const MapDirection m = map_direction(ds.d);
+        ds.pdf = pdf_at(m);
         if (!(ds.pdf > 0.0f)) {
             weight = Spectrum(0.0f);
             return ds;
         }
-        weight = eval_environment(ds.d, ref.wavelengths) / ds.pdf;
+        weight = rgb_at_wavelengths(lookup(m.uv), SpectrumRole::Emission, ref.wavelengths) / ds.pdf;
         return ds;
     }
 
-    float pdf_direction(const SurfaceInteraction&, const DirectionSample& ds) const override {
-        Vec3 local = glm::normalize(world_to_local_.apply_vector(ds.d));
-        float sin_theta = safe_sqrt(1.0f - local.y * local.y);
-        if (sin_theta <= 0.0f) return 0.0f;
-        return distribution_.pdf(uv_of(ds.d)) / (2.0f * Pi * Pi * sin_theta);
+    float pdf_direction(const SurfaceInteraction&, const DirectionSample& ds) const override { return pdf_at(map_direction(ds.d)); }
+    Spectrum eval_environment_pdf(const SurfaceInteraction& ref, const Vec3& d, float& pdf) const override {
+        const MapDirection m = map_direction(d);
+        pdf = pdf_at(m);
+        return rgb_at_wavelengths(lookup(m.uv), SpectrumRole::Emission, ref.wavelengths);
     }
 
     // Flux through the scene's bounding disk: pi r^2 times the radiance integrated over the sphere.
@@ -140,11 +142,23 @@ public:
     std::string to_string() const override { return "envmap"; }
 
 private:
-    Vec2 uv_of(const Vec3& d_world) const {
+    // A world direction in the map's frame: its texture coordinates (the mapping at the top) and
+    // sin(theta), which the density over directions divides by.
+    struct MapDirection {
+        Vec2 uv;
+        float sin_theta = 0.0f;
+    };
+    MapDirection map_direction(const Vec3& d_world) const {
         Vec3 d = glm::normalize(world_to_local_.apply_vector(d_world));
         float u = std::atan2(d.x, -d.z) * InvTwoPi;
         u -= std::floor(u);
-        return Vec2(u, safe_acos(d.y) * InvPi);
+        return {Vec2(u, safe_acos(d.y) * InvPi), safe_sqrt(1.0f - d.y * d.y)};
+    }
+    // The density over solid angle of a direction: the map's density over (u, v) times the
+    // Jacobian 1 / (2 pi^2 sin(theta)) of (u, v) -> direction.
+    float pdf_at(const MapDirection& m) const {
+        if (m.sin_theta <= 0.0f) return 0.0f;
+        return distribution_.pdf(m.uv) / (2.0f * Pi * Pi * m.sin_theta);
     }
 
     const Spectrum& texel(int x, int y) const {
