@@ -3,7 +3,9 @@
 #include "core/error.h"
 #include "core/math.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace candela {
 
@@ -99,11 +101,25 @@ std::vector<std::string> SampleLayout::channels() const {
     return names;
 }
 
+namespace {
+// A developed value as a float: finite sums can have a mean beyond float range (a weight sum
+// near zero, from a filter's negative lobes cancelling or from a damaged part file, fuzz_part),
+// which a plain conversion would make infinite; it saturates at the largest float instead, so
+// no image developed from sums holds an infinity.
+float saturated(double v) {
+    constexpr double Largest = double(std::numeric_limits<float>::max());
+    return float(std::clamp(v, -Largest, Largest));
+}
+}  // namespace
+
 void SampleLayout::write(const double* v, float* out) const {
-    const Spectrum rgb{float(v[0]), float(v[1]), float(v[2])};
-    write_pixel_format(format_, rgb, alpha_ ? float(v[3]) : 1.0f, out);
-    out += pixel_format_channels(format_).size();
-    for (int k = 0, first = alpha_ ? 4 : 3; k < extras(); ++k) out[k] = float(v[first + k]);
+    const Spectrum rgb{saturated(v[0]), saturated(v[1]), saturated(v[2])};
+    write_pixel_format(format_, rgb, alpha_ ? saturated(v[3]) : 1.0f, out);
+    // The format's conversion (XYZ's Z row sums to 1.09) can carry the largest floats past range.
+    const size_t written = pixel_format_channels(format_).size();
+    for (size_t k = 0; k < written; ++k) out[k] = saturated(double(out[k]));
+    out += written;
+    for (int k = 0, first = alpha_ ? 4 : 3; k < extras(); ++k) out[k] = saturated(v[first + k]);
 }
 
 AovLayout::AovLayout(const std::vector<std::string>& names) {
@@ -155,12 +171,12 @@ std::vector<std::string> AovLayout::channels() const {
 void AovLayout::write(const PixelStats& ps, Image& img, int x, int y, int c) const {
     double inv_n = ps.n ? 1.0 / double(ps.n) : 0.0;
     if (albedo_)
-        for (int k = 0; k < 3; ++k) img.at(x, y, c++) = float(ps.albedo[k] * inv_n);
+        for (int k = 0; k < 3; ++k) img.at(x, y, c++) = saturated(ps.albedo[k] * inv_n);
     if (normal_)
-        for (int k = 0; k < 3; ++k) img.at(x, y, c++) = float(ps.normal[k] * inv_n);
-    if (depth_) img.at(x, y, c++) = float(ps.depth * inv_n);
+        for (int k = 0; k < 3; ++k) img.at(x, y, c++) = saturated(ps.normal[k] * inv_n);
+    if (depth_) img.at(x, y, c++) = saturated(ps.depth * inv_n);
     if (variance_)
-        for (int k = 0; k < 3; ++k) img.at(x, y, c++) = float(ps.variance_of_mean(k));
+        for (int k = 0; k < 3; ++k) img.at(x, y, c++) = saturated(ps.variance_of_mean(k));
     if (samples_) img.at(x, y, c++) = float(ps.taken);
 }
 

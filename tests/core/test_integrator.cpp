@@ -1,12 +1,15 @@
 // The pixel loop: bit-identical results for any thread count, crop windows, and AOVs with the
 // variance of the pixel mean.
 
+#include "core/pixel_sums.h"
 #include "core/xml.h"
 #include "tests/util.h"
 
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <cstring>
+#include <limits>
 
 using namespace candela;
 using namespace candela::test;
@@ -86,4 +89,35 @@ TEST_CASE("render: AOVs and the variance of the pixel mean", "[render][aov]") {
             CHECK(img.at(x, y, nz) < 0.0f);              // inward normals face the camera
             CHECK(img.at(x, y, var) > 0.0f);
         }
+}
+
+TEST_CASE("develop: finite sums whose mean lies beyond float range give the largest float, never infinity", "[render][film]") {
+    // A weight sum near zero (negative filter lobes cancelling, or a damaged part file: fuzz_part
+    // found one) makes the mean of finite sums larger than any float.
+    for (PixelFormat format : {PixelFormat::RGB, PixelFormat::RGBA, PixelFormat::XYZ, PixelFormat::Luminance}) {
+        PixelSums sums(ImageRect{Vec2i(0), Vec2i(2, 1)}, SampleLayout(format, {}), AovLayout({"albedo", "variance"}));
+        double* huge = sums.filtered_at(0, 0);
+        for (int c = 0; c + 1 < sums.stride(); ++c) huge[c] = c == 1 ? -1e30 : 1e30;
+        huge[sums.stride() - 1] = 1e-30;  // the weight sum
+        PixelStats& stats = sums.stats_at(0, 0);
+        stats.n = 2;
+        for (int k = 0; k < 3; ++k) {
+            stats.albedo[k] = 1e300;
+            stats.sum[k] = 3e38;
+            stats.sum_sq[k] = 1e300;
+        }
+        double* plain = sums.filtered_at(1, 0);
+        for (int c = 0; c + 1 < sums.stride(); ++c) plain[c] = 0.5;
+        plain[sums.stride() - 1] = 1.0;
+        const Image image = sums.develop();
+        for (float v : image.data()) REQUIRE(std::isfinite(v));
+        const float largest = std::numeric_limits<float>::max();
+        if (format == PixelFormat::RGB || format == PixelFormat::RGBA) {
+            CHECK(image.at(0, 0, 0) == largest);
+            CHECK(image.at(0, 0, 1) == -largest);
+            CHECK(image.at(1, 0, 0) == 0.5f);  // an ordinary pixel is as before
+        }
+        CHECK(image.at(0, 0, image.channel_index("albedo.R")) == largest);
+        CHECK(image.at(0, 0, image.channel_index("variance.G")) == largest);
+    }
 }
