@@ -82,15 +82,10 @@ public:
         ds.p = ref.p + ds.d * (2.0f * disk_.radius);
         ds.n = -ds.d;
         // The density of the direction as pdf_direction computes it: a sample landing exactly on a
-        // cell edge may round into the neighbouring cell, and MIS needs both to agree. The
-        // direction's map coordinates serve the density and the radiance both (one atan2 and acos).
-        const MapDirection m = map_direction(ds.d);
-        ds.pdf = pdf_at(m);
-        if (!(ds.pdf > 0.0f)) {
-            weight = Spectrum(0.0f);
-            return ds;
-        }
-        weight = rgb_at_wavelengths(lookup(m.uv), SpectrumRole::Emission, ref.wavelengths) / ds.pdf;
+        // cell edge may round into the neighbouring cell, and MIS needs both to agree. One
+        // computation of the direction's map coordinates serves the density and the radiance.
+        const Spectrum radiance = eval_environment_pdf(ref, ds.d, ds.pdf);
+        weight = ds.pdf > 0.0f ? radiance / ds.pdf : Spectrum(0.0f);
         return ds;
     }
 
