@@ -103,14 +103,6 @@ std::vector<int> exr_channel_order(const std::vector<std::string>& names) {
 
 namespace {
 
-// A number with `digits` significant digits, enough to read it back exactly (9 for float, 17 for
-// double): "1" for 1.
-std::string text_of(double v, int digits) {
-    char text[40];
-    std::snprintf(text, sizeof text, "%.*g", digits, v);
-    return text;
-}
-
 // The header's attributes a caller may want, as text (core/exr_input.h).
 std::map<std::string, std::string> exr_metadata(const Imf::Header& header) {
     static const std::set<std::string> required = {"channels",  "compression",      "dataWindow",         "displayWindow",
@@ -125,9 +117,9 @@ std::map<std::string, std::string> exr_metadata(const Imf::Header& header) {
         else if (auto* i = dynamic_cast<const Imf::IntAttribute*>(&a))
             metadata[name] = std::to_string(i->value());
         else if (auto* f = dynamic_cast<const Imf::FloatAttribute*>(&a))
-            metadata[name] = text_of(double(f->value()), 9);
+            metadata[name] = number_text(double(f->value()), 9);
         else if (auto* d = dynamic_cast<const Imf::DoubleAttribute*>(&a))
-            metadata[name] = text_of(d->value(), 17);
+            metadata[name] = number_text(d->value(), 17);
     }
     return metadata;
 }

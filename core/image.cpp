@@ -4,6 +4,7 @@
 #include "core/exr_input.h"
 #include "core/file_output.h"
 #include "core/image_codecs.h"
+#include "core/png_input.h"
 #include "core/spectral.h"
 
 #include <candela/image_module.h>
@@ -160,6 +161,8 @@ DecodedImage decode_image(const std::string& path, bool pixels) {
             return decoded;
         }
     }
+    // PNG files too are read without the module (core/png_input.h), but for the kinds it leaves.
+    if (format == "png" && read_png(path, pixels, decoded)) return decoded;
     if (std::string error = image_codecs().read(path, format, pixels, decoded); !error.empty()) throw InputError(error);
     return decoded;
 }

@@ -2,13 +2,14 @@
 // The boundary between core/image.cpp and the image module: OpenImageIO's readers and its PNG
 // writer, compiled apart (imageio/oiio_codecs.cpp) as the shared module `candela_images`, which
 // core/image.cpp loads with dlopen the first time a program reads an image other than an
-// OpenEXR file (those OpenEXR reads, core/exr_input.h, but for rare kinds) or writes a PNG.
+// OpenEXR or PNG file (those OpenEXR and libpng read, core/exr_input.h and core/png_input.h, but
+// for rare kinds) or writes a PNG.
 //
 // Why a module: Debian 12's OpenImageIO links some 250 shared libraries (FFmpeg, OpenCV, GDAL,
 // DCMTK, GStreamer, ...). Linked into Candela's programs, they were loaded and their symbols
 // bound at every start: about 0.19 s of CPU before main, in every run of every program, whether
 // it read an image or not (README "Benchmarks", start-up). Renders of scenes without textures
-// other than EXR files, and most test processes, now never load them.
+// other than EXR and PNG files, and most test processes, now never load them.
 //
 // Only plain data and strings cross the boundary, and no exception: each function catches what
 // it calls and returns "" on success, else the whole error message (the file's path included).

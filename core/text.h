@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -36,6 +37,14 @@ inline bool parse_finite_float(const std::string& item, float& v) {
         return false;
     }
     return used == item.size() && std::isfinite(v);
+}
+
+// A number with `digits` significant digits, enough to read it back exactly (9 for a float, 17
+// for a double), as OpenImageIO prints attributes: "1" for 1, "0.100000001" for 0.1f.
+inline std::string number_text(double v, int digits) {
+    char text[40];
+    std::snprintf(text, sizeof text, "%.*g", digits, v);
+    return text;
 }
 
 // ASCII lower case (Mitsuba's string::to_lower).

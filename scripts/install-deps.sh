@@ -8,7 +8,7 @@ set -euo pipefail
 
 packages=(
   cmake g++ make pkg-config
-  libembree-dev libopenimageio-dev openimageio-tools libopenexr-dev libglm-dev
+  libembree-dev libopenimageio-dev openimageio-tools libopenexr-dev libpng-dev libglm-dev
   catch2 libtbb-dev libpugixml-dev libcli11-dev zlib1g-dev libisal-dev
   libosmesa6-dev
   clang libclang-rt-14-dev llvm lld

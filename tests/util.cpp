@@ -2,7 +2,10 @@
 
 #include "core/scene.h"
 
+#include <candela/image_module.h>
 #include <catch2/catch.hpp>
+
+#include <dlfcn.h>
 
 #include <sys/wait.h>
 #include <unistd.h>
@@ -48,6 +51,16 @@ std::string read_text(const std::filesystem::path& path) {
 std::string source_path(const std::string& relative) { return std::string(CANDELA_SOURCE_DIR) + "/" + relative; }
 
 std::string candela_binary() { return std::string(CANDELA_BINARY_DIR) + "/candela"; }
+
+const ImageCodecs& module_codecs() {
+    static void* module = ::dlopen(CANDELA_IMAGE_MODULE, RTLD_LAZY | RTLD_LOCAL);
+    REQUIRE(module != nullptr);
+    auto entry = reinterpret_cast<decltype(&candela_image_codecs)>(::dlsym(module, CANDELA_IMAGE_CODECS_ENTRY));
+    REQUIRE(entry != nullptr);
+    const ImageCodecs* codecs = entry(ImageCodecsAbi);
+    REQUIRE(codecs != nullptr);
+    return *codecs;
+}
 
 int run_command(const std::string& command, const std::filesystem::path& log) {
     std::string full = "{ " + command + " ; } > '" + log.string() + "' 2>&1";

@@ -1,6 +1,7 @@
 #pragma once
 // Helpers shared by the tests: scratch directories, small files, and scene snippets.
 
+#include "core/image_codecs.h"
 #include "core/integrator.h"
 #include "core/mesh.h"
 #include "core/xml.h"
@@ -16,6 +17,10 @@ std::filesystem::path scratch_dir(const std::string& name);
 void write_text(const std::filesystem::path& path, const std::string& text);
 std::string source_path(const std::string& relative);  // inside the repository
 std::string candela_binary();
+
+// The image module's codecs (core/image_codecs.h), loaded as core/image.cpp loads it: what the
+// readers that go around it (core/exr_input.h, core/png_input.h) must give.
+const ImageCodecs& module_codecs();
 
 // Runs a shell command; returns its exit code (not the raw wait status). Output goes to `log`.
 int run_command(const std::string& command, const std::filesystem::path& log);

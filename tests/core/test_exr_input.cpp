@@ -8,7 +8,6 @@
 #include "core/image.h"
 #include "tests/util.h"
 
-#include <candela/image_module.h>
 #include <catch2/catch.hpp>
 
 #include <Imath/half.h>
@@ -24,7 +23,6 @@
 #include <OpenEXR/ImfStringAttribute.h>
 #include <OpenEXR/ImfTiledOutputFile.h>
 
-#include <dlfcn.h>
 #include <cstring>
 #include <random>
 
@@ -32,17 +30,6 @@ using namespace candela;
 using namespace candela::test;
 
 namespace {
-
-// The image module's reader, loaded as core/image.cpp loads it.
-const ImageCodecs& module_codecs() {
-    static void* module = ::dlopen(CANDELA_IMAGE_MODULE, RTLD_LAZY | RTLD_LOCAL);
-    REQUIRE(module != nullptr);
-    auto entry = reinterpret_cast<decltype(&candela_image_codecs)>(::dlsym(module, CANDELA_IMAGE_CODECS_ENTRY));
-    REQUIRE(entry != nullptr);
-    const ImageCodecs* codecs = entry(ImageCodecsAbi);
-    REQUIRE(codecs != nullptr);
-    return *codecs;
-}
 
 struct ExrSpec {
     std::vector<std::string> channels;

@@ -1,0 +1,211 @@
+#include "core/png_input.h"
+
+#include "core/text.h"
+
+#include <png.h>
+
+#include <algorithm>
+#include <cmath>
+#include <csetjmp>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+#include <utility>
+#include <vector>
+
+namespace candela {
+namespace {
+
+static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "16-bit samples are swapped to the machine's order, little-endian");
+
+// libpng reports an error by calling this, which must not return: back to the setjmp of the step
+// that failed. The file is then left to the image module, whose message names the error.
+void leave_on_error(png_structp png, png_const_charp) { png_longjmp(png, 1); }
+// Warnings (a damaged ancillary chunk dropped, ...) are ignored, as OpenImageIO ignores them: the
+// same libpng, called the same way, gives the same image.
+void ignore_warning(png_structp, png_const_charp) {}
+
+// libpng's state for one file, released however the reading ends.
+struct PngFile {
+    std::FILE* file = nullptr;
+    png_structp png = nullptr;
+    png_infop info = nullptr;
+    ~PngFile() {
+        if (png) png_destroy_read_struct(&png, info ? &info : nullptr, nullptr);
+        if (file) std::fclose(file);
+    }
+};
+
+// The two steps in which libpng may jump back. Nothing with a destructor lives in their frames, so
+// that the jump skips none. The calls are OpenImageIO 2.4's, in its order: its reader expands
+// (palettes, tRNS, grey below 8 bits) and swaps 16-bit samples, then reads the rows.
+bool read_info(PngFile& f) {
+    if (setjmp(png_jmpbuf(f.png))) return false;
+    png_read_info(f.png, f.info);
+    png_set_expand(f.png);
+    png_set_swap(f.png);
+    png_read_update_info(f.png, f.info);
+    return true;
+}
+
+bool read_rows(PngFile& f, png_bytepp rows, bool interlaced) {
+    if (setjmp(png_jmpbuf(f.png))) return false;
+    png_read_image(f.png, rows);
+    // OpenImageIO reads an interlaced image whole and then to its end, a progressive one row by
+    // row without the end: the same checks here.
+    if (interlaced) png_read_end(f.png, nullptr);
+    return true;
+}
+
+std::string printed(const char* format, double a) {
+    char text[64];
+    std::snprintf(text, sizeof text, format, a);
+    return text;
+}
+
+// The file's attributes as OpenImageIO 2.4's PNG reader names and formats them (core/png_input.h),
+// in its order, and the gamma it gives (1 without gAMA). False when a chunk would have it decode
+// more (ICC profile, Exif, XMP).
+bool png_metadata(png_structp png, png_infop info, std::vector<std::pair<std::string, std::string>>& attributes, float& gamma) {
+    if (png_get_valid(png, info, PNG_INFO_iCCP | PNG_INFO_eXIf)) return false;
+    int srgb_intent = 0;
+    double file_gamma = 0.0;
+    if (png_get_sRGB(png, info, &srgb_intent)) {
+        attributes.emplace_back("oiio:ColorSpace", "sRGB");
+    } else if (png_get_gAMA(png, info, &file_gamma) && file_gamma > 0.0) {
+        // The decoding exponent, rounded to hundredths (2.2, not 2.19998), in float as there.
+        float g = float(1.0 / file_gamma);
+        g = std::round(float(100.0 * g)) / 100.0f;
+        gamma = g;
+        attributes.emplace_back("oiio:Gamma", number_text(g, 6));
+        attributes.emplace_back("oiio:ColorSpace", g == 1.0f ? "linear" : printed("Gamma%.2g", g));
+    } else {
+        attributes.emplace_back("oiio:ColorSpace", "sRGB");  // no colour information: sRGB assumed
+    }
+    png_timep time = nullptr;
+    if (png_get_tIME(png, info, &time) && time) {
+        char text[64];
+        std::snprintf(text, sizeof text, "%4d:%02d:%02d %02d:%02d:%02d", time->year, time->month, time->day, time->hour, time->minute,
+                      time->second);
+        attributes.emplace_back("DateTime", text);
+    }
+    png_textp texts = nullptr;
+    const int text_count = png_get_text(png, info, &texts, nullptr);
+    for (int i = 0; i < text_count; ++i) {
+        if (!texts[i].key || !texts[i].text) return false;
+        const std::string key = to_lower(texts[i].key);
+        if (key == "xml:com.adobe.xmp" || key == "raw profile type exif") return false;
+        const char* name = key == "description" ? "ImageDescription"
+                           : key == "author"    ? "Artist"
+                           : key == "title"     ? "DocumentName"
+                                                : texts[i].key;
+        attributes.emplace_back(name, texts[i].text);
+    }
+    png_uint_32 x_resolution = 0, y_resolution = 0;
+    int unit = 0;
+    if (png_get_pHYs(png, info, &x_resolution, &y_resolution, &unit)) {
+        float scale = 1.0f;
+        if (unit == PNG_RESOLUTION_METER) {
+            scale = float(2.54 / 100.0);  // per inch, as most formats give it
+            attributes.emplace_back("ResolutionUnit", "inch");
+        } else {
+            attributes.emplace_back("ResolutionUnit", "none");
+        }
+        attributes.emplace_back("XResolution", number_text(float(x_resolution) * scale, 6));
+        attributes.emplace_back("YResolution", number_text(float(y_resolution) * scale, 6));
+    }
+    const float aspect = float(png_get_pixel_aspect_ratio(png, info));
+    if (aspect != 0.0f && aspect != 1.0f) attributes.emplace_back("PixelAspectRatio", number_text(aspect, 6));
+    return true;
+}
+
+// PNG stores unassociated alpha; OpenImageIO 2.4 associates it on the stored integers, before any
+// conversion to float: v a / max in integers, truncated, when the file gives no gamma or gamma 1;
+// else v (a / max)^gamma in float, truncated (the decoding exponent of gAMA, as oiio:Gamma).
+template <class T>
+void associate_alpha(T* samples, size_t pixel_count, int channels, float gamma) {
+    const int alpha_channel = channels - 1;
+    const unsigned max = std::numeric_limits<T>::max();
+    if (gamma == 1.0f) {
+        for (size_t i = 0; i < pixel_count; ++i, samples += channels)
+            for (int c = 0; c < alpha_channel; ++c) samples[c] = T(unsigned(samples[c]) * samples[alpha_channel] / max);
+        return;
+    }
+    const float inverse_max = float(1.0 / max);
+    for (size_t i = 0; i < pixel_count; ++i, samples += channels) {
+        const float factor = std::pow(float(samples[alpha_channel]) * inverse_max, gamma);
+        for (int c = 0; c < alpha_channel; ++c) samples[c] = T(float(samples[c]) * factor);
+    }
+}
+
+// Integer samples to [0, 1] floats, as OpenImageIO converts them.
+template <class T>
+float to_unit(T v) {
+    return float(v) * (1.0f / float(std::numeric_limits<T>::max()));
+}
+
+template <class T>
+void decode_samples(std::vector<unsigned char>& raw, size_t pixel_count, int channels, float gamma, std::vector<float>& values) {
+    std::vector<T> samples(pixel_count * size_t(channels));
+    std::memcpy(samples.data(), raw.data(), samples.size() * sizeof(T));
+    if (channels == 2 || channels == 4) associate_alpha(samples.data(), pixel_count, channels, gamma);
+    values.resize(samples.size());
+    for (size_t i = 0; i < samples.size(); ++i) values[i] = to_unit(samples[i]);
+}
+
+}  // namespace
+
+bool read_png(const std::string& path, bool pixels, DecodedImage& out) {
+    PngFile f;
+    f.file = std::fopen(path.c_str(), "rb");
+    if (!f.file) return false;
+    f.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, nullptr, leave_on_error, ignore_warning);
+    if (!f.png) return false;
+    f.info = png_create_info_struct(f.png);
+    if (!f.info) return false;
+    png_init_io(f.png, f.file);
+    if (!read_info(f)) return false;
+
+    png_uint_32 width = 0, height = 0;
+    int bit_depth = 0, color_type = 0, interlace = 0;
+    png_get_IHDR(f.png, f.info, &width, &height, &bit_depth, &color_type, &interlace, nullptr, nullptr);
+    const int channels = png_get_channels(f.png, f.info);
+    // OpenImageIO's reader refuses more than 65536 pixels a side; its size check follows.
+    if (width > 65536 || height > 65536 || channels < 1 || channels > 4 || (bit_depth != 8 && bit_depth != 16)) return false;
+    if (!image_size_problem(path, int64_t(width), int64_t(height), channels, 0, 0).empty()) return false;
+    std::vector<std::pair<std::string, std::string>> attributes;
+    float gamma = 1.0f;  // oiio:Gamma, which decides how alpha is associated
+    if (!png_metadata(f.png, f.info, attributes, gamma)) return false;
+    // An attribute named twice (a text chunk named like another attribute): which one OpenImageIO
+    // keeps is its business.
+    for (size_t i = 0; i < attributes.size(); ++i)
+        for (size_t j = 0; j < i; ++j)
+            if (to_lower(attributes[i].first) == to_lower(attributes[j].first)) return false;
+
+    DecodedImage decoded;
+    ImageHeader& h = decoded.header;
+    h.width = int(width);
+    h.height = int(height);
+    static const std::vector<std::string> names[4] = {{"Y"}, {"Y", "A"}, {"R", "G", "B"}, {"R", "G", "B", "A"}};
+    h.channels = names[channels - 1];
+    for (auto& [name, value] : attributes) h.metadata[name] = value;
+    h.integer_bits = bit_depth;
+    if (pixels) {
+        const size_t row_bytes = png_get_rowbytes(f.png, f.info);
+        if (row_bytes != size_t(width) * size_t(channels) * size_t(bit_depth / 8)) return false;
+        std::vector<unsigned char> raw(row_bytes * height);
+        std::vector<png_bytep> rows(height);
+        for (size_t y = 0; y < height; ++y) rows[y] = raw.data() + y * row_bytes;
+        if (!read_rows(f, rows.data(), interlace != PNG_INTERLACE_NONE)) return false;
+        const size_t pixel_count = size_t(width) * size_t(height);
+        if (bit_depth == 16)
+            decode_samples<uint16_t>(raw, pixel_count, channels, gamma, decoded.values);
+        else
+            decode_samples<uint8_t>(raw, pixel_count, channels, gamma, decoded.values);
+    }
+    out = std::move(decoded);
+    return true;
+}
+
+}  // namespace candela

@@ -1,0 +1,32 @@
+#pragma once
+// Reading PNG files with libpng itself, as core/exr_input.h reads OpenEXR files: without the image
+// module (core/image_codecs.h), whose OpenImageIO and ~250 libraries took about 0.33 s of every
+// run that read a PNG texture (2026-12-05: textured.xml's whole start 0.43 s against 0.09 s for the
+// Cornell box). PNG is the format of most textures in Mitsuba 3's documentation scenes.
+//
+// The result is what the module's reader (OpenImageIO 2.4) gives, value for value:
+// - libpng's decoding with its expansion (palettes to RGB, tRNS to an alpha channel, 1-, 2- and
+//   4-bit grey to 8 bits); 16-bit files stay 16-bit (integer_bits 16), the others 8-bit;
+// - channels R, G, B, A, or Y for grey and Y, A for grey with alpha;
+// - alpha associated as OpenImageIO does it, on the integers before they become floats
+//   (premultiplied as stored, whatever the gamma; a value of alpha 1 untouched);
+// - the metadata: oiio:ColorSpace ("sRGB" for an sRGB chunk or none, "linear" or "Gamma<g>" from
+//   gAMA, with oiio:Gamma), DateTime (tIME), text chunks (Description, Author and Title under
+//   OpenImageIO's names ImageDescription, Artist and DocumentName), ResolutionUnit, XResolution and
+//   YResolution (pHYs, per inch when given per metre) and PixelAspectRatio.
+// What it cannot reproduce exactly it leaves to the module: ICC profiles, Exif and XMP (which
+// OpenImageIO decodes into many attributes), text keys that would collide with another attribute,
+// images wider or taller than 65536 pixels or too large to read (the module's messages say why),
+// and every file libpng reports an error in (the module's message names it).
+
+#include "core/image_codecs.h"
+
+#include <string>
+
+namespace candela {
+
+// Reads `path` (its pixels too when `pixels`) into `out` and returns true; returns false, with
+// `out` untouched, for what it leaves to the image module (above).
+bool read_png(const std::string& path, bool pixels, DecodedImage& out);
+
+}  // namespace candela
