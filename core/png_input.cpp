@@ -9,7 +9,6 @@
 #include <csetjmp>
 #include <cstdint>
 #include <cstdio>
-#include <cstring>
 #include <limits>
 #include <utility>
 #include <vector>
@@ -145,13 +144,18 @@ float to_unit(T v) {
     return float(v) * (1.0f / float(std::numeric_limits<T>::max()));
 }
 
+// The rows, read into samples of the file's width (libpng writes them through byte pointers, which
+// may alias any type), alpha associated, then converted to floats. False on a libpng error.
 template <class T>
-void decode_samples(std::vector<unsigned char>& raw, size_t pixel_count, int channels, float gamma, std::vector<float>& values) {
-    std::vector<T> samples(pixel_count * size_t(channels));
-    std::memcpy(samples.data(), raw.data(), samples.size() * sizeof(T));
-    if (channels == 2 || channels == 4) associate_alpha(samples.data(), pixel_count, channels, gamma);
+bool read_pixels(PngFile& f, size_t width, size_t height, int channels, float gamma, bool interlaced, std::vector<float>& values) {
+    std::vector<T> samples(width * height * size_t(channels));
+    std::vector<png_bytep> rows(height);
+    for (size_t y = 0; y < height; ++y) rows[y] = reinterpret_cast<png_bytep>(samples.data() + y * width * size_t(channels));
+    if (!read_rows(f, rows.data(), interlaced)) return false;
+    if (channels == 2 || channels == 4) associate_alpha(samples.data(), width * height, channels, gamma);
     values.resize(samples.size());
     for (size_t i = 0; i < samples.size(); ++i) values[i] = to_unit(samples[i]);
+    return true;
 }
 
 }  // namespace
@@ -192,17 +196,11 @@ bool read_png(const std::string& path, bool pixels, DecodedImage& out) {
     for (auto& [name, value] : attributes) h.metadata[name] = value;
     h.integer_bits = bit_depth;
     if (pixels) {
-        const size_t row_bytes = png_get_rowbytes(f.png, f.info);
-        if (row_bytes != size_t(width) * size_t(channels) * size_t(bit_depth / 8)) return false;
-        std::vector<unsigned char> raw(row_bytes * height);
-        std::vector<png_bytep> rows(height);
-        for (size_t y = 0; y < height; ++y) rows[y] = raw.data() + y * row_bytes;
-        if (!read_rows(f, rows.data(), interlace != PNG_INTERLACE_NONE)) return false;
-        const size_t pixel_count = size_t(width) * size_t(height);
-        if (bit_depth == 16)
-            decode_samples<uint16_t>(raw, pixel_count, channels, gamma, decoded.values);
-        else
-            decode_samples<uint8_t>(raw, pixel_count, channels, gamma, decoded.values);
+        if (png_get_rowbytes(f.png, f.info) != size_t(width) * size_t(channels) * size_t(bit_depth / 8)) return false;
+        const bool interlaced = interlace != PNG_INTERLACE_NONE;
+        const bool read = bit_depth == 16 ? read_pixels<uint16_t>(f, width, height, channels, gamma, interlaced, decoded.values)
+                                          : read_pixels<uint8_t>(f, width, height, channels, gamma, interlaced, decoded.values);
+        if (!read) return false;
     }
     out = std::move(decoded);
     return true;
