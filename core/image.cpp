@@ -4,7 +4,7 @@
 #include "core/exr_input.h"
 #include "core/file_output.h"
 #include "core/image_codecs.h"
-#include "core/png_input.h"
+#include "core/png_file.h"
 #include "core/spectral.h"
 
 #include <candela/image_module.h>
@@ -19,7 +19,6 @@
 #include <dlfcn.h>
 #include <unistd.h>
 #include <algorithm>
-#include <atomic>
 #include <cctype>
 #include <cstdio>
 #include <filesystem>
@@ -129,7 +128,7 @@ const ImageCodecs* load_image_codecs() {
         if (module) ::dlclose(module);  // another build's module (or another library): not kept
         failures += "; " + (why ? std::string(why) : candidate.string() + ": not the image module of this build");
     }
-    throw InputError("cannot load Candela's image module (OpenImageIO's readers and PNG writer)" + failures);
+    throw InputError("cannot load Candela's image module (OpenImageIO's readers)" + failures);
 }
 
 // Loaded once, by the first caller; the module stays loaded.
@@ -161,7 +160,7 @@ DecodedImage decode_image(const std::string& path, bool pixels) {
             return decoded;
         }
     }
-    // PNG files too are read without the module (core/png_input.h), but for the kinds it leaves.
+    // PNG files too are read without the module (core/png_file.h), but for the kinds it leaves.
     if (format == "png" && read_png(path, pixels, decoded)) return decoded;
     if (std::string error = image_codecs().read(path, format, pixels, decoded); !error.empty()) throw InputError(error);
     return decoded;
@@ -260,8 +259,10 @@ void write_exr(const Image& image, const std::string& path, bool float32) {
     });
 }
 
-void write_png_display(const Image& image, const std::string& path) {
-    int nch = std::min(image.channel_count(), 4);
+namespace {
+// An 8-bit PNG file of a display-referred image's first four channels (libpng, core/png_file.h).
+std::string png_of_display(const Image& image) {
+    const int nch = std::min(image.channel_count(), 4);
     std::vector<unsigned char> bytes(size_t(image.width()) * image.height() * nch);
     for (int y = 0; y < image.height(); ++y)
         for (int x = 0; x < image.width(); ++x)
@@ -270,22 +271,13 @@ void write_png_display(const Image& image, const std::string& path) {
                 v = std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : 0.0f;
                 bytes[(size_t(y) * image.width() + x) * nch + c] = static_cast<unsigned char>(std::lround(v * 255.0f));
             }
-    write_atomically(path, [&](const std::string& tmp) {
-        if (std::string error = image_codecs().write_png(tmp, image.width(), image.height(), nch, bytes.data()); !error.empty())
-            throw InputError("cannot write PNG: " + error);
-    });
+    return png_file_bytes(image.width(), image.height(), nch, bytes.data());
 }
+}  // namespace
 
-std::string encode_png(const Image& display) {
-    static std::atomic<int> counter{0};
-    fs::path tmp = fs::temp_directory_path() / ("candela-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + ".png");
-    write_png_display(display, tmp.string());
-    std::ifstream in(tmp, std::ios::binary);
-    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    std::error_code ec;
-    fs::remove(tmp, ec);
-    return bytes;
-}
+void write_png_display(const Image& image, const std::string& path) { write_file_atomically(path, png_of_display(image)); }
+
+std::string encode_png(const Image& display) { return png_of_display(display); }
 
 Image linear_rgb(const Image& rendered) {
     auto has = [&](const char* a, const char* b, const char* c) {

@@ -1,6 +1,7 @@
 #pragma once
-// Float images with named channels, read by OpenEXR (core/exr_input.h), libpng (core/png_input.h)
-// or else OpenImageIO (loaded on first use: see core/image_codecs.h) and written as OpenEXR (with metadata) or as a tonemapped sRGB PNG. Every file is written whole or not at all: to a
+// Float images with named channels, read by OpenEXR (core/exr_input.h), libpng (core/png_file.h)
+// or else OpenImageIO (loaded on first use: see core/image_codecs.h), and written as OpenEXR (with
+// metadata) or as a tonemapped sRGB PNG (libpng). Every file is written whole or not at all: to a
 // temporary beside the target, then renamed.
 
 #include "core/spectrum.h"

@@ -1,9 +1,9 @@
 #pragma once
-// The boundary between core/image.cpp and the image module: OpenImageIO's readers and its PNG
-// writer, compiled apart (imageio/oiio_codecs.cpp) as the shared module `candela_images`, which
-// core/image.cpp loads with dlopen the first time a program reads an image other than an
-// OpenEXR or PNG file (those OpenEXR and libpng read, core/exr_input.h and core/png_input.h, but
-// for rare kinds) or writes a PNG.
+// The boundary between core/image.cpp and the image module: OpenImageIO's readers, compiled apart
+// (imageio/oiio_codecs.cpp) as the shared module `candela_images`, which core/image.cpp loads with
+// dlopen the first time a program reads an image other than an OpenEXR or PNG file (those OpenEXR
+// and libpng read, core/exr_input.h and core/png_file.h, but for rare kinds). PNG files are
+// written by libpng (core/png_file.h), OpenEXR files by OpenEXR.
 //
 // Why a module: Debian 12's OpenImageIO links some 250 shared libraries (FFmpeg, OpenCV, GDAL,
 // DCMTK, GStreamer, ...). Linked into Candela's programs, they were loaded and their symbols
@@ -25,7 +25,7 @@ namespace candela {
 
 // Changed whenever ImageCodecs or DecodedImage change, so that a module left over from another
 // build is refused instead of called with the wrong layout.
-constexpr int ImageCodecsAbi = 1;
+constexpr int ImageCodecsAbi = 2;
 
 struct DecodedImage {
     ImageHeader header;
@@ -66,8 +66,6 @@ public:
     // The name of the format OpenImageIO associates with `path`'s extension ("dds", "tiff"),
     // "" if none; it opens nothing.
     virtual std::string format_by_extension(const std::string& path) const = 0;
-    // Writes `bytes` (width x height x channels, interleaved, 1 to 4 channels) as an 8-bit PNG.
-    virtual std::string write_png(const std::string& path, int width, int height, int channels, const unsigned char* bytes) const = 0;
 
 protected:
     ~ImageCodecs() = default;

@@ -1,5 +1,5 @@
 // The image module (the shared module `candela_images`, see core/image_codecs.h): reading images
-// and writing PNGs through OpenImageIO. Only core/image.cpp calls it, after choosing the reader by
+// through OpenImageIO. Only core/image.cpp calls it, after choosing the reader by
 // the file's first bytes (image_format_of there); nothing here throws past the boundary.
 
 #include "core/image_codecs.h"
@@ -113,18 +113,6 @@ public:
             return by_name ? by_name->format_name() : "";
         } catch (const std::exception&) {
             return "";
-        }
-    }
-
-    std::string write_png(const std::string& path, int width, int height, int channels, const unsigned char* bytes) const override {
-        try {
-            auto out = OIIO::ImageOutput::create("png");
-            OIIO::ImageSpec spec(width, height, channels, OIIO::TypeDesc::UINT8);
-            if (!out) return OIIO::geterror();
-            if (!out->open(path, spec) || !out->write_image(OIIO::TypeDesc::UINT8, bytes) || !out->close()) return out->geterror();
-            return "";
-        } catch (const std::exception& e) {
-            return e.what();
         }
     }
 };

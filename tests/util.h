@@ -19,7 +19,7 @@ std::string source_path(const std::string& relative);  // inside the repository
 std::string candela_binary();
 
 // The image module's codecs (core/image_codecs.h), loaded as core/image.cpp loads it: what the
-// readers that go around it (core/exr_input.h, core/png_input.h) must give.
+// readers that go around it (core/exr_input.h, core/png_file.h) must give.
 const ImageCodecs& module_codecs();
 
 // Runs a shell command; returns its exit code (not the raw wait status). Output goes to `log`.

@@ -1,5 +1,6 @@
-#include "core/png_input.h"
+#include "core/png_file.h"
 
+#include "core/error.h"
 #include "core/text.h"
 
 #include <png.h>
@@ -10,6 +11,8 @@
 #include <cstdint>
 #include <cstdio>
 #include <limits>
+#include <new>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -63,7 +66,7 @@ std::string printed(const char* format, double a) {
     return text;
 }
 
-// The file's attributes as OpenImageIO 2.4's PNG reader names and formats them (core/png_input.h),
+// The file's attributes as OpenImageIO 2.4's PNG reader names and formats them (core/png_file.h),
 // in its order, and the gamma it gives (1 without gAMA). False when a chunk would have it decode
 // more (ICC profile, Exif, XMP).
 bool png_metadata(png_structp png, png_infop info, std::vector<std::pair<std::string, std::string>>& attributes, float& gamma) {
@@ -159,6 +162,65 @@ bool read_pixels(PngFile& f, size_t width, size_t height, int channels, float ga
 }
 
 }  // namespace
+
+namespace {
+
+// libpng's output, appended to a string; an allocation failure becomes libpng's error.
+void append_to_string(png_structp png, png_bytep data, size_t length) {
+    try {
+        static_cast<std::string*>(png_get_io_ptr(png))->append(reinterpret_cast<const char*>(data), length);
+    } catch (const std::bad_alloc&) {
+        png_error(png, "out of memory");
+    }
+}
+void no_flush(png_structp) {}
+
+// Copies libpng's message (which may live in the frame the jump leaves) for the exception, then
+// jumps back to write_rows' setjmp.
+struct PngMessage {
+    char text[200] = "";
+};
+void keep_message_and_leave(png_structp png, png_const_charp message) {
+    PngMessage* kept = static_cast<PngMessage*>(png_get_error_ptr(png));
+    std::snprintf(kept->text, sizeof kept->text, "%s", message ? message : "libpng failed");
+    png_longjmp(png, 1);
+}
+
+// The step in which libpng may jump back; nothing with a destructor lives in its frame.
+bool write_rows(png_structp png, png_infop info, int width, int height, int channels, png_bytepp rows) {
+    if (setjmp(png_jmpbuf(png))) return false;
+    static const int color_types[4] = {PNG_COLOR_TYPE_GRAY, PNG_COLOR_TYPE_GRAY_ALPHA, PNG_COLOR_TYPE_RGB, PNG_COLOR_TYPE_RGB_ALPHA};
+    png_set_IHDR(png, info, png_uint_32(width), png_uint_32(height), 8, color_types[channels - 1], PNG_INTERLACE_NONE,
+                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    png_set_sRGB(png, info, PNG_sRGB_INTENT_PERCEPTUAL);
+    png_write_info(png, info);
+    png_write_image(png, rows);
+    png_write_end(png, info);
+    return true;
+}
+
+}  // namespace
+
+std::string png_file_bytes(int width, int height, int channels, const unsigned char* samples) {
+    if (width <= 0 || height <= 0 || channels < 1 || channels > 4)
+        throw InputError("cannot write PNG: " + std::to_string(width) + " x " + std::to_string(height) + " pixels of " +
+                         std::to_string(channels) + " channels (a PNG has 1 to 4 channels and at least one pixel)");
+    PngMessage message;
+    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &message, keep_message_and_leave, ignore_warning);
+    png_infop info = png ? png_create_info_struct(png) : nullptr;
+    if (!info) {
+        png_destroy_write_struct(&png, nullptr);
+        throw std::bad_alloc();
+    }
+    std::string bytes;
+    png_set_write_fn(png, &bytes, append_to_string, no_flush);
+    std::vector<png_bytep> rows(static_cast<size_t>(height));
+    for (size_t y = 0; y < rows.size(); ++y) rows[y] = const_cast<png_bytep>(samples + y * size_t(width) * size_t(channels));
+    const bool written = write_rows(png, info, width, height, channels, rows.data());
+    png_destroy_write_struct(&png, &info);
+    if (!written) throw InputError(std::string("cannot write PNG: ") + message.text);
+    return bytes;
+}
 
 bool read_png(const std::string& path, bool pixels, DecodedImage& out) {
     PngFile f;

@@ -1,19 +1,22 @@
-// PNG files are read by libpng itself (core/png_input.h) instead of the OpenImageIO module: the
+// PNG files are read by libpng itself (core/png_file.h) instead of the OpenImageIO module: the
 // same images and metadata as the module gives, checked against the module on files of every
 // colour type and bit depth libpng writes, interlaced or not, with the chunks that become
 // attributes; alpha association on every pair of 8-bit value and alpha and every 16-bit value;
 // what it leaves to the module (Exif, XMP, names twice, damaged files, images over 65536 pixels
 // wide) reads as the module reads it. ICC profiles are left too, but libpng 1.6.39 dropped every
 // small profile this test could make up ("iCCP: too short"), so that case is not exercised here.
+// PNG files are written by libpng too: they read back exactly, by both readers.
 
+#include "core/error.h"
 #include "core/image.h"
-#include "core/png_input.h"
+#include "core/png_file.h"
 #include "tests/util.h"
 
 #include <catch2/catch.hpp>
 
 #include <png.h>
 
+#include <cmath>
 #include <csetjmp>
 #include <cstdio>
 #include <cstring>
@@ -273,7 +276,7 @@ TEST_CASE("images: a PNG file's alpha is associated as the module associates it,
     };
     write_png_file((dir / "pairs.png").string(), pairs, 1);
     check_same_as_module((dir / "pairs.png").string());
-    // With a gamma other than 1 OpenImageIO associates alpha in another way (core/png_input.cpp).
+    // With a gamma other than 1 OpenImageIO associates alpha in another way (core/png_file.cpp).
     pairs.chunks = [](png_structp png, png_infop info) { png_set_gAMA_fixed(png, info, 45455); };
     write_png_file((dir / "pairs_gamma.png").string(), pairs, 1);
     check_same_as_module((dir / "pairs_gamma.png").string());
@@ -352,4 +355,37 @@ TEST_CASE("images: what the PNG reader leaves to the module reads as the module 
     wide.bit_depth = 1;
     write_png_file((dir / "wide.png").string(), wide, 9);
     check_same_as_module((dir / "wide.png").string(), false);
+}
+
+TEST_CASE("images: a PNG written by libpng reads back exactly, by libpng and by the module", "[image]") {
+    auto dir = scratch_dir("png-output");
+    std::mt19937 rng(11);
+    for (int channels = 1; channels <= 4; ++channels)
+        for (bool opaque : {true, false}) {
+            const int width = 53, height = 29;
+            std::vector<unsigned char> bytes(size_t(width) * height * channels);
+            for (size_t i = 0; i < bytes.size(); ++i) {
+                const bool alpha = (channels == 2 || channels == 4) && i % size_t(channels) == size_t(channels - 1);
+                bytes[i] = alpha && opaque ? 255 : (unsigned char)(rng() & 0xff);
+            }
+            const std::string path = (dir / ("written" + std::to_string(channels) + (opaque ? "o" : "t") + ".png")).string();
+            write_text(path, png_file_bytes(width, height, channels, bytes.data()));
+            check_same_as_module(path);
+            Image image = read_image(path);
+            CHECK(image.metadata["oiio:ColorSpace"] == "sRGB");
+            REQUIRE(image.data().size() == bytes.size());
+            if (!opaque && (channels == 2 || channels == 4)) continue;  // alpha is associated when read
+            for (size_t i = 0; i < bytes.size(); ++i) REQUIRE(image.data()[i] == float(bytes[i]) * (1.0f / 255.0f));
+        }
+    const unsigned char pixel[5] = {1, 2, 3, 4, 5};
+    CHECK_THROWS_AS(png_file_bytes(1, 1, 5, pixel), InputError);
+    CHECK_THROWS_AS(png_file_bytes(0, 1, 3, pixel), InputError);
+    // A display image written as a file, whole (core/image.h).
+    Image display(3, 2, {"R", "G", "B"});
+    for (size_t i = 0; i < display.data().size(); ++i) display.data()[i] = float(i) / 17.0f;
+    write_png_display(display, (dir / "display.png").string());
+    Image back = read_image((dir / "display.png").string());
+    for (size_t i = 0; i < display.data().size(); ++i)
+        CHECK(back.data()[i] == float(std::lround(display.data()[i] * 255.0f)) * (1.0f / 255.0f));
+    CHECK(encode_png(display) == read_text(dir / "display.png"));
 }

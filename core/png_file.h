@@ -1,5 +1,5 @@
 #pragma once
-// Reading PNG files with libpng itself, as core/exr_input.h reads OpenEXR files: without the image
+// Reading and writing PNG files with libpng itself, as core/exr_input.h reads OpenEXR files: without the image
 // module (core/image_codecs.h), whose OpenImageIO and ~250 libraries took about 0.33 s of every
 // run that read a PNG texture (2026-12-05: textured.xml's whole start 0.43 s against 0.09 s for the
 // Cornell box). PNG is the format of most textures in Mitsuba 3's documentation scenes.
@@ -28,5 +28,11 @@ namespace candela {
 // Reads `path` (its pixels too when `pixels`) into `out` and returns true; returns false, with
 // `out` untouched, for what it leaves to the image module (above).
 bool read_png(const std::string& path, bool pixels, DecodedImage& out);
+
+// The bytes of an 8-bit PNG file of width x height pixels of 1 to 4 channels (grey, grey and
+// alpha, RGB, RGBA), interleaved: display-referred values, tagged sRGB. Written by libpng at its
+// default compression; writing one loaded the image module (0.38 s of a render with --png, and
+// of a notebook's first picture) until 2026-12-05. Throws InputError when libpng refuses.
+std::string png_file_bytes(int width, int height, int channels, const unsigned char* samples);
 
 }  // namespace candela
