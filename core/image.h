@@ -68,8 +68,8 @@ constexpr uint64_t MaxImageValues = uint64_t(1) << 28;
 Image read_image(const std::string& path);
 // The header of such an image, checked as read_image checks it; the pixels are not read.
 ImageHeader read_image_header(const std::string& path);
-// Loads the image module (core/image_codecs.h) now instead of at the first image read or PNG
-// write. The fuzzers do, in their set-up: under AddressSanitizer, loading OpenImageIO's ~250
+// Loads the image module (core/image_codecs.h) now instead of at the first read of an image it
+// reads. The fuzzers do, in their set-up: under AddressSanitizer, loading OpenImageIO's ~250
 // libraries took longer than the 15 s an input is given, and it is no input's cost.
 void load_image_module();
 
