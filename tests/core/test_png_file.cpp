@@ -16,6 +16,18 @@
 
 #include <png.h>
 
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define CANDELA_LSAN 1
+#endif
+#endif
+#if defined(__SANITIZE_ADDRESS__)
+#define CANDELA_LSAN 1
+#endif
+#ifdef CANDELA_LSAN
+#include <sanitizer/lsan_interface.h>
+#endif
+
 #include <cmath>
 #include <csetjmp>
 #include <cstdio>
@@ -342,7 +354,16 @@ TEST_CASE("images: what the PNG reader leaves to the module reads as the module 
     write_png_file((dir / "plain.png").string(), plain, 8);
     const std::string bytes = read_text(dir / "plain.png");
     write_text(dir / "cut.png", bytes.substr(0, bytes.size() / 2));
-    check_same_as_module((dir / "cut.png").string(), false);
+    {
+        // OpenImageIO 2.4's PNG reader leaks its message for a file that ends too soon (it builds
+        // a std::string in its read callback, and libpng longjmps past its destructor; see
+        // core/sanitizer_options.cpp). The suppression there needs full allocation stacks, which
+        // the test build does not take: the module's reads of this file are not leak-checked.
+#ifdef CANDELA_LSAN
+        __lsan::ScopedDisabler module_leaks_its_message;
+#endif
+        check_same_as_module((dir / "cut.png").string(), false);
+    }
     std::string changed = bytes;
     changed[changed.size() / 2] = char(changed[changed.size() / 2] ^ 0x5a);
     write_text(dir / "changed.png", changed);
