@@ -161,7 +161,10 @@ DecodedImage decode_image(const std::string& path, bool pixels) {
         }
     }
     // PNG files too are read without the module (core/png_file.h), but for the kinds it leaves.
-    if (format == "png" && read_png(path, pixels, decoded)) return decoded;
+    if (format == "png") {
+        if (std::string problem = png_chunk_problem(path); !problem.empty()) throw InputError(problem);
+        if (read_png(path, pixels, decoded)) return decoded;
+    }
     if (std::string error = image_codecs().read(path, format, pixels, decoded); !error.empty()) throw InputError(error);
     return decoded;
 }

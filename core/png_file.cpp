@@ -6,10 +6,13 @@
 #include <png.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <csetjmp>
 #include <cstdint>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <limits>
 #include <new>
 #include <string>
@@ -162,6 +165,28 @@ bool read_pixels(PngFile& f, size_t width, size_t height, int channels, float ga
 }
 
 }  // namespace
+
+std::string png_chunk_problem(const std::string& path) {
+    std::error_code ec;
+    const uint64_t file_size = std::filesystem::file_size(path, ec);
+    std::ifstream in(path, std::ios::binary);
+    if (ec || !in.seekg(8)) return "";
+    uint64_t at = 8;  // after the signature: chunks of length (4 bytes), name (4), data, CRC (4)
+    unsigned char head[8];
+    while (at + 8 <= file_size && in.read(reinterpret_cast<char*>(head), 8)) {
+        const uint64_t length = uint64_t(head[0]) << 24 | uint64_t(head[1]) << 16 | uint64_t(head[2]) << 8 | uint64_t(head[3]);
+        const uint64_t left = file_size - (at + 8);
+        std::string name;
+        for (int i = 4; i < 8; ++i) name += std::isalpha(head[i]) ? char(head[i]) : '?';
+        if (length > left)
+            return path + ": cannot read image: its chunk \"" + name + "\" declares " + std::to_string(length) +
+                   " bytes, but the file has " + std::to_string(left) + " left";
+        if (name == "IEND") return "";
+        at += 8 + length + 4;
+        if (!in.seekg(std::streamoff(at))) return "";
+    }
+    return "";
+}
 
 namespace {
 
