@@ -117,6 +117,9 @@ public:
     uint32_t flags() const { return flags_; }
     bool has_smooth_lobe() const { return (flags_ & Smooth) != 0; }
     bool has_null_lobe() const { return (flags_ & Null) != 0; }
+    // False for a BSDF whose sample() never reads u_lobe (one lobe, or a choice made otherwise):
+    // the path integrator then skips drawing it (Sampler::skip_1d). True unless a BSDF says so.
+    bool reads_lobe_sample() const { return reads_lobe_sample_; }
 
 protected:
     // Completes a sample whose direction, lobe and eta a smooth lobe has drawn: its pdf is pdf()
@@ -136,6 +139,7 @@ protected:
     }
 
     uint32_t flags_ = BSDFNone;
+    bool reads_lobe_sample_ = true;
 };
 
 inline bool is_delta(uint32_t lobe) { return (lobe & Delta) != 0; }

@@ -54,6 +54,10 @@ public:
     uint32_t dimension() const { return dimension_; }
     virtual float next_1d() = 0;
     virtual Vec2 next_2d() = 0;
+    // Passes over the next 1D number without computing it, leaving every later number what it
+    // would have been had it been drawn (a stream sampler steps its stream): for a number its
+    // consumer would not read (BSDF::reads_lobe_sample, LightSampler::reads_pick_sample).
+    virtual void skip_1d() { ++dimension_; }
     // True when a pixel's samples are stratified only as a whole: a pixel that adaptive sampling
     // stops early keeps a random subset of the strata and loses the stratification.
     virtual bool stratified_only_as_a_whole() const { return false; }

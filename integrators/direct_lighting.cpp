@@ -40,7 +40,11 @@ Spectrum shadow_transmittance(const Scene& scene, const Ray& shadow, const Mediu
 }
 
 LightSample draw_light_sample(const LightSampler& lights, Sampler& sampler, const SurfaceInteraction& at) {
-    float u_pick = sampler.next_1d();
+    float u_pick = 0.5f;  // read only when there is a choice
+    if (lights.reads_pick_sample())
+        u_pick = sampler.next_1d();
+    else
+        sampler.skip_1d();
     Vec2 u = sampler.next_2d();
     float pick_prob = 0.0f;
     const Emitter* emitter = lights.sample(at, u_pick, pick_prob);

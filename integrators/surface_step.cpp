@@ -44,7 +44,11 @@ bool surface_step(const Scene& scene, const LightSampler& lights, const PathSett
     }
 
     sampler.set_dimension(dims + SampleDimensions::Lobe);
-    const float u_lobe = sampler.next_1d();
+    float u_lobe = 0.5f;  // read only by BSDFs that choose among lobes with it
+    if (bsdf.reads_lobe_sample())
+        u_lobe = sampler.next_1d();
+    else
+        sampler.skip_1d();
     const Vec2 u_direction = sampler.next_2d();
     const BSDFSample bs = bsdf.sample(ctx, si, u_lobe, u_direction);
     if (!bs.valid() || bs.lobe != Null) path.scattered = true;

@@ -7,12 +7,14 @@
 
 namespace candela {
 
+LightSampler::LightSampler(const Scene& scene) : reads_pick_sample_(scene.emitters().size() > 1) {}
+
 namespace {
 
 // Picks emitters with fixed probabilities, independent of the shading point.
 class FixedLightSampler final : public LightSampler {
 public:
-    FixedLightSampler(const Scene& scene, bool by_power) {
+    FixedLightSampler(const Scene& scene, bool by_power) : LightSampler(scene) {
         std::vector<float> weights;
         for (const auto& e : scene.emitters()) {
             index_[e.get()] = emitters_.size();

@@ -16,12 +16,20 @@ class Scene;
 
 class LightSampler {
 public:
+    explicit LightSampler(const Scene& scene);
     virtual ~LightSampler() = default;
     // Picks an emitter for the shading point `ref` (null when the scene has none) and its
     // selection probability.
     virtual const Emitter* sample(const SurfaceInteraction& ref, float u, float& prob) const = 0;
     // Probability that sample() picks `emitter` at `ref`.
     virtual float pmf(const SurfaceInteraction& ref, const Emitter* emitter) const = 0;
+    // False when the scene has one emitter or none: the choice is forced and sample() does not
+    // read u, so a caller may skip drawing it (Sampler::skip_1d), a hash and a permutation per
+    // path vertex for the grid and sequence samplers.
+    bool reads_pick_sample() const { return reads_pick_sample_; }
+
+private:
+    bool reads_pick_sample_;
 };
 
 // The strategies by name (the one list of them), and the default of every integrator that picks

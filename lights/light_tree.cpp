@@ -108,7 +108,7 @@ LightBounds light_bounds_union(const LightBounds& a, const LightBounds& b) {
     return r;
 }
 
-LightTree::LightTree(const Scene& scene) {
+LightTree::LightTree(const Scene& scene) : LightSampler(scene) {
     std::vector<LightBounds> all;
     for (const auto& e : scene.emitters()) {
         if (auto b = e->bounds()) {

@@ -25,6 +25,7 @@ public:
         read_conductor_ior(props, eta_, k_);
         specular_ = props.get_reflectance("specular_reflectance", Spectrum(1.0f));
         flags_ = DeltaReflection;
+        reads_lobe_sample_ = false;
     }
 
     BSDFSample sample(const BSDFContext& ctx, const SurfaceInteraction& si, float, const Vec2&) const override {

@@ -20,6 +20,7 @@ public:
     explicit DiffuseBSDF(const Properties& props) {
         reflectance_ = props.get_reflectance("reflectance", Spectrum(0.5f));
         flags_ = DiffuseReflection;
+        reads_lobe_sample_ = false;
     }
 
     BSDFSample sample(const BSDFContext& ctx, const SurfaceInteraction& si, float, const Vec2& u) const override {

@@ -25,6 +25,7 @@ public:
         if ((front_->flags() | back_->flags()) & Null)
             props.fail("twosided cannot wrap a BSDF that lets light pass (null, mask, polarizer): put the twosided inside it");
         flags_ = front_->flags() | back_->flags();
+        reads_lobe_sample_ = front_->reads_lobe_sample() || back_->reads_lobe_sample();
     }
 
     BSDFSample sample(const BSDFContext& ctx, const SurfaceInteraction& si, float u_lobe, const Vec2& u) const override {

@@ -16,6 +16,7 @@ public:
     Ref<Sampler> clone() const override { return std::make_shared<IndependentSampler>(*this); }
     std::string to_string() const override { return "independent"; }
     float next_1d() override { return rng_.next_float(); }
+    void skip_1d() override { rng_.next_uint(); }
     Vec2 next_2d() override {
         float a = rng_.next_float();
         return Vec2(a, rng_.next_float());

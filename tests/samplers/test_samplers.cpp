@@ -339,6 +339,30 @@ TEST_CASE("samplers: a sample's numbers depend only on (seed, pixel, index), and
     }
 }
 
+TEST_CASE("samplers: skip_1d passes over one number and leaves every later number as drawing it would", "[sampler][determinism]") {
+    // The path integrator skips the lobe choice of a one-lobe BSDF and the light choice of a
+    // one-light scene; its images must not change by it.
+    for (const std::string& name : AllSamplers) {
+        INFO(name);
+        Ref<Sampler> drawn = make_sampler(name, 16, Vec2i(16)), skipped = make_sampler(name, 16, Vec2i(16));
+        for (uint32_t index : {0u, 5u, 15u}) {
+            drawn->start(Vec2i(3, 12), index);
+            skipped->start(Vec2i(3, 12), index);
+            for (uint32_t start : {0u, 7u, 70u}) {
+                drawn->set_dimension(start);
+                skipped->set_dimension(start);
+                drawn->next_2d();
+                skipped->next_2d();
+                drawn->next_1d();
+                skipped->skip_1d();
+                CHECK(drawn->dimension() == skipped->dimension());
+                CHECK(drawn->next_2d() == skipped->next_2d());
+                CHECK(drawn->next_1d() == skipped->next_1d());
+            }
+        }
+    }
+}
+
 TEST_CASE("samplers: sample counts round as Mitsuba (pbrt-v4 for sobol and zsobol) does, with a warning at the sampler", "[sampler]") {
     struct Case {
         std::string xml;
