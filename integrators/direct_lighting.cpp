@@ -39,29 +39,33 @@ Spectrum shadow_transmittance(const Scene& scene, const Ray& shadow, const Mediu
     return T;
 }
 
-LightSample draw_light_sample(const LightSampler& lights, Sampler& sampler, const SurfaceInteraction& at) {
-    float u_pick = 0.5f;  // read only when there is a choice
+LightSampleNumbers draw_light_numbers(const LightSampler& lights, Sampler& sampler) {
+    LightSampleNumbers u;
     if (lights.reads_pick_sample())
-        u_pick = sampler.next_1d();
+        u.pick = sampler.next_1d();
     else
         sampler.skip_1d();
-    Vec2 u = sampler.next_2d();
+    u.point = sampler.next_2d();
+    return u;
+}
+
+LightSample draw_light_sample(const LightSampler& lights, const LightSampleNumbers& u, const SurfaceInteraction& at) {
     float pick_prob = 0.0f;
-    const Emitter* emitter = lights.sample(at, u_pick, pick_prob);
+    const Emitter* emitter = lights.sample(at, u.pick, pick_prob);
     if (!emitter || !(pick_prob > 0.0f)) return LightSample{};
     Spectrum weight(0.0f);
     // Braced initialisers run in order: sample_direction sets `weight` before it is copied.
-    return LightSample{emitter, pick_prob, emitter->sample_direction(at, u, weight), weight};
+    return LightSample{emitter, pick_prob, emitter->sample_direction(at, u.point, weight), weight};
 }
 
 Ray shadow_ray(const SurfaceInteraction& at, const DirectionSample& ds) {
     return std::isinf(ds.dist) ? at.spawn_ray(ds.d) : at.spawn_ray_to(ds.p, ds.delta ? Vec3(0.0f) : ds.n, ds.p_error);
 }
 
-Spectrum sample_emitter_mis(const Scene& scene, const LightSampler& lights, Sampler& sampler, const SurfaceInteraction& si,
+Spectrum sample_emitter_mis(const Scene& scene, const LightSampler& lights, const LightSampleNumbers& u, const SurfaceInteraction& si,
                             const BSDF& bsdf, const BSDFContext& ctx, StrategyShares shares, const PathMedium& medium,
                             StokesSpectrum* arriving) {
-    const LightSample light = draw_light_sample(lights, sampler, si);
+    const LightSample light = draw_light_sample(lights, u, si);
     if (!light.valid()) return Spectrum(0.0f);
     const DirectionSample& ds = light.ds;
     Vec3 wo = si.to_local(ds.d);

@@ -78,10 +78,21 @@ struct LightSample {
     // False when nothing could be sampled (no light, zero probability, pdf or weight).
     bool valid() const { return emitter && ds.pdf > 0.0f && !is_black(weight); }
 };
+// Its numbers: the pick, then the point, drawn in that order from the sampler's current
+// dimension (the pick skipped when the light sampler does not read it). Drawn apart from their
+// use so that a caller can draw in the sampler's order and compute in another (surface_step).
+struct LightSampleNumbers {
+    float pick = 0.5f;
+    Vec2 point{0.5f};
+};
+LightSampleNumbers draw_light_numbers(const LightSampler& lights, Sampler& sampler);
 // Returned by value and built in place: the emitter writes its DirectionSample straight into
 // the result (assigning it to an existing LightSample copied it through memory, and the reloads
 // stalled store forwarding).
-LightSample draw_light_sample(const LightSampler& lights, Sampler& sampler, const SurfaceInteraction& at);
+LightSample draw_light_sample(const LightSampler& lights, const LightSampleNumbers& u, const SurfaceInteraction& at);
+inline LightSample draw_light_sample(const LightSampler& lights, Sampler& sampler, const SurfaceInteraction& at) {
+    return draw_light_sample(lights, draw_light_numbers(lights, sampler), at);
+}
 
 // The shadow ray from `at` to a sampled light point: a direction for an infinitely distant
 // light, else a segment that stops short of the point's surface (its normal and error bound).
@@ -93,9 +104,14 @@ Ray shadow_ray(const SurfaceInteraction& at, const DirectionSample& ds);
 // pdf, weighted against BSDF sampling (weight 1 for delta lights). Draws one 1D and one 2D
 // number. With `arriving` (the polarized variant) also the normalised Stokes vectors of that
 // light as it leaves si toward si.wi (what PolarizedPath::contribute takes).
-Spectrum sample_emitter_mis(const Scene& scene, const LightSampler& lights, Sampler& sampler, const SurfaceInteraction& si,
+Spectrum sample_emitter_mis(const Scene& scene, const LightSampler& lights, const LightSampleNumbers& u, const SurfaceInteraction& si,
                             const BSDF& bsdf, const BSDFContext& ctx, StrategyShares shares = {}, const PathMedium& medium = {},
                             StokesSpectrum* arriving = nullptr);
+inline Spectrum sample_emitter_mis(const Scene& scene, const LightSampler& lights, Sampler& sampler, const SurfaceInteraction& si,
+                                   const BSDF& bsdf, const BSDFContext& ctx, StrategyShares shares = {}, const PathMedium& medium = {},
+                                   StokesSpectrum* arriving = nullptr) {
+    return sample_emitter_mis(scene, lights, draw_light_numbers(lights, sampler), si, bsdf, ctx, shares, medium, arriving);
+}
 // The transmittance of a shadow ray from `si` (Scene::transmittance: through null surfaces, and
 // through media from `medium` when `rng` is given) and, with `arriving` (the polarized variant),
 // the light it brings as it leaves si toward si.wi: its Stokes vectors after the polarising null

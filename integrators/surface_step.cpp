@@ -34,15 +34,12 @@ bool surface_step(const Scene& scene, const LightSampler& lights, const PathSett
     if (!may_scatter && !bsdf.has_null_lobe()) return false;
     BSDFContext ctx;
     if (!may_scatter) ctx.lobes = Null;
-    // draw_light_sample takes the light pick, then the light position (LightPick, LightPosition).
+    // The numbers in the sampler's order: the light pick and position (LightPick, LightPosition),
+    // then the lobe and direction.
+    const bool estimate_next_event = may_scatter && bsdf.has_smooth_lobe();
+    LightSampleNumbers u_light;
     sampler.set_dimension(dims + SampleDimensions::LightPick);
-    if (may_scatter && bsdf.has_smooth_lobe()) {
-        StokesSpectrum arriving;
-        const Spectrum nee = sample_emitter_mis(scene, lights, sampler, si, bsdf, BSDFContext(), {}, medium,
-                                                path.polarization.active() ? &arriving : nullptr);
-        L += path.polarization.contribute(path.weights.estimate_weight() * nee, &arriving);
-    }
-
+    if (estimate_next_event) u_light = draw_light_numbers(lights, sampler);
     sampler.set_dimension(dims + SampleDimensions::Lobe);
     float u_lobe = 0.5f;  // read only by BSDFs that choose among lobes with it
     if (bsdf.reads_lobe_sample())
@@ -50,7 +47,16 @@ bool surface_step(const Scene& scene, const LightSampler& lights, const PathSett
     else
         sampler.skip_1d();
     const Vec2 u_direction = sampler.next_2d();
+    // The BSDF sample before next-event estimation, which does not change it: the warp's
+    // dependent chain (a division, a polynomial, a square root) then runs alongside the light
+    // sample's instead of between the shadow ray and the extension ray, where nothing overlaps it.
     const BSDFSample bs = bsdf.sample(ctx, si, u_lobe, u_direction);
+    if (estimate_next_event) {
+        StokesSpectrum arriving;
+        const Spectrum nee = sample_emitter_mis(scene, lights, u_light, si, bsdf, BSDFContext(), {}, medium,
+                                                path.polarization.active() ? &arriving : nullptr);
+        L += path.polarization.contribute(path.weights.estimate_weight() * nee, &arriving);
+    }
     if (!bs.valid() || bs.lobe != Null) path.scattered = true;
     if (!bs.valid() || is_black(bs.weight)) return false;
     if (bs.dispersed && si.wavelengths) si.wavelengths->terminate_secondary();
