@@ -47,6 +47,17 @@ inline void sincos_quarter_pi(float x, float& s, float& c) {
     s = x + x * x2 * (-1.6666654611e-1f + x2 * (8.3321608736e-3f + x2 * -1.9515295891e-4f));
     c = 1.0f - 0.5f * x2 + x2 * x2 * (4.166664568298827e-2f + x2 * (-1.388731625493765e-3f + x2 * 2.443315711809948e-5f));
 }
+// `mask` (all ones or all zeros) ? a : b, by bit operations: GCC turns a ?: on floats (and on
+// their bits) into a branch, which costs a pipeline flush whenever the choice is unpredictable.
+inline float select_float(uint32_t mask, float a, float b) {
+    uint32_t ia, ib;
+    std::memcpy(&ia, &a, sizeof ia);
+    std::memcpy(&ib, &b, sizeof ib);
+    const uint32_t bits = (ia & mask) | (ib & ~mask);
+    float result;
+    std::memcpy(&result, &bits, sizeof result);
+    return result;
+}
 inline float safe_asin(float x) { return std::asin(std::clamp(x, -1.0f, 1.0f)); }
 inline float radians(float deg) { return deg * (Pi / 180.0f); }
 inline float degrees(float rad) { return rad * (180.0f / Pi); }

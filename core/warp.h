@@ -13,13 +13,14 @@ inline Vec2 square_to_uniform_disk_concentric(const Vec2& u) {
     if (x == 0.0f && y == 0.0f) return Vec2(0.0f);
     // phi = (pi/4) y/x with radius x, or pi/2 - (pi/4) x/y with radius y: both angles within
     // pi/4 of an axis, so cos and sin come from sincos_quarter_pi (cos(pi/2 - a) = sin a).
+    // Which case applies is a coin flip for uniform u, so it is chosen by bit masks, not a
+    // branch: a mispredicted branch here, resolved only when the sampler's number arrives,
+    // discarded the next-event estimation that surface_step runs after it.
+    const uint32_t x_major = 0u - uint32_t(std::abs(x) > std::abs(y));
+    const float r = select_float(x_major, x, y), across = select_float(x_major, y, x);
     float s, c;
-    if (std::abs(x) > std::abs(y)) {
-        sincos_quarter_pi((Pi / 4.0f) * (y / x), s, c);
-        return Vec2(x * c, x * s);
-    }
-    sincos_quarter_pi((Pi / 4.0f) * (x / y), s, c);
-    return Vec2(y * s, y * c);
+    sincos_quarter_pi((Pi / 4.0f) * (across / r), s, c);
+    return Vec2(r * select_float(x_major, c, s), r * select_float(x_major, s, c));
 }
 
 Vec3 square_to_uniform_sphere(const Vec2& u);

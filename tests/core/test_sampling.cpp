@@ -10,7 +10,9 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstring>
 #include <limits>
+#include <vector>
 
 using namespace candela;
 using namespace candela::test;
@@ -49,6 +51,37 @@ TEST_CASE("warps: spherical warps match their pdfs (chi-square)", "[sampling]") 
     check_spherical_warp(
         "uniform cone", [&](Vec2 u) { return warp::square_to_uniform_cone(u, cos_cutoff); },
         [&](const Vec3& v) { return double(warp::square_to_uniform_cone_pdf(v, cos_cutoff)); }, 4);
+}
+
+TEST_CASE("warp: the concentric disk's branch-free case choice is Shirley and Chiu's two cases, bit for bit", "[sampling]") {
+    // The mapping picks its case by bit masks (select_float); this is the two-branch form it
+    // replaced, on random points, both diagonals, the axes and the centre.
+    auto two_branches = [](const Vec2& u) {
+        float x = 2.0f * u.x - 1.0f, y = 2.0f * u.y - 1.0f, s, c;
+        if (x == 0.0f && y == 0.0f) return Vec2(0.0f);
+        if (std::abs(x) > std::abs(y)) {
+            sincos_quarter_pi((Pi / 4.0f) * (y / x), s, c);
+            return Vec2(x * c, x * s);
+        }
+        sincos_quarter_pi((Pi / 4.0f) * (x / y), s, c);
+        return Vec2(y * s, y * c);
+    };
+    std::vector<Vec2> points = {Vec2(0.5f), Vec2(0.0f), Vec2(0x1.fffffep-1f), Vec2(0.5f, 0.0f), Vec2(0.0f, 0.5f)};
+    PCG32 rng(11, 5);
+    for (int i = 0; i < 200000; ++i) {
+        float a = rng.next_float();
+        points.push_back(Vec2(a, rng.next_float()));
+        points.push_back(Vec2(a, a));
+        points.push_back(Vec2(a, 1.0f - a));
+    }
+    for (const Vec2& u : points) {
+        const Vec2 got = warp::square_to_uniform_disk_concentric(u), want = two_branches(u);
+        INFO(u.x << ", " << u.y);
+        REQUIRE(std::memcmp(&got, &want, sizeof got) == 0);
+    }
+    CHECK(select_float(~0u, 1.5f, -2.0f) == 1.5f);
+    CHECK(select_float(0u, 1.5f, -2.0f) == -2.0f);
+    CHECK(std::signbit(select_float(~0u, -0.0f, 0.0f)));
 }
 
 TEST_CASE("warps: planar warps are uniform over their domains (chi-square)", "[sampling]") {
