@@ -63,10 +63,9 @@ Spectrum PathIntegrator::sample_radiance(const Scene& scene, Sampler& sampler, c
 Spectrum PathIntegrator::continue_path(const Scene& scene, Sampler& sampler, const SurfaceInteraction& start, const BSDF& start_bsdf,
                                        uint32_t depth, bool* scattered_somewhere) const {
     Spectrum L(0.0f);
-    CameraPath path;
+    CameraPath path(start);
     path.polarization.begin(start.wavelengths);
     path.depth = depth;
-    path.from.at = start;
     SurfaceInteraction si = start;
     const BSDF* bsdf = &start_bsdf;
     for (uint32_t vertex = depth;; ++vertex) {

@@ -30,6 +30,12 @@ struct ScatterVertex {
 
 // A camera path between vertices.
 struct CameraPath {
+    CameraPath() = default;
+    // A path that leaves `start` first, `from` built in place: assigned after default
+    // construction, a whole SurfaceInteraction was zeroed (rep stos, about 1% of a Cornell box
+    // render) only to be overwritten.
+    explicit CameraPath(const SurfaceInteraction& start) : from{start, 0.0f, true} {}
+
     // The throughput (beta) and, in chromatic media, volpath's spectral MIS ratio; without media
     // estimate_weight() is beta itself.
     TrackingWeights weights;
