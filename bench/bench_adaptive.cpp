@@ -15,6 +15,7 @@
 // prints figures and asserts nothing.
 
 #include "analysis/image_metrics.h"
+#include "bench/bench_args.h"
 #include "core/image.h"
 #include "core/integrator.h"
 #include "core/scene.h"
@@ -22,22 +23,12 @@
 
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
-#include <sstream>
 #include <string>
 #include <vector>
 
 using namespace candela;
 
 namespace {
-
-std::vector<double> numbers(const std::string& text) {
-    std::vector<double> values;
-    std::stringstream in(text);
-    for (std::string part; std::getline(in, part, ',');)
-        if (!part.empty()) values.push_back(std::atof(part.c_str()));
-    return values;
-}
 
 struct Row {
     double spp = 0, relmse = 0, seconds = 0;
@@ -90,33 +81,49 @@ double equivalent_uniform_spp(const std::vector<Row>& uniform, double relmse) {
     return uniform.back().spp * uniform.back().relmse / relmse;
 }
 
-}  // namespace
+const char* const usage =
+    "usage: bench_adaptive [--scene SCENE.xml] [--reference REF.exr] [--spp N] [--uniform LIST] [--thresholds LIST]\n"
+    "                      [--min-spp N] [--step N] [--sampler NAME] [--threads N]\n"
+    "  --scene SCENE.xml    the scene (default " CANDELA_SOURCE_DIR
+    "/scenes/validation/cbox.xml)\n"
+    "  --reference REF.exr  its reference image (default " CANDELA_SOURCE_DIR
+    "/scenes/validation/refs/cbox.exr)\n"
+    "  --spp N              most samples per pixel of an adaptive render (default 256; 0: the scene's sample_count)\n"
+    "  --uniform LIST       sample counts of the uniform renders (default 16,32,64,128,256)\n"
+    "  --thresholds LIST    thresholds of the adaptive renders (default 0.1,0.05,0.02,0.01)\n"
+    "  --min-spp N          adaptive sampling's min_spp (default 0: the renderer's default)\n"
+    "  --step N             adaptive sampling's step (default 0: the renderer's default)\n"
+    "  --sampler NAME       the sampler plugin (default: the scene's own)\n"
+    "  --threads N          render threads (default 0: all cores)\n";
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
     std::string scene_path = std::string(CANDELA_SOURCE_DIR) + "/scenes/validation/cbox.xml";
     std::string reference_path = std::string(CANDELA_SOURCE_DIR) + "/scenes/validation/refs/cbox.exr";
-    std::string uniform_counts = "16,32,64,128,256", thresholds = "0.1,0.05,0.02,0.01", sampler;
+    std::string sampler;
+    std::vector<float> uniform_counts = {16, 32, 64, 128, 256}, thresholds = {0.1f, 0.05f, 0.02f, 0.01f};
     int spp = 256, threads = 0, min_spp = 0, step = 0;
-    for (int i = 1; i + 1 < argc; ++i) {
+    for (int i = 1; i < argc; ++i) {
         std::string a = argv[i];
         if (a == "--scene")
-            scene_path = argv[++i];
+            scene_path = bench::option_value(argc, argv, i);
         else if (a == "--reference")
-            reference_path = argv[++i];
+            reference_path = bench::option_value(argc, argv, i);
         else if (a == "--spp")
-            spp = std::atoi(argv[++i]);
+            spp = bench::int_option(argc, argv, i, 0);
         else if (a == "--uniform")
-            uniform_counts = argv[++i];
+            uniform_counts = bench::number_list(a, bench::option_value(argc, argv, i));
         else if (a == "--thresholds")
-            thresholds = argv[++i];
+            thresholds = bench::number_list(a, bench::option_value(argc, argv, i));
         else if (a == "--min-spp")
-            min_spp = std::atoi(argv[++i]);
+            min_spp = bench::int_option(argc, argv, i, 0);
         else if (a == "--step")
-            step = std::atoi(argv[++i]);
+            step = bench::int_option(argc, argv, i, 0);
         else if (a == "--sampler")
-            sampler = argv[++i];
+            sampler = bench::option_value(argc, argv, i);
         else if (a == "--threads")
-            threads = std::atoi(argv[++i]);
+            threads = bench::int_option(argc, argv, i, 0);
+        else
+            bench::reject_argument(a);
     }
     Ref<Scene> scene = load_scene(scene_path);
     const Image reference = read_image(reference_path);
@@ -129,7 +136,7 @@ int main(int argc, char** argv) {
                 "samples ratio");
 
     std::vector<Row> uniform;
-    for (double n : numbers(uniform_counts)) {
+    for (double n : uniform_counts) {
         RenderOptions o = base;
         o.spp = int(n);
         o.aovs = {"variance"};
@@ -138,7 +145,7 @@ int main(int argc, char** argv) {
         std::printf("%-9s  %9s  %9.2f  %12.5g  %9.3f\n", "uniform", "-", r.spp, r.relmse, r.seconds);
         std::fflush(stdout);
     }
-    for (double t : numbers(thresholds)) {
+    for (double t : thresholds) {
         RenderOptions o = base;
         o.spp = spp;
         o.adaptive.threshold = float(t);
@@ -160,3 +167,7 @@ int main(int argc, char** argv) {
         "for the same error)\n");
     return 0;
 }
+
+}  // namespace
+
+int main(int argc, char** argv) { return bench::run_main(argc, argv, usage, run); }

@@ -10,6 +10,7 @@
 // calls per second, so that a neighbour's load spoils fewer of them. It prints figures and
 // asserts nothing.
 
+#include "bench/bench_args.h"
 #include "core/bsdf.h"
 #include "core/rng.h"
 #include "core/scene.h"
@@ -22,7 +23,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -79,14 +79,21 @@ SurfaceInteraction at(const Vec3& wi) {
     return si;
 }
 
-}  // namespace
+const char* const usage =
+    "usage: bench_bsdf [--rounds N] [--n N]\n"
+    "  --rounds N   timed passes over the inputs, the best one reported (default 7)\n"
+    "  --n N        inputs (incident directions and random numbers) per pass (default 262144)\n";
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
     int rounds = 7, n = 1 << 18;
-    for (int i = 1; i + 1 < argc; ++i) {
+    for (int i = 1; i < argc; ++i) {
         std::string a = argv[i];
-        if (a == "--rounds") rounds = std::max(1, std::atoi(argv[++i]));
-        if (a == "--n") n = std::max(1, std::atoi(argv[++i]));
+        if (a == "--rounds")
+            rounds = bench::int_option(argc, argv, i, 1);
+        else if (a == "--n")
+            n = bench::int_option(argc, argv, i, 1);
+        else
+            bench::reject_argument(a);
     }
     std::printf("distribution sampling (visible normals), M samples/s, best of %d passes over %d inputs\n", rounds, n);
     const std::vector<Input> upper = make_inputs(n, false);
@@ -141,3 +148,7 @@ int main(int argc, char** argv) {
     std::filesystem::remove(path);
     return 0;
 }
+
+}  // namespace
+
+int main(int argc, char** argv) { return bench::run_main(argc, argv, usage, run); }

@@ -9,6 +9,7 @@
 // the cost of reaching a given error). It prints figures and asserts nothing.
 
 #include "analysis/image_metrics.h"
+#include "bench/bench_args.h"
 #include "core/rng.h"
 #include "core/xml.h"
 
@@ -63,20 +64,27 @@ std::string scene_with_lights(int count, int res, const std::string& strategy) {
     return s + "</scene>\n";
 }
 
-}  // namespace
+const char* const usage =
+    "usage: bench_many_lights [--res N] [--spp N] [--reference-spp N] [--threads N]\n"
+    "  --res N             width and height of the images (default 128)\n"
+    "  --spp N             samples per pixel of each strategy's render (default 16)\n"
+    "  --reference-spp N   samples per pixel of the light tree's reference (default 1024)\n"
+    "  --threads N         render threads (default 0: all cores)\n";
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
     int res = 128, spp = 16, ref_spp = 1024, threads = 0;
-    for (int i = 1; i + 1 < argc; ++i) {
+    for (int i = 1; i < argc; ++i) {
         std::string a = argv[i];
         if (a == "--res")
-            res = std::atoi(argv[++i]);
+            res = bench::int_option(argc, argv, i, 1);
         else if (a == "--spp")
-            spp = std::atoi(argv[++i]);
+            spp = bench::int_option(argc, argv, i, 1);
         else if (a == "--reference-spp")
-            ref_spp = std::atoi(argv[++i]);
+            ref_spp = bench::int_option(argc, argv, i, 1);
         else if (a == "--threads")
-            threads = std::atoi(argv[++i]);
+            threads = bench::int_option(argc, argv, i, 0);
+        else
+            bench::reject_argument(a);
     }
     std::filesystem::path dir = std::filesystem::temp_directory_path() / "candela-bench-many-lights";
     std::filesystem::create_directories(dir);
@@ -103,3 +111,7 @@ int main(int argc, char** argv) {
     }
     return 0;
 }
+
+}  // namespace
+
+int main(int argc, char** argv) { return bench::run_main(argc, argv, usage, run); }

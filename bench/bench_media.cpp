@@ -9,6 +9,7 @@
 // of their rates is the gain of the grid. It also times shadow-ray transmittance (ratio tracking)
 // alone through the volume with both majorants. It prints figures and asserts nothing.
 
+#include "bench/bench_args.h"
 #include "core/medium.h"
 #include "core/scene.h"
 #include "core/xml.h"
@@ -17,7 +18,6 @@
 #include <unistd.h>
 #include <chrono>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -59,15 +59,21 @@ std::string replace(std::string s, const std::string& what, const std::string& w
     return s;
 }
 
-}  // namespace
+const char* const usage =
+    "usage: bench_media [--threads N] [--spp N]\n"
+    "  --threads N   render threads (default 0: all cores)\n"
+    "  --spp N       samples per pixel of each 64 x 64 render (default 16)\n";
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
     int threads = 0, spp = 16;
-    for (int i = 1; i + 1 < argc; i += 2) {
-        if (!std::strcmp(argv[i], "--threads"))
-            threads = std::atoi(argv[i + 1]);
-        else if (!std::strcmp(argv[i], "--spp"))
-            spp = std::atoi(argv[i + 1]);
+    for (int i = 1; i < argc; ++i) {
+        std::string a = argv[i];
+        if (a == "--threads")
+            threads = bench::int_option(argc, argv, i, 0);
+        else if (a == "--spp")
+            spp = bench::int_option(argc, argv, i, 1);
+        else
+            bench::reject_argument(a);
     }
     auto dir = std::filesystem::temp_directory_path() / ("bench_media_" + std::to_string(::getpid()));
     std::filesystem::create_directories(dir);
@@ -127,3 +133,7 @@ int main(int argc, char** argv) {
     std::filesystem::remove_all(dir);
     return 0;
 }
+
+}  // namespace
+
+int main(int argc, char** argv) { return bench::run_main(argc, argv, usage, run); }

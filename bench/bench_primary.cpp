@@ -10,6 +10,7 @@
 // packet rays find a hit distance that differs in any bit from the single ray's. It asserts nothing: issue 11's question is whether coherent
 // primary rays pay enough to restructure the pixel loop around them.
 
+#include "bench/bench_args.h"
 #include "core/accel.h"
 #include "core/film.h"
 #include "core/rng.h"
@@ -70,17 +71,24 @@ long trace_packets(RTCScene scene, const std::vector<Ray>& rays, std::vector<flo
     return hits;
 }
 
-}  // namespace
+const char* const usage =
+    "usage: bench_primary [SCENE.xml] [--spp N] [--repeats N]\n"
+    "  SCENE.xml     the scene (default " CANDELA_SOURCE_DIR
+    "/scenes/cbox.xml)\n"
+    "  --spp N       camera rays per pixel (default 8)\n"
+    "  --repeats N   timed passes of each way, the best one reported (default 3)\n";
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
     std::string scene_path = std::string(CANDELA_SOURCE_DIR) + "/scenes/cbox.xml";
     int spp = 8, repeats = 3;
     for (int i = 1; i < argc; ++i) {
         std::string a = argv[i];
-        if (a == "--spp" && i + 1 < argc)
-            spp = std::atoi(argv[++i]);
-        else if (a == "--repeats" && i + 1 < argc)
-            repeats = std::atoi(argv[++i]);
+        if (a == "--spp")
+            spp = bench::int_option(argc, argv, i, 1);
+        else if (a == "--repeats")
+            repeats = bench::int_option(argc, argv, i, 1);
+        else if (bench::is_option(a))
+            bench::reject_argument(a);
         else
             scene_path = a;
     }
@@ -126,3 +134,7 @@ int main(int argc, char** argv) {
     std::printf("distances not bit-identical   %ld of %zu\n", differ, n);
     return 0;
 }
+
+}  // namespace
+
+int main(int argc, char** argv) { return bench::run_main(argc, argv, usage, run); }

@@ -11,12 +11,12 @@
 // scenes/validation/README.md). It prints figures and asserts nothing.
 
 #include "analysis/image_metrics.h"
+#include "bench/bench_args.h"
 #include "core/xml.h"
 #include "integrators/radiosity.h"
 
 #include <unistd.h>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -33,31 +33,32 @@ std::string read_file(const std::string& path) {
     return ss.str();
 }
 
-std::vector<float> parse_list(const char* text) {
-    std::vector<float> out;
-    std::stringstream ss(text);
-    std::string item;
-    while (std::getline(ss, item, ',')) out.push_back(std::stof(item));
-    return out;
-}
+const char* const usage =
+    "usage: bench_radiosity [--areas LIST] [--spp N] [--smooth-spp N] [--threads N] [--tolerance T]\n"
+    "  --areas LIST     max_patch_area of each row (default 0.32,0.16,0.08,0.04,0.02,0.01)\n"
+    "  --spp N          samples per pixel of the final gather render (default 64)\n"
+    "  --smooth-spp N   samples per pixel of the smooth display render (default 4)\n"
+    "  --threads N      render threads (default 0: all cores)\n"
+    "  --tolerance T    the radiosity integrator's tolerance (default 0.001)\n";
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
     std::vector<float> areas = {0.32f, 0.16f, 0.08f, 0.04f, 0.02f, 0.01f};
     int spp = 64, smooth_spp = 4, threads = 0;
     std::string tolerance = "0.001";
-    for (int i = 1; i + 1 < argc; i += 2) {
-        if (!std::strcmp(argv[i], "--areas"))
-            areas = parse_list(argv[i + 1]);
-        else if (!std::strcmp(argv[i], "--spp"))
-            spp = std::atoi(argv[i + 1]);
-        else if (!std::strcmp(argv[i], "--smooth-spp"))
-            smooth_spp = std::atoi(argv[i + 1]);
-        else if (!std::strcmp(argv[i], "--threads"))
-            threads = std::atoi(argv[i + 1]);
-        else if (!std::strcmp(argv[i], "--tolerance"))
-            tolerance = argv[i + 1];
+    for (int i = 1; i < argc; ++i) {
+        std::string a = argv[i];
+        if (a == "--areas")
+            areas = bench::number_list(a, bench::option_value(argc, argv, i));
+        else if (a == "--spp")
+            spp = bench::int_option(argc, argv, i, 1);
+        else if (a == "--smooth-spp")
+            smooth_spp = bench::int_option(argc, argv, i, 1);
+        else if (a == "--threads")
+            threads = bench::int_option(argc, argv, i, 0);
+        else if (a == "--tolerance")
+            tolerance = bench::option_value(argc, argv, i);
+        else
+            bench::reject_argument(a);
     }
     const std::string dir = std::string(CANDELA_SOURCE_DIR) + "/scenes/validation/";
     std::string scene = read_file(dir + "cbox.xml");
@@ -103,3 +104,7 @@ int main(int argc, char** argv) {
     std::filesystem::remove(solution);
     return 0;
 }
+
+}  // namespace
+
+int main(int argc, char** argv) { return bench::run_main(argc, argv, usage, run); }

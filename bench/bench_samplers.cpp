@@ -12,6 +12,7 @@
 
 #include "analysis/image_metrics.h"
 #include "analysis/validation.h"
+#include "bench/bench_args.h"
 #include "core/image.h"
 #include "core/integrator.h"
 #include "core/registry.h"
@@ -19,6 +20,7 @@
 #include "core/xml.h"
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -39,26 +41,36 @@ std::vector<std::string> split(const std::string& text) {
     return parts;
 }
 
-}  // namespace
+const char* const usage =
+    "usage: bench_samplers [--dir DIR] [--scenes LIST] [--samplers LIST] [--spp LIST] [--threads N]\n"
+    "  --dir DIR         the validation scenes, NAME.xml with refs/NAME.exr (default " CANDELA_SOURCE_DIR
+    "/scenes/validation)\n"
+    "  --scenes LIST     the scenes by name, e.g. cbox,glass (default: all of DIR)\n"
+    "  --samplers LIST   sampler plugins (default independent,stratified,multijitter,orthogonal,ldsampler,sobol,zsobol)\n"
+    "  --spp LIST        sample counts (default 16,64,256)\n"
+    "  --threads N       render threads (default 0: all cores)\n";
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
     std::string dir = std::string(CANDELA_SOURCE_DIR) + "/scenes/validation", scenes,
                 samplers = "independent,stratified,multijitter,orthogonal,ldsampler,sobol,zsobol", counts = "16,64,256";
     int threads = 0;
-    for (int i = 1; i + 1 < argc; ++i) {
+    for (int i = 1; i < argc; ++i) {
         std::string a = argv[i];
         if (a == "--dir")
-            dir = argv[++i];
+            dir = bench::option_value(argc, argv, i);
         else if (a == "--scenes")
-            scenes = argv[++i];
+            scenes = bench::option_value(argc, argv, i);
         else if (a == "--samplers")
-            samplers = argv[++i];
+            samplers = bench::option_value(argc, argv, i);
         else if (a == "--spp")
-            counts = argv[++i];
+            counts = bench::option_value(argc, argv, i);
         else if (a == "--threads")
-            threads = std::atoi(argv[++i]);
+            threads = bench::int_option(argc, argv, i, 0);
+        else
+            bench::reject_argument(a);
     }
     const std::vector<std::string> wanted = split(scenes), sampler_names = split(samplers), spp_texts = split(counts);
+    for (const std::string& s : spp_texts) bench::parse_whole("--spp", s.c_str(), 0, INT_MAX);
     std::printf("%-11s  %-12s  %5s  %9s  %12s  %14s\n", "scene", "sampler", "spp", "time (s)", "relMSE", "relMSE x time");
     // Per sampler and requested count: the geometric mean over scenes of relMSE x time relative to
     // the independent sampler's, the summary the default is chosen by.
@@ -104,3 +116,7 @@ int main(int argc, char** argv) {
     }
     return 0;
 }
+
+}  // namespace
+
+int main(int argc, char** argv) { return bench::run_main(argc, argv, usage, run); }

@@ -27,6 +27,7 @@
 // large (10^7 triangles: 230 MB PLY, 600 MB OBJ) and are not committed. Figures only; nothing is
 // asserted.
 
+#include "bench/bench_args.h"
 #include "core/properties.h"
 #include "core/registry.h"
 #include "core/shape.h"
@@ -40,11 +41,13 @@
 
 #include <algorithm>
 #include <chrono>
+#include <climits>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -310,12 +313,6 @@ int parse_run(const std::string& path) {
     return shape ? 0 : 1;
 }
 
-std::string arg_value(int argc, char** argv, const std::string& name, const std::string& fallback) {
-    for (int i = 0; i + 1 < argc; ++i)
-        if (argv[i] == name) return argv[i + 1];
-    return fallback;
-}
-
 std::vector<std::string> candela_render(const std::string& candela, const fs::path& scene, const fs::path& out, int spp) {
     return {candela, "render", scene.string(), "-o", out.string(), "--spp", std::to_string(spp)};
 }
@@ -509,34 +506,73 @@ int film_run(const fs::path& dir, const std::string& candela) {
     return 0;
 }
 
-}  // namespace
+const char* const usage =
+    "usage: bench_scale COMMAND DIR|FILE [options]\n"
+    "  generate DIR [--triangles N] [--obj 0|1]   write a displaced-grid mesh of about N triangles (default 10000000) as\n"
+    "                                             DIR/mesh.ply (binary), mesh.serialized and mesh.obj (not with --obj 0),\n"
+    "                                             and a scene for each\n"
+    "  floor FILE.ply                             the floor: read the PLY into two arrays, hand them to Embree as shared\n"
+    "                                             buffers, build at Candela's build quality, trace one ray\n"
+    "  parse FILE                                 construct one mesh plugin (obj, ply, serialized) in this process and\n"
+    "                                             time it: MB/s of the file\n"
+    "  load DIR --candela BIN [--rounds R] [--obj 0|1]\n"
+    "                                             start to first sample and peak resident memory, side by side: the floor,\n"
+    "                                             then `candela render` of each format's scene, R times (default 3; the\n"
+    "                                             obj scene once, not with --obj 0)\n"
+    "  instances DIR --candela BIN [--instances K] [--triangles N]\n"
+    "                                             K instances (default 10000) of one N-triangle mesh (default 1000000):\n"
+    "                                             peak memory against one mesh alone\n"
+    "  growth DIR --candela BIN                   time per sample on the same view for 10^3, 10^5, 10^7 triangles and\n"
+    "                                             10^10 instanced; writes DIR/growth.svg\n"
+    "  film DIR --candela BIN                     an 8K render with AOVs: peak memory against the memory check's estimate\n";
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
+    if (argc > 1 && bench::is_option(argv[1])) bench::reject_argument(argv[1]);
     if (argc < 3) {
-        std::fprintf(stderr, "usage: bench_scale generate|floor|parse|load|instances|growth|film DIR|FILE [options] (see the source)\n");
+        std::fprintf(stderr, "usage: bench_scale generate|floor|parse|load|instances|growth|film DIR|FILE [options] (see --help)\n");
         return 2;
     }
-    try {
-        const std::string command = argv[1], target = argv[2];
-        const std::string candela = arg_value(argc, argv, "--candela", "");
-        if ((command == "load" || command == "instances" || command == "growth" || command == "film") && candela.empty())
-            throw std::runtime_error("--candela BIN is needed");
-        if (command == "generate")
-            return generate(target, std::stoull(arg_value(argc, argv, "--triangles", "10000000")),
-                            arg_value(argc, argv, "--obj", "1") == "1");
-        if (command == "floor") return floor_run(target);
-        if (command == "parse") return parse_run(target);
-        if (command == "load")
-            return load_run(target, fs::absolute(candela).string(), std::stoi(arg_value(argc, argv, "--rounds", "3")),
-                            arg_value(argc, argv, "--obj", "1") == "1");
-        if (command == "instances")
-            return instances_run(target, fs::absolute(candela).string(), std::stoi(arg_value(argc, argv, "--instances", "10000")),
-                                 std::stoull(arg_value(argc, argv, "--triangles", "1000000")));
-        if (command == "growth") return growth_run(target, fs::absolute(candela).string());
-        if (command == "film") return film_run(target, fs::absolute(candela).string());
-        throw std::runtime_error("unknown command " + command);
-    } catch (const std::exception& e) {
-        std::fprintf(stderr, "bench_scale: %s\n", e.what());
-        return 1;
+    const std::string command = argv[1], target = argv[2];
+    // The options of each command.
+    const std::map<std::string, std::vector<std::string>> options = {{"generate", {"--triangles", "--obj"}},
+                                                                     {"floor", {}},
+                                                                     {"parse", {}},
+                                                                     {"load", {"--candela", "--rounds", "--obj"}},
+                                                                     {"instances", {"--candela", "--instances", "--triangles"}},
+                                                                     {"growth", {"--candela"}},
+                                                                     {"film", {"--candela"}}};
+    const auto known = options.find(command);
+    if (known == options.end()) throw bench::UsageError("unknown command " + command);
+    std::string candela;
+    long long triangles = command == "generate" ? 10000000 : 1000000;
+    int rounds = 3, instances = 10000;
+    bool obj = true;
+    for (int i = 3; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (std::find(known->second.begin(), known->second.end(), a) == known->second.end())
+            bench::reject_argument(a);
+        else if (a == "--candela")
+            candela = bench::option_value(argc, argv, i);
+        else if (a == "--triangles")
+            triangles = bench::parse_whole(a, bench::option_value(argc, argv, i), 1, LLONG_MAX);
+        else if (a == "--rounds")
+            rounds = bench::int_option(argc, argv, i, 1);
+        else if (a == "--instances")
+            instances = bench::int_option(argc, argv, i, 1);
+        else if (a == "--obj")
+            obj = bench::parse_whole(a, bench::option_value(argc, argv, i), 0, 1) == 1;
     }
+    if ((command == "load" || command == "instances" || command == "growth" || command == "film") && candela.empty())
+        throw bench::UsageError("--candela BIN is needed");
+    if (command == "generate") return generate(target, uint64_t(triangles), obj);
+    if (command == "floor") return floor_run(target);
+    if (command == "parse") return parse_run(target);
+    if (command == "load") return load_run(target, fs::absolute(candela).string(), rounds, obj);
+    if (command == "instances") return instances_run(target, fs::absolute(candela).string(), instances, uint64_t(triangles));
+    if (command == "growth") return growth_run(target, fs::absolute(candela).string());
+    return film_run(target, fs::absolute(candela).string());
 }
+
+}  // namespace
+
+int main(int argc, char** argv) { return bench::run_main(argc, argv, usage, run); }

@@ -18,6 +18,7 @@
 // without RTC_SCENE_FLAG_ROBUST (Mitsuba 3's setting): what Candela's watertight traversal costs.
 // It prints figures and asserts nothing.
 
+#include "bench/bench_args.h"
 #include "core/parallel.h"
 #include "core/profiling.h"
 #include "core/rng.h"
@@ -32,6 +33,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <climits>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
@@ -86,22 +88,31 @@ int intersect_packet(RTCScene scene, const Ray* rays, Packet& packet, Intersect 
     return hits;
 }
 
-}  // namespace
+const char* const usage =
+    "usage: bench_throughput [SCENE.xml] [--threads N] [--spp N] [--rays N] [--rounds N]\n"
+    "  SCENE.xml     the scene (default " CANDELA_SOURCE_DIR
+    "/scenes/cbox.xml)\n"
+    "  --threads N   threads of the render and the Embree rounds (default 0: all cores)\n"
+    "  --spp N       samples per pixel of the path tracer's render (default 64; 0: the scene's sample_count)\n"
+    "  --rays N      incoherent Embree rays per round, rounded down to whole packets of 16 (default 20000000)\n"
+    "  --rounds N    rounds of Embree rays against the path tracer, and of packets (default 5)\n";
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
     std::string scene_path = std::string(CANDELA_SOURCE_DIR) + "/scenes/cbox.xml";
     int threads = 0, spp = 64, rounds = 5;
     long long ray_count = 20000000;
     for (int i = 1; i < argc; ++i) {
         std::string a = argv[i];
-        if (a == "--threads" && i + 1 < argc)
-            threads = std::atoi(argv[++i]);
-        else if (a == "--spp" && i + 1 < argc)
-            spp = std::atoi(argv[++i]);
-        else if (a == "--rays" && i + 1 < argc)
-            ray_count = std::atoll(argv[++i]);
-        else if (a == "--rounds" && i + 1 < argc)
-            rounds = std::max(1, std::atoi(argv[++i]));
+        if (a == "--threads")
+            threads = bench::int_option(argc, argv, i, 0);
+        else if (a == "--spp")
+            spp = bench::int_option(argc, argv, i, 0);
+        else if (a == "--rays")
+            ray_count = bench::parse_whole(a, bench::option_value(argc, argv, i), 16, LLONG_MAX);
+        else if (a == "--rounds")
+            rounds = bench::int_option(argc, argv, i, 1);
+        else if (bench::is_option(a))
+            bench::reject_argument(a);
         else
             scene_path = a;
     }
@@ -251,3 +262,7 @@ int main(int argc, char** argv) {
     std::printf("embree Mrays/s on its rays  %.2f (path tracer rays / time inside Embree)\n", path_mrays / share);
     return 0;
 }
+
+}  // namespace
+
+int main(int argc, char** argv) { return bench::run_main(argc, argv, usage, run); }
