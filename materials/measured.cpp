@@ -84,6 +84,7 @@ public:
             throw SceneError(where, e.what());  // at the filename's line, as "file not found" is
         }
         flags_ = GlossyReflection;
+        reads_lobe_sample_ = false;
         albedo_ = normal_incidence_albedo();
     }
 

@@ -13,7 +13,10 @@ namespace candela {
 
 class NullBSDF final : public BSDF {
 public:
-    explicit NullBSDF(const Properties&) { flags_ = Null; }
+    explicit NullBSDF(const Properties&) {
+        flags_ = Null;
+        reads_lobe_sample_ = false;
+    }
 
     BSDFSample sample(const BSDFContext& ctx, const SurfaceInteraction& si, float, const Vec2&) const override {
         return ctx.allows(Null) ? null_lobe_sample(si, 1.0f, Spectrum(1.0f)) : BSDFSample();

@@ -9,6 +9,7 @@ PerturbedFrameBSDF::PerturbedFrameBSDF(const Properties& props) {
     flip_invalid_normals_ = props.get_bool("flip_invalid_normals", true);
     use_shadowing_function_ = props.get_bool("use_shadowing_function", true);
     flags_ = nested_->flags();
+    reads_lobe_sample_ = nested_->reads_lobe_sample();  // sample() hands u_lobe on unchanged
 }
 
 PerturbedFrameBSDF::Perturbed PerturbedFrameBSDF::perturb(const SurfaceInteraction& si) const {

@@ -4,6 +4,7 @@
 // albedo at most one (exactly one where lossless), and reciprocity of the reflection lobes.
 // All statistical tests in this file together keep a family-wise significance of 1% (Sidak).
 
+#include "core/rng.h"
 #include "materials/fresnel.h"
 #include "tests/bsdf_harness.h"
 #include "tests/util.h"
@@ -354,6 +355,33 @@ TEST_CASE("bsdf: mask, null and polarizer", "[bsdf]") {
 TEST_CASE("bsdf: hair", "[bsdf][hair]") { check_configs("hair"); }
 TEST_CASE("bsdf: pplastic", "[bsdf]") { check_configs("pplastic"); }
 TEST_CASE("bsdf: the configuration table is covered exactly", "[bsdf]") { CHECK(configs().size() == 43); }
+
+TEST_CASE("bsdf: a BSDF that says it does not read u_lobe samples the same for every u_lobe", "[bsdf]") {
+    // The path integrator skips the number of such a BSDF (BSDF::reads_lobe_sample).
+    int skipping = 0;
+    for (const Config& c : configs()) {
+        BSDFUnderTest t = make_bsdf(c.xml);
+        if (t.bsdf->reads_lobe_sample()) continue;
+        ++skipping;
+        INFO(c.name);
+        PCG32 rng(5, 9);
+        for (float cos_theta : c.cos_thetas) {
+            const SurfaceInteraction si = local_interaction(direction(cos_theta, 0.7f));
+            for (int i = 0; i < 2000; ++i) {
+                const float ux = rng.next_float();
+                const Vec2 u(ux, rng.next_float());
+                const BSDFSample a = t.bsdf->sample(BSDFContext(), si, 0.02f, u), b = t.bsdf->sample(BSDFContext(), si, 0.97f, u);
+                REQUIRE(a.wo == b.wo);
+                REQUIRE(a.pdf == b.pdf);
+                REQUIRE(a.eta == b.eta);
+                REQUIRE(a.lobe == b.lobe);
+                REQUIRE(a.weight == b.weight);
+            }
+        }
+    }
+    // diffuse, twosided diffuse, the conductors and rough conductors, null, bump-mapped ones.
+    CHECK(skipping >= 10);
+}
 
 TEST_CASE("bsdf: one-sided BSDFs are black from behind, transmissive ones are not", "[bsdf]") {
     BSDFContext ctx;
