@@ -107,7 +107,7 @@ private:
                 L += camera.contribute(beta * nee / float(emitter_samples_), &arriving);
             }
         for (int i = 0; i < bsdf_samples_; ++i) {
-            float u_lobe = sampler.next_1d();
+            float u_lobe = draw_lobe_number(bsdf, sampler);
             Vec2 u_dir = sampler.next_2d();
             BSDFSample bs = bsdf.sample(ctx, si, u_lobe, u_dir);
             if (!bs.valid() || is_black(bs.weight)) continue;

@@ -49,6 +49,12 @@ LightSampleNumbers draw_light_numbers(const LightSampler& lights, Sampler& sampl
     return u;
 }
 
+float draw_lobe_number(const BSDF& bsdf, Sampler& sampler) {
+    if (bsdf.reads_lobe_sample()) return sampler.next_1d();
+    sampler.skip_1d();
+    return 0.5f;
+}
+
 LightSample draw_light_sample(const LightSampler& lights, const LightSampleNumbers& u, const SurfaceInteraction& at) {
     float pick_prob = 0.0f;
     const Emitter* emitter = lights.sample(at, u.pick, pick_prob);

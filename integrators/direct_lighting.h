@@ -86,6 +86,9 @@ struct LightSampleNumbers {
     Vec2 point{0.5f};
 };
 LightSampleNumbers draw_light_numbers(const LightSampler& lights, Sampler& sampler);
+// The 1D number that picks a lobe of `bsdf` (u_lobe of BSDF::sample): drawn, or skipped
+// (Sampler::skip_1d, the later numbers unchanged) for a BSDF that does not read it.
+float draw_lobe_number(const BSDF& bsdf, Sampler& sampler);
 // Returned by value and built in place: the emitter writes its DirectionSample straight into
 // the result (assigning it to an existing LightSample copied it through memory, and the reloads
 // stalled store forwarding).

@@ -70,6 +70,7 @@
 #include "core/sampler.h"
 #include "core/scene.h"
 #include "core/wavelengths.h"
+#include "integrators/direct_lighting.h"
 #include "integrators/light_paths.h"
 #include "integrators/path.h"
 #include "integrators/photons.h"
@@ -369,7 +370,7 @@ Spectrum PhotonMapIntegrator::final_gather(const Scene& scene, Sampler& sampler,
     walk.rr_depth = settings_.rr_depth;
     Spectrum L(0.0f);
     for (int i = 0; i < glossy_samples_; ++i) {
-        float u_lobe = sampler.next_1d();
+        float u_lobe = draw_lobe_number(*x.bsdf, sampler);
         BSDFSample bs = x.bsdf->sample(BSDFContext(), x.si, u_lobe, sampler.next_2d());
         if (!bs.valid() || is_black(bs.weight)) continue;
         GatherPoint y = walk_to_gather_point(scene, sampler, x.si.spawn_ray(x.si.to_world(bs.wo)), bs.weight, x.depth, walk);

@@ -2,6 +2,7 @@
 
 #include "core/sampler.h"
 #include "core/scene.h"
+#include "integrators/direct_lighting.h"
 
 namespace candela {
 
@@ -43,7 +44,7 @@ GatherPoint walk_to_gather_point(const Scene& scene, Sampler& sampler, Ray ray, 
         // The 2D sample first, as GCC evaluated the former call's arguments (last first): the
         // order of a call's argument evaluation is unspecified, so it is written out.
         const Vec2 u_dir = sampler.next_2d();
-        const float u_lobe = sampler.next_1d();
+        const float u_lobe = draw_lobe_number(bsdf, sampler);
         BSDFSample bs = bsdf.sample(BSDFContext(), si, u_lobe, u_dir);
         if (!bs.valid() || is_black(bs.weight)) break;
         if (bs.dispersed && si.wavelengths) si.wavelengths->terminate_secondary();

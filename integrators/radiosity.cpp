@@ -222,7 +222,7 @@ private:
         Spectrum L(0.0f);
         if (const Emitter* emitter = si.shape->emitter()) L += emitter->eval(si);
         if (bsdf.has_smooth_lobe()) L += direct_light(sampler, si, bsdf);
-        float u_lobe = sampler.next_1d();
+        float u_lobe = draw_lobe_number(bsdf, sampler);
         BSDFSample bs = bsdf.sample(ctx, si, u_lobe, sampler.next_2d());
         if (!bs.valid() || is_black(bs.weight)) return L;
         if (bs.dispersed && si.wavelengths) si.wavelengths->terminate_secondary();

@@ -41,11 +41,7 @@ bool surface_step(const Scene& scene, const LightSampler& lights, const PathSett
     sampler.set_dimension(dims + SampleDimensions::LightPick);
     if (estimate_next_event) u_light = draw_light_numbers(lights, sampler);
     sampler.set_dimension(dims + SampleDimensions::Lobe);
-    float u_lobe = 0.5f;  // read only by BSDFs that choose among lobes with it
-    if (bsdf.reads_lobe_sample())
-        u_lobe = sampler.next_1d();
-    else
-        sampler.skip_1d();
+    const float u_lobe = draw_lobe_number(bsdf, sampler);
     const Vec2 u_direction = sampler.next_2d();
     // The BSDF sample before next-event estimation, which does not change it: the warp's
     // dependent chain (a division, a polynomial, a square root) then runs alongside the light
