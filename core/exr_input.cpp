@@ -18,12 +18,88 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <new>
 #include <set>
 
 namespace fs = std::filesystem;
 
 namespace candela {
+
+namespace {
+
+// The bytes OpenEXR 3.1's reader of a standard attribute type consumes, whatever size the header
+// declares for it (its typed readers read their fields and ignore the size); -1 for the types whose
+// length is the declared size or must be walked (string, stringvector, floatvector, chlist,
+// preview) and for types OpenEXR does not know (read as opaque bytes of the declared size).
+// From the OpenEXR file layout document, "Attribute types".
+int64_t fixed_attribute_size(const std::string& type) {
+    static const std::map<std::string, int64_t> sizes = {{"box2i", 16},
+                                                         {"box2f", 16},
+                                                         {"chromaticities", 32},
+                                                         {"compression", 1},
+                                                         {"deepImageState", 1},
+                                                         {"double", 8},
+                                                         {"envmap", 1},
+                                                         {"float", 4},
+                                                         {"int", 4},
+                                                         {"keycode", 28},
+                                                         {"lineOrder", 1},
+                                                         {"m33f", 36},
+                                                         {"m33d", 72},
+                                                         {"m44f", 64},
+                                                         {"m44d", 128},
+                                                         {"rational", 8},
+                                                         {"tiledesc", 9},
+                                                         {"timecode", 8},
+                                                         {"v2i", 8},
+                                                         {"v2f", 8},
+                                                         {"v2d", 16},
+                                                         {"v3i", 12},
+                                                         {"v3f", 12},
+                                                         {"v3d", 24}};
+    const auto it = sizes.find(type);
+    return it == sizes.end() ? -1 : it->second;
+}
+
+uint32_t little_endian_u32(const std::string& bytes, size_t at) {
+    return uint32_t(uint8_t(bytes[at])) | uint32_t(uint8_t(bytes[at + 1])) << 8 | uint32_t(uint8_t(bytes[at + 2])) << 16 |
+           uint32_t(uint8_t(bytes[at + 3])) << 24;
+}
+
+// The bytes OpenEXR reads for a value of a walked type (chlist, stringvector, preview) that the
+// header says is `value.size()` bytes long; -1 when its reader would run past them. `channels`
+// counts a channel list's entries.
+int64_t walked_attribute_size(const std::string& type, const std::string& value, int64_t& channels) {
+    const size_t n = value.size();
+    if (type == "chlist") {  // (name, 0, 16 bytes of type, linearity and sampling)*, 0
+        size_t at = 0;
+        for (channels = 0;; ++channels) {
+            const size_t end = value.find('\0', at);
+            if (end == std::string::npos || end - at > 255) return -1;
+            if (end == at) return int64_t(end + 1);
+            at = end + 1 + 16;
+            if (at > n) return -1;
+        }
+    }
+    if (type == "stringvector") {  // (int32 length, that many bytes)* while fewer than size were read
+        size_t at = 0;
+        while (at < n) {
+            if (n - at < 4) return -1;
+            const uint32_t length = little_endian_u32(value, at);
+            if (length > n - at - 4) return -1;
+            at += 4 + length;
+        }
+        return int64_t(at);
+    }
+    if (type == "preview") {  // uint32 width, uint32 height, width * height RGBA bytes
+        if (n < 8) return -1;
+        return 8 + 4 * int64_t(little_endian_u32(value, 0)) * int64_t(little_endian_u32(value, 4));
+    }
+    return int64_t(n);
+}
+
+}  // namespace
 
 std::string exr_header_problem(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
@@ -43,6 +119,9 @@ std::string exr_header_problem(const std::string& path) {
         return false;
     };
     for (;;) {
+        // What OpenEXR allocates for when it opens the file: a block of whole tiles or scan lines
+        // of the data window, for every channel.
+        int64_t width = 0, height = 0, channels = 0, tile_width = 0, tile_height = 0;
         for (;;) {
             std::string name, type;
             if (!read_name(name)) return "";
@@ -52,11 +131,45 @@ std::string exr_header_problem(const std::string& path) {
             const int64_t size = int32_t(uint32_t(size_bytes[0]) | uint32_t(size_bytes[1]) << 8 | uint32_t(size_bytes[2]) << 16 |
                                          uint32_t(size_bytes[3]) << 24);
             const uint64_t at = uint64_t(in.tellg());
+            const std::string attribute = path + ": cannot read image: its header's attribute \"" + name + "\" ";
             if (size < 0 || uint64_t(size) > file_size - std::min(at, file_size))
-                return path + ": cannot read image: its header's attribute \"" + name + "\" declares " + std::to_string(size) +
-                       " bytes, but the file has " + std::to_string(file_size - std::min(at, file_size)) + " left";
-            in.seekg(std::streamoff(size), std::ios::cur);
+                return attribute + "declares " + std::to_string(size) + " bytes, but the file has " +
+                       std::to_string(file_size - std::min(at, file_size)) + " left";
+            // OpenEXR reads a typed value by its own length and goes on from where it stopped, not
+            // from where the declared size ends: a size that disagrees would have it read the rest
+            // of the header out of step with this check (found by fuzz_part: a channel list
+            // declared 515 bytes long that ran on for 519, after whose end OpenEXR met a 1.8 GB attribute).
+            int64_t reads = fixed_attribute_size(type);
+            const bool window = name == "dataWindow" && type == "box2i", tiles = name == "tiles" && type == "tiledesc";
+            if (window || tiles || (reads < 0 && (type == "chlist" || type == "stringvector" || type == "preview"))) {
+                std::string value(size_t(size), '\0');
+                if (!in.read(value.data(), size)) return "";
+                int64_t entries = 0;
+                if (reads < 0) reads = walked_attribute_size(type, value, entries);
+                if (name == "channels" && type == "chlist" && reads == size) channels = entries;
+                if (window && reads == size) {
+                    const auto corner = [&](size_t at) { return int64_t(int32_t(little_endian_u32(value, at))); };
+                    width = corner(8) - corner(0) + 1;
+                    height = corner(12) - corner(4) + 1;
+                }
+                if (tiles && reads == size) {
+                    tile_width = int64_t(little_endian_u32(value, 0));
+                    tile_height = int64_t(little_endian_u32(value, 4));
+                }
+            } else {
+                if (reads < 0) reads = type == "floatvector" ? size - size % 4 : size;
+                in.seekg(std::streamoff(size), std::ios::cur);
+            }
+            if (reads != size)
+                return attribute + "of type " + type + " declares " + std::to_string(size) + " bytes, but its value " +
+                       (reads < 0 ? std::string("runs past them") : "holds " + std::to_string(reads));
         }
+        // OpenEXR allocates its line or tile buffers when it opens the file, before any reader
+        // could check the size (fuzz_part: a 1-line file 458760 pixels wide with 21 channels, whose
+        // 16-line ZIP buffer is 616 MB).
+        if (width != 0 && channels > 0)
+            if (std::string problem = image_size_problem(path, width, height, channels, tile_width, tile_height); !problem.empty())
+                return problem;
         // After a multi-part file's header, another one or an empty one (the end of them all).
         if (!multipart || in.peek() == 0 || !in) return "";
     }

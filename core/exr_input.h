@@ -18,11 +18,17 @@
 
 namespace candela {
 
-// "" when every attribute of the file's header(s) declares a size that fits in the bytes the file
-// has left, else the error. OpenEXR 3.1 allocates and zeroes an attribute's value at its declared
-// size before reading it, so a 2.6 kB file declaring a 1.8 GB string took 2.2 GB and 15 s
-// (fuzz_part). What OpenEXR itself rejects (names without their terminator, unknown versions)
-// is left to it. A multi-part file's headers follow one another up to an empty one.
+// "" when the file's header(s) are safe to hand to OpenEXR, else the error:
+// - every attribute declares a size that fits in the bytes the file has left: OpenEXR 3.1
+//   allocates and zeroes an attribute's value at its declared size before reading it, so a
+//   2.6 kB file declaring a 1.8 GB string took 2.2 GB and 15 s (fuzz_part);
+// - every attribute of a standard type holds exactly its declared size: OpenEXR reads such a value
+//   by its own length and goes on from there, so a disagreeing size would let it read the rest of
+//   the header out of step with the check above;
+// - the data window's blocks pass image_size_problem (core/image_codecs.h): OpenEXR allocates its
+//   line or tile buffers when it opens the file.
+// What OpenEXR itself rejects (names without their terminator, unknown versions) is left to it.
+// A multi-part file's headers follow one another up to an empty one.
 std::string exr_header_problem(const std::string& path);
 
 // The order OpenImageIO 2.4 gives an EXR's channels, which Candela's readers have always

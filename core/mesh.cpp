@@ -232,7 +232,8 @@ void Mesh::traverse(ParameterVisitor& visitor) {
     visitor.value("vertex_positions", ParameterAccess{ParameterType::Floats,
                                                       [this] {
                                                           std::vector<float> v(positions_.size() * 3);
-                                                          std::memcpy(v.data(), positions_.data(), v.size() * sizeof(float));
+                                                          if (!v.empty())
+                                                              std::memcpy(v.data(), positions_.data(), v.size() * sizeof(float));
                                                           return v;
                                                       },
                                                       [this](const std::vector<float>& v) {
@@ -242,7 +243,8 @@ void Mesh::traverse(ParameterVisitor& visitor) {
                                                                                std::to_string(v.size()));
                                                           for (float x : v)
                                                               if (!std::isfinite(x)) throw InputError("vertex_positions must be finite");
-                                                          std::memcpy(positions_.data(), v.data(), v.size() * sizeof(float));
+                                                          if (!v.empty())
+                                                              std::memcpy(positions_.data(), v.data(), v.size() * sizeof(float));
                                                       }});
 }
 

@@ -109,7 +109,8 @@ bool write_described_part(const std::string& text, const std::string& path) {
     if (values_at != std::string::npos) {
         const std::string bytes = text.substr(values_at + 8);
         floats.resize(bytes.size() / sizeof(float));
-        std::memcpy(floats.data(), bytes.data(), floats.size() * sizeof(float));
+        // An empty vector's data() may be null, and memcpy's arguments must never be.
+        if (!floats.empty()) std::memcpy(floats.data(), bytes.data(), floats.size() * sizeof(float));
     }
     Image image(width, height, channels);
     std::vector<float>& data = image.data();

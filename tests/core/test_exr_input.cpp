@@ -20,8 +20,11 @@
 #include <OpenEXR/ImfOutputFile.h>
 #include <OpenEXR/ImfOutputPart.h>
 #include <OpenEXR/ImfPartType.h>
+#include <OpenEXR/ImfPreviewImage.h>
 #include <OpenEXR/ImfStringAttribute.h>
+#include <OpenEXR/ImfStringVectorAttribute.h>
 #include <OpenEXR/ImfTiledOutputFile.h>
+#include <OpenEXR/ImfVecAttribute.h>
 
 #include <cstring>
 #include <random>
@@ -194,4 +197,55 @@ TEST_CASE("images: a multi-part EXR file is left to the module, which reads its 
     CHECK_FALSE(read_exr(path, true, 0, direct, error));
     check_same_as_module(path);
     CHECK(read_image(path).data()[0] == 1.0f);
+}
+
+TEST_CASE("images: an EXR attribute whose declared size disagrees with its value is refused before OpenEXR reads on out of step",
+          "[image][errors]") {
+    // OpenEXR 3.1 reads a typed attribute by its own length and then goes on from where it
+    // stopped; the declared sizes are checked against what the file has left (exr_header_problem),
+    // so the two must agree or a later attribute escapes the check (fuzz_part found a channel list
+    // running 4 bytes past its size, then a 1.8 GB attribute).
+    auto dir = scratch_dir("exr-attribute-sizes");
+    const std::string path = (dir / "good.exr").string();
+    {
+        Imf::Header header(4, 3);
+        for (const char* c : {"R", "G", "B"}) header.channels().insert(c, Imf::Channel(Imf::FLOAT));
+        header.insert("note", Imf::StringAttribute("sizes"));
+        header.insert("count", Imf::IntAttribute(5));
+        header.insert("offset", Imf::V2fAttribute(Imath::V2f(0.5f, 1.5f)));
+        header.insert("names", Imf::StringVectorAttribute({"first", "", "third one"}));
+        header.setPreviewImage(Imf::PreviewImage(2, 3));
+        std::vector<float> values(4 * 3 * 3, 0.25f);
+        Imf::FrameBuffer frame;
+        for (size_t c = 0; c < 3; ++c)
+            frame.insert(std::string(1, "RGB"[c]), Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(values.data() + c), 12, 48));
+        Imf::OutputFile file(path.c_str(), header);
+        file.setFrameBuffer(frame);
+        file.writePixels(3);
+    }
+    // What OpenEXR writes agrees with itself: every type above walks to its declared size.
+    CHECK(exr_header_problem(path) == "");
+    CHECK(read_image(path).data()[0] == 0.25f);
+    const std::string bytes = read_text(path);
+    struct Case {
+        const char* name;
+        const char* type;
+    };
+    for (const Case& c : {Case{"count", "int"}, Case{"offset", "v2f"}, Case{"dataWindow", "box2i"}, Case{"channels", "chlist"},
+                          Case{"names", "stringvector"}, Case{"preview", "preview"}}) {
+        const size_t at = bytes.find(std::string(c.name) + '\0' + c.type + '\0');
+        REQUIRE(at != std::string::npos);
+        const size_t size_at = at + std::strlen(c.name) + std::strlen(c.type) + 2;
+        for (int change : {-1, +1}) {
+            INFO(c.name << " size " << change);
+            std::string changed = bytes;
+            changed[size_at] = char(uint8_t(changed[size_at]) + change);
+            const std::string bad = (dir / "bad.exr").string();
+            write_text(bad, changed);
+            const std::string problem = exr_header_problem(bad);
+            CHECK_THAT(problem, Catch::Contains("bad.exr: cannot read image: its header's attribute \"" + std::string(c.name) +
+                                                "\" of type " + c.type + " declares"));
+            CHECK_THROWS_WITH(read_image(bad), Catch::Contains(problem));
+        }
+    }
 }

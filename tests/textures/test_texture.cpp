@@ -197,8 +197,16 @@ TEST_CASE("bitmap and envmap: volume images and images too large to read are err
     // A 2.6 kB OpenEXR file whose header declares a string attribute of 1.8 GB: OpenEXR allocates
     // and zeroes it before reading (15 s, 2.2 GB; found by fuzz_part).
     write_text(dir / "attribute.exr", read_text(source_path("fuzz/corpus/part/regression-exr-huge-attribute.exr")));
-    for (const char* name :
-         {"volume.dds", "huge.pfm", "short.pfm", "short.ppm", "cube.dds", "cube.png", "wide.exr", "wide.bmp", "attribute.exr"}) {
+    // A 1.9 kB OpenEXR file whose channel list declares 515 bytes and runs 4 past them: OpenEXR
+    // reads on from the list's real end, out of step with the declared sizes checked, and meets a
+    // 1.8 GB attribute (found by fuzz_part).
+    write_text(dir / "step.exr", read_text(source_path("fuzz/corpus/part/regression-exr-attribute-size-out-of-step.exr")));
+    // A part whose data window is 458760 pixels wide, with 21 channels and one of them 32-bit
+    // unsigned (left to OpenImageIO): OpenEXR allocated its 16-line ZIP buffer, 616 MB, when the
+    // file was opened, before the size was checked (30 s under AddressSanitizer; fuzz_part).
+    write_text(dir / "line.exr", read_text(source_path("fuzz/corpus/part/regression-exr-wide-line-buffer.exr")));
+    for (const char* name : {"volume.dds", "huge.pfm", "short.pfm", "short.ppm", "cube.dds", "cube.png", "wide.exr", "wide.bmp",
+                             "attribute.exr", "step.exr", "line.exr"}) {
         for (const char* use : {"texture", "envmap"}) {
             INFO(name << " as " << use);
             std::string body =
@@ -221,6 +229,11 @@ TEST_CASE("bitmap and envmap: volume images and images too large to read are err
                 if (std::string(name) == "wide.bmp") CHECK_THAT(std::string(e.what()), Catch::Contains("(read as 3801092 x 256)"));
                 if (std::string(name) == "attribute.exr")
                     CHECK_THAT(std::string(e.what()), Catch::Contains("attribute \"candela.started\" declares 1802661646 bytes"));
+                if (std::string(name) == "line.exr")
+                    CHECK_THAT(std::string(e.what()), Catch::Contains("(read as 458760 x 256) and 21 channels"));
+                if (std::string(name) == "step.exr")
+                    CHECK_THAT(std::string(e.what()),
+                               Catch::Contains("attribute \"channels\" of type chlist declares 515 bytes, but its value runs past them"));
             }
         }
     }
