@@ -301,7 +301,11 @@ int floor_run(const std::string& path) {
 }
 
 int parse_run(const std::string& path) {
-    std::string type = fs::path(path).extension().string().substr(1);
+    // The mesh plugin comes from the extension: name the file before that choice can fail.
+    if (!fs::is_regular_file(path)) throw bench::UsageError(path + ": no such file");
+    const std::string type = fs::path(path).extension().string().empty() ? "" : fs::path(path).extension().string().substr(1);
+    if (type != "obj" && type != "ply" && type != "serialized")
+        throw bench::UsageError(path + ": parse reads .obj, .ply and .serialized meshes (the extension chooses the plugin)");
     candela::Properties props(type, candela::SourceLocation{});
     props.set_string("filename", fs::absolute(path).string());
     auto t0 = std::chrono::steady_clock::now();
