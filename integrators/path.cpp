@@ -61,16 +61,17 @@ Spectrum PathIntegrator::sample_radiance(const Scene& scene, Sampler& sampler, c
 }
 
 Spectrum PathIntegrator::continue_path(const Scene& scene, Sampler& sampler, const SurfaceInteraction& start, const BSDF& start_bsdf,
-                                       uint32_t depth, bool* scattered_somewhere) const {
+                                       uint32_t depth, bool* scattered_somewhere, uint32_t first_dimension) const {
     Spectrum L(0.0f);
     CameraPath path(start);
     path.polarization.begin(start.wavelengths);
     path.depth = depth;
     SurfaceInteraction si = start;
     const BSDF* bsdf = &start_bsdf;
-    for (uint32_t vertex = depth;; ++vertex) {
+    // Each vertex met (a Null crossing included) claims its block of dimensions.
+    for (uint32_t dims = first_dimension;; dims += SampleDimensions::PerBounce) {
         Vec3 direction;
-        if (!surface_step(scene, *lights_, settings_, sampler, vertex, si, *bsdf, PathMedium{}, path, L, direction)) break;
+        if (!surface_step(scene, *lights_, settings_, sampler, dims, si, *bsdf, PathMedium{}, path, L, direction)) break;
         const Ray ray = si.spawn_ray(direction);
         if (!scene.intersect(ray, si)) {
             L += environment_found(scene, *lights_, settings_, path, ray.d);

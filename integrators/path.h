@@ -4,6 +4,7 @@
 // surface vertex.
 
 #include "core/integrator.h"
+#include "core/sampler.h"
 #include "integrators/path_settings.h"
 #include "lights/light_sampler.h"
 
@@ -28,9 +29,14 @@ public:
     // estimation and BSDF sampling with MIS, following the path onward; `depth` is the number of
     // segments that led to si. Emission at si itself is not included. prepare() must have run.
     // `scattered`, when given, learns whether the path scattered anywhere (not only crossed null
-    // surfaces).
+    // surfaces). The numbers of si's vertex start at dimension `first_dimension`, and each later
+    // vertex claims the next block of SampleDimensions::PerBounce: a caller that has drawn numbers
+    // of its own before (the walk to a gather point) or estimates several times from one sample
+    // passes dimensions beyond the ones drawn, else the estimates reuse them (and, for the
+    // dimension-addressed samplers, repeat each other). On return every dimension the path drew is
+    // below sampler.dimension().
     Spectrum continue_path(const Scene& scene, Sampler& sampler, const SurfaceInteraction& si, const BSDF& bsdf, uint32_t depth,
-                           bool* scattered = nullptr) const;
+                           bool* scattered = nullptr, uint32_t first_dimension = SampleDimensions::FirstBounce) const;
 
     std::string to_string() const override { return "path"; }
 

@@ -398,8 +398,18 @@ Spectrum PhotonMapIntegrator::sample_radiance(const Scene& scene, Sampler& sampl
     if (x.bsdf) record.valid = true;  // the walk reached a surface (Mitsuba's alpha)
     if (!x.bsdf || !settings_.within_depth(x.depth + 1)) return L;
     if (direct_samples_ > 0) {
+        // Each estimate draws its own dimensions, after the walk's: direct_ paths claim two vertex
+        // blocks, so estimate i starts at the same dimension in every sample whose walk drew as
+        // many numbers (the layout stays fixed where the walk's length is), and later when a path
+        // crossed Null surfaces and drew beyond its two blocks.
+        const uint32_t stride = 2 * SampleDimensions::PerBounce;
+        uint32_t first = sampler.dimension();
         Spectrum direct(0.0f);
-        for (int i = 0; i < direct_samples_; ++i) direct += direct_.continue_path(scene, sampler, x.si, *x.bsdf, 0);
+        for (int i = 0; i < direct_samples_; ++i) {
+            direct += direct_.continue_path(scene, sampler, x.si, *x.bsdf, 0, nullptr, first);
+            first = std::max(first + stride, sampler.dimension());
+        }
+        sampler.set_dimension(first);  // the final gather's numbers come after them all
         L += x.beta * direct / float(direct_samples_);
     }
     if (!caustic_.photons.empty()) L += x.beta * radiance_estimate(caustic_, x);

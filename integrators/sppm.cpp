@@ -175,7 +175,9 @@ Spectrum SPPMIntegrator::trace_camera(const Scene& scene, Sampler& sampler, cons
     walk.hide_first = settings_.hide_emitters;
     vp = walk_to_gather_point(scene, sampler, ray, Spectrum(filter_weight), 0, walk);
     Spectrum L = vp.emission_after_delta + vp.emission_after_other;
-    if (vp.bsdf && settings_.within_depth(vp.depth + 1)) L += vp.beta * direct_.continue_path(scene, sampler, vp.si, *vp.bsdf, 0);
+    // The direct estimate draws after the walk's numbers (integrators/path.h, continue_path).
+    if (vp.bsdf && settings_.within_depth(vp.depth + 1))
+        L += vp.beta * direct_.continue_path(scene, sampler, vp.si, *vp.bsdf, 0, nullptr, sampler.dimension());
     return L;
 }
 

@@ -23,11 +23,10 @@ bool settle_roulette(const PathSettings& settings, Sampler& sampler, CameraPath&
     return max_component(path.weights.beta) > 0.0f;
 }
 
-bool surface_step(const Scene& scene, const LightSampler& lights, const PathSettings& settings, Sampler& sampler, uint32_t vertex,
+bool surface_step(const Scene& scene, const LightSampler& lights, const PathSettings& settings, Sampler& sampler, uint32_t dims,
                   const SurfaceInteraction& si, const BSDF& bsdf, const PathMedium& medium, CameraPath& path, Spectrum& L,
                   Vec3& direction) {
     if (!settle_roulette(settings, sampler, path)) return false;
-    const uint32_t dims = SampleDimensions::bounce(vertex);
     if (!bsdf.has_null_lobe()) path.scattered = true;
     // At the last allowed bounce only a Null lobe may still carry the path on.
     const bool may_scatter = settings.may_extend(path.depth);

@@ -67,12 +67,13 @@ bool survive_roulette(const PathSettings& settings, Sampler& sampler, uint32_t d
 // the scattered ray found, volpath right after the step (before the next free flight).
 bool settle_roulette(const PathSettings& settings, Sampler& sampler, CameraPath& path);
 
-// The surface vertex `vertex` (si.wi set, `bsdf` its BSDF): the roulette still owed, next-event
+// The surface vertex whose numbers start at dimension `dims` (SampleDimensions::bounce(k) for
+// vertex k of a camera path; si.wi set, `bsdf` its BSDF): the roulette still owed, next-event
 // estimation added to `L` (times the path's estimate weight; `medium` is where the path is, for
 // the shadow rays), then the BSDF sample. Returns false when the path ends here; else
 // `direction` (world) is where it goes on, through a Null lobe or after a scattering event
 // (whose roulette is then owed), and the throughput includes the sample's weight.
-bool surface_step(const Scene& scene, const LightSampler& lights, const PathSettings& settings, Sampler& sampler, uint32_t vertex,
+bool surface_step(const Scene& scene, const LightSampler& lights, const PathSettings& settings, Sampler& sampler, uint32_t dims,
                   const SurfaceInteraction& si, const BSDF& bsdf, const PathMedium& medium, CameraPath& path, Spectrum& L, Vec3& direction);
 
 // The emission the path finds at surface `hit` (0 when hide_emitters hides it: nothing has

@@ -151,7 +151,7 @@ Spectrum VolPathIntegrator::trace(const Scene& scene, Sampler& sampler, Ray ray,
         if (vertex == 0) record.record_first_hit(si);
         L += emission_found(*lights_, settings_, path, si);
         Vec3 d;
-        if (!surface_step(scene, *lights_, settings_, sampler, vertex, si, *si.shape->bsdf(), PathMedium{medium, &rng}, path, L, d)) break;
+        if (!surface_step(scene, *lights_, settings_, sampler, dims, si, *si.shape->bsdf(), PathMedium{medium, &rng}, path, L, d)) break;
         if (si.shape->is_medium_transition()) medium = si.shape->target_medium(si, d);
         ray = si.spawn_ray(d);
         // The roulette of a surface scattering comes before the next free flight.
