@@ -303,7 +303,8 @@ int floor_run(const std::string& path) {
 int parse_run(const std::string& path) {
     // The mesh plugin comes from the extension: name the file before that choice can fail.
     if (!fs::is_regular_file(path)) throw bench::UsageError(path + ": no such file");
-    const std::string type = fs::path(path).extension().string().empty() ? "" : fs::path(path).extension().string().substr(1);
+    const std::string extension = fs::path(path).extension().string();
+    const std::string type = extension.empty() ? "" : extension.substr(1);
     if (type != "obj" && type != "ply" && type != "serialized")
         throw bench::UsageError(path + ": parse reads .obj, .ply and .serialized meshes (the extension chooses the plugin)");
     candela::Properties props(type, candela::SourceLocation{});

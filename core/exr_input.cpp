@@ -28,11 +28,9 @@ namespace candela {
 
 namespace {
 
-// The bytes OpenEXR 3.1's reader of a standard attribute type consumes, whatever size the header
-// declares for it (its typed readers read their fields and ignore the size); -1 for the types whose
-// length is the declared size or must be walked (string, stringvector, floatvector, chlist,
-// preview) and for types OpenEXR does not know (read as opaque bytes of the declared size).
-// From the OpenEXR file layout document, "Attribute types".
+// The bytes OpenEXR 3.1's reader of a standard attribute type of fixed length consumes, whatever
+// size the header declares for it (its typed readers read their fields and ignore the size); -1
+// for the other types. From the OpenEXR file layout document, "Attribute types".
 int64_t fixed_attribute_size(const std::string& type) {
     static const std::map<std::string, int64_t> sizes = {{"box2i", 16},
                                                          {"box2f", 16},
@@ -62,15 +60,18 @@ int64_t fixed_attribute_size(const std::string& type) {
     return it == sizes.end() ? -1 : it->second;
 }
 
-uint32_t little_endian_u32(const std::string& bytes, size_t at) {
-    return uint32_t(uint8_t(bytes[at])) | uint32_t(uint8_t(bytes[at + 1])) << 8 | uint32_t(uint8_t(bytes[at + 2])) << 16 |
-           uint32_t(uint8_t(bytes[at + 3])) << 24;
+uint32_t little_endian_u32(const char* p) {
+    return uint32_t(uint8_t(p[0])) | uint32_t(uint8_t(p[1])) << 8 | uint32_t(uint8_t(p[2])) << 16 | uint32_t(uint8_t(p[3])) << 24;
 }
+uint32_t little_endian_u32(const std::string& bytes, size_t at) { return little_endian_u32(bytes.data() + at); }
 
-// The bytes OpenEXR reads for a value of a walked type (chlist, stringvector, preview) that the
-// header says is `value.size()` bytes long; -1 when its reader would run past them. `channels`
-// counts a channel list's entries.
-int64_t walked_attribute_size(const std::string& type, const std::string& value, int64_t& channels) {
+// The bytes OpenEXR reads for an attribute of type `type` whose value the header says is
+// `value.size()` bytes long: the fixed length of the fixed types; chlist, stringvector and
+// preview walked as their readers walk them (-1 when a reader would run past the value); a whole
+// number of floats for floatvector; all of it for string and for the types OpenEXR does not know
+// (read as opaque bytes). `channels` counts a channel list's entries.
+int64_t attribute_bytes_read(const std::string& type, const std::string& value, int64_t& channels) {
+    if (const int64_t fixed = fixed_attribute_size(type); fixed >= 0) return fixed;
     const size_t n = value.size();
     if (type == "chlist") {  // (name, 0, 16 bytes of type, linearity and sampling)*, 0
         size_t at = 0;
@@ -96,6 +97,7 @@ int64_t walked_attribute_size(const std::string& type, const std::string& value,
         if (n < 8) return -1;
         return 8 + 4 * int64_t(little_endian_u32(value, 0)) * int64_t(little_endian_u32(value, 4));
     }
+    if (type == "floatvector") return int64_t(n - n % 4);
     return int64_t(n);
 }
 
@@ -126,10 +128,9 @@ std::string exr_header_problem(const std::string& path) {
             std::string name, type;
             if (!read_name(name)) return "";
             if (name.empty()) break;  // the end of this header
-            unsigned char size_bytes[4];
-            if (!read_name(type) || !in.read(reinterpret_cast<char*>(size_bytes), 4)) return "";
-            const int64_t size = int32_t(uint32_t(size_bytes[0]) | uint32_t(size_bytes[1]) << 8 | uint32_t(size_bytes[2]) << 16 |
-                                         uint32_t(size_bytes[3]) << 24);
+            char size_bytes[4];
+            if (!read_name(type) || !in.read(size_bytes, 4)) return "";
+            const int64_t size = int32_t(little_endian_u32(size_bytes));
             const uint64_t at = uint64_t(in.tellg());
             const std::string attribute = path + ": cannot read image: its header's attribute \"" + name + "\" ";
             if (size < 0 || uint64_t(size) > file_size - std::min(at, file_size))
@@ -139,30 +140,23 @@ std::string exr_header_problem(const std::string& path) {
             // from where the declared size ends: a size that disagrees would have it read the rest
             // of the header out of step with this check (found by fuzz_part: a channel list
             // declared 515 bytes long that ran on for 519, after whose end OpenEXR met a 1.8 GB attribute).
-            int64_t reads = fixed_attribute_size(type);
-            const bool window = name == "dataWindow" && type == "box2i", tiles = name == "tiles" && type == "tiledesc";
-            if (window || tiles || (reads < 0 && (type == "chlist" || type == "stringvector" || type == "preview"))) {
-                std::string value(size_t(size), '\0');
-                if (!in.read(value.data(), size)) return "";
-                int64_t entries = 0;
-                if (reads < 0) reads = walked_attribute_size(type, value, entries);
-                if (name == "channels" && type == "chlist" && reads == size) channels = entries;
-                if (window && reads == size) {
-                    const auto corner = [&](size_t at) { return int64_t(int32_t(little_endian_u32(value, at))); };
-                    width = corner(8) - corner(0) + 1;
-                    height = corner(12) - corner(4) + 1;
-                }
-                if (tiles && reads == size) {
-                    tile_width = int64_t(little_endian_u32(value, 0));
-                    tile_height = int64_t(little_endian_u32(value, 4));
-                }
-            } else {
-                if (reads < 0) reads = type == "floatvector" ? size - size % 4 : size;
-                in.seekg(std::streamoff(size), std::ios::cur);
-            }
+            std::string value(size_t(size), '\0');
+            if (!in.read(value.data(), size)) return "";
+            int64_t entries = 0;
+            const int64_t reads = attribute_bytes_read(type, value, entries);
             if (reads != size)
                 return attribute + "of type " + type + " declares " + std::to_string(size) + " bytes, but its value " +
                        (reads < 0 ? std::string("runs past them") : "holds " + std::to_string(reads));
+            if (name == "channels" && type == "chlist") channels = entries;
+            if (name == "dataWindow" && type == "box2i") {
+                const auto corner = [&](size_t at) { return int64_t(int32_t(little_endian_u32(value, at))); };
+                width = corner(8) - corner(0) + 1;
+                height = corner(12) - corner(4) + 1;
+            }
+            if (name == "tiles" && type == "tiledesc") {
+                tile_width = int64_t(little_endian_u32(value, 0));
+                tile_height = int64_t(little_endian_u32(value, 4));
+            }
         }
         // OpenEXR allocates its line or tile buffers when it opens the file, before any reader
         // could check the size (fuzz_part: a 1-line file 458760 pixels wide with 21 channels, whose
