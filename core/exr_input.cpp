@@ -1,5 +1,6 @@
 #include "core/exr_input.h"
 
+#include "core/byte_order.h"
 #include "core/text.h"
 
 #include <Imath/ImathBox.h>
@@ -60,9 +61,7 @@ int64_t fixed_attribute_size(const std::string& type) {
     return it == sizes.end() ? -1 : it->second;
 }
 
-uint32_t little_endian_u32(const char* p) {
-    return uint32_t(uint8_t(p[0])) | uint32_t(uint8_t(p[1])) << 8 | uint32_t(uint8_t(p[2])) << 16 | uint32_t(uint8_t(p[3])) << 24;
-}
+uint32_t little_endian_u32(const char* p) { return uint32_t(read_little_endian(reinterpret_cast<const unsigned char*>(p), 4)); }
 uint32_t little_endian_u32(const std::string& bytes, size_t at) { return little_endian_u32(bytes.data() + at); }
 
 // The bytes OpenEXR reads for an attribute of type `type` whose value the header says is

@@ -1,5 +1,6 @@
 #include "core/png_file.h"
 
+#include "core/byte_order.h"
 #include "core/error.h"
 #include "core/text.h"
 
@@ -22,8 +23,6 @@
 namespace candela {
 namespace {
 
-static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "16-bit samples are swapped to the machine's order, little-endian");
-
 // libpng reports an error by calling this, which must not return: back to the setjmp of the step
 // that failed. The file is then left to the image module, whose message names the error.
 void leave_on_error(png_structp png, png_const_charp) { png_longjmp(png, 1); }
@@ -44,7 +43,8 @@ struct PngFile {
 
 // The two steps in which libpng may jump back. Nothing with a destructor lives in their frames, so
 // that the jump skips none. The calls are OpenImageIO 2.4's, in its order: its reader expands
-// (palettes, tRNS, grey below 8 bits) and swaps 16-bit samples, then reads the rows.
+// (palettes, tRNS, grey below 8 bits) and swaps 16-bit samples from PNG's big-endian order to the
+// machine's little-endian one (core/byte_order.h), then reads the rows.
 bool read_info(PngFile& f) {
     if (setjmp(png_jmpbuf(f.png))) return false;
     png_read_info(f.png, f.info);

@@ -5,6 +5,7 @@
 
 #include "core/rgb2spec.h"
 
+#include "core/byte_order.h"
 #include "core/error.h"
 
 #include <cstdint>
@@ -47,11 +48,9 @@ SigmoidTable load_embedded_table() {
     const unsigned char* data = candela_srgb_sigmoid_begin;
     size_t size = size_t(candela_srgb_sigmoid_end - candela_srgb_sigmoid_begin);
     uint32_t resolution = 0;
-    const uint16_t endian_probe = 1;
-    bool little_endian = *reinterpret_cast<const unsigned char*>(&endian_probe) == 1;
     if (size >= 8) std::memcpy(&resolution, data + 4, 4);
     size_t expected = 8 + 4 * size_t(resolution) + 4 * 9 * size_t(resolution) * resolution * resolution;
-    if (!little_endian || size < 8 || std::memcmp(data, "CSG1", 4) != 0 || resolution < 2 || resolution > 1024 || size != expected)
+    if (size < 8 || std::memcmp(data, "CSG1", 4) != 0 || resolution < 2 || resolution > 1024 || size != expected)
         throw InternalError("the compiled-in RGB-to-spectrum table (" CANDELA_SRGB_SIGMOID_TABLE ") is malformed (" + std::to_string(size) +
                             " bytes)");
     // The section is 16-byte aligned and the floats start at byte 8: aligned for float.

@@ -1,5 +1,6 @@
 #include "core/tensor_file.h"
 
+#include "core/byte_order.h"
 #include "core/error.h"
 #include "core/memory_budget.h"
 
@@ -19,8 +20,7 @@ public:
 
     uint64_t unsigned_int(size_t bytes, const char* what) {
         need(bytes, what);
-        uint64_t v = 0;
-        for (size_t i = 0; i < bytes; ++i) v |= uint64_t(data_[pos_ + i]) << (8 * i);
+        const uint64_t v = read_little_endian(data_.data() + pos_, bytes);
         pos_ += bytes;
         return v;
     }
@@ -153,7 +153,7 @@ std::vector<T> TensorFile::values(const std::string& name, TensorType type) cons
     const TensorField& f = field(name);
     if (f.dtype != type) fail("field \"" + name + "\" is " + tensor_type_name(f.dtype) + ", expected " + tensor_type_name(type));
     std::vector<T> out(size_t(f.count()));
-    // The format is little endian, as is every machine Candela builds for.
+    // The format is little-endian, as is every machine Candela builds for (core/byte_order.h).
     if (!out.empty()) std::memcpy(out.data(), data_.data() + f.offset, out.size() * sizeof(T));
     return out;
 }

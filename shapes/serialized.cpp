@@ -21,6 +21,7 @@
 // description says otherwise), does not change the shading: the face_normals parameter does.
 // Without normals in the file, smooth vertex normals are computed as for OBJ and PLY files.
 
+#include "core/byte_order.h"
 #include "core/mapped_file.h"
 #include "core/memory_budget.h"
 #include "core/mesh.h"
@@ -59,18 +60,6 @@ enum SerializedFlags : uint32_t {
     SinglePrecision = 0x1000,
     DoublePrecision = 0x2000,
 };
-
-bool host_little_endian() {
-    const uint16_t probe = 1;
-    return *reinterpret_cast<const unsigned char*>(&probe) == 1;
-}
-
-// Little-endian integers from a byte buffer (the format fixes the byte order).
-uint64_t read_le(const unsigned char* p, int bytes) {
-    uint64_t v = 0;
-    for (int i = bytes - 1; i >= 0; --i) v = (v << 8) | p[i];
-    return v;
-}
 
 // What ISA-L's inflate says of a stream it cannot read.
 std::string inflate_error(int status) {
@@ -118,7 +107,7 @@ public:
     T value(const char* what) {
         unsigned char b[sizeof(T)];
         read(b, sizeof(T), what);
-        return T(read_le(b, int(sizeof(T))));
+        return T(read_little_endian(b, sizeof(T)));
     }
     // Whether the stream ends here: its last block and check value come with no more data.
     bool ends_here() {
@@ -162,10 +151,11 @@ float* floats(MeshArray<V>& v) {
 }
 
 void read_reals(StreamInflater& in, float* out, size_t count, bool dbl, const char* what) {
-    if (!dbl && out && host_little_endian()) {
+    if (!dbl && out) {  // the file's floats are the machine's (core/byte_order.h)
         in.read(out, count * 4, what);
         return;
     }
+    // Doubles narrowed to floats, or values read past (out null), a chunk at a time.
     const size_t size = dbl ? 8 : 4, chunk = size_t(1) << 16;
     std::vector<unsigned char> buffer(std::min(count, chunk) * size);
     for (size_t first = 0; first < count; first += chunk) {
@@ -173,15 +163,9 @@ void read_reals(StreamInflater& in, float* out, size_t count, bool dbl, const ch
         in.read(buffer.data(), n * size, what);
         if (!out) continue;
         for (size_t i = 0; i < n; ++i) {
-            const uint64_t bits = read_le(buffer.data() + i * size, int(size));
-            if (dbl) {
-                double d;
-                std::memcpy(&d, &bits, 8);
-                out[first + i] = float(d);
-            } else {
-                const uint32_t b = uint32_t(bits);
-                std::memcpy(&out[first + i], &b, 4);
-            }
+            double d;
+            std::memcpy(&d, buffer.data() + i * size, 8);
+            out[first + i] = float(d);
         }
     }
 }
@@ -351,17 +335,15 @@ private:
 
     // Triangles [first, first + count) from the stream.
     void read_triangles(StreamInflater& in, size_t first, size_t count, uint64_t vertex_count) {
-        if (vertex_count <= 0xFFFFFFFFull && host_little_endian()) {
+        if (vertex_count <= 0xFFFFFFFFull) {
             in.read(triangles_.data() + first, count * sizeof(glm::uvec3), "triangle indices");
             return;
         }
-        const int index_bytes = vertex_count > 0xFFFFFFFFull ? 8 : 4;
-        unsigned char index[3 * 8];
+        // More than 2^32 vertices: 64-bit indices, which must still name vertices the mesh has.
         for (size_t i = first; i < first + count; ++i) {
             glm::uvec3& t = triangles_[i];
-            in.read(index, size_t(3 * index_bytes), "triangle indices");
             uint64_t v[3];
-            for (int k = 0; k < 3; ++k) v[k] = read_le(index + k * index_bytes, index_bytes);
+            in.read(v, sizeof v, "triangle indices");
             if (std::max({v[0], v[1], v[2]}) >= vertex_count)
                 throw SerializedError("a triangle refers to vertex " + std::to_string(std::max({v[0], v[1], v[2]})) + " of " +
                                       std::to_string(vertex_count));
@@ -380,8 +362,9 @@ private:
         }
         const std::string_view file(reinterpret_cast<const char*>(mapped->data()), mapped->size());
         auto bytes = [&](size_t at) { return reinterpret_cast<const unsigned char*>(file.data() + at); };
-        if (file.size() < 4 || read_le(bytes(0), 2) != FileMagic) throw SerializedError("not a serialized mesh (no 0x041C header)");
-        int version = int(read_le(bytes(2), 2));
+        if (file.size() < 4 || read_little_endian(bytes(0), 2) != FileMagic)
+            throw SerializedError("not a serialized mesh (no 0x041C header)");
+        int version = int(read_little_endian(bytes(2), 2));
         if (version != 3 && version != 4)
             throw SerializedError("unsupported format version " + std::to_string(version) + " (3 and 4 are read)");
 
@@ -389,13 +372,13 @@ private:
         if (index > 0) {
             // The dictionary at the end: the offsets of all meshes, then their count.
             if (file.size() < 8) throw SerializedError("the file is too short for its mesh dictionary");
-            uint64_t count = read_le(bytes(file.size() - 4), 4);
+            uint64_t count = read_little_endian(bytes(file.size() - 4), 4);
             size_t entry = version == 4 ? 8 : 4;
             if (count > (file.size() - 4) / entry) throw SerializedError("the mesh dictionary at the end of the file is corrupt");
             if (index >= count)
                 throw SerializedError("the file holds " + std::to_string(count) + " meshes, so there is no index " + std::to_string(index));
-            uint64_t at = read_le(bytes(file.size() - 4 - entry * size_t(count - index)), int(entry));
-            if (at + 4 > file.size() || read_le(bytes(size_t(at)), 2) != FileMagic)
+            uint64_t at = read_little_endian(bytes(file.size() - 4 - entry * size_t(count - index)), entry);
+            if (at + 4 > file.size() || read_little_endian(bytes(size_t(at)), 2) != FileMagic)
                 throw SerializedError("the dictionary's offset of this mesh does not point at a mesh header");
             offset = size_t(at);
         }
