@@ -11,7 +11,6 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -21,15 +20,6 @@
 namespace candela::app {
 
 namespace {
-
-// The text as a whole number, or false.
-bool parse_whole(const std::string& text, long long& value) {
-    if (text.empty()) return false;
-    char* end = nullptr;
-    errno = 0;
-    value = std::strtoll(text.c_str(), &end, 10);
-    return end == text.c_str() + text.size() && errno != ERANGE;
-}
 
 bool parse_number(const std::string& text, double& value) {
     if (text.empty()) return false;
@@ -98,7 +88,7 @@ CLI::Validator whole_number(const std::string& option, const std::string& unit, 
     return CLI::Validator(
         [=](std::string& text) -> std::string {
             long long v = 0;
-            const bool whole = parse_whole(text, v);
+            const bool whole = parse_integer(text, v);
             if (whole && v > maximum) return what + ", at most " + std::to_string(maximum) + " (got " + text + ")";
             if (!whole || v < minimum) return what + ", at least " + std::to_string(minimum) + " (got " + text + ")";
             return "";

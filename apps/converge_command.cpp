@@ -19,7 +19,9 @@
 #include "analysis/expression.h"
 #include "core/error.h"
 #include "core/scene.h"
+#include "core/text.h"
 
+#include <climits>
 #include <cstdio>
 #include <sstream>
 
@@ -40,9 +42,8 @@ std::vector<int> parse_counts(const std::string& text) {
     std::vector<int> counts;
     std::stringstream ss(text);
     for (std::string item; std::getline(ss, item, ',');) {
-        char* end = nullptr;
-        long v = std::strtol(item.c_str(), &end, 10);
-        if (item.empty() || *end != '\0' || v <= 0)
+        long long v = 0;
+        if (!parse_integer(item, v) || v <= 0 || v > INT_MAX)
             throw InputError("--spp expects positive integers separated by commas, got \"" + text + "\"");
         counts.push_back(int(v));
     }

@@ -15,7 +15,6 @@
 
 #include "core/text.h"
 
-#include <cerrno>
 #include <climits>
 #include <cstdio>
 #include <cstdlib>
@@ -37,13 +36,11 @@ inline const char* option_value(int argc, char** argv, int& i) {
     return argv[++i];
 }
 
-// `text` as a whole number from minimum to maximum (all of it, no trailing characters, as
-// std::strtoll reads it); UsageError naming `option` otherwise, where std::atoi would give 0.
+// `text` as a whole number from minimum to maximum (core/text.h's parse_integer); UsageError
+// naming `option` otherwise, where std::atoi would give 0.
 inline long long parse_whole(const std::string& option, const char* text, long long minimum, long long maximum) {
-    char* end = nullptr;
-    errno = 0;
-    const long long value = std::strtoll(text, &end, 10);
-    if (end == text || *end != '\0' || errno == ERANGE || value < minimum || value > maximum)
+    long long value = 0;
+    if (!candela::parse_integer(text, value) || value < minimum || value > maximum)
         throw UsageError(option + " must be a whole number from " + std::to_string(minimum) + " to " + std::to_string(maximum) + " (got " +
                          text + ")");
     return value;

@@ -1,12 +1,14 @@
 #pragma once
 // Small text helpers: splitting attribute text into its items, as Mitsuba's string::tokenize
-// does for number lists, case folding for names Mitsuba reads case-insensitively, and escaping
+// does for number lists, reading whole numbers, case folding for names Mitsuba reads case-insensitively, and escaping
 // text for HTML and SVG output.
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -37,6 +39,22 @@ inline bool parse_finite_float(const std::string& item, float& v) {
         return false;
     }
     return used == item.size() && std::isfinite(v);
+}
+
+// `text`, all of it, as a base-10 integer (std::strtoll's syntax): false when it is not one.
+// `out_of_range`, when given, tells an integer beyond long long's range from text that is none.
+inline bool parse_integer(const std::string& text, long long& value, bool* out_of_range = nullptr) {
+    if (out_of_range) *out_of_range = false;
+    if (text.empty()) return false;
+    char* end = nullptr;
+    errno = 0;
+    value = std::strtoll(text.c_str(), &end, 10);
+    if (end != text.c_str() + text.size()) return false;
+    if (errno == ERANGE) {
+        if (out_of_range) *out_of_range = true;
+        return false;
+    }
+    return true;
 }
 
 // A number with `digits` significant digits, enough to read it back exactly (9 for a float, 17

@@ -11,7 +11,6 @@
 #include <pugixml.hpp>
 
 #include <algorithm>
-#include <cerrno>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -523,11 +522,10 @@ private:
         if (tag == "integer") {
             check_attributes(doc, node, {"name", "value"});
             std::string v = trim(attr(doc, node, "value"));
-            char* end = nullptr;
-            errno = 0;
-            long long i = std::strtoll(v.c_str(), &end, 10);
-            if (v.empty() || end != v.c_str() + v.size()) throw SceneError(loc, "\"" + v + "\" is not an integer");
-            if (errno == ERANGE) throw SceneError(loc, "\"" + v + "\" is too large for an integer");
+            long long i = 0;
+            bool too_large = false;
+            if (!parse_integer(v, i, &too_large))
+                throw SceneError(loc, "\"" + v + "\" is " + (too_large ? "too large for an integer" : "not an integer"));
             props.set(property_name(doc, node), Properties::Type::Integer, int64_t(i), loc);
         } else if (tag == "float") {
             check_attributes(doc, node, {"name", "value"});

@@ -79,6 +79,7 @@
 #include "core/parallel.h"
 #include "core/registry.h"
 #include "core/scene.h"
+#include "core/text.h"
 #include "core/warning.h"
 #include "integrators/radiosity.h"
 #include "integrators/raster/environment.h"
@@ -289,9 +290,8 @@ bool parse_option(const RasterOption& o, const std::string& value, int& number, 
             error += ", not \"" + value + "\"";
             return false;
         case RasterOption::Kind::Integer: {
-            char* end = nullptr;
-            long v = std::strtol(value.c_str(), &end, 10);
-            if (value.empty() || *end || v < o.minimum || v > std::numeric_limits<int>::max()) {
+            long long v = 0;
+            if (!parse_integer(value, v) || v < o.minimum || v > std::numeric_limits<int>::max()) {
                 error = std::string(o.name) + " must be an integer >= " + std::to_string(o.minimum);
                 return false;
             }
