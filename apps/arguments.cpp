@@ -173,6 +173,8 @@ void SceneInput::add_to(CLI::App* cmd) {
         ->allow_extra_args(false)
         ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
     add_search_path_option(cmd, search_path);
+    cmd->add_option("-s,--sensor", sensor, "Which of the scene's sensors to render, counted from 0 in file order (default 0)")
+        ->check(whole_number("--sensor", "", 0, INT_MAX));
 }
 
 const std::string& SceneInput::resolve() {
@@ -201,7 +203,7 @@ const std::string& SceneInput::resolve() {
 Ref<Scene> SceneInput::load() {
     resolve();
     use_search_folders(search_path);
-    return load_scene(scene, parse_defines(defines), *parse_variant(variant));
+    return load_scene(scene, parse_defines(defines), *parse_variant(variant), sensor);
 }
 
 bool refuse_unknown_command(const CLI::App& app, int argc, char** argv, int& code) {

@@ -90,11 +90,13 @@ void add_seed_option(CLI::App* cmd, int64_t& seed, const std::string& default_te
 void add_threads_option(CLI::App* cmd, int& threads);
 // The scene a command reads: the scene file (positional), -D name=value (one per -D and
 // repeatable, as Mitsuba's; the older "-D a=1 b=2" still works: name=value words among the
-// positional arguments are parameters) and -a FOLDER.
+// positional arguments are parameters), -a FOLDER and -s/--sensor N (Mitsuba's: which of the
+// scene's sensors to render, 0 by default).
 struct SceneInput {
     std::string scene;  // the scene file, once resolve() has sorted the words
     std::vector<std::string> words, defines, search_path;
     std::string variant = "scalar_rgb";  // --variant: Mitsuba's variant name (core/variant.h)
+    int sensor = 0;                      // -s/--sensor
 
     void add_to(CLI::App* cmd);
     // Sorts the positional words into the scene file and parameters: InputError for no scene

@@ -76,6 +76,7 @@ FarmRequest make_request(FarmArgs& a) {
     r.aovs = a.aovs;
     r.sampler = a.sampler;
     r.variant = a.input.variant;
+    r.sensor = a.input.sensor;
     AovLayout check_names(a.aovs);
     Ref<Scene> scene = a.input.load();
     if (std::string reason = scene->integrator().parts_refusal(); !reason.empty())

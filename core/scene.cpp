@@ -9,7 +9,7 @@
 
 namespace candela {
 
-Scene::Scene(const Properties& props) {
+Scene::Scene(const Properties& props, int sensor_index) {
     source_file = props.location().file;
     variant_ = props.variant();
     // Shape groups are not drawn themselves, only through the instances that reference them.
@@ -33,9 +33,15 @@ Scene::Scene(const Properties& props) {
     auto sensors = props.get_objects(ObjectKind::Sensor);
     // The second one is the mistake: its line, not the scene's.
     auto second = [&](ObjectKind kind) { return props.location_of(props.get_named_objects(kind)[1].first); };
-    if (sensors.size() > 1) throw SceneError(second(ObjectKind::Sensor), "only one sensor per scene is supported");
+    sensor_count_ = std::max<int>(1, int(sensors.size()));
+    if (sensor_index < 0 || sensor_index >= sensor_count_)
+        throw SceneError(
+            props.location(),
+            "sensor index " + std::to_string(sensor_index) + " is out of range: the scene has " + std::to_string(sensor_count_) +
+                (sensor_count_ == 1 ? " sensor (index 0)" : " sensors (indices 0 to " + std::to_string(sensor_count_ - 1) + ")"));
+    sensor_index_ = sensor_index;
     sensor_ = sensors.empty() ? create_plugin_as<Sensor>(ObjectKind::Sensor, Properties("perspective", props.location()))
-                              : std::static_pointer_cast<Sensor>(sensors[0]);
+                              : std::static_pointer_cast<Sensor>(sensors[size_t(sensor_index)]);
     auto integrators = props.get_objects(ObjectKind::Integrator);
     if (integrators.size() > 1) throw SceneError(second(ObjectKind::Integrator), "only one integrator per scene is supported");
     integrator_ = integrators.empty() ? create_plugin_as<Integrator>(ObjectKind::Integrator, Properties("path", props.location()))

@@ -24,7 +24,9 @@ constexpr int MaxNullCrossings = 256;
 
 class Scene : public Object {
 public:
-    explicit Scene(const Properties& props);
+    // `sensor_index`: which of the scene's sensors it renders (Mitsuba's `mitsuba -s N`; 0, the
+    // first in the file, by default). The others are built too, so that their errors show.
+    explicit Scene(const Properties& props, int sensor_index = 0);
     ObjectKind kind() const override { return ObjectKind::Scene; }
 
     // Closest surface along the ray; si.is_valid() is false for a miss.
@@ -56,6 +58,10 @@ public:
     Spectrum eval_environment(const Vec3& d, const Wavelengths* wavelengths = nullptr) const;
 
     Sensor& sensor() const { return *sensor_; }
+    // The scene file's sensors (1 for a scene that declares none: the default camera), and which
+    // of them sensor() is.
+    int sensor_count() const { return sensor_count_; }
+    int sensor_index() const { return sensor_index_; }
     Integrator& integrator() const { return *integrator_; }
     const Ref<Integrator>& integrator_ref() const { return integrator_; }
     void set_integrator(Ref<Integrator> integrator) { integrator_ = std::move(integrator); }
@@ -84,6 +90,7 @@ private:
     std::vector<Ref<Emitter>> emitters_;
     std::vector<const Emitter*> infinite_emitters_;
     Ref<Sensor> sensor_;
+    int sensor_count_ = 1, sensor_index_ = 0;
     Ref<Integrator> integrator_;
     BoundingBox bbox_;
     Accel accel_;

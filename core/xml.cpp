@@ -125,7 +125,8 @@ Ref<Object> create_moving_shape(const Properties& props) {
 
 class XmlLoader {
 public:
-    XmlLoader(const SceneParameters& defines, Variant variant) : params_(defines), defines_(defines), variant_(variant) {}
+    XmlLoader(const SceneParameters& defines, Variant variant, int sensor_index)
+        : params_(defines), defines_(defines), variant_(variant), sensor_index_(sensor_index) {}
 
     // A -D name the scene neither declares (<default>) nor uses ($name) changes nothing: a
     // warning names it and the scene's parameters (Mitsuba ignores it silently).
@@ -157,7 +158,7 @@ public:
         Properties scene_props("scene", where(doc, root));
         scene_props.set_variant(variant_);
         read_scene_element(doc, root, scene_props, 0);
-        auto scene = std::make_shared<Scene>(scene_props);
+        auto scene = std::make_shared<Scene>(scene_props, sensor_index_);
         scene_props.check_all_used();
         scene->parameters = params_;
         for (const fs::path& f : resolver->found_files())
@@ -720,6 +721,7 @@ private:
     SceneParameters params_;
     SceneParameters defines_;  // as given (-D)
     Variant variant_;
+    int sensor_index_;
     mutable std::set<std::string> known_params_;  // declared by <default> or used as $name
     std::map<std::string, Ref<Object>> ids_;
     std::map<std::string, std::pair<Document*, pugi::xml_node>> declared_;  // ids declared anywhere in the files read
@@ -752,20 +754,20 @@ std::string not_a_scene_file(const std::string& path) {
 
 }  // namespace
 
-Ref<Scene> load_scene(const std::string& path, const SceneParameters& defines, Variant variant) {
+Ref<Scene> load_scene(const std::string& path, const SceneParameters& defines, Variant variant, int sensor_index) {
     if (std::string reason = not_a_scene_file(path); !reason.empty()) throw SceneError(SourceLocation{path, 0}, reason);
     std::ifstream in(path, std::ios::binary);
     std::stringstream ss;
     ss << in.rdbuf();
-    XmlLoader loader(defines, variant);
+    XmlLoader loader(defines, variant, sensor_index);
     auto scene = loader.load(ss.str(), path);
     loader.warn_unused_defines(path);
     return scene;
 }
 
-Ref<Scene> load_scene_from_string(const std::string& xml, const std::string& virtual_path, const SceneParameters& defines,
-                                  Variant variant) {
-    XmlLoader loader(defines, variant);
+Ref<Scene> load_scene_from_string(const std::string& xml, const std::string& virtual_path, const SceneParameters& defines, Variant variant,
+                                  int sensor_index) {
+    XmlLoader loader(defines, variant, sensor_index);
     auto scene = loader.load(xml, virtual_path);
     loader.warn_unused_defines(virtual_path);
     return scene;

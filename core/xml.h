@@ -16,9 +16,11 @@ using SceneParameters = std::map<std::string, std::string>;
 
 // `variant`: what the scene is loaded for (core/variant.h); plugins that cannot render in it stop
 // at their element, and in the spectral variant measured spectra are kept for use per wavelength.
-Ref<Scene> load_scene(const std::string& path, const SceneParameters& defines = {}, Variant variant = Variant::ScalarRGB);
+// `sensor_index`: which of the file's sensors the scene renders (Scene's constructor).
+Ref<Scene> load_scene(const std::string& path, const SceneParameters& defines = {}, Variant variant = Variant::ScalarRGB,
+                      int sensor_index = 0);
 // Parses XML text as if it were the file `virtual_path` (relative paths resolve beside it).
 Ref<Scene> load_scene_from_string(const std::string& xml, const std::string& virtual_path, const SceneParameters& defines = {},
-                                  Variant variant = Variant::ScalarRGB);
+                                  Variant variant = Variant::ScalarRGB, int sensor_index = 0);
 
 }  // namespace candela

@@ -204,6 +204,8 @@ std::string scene_hash(const Scene& scene) {
     h.add_file(scene.source_file);
     for (const std::string& f : scene.input_files) h.add_file(f);
     for (const auto& [name, value] : scene.parameters) h.add(name + "=" + value);
+    // Another sensor is another render (the first one's hash is as it was before sensors counted).
+    if (scene.sensor_index() != 0) h.add("sensor=" + std::to_string(scene.sensor_index()));
     char buf[32];
     std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h.state));
     return buf;

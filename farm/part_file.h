@@ -41,7 +41,7 @@ class Scene;
 // What makes parts belong to one render: they may only be merged when all of this agrees.
 struct RenderIdentity {
     std::string scene;       // the scene file as given (informative; the hash decides)
-    std::string scene_hash;  // the scene file, every file it read, and its parameters
+    std::string scene_hash;  // the scene file, every file it read, its parameters and its sensor
     uint64_t seed = 0;
     std::string sampler;  // the sampler plugin
     int spp = 0;          // samples per pixel of the whole render

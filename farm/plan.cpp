@@ -71,6 +71,7 @@ std::vector<std::string> render_words(const FarmRequest& r) {
     if (!r.sampler.empty()) cmd.insert(cmd.end(), {"--sampler", r.sampler});
     if (!r.mode.empty()) cmd.insert(cmd.end(), {"--mode", r.mode});
     if (!r.variant.empty() && r.variant != "scalar_rgb") cmd.insert(cmd.end(), {"--variant", r.variant});
+    if (r.sensor != 0) cmd.insert(cmd.end(), {"--sensor", std::to_string(r.sensor)});
     return cmd;
 }
 

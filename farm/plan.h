@@ -22,6 +22,7 @@ struct FarmRequest {
     std::string sampler;  // render --sampler, when given
     std::string mode;     // render --mode, when given
     std::string variant;  // render --variant, when not the default
+    int sensor = 0;       // render --sensor, when not the first
     int spp = 0;          // the render's (resolved from the scene when not given)
     uint64_t seed = 0;    // likewise
     Vec2i image{0};       // the image size, for the regions

@@ -95,15 +95,15 @@ Variant variant_of(const std::string& name) {
     return *v;
 }
 
-SceneHandle load_file(const std::string& path, const std::map<std::string, std::string>& params, const std::string& variant) {
+SceneHandle load_file(const std::string& path, const std::map<std::string, std::string>& params, const std::string& variant, int sensor) {
     const Variant v = variant_of(variant);
-    return without_gil([&] { return SceneHandle{load_scene(path, string_map(params), v)}; });
+    return without_gil([&] { return SceneHandle{load_scene(path, string_map(params), v, sensor)}; });
 }
 
 SceneHandle load_string(const std::string& xml, const std::string& virtual_path, const std::map<std::string, std::string>& params,
-                        const std::string& variant) {
+                        const std::string& variant, int sensor) {
     const Variant v = variant_of(variant);
-    return without_gil([&] { return SceneHandle{load_scene_from_string(xml, virtual_path, string_map(params), v)}; });
+    return without_gil([&] { return SceneHandle{load_scene_from_string(xml, virtual_path, string_map(params), v, sensor)}; });
 }
 
 // The XML tag of a plugin type ("diffuse" -> "bsdf"), or None.
@@ -510,6 +510,8 @@ PYBIND11_MODULE(_candela, m) {
     py::class_<SceneHandle>(m, "Scene", "A loaded scene (candela.load_file, load_string, load_dict)")
         .def_property_readonly("integrator", [](const SceneHandle& h) { return h.scene->integrator().to_string(); })
         .def_property_readonly("path", [](const SceneHandle& h) { return h.scene->source_file; })
+        .def_property_readonly("sensor_count", [](const SceneHandle& h) { return h.scene->sensor_count(); })
+        .def_property_readonly("sensor_index", [](const SceneHandle& h) { return h.scene->sensor_index(); })
         .def_property_readonly("film_size",
                                [](const SceneHandle& h) {
                                    const Vec2i s = h.scene->sensor().film().crop_size();
@@ -546,8 +548,9 @@ PYBIND11_MODULE(_candela, m) {
         });
     m.def("evaluate_expression", [](const std::string& text) { return evaluate_expression(text); });
     m.def("start_viewer", &start_viewer, py::arg("scene"), py::arg("port"), py::arg("bind"));
-    m.def("load_file", &load_file, py::arg("path"), py::arg("params"), py::arg("variant") = "scalar_rgb");
-    m.def("load_string", &load_string, py::arg("xml"), py::arg("virtual_path"), py::arg("params"), py::arg("variant") = "scalar_rgb");
+    m.def("load_file", &load_file, py::arg("path"), py::arg("params"), py::arg("variant") = "scalar_rgb", py::arg("sensor") = 0);
+    m.def("load_string", &load_string, py::arg("xml"), py::arg("virtual_path"), py::arg("params"), py::arg("variant") = "scalar_rgb",
+          py::arg("sensor") = 0);
     m.def("plugin_tag", &plugin_tag, py::arg("type"));
     m.def("render", &render, py::arg("scene"), py::arg("spp"), py::arg("seed"), py::arg("threads"), py::arg("integrator_xml"),
           py::arg("progress"), py::arg("aovs"));

@@ -6,6 +6,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <regex>
+
 using namespace candela;
 using namespace candela::test;
 
@@ -392,4 +394,36 @@ TEST_CASE("cli: sample counts beyond 2^30 are refused with the range, before any
         CHECK_THAT(log, Catch::Contains(c.message));
         CHECK_FALSE(std::filesystem::exists(out));
     }
+}
+
+TEST_CASE("cli: -s/--sensor chooses which of a scene's sensors to render (mitsuba -s), in farm parts too", "[cli]") {
+    // Two cameras with films of different sizes, so the image says which one rendered. Mitsuba 3
+    // loads every sensor of a scene and renders the one -s names (0 by default).
+    auto dir = scratch_dir("cli-sensor");
+    const std::string camera = R"(<sensor type="perspective"><float name="fov" value="40"/>
+            <transform name="to_world"><lookat origin="0, 0, 4" target="0, 0, 0" up="0, 1, 0"/></transform>
+            <sampler type="independent"><integer name="sample_count" value="2"/></sampler>
+            <film type="hdrfilm"><integer name="width" value="WIDTH"/><integer name="height" value="6"/></film></sensor>)";
+    auto with_width = [&](const char* width) { return std::regex_replace(camera, std::regex("WIDTH"), width); };
+    write_text(dir / "two.xml", "<scene version=\"3.0.0\">" + with_width("8") + with_width("12") +
+                                    R"(<shape type="sphere"><bsdf type="diffuse"/></shape>
+        <emitter type="constant"/></scene>)");
+    const std::string scene = "'" + (dir / "two.xml").string() + "'";
+    const auto out = dir / "out.exr";
+    for (const auto& [option, width] : std::vector<std::pair<std::string, int>>{{"", 8}, {"-s 0", 8}, {"-s 1", 12}, {"--sensor 1", 12}}) {
+        INFO(option);
+        REQUIRE(run_command(render_cmd(scene + " -o '" + out.string() + "' -q " + option), dir / "log.txt") == 0);
+        CHECK(read_image(out.string()).width() == width);
+    }
+    std::filesystem::remove(out);
+    CHECK(run_command(render_cmd(scene + " -o '" + out.string() + "' --sensor 2"), dir / "log.txt") == 2);
+    CHECK_THAT(read_text(dir / "log.txt"),
+               Catch::Contains("two.xml") && Catch::Contains("sensor index 2 is out of range: the scene has 2 sensors (indices 0 to 1)"));
+    CHECK_FALSE(std::filesystem::exists(out));
+    // A farm's parts render the same sensor, and a part of another sensor is another render.
+    const std::string farm = "'" + candela_binary() + "' farm plan " + scene + " -o '" + (dir / "farm.exr").string() + "' --parts 2 -s 1";
+    REQUIRE(run_command(farm + " 2>/dev/null", dir / "farm.txt") == 0);
+    const std::string commands = read_text(dir / "farm.txt");
+    INFO(commands);
+    CHECK_THAT(commands, Catch::Contains("--sensor 1"));
 }
