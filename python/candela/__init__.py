@@ -67,56 +67,70 @@ def _variant_argument(variant) -> str:
     return variant
 
 
-def _check_no_variant_parameter(scene: Scene, variant) -> Scene:
-    """`variant=` chooses the rendering variant, never a scene parameter: a scene that declares a
-    `$variant` parameter of its own, loaded with `variant=` given, is refused rather than read one
-    way silently."""
-    if variant is not None and "variant" in scene.parameters:
-        raise InputError(f"the scene declares a parameter named 'variant', and variant={variant!r} was given: the "
-                         "keyword chooses the rendering variant (candela.variants()), not the scene's parameter, "
-                         "which keeps its <default>; rename the parameter to set it from Python")
+def _sensor_argument(sensor) -> int:
+    """The sensor index a loader was given (None: 0, the file's first sensor)."""
+    if sensor is None:
+        return 0
+    if isinstance(sensor, bool) or not isinstance(sensor, (int, np.integer)) or sensor < 0:
+        raise ValueError(f"sensor must be a sensor's index, a whole number from 0 (got {sensor!r})")
+    return int(sensor)
+
+
+def _check_no_keyword_parameter(scene: Scene, variant, sensor=None) -> Scene:
+    """`variant=` chooses the rendering variant and `sensor=` the sensor, never a scene parameter:
+    a scene that declares a `$variant` or `$sensor` parameter of its own, loaded with that keyword
+    given, is refused rather than read one way silently."""
+    for name, value, means in (("variant", variant, "the rendering variant (candela.variants())"),
+                               ("sensor", sensor, "which of the scene's sensors to render")):
+        if value is not None and name in scene.parameters:
+            raise InputError(f"the scene declares a parameter named '{name}', and {name}={value!r} was given: the "
+                             f"keyword chooses {means}, not the scene's parameter, which keeps its <default>; "
+                             "rename the parameter to set it from Python")
     return scene
 
 
-def load_file(path, *, variant: str | None = None, **params) -> Scene:
+def load_file(path, *, variant: str | None = None, sensor: int | None = None, **params) -> Scene:
     """Loads a Mitsuba 3 XML scene; keyword arguments set its ``$name`` parameters
     (``load_file("cbox.xml", spp=64, res=256)``). Errors raise SceneError with ``file:line``.
     ``variant`` (keyword only; default scalar_rgb) is the variant to load it in: one of
-    candela.variants(); a plugin that does not render in it raises SceneError at its line. It is
-    never a scene parameter (see _check_no_variant_parameter)."""
-    scene = _candela.load_file(os.fspath(path), _parameters(params), _variant_argument(variant))
-    return _check_no_variant_parameter(scene, variant)
+    candela.variants(); a plugin that does not render in it raises SceneError at its line.
+    ``sensor`` (keyword only; default 0) is which of the file's sensors the scene renders, counted
+    in file order (``candela render -s N``). Neither is ever a scene parameter (see
+    _check_no_keyword_parameter)."""
+    scene = _candela.load_file(os.fspath(path), _parameters(params), _variant_argument(variant), _sensor_argument(sensor))
+    return _check_no_keyword_parameter(scene, variant, sensor)
 
 
-def load_string(xml: str, *, variant: str | None = None, **params) -> Scene:
+def load_string(xml: str, *, variant: str | None = None, sensor: int | None = None, **params) -> Scene:
     """Loads a scene from XML text; files it names are found relative to the working directory.
-    ``variant`` as in load_file."""
+    ``variant`` and ``sensor`` as in load_file."""
     if not isinstance(xml, str):
         raise TypeError(f"load_string expects XML text (a str), got {type(xml).__name__}")
-    scene = _candela.load_string(xml, os.path.join(os.getcwd(), "<string>.xml"), _parameters(params), _variant_argument(variant))
-    return _check_no_variant_parameter(scene, variant)
+    scene = _candela.load_string(xml, os.path.join(os.getcwd(), "<string>.xml"), _parameters(params), _variant_argument(variant),
+                                 _sensor_argument(sensor))
+    return _check_no_keyword_parameter(scene, variant, sensor)
 
 
-def load_dict(d: dict, *, variant: str | None = None, **params):
+def load_dict(d: dict, *, variant: str | None = None, sensor: int | None = None, **params):
     """Loads a scene from Mitsuba 3's dictionary format (``{'type': 'scene', ...}``). A dictionary
     of another plugin (``{'type': 'path', 'max_depth': 8}``) is checked and returned as a Plugin,
     for ``render(..., integrator=...)`` or as a value in another dictionary. Errors raise
     SceneError naming the key path (``sphere.bsdf.reflectance: ...``). ``variant`` as in
-    load_file (a plugin is checked in it)."""
+    load_file (a plugin is checked in it), and ``sensor`` for a scene."""
     name = _variant_argument(variant)
     if isinstance(d, dict) and d.get("type") != "scene":
         kind, holder = plugin_scene(d)
         if holder is not None:
             _load_dict_scene(holder, {}, name, prefix_strip="object")
         return Plugin(d, kind)
-    return _check_no_variant_parameter(_load_dict_scene(d, params, name), variant)
+    return _check_no_keyword_parameter(_load_dict_scene(d, params, name, sensor=_sensor_argument(sensor)), variant, sensor)
 
 
-def _load_dict_scene(d: dict, params: dict, variant: str, prefix_strip: str | None = None) -> Scene:
+def _load_dict_scene(d: dict, params: dict, variant: str, prefix_strip: str | None = None, sensor: int = 0) -> Scene:
     xml, paths = scene_xml(d)
     virtual = os.path.join(os.getcwd(), "<dict>.xml")
     try:
-        return _candela.load_string(xml, virtual, _parameters(params), variant)
+        return _candela.load_string(xml, virtual, _parameters(params), variant, sensor)
     except SceneError as e:
         line = getattr(e, "line", 0)
         path = paths[line - 1] if 0 < line <= len(paths) else ""
@@ -126,7 +140,7 @@ def _load_dict_scene(d: dict, params: dict, variant: str, prefix_strip: str | No
         raise SceneError(f"{where}: {e.message}", where, 0, e.message) from None
 
 
-def render(scene: Scene, spp: int | None = None, seed: int = 0, sensor: int = 0, threads: int | None = None, integrator=None,
+def render(scene: Scene, spp: int | None = None, seed: int = 0, sensor: int | None = None, threads: int | None = None, integrator=None,
            progress=None, aovs=None) -> Image:
     """Renders the scene with its integrator (or `integrator`: a plugin name, a dictionary or a
     Plugin) and returns the image. ``spp`` overrides the sampler's count (rounded as the sampler
@@ -134,15 +148,17 @@ def render(scene: Scene, spp: int | None = None, seed: int = 0, sensor: int = 0,
     with the same scene, spp and seed. The GIL is released while rendering; Ctrl-C raises
     KeyboardInterrupt within a second. ``progress(fraction)`` is called from the calling thread
     about ten times a second. ``aovs``: extra layers, as ``--aov`` (albedo, normal, depth,
-    variance, samples)."""
+    variance, samples). ``sensor``: the scene renders the sensor it was loaded with (load_file's
+    ``sensor=``); another index is a ValueError that says so."""
     if not isinstance(scene, Scene):
         raise TypeError(f"render expects a candela.Scene, got {type(scene).__name__}")
     if spp is not None and (isinstance(spp, bool) or not isinstance(spp, (int, np.integer)) or not 1 <= spp <= 1 << 30):
         raise ValueError(f"spp must be a whole number of samples, 1 to 2^30 (got {spp!r})")
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or not 0 <= seed < 1 << 64:
         raise ValueError(f"seed must be a whole number, 0 to 2^64 - 1 (got {seed!r})")
-    if sensor != 0:
-        raise ValueError(f"the scene has one sensor (index 0); sensor={sensor!r}")
+    if sensor is not None and sensor != scene.sensor_index:
+        raise ValueError(f"the scene was loaded to render sensor {scene.sensor_index} (of {scene.sensor_count}); sensor={sensor!r} "
+                         f"needs the scene loaded with sensor={sensor!r} (load_file, load_string and load_dict take it)")
     if threads is not None and (not isinstance(threads, (int, np.integer)) or threads < 0):
         raise ValueError(f"threads must be a whole number >= 0 (got {threads!r})")
     if progress is not None and not callable(progress):

@@ -1,8 +1,10 @@
 """Mitsuba 3's dictionary scene format (``mi.load_dict``) turned into Candela's scene XML.
 
 A scene dictionary has ``'type': 'scene'``; every other key names a child: a nested dictionary
-with a ``'type'`` is a plugin (its key is its id at the top level, unless it gives an ``'id'``),
-``{'type': 'rgb', 'value': ...}`` and ``{'type': 'spectrum', ...}`` are colours,
+with a ``'type'`` is a plugin (its key is its id at the top level, unless it gives an ``'id'``, and
+its name, as XML's ``name=``, when nested), ``{'type': 'rgb', 'value': ...}`` and
+``{'type': 'spectrum', ...}`` are colours, the spectrum plugins (``srgb``, ``uniform``, ``d65``,
+``regular``, ``irregular``, ``blackbody``) are written as ``<spectrum type="...">``,
 ``{'type': 'ref', 'id': ...}`` refers to an object declared elsewhere, and plain values are
 properties: ``bool``, ``int``, ``float``, ``str``, three numbers (a point), a 4x4 matrix or a
 transform (``candela.Transform``, ``mitsuba.ScalarTransform4f``). The XML is written one element
@@ -19,6 +21,8 @@ from xml.sax.saxutils import quoteattr
 from . import _candela
 
 COLOUR_TYPES = ("rgb", "spectrum")
+# Mitsuba's spectrum plugins, written as <spectrum type="..."> (docs/scene-format.md).
+SPECTRUM_TYPES = ("uniform", "srgb", "d65", "regular", "irregular", "blackbody")
 
 
 class DictError(ValueError):
@@ -79,7 +83,7 @@ class _Writer:
             name = f" name={quoteattr(key)}" if key and not top_level else ""
             self.emit(f"<ref{name} id={quoteattr(ref)}/>", path)
             return
-        tag = _candela.plugin_tag(plugin_type)
+        tag = "spectrum" if plugin_type in SPECTRUM_TYPES else _candela.plugin_tag(plugin_type)
         if tag is None:
             raise DictError(f"{path}: unknown plugin type {plugin_type!r}")
         attributes = f"type={quoteattr(plugin_type)}"
@@ -88,8 +92,9 @@ class _Writer:
             if not isinstance(object_id, str):
                 raise DictError(f"{path}.id: an id is a string, got {object_id!r}")
             attributes += f" id={quoteattr(object_id)}"
-        # Nested textures and others are named by their property (Mitsuba: the key).
-        if key and not top_level and tag in ("texture", "spectrum", "volume", "phase", "medium"):
+        # A nested plugin is named by its key, as the XML's name attribute names it (Mitsuba: the
+        # aov integrator's channels, a shape's interior and exterior media).
+        if key and not top_level:
             attributes += f" name={quoteattr(key)}"
         self.emit(f"<{tag} {attributes}>", path)
         for child_key, value in d.items():
@@ -97,6 +102,8 @@ class _Writer:
                 continue
             if not isinstance(child_key, str):
                 raise DictError(f"{path}: keys are strings, got {child_key!r}")
+            if tag == "spectrum" and child_key == "color" and not isinstance(value, (dict, Plugin)):
+                value = {"type": "rgb", "value": value}  # an srgb's or d65's colour: an <rgb>
             self.value(child_key, value, f"{path}.{child_key}" if path else child_key)
         self.emit(f"</{tag}>", path)
 
@@ -210,10 +217,14 @@ def plugin_scene(d: dict) -> tuple[str, dict]:
     plugin_type = d.get("type") if isinstance(d, dict) else None
     if not isinstance(plugin_type, str):
         raise DictError("a plugin dictionary needs a 'type' (a string)")
-    tag = _candela.plugin_tag(plugin_type)
+    tag = "spectrum" if plugin_type in SPECTRUM_TYPES else _candela.plugin_tag(plugin_type)
     if tag is None:
         raise DictError(f"unknown plugin type {plugin_type!r}")
-    if tag in ("integrator", "emitter", "shape", "sensor"):
+    if tag == "spectrum":
+        # A spectrum plugin is a texture (as in Mitsuba), checked as an emitter's radiance, where
+        # every spectrum fits.
+        tag, holder = "texture", {"type": "scene", "object": {"type": "constant", "radiance": d}}
+    elif tag in ("integrator", "emitter", "shape", "sensor"):
         holder = {"type": "scene", "object": d}
     elif tag == "bsdf":
         holder = {"type": "scene", "object": {"type": "sphere", "bsdf": d}}

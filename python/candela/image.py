@@ -75,6 +75,11 @@ class Image(np.ndarray):
                 return np.repeat(np.asarray(self)[:, :, :1], 3, axis=2)
             return np.asarray(self)[:, :, :3]
 
+    def numpy(self) -> np.ndarray:
+        """The pixels as a plain NumPy array (a copy, H x W x C float32), as Mitsuba's
+        ``TensorXf.numpy()`` gives them."""
+        return np.array(self, dtype=np.float32)
+
     def to_srgb8(self) -> np.ndarray:
         """The colour as 8-bit sRGB (clamped to [0, 1], then the sRGB curve): H x W x 3 uint8."""
         return srgb8(self.rgb())

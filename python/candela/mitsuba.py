@@ -182,7 +182,8 @@ Scene = _candela.Scene
 
 
 # How each scene from this module's loaders was made, so that render(sensor=<a sensor object>)
-# can load it again with that sensor in place of its own.
+# can load it again with that sensor in place of its own, and render(sensor=<index>) with another
+# of its sensors.
 _recipes: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 
 
@@ -274,14 +275,16 @@ def _sensor_xml(sensor: dict) -> str:
     return "\n".join(xml_text.splitlines()[1:-1])
 
 
-def _load_recipe(recipe, variant: str, sensor: dict | None = None):
+def _load_recipe(recipe, variant: str, sensor: dict | None = None, sensor_index: int = 0):
+    """The scene loaded again: with `sensor` (a dictionary) in place of its own sensors, or
+    rendering its sensor `sensor_index`."""
     kind = recipe[0]
     if kind == "dict":
         d = recipe[1]
         if sensor is not None:
             d = {k: v for k, v in d.items() if not _is_sensor(v)}
             d["_candela_sensor"] = sensor
-        return _candela.load_dict(d, variant=variant)
+        return _candela.load_dict(d, variant=variant, sensor=sensor_index)
     if kind == "file":
         with open(recipe[1], encoding="utf-8") as f:
             text = f.read()
@@ -291,19 +294,22 @@ def _load_recipe(recipe, variant: str, sensor: dict | None = None):
     if sensor is not None:
         text, at = _without_sensors_xml(text)
         text = text[:at] + _sensor_xml(sensor) + text[at:]
-    return _native.load_string(text, virtual, _candela._parameters(params), variant)
+    return _native.load_string(text, virtual, _candela._parameters(params), variant, sensor_index)
 
 
 def _render_with_sensor(scene, sensor, spp, seed, integrator):
-    """Renders `scene` from `sensor` (a sensor from load_dict): the scene is loaded again with that
-    sensor in place of its own, and the parameters changed since it was loaded (through
-    traverse) are carried over, the camera's own (to_world, x_fov) excepted."""
+    """Renders `scene` from `sensor` (a sensor from load_dict, or the index of another of the
+    scene's sensors): the scene is loaded again with that sensor, and the parameters changed since
+    it was loaded (through traverse) are carried over, the camera's own (to_world, x_fov) excepted."""
     recipe = _recipes.get(scene)
     if recipe is None:
-        raise NotImplementedError("mi.render(..., sensor=<a sensor object>) for a scene not loaded by candela.mitsuba's "
-                                  "load_file, load_string or load_dict is not available")
+        raise NotImplementedError("mi.render(..., sensor=...) with a sensor other than the scene's first, for a scene not "
+                                  "loaded by candela.mitsuba's load_file, load_string or load_dict, is not available")
     # Loaded again in the scene's own variant, whatever the current one is.
-    moved = _load_recipe(recipe, scene.variant, sensor.dictionary)
+    if isinstance(sensor, _Plugin):
+        moved = _load_recipe(recipe, scene.variant, sensor=sensor.dictionary)
+    else:
+        moved = _load_recipe(recipe, scene.variant, sensor_index=sensor)
     fresh = _load_recipe(recipe, scene.variant)
     changes = {}
     wanted = dict(_native.parameter_list(moved))
@@ -325,8 +331,9 @@ def _render_with_sensor(scene, sensor, spp, seed, integrator):
 def render(scene, params=None, sensor=0, integrator=None, seed: int = 0, seed_grad: int = 0, spp: int = 0,
            spp_grad: int = 0):
     """Renders the scene and returns the image (a candela.Image: H x W x 3 float32, a NumPy array).
-    ``spp=0`` keeps the scene's (or the given sensor's) sample count. ``sensor``: 0 (the scene's
-    sensor) or a sensor from load_dict (the scene is rendered from it, with its film and sampler).
+    ``spp=0`` keeps the scene's (or the given sensor's) sample count. ``sensor``: the index of one
+    of the scene's sensors, in file order (0, the first, by default), or a sensor from load_dict
+    (the scene is rendered from it, with its film and sampler).
     ``integrator``: an integrator from load_dict (or its dictionary, or its name). ``params``,
     ``seed_grad`` and ``spp_grad`` concern gradients: they do not change the image and are
     accepted as Mitsuba accepts them. The pixels equal ``candela render SCENE --spp SPP --seed
@@ -346,18 +353,30 @@ def render(scene, params=None, sensor=0, integrator=None, seed: int = 0, seed_gr
         return _render_with_sensor(scene, sensor, spp, seed, integrator)
     if isinstance(sensor, bool) or not isinstance(sensor, (int, np.integer)):
         raise TypeError(f"sensor must be a sensor's index (an int) or a sensor from load_dict, got {sensor!r}")
-    return _candela.render(scene, spp=int(spp) or None, seed=seed, sensor=int(sensor), integrator=integrator)
+    if not 0 <= sensor < scene.sensor_count:
+        raise IndexError(f"sensor index {sensor} is out of range: the scene has {scene.sensor_count} sensor"
+                         f"{'s' if scene.sensor_count != 1 else ''}")
+    if sensor != scene.sensor_index:
+        return _render_with_sensor(scene, int(sensor), spp, seed, integrator)
+    return _candela.render(scene, spp=int(spp) or None, seed=seed, integrator=integrator)
 
 
 class SceneParameters(_CandelaSceneParameters):
     """Mitsuba's SceneParameters on a Candela scene: ``params[name]`` reads a value (a Color3f, a
     float, a ScalarTransform4f, or a flat float32 array for vertex positions), ``params[name] = v``
     assigns one, ``update()`` applies the assignments. As in Mitsuba, a value read and then changed
-    in place (``params['x.vertex_positions'][1] += 0.1``) is applied by the next update()."""
+    in place (``params['x.vertex_positions'][1] += 0.1``) is applied by the next update(), and
+    iterating gives (name, value) pairs, as items() does."""
 
     def __init__(self, scene):
         super().__init__(scene)
         self._handed: dict[str, tuple[object, np.ndarray]] = {}
+
+    def __iter__(self):
+        return iter(self.items())
+
+    def values(self):
+        return [value for _, value in self.items()]
 
     def __getitem__(self, name: str):
         value = super().__getitem__(name)
@@ -378,25 +397,24 @@ class SceneParameters(_CandelaSceneParameters):
         if name in self._handed and name not in self._pending:
             super().__setitem__(name, self._handed[name][0])
 
-    def update(self) -> list[str]:
-        """Applies the assignments (and the in-place changes of values read) since the last update;
+    def update(self, values: dict = None) -> list[str]:
+        """Assigns `values` (names this view does not have are ignored, as in Mitsuba), then
+        applies the assignments (and the in-place changes of values read) since the last update;
         returns the names it changed."""
         for name, (value, snapshot) in list(self._handed.items()):
-            if name not in self._pending and not np.array_equal(np.asarray(value), snapshot):
+            if name in self and name not in self._pending and not np.array_equal(np.asarray(value), snapshot):
                 super().__setitem__(name, value)
         self._handed = {}
-        return super().update()
+        return super().update(values)
 
     def keep(self, keys) -> None:
-        """Keeps only the parameters named in `keys` (a list of names, or a regular expression)."""
-        if isinstance(keys, str):
-            pattern = re.compile(keys)
-            kept = [k for k in self._types if pattern.fullmatch(k) or k == keys]
-        else:
-            keys = set(keys)
-            kept = [k for k in self._types if k in keys]
-        self._types = {k: self._types[k] for k in kept}
-        self._pending = {k: v for k, v in self._pending.items() if k in self._types}
+        """Keeps the parameters whose names a regular expression of `keys` (one, or a list)
+        matches at their start, as Mitsuba's keep: ``keep('red')`` keeps 'red.reflectance.value'."""
+        if keys is None:
+            raise NotImplementedError("SceneParameters.keep(None): keeping the differentiable parameters needs "
+                                      "parameter flags, and Candela has no automatic differentiation")
+        patterns = [re.compile(k) for k in ([keys] if isinstance(keys, str) else keys)]
+        self._types = {k: t for k, t in self._types.items() if any(p.match(k) for p in patterns)}
 
     def flags(self, name: str):
         raise NotImplementedError("SceneParameters.flags: parameter flags describe differentiability, and Candela "
@@ -916,10 +934,10 @@ class Bitmap:
 
     # --- files -----------------------------------------------------------------------------------
     def write(self, path, format=_FileFormat.Auto, quality: int = -1):
-        """Writes the bitmap. OpenEXR (.exr): the channels as float32 (float16 for a Float16
-        bitmap), linear. PNG (.png) and JPEG (.jpg, .jpeg): 8-bit; float data is converted to 8-bit
-        sRGB first (as write_bitmap does), 8-bit data is written as it is. ``quality`` is JPEG's
-        (1-100; -1: 100)."""
+        """Writes the bitmap at `path`, in `format` (Auto: the one its extension names). OpenEXR
+        (.exr): the channels as float32 (float16 for a Float16 bitmap), linear. PNG (.png) and JPEG
+        (.jpg, .jpeg): 8-bit; float data is converted to 8-bit sRGB first (as write_bitmap does),
+        8-bit data is written as it is. ``quality`` is JPEG's (1-100; -1: 100)."""
         path = os.fspath(path)
         if not isinstance(format, _FileFormat):
             raise TypeError(f"write: format must be a Bitmap.FileFormat, got {format!r}")
@@ -934,8 +952,9 @@ class Bitmap:
         if format == _FileFormat.OpenEXR:
             b = self if self._component in (Struct.Type.Float16, Struct.Type.Float32) and not self._srgb else \
                 self.convert(component_format=Struct.Type.Float32, srgb_gamma=False)
-            image = _Image(np.asarray(b._data, dtype=np.float32), channels=b._names, metadata=self._string_metadata())
-            _candela.write_image(path, image, float32=b._component != Struct.Type.Float16)
+            # Written at `path` whatever its extension (whole or not at all, as every writer here).
+            buffer = _native.ImageBuffer(np.ascontiguousarray(b._data, dtype=np.float32), list(b._names), self._string_metadata())
+            _native.write_exr(buffer, path, b._component != Struct.Type.Float16)
         elif format == _FileFormat.PNG:
             self._eight_bit()._write_png(path)
         elif format == _FileFormat.JPEG:

@@ -16,13 +16,15 @@ applied together by ``update()``, which brings every changed object up to date o
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 import numpy as np
 
 from . import _candela
 from .transform import Transform
 
 
-class SceneParameters:
+class SceneParameters(Mapping):
     """A mapping from parameter names to values, with pending changes applied by update()."""
 
     def __init__(self, scene):
@@ -31,7 +33,7 @@ class SceneParameters:
         self._pending: dict[str, np.ndarray] = {}
 
     def keys(self):
-        return list(self._types)
+        return self._types.keys()
 
     def __iter__(self):
         return iter(self._types)
@@ -44,6 +46,17 @@ class SceneParameters:
 
     def items(self):
         return [(k, self[k]) for k in self._types]
+
+    def __delitem__(self, name: str):
+        """Removes a parameter from this view (the scene keeps it; an assignment made before is
+        still applied by update())."""
+        del self._types[self._check(name)]
+
+    def copy(self):
+        """Another view of the same scene with the same names (without pending assignments)."""
+        other = type(self)(self._scene)
+        other._types = dict(self._types)
+        return other
 
     def type(self, name: str) -> str:
         """float, color, transform or floats."""
@@ -81,8 +94,13 @@ class SceneParameters:
             raise ValueError(f"{name}: the value must be finite")
         self._pending[name] = a.astype(np.float32)
 
-    def update(self) -> list[str]:
-        """Applies the assignments since the last update; returns the names it changed."""
+    def update(self, values=None) -> list[str]:
+        """Assigns `values` (a mapping; names this view does not have are ignored, as in Mitsuba),
+        then applies the assignments since the last update; returns the names it changed."""
+        if values is not None:
+            for name, value in values.items():
+                if name in self:
+                    self[name] = value
         changed = list(self._pending)
         if changed:
             _candela.set_parameters(self._scene, self._pending)

@@ -104,11 +104,18 @@ class Transform:
         m[3, 2] = 1.0
         return m
 
+    def _orthographic(near, far):
+        """Mitsuba's orthographic projection: z from [near, far] to [0, 1], x and y unchanged."""
+        m = np.diag([1.0, 1.0, 1.0 / (far - near), 1.0])
+        m[2, 3] = -near / (far - near)
+        return m
+
     translate = _Builder(_translate)
     scale = _Builder(_scale)
     rotate = _Builder(_rotate)
     look_at = _Builder(_look_at)
     perspective = _Builder(_perspective)
+    orthographic = _Builder(_orthographic)
 
     # --- algebra --------------------------------------------------------------------------------
     def __matmul__(self, other):
@@ -137,6 +144,21 @@ class Transform:
 
     def inverse(self) -> "Transform":
         return Transform(np.linalg.inv(self.matrix))
+
+    @property
+    def inverse_transpose(self) -> np.ndarray:
+        """The inverse transpose of the matrix (4x4), which maps normals."""
+        return np.linalg.inv(self.matrix).T
+
+    def translation(self) -> np.ndarray:
+        """The translation: the last column's first three numbers."""
+        return self.matrix[:3, 3].copy()
+
+    def has_scale(self) -> bool:
+        """Whether the upper-left 3x3 part scales or shears: M M^T differs from the identity by
+        more than 1e-3 somewhere (Mitsuba's test; rotations and reflections have none)."""
+        m = self.matrix[:3, :3]
+        return bool(np.any(np.abs(m @ m.T - np.identity(3)) > 1e-3))
 
     def transform_affine(self, point):
         return self @ point

@@ -110,7 +110,7 @@ def test_render_arguments():
         mi.render({"type": "scene"})
     with pytest.raises(TypeError, match="SceneParameters"):
         mi.render(scene, params={"a": 1})
-    with pytest.raises(ValueError, match="sensor"):
+    with pytest.raises(IndexError, match="sensor index 1 is out of range: the scene has 1 sensor$"):
         mi.render(scene, sensor=1)
     with pytest.raises(TypeError, match="sensor"):
         mi.render(scene, sensor=mi.load_dict({"type": "diffuse"}))
@@ -144,6 +144,44 @@ def test_render_from_sensor_objects():
     assert not np.array_equal(left, right)
     # The scene keeps its own camera for other renders.
     assert mi.render(scene, spp=1).shape == candela.render(candela.load_dict(base), spp=1).shape
+
+
+def test_render_a_scene_sensor_by_index(tmp_path):
+    # Mitsuba 3 loads every sensor of a scene; render(scene, sensor=i) renders the i-th, in the
+    # order of the file (here of the dictionary).
+    T = mi.ScalarTransform4f
+    base = {"type": "scene", "light": {"type": "constant"},
+            "ball": {"type": "sphere", "to_world": T.scale(0.8), "bsdf": {"type": "diffuse"}}}
+    two = {**base, "camera_a": sensor([-2, 1, 4], 24, 16), "camera_b": sensor([2, 1, 4], 12, 10)}
+    scene = mi.load_dict(two)
+    assert (scene.sensor_count, scene.sensor_index) == (2, 0)
+    first, second = mi.render(scene, seed=4), mi.render(scene, sensor=1, seed=4)
+    assert first.shape == (16, 24, 3) and second.shape == (10, 12, 3)
+    assert np.array_equal(np.asarray(first), np.asarray(mi.render(scene, sensor=0, seed=4)))
+    # The same as a scene holding only the second camera, and as candela's own loader told which.
+    only_b = mi.load_dict({**base, "camera_b": sensor([2, 1, 4], 12, 10)})
+    assert np.array_equal(np.asarray(second), np.asarray(mi.render(only_b, seed=4)))
+    assert np.array_equal(np.asarray(second), np.asarray(candela.render(candela.load_dict(two, sensor=1), seed=4)))
+    with pytest.raises(IndexError, match="sensor index 2 is out of range: the scene has 2 sensors"):
+        mi.render(scene, sensor=2)
+    # A file's sensors likewise, and parameter edits carry over to the other sensor's render.
+    xml = tmp_path / "two.xml"
+    text = CBOX.read_text()
+    start, end = text.index("<sensor"), text.index("</sensor>") + len("</sensor>")
+    camera = text[start:end]
+    xml.write_text(text[:end] + camera.replace('<lookat origin="0, 0, 3.9"', '<lookat origin="0.3, 0, 3.9"') + text[end:])
+    from_file = mi.load_file(xml, res=16, spp=4)
+    params = mi.traverse(from_file)
+    params["red.reflectance.value"] = mi.Color3f(0.1, 0.2, 0.9)
+    params.update()
+    edited = xml.read_text().replace('value="0.63, 0.065, 0.05"', 'value="0.1, 0.2, 0.9"')
+    (tmp_path / "edited.xml").write_text(edited)
+    expected = candela.render(candela.load_file(tmp_path / "edited.xml", sensor=1, res=16, spp=4), seed=5)
+    assert np.array_equal(np.asarray(mi.render(from_file, sensor=1, seed=5)), np.asarray(expected))
+    with pytest.raises(ValueError, match="loaded to render sensor 0"):
+        candela.render(candela.load_file(xml, res=16, spp=4), sensor=1)
+    with pytest.raises(candela.SceneError, match="sensor index 5 is out of range: the scene has 2 sensors"):
+        candela.load_file(xml, sensor=5)
 
 
 def test_render_from_a_sensor_object_keeps_parameter_edits(tmp_path):
@@ -190,6 +228,88 @@ def test_cornell_box():
     assert "red.reflectance.value" in mi.traverse(scene).keys()
     # A fresh dictionary every call.
     assert mi.cornell_box()["sensor"]["film"]["width"] == 256
+
+
+AOV_XML = """<scene version="3.0.0">
+    <integrator type="aov"><string name="aovs" value="dd.y:depth"/><integrator type="path" name="my_image"/></integrator>
+    <sensor type="perspective"><film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/>
+        <string name="component_format" value="float32"/></film></sensor>
+    <shape type="sphere"/><emitter type="constant"/></scene>"""
+
+
+def test_aov_channels_of_a_nested_integrator_are_named_by_its_key(tmp_path):
+    # As the XML's name attribute: Mitsuba's aov names a nested integrator's channels by its key.
+    aov = {"type": "aov", "aovs": "dd.y:depth", "my_image": {"type": "path"}}
+    base = {"type": "scene", "sensor": {"type": "perspective", "film": {"type": "hdrfilm", "width": 8, "height": 8,
+                                                                        "component_format": "float32"}},
+            "s": {"type": "sphere"}, "l": {"type": "constant"}}
+    expected = ["R", "G", "B", "my_image.R", "my_image.G", "my_image.B", "my_image.A", "dd.y.T"]
+    from_xml = mi.render(mi.load_string(AOV_XML), spp=2, seed=1)
+    assert from_xml.channels == expected
+    from_dict = mi.render(mi.load_dict({**base, "integrator": aov}), spp=2, seed=1)
+    assert from_dict.channels == expected and np.array_equal(np.asarray(from_dict), np.asarray(from_xml))
+    plain = mi.load_dict(base)
+    for integrator in (aov, mi.load_dict(aov)):
+        image = mi.render(plain, integrator=integrator, spp=2, seed=1)
+        assert image.channels == expected and np.array_equal(np.asarray(image), np.asarray(from_xml))
+    mi.util.write_bitmap(tmp_path / "aov.exr", from_dict)
+    written = candela.read_image(tmp_path / "aov.exr")
+    assert sorted(written.channels) == sorted(expected)  # OpenEXR keeps channels sorted by name
+    assert np.array_equal(np.asarray(written.layer("my_image")), np.asarray(from_dict.layer("my_image")))
+
+
+SPECTRUM_CAMERA = """<sensor type="perspective"><film type="hdrfilm"><integer name="width" value="8"/>
+    <integer name="height" value="8"/><string name="component_format" value="float32"/></film></sensor>"""
+
+
+@pytest.mark.parametrize("variant", ["scalar_rgb", "scalar_spectral"])
+@pytest.mark.parametrize("role, xml, d", [
+    ("reflectance", '<rgb name="color" value="0.8, 0.1, 0.1"/>', {"type": "srgb", "color": [0.8, 0.1, 0.1]}),
+    ("reflectance", '<float name="value" value="0.5"/>', {"type": "uniform", "value": 0.5}),
+    ("reflectance", '<float name="wavelength_min" value="400"/><float name="wavelength_max" value="700"/>'
+                    '<string name="values" value="0.1, 0.5, 0.9"/>',
+     {"type": "regular", "wavelength_min": 400, "wavelength_max": 700, "values": "0.1, 0.5, 0.9"}),
+    ("reflectance", '<string name="wavelengths" value="400, 550, 700"/><string name="values" value="0.9, 0.2, 0.6"/>',
+     {"type": "irregular", "wavelengths": "400, 550, 700", "values": "0.9, 0.2, 0.6"}),
+    ("radiance", '<float name="scale" value="0.5"/>', {"type": "d65", "scale": 0.5}),
+    ("radiance", '<float name="temperature" value="4000"/>', {"type": "blackbody", "temperature": 4000}),
+], ids=["srgb", "uniform", "regular", "irregular", "d65", "blackbody"])
+def test_spectrum_plugins_in_dictionaries_load_as_in_xml(variant, role, xml, d):
+    mi.set_variant(variant)
+    spectrum = f'<spectrum type="{d["type"]}" name="{role}">{xml}</spectrum>'
+    if role == "reflectance":
+        text = (f'<emitter type="constant"/><shape type="sphere"><point name="center" x="0" y="0" z="3"/>'
+                f'<bsdf type="diffuse">{spectrum}</bsdf></shape>')
+        objects = {"l": {"type": "constant"},
+                   "s": {"type": "sphere", "center": [0, 0, 3], "bsdf": {"type": "diffuse", "reflectance": d}}}
+    else:
+        text = f'<emitter type="constant">{spectrum}</emitter>'
+        objects = {"l": {"type": "constant", "radiance": d}}
+    from_xml = mi.render(mi.load_string(f'<scene version="3.0.0">{SPECTRUM_CAMERA}{text}</scene>'), spp=4, seed=1)
+    camera = {"type": "perspective", "film": {"type": "hdrfilm", "width": 8, "height": 8, "component_format": "float32"}}
+    from_dict = mi.render(mi.load_dict({"type": "scene", "sensor": camera, **objects}), spp=4, seed=1)
+    assert np.asarray(from_xml).mean() > 0
+    assert np.array_equal(np.asarray(from_dict), np.asarray(from_xml))
+
+
+def test_a_spectrum_plugin_alone_is_a_texture():
+    d65 = mi.load_dict({"type": "d65", "scale": 0.5})
+    assert isinstance(d65, candela.Plugin) and d65.kind == "texture"
+    camera = {"type": "perspective", "film": {"type": "hdrfilm", "width": 4, "height": 4}}
+    with_plugin = mi.load_dict({"type": "scene", "sensor": camera, "l": {"type": "constant", "radiance": d65}})
+    with_dict = mi.load_dict({"type": "scene", "sensor": camera,
+                              "l": {"type": "constant", "radiance": {"type": "d65", "scale": 0.5}}})
+    assert np.array_equal(np.asarray(mi.render(with_plugin, spp=1)), np.asarray(mi.render(with_dict, spp=1)))
+    with pytest.raises(candela.SceneError, match="outside"):
+        mi.load_dict({"type": "srgb", "color": [2, 0, 0]})
+
+
+def test_image_numpy():
+    image = mi.render(mi.load_file(CBOX, res=8), spp=1)
+    array = image.numpy()
+    # As TensorXf.numpy(): a plain NumPy array, H x W x C, of the pixels (here a copy).
+    assert type(array) is np.ndarray and array.shape == (8, 8, 3) and array.dtype == np.float32
+    assert np.array_equal(array, np.asarray(image)) and not np.shares_memory(array, np.asarray(image))
 
 
 # --- traverse -------------------------------------------------------------------------------------
@@ -257,6 +377,59 @@ def test_traverse_extras():
     assert mi.util.traverse is mi.traverse
 
 
+def test_scene_parameters_mapping_as_mitsuba():
+    import collections.abc
+
+    scene = mi.load_file(CBOX, res=8, spp=2)
+    original = np.asarray(mi.render(scene))
+    params = mi.traverse(scene)
+    assert isinstance(params, collections.abc.Mapping)
+    names = list(params.keys())
+    assert "red.reflectance.value" in names and len(names) == len(params)
+    # Mitsuba's quirk: iterating gives (name, value) pairs, as items() does.
+    pairs = list(params)
+    assert [name for name, _ in pairs] == names == [name for name, _ in params.items()]
+    assert np.array_equal(dict(pairs)["red.reflectance.value"], params["red.reflectance.value"])
+    assert len(params.values()) == len(names)
+    assert isinstance(params.get("red.reflectance.value"), mi.Color3f)
+    assert params.get("no.such.value") is None and params.get("no.such.value", 7) == 7
+    # copy() and del: another view of the same scene; deleting a name leaves the scene alone.
+    view = params.copy()
+    assert isinstance(view, mi.SceneParameters) and list(view.keys()) == names
+    del view["red.reflectance.value"]
+    assert "red.reflectance.value" not in view and "red.reflectance.value" in params and len(view) == len(params) - 1
+    with pytest.raises(KeyError):
+        del view["red.reflectance.value"]
+    # update(values): the names it holds are assigned first, others ignored, then applied.
+    assert params.update({"red.reflectance.value": mi.Color3f(0.1, 0.2, 0.9), "no.such.value": 1.0}) == ["red.reflectance.value"]
+    assert np.allclose(mi.traverse(scene)["red.reflectance.value"], [0.1, 0.2, 0.9])
+    edited = np.asarray(mi.render(scene))
+    assert not np.array_equal(edited, original)
+    assert view.update({"red.reflectance.value": [0.63, 0.065, 0.05]}) == []  # not in this view: ignored
+    assert np.array_equal(np.asarray(mi.render(scene)), edited)
+    params.update({"red.reflectance.value": [0.63, 0.065, 0.05]})
+    assert np.array_equal(np.asarray(mi.render(scene)), original)
+
+
+def test_keep_matches_regular_expressions_at_the_start():
+    scene = mi.load_file(CBOX, res=8)
+
+    def kept(keys):
+        params = mi.traverse(scene)
+        params.keep(keys)
+        return sorted(params.keys())
+
+    # As Mitsuba's keep: re.match, a match at the start of the name, not of all of it.
+    assert kept("red") == ["red.reflectance.value"]
+    assert kept(["red", "green"]) == ["green.reflectance.value", "red.reflectance.value"]
+    assert kept(r".*\.x_fov") == ["PerspectiveCamera.x_fov"]
+    assert kept("reflectance") == []
+    assert kept(["red.reflectance.value", "PerspectiveCamera.x_fov"]) == ["PerspectiveCamera.x_fov", "red.reflectance.value"]
+    params = mi.traverse(scene)
+    with pytest.raises(NotImplementedError, match="differentiable"):
+        params.keep(None)
+
+
 # --- transforms and 3-vectors ---------------------------------------------------------------------
 
 def test_transform_styles_agree():
@@ -275,6 +448,29 @@ def test_transform_styles_agree():
     assert np.allclose(direction, -np.array([1, 2, 5]) / np.linalg.norm([1, 2, 5]))
     assert np.allclose(a.inverse().matrix @ a.matrix, np.identity(4))
     assert np.allclose(T(a.matrix.tolist()).matrix, a.matrix)
+
+
+def test_transform_translation_scale_inverse_transpose_and_orthographic():
+    T = mi.ScalarTransform4f
+    m = T.translate([1, 2, 3]) @ T.rotate([0.3, 1, 0.2], 35) @ T.scale([2, 0.5, 1])
+    # translation(): the matrix's last column (Mitsuba's Transform::translation).
+    assert np.array_equal(m.translation(), m.matrix[:3, 3]) and np.allclose(T.translate([1, 2, 3]).translation(), [1, 2, 3])
+    # has_scale(): M M^T is not the identity (within 1e-3); rotations and reflections have none.
+    assert m.has_scale() is True and T.scale(1.01).has_scale() is True
+    assert T.rotate([0, 1, 0], 30).has_scale() is False and T.translate([4, 0, 0]).has_scale() is False
+    assert T.scale([-1, 1, 1]).has_scale() is False and T.scale(1.0001).has_scale() is False
+    # inverse_transpose (a field in Mitsuba, not a method): what maps normals.
+    assert np.allclose(m.inverse_transpose, np.linalg.inv(m.matrix).T)
+    n = m @ mi.Normal3f(0, 0, 1)
+    assert np.allclose(n, (m.inverse_transpose @ [0, 0, 1, 0])[:3])
+    # orthographic(near, far) = scale([1, 1, 1 / (far - near)]) @ translate([0, 0, -near]): z from [near, far] to [0, 1].
+    ortho = T.orthographic(0.5, 4.5)
+    assert np.allclose(ortho.matrix, (T.scale([1, 1, 0.25]) @ T.translate([0, 0, -0.5])).matrix)
+    assert np.allclose(ortho @ mi.Point3f(1, 2, 0.5), [1, 2, 0]) and np.allclose(ortho @ mi.Point3f(1, 2, 4.5), [1, 2, 1])
+    assert np.allclose(T().translate([1, 0, 0]).orthographic(0.5, 4.5).matrix, (T.translate([1, 0, 0]) @ ortho).matrix)
+    # from_frame and to_frame take a mi.Frame3f, which candela.mitsuba does not have.
+    with pytest.raises(NotImplementedError):
+        mi.Frame3f
 
 
 def test_points_vectors_and_normals_transform_differently():
@@ -422,6 +618,29 @@ def test_bitmap_write_and_read(tmp_path, image):
         b.write(tmp_path / "b.xyz")
     with pytest.raises(NotImplementedError, match="resample"):
         b.resample([8, 8])
+
+
+def test_bitmap_write_in_a_given_format_at_the_exact_path(tmp_path, image):
+    b = mi.Bitmap(image)
+    # The format given decides; the file is written at the path as it is, whatever its extension.
+    b.write(tmp_path / "render", mi.Bitmap.FileFormat.OpenEXR)
+    assert (tmp_path / "render").read_bytes()[:4] == b"v/1\x01"
+    assert np.array_equal(np.asarray(candela.read_image(tmp_path / "render")), np.asarray(image))
+    b.write(tmp_path / "really.png", mi.Bitmap.FileFormat.OpenEXR)
+    assert (tmp_path / "really.png").read_bytes()[:4] == b"v/1\x01"
+    b.write(str(tmp_path / "picture.exr"), mi.Bitmap.FileFormat.PNG)
+    assert np.array_equal(decode_png((tmp_path / "picture.exr").read_bytes()), image.to_srgb8())
+    b.write(tmp_path / "photo", mi.Bitmap.FileFormat.JPEG)
+    assert (tmp_path / "photo").read_bytes()[:2] == b"\xff\xd8"
+    b.write(tmp_path / "auto.exr", mi.Bitmap.FileFormat.Auto)
+    assert (tmp_path / "auto.exr").read_bytes()[:4] == b"v/1\x01"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["auto.exr", "photo", "picture.exr", "really.png", "render"]
+    # A file that cannot be written leaves nothing behind.
+    (tmp_path / "folder").mkdir()
+    with pytest.raises(candela.InputError, match="directory"):
+        b.write(tmp_path / "folder", mi.Bitmap.FileFormat.OpenEXR)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["auto.exr", "folder", "photo", "picture.exr", "really.png", "render"]
+    assert list((tmp_path / "folder").iterdir()) == []
 
 
 def test_jpeg(tmp_path, image):

@@ -140,3 +140,28 @@ def test_several_edits_in_one_update(tmp_path, scene):
     path = tmp_path / "several.xml"
     path.write_text(text)
     assert np.array_equal(render(scene), render(candela.load_file(path, res=RES)))
+
+
+def test_a_mapping_with_copy_delete_and_update_values(scene):
+    from collections.abc import Mapping
+
+    params = candela.traverse(scene)
+    assert isinstance(params, Mapping)
+    assert list(params) == list(params.keys()) and dict(params).keys() == params.keys()
+    assert params.get("PerspectiveCamera.x_fov") == pytest.approx(39.3077, rel=1e-6)
+    assert params.get("no.such.value", 1.5) == 1.5
+    view = params.copy()
+    assert type(view) is candela.SceneParameters and list(view.keys()) == list(params.keys())
+    del view["PerspectiveCamera.x_fov"]
+    assert "PerspectiveCamera.x_fov" not in view and "PerspectiveCamera.x_fov" in params
+    # update(values) assigns the names the view holds (others are ignored), then applies.
+    assert view.update({"PerspectiveCamera.x_fov": 30.0, "red.reflectance.value": [0.2, 0.6, 0.25]}) == ["red.reflectance.value"]
+    assert params["PerspectiveCamera.x_fov"] == pytest.approx(39.3077, rel=1e-6)
+    assert np.allclose(params["red.reflectance.value"], [0.2, 0.6, 0.25])
+    assert params.update({"PerspectiveCamera.x_fov": 30.0}) == ["PerspectiveCamera.x_fov"]
+    assert candela.traverse(scene)["PerspectiveCamera.x_fov"] == 30.0
+    # An assignment made before the name is deleted from the view is still applied, as in Mitsuba.
+    view["white.reflectance.value"] = 0.5
+    del view["white.reflectance.value"]
+    assert view.update() == ["white.reflectance.value"]
+    assert np.array_equal(params["white.reflectance.value"], [0.5, 0.5, 0.5])
