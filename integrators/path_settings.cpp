@@ -15,8 +15,8 @@ std::optional<PathSettingProblem> check_path_settings(const PathSettings& s) {
     return std::nullopt;
 }
 
-PathSettings read_path_settings(const Properties& props, uint32_t fields) {
-    PathSettings s;
+PathSettings read_path_settings(const Properties& props, uint32_t fields, const PathSettings& defaults) {
+    PathSettings s = defaults;
     if (fields & DepthSettings) {
         s.max_depth = props.get_int("max_depth", s.max_depth);
         s.rr_depth = props.get_int("rr_depth", s.rr_depth);

@@ -41,8 +41,8 @@ struct PathSettingProblem {
 };
 // The first invalid setting, or nothing when all are valid.
 std::optional<PathSettingProblem> check_path_settings(const PathSettings& settings);
-// Reads the `fields` (PathSettingFields) from an integrator's properties, the others keep their
-// defaults; an invalid value is a SceneError at its file:line.
-PathSettings read_path_settings(const Properties& props, uint32_t fields);
+// Reads the `fields` (PathSettingFields) from an integrator's properties; what they do not give
+// keeps its value in `defaults`. An invalid value is a SceneError at its file:line.
+PathSettings read_path_settings(const Properties& props, uint32_t fields, const PathSettings& defaults = PathSettings{});
 
 }  // namespace candela

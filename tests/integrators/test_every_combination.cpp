@@ -32,6 +32,7 @@ struct IntegratorCase {
 const std::vector<IntegratorCase>& integrator_cases() {
     static const std::vector<IntegratorCase> cases = {
         {"path", R"(<integrator type="path"/>)"},
+        {"prb", R"(<integrator type="prb"/>)"},
         {"volpath", R"(<integrator type="volpath"/>)"},
         {"volpathmis", R"(<integrator type="volpathmis"/>)"},
         {"direct", R"(<integrator type="direct"/>)"},
@@ -105,8 +106,9 @@ TEST_CASE("every integrator renders with every sampler in the spectral variants,
         for (const IntegratorCase& integrator : integrator_cases()) {
             INFO(integrator.name << " in " << variant_name(variant));
             const std::string scene_path = combination_scene(dir, integrator.xml, false);
-            const bool refused = integrator.name == "raster" || (variant == Variant::ScalarSpectralPolarized &&
-                                                                 (integrator.name == "sppm" || integrator.name == "photonmapper"));
+            const bool refused = integrator.name == "raster" ||
+                                 (variant == Variant::ScalarSpectralPolarized &&
+                                  (integrator.name == "sppm" || integrator.name == "photonmapper" || integrator.name == "prb"));
             Ref<Scene> scene;
             try {
                 scene = load_scene(scene_path, {{"res", "16"}, {"spp", "5"}}, variant);

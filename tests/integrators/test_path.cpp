@@ -2,12 +2,15 @@
 // scale robustness of ray offsets.
 
 #include "core/ray.h"
+#include "core/scene.h"
 #include "core/xml.h"
 #include "integrators/estimators.h"
 #include "tests/stats.h"
 #include "tests/util.h"
 
 #include <catch2/catch.hpp>
+
+#include <regex>
 
 using namespace candela;
 using namespace candela::test;
@@ -109,4 +112,27 @@ TEST_CASE("integrator settings: the estimators refuse the same bad settings", "[
     o.path.light_sampler = "tree";
     o.path.rr_depth = 0;
     CHECK_THROWS_WITH(estimate_radiance(*scene, Vec3(0.0f), Vec3(0, 1, 0), o), Catch::Contains("rr_depth must be positive"));
+}
+
+TEST_CASE("prb: Mitsuba's PRB integrator renders forward as the path tracer with prb's defaults", "[render]") {
+    // PRB's primal estimate is the path tracer's; its max_depth defaults to 6 (path's: unbounded).
+    // The validation Cornell box, 8 x 8, same seed: prb equals path with max_depth 6 bit for bit.
+    auto render_with = [](const std::string& integrator) {
+        std::string xml = read_text(source_path("scenes/validation/cbox.xml"));
+        xml = std::regex_replace(xml, std::regex(R"(<integrator type="path">[\s\S]*?</integrator>)"), integrator);
+        Ref<Scene> scene = load_scene_from_string(xml, source_path("scenes/validation/prb.xml"), {{"res", "8"}, {"spp", "16"}});
+        RenderOptions options;
+        options.seed = 11;
+        return scene->integrator().render(*scene, options).image.data();
+    };
+    const auto prb = render_with(R"(<integrator type="prb"/>)");
+    CHECK(prb == render_with(R"(<integrator type="path"><integer name="max_depth" value="6"/></integrator>)"));
+    CHECK(prb != render_with(R"(<integrator type="path"/>)"));
+    CHECK(render_with(
+              R"(<integrator type="prb"><integer name="max_depth" value="3"/><boolean name="hide_emitters" value="true"/></integrator>)") ==
+          render_with(
+              R"(<integrator type="path"><integer name="max_depth" value="3"/><boolean name="hide_emitters" value="true"/></integrator>)"));
+    // As Mitsuba's, not in the polarized variant.
+    CHECK_THROWS_WITH(load_scene_from_string(scene_xml(R"(<integrator type="prb"/>)"), "prb.xml", {}, Variant::ScalarSpectralPolarized),
+                      Catch::Contains("prb does not render in variant scalar_spectral_polarized"));
 }
