@@ -24,7 +24,7 @@ import numpy as np
 from .errors import InputError, InternalError, SceneError
 from . import _candela
 from ._candela import Scene
-from ._dict import DictError, Plugin, plugin_scene, scene_xml
+from ._dict import DictError, Plugin, TemporaryFiles, plugin_scene, scene_xml
 from .analysis import compare, compare_modes, converge, estimate_irradiance, estimate_radiance, validate
 from .image import Image, read_image, write_image
 from .parameters import SceneParameters, traverse
@@ -127,17 +127,22 @@ def load_dict(d: dict, *, variant: str | None = None, sensor: int | None = None,
 
 
 def _load_dict_scene(d: dict, params: dict, variant: str, prefix_strip: str | None = None, sensor: int = 0) -> Scene:
-    xml, paths = scene_xml(d)
-    virtual = os.path.join(os.getcwd(), "<dict>.xml")
+    # Images held in memory are written to temporary files for the loader, removed once it is done.
+    files = TemporaryFiles()
     try:
-        return _candela.load_string(xml, virtual, _parameters(params), variant, sensor)
-    except SceneError as e:
-        line = getattr(e, "line", 0)
-        path = paths[line - 1] if 0 < line <= len(paths) else ""
-        if prefix_strip and (path == prefix_strip or path.startswith(prefix_strip + ".")):
-            path = path[len(prefix_strip) + 1:]
-        where = path if path else "<dict>"
-        raise SceneError(f"{where}: {e.message}", where, 0, e.message) from None
+        xml, paths = scene_xml(d, files)
+        virtual = os.path.join(os.getcwd(), "<dict>.xml")
+        try:
+            return _candela.load_string(xml, virtual, _parameters(params), variant, sensor)
+        except SceneError as e:
+            line = getattr(e, "line", 0)
+            path = paths[line - 1] if 0 < line <= len(paths) else ""
+            if prefix_strip and (path == prefix_strip or path.startswith(prefix_strip + ".")):
+                path = path[len(prefix_strip) + 1:]
+            where = path if path else "<dict>"
+            raise SceneError(f"{where}: {e.message}", where, 0, e.message) from None
+    finally:
+        files.remove()
 
 
 def render(scene: Scene, spp: int | None = None, seed: int = 0, sensor: int | None = None, threads: int | None = None, integrator=None,

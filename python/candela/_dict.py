@@ -10,12 +10,20 @@ properties: ``bool``, ``int``, ``float``, ``str``, three numbers (a point), a 4x
 transform (``candela.Transform``, ``mitsuba.ScalarTransform4f``). The XML is written one element
 per line, and each line remembers the key path it came from, so that an error the loader reports
 at ``<dict>:LINE`` is reported at ``sphere.bsdf.reflectance`` instead.
+
+An image in memory, as Mitsuba takes it (a Bitmap as a ``bitmap`` texture's or an ``envmap``'s
+``'bitmap'``, a tensor as a ``bitmap`` texture's ``'data'``), is written to a file in a private
+temporary directory (TemporaryFiles) and named as the plugin's ``filename``; the loader reads it
+there, and the caller removes the directory once the scene is loaded.
 """
 
 from __future__ import annotations
 
 import math
 import numbers
+import os
+import shutil
+import tempfile
 from xml.sax.saxutils import quoteattr
 
 from . import _candela
@@ -59,10 +67,31 @@ def _format(values):
     return ", ".join(repr(float(v)) for v in values)
 
 
-class _Writer:
+class TemporaryFiles:
+    """The files of the images a dictionary holds in memory, in a private temporary directory
+    made at the first one; remove() deletes the directory and everything in it."""
+
     def __init__(self):
+        self.directory = None
+        self.count = 0
+
+    def path(self, extension: str) -> str:
+        if self.directory is None:
+            self.directory = tempfile.mkdtemp(prefix="candela-dict-")
+        self.count += 1
+        return os.path.join(self.directory, f"image{self.count}{extension}")
+
+    def remove(self):
+        if self.directory is not None:
+            shutil.rmtree(self.directory, ignore_errors=True)
+            self.directory = None
+
+
+class _Writer:
+    def __init__(self, files: TemporaryFiles | None = None):
         self.lines: list[str] = []
         self.paths: list[str] = []  # per line (1-based line i is paths[i - 1])
+        self.files = files
 
     def emit(self, text: str, path: str):
         self.lines.append(text)
@@ -97,8 +126,12 @@ class _Writer:
         if key and not top_level:
             attributes += f" name={quoteattr(key)}"
         self.emit(f"<{tag} {attributes}>", path)
+        skip = ("type", "id")
+        images = [k for k in ("bitmap", "data") if k in d] if plugin_type in ("bitmap", "envmap") else []
+        if images:
+            skip += tuple(images) + (("raw",) if self.image(plugin_type, d, images, path) else ())
         for child_key, value in d.items():
-            if child_key in ("type", "id"):
+            if child_key in skip:
                 continue
             if not isinstance(child_key, str):
                 raise DictError(f"{path}: keys are strings, got {child_key!r}")
@@ -146,6 +179,76 @@ class _Writer:
                                 f"a 4x4 transform, or a plugin dictionary)")
             self.emit(f"<point name={name} value=\"{_format(values)}\"/>", path)
 
+    def image(self, plugin_type: str, d: dict, keys: list[str], path: str) -> bool:
+        """A bitmap texture's or envmap's image in memory ('bitmap' or 'data'), written to a
+        temporary file and emitted as its filename. True when it emitted 'raw' as well."""
+        import numpy as np
+
+        from .image import write_image
+
+        if len(keys) > 1 or "filename" in d:
+            given = ["filename"] * ("filename" in d) + keys
+            raise DictError(f"{path}: give one of 'filename', 'bitmap' and 'data', not {' and '.join(map(repr, given))}")
+        key = keys[0]
+        where = f"{path}.{key}"
+        value = d[key]
+        if self.files is None:
+            raise DictError(f"{where}: an image in memory is taken in a scene that load_dict loads, not here")
+        if key == "data":
+            if plugin_type == "envmap":
+                raise DictError(f"{where}: an envmap is made from a 'filename' or 'bitmap' (Mitsuba's envmap has 'data' "
+                                "only as a traverse parameter)")
+            # Mitsuba's tensor: H x W x 1 or 3 values, used as they are (linear, never decoded).
+            try:
+                array = np.asarray(value)
+            except (TypeError, ValueError):
+                array = None
+            if array is None or array.ndim != 3 or array.dtype == np.bool_ or array.dtype.kind not in "uif":
+                raise DictError(f"{where}: expected an H x W x C array of numbers (a tensor), got {value!r}")
+            if array.shape[2] not in (1, 3):
+                raise DictError(f"{where}: a bitmap's data has 1 or 3 channels, got {array.shape[2]}")
+            if array.size == 0:
+                raise DictError(f"{where}: the image is empty ({array.shape[0]} x {array.shape[1]})")
+            filename = self.files.path(".exr")
+            write_image(filename, np.ascontiguousarray(array, dtype=np.float32))
+            self.emit(f"<string name=\"filename\" value={quoteattr(filename)}/>", where)
+            return False
+        from .mitsuba import Bitmap
+
+        # An Image or an array is taken as mi.Bitmap(array) takes it (8-bit data as sRGB).
+        if not isinstance(value, (Bitmap, np.ndarray)):
+            raise DictError(f"{where}: expected a Bitmap (or an image as an array), got {value!r}")
+        try:
+            bitmap = value if isinstance(value, Bitmap) else Bitmap(value)
+        except (TypeError, ValueError) as e:
+            raise DictError(f"{where}: {e}") from None
+        pixel_format = bitmap.pixel_format().name
+        if pixel_format not in ("Y", "YA", "RGB", "RGBA"):
+            raise DictError(f"{where}: a {pixel_format} bitmap: a texture or envmap takes a Y, YA, RGB or RGBA bitmap")
+        if bitmap.width() == 0 or bitmap.height() == 0:
+            raise DictError(f"{where}: the image is empty ({bitmap.height()} x {bitmap.width()})")
+        if bitmap.has_alpha():
+            # Mitsuba converts to Y or RGB, dropping alpha (a file's alpha may be premultiplied when read).
+            srgb = bitmap.srgb_gamma()
+            bitmap = Bitmap(np.array(bitmap)[:, :, :-1])
+            bitmap.set_srgb_gamma(srgb)
+        raw = plugin_type == "bitmap" and d.get("raw") is True
+        # A texture's 8 and 16 bits as a PNG, which it reads as it reads such a file: decoded from
+        # sRGB unless raw (given 'raw' for a bitmap that is not sRGB-encoded, as Mitsuba keeps its
+        # values). Floats, and an envmap's bitmap (Mitsuba converts it to linear float RGB), as an
+        # OpenEXR file of the linear values.
+        integer = plugin_type == "bitmap" and bitmap.component_format().name in ("UInt8", "UInt16")
+        if raw and bitmap.srgb_gamma() and not integer:
+            bitmap = Bitmap(bitmap)
+            bitmap.set_srgb_gamma(False)  # as Mitsuba: raw keeps the values as stored
+        filename = self.files.path(".png" if integer else ".exr")
+        bitmap.write(filename)
+        self.emit(f"<string name=\"filename\" value={quoteattr(filename)}/>", where)
+        linear = integer and not bitmap.srgb_gamma() and not raw
+        if linear:
+            self.emit('<boolean name="raw" value="true"/>', where)
+        return linear
+
     def colour(self, key: str, d: dict, path: str):
         name = quoteattr(key)
         for k in d:
@@ -189,13 +292,14 @@ class Plugin:
         return f"candela.Plugin({self.kind} {self.type!r})"
 
 
-def scene_xml(d: dict) -> tuple[str, list[str]]:
-    """The XML of a scene dictionary and, per line, the key path it came from."""
+def scene_xml(d: dict, files: TemporaryFiles | None = None) -> tuple[str, list[str]]:
+    """The XML of a scene dictionary and, per line, the key path it came from. Images in memory
+    are written to `files` (without, they are a DictError); the caller removes them."""
     if not isinstance(d, dict):
         raise DictError(f"load_dict expects a dictionary, got {type(d).__name__}")
     if d.get("type") != "scene":
         raise DictError("a scene dictionary has 'type': 'scene'")
-    w = _Writer()
+    w = _Writer(files)
     w.emit('<scene version="3.0.0">', "")
     for key, value in d.items():
         if key == "type":
