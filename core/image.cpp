@@ -39,6 +39,13 @@ Image::Image(int width, int height, std::vector<std::string> channels, std::vect
     if (data_.size() != size_t(width) * size_t(height) * channels_.size()) throw std::logic_error("Image: values do not match the size");
 }
 
+Spectrum Image::linear_rgb_at(int x, int y) const {
+    Spectrum s = channel_count() >= 3 ? rgb_at(x, y) : Spectrum(at(x, y, 0));
+    if (integer_bits > 0)
+        for (int c = 0; c < 3; ++c) s[c] = srgb_to_linear(s[c]);
+    return s;
+}
+
 int Image::channel_index(const std::string& name) const {
     for (size_t i = 0; i < channels_.size(); ++i)
         if (channels_[i] == name) return int(i);

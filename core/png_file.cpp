@@ -70,9 +70,8 @@ std::string printed(const char* format, double a) {
 }
 
 // The file's attributes as OpenImageIO 2.4's PNG reader names and formats them (core/png_file.h),
-// in its order, and the gamma it gives (1 without gAMA). False when a chunk would have it decode
-// more (ICC profile, Exif, XMP).
-bool png_metadata(png_structp png, png_infop info, std::vector<std::pair<std::string, std::string>>& attributes, float& gamma) {
+// in its order. False when a chunk would have it decode more (ICC profile, Exif, XMP).
+bool png_metadata(png_structp png, png_infop info, std::vector<std::pair<std::string, std::string>>& attributes) {
     if (png_get_valid(png, info, PNG_INFO_iCCP | PNG_INFO_eXIf)) return false;
     int srgb_intent = 0;
     double file_gamma = 0.0;
@@ -82,7 +81,6 @@ bool png_metadata(png_structp png, png_infop info, std::vector<std::pair<std::st
         // The decoding exponent, rounded to hundredths (2.2, not 2.19998), in float as there.
         float g = float(1.0 / file_gamma);
         g = std::round(float(100.0 * g)) / 100.0f;
-        gamma = g;
         attributes.emplace_back("oiio:Gamma", number_text(g, 6));
         attributes.emplace_back("oiio:ColorSpace", g == 1.0f ? "linear" : printed("Gamma%.2g", g));
     } else {
@@ -125,25 +123,6 @@ bool png_metadata(png_structp png, png_infop info, std::vector<std::pair<std::st
     return true;
 }
 
-// PNG stores unassociated alpha; OpenImageIO 2.4 associates it on the stored integers, before any
-// conversion to float: v a / max in integers, truncated, when the file gives no gamma or gamma 1;
-// else v (a / max)^gamma in float, truncated (the decoding exponent of gAMA, as oiio:Gamma).
-template <class T>
-void associate_alpha(T* samples, size_t pixel_count, int channels, float gamma) {
-    const int alpha_channel = channels - 1;
-    const unsigned max = std::numeric_limits<T>::max();
-    if (gamma == 1.0f) {
-        for (size_t i = 0; i < pixel_count; ++i, samples += channels)
-            for (int c = 0; c < alpha_channel; ++c) samples[c] = T(unsigned(samples[c]) * samples[alpha_channel] / max);
-        return;
-    }
-    const float inverse_max = float(1.0 / max);
-    for (size_t i = 0; i < pixel_count; ++i, samples += channels) {
-        const float factor = std::pow(float(samples[alpha_channel]) * inverse_max, gamma);
-        for (int c = 0; c < alpha_channel; ++c) samples[c] = T(float(samples[c]) * factor);
-    }
-}
-
 // Integer samples to [0, 1] floats, as OpenImageIO converts them.
 template <class T>
 float to_unit(T v) {
@@ -151,14 +130,14 @@ float to_unit(T v) {
 }
 
 // The rows, read into samples of the file's width (libpng writes them through byte pointers, which
-// may alias any type), alpha associated, then converted to floats. False on a libpng error.
+// may alias any type), then converted to floats; alpha stays unassociated, as PNG stores it and
+// Mitsuba's Bitmap reads it. False on a libpng error.
 template <class T>
-bool read_pixels(PngFile& f, size_t width, size_t height, int channels, float gamma, bool interlaced, std::vector<float>& values) {
+bool read_pixels(PngFile& f, size_t width, size_t height, int channels, bool interlaced, std::vector<float>& values) {
     std::vector<T> samples(width * height * size_t(channels));
     std::vector<png_bytep> rows(height);
     for (size_t y = 0; y < height; ++y) rows[y] = reinterpret_cast<png_bytep>(samples.data() + y * width * size_t(channels));
     if (!read_rows(f, rows.data(), interlaced)) return false;
-    if (channels == 2 || channels == 4) associate_alpha(samples.data(), width * height, channels, gamma);
     values.resize(samples.size());
     for (size_t i = 0; i < samples.size(); ++i) values[i] = to_unit(samples[i]);
     return true;
@@ -266,8 +245,7 @@ bool read_png(const std::string& path, bool pixels, DecodedImage& out) {
     if (width > 65536 || height > 65536 || channels < 1 || channels > 4 || (bit_depth != 8 && bit_depth != 16)) return false;
     if (!image_size_problem(path, int64_t(width), int64_t(height), channels, 0, 0).empty()) return false;
     std::vector<std::pair<std::string, std::string>> attributes;
-    float gamma = 1.0f;  // oiio:Gamma, which decides how alpha is associated
-    if (!png_metadata(f.png, f.info, attributes, gamma)) return false;
+    if (!png_metadata(f.png, f.info, attributes)) return false;
     // An attribute named twice (a text chunk named like another attribute): which one OpenImageIO
     // keeps is its business.
     for (size_t i = 0; i < attributes.size(); ++i)
@@ -281,12 +259,13 @@ bool read_png(const std::string& path, bool pixels, DecodedImage& out) {
     static const std::vector<std::string> names[4] = {{"Y"}, {"Y", "A"}, {"R", "G", "B"}, {"R", "G", "B", "A"}};
     h.channels = names[channels - 1];
     for (auto& [name, value] : attributes) h.metadata[name] = value;
+    h.metadata["oiio:UnassociatedAlpha"] = "1";  // as the module's reader says it, asked for it
     h.integer_bits = bit_depth;
     if (pixels) {
         if (png_get_rowbytes(f.png, f.info) != size_t(width) * size_t(channels) * size_t(bit_depth / 8)) return false;
         const bool interlaced = interlace != PNG_INTERLACE_NONE;
-        const bool read = bit_depth == 16 ? read_pixels<uint16_t>(f, width, height, channels, gamma, interlaced, decoded.values)
-                                          : read_pixels<uint8_t>(f, width, height, channels, gamma, interlaced, decoded.values);
+        const bool read = bit_depth == 16 ? read_pixels<uint16_t>(f, width, height, channels, interlaced, decoded.values)
+                                          : read_pixels<uint8_t>(f, width, height, channels, interlaced, decoded.values);
         if (!read) return false;
     }
     out = std::move(decoded);

@@ -8,8 +8,9 @@
 // - libpng's decoding with its expansion (palettes to RGB, tRNS to an alpha channel, 1-, 2- and
 //   4-bit grey to 8 bits); 16-bit files stay 16-bit (integer_bits 16), the others 8-bit;
 // - channels R, G, B, A, or Y for grey and Y, A for grey with alpha;
-// - alpha associated as OpenImageIO does it, on the integers before they become floats
-//   (premultiplied as stored, whatever the gamma; a value of alpha 1 untouched);
+// - alpha unassociated, as PNG stores it and Mitsuba's Bitmap reads it (the module is asked for
+//   the same: oiio:UnassociatedAlpha, imageio/oiio_codecs.cpp), so that a texture's colour is not
+//   darkened where it is transparent;
 // - the metadata: oiio:ColorSpace ("sRGB" for an sRGB chunk or none, "linear" or "Gamma<g>" from
 //   gAMA, with oiio:Gamma), DateTime (tIME), text chunks (Description, Author and Title under
 //   OpenImageIO's names ImageDescription, Artist and DocumentName), ResolutionUnit, XResolution and

@@ -73,8 +73,11 @@ std::string read_with(const std::string& path, const std::string& format, bool p
     auto in = OIIO::ImageInput::create(format, false);
     if (!in) return path + ": cannot read image: no " + format + " reader: " + OIIO::geterror();
     // An EXR file's header was checked before (core/exr_input.h, exr_header_problem).
-    OIIO::ImageSpec opened;
-    if (!in->open(path, opened)) return path + ": cannot read image: " + in->geterror();
+    OIIO::ImageSpec opened, config;
+    // Alpha as the file stores it, never premultiplied into the colour (Mitsuba's Bitmap reads
+    // files so; a texture's colour must not darken where it is transparent).
+    config.attribute("oiio:UnassociatedAlpha", 1);
+    if (!in->open(path, opened, config)) return path + ": cannot read image: " + in->geterror();
     if (std::string error = check_size(path, *in); !error.empty()) return error;
     const OIIO::ImageSpec& spec = in->spec();
     ImageHeader& h = out.header;

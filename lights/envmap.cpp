@@ -1,7 +1,9 @@
 // envmap: an environment map in latitude-longitude layout, infinitely far away.
 //
 // Parameters (Mitsuba 3):
-//   filename   string      the image (EXR, HDR, ...), relative to the scene file
+//   filename   string      the image (EXR, HDR, ...), relative to the scene file; 8- and
+//                          16-bit images (PNG, JPEG, ...) are sRGB-encoded and decoded to linear
+//                          radiance, as Mitsuba converts its bitmap to linear float RGB
 //   scale      float       radiance multiplier (default 1)
 //   to_world   transform   rotation of the environment (default identity)
 //
@@ -46,7 +48,7 @@ public:
         texels_.resize(size_t(width_) * height_);
         for (int y = 0; y < height_; ++y)
             for (int x = 0; x < width_; ++x) {
-                Spectrum s = img.channel_count() >= 3 ? img.rgb_at(x, y) : Spectrum(img.at(x, y, 0));
+                Spectrum s = img.linear_rgb_at(x, y);
                 for (int c = 0; c < 3; ++c)
                     if (!std::isfinite(s[c]) || s[c] < 0.0f) s[c] = 0.0f;
                 texels_[size_t(y) * width_ + x] = s * scale_;

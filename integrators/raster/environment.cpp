@@ -63,7 +63,7 @@ EnvironmentLookup::EnvironmentLookup(const Scene& scene, Mode mode, int resoluti
             w = img.width();
             h = img.height();
             for (int y = 0; y < h; ++y)
-                for (int x = 0; x < w; ++x) texels.push_back(img.channel_count() >= 3 ? img.rgb_at(x, y) : Spectrum(img.at(x, y, 0)));
+                for (int x = 0; x < w; ++x) texels.push_back(img.linear_rgb_at(x, y));
         } else {
             for (int y = 0; y < h; ++y)
                 for (int x = 0; x < w; ++x)

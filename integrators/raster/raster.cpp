@@ -22,7 +22,8 @@
 //   environment_mapping *  string    latlong (look the environment up directly) or cube
 //                                    (default latlong)
 //   cube_map               string    six face images instead, "{face}" = px, nx, py, ny, pz, nz,
-//                                    relative to the scene file (implies cube)
+//                                    relative to the scene file (implies cube); radiance as
+//                                    envmap reads it (8- and 16-bit images sRGB-decoded)
 //   cube_resolution        integer   faces built from the environment, >= 1 (default 256)
 //   shadow_map_resolution  integer   texels per side, >= 16 (default: chosen from the view per
 //                                    map face, a texel no larger than the camera's sample

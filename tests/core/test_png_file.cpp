@@ -1,7 +1,8 @@
 // PNG files are read by libpng itself (core/png_file.h) instead of the OpenImageIO module: the
 // same images and metadata as the module gives, checked against the module on files of every
 // colour type and bit depth libpng writes, interlaced or not, with the chunks that become
-// attributes; alpha association on every pair of 8-bit value and alpha and every 16-bit value;
+// attributes; alpha left unassociated (as PNG stores it and Mitsuba reads it) on every pair of
+// 8-bit value and alpha and every 16-bit value, and so taken by textures and environment maps;
 // what it leaves to the module (Exif, XMP, names twice, damaged files, images over 65536 pixels
 // wide) reads as the module reads it; a chunk longer than the file is refused before either reads. ICC profiles are left too, but libpng 1.6.39 dropped every
 // small profile this test could make up ("iCCP: too short"), so that case is not exercised here.
@@ -10,6 +11,10 @@
 #include "core/error.h"
 #include "core/image.h"
 #include "core/png_file.h"
+#include "core/registry.h"
+#include "core/scene.h"
+#include "core/texture.h"
+#include "core/xml.h"
 #include "tests/util.h"
 
 #include <catch2/catch.hpp>
@@ -258,7 +263,8 @@ TEST_CASE("images: a PNG file's chunks become the module's attributes", "[image]
     CHECK(read_image((dir / "none0.png").string()).metadata["oiio:ColorSpace"] == "sRGB");
 }
 
-TEST_CASE("images: a PNG file's alpha is associated as the module associates it, every 8-bit pair and 16-bit value", "[image]") {
+TEST_CASE("images: a PNG file's alpha stays unassociated, as the module (asked so) reads it, every 8-bit pair and 16-bit value",
+          "[image]") {
     auto dir = scratch_dir("png-alpha");
     // 8-bit RGBA: R runs over every value along x, alpha over every value along y.
     PngSpec pairs;
@@ -275,7 +281,7 @@ TEST_CASE("images: a PNG file's alpha is associated as the module associates it,
     };
     write_png_file((dir / "pairs.png").string(), pairs, 1);
     check_same_as_module((dir / "pairs.png").string());
-    // With a gamma other than 1 OpenImageIO associates alpha in another way (core/png_file.cpp).
+    // A gamma other than 1 changes nothing either (OpenImageIO would associate alpha another way).
     pairs.chunks = [](png_structp png, png_infop info) { png_set_gAMA_fixed(png, info, 45455); };
     write_png_file((dir / "pairs_gamma.png").string(), pairs, 1);
     check_same_as_module((dir / "pairs_gamma.png").string());
@@ -394,4 +400,46 @@ TEST_CASE("images: a PNG written by libpng reads back exactly, by libpng and by 
     for (size_t i = 0; i < display.data().size(); ++i)
         CHECK(back.data()[i] == float(std::lround(display.data()[i] * 255.0f)) * (1.0f / 255.0f));
     CHECK(encode_png(display) == read_text(dir / "display.png"));
+}
+
+TEST_CASE("images: an RGBA PNG's colour is read as stored, and textures and environment maps take it so, sRGB-decoded",
+          "[image][texture]") {
+    // Mitsuba's Bitmap keeps a PNG's alpha unassociated; its bitmap texture and envmap drop alpha
+    // and decode the 8-bit sRGB colour. Before, Candela premultiplied the colour by alpha on
+    // reading (OpenImageIO's default): a half-transparent texel of (200, 100, 50) read as
+    // (100, 50, 25), and an 8-bit environment map was taken as linear radiance.
+    auto dir = scratch_dir("png-rgba-colour");
+    PngSpec spec;
+    spec.width = 4;
+    spec.height = 2;
+    spec.color_type = PNG_COLOR_TYPE_RGB_ALPHA;
+    spec.edit = [](std::vector<unsigned char>& s, size_t) {
+        for (size_t i = 0; i < 8; ++i) {
+            s[4 * i] = 200;
+            s[4 * i + 1] = 100;
+            s[4 * i + 2] = 50;
+            s[4 * i + 3] = 128;
+        }
+    };
+    const std::string path = (dir / "half.png").string();
+    write_png_file(path, spec, 1);
+    const Image image = read_image(path);
+    const float stored[4] = {200.0f / 255.0f, 100.0f / 255.0f, 50.0f / 255.0f, 128.0f / 255.0f};
+    for (int c = 0; c < 4; ++c) CHECK(image.at(1, 1, c) == Approx(stored[c]).epsilon(1e-6));
+    const Spectrum expected(srgb_to_linear(stored[0]), srgb_to_linear(stored[1]), srgb_to_linear(stored[2]));
+    for (int c = 0; c < 3; ++c) CHECK(image.linear_rgb_at(1, 1)[c] == Approx(expected[c]).epsilon(1e-6));
+    // Seen directly, the (constant) environment map is its decoded colour; so is a diffuse plane's
+    // albedo read from the texture (eval at any uv).
+    Ref<Scene> scene = load_scene_from_string(scene_xml(R"(<integrator type="path"/>
+        <sensor type="perspective"><sampler type="independent"><integer name="sample_count" value="1"/></sampler>
+            <film type="hdrfilm"><integer name="width" value="2"/><integer name="height" value="2"/><rfilter type="box"/>
+                <string name="component_format" value="float32"/></film></sensor>
+        <emitter type="envmap"><string name="filename" value="half.png"/></emitter>)"),
+                                              (dir / "env.xml").string());
+    const Image seen = scene->integrator().render(*scene, RenderOptions()).image;
+    for (int c = 0; c < 3; ++c) CHECK(seen.at(0, 0, c) == Approx(expected[c]).epsilon(1e-6));
+    Properties props("bitmap", SourceLocation{(dir / "virtual.xml").string(), 1});
+    props.set_string("filename", "half.png");
+    const Spectrum texel = create_plugin_as<Texture>(ObjectKind::Texture, props)->eval(Vec2(0.4f, 0.6f));
+    for (int c = 0; c < 3; ++c) CHECK(texel[c] == Approx(expected[c]).epsilon(1e-6));
 }
