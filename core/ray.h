@@ -27,6 +27,12 @@ struct Ray {
     Vec3 operator()(float t) const { return o + t * d; }
 };
 
+// The depth Mitsuba reports for a camera ray's hit at distance t along it (the aov integrator's
+// `depth`, the `depth` integrator): from where the ray enters the view, since Mitsuba's cameras
+// start their rays on the near plane. Candela's perspective and thinlens cameras start them at the
+// lens with tmin on the near plane; its orthographic camera on the near plane, with tmin 0.
+inline float camera_depth(const Ray& camera_ray, float t) { return t - camera_ray.tmin; }
+
 // Shadow rays stop this fraction short of their target.
 constexpr float ShadowEpsilon = 1e-4f;
 // Factor over the computed error bounds: Embree's own intersection arithmetic is not part of them.

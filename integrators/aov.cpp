@@ -6,8 +6,8 @@
 //                              as "dd.y:depth, nn:sh_normal"; each adds channels name.X, ... :
 //     albedo         .R .G .B  the BSDF's albedo (BSDF::albedo, Mitsuba's diffuse reflectance;
 //                              an approximation for some BSDFs)
-//     depth          .T        distance along the camera ray (from the near plane for the
-//                              orthographic camera, as Mitsuba measures it)
+//     depth          .T        distance along the camera ray from the near plane, where
+//                              Mitsuba's camera rays start (core/ray.h, camera_depth)
 //     position       .X .Y .Z  world-space hit point
 //     uv             .U .V     texture coordinates
 //     geo_normal     .X .Y .Z  geometric normal (the shape's front side)
@@ -163,7 +163,7 @@ private:
                 put3(hit ? si.shape->bsdf()->albedo(rgb) : Spectrum(0.0f));
                 break;
             }
-            case AovType::Depth: *out++ = hit ? si.t : 0.0f; break;
+            case AovType::Depth: *out++ = hit ? camera_depth(ray, si.t) : 0.0f; break;
             case AovType::Position: put3(si.p); break;
             case AovType::UV: put2(si.uv); break;
             case AovType::GeoNormal: put3(si.n); break;

@@ -230,10 +230,51 @@ TEST_CASE("moment: second moment minus first squared is the variance the varianc
                 CHECK(layer > 0.0);
                 CHECK(sample_variance_of_mean == Approx(layer).margin(1e-4 * m2 / (n - 1)));
             }
-            // The depth is the same for every sample (the camera sits at the centre): no variance.
+            // The camera sits at the centre: every ray meets the sphere at distance 1, and its depth
+            // is that less the near plane's 0.01 / cos(theta) (where Mitsuba's camera rays start;
+            // theta under 55 degrees here): no variance to speak of.
             double d = ch.at(x, y, "a.d.T");
-            CHECK(d == Approx(1.0).epsilon(1e-4));
+            CHECK(d < 1.0 - 0.01);
+            CHECK(d > 1.0 - 0.01 / std::cos(55.0 * Pi / 180.0));
             CHECK(ch.at(x, y, "m2_a.d.T") - d * d == Approx(0.0).margin(1e-5));
             CHECK(ch.at(x, y, "m2_a.p.A") == 1.0f);
         }
+}
+
+TEST_CASE("depth: the depth integrator and the aov depth measure from the near plane, as Mitsuba's camera rays start there",
+          "[render][aov]") {
+    // A perspective camera 5 units in front of a plane, near_clip 0.5, every sample at its pixel's
+    // centre: a ray at angle theta to the axis meets the plane at 5 / cos(theta) from the eye and
+    // enters the view at 0.5 / cos(theta), so its depth is 4.5 / cos(theta). The plane covers only
+    // the left part of the view: pixels that see nothing have depth 0 and alpha 0.
+    const std::string camera = R"(<sensor type="perspective"><float name="fov" value="40"/><float name="near_clip" value="0.5"/>
+            <boolean name="jitter" value="false"/>
+            <transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
+            <sampler type="independent"><integer name="sample_count" value="2"/></sampler>
+            <film type="hdrfilm"><integer name="width" value="9"/><integer name="height" value="9"/><rfilter type="box"/>
+                <string name="pixel_format" value="rgba"/><string name="component_format" value="float32"/></film></sensor>
+        <shape type="rectangle"><transform name="to_world"><scale x="1" y="3"/><translate x="1.1"/></transform></shape>)";
+    auto render = [&](const std::string& integrator) {
+        Ref<Scene> scene = load_scene_from_string(scene_xml(integrator + camera), source_path("scenes/depth_test.xml"));
+        return scene->integrator().render(*scene, RenderOptions()).image;
+    };
+    const Image depth = render(R"(<integrator type="depth"/>)");
+    const Image aov = render(R"(<integrator type="aov"><string name="aovs" value="dd:depth"/></integrator>)");
+    const float tan_half = std::tan(20.0f * Pi / 180.0f);
+    int hits = 0, misses = 0;
+    for (int y = 0; y < 9; ++y)
+        for (int x = 0; x < 9; ++x) {
+            // Camera space (Mitsuba's): +x toward the image's left, which is world -x here.
+            const Vec3 d((1.0f - 2.0f * (x + 0.5f) / 9.0f) * tan_half, (1.0f - 2.0f * (y + 0.5f) / 9.0f) * tan_half, 1.0f);
+            const float world_x = -5.0f * d.x;
+            const bool hit = world_x > 0.1f && world_x < 2.1f;
+            const float expected = hit ? 4.5f * glm::length(d) : 0.0f;
+            INFO("pixel " << x << ", " << y);
+            CHECK(depth.at(x, y, 0) == Approx(expected).epsilon(1e-5).margin(1e-6));
+            CHECK(depth.at(x, y, 3) == (hit ? 1.0f : 0.0f));
+            CHECK(aov.at(x, y, aov.channel_index("dd.T")) == Approx(expected).epsilon(1e-5).margin(1e-6));
+            (hit ? hits : misses)++;
+        }
+    CHECK(hits >= 18);
+    CHECK(misses >= 18);
 }

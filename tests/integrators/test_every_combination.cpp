@@ -37,6 +37,7 @@ const std::vector<IntegratorCase>& integrator_cases() {
         {"volpathmis", R"(<integrator type="volpathmis"/>)"},
         {"direct", R"(<integrator type="direct"/>)"},
         {"ao", R"(<integrator type="ao"/>)"},
+        {"depth", R"(<integrator type="depth"/>)"},
         {"irradiance", R"(<integrator type="irradiance"><integer name="max_depth" value="3"/></integrator>)"},
         {"moment", R"(<integrator type="moment"><integrator type="path" name="p"/></integrator>)"},
         {"aov", R"(<integrator type="aov"><string name="aovs" value="dd.y:depth,nn:sh_normal"/><integrator type="path"/></integrator>)"},
