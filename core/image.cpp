@@ -40,7 +40,7 @@ Image::Image(int width, int height, std::vector<std::string> channels, std::vect
 }
 
 Spectrum Image::linear_rgb_at(int x, int y) const {
-    Spectrum s = channel_count() >= 3 ? rgb_at(x, y) : Spectrum(at(x, y, 0));
+    Spectrum s = colour_at(x, y);
     if (integer_bits > 0)
         for (int c = 0; c < 3; ++c) s[c] = srgb_to_linear(s[c]);
     return s;

@@ -30,9 +30,11 @@ public:
     float& at(int x, int y, int c) { return data_[(size_t(y) * width_ + x) * channels_.size() + c]; }
     float at(int x, int y, int c) const { return data_[(size_t(y) * width_ + x) * channels_.size() + c]; }
     Spectrum rgb_at(int x, int y) const { return Spectrum(at(x, y, 0), at(x, y, 1), at(x, y, 2)); }
-    // A pixel as linear radiance, as Mitsuba converts a bitmap to linear float RGB for an
-    // environment map: grey images give grey, alpha is left out, and the integers of 8- and 16-bit
-    // files are sRGB-decoded (the bitmap texture's rule unless raw).
+    // A pixel's colour as stored: its RGB, or a grey image's value as grey; alpha left out.
+    Spectrum colour_at(int x, int y) const { return channel_count() >= 3 ? rgb_at(x, y) : Spectrum(at(x, y, 0)); }
+    // colour_at as linear radiance, as Mitsuba converts a bitmap to linear float RGB for an
+    // environment map: the integers of 8- and 16-bit files are sRGB-decoded (the bitmap texture's
+    // rule unless raw).
     Spectrum linear_rgb_at(int x, int y) const;
     void set_rgb(int x, int y, const Spectrum& s) {
         at(x, y, 0) = s.x;

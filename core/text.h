@@ -1,7 +1,7 @@
 #pragma once
 // Small text helpers: splitting attribute text into its items, as Mitsuba's string::tokenize
-// does for number lists, reading whole numbers, case folding for names Mitsuba reads case-insensitively, and escaping
-// text for HTML and SVG output.
+// does for number lists, reading whole numbers, case folding for names Mitsuba reads
+// case-insensitively, and escaping text for HTML and SVG output.
 
 #include <algorithm>
 #include <cctype>

@@ -93,7 +93,7 @@ public:
         std::vector<Spectrum> texels(size_t(img.width()) * img.height());
         for (int y = 0; y < img.height(); ++y)
             for (int x = 0; x < img.width(); ++x) {
-                Spectrum s = nch >= 3 ? Spectrum(img.at(x, y, 0), img.at(x, y, 1), img.at(x, y, 2)) : Spectrum(img.at(x, y, 0));
+                Spectrum s = img.colour_at(x, y);
                 // 8 bits hold what the file encodes (decoded on lookup); half precision holds the
                 // decoded, linear values.
                 for (int c = 0; c < 3; ++c) {
