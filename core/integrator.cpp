@@ -263,7 +263,7 @@ private:
                 if (polarized_) wavelengths.stokes = &stokes;
                 ray.wavelengths = &wavelengths;
             }
-            Spectrum L = integrator_.sample_radiance(scene_, sampler, ray, record);
+            Spectrum L = integrator_.sample_radiance(scene_, sampler, ray, record) * sensor_.sample_weight(record.film_pos);
             if (spectral_) {
                 if (const SensorResponse* response = sensor_.response()) L *= response->at(wavelengths);
                 L = spectral_to_linear_srgb(L, wavelengths);

@@ -30,7 +30,11 @@ Scene::Scene(const Properties& props, int sensor_index) {
         }
         emitters_.push_back(emitter);
     }
-    auto sensors = props.get_objects(ObjectKind::Sensor);
+    // The scene's own sensors in document order, then those nested in shapes, in shape order
+    // (the order Mitsuba 3.8 numbers them in, `mitsuba -s N`).
+    std::vector<Ref<Object>> sensors = props.get_objects(ObjectKind::Sensor);
+    for (auto& shape : shapes_)
+        if (auto& attached = shape->attached_sensor()) sensors.push_back(attached);
     // The second one is the mistake: its line, not the scene's.
     auto second = [&](ObjectKind kind) { return props.location_of(props.get_named_objects(kind)[1].first); };
     sensor_count_ = std::max<int>(1, int(sensors.size()));
@@ -76,6 +80,7 @@ Scene::Scene(const Properties& props, int sensor_index) {
         emitter->set_scene(*this);
         if (emitter->is_infinite()) infinite_emitters_.push_back(emitter.get());
     }
+    sensor_->set_scene(*this);
 }
 
 void Scene::update_geometry() {
@@ -83,6 +88,7 @@ void Scene::update_geometry() {
     for (auto& shape : shapes_) bbox_.expand(shape->bbox());
     accel_.build(shapes_);
     for (auto& emitter : emitters_) emitter->set_scene(*this);
+    sensor_->set_scene(*this);
 }
 
 bool Scene::intersect(const Ray& ray, SurfaceInteraction& si) const {

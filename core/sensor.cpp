@@ -1,10 +1,51 @@
 #include "core/sensor.h"
 
+#include "core/error.h"
+#include "core/medium.h"
 #include "core/properties.h"
+#include "core/registry.h"
+#include "core/texture.h"
 
 #include <cmath>
 
 namespace candela {
+
+Sensor::Sensor(const Properties& props) {
+    float open = props.get_float("shutter_open", 0.0f), close = props.get_float("shutter_close", 0.0f);
+    if (!(close >= open)) props.fail("shutter_close", "shutter_open must not come after shutter_close");
+    shutter_open_ = open;
+    shutter_open_time_ = close - open;
+    auto media = props.get_objects(ObjectKind::Medium);
+    if (media.size() > 1) props.fail("a sensor stands in at most one medium");
+    if (!media.empty()) medium_ = std::static_pointer_cast<Medium>(media[0]);
+    auto films = props.get_objects(ObjectKind::Film);
+    auto samplers = props.get_objects(ObjectKind::Sampler);
+    if (films.size() > 1 || samplers.size() > 1) props.fail("a sensor has at most one film and one sampler");
+    film_ = films.empty() ? create_plugin_as<Film>(ObjectKind::Film, Properties("hdrfilm", props.location()))
+                          : std::static_pointer_cast<Film>(films[0]);
+    set_sampler(samplers.empty() ? create_plugin_as<Sampler>(ObjectKind::Sampler, Properties(DefaultSampler, props.location()))
+                                 : std::static_pointer_cast<Sampler>(samplers[0]));
+    if (props.has("srf")) {
+        if (props.variant() == Variant::ScalarRGB)
+            props.fail("srf",
+                       "a sensor response function (srf) needs a spectral variant (--variant scalar_spectral); Mitsuba's RGB "
+                       "variants reject it too");
+        auto measured = props.measured_spectrum("srf");
+        if (!measured) props.fail("srf", "srf must be a spectrum of samples (wavelength:value pairs, a file, regular or irregular)");
+        props.get_texture("srf");  // read: it is the response below
+        try {
+            response_ = std::make_shared<SensorResponse>(measured->spectrum());
+        } catch (const SpectrumFormatError& e) {
+            props.fail("srf", e.what());
+        }
+    }
+}
+
+void Sensor::attach_to_shape(const Shape&, const Properties& shape_props) {
+    shape_props.fail("the " + to_string() + " sensor cannot be nested in a shape (only an irradiancemeter can: it measures on its shape)");
+}
+
+void Sensor::set_film_size(const Vec2i&) { throw InputError("the " + to_string() + " sensor cannot take a slice of a batch's film"); }
 
 float read_tan_half_fov_x(const Properties& props, float aspect) {
     float fov;

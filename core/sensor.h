@@ -13,6 +13,8 @@ namespace candela {
 
 class Properties;
 class Medium;
+class Scene;
+class Shape;
 
 // A pinhole camera's projection (the rasterizer's camera, and the projector light's): camera
 // space has +z forward, +y up and +x toward the image's left (Mitsuba's convention). Film
@@ -61,6 +63,9 @@ struct SensorSample {
     float weight = 0.0f;
 };
 
+// A sensor: a camera (sensors/projective.h) or a measuring instrument (radiancemeter,
+// irradiancemeter, distant) or a group of them (batch). Every sensor holds the film it fills and
+// the sampler that drives it; the pixel loop asks it for one ray per sample.
 class Sensor : public Object {
 public:
     // The projection of a pinhole camera (nullopt for other camera models: the rasterizer
@@ -69,13 +74,34 @@ public:
     ObjectKind kind() const override { return ObjectKind::Sensor; }
     // A primary ray through continuous film position `film_pos` (pixels of the full film, origin
     // at the top-left corner) at shutter time `time` (an animated camera takes its pose then; the
-    // ray carries the time); `aperture_u` is for cameras with a lens.
+    // ray carries the time); `aperture_u` is for cameras with a lens and for instruments that
+    // sample a position (distant).
     virtual Ray sample_ray(const Vec2& film_pos, const Vec2& aperture_u, float time) const = 0;
     // The same at the shutter's opening.
     Ray sample_ray(const Vec2& film_pos, const Vec2& aperture_u) const { return sample_ray(film_pos, aperture_u, shutter_open_); }
+    // What the radiance carried back along sample_ray's ray is multiplied by (Mitsuba's ray
+    // weight): 1 for cameras and radiance meters; pi for the irradiance meter, whose rays are
+    // cosine-distributed, so that pi L estimates the irradiance.
+    virtual float sample_weight(const Vec2& film_pos) const { return 1.0f; }
     // The connection from world point `ref` to the sensor; `aperture_u` picks the lens point of
-    // cameras with a lens. pdf 0 when `ref` is outside the view or the clip range.
-    virtual SensorSample sample_direction(const Vec3& ref, const Vec2& aperture_u) const = 0;
+    // cameras with a lens. pdf 0 when `ref` is outside the view or the clip range, and always
+    // for sensors that light paths cannot reach (see reached_by_light_paths).
+    virtual SensorSample sample_direction(const Vec3& ref, const Vec2& aperture_u) const { return SensorSample(); }
+    // Whether light paths can connect to the sensor (the particle tracer's condition): false for
+    // a radiance meter or a distant sensor (a delta in both position and direction) and for a
+    // batch of sensors.
+    virtual bool reached_by_light_paths() const { return false; }
+
+    // Called once the scene's geometry is built (the distant sensor places its rays outside the
+    // scene's bounding sphere).
+    virtual void set_scene(const Scene& scene) {}
+    // A sensor nested in a shape measures on that shape (Mitsuba's irradiancemeter). The shape
+    // calls this while it is built; sensors that cannot be nested fail at props' location.
+    virtual void attach_to_shape(const Shape& shape, const Properties& shape_props);
+    // The sub-sensors of a batch render into slices of the batch's film: each takes its
+    // slice's size (Mitsuba's film()->set_size), keeping its field of view along x. Throws
+    // InputError for a size the sensor cannot measure with.
+    virtual void set_film_size(const Vec2i& size);
 
     Film& film() const { return *film_; }
     Sampler& sampler() const { return *sampler_; }
@@ -105,6 +131,10 @@ public:
     const SensorResponse* response() const { return response_.get(); }
 
 protected:
+    // What every sensor reads, as Mitsuba's Sensor does: film and sampler (nested; default
+    // hdrfilm and independent), a medium, shutter_open and shutter_close, and srf.
+    explicit Sensor(const Properties& props);
+
     Ref<Medium> medium_;
     Ref<Film> film_;
     Ref<Sampler> sampler_;

@@ -5,6 +5,7 @@
 #include "core/medium.h"
 #include "core/parameters.h"
 #include "core/registry.h"
+#include "core/sensor.h"
 
 namespace candela {
 
@@ -19,6 +20,12 @@ Shape::Shape(const Properties& props, bool may_move) {
         if (emitter_->type() != EmitterType::Area) props.fail("only an area emitter can be nested in a shape");
         if (emitter_->shape()) props.fail("this emitter is already attached to another shape");
         emitter_->set_shape(this);
+    }
+    auto sensors = props.get_objects(ObjectKind::Sensor);
+    if (sensors.size() > 1) props.fail("a shape can have only one sensor");
+    if (!sensors.empty()) {
+        sensor_ = std::static_pointer_cast<Sensor>(sensors[0]);
+        sensor_->attach_to_shape(*this, props);
     }
     for (auto& [name, medium] : props.get_named_objects(ObjectKind::Medium)) {
         if (name == "interior")

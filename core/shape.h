@@ -18,6 +18,7 @@ namespace candela {
 
 class BSDF;
 class Emitter;
+class Sensor;
 class Medium;
 
 // A point sampled on a surface; `pdf` is per unit area.
@@ -156,6 +157,8 @@ public:
     void traverse(ParameterVisitor& visitor) override;
     const Emitter* emitter() const { return emitter_.get(); }
     const Ref<Emitter>& emitter_ref() const { return emitter_; }
+    // The sensor nested in the shape (an irradiancemeter measuring on it), or null.
+    const Ref<Sensor>& attached_sensor() const { return sensor_; }
     // The emitters this shape brings to the scene: its own, and for an instance the moving
     // emitter of its group's shape (see Emitter::move_with_instance).
     virtual void collect_emitters(std::vector<Ref<Emitter>>& out) const {
@@ -197,6 +200,7 @@ protected:
 private:
     Ref<BSDF> bsdf_;
     Ref<Emitter> emitter_;
+    Ref<Sensor> sensor_;
     Ref<Medium> interior_, exterior_;
 };
 

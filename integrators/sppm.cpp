@@ -173,7 +173,8 @@ Spectrum SPPMIntegrator::trace_camera(const Scene& scene, Sampler& sampler, cons
     walk.max_depth = settings_.max_depth;
     walk.rr_depth = settings_.rr_depth;
     walk.hide_first = settings_.hide_emitters;
-    vp = walk_to_gather_point(scene, sampler, ray, Spectrum(filter_weight), 0, walk);
+    // The sensor's ray weight (pi for an irradiance meter) scales everything the path gathers.
+    vp = walk_to_gather_point(scene, sampler, ray, Spectrum(filter_weight * scene.sensor().sample_weight(pos)), 0, walk);
     Spectrum L = vp.emission_after_delta + vp.emission_after_other;
     // The direct estimate draws after the walk's numbers (integrators/path.h, continue_path).
     if (vp.bsdf && settings_.within_depth(vp.depth + 1))

@@ -26,10 +26,14 @@ public:
         Vec3 d = to_world_.apply_vector(Vec3(0.0f, 0.0f, 1.0f));
         if (!(squared_length(d) > 0.0f) || !to_world_.all_finite()) props.fail("to_world", "the camera's to_world must be invertible");
         direction_ = glm::normalize(d);
-        // The viewed rectangle's area across the view direction (to_world may scale or shear).
+        film_size_changed();
+        if (!(cross_section_ > 0.0f)) props.fail("to_world", "the camera's to_world must be invertible");
+    }
+
+    // The viewed rectangle's area across the view direction (to_world may scale or shear).
+    void film_size_changed() override {
         Vec3 ex = to_world_.apply_vector(Vec3(2.0f, 0.0f, 0.0f)), ey = to_world_.apply_vector(Vec3(0.0f, 2.0f / aspect_, 0.0f));
         cross_section_ = std::abs(glm::dot(glm::cross(ex, ey), direction_));
-        if (!(cross_section_ > 0.0f)) props.fail("to_world", "the camera's to_world must be invertible");
     }
 
     Ray sample_ray(const Vec2& film_pos, const Vec2&, float time) const override {

@@ -65,6 +65,7 @@ public:
     }
 
     std::optional<PinholeProjection> pinhole() const override { return projection_; }
+    void film_size_changed() override { projection_.aspect = aspect_; }
 
     // to_world, x_fov (core/parameters.h).
     void traverse(ParameterVisitor& visitor) override {

@@ -1,32 +1,16 @@
 #include "sensors/projective.h"
 
 #include "core/error.h"
-#include "core/medium.h"
 #include "core/parameters.h"
 #include "core/properties.h"
 #include "core/registry.h"
-#include "core/texture.h"
 
 namespace candela {
 
-ProjectiveCamera::ProjectiveCamera(const Properties& props) {
-    float open = props.get_float("shutter_open", 0.0f), close = props.get_float("shutter_close", 0.0f);
-    if (!(close >= open)) props.fail("shutter_close", "shutter_open must not come after shutter_close");
-    shutter_open_ = open;
-    shutter_open_time_ = close - open;
+ProjectiveCamera::ProjectiveCamera(const Properties& props) : Sensor(props) {
     motion_ = props.get_animated_transform("to_world", Transform());
-    to_world_ = motion_.is_animated() ? motion_.eval(open) : motion_.first();
+    to_world_ = motion_.is_animated() ? motion_.eval(shutter_open_) : motion_.first();
     world_to_local_ = to_world_.inverse();
-    auto media = props.get_objects(ObjectKind::Medium);
-    if (media.size() > 1) props.fail("a sensor stands in at most one medium");
-    if (!media.empty()) medium_ = std::static_pointer_cast<Medium>(media[0]);
-    auto films = props.get_objects(ObjectKind::Film);
-    auto samplers = props.get_objects(ObjectKind::Sampler);
-    if (films.size() > 1 || samplers.size() > 1) props.fail("a sensor has at most one film and one sampler");
-    film_ = films.empty() ? create_plugin_as<Film>(ObjectKind::Film, Properties("hdrfilm", props.location()))
-                          : std::static_pointer_cast<Film>(films[0]);
-    set_sampler(samplers.empty() ? create_plugin_as<Sampler>(ObjectKind::Sampler, Properties(DefaultSampler, props.location()))
-                                 : std::static_pointer_cast<Sampler>(samplers[0]));
     Vec2i size = film_->full_size();
     aspect_ = float(size.x) / float(size.y);
     inv_size_ = Vec2(1.0f / float(size.x), 1.0f / float(size.y));
@@ -40,21 +24,12 @@ ProjectiveCamera::ProjectiveCamera(const Properties& props) {
 
     jitter_ = props.get_bool("jitter", true);
     if (!(props.get_float("cone_scale", 1.0f) > 0.0f)) props.fail("cone_scale", "cone_scale must be positive");
+}
 
-    if (props.has("srf")) {
-        if (props.variant() == Variant::ScalarRGB)
-            props.fail("srf",
-                       "a sensor response function (srf) needs a spectral variant (--variant scalar_spectral); Mitsuba's RGB "
-                       "variants reject it too");
-        auto measured = props.measured_spectrum("srf");
-        if (!measured) props.fail("srf", "srf must be a spectrum of samples (wavelength:value pairs, a file, regular or irregular)");
-        props.get_texture("srf");  // read: it is the response below
-        try {
-            response_ = std::make_shared<SensorResponse>(measured->spectrum());
-        } catch (const SpectrumFormatError& e) {
-            props.fail("srf", e.what());
-        }
-    }
+void ProjectiveCamera::set_film_size(const Vec2i& size) {
+    aspect_ = float(size.x) / float(size.y);
+    inv_size_ = Vec2(1.0f / float(size.x), 1.0f / float(size.y));
+    film_size_changed();
 }
 
 PinholeProjection ProjectiveCamera::pinhole_projection(const Properties& props) const {

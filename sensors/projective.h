@@ -35,6 +35,9 @@ public:
     // "to_world" (a camera that does not move) and its film (core/parameters.h).
     void traverse(ParameterVisitor& visitor) override;
     void parameters_changed(const std::vector<std::string>& keys) override;
+    bool reached_by_light_paths() const override { return true; }
+    // A batch's slice: the aspect follows the new size; the field of view along x is kept.
+    void set_film_size(const Vec2i& size) override;
 
 protected:
     explicit ProjectiveCamera(const Properties& props);
@@ -62,6 +65,8 @@ protected:
     PinholeProjection pinhole_projection(const Properties& props) const;
     // After to_world changed: what the camera derives from its pose.
     virtual void pose_changed() {}
+    // After set_film_size: what the camera derives from its film's aspect.
+    virtual void film_size_changed() {}
     // A pinhole camera's "x_fov" (degrees), read and written through its tan(fov_x / 2).
     static void expose_x_fov(ParameterVisitor& visitor, PinholeProjection& projection);
 

@@ -82,6 +82,7 @@ public:
         expose_x_fov(visitor, projection_);
     }
     void pose_changed() override { projection_.to_world = to_world_; }
+    void film_size_changed() override { projection_.aspect = aspect_; }
 
     std::string to_string() const override { return "thinlens"; }
 
