@@ -73,6 +73,11 @@ Mueller linear_polarizer(float value) {
     return from_rows({a, a, 0, 0, a, a, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0});
 }
 
+Mueller circular_polarizer(bool left_handed) {
+    const float h = left_handed ? -0.5f : 0.5f;
+    return from_rows({0.5f, 0, 0, h, 0, 0, 0, 0, 0, 0, 0, 0, h, 0, 0, 0.5f});
+}
+
 Mueller linear_retarder(float phase) {
     const float s = std::sin(phase), c = std::cos(phase);
     return from_rows({1, 0, 0, 0, 0, 1, 0, 0, 0, 0, c, s, 0, 0, -s, c});

@@ -52,6 +52,9 @@ struct StokesSpectrum {
 // Ideal elements (Collett ch. 5; Goldstein eq. 6.43 for the retarder, fast axis horizontal).
 Mueller linear_polarizer(float value = 1.0f);
 Mueller linear_retarder(float phase);
+// Passes right-handed circularly polarised light (S3 > 0, Mitsuba's convention), or left-handed:
+// 1/2 [[1, 0, 0, h], [0, 0, 0, 0], [0, 0, 0, 0], [h, 0, 0, 1]], h = +1 or -1.
+Mueller circular_polarizer(bool left_handed);
 // Attenuates the field's components at 0 and 90 degrees to intensities x and y.
 Mueller diattenuator(float x, float y);
 // Rotates the reference frame by theta (radians, counter-clockwise seen from the sensor):

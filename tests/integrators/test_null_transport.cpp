@@ -119,6 +119,7 @@ TEST_CASE("null transport: shadow rays keep each blocker's transmission, sample 
         {"mask 0.3", blocker(R"(<bsdf type="mask"><float name="opacity" value="0.3"/><bsdf type="diffuse"/></bsdf>)", 1.0f), 0.7f},
         {"null", blocker(R"(<bsdf type="null"/>)", 1.0f), 1.0f},
         {"polarizer", blocker(R"(<bsdf type="polarizer"/>)", 1.0f), 0.5f},
+        {"circular", blocker(R"(<bsdf type="circular"/>)", 1.0f), 0.5f},
         {"two polarizers (RGB: no crossing effect)",
          blocker(R"(<bsdf type="polarizer"/>)", 1.0f) + blocker(R"(<bsdf type="polarizer"><float name="theta" value="90"/></bsdf>)", 1.3f),
          0.25f},

@@ -241,6 +241,11 @@ const std::vector<Config>& configs() {
              return std::vector<DeltaExpectation>{{Null, 1.0}};
          },
          false, false},
+        {"circular", R"(<bsdf type="circular"><rgb name="transmittance" value="0.8"/></bsdf>)", BothSides,
+         [](const Vec3&) {
+             return std::vector<DeltaExpectation>{{Null, 1.0}};
+         },
+         false, false},
         // hair: pigmented, lossless (sigma_a = 0), and smooth with a strong tilt.
         {"hair", R"(<bsdf type="hair"/>)", Fibre, {}, false, false},
         {"hair lossless", R"(<bsdf type="hair"><rgb name="sigma_a" value="0"/></bsdf>)", Fibre, {}, true, false},
@@ -347,14 +352,15 @@ TEST_CASE("bsdf: textured roughness", "[bsdf]") {
 TEST_CASE("bsdf: principled", "[bsdf][principled]") { check_configs("principled "); }
 TEST_CASE("bsdf: principledthin", "[bsdf][principled]") { check_configs("principledthin"); }
 TEST_CASE("bsdf: blendbsdf", "[bsdf]") { check_configs("blendbsdf"); }
-TEST_CASE("bsdf: mask, null and polarizer", "[bsdf]") {
+TEST_CASE("bsdf: mask, null, polarizer and circular", "[bsdf]") {
     check_configs("mask");
     check_configs("null");
     check_configs("polarizer");
+    check_configs("circular");
 }
 TEST_CASE("bsdf: hair", "[bsdf][hair]") { check_configs("hair"); }
 TEST_CASE("bsdf: pplastic", "[bsdf]") { check_configs("pplastic"); }
-TEST_CASE("bsdf: the configuration table is covered exactly", "[bsdf]") { CHECK(configs().size() == 43); }
+TEST_CASE("bsdf: the configuration table is covered exactly", "[bsdf]") { CHECK(configs().size() == 44); }
 
 TEST_CASE("bsdf: a BSDF that says it does not read u_lobe samples the same for every u_lobe", "[bsdf]") {
     // The path integrator skips the number of such a BSDF (BSDF::reads_lobe_sample).

@@ -41,6 +41,7 @@ const PolarizedCase Cases[] = {
     {R"(<bsdf type="plastic"/>)", false},
     {R"(<bsdf type="pplastic"><float name="alpha" value="0.2"/></bsdf>)", false},
     {R"(<bsdf type="polarizer"><float name="theta" value="30"/></bsdf>)", true},
+    {R"(<bsdf type="circular"><boolean name="left_handed" value="true"/></bsdf>)", true},
     {R"(<bsdf type="retarder"><float name="theta" value="20"/><float name="delta" value="120"/></bsdf>)", true},
     {R"(<bsdf type="twosided"><bsdf type="conductor"/></bsdf>)", true},
     {R"(<bsdf type="blendbsdf"><float name="weight" value="0.4"/><bsdf type="roughconductor"/><bsdf type="diffuse"/></bsdf>)", false},

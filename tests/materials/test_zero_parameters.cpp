@@ -67,6 +67,7 @@ const std::vector<ZeroCase>& zero_cases() {
          "<rgb name=\"color1\" value=\"0.5, 0.5, 1\"/></texture>" +
              black_diffuse + "</bsdf>"},
         {"polarizer", R"(<bsdf type="polarizer"><rgb name="transmittance" value="0"/></bsdf>)"},
+        {"circular", R"(<bsdf type="circular"><rgb name="transmittance" value="0"/></bsdf>)"},
         {"null", R"(<bsdf type="null"/>)", false},
     };
     return cases;
