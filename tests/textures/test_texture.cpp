@@ -7,6 +7,7 @@
 #include "core/rng.h"
 #include "core/texture.h"
 #include "core/xml.h"
+#include "tests/support/vol_writer.h"
 #include "tests/util.h"
 #include "textures/mipmap.h"
 
@@ -307,4 +308,36 @@ TEST_CASE("bitmap: filter types without support and unknown formats are errors",
         CHECK_THROWS_AS(create_plugin(ObjectKind::Texture, props), SceneError);
     }
     CHECK_THROWS_AS(load_with(dir, "black.exr", "float64"), SceneError);
+}
+
+TEST_CASE("volume texture: a surface point takes the volume's value at its world position", "[texture][volume]") {
+    // Two voxels (nearest filtering) over [-1, 1]^3: (1, 2, 3) where x < 0, (4, 5, 6) where x > 0,
+    // as the radiance of an emitter square at z = 0, read by two radiance meters.
+    const auto dir = scratch_dir("volume-texture");
+    write_vol(dir / "two.vol", glm::ivec3(2, 1, 1), 3, {1, 2, 3, 4, 5, 6});
+    auto meter = [](float x) {
+        return R"(<sensor type="radiancemeter"><point name="origin" value=")" + std::to_string(x) +
+               R"(, 0.3, 1"/><vector name="direction" value="0, 0, -1"/><film type="hdrfilm"><integer name="width" value="1"/>
+               <integer name="height" value="1"/><rfilter type="box"/><string name="component_format" value="float32"/></film>
+               <sampler type="independent"><integer name="sample_count" value="4"/></sampler></sensor>)";
+    };
+    const std::string body = R"(<shape type="rectangle"><emitter type="area"><texture type="volume" name="radiance">
+            <volume type="gridvolume" name="volume"><string name="filename" value="two.vol"/><string name="filter_type" value="nearest"/>
+                <transform name="to_world"><scale value="2"/><translate value="-1, -1, -1"/></transform></volume>
+        </texture></emitter></shape>)" +
+                             meter(-0.5f) + meter(0.5f);
+    for (int sensor : {0, 1}) {
+        write_text(dir / "scene.xml", scene_xml(body));
+        Ref<Scene> scene = load_scene((dir / "scene.xml").string(), {}, Variant::ScalarRGB, sensor);
+        const Image image = scene->integrator().render(*scene, RenderOptions()).image;
+        for (int c = 0; c < 3; ++c) CHECK(image.at(0, 0, c) == Approx(float(1 + c + 3 * sensor)).epsilon(1e-6));
+    }
+    // A constant: 0.75 by default, or the given value, everywhere.
+    for (const auto& [xml, value] : {std::pair<std::string, float>{R"(<texture type="volume" name="radiance"/>)", 0.75f},
+                                     {R"(<texture type="volume" name="radiance"><float name="volume" value="2.5"/></texture>)", 2.5f}}) {
+        write_text(dir / "scene.xml",
+                   scene_xml(R"(<shape type="rectangle"><emitter type="area">)" + xml + "</emitter></shape>" + meter(0.2f)));
+        Ref<Scene> scene = load_scene((dir / "scene.xml").string());
+        CHECK(scene->integrator().render(*scene, RenderOptions()).image.at(0, 0, 1) == Approx(value).epsilon(1e-6));
+    }
 }
