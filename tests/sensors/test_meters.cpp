@@ -181,7 +181,7 @@ TEST_CASE("distant: the radiance leaving toward it, at a point, averaged over a 
     }
 }
 
-TEST_CASE("batch: each slice of the film is its sensor's view at the slice's size; meters in a batch keep their weights",
+TEST_CASE("batch: each slice of the film is its sensor's view at the slice's size, and meters in a batch keep their weights",
           "[sensor][meters]") {
     const std::string second = R"(<sensor type="perspective"><float name="fov" value="30"/>
             <transform name="to_world"><lookat origin="0.3, 0.2, 3" target="0, -0.3, 0" up="0, 1, 0"/></transform>)";
