@@ -8,7 +8,7 @@ script prints each renderer's mean per channel with its standard error (from the
 seeds) and the difference in units of the combined error. The batch image is compared by relMSE
 (mean of (a - b)^2 / (b^2 + 0.01)) between the renderers and between two seeds of each.
 
-  meters.py --candela build/candela --mitsuba /tmp/mitsuba3/mitsuba [--spp 65536 --seeds 4]
+  meters.py --candela build/candela --mitsuba /tmp/mitsuba3/mitsuba [--spp 65536 --seeds 32]
 
 Mitsuba runs scalar_rgb; its folder is put on LD_LIBRARY_PATH. Without the peer the script says
 so and stops.
@@ -34,7 +34,7 @@ def main():
     ap.add_argument("--candela", default="build/candela")
     ap.add_argument("--mitsuba", default="/tmp/mitsuba3/mitsuba")
     ap.add_argument("--spp", type=int, default=65536)
-    ap.add_argument("--seeds", type=int, default=4)
+    ap.add_argument("--seeds", type=int, default=32)
     ap.add_argument("--batch-spp", type=int, default=1024)
     a = ap.parse_args()
     if not (os.path.isfile(a.mitsuba) and os.access(a.mitsuba, os.X_OK)):
