@@ -132,7 +132,7 @@ public:
 
 protected:
     // What every sensor reads, as Mitsuba's Sensor does: film and sampler (nested; default
-    // hdrfilm and independent), a medium, shutter_open and shutter_close, and srf.
+    // hdrfilm and DefaultSampler), a medium, shutter_open and shutter_close, and srf.
     explicit Sensor(const Properties& props);
 
     Ref<Medium> medium_;
