@@ -23,11 +23,11 @@ public:
     explicit CircularPolarizerBSDF(const Properties& props)
         : OpticalElementBSDF(props, 0.5f), element_(circular_polarizer(props.get_bool("left_handed", false))) {}
 
-    bool eval_mueller(const BSDFContext&, const SurfaceInteraction& si, const Vec3&, uint32_t lobe, MuellerSpectrum& M) const override {
+    bool eval_mueller(const BSDFContext&, const SurfaceInteraction&, const Vec3&, uint32_t lobe, MuellerSpectrum& M) const override {
         if (lobe != Null) return false;
-        // Any reference axis normal to the beam will do: the element is invariant to rotation.
-        const Vec3 forward = si.wi;
-        on_beam(forward, stokes_basis(forward), element_, M);
+        // The element is invariant to rotation about the beam: it is the same in the light's
+        // implicit Stokes basis, whatever axis the surface would give it.
+        for (Mueller& w : M.w) w = element_;
         return true;
     }
     std::string to_string() const override { return "circular"; }

@@ -11,9 +11,7 @@ ProjectiveCamera::ProjectiveCamera(const Properties& props) : Sensor(props) {
     motion_ = props.get_animated_transform("to_world", Transform());
     to_world_ = motion_.is_animated() ? motion_.eval(shutter_open_) : motion_.first();
     world_to_local_ = to_world_.inverse();
-    Vec2i size = film_->full_size();
-    aspect_ = float(size.x) / float(size.y);
-    inv_size_ = Vec2(1.0f / float(size.x), 1.0f / float(size.y));
+    take_size(film_->full_size());
 
     near_clip_ = props.get_float("near_clip", 0.01f);
     far_clip_ = props.get_float("far_clip", 10000.0f);
@@ -27,9 +25,13 @@ ProjectiveCamera::ProjectiveCamera(const Properties& props) : Sensor(props) {
 }
 
 void ProjectiveCamera::set_film_size(const Vec2i& size) {
+    take_size(size);
+    film_size_changed();
+}
+
+void ProjectiveCamera::take_size(const Vec2i& size) {
     aspect_ = float(size.x) / float(size.y);
     inv_size_ = Vec2(1.0f / float(size.x), 1.0f / float(size.y));
-    film_size_changed();
 }
 
 PinholeProjection ProjectiveCamera::pinhole_projection(const Properties& props) const {

@@ -76,6 +76,9 @@ protected:
     float near_clip_ = 0.01f, far_clip_ = 1e4f, focus_distance_ = 1e4f;
 
 private:
+    // The aspect and the pixel scale of a film of `size` (the constructor's film, or a batch's
+    // slice); not virtual, as the constructor calls it.
+    void take_size(const Vec2i& size);
     Vec2 inv_size_{1.0f};
 };
 
