@@ -6,38 +6,23 @@
 #include "core/rgb2spec.h"
 
 #include "core/byte_order.h"
+#include "core/embedded_file.h"
 #include "core/error.h"
 
 #include <cstdint>
 #include <cstring>
 #include <string>
 
-// The table file, compiled in by the assembler (no generated C array: 9 MB of it would take the
-// compiler minutes). CMakeLists.txt generates it in the build directory when it configures, and
-// defines its path, and its MD5 so that ccache, which does not read .incbin files, compiles this
-// file again when the table changes. File format (little-endian): "CSG1", uint32 resolution,
+// The table file, compiled in (core/embedded_file.h). CMakeLists.txt generates it in the build
+// directory when it configures, and defines its path and MD5. File format (little-endian): "CSG1", uint32 resolution,
 // float32 scale[resolution], float32 coefficients[3 * resolution^3 * 3] (core/rgb2spec.h,
 // SigmoidTable).
 #if !defined(CANDELA_SRGB_SIGMOID_TABLE) || !defined(CANDELA_SRGB_SIGMOID_MD5)
 #error "CMakeLists.txt defines CANDELA_SRGB_SIGMOID_TABLE and CANDELA_SRGB_SIGMOID_MD5, the generated table's path and MD5"
 #endif
 
-asm(".pushsection .rodata, \"a\"\n"
-    ".balign 16\n"
-    ".globl candela_srgb_sigmoid_begin\n"
-    ".hidden candela_srgb_sigmoid_begin\n"
-    "candela_srgb_sigmoid_begin:\n"
-    ".incbin \"" CANDELA_SRGB_SIGMOID_TABLE
-    "\"\n"
-    ".globl candela_srgb_sigmoid_end\n"
-    ".hidden candela_srgb_sigmoid_end\n"
-    "candela_srgb_sigmoid_end:\n"
-    ".popsection\n");
-
-extern "C" {
-__attribute__((visibility("hidden"))) extern const unsigned char candela_srgb_sigmoid_begin[];
-__attribute__((visibility("hidden"))) extern const unsigned char candela_srgb_sigmoid_end[];
-}
+CANDELA_EMBED_FILE(candela_srgb_sigmoid, CANDELA_SRGB_SIGMOID_TABLE);
+CANDELA_EMBEDDED_FILE_SYMBOLS(candela_srgb_sigmoid)
 
 namespace candela {
 

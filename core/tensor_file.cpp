@@ -93,7 +93,17 @@ TensorFile::TensorFile(const std::string& path) : path_(path) {
     data_.resize(size_t(size));
     in.seekg(0);
     if (!in.read(reinterpret_cast<char*>(data_.data()), std::streamsize(size))) fail("cannot read the file");
+    parse();
+}
 
+TensorFile::TensorFile(std::string name, std::vector<uint8_t> bytes) : path_(std::move(name)), data_(std::move(bytes)) {
+    if (data_.size() < FileHeader)
+        fail("truncated: " + std::to_string(data_.size()) + " bytes, shorter than the 18-byte header of a tensor file");
+    parse();
+}
+
+void TensorFile::parse() {
+    const uint64_t size = data_.size();
     HeaderReader r(*this, data_);
     if (r.text(12, "the magic") != std::string("tensor_file", 12)) fail("not a tensor file (it does not start with \"tensor_file\")");
     unsigned major = unsigned(r.unsigned_int(1, "the version")), minor = unsigned(r.unsigned_int(1, "the version"));
@@ -159,6 +169,7 @@ std::vector<T> TensorFile::values(const std::string& name, TensorType type) cons
 }
 
 std::vector<float> TensorFile::floats(const std::string& name) const { return values<float>(name, TensorType::Float32); }
+std::vector<double> TensorFile::doubles(const std::string& name) const { return values<double>(name, TensorType::Float64); }
 std::vector<uint8_t> TensorFile::bytes(const std::string& name) const { return values<uint8_t>(name, TensorType::UInt8); }
 std::vector<uint16_t> TensorFile::uint16s(const std::string& name) const { return values<uint16_t>(name, TensorType::UInt16); }
 

@@ -39,6 +39,9 @@ class TensorFile {
 public:
     // Reads the whole file (its size checked against the memory budget first).
     explicit TensorFile(const std::string& path);
+    // The same from bytes already in memory (data compiled into the program); `name` stands for
+    // the path in error messages.
+    TensorFile(std::string name, std::vector<uint8_t> bytes);
 
     const std::string& path() const { return path_; }
     bool has_field(const std::string& name) const { return fields_.count(name) != 0; }
@@ -46,6 +49,8 @@ public:
     const TensorField& field(const std::string& name) const;
     // A float32 field's values; InputError when the field is missing or of another type.
     std::vector<float> floats(const std::string& name) const;
+    // A float64 field's values; InputError when the field is missing or of another type.
+    std::vector<double> doubles(const std::string& name) const;
     // A uint8 field's bytes; InputError when the field is missing or of another type.
     std::vector<uint8_t> bytes(const std::string& name) const;
     // A uint16 field's values; InputError when the field is missing or of another type.
@@ -57,6 +62,8 @@ public:
     [[noreturn]] void fail(const std::string& message) const;
 
 private:
+    // Reads the header from data_ and checks every field against the data's size.
+    void parse();
     // The values of field `name`, which must be of type `type` (T its C++ type).
     template <typename T>
     std::vector<T> values(const std::string& name, TensorType type) const;

@@ -100,21 +100,9 @@ public:
 
     // Flux through the scene's bounding disk: pi r^2 times the radiance integrated over the sphere.
     Spectrum power() const override { return integral_ * disk_.area(); }
-    // Light paths: a direction toward the map drawn as for next-event estimation (the light
-    // travels the opposite way), then a point on the bounding disk across it.
+    // Light paths: from the bounding disk along directions drawn as for next-event estimation.
     EmitterRay sample_ray(const Vec2& u_position, const Vec2& u_direction, Wavelengths* wavelengths) const override {
-        SurfaceInteraction center;
-        center.p = disk_.center;
-        center.wavelengths = wavelengths;
-        Spectrum radiance_over_pdf;
-        DirectionSample ds = sample_direction(center, u_direction, radiance_over_pdf);
-        EmitterRay r;
-        if (!(ds.pdf > 0.0f)) return r;
-        r.ray = disk_.ray(-ds.d, u_position);
-        r.pdf_position = 1.0f / disk_.area();
-        r.pdf_direction = ds.pdf;
-        r.weight = radiance_over_pdf * disk_.area();
-        return r;
+        return environment_ray(*this, disk_, u_position, u_direction, wavelengths);
     }
     // Local model: ambient radiance equal to the map's average over the sphere (reflections and
     // refractions still look the map up through eval_environment).

@@ -13,10 +13,11 @@ seeds) and the difference in units of the combined error. The batch image is com
 Mitsuba runs scalar_rgb; its folder is put on LD_LIBRARY_PATH. Without the peer the script says
 so and stops.
 """
-import argparse, os, subprocess, sys, tempfile
+import os, subprocess, sys, tempfile
 import numpy as np
 
 import candela
+from mitsuba_peer import peer_command_line, print_seed_means
 
 SCENE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "scenes", "meters.xml")
 
@@ -30,18 +31,9 @@ def relmse(a, b):
 
 
 def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--candela", default="build/candela")
-    ap.add_argument("--mitsuba", default="/tmp/mitsuba3/mitsuba")
-    ap.add_argument("--spp", type=int, default=65536)
-    ap.add_argument("--seeds", type=int, default=32)
-    ap.add_argument("--batch-spp", type=int, default=1024)
-    a = ap.parse_args()
-    if not (os.path.isfile(a.mitsuba) and os.access(a.mitsuba, os.X_OK)):
-        print(f"note: Mitsuba 3 not found at {a.mitsuba} (bench/peers/README.md says how to unpack the peer build)")
+    a, env = peer_command_line(spp=65536, seeds=32, add_arguments=lambda ap: ap.add_argument("--batch-spp", type=int, default=1024))
+    if env is None:
         return 0
-    env = dict(os.environ)
-    env["LD_LIBRARY_PATH"] = os.path.dirname(os.path.abspath(a.mitsuba)) + (":" + env["LD_LIBRARY_PATH"] if env.get("LD_LIBRARY_PATH") else "")
     tmp = tempfile.mkdtemp()
 
     def render(renderer, sensor, spp, seed):
@@ -57,15 +49,8 @@ def main():
 
     print(f"meters: {a.seeds} seeds x {a.spp} spp each; mean +- standard error per channel (R, G, B)")
     for sensor, name in ((0, "radiancemeter"), (1, "distant"), (3, "irradiancemeter")):
-        stats = {}
-        for renderer in ("candela", "mitsuba"):
-            values = np.array([render(renderer, sensor, a.spp, seed + 1).reshape(3) for seed in range(a.seeds)])
-            stats[renderer] = (values.mean(0), values.std(0, ddof=1) / np.sqrt(a.seeds))
-        (mc, ec), (mm, em) = stats["candela"], stats["mitsuba"]
-        z = (mc - mm) / np.sqrt(ec ** 2 + em ** 2)
-        fmt = lambda m, e: " ".join(f"{x:.5f}+-{y:.5f}" for x, y in zip(m, e))
-        print(f"{name:16s} candela {fmt(mc, ec)}")
-        print(f"{'':16s} mitsuba {fmt(mm, em)}   z {' '.join(f'{x:+.2f}' for x in z)}")
+        values = {r: np.array([render(r, sensor, a.spp, seed + 1).reshape(3) for seed in range(a.seeds)]) for r in ("candela", "mitsuba")}
+        print_seed_means(name, values["candela"], values["mitsuba"])
     images = {(r, s): render(r, 2, a.batch_spp, s) for r in ("candela", "mitsuba") for s in (1, 2)}
     print(f"batch (two cameras, 128 x 64, {a.batch_spp} spp): relMSE candela vs mitsuba "
           f"{relmse(images['candela', 1], images['mitsuba', 1]):.3e} and {relmse(images['candela', 2], images['mitsuba', 2]):.3e}; "
