@@ -58,8 +58,9 @@ public:
     // Radiance leaving the emitter toward the viewer at `si.wi_world()`: for area emitters `si`
     // is the surface hit; for infinite ones only the direction matters.
     virtual Spectrum eval(const SurfaceInteraction& si) const = 0;
-    // Radiance arriving along a ray that escaped the scene in direction `d` (infinite emitters).
-    virtual Spectrum eval_environment(const Vec3& d, const Wavelengths* wavelengths) const { return Spectrum(0.0f); }
+    // Radiance arriving along a ray that escaped the scene in direction `d` (infinite emitters), at
+    // the ray's time (an environment that changes over the shutter: timed_sunsky).
+    virtual Spectrum eval_environment(const Vec3& d, const Wavelengths* wavelengths, float time) const { return Spectrum(0.0f); }
     // eval_environment(d) and the pdf_direction() of direction `d` from `ref` together (MIS at a ray
     // that escaped): an emitter whose two share work (an environment map's coordinates of `d`)
     // overrides it to do that work once.
@@ -68,7 +69,7 @@ public:
         ds.d = d;
         ds.dist = Infinity;
         pdf = pdf_direction(ref, ds);
-        return eval_environment(d, ref.wavelengths);
+        return eval_environment(d, ref.wavelengths, ref.time);
     }
     // Emitted flux in W (approximate where exact is costly); used to pick lights.
     virtual Spectrum power() const = 0;

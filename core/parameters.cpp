@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "core/scene.h"
 
+#include <cmath>
 #include <map>
 #include <set>
 
@@ -11,6 +12,15 @@ namespace candela {
 void expose_float(ParameterVisitor& visitor, const std::string& name, float& value) {
     visitor.value(name, ParameterAccess{ParameterType::Float, [&value] { return std::vector<float>{value}; },
                                         [&value](const std::vector<float>& v) { value = v.at(0); }});
+}
+
+void expose_int(ParameterVisitor& visitor, const std::string& name, int& value) {
+    visitor.value(name, ParameterAccess{ParameterType::Float, [&value] { return std::vector<float>{float(value)}; },
+                                        [&value, name](const std::vector<float>& v) {
+                                            if (v.size() != 1 || !(v[0] == std::round(v[0])) || std::abs(v[0]) > 1e9f)
+                                                throw InputError(name + " must be a whole number");
+                                            value = int(v[0]);
+                                        }});
 }
 
 void expose_color(ParameterVisitor& visitor, const std::string& name, Spectrum& value) {

@@ -42,6 +42,8 @@ public:
 // Helpers for the common values kept as plain members (the member must outlive the visitor's
 // use of it: the scene's parameters live as long as the scene).
 void expose_float(ParameterVisitor& visitor, const std::string& name, float& value);
+// An integer as one float, which a write must give as a whole number (Mitsuba's integer parameters).
+void expose_int(ParameterVisitor& visitor, const std::string& name, int& value);
 void expose_color(ParameterVisitor& visitor, const std::string& name, Spectrum& value);
 // A transform as 16 numbers, row by row (Mitsuba's matrix order); singular ones are refused.
 void expose_transform(ParameterVisitor& visitor, const std::string& name, Transform& value);

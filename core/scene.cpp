@@ -152,9 +152,9 @@ Spectrum Scene::transmittance(const Ray& shadow_ray, const Medium* medium, PCG32
     }
 }
 
-Spectrum Scene::eval_environment(const Vec3& d, const Wavelengths* wavelengths) const {
+Spectrum Scene::eval_environment(const Vec3& d, const Wavelengths* wavelengths, float time) const {
     Spectrum L(0.0f);
-    for (const Emitter* e : infinite_emitters_) L += e->eval_environment(d, wavelengths);
+    for (const Emitter* e : infinite_emitters_) L += e->eval_environment(d, wavelengths, time);
     return L;
 }
 

@@ -55,7 +55,7 @@ public:
     const std::vector<Ref<Emitter>>& emitters() const { return emitters_; }
     const std::vector<const Emitter*>& infinite_emitters() const { return infinite_emitters_; }
     // Radiance from all infinite emitters along an escaped ray.
-    Spectrum eval_environment(const Vec3& d, const Wavelengths* wavelengths = nullptr) const;
+    Spectrum eval_environment(const Vec3& d, const Wavelengths* wavelengths = nullptr, float time = 0.0f) const;
 
     Sensor& sensor() const { return *sensor_; }
     // The scene file's sensors (1 for a scene that declares none: the default camera), and which

@@ -64,7 +64,7 @@ public:
             const bool first = crossed == 0;
             SurfaceInteraction si;
             if (!scene.intersect(ray, si)) {
-                if (!hide_emitters_) L += camera.contribute(beta * scene.eval_environment(ray.d, ray.wavelengths));
+                if (!hide_emitters_) L += camera.contribute(beta * scene.eval_environment(ray.d, ray.wavelengths, ray.time));
                 return L;
             }
             const BSDF& bsdf = *si.shape->bsdf();

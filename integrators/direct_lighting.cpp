@@ -104,7 +104,7 @@ Spectrum environment_mis(const Scene& scene, const LightSampler& lights, const S
     Spectrum L(0.0f);
     for (const Emitter* e : scene.infinite_emitters()) {
         if (from_delta) {
-            L += e->eval_environment(d, from.wavelengths);
+            L += e->eval_environment(d, from.wavelengths, from.time);
             continue;
         }
         float pdf = 0.0f;

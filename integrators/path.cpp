@@ -47,7 +47,7 @@ Spectrum PathIntegrator::sample_radiance(const Scene& scene, Sampler& sampler, c
     SurfaceInteraction si;
     if (!scene.intersect(ray, si)) {
         record.valid = environment_seen;
-        return settings_.hide_emitters ? Spectrum(0.0f) : camera.contribute(scene.eval_environment(ray.d, ray.wavelengths));
+        return settings_.hide_emitters ? Spectrum(0.0f) : camera.contribute(scene.eval_environment(ray.d, ray.wavelengths, ray.time));
     }
     record.record_first_hit(si);
     Spectrum L(0.0f);

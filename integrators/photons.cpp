@@ -30,7 +30,7 @@ GatherPoint walk_to_gather_point(const Scene& scene, Sampler& sampler, Ray ray, 
     int null_crossings = 0;
     for (++depth; within(depth);) {
         if (!scene.intersect(ray, si)) {
-            add_emission(scene.eval_environment(ray.d, ray.wavelengths), depth);
+            add_emission(scene.eval_environment(ray.d, ray.wavelengths, ray.time), depth);
             break;
         }
         if (const Emitter* e = si.shape->emitter()) add_emission(e->eval(si), depth);

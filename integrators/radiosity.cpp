@@ -190,7 +190,7 @@ public:
         PatchHit hit;
         if (!patches_->intersect(ray, si, hit)) {
             record.valid = !scene.infinite_emitters().empty();
-            return scene.eval_environment(ray.d, ray.wavelengths);
+            return scene.eval_environment(ray.d, ray.wavelengths, ray.time);
         }
         record.valid = true;
         record.record_first_hit(si);
@@ -230,7 +230,7 @@ private:
         Ray ray = si.spawn_ray(si.to_world(bs.wo));
         SurfaceInteraction y;
         PatchHit hit;
-        if (!patches_->intersect(ray, y, hit)) return delta ? L + bs.weight * scene.eval_environment(ray.d, ray.wavelengths) : L;
+        if (!patches_->intersect(ray, y, hit)) return delta ? L + bs.weight * scene.eval_environment(ray.d, ray.wavelengths, ray.time) : L;
         Spectrum incoming = hit.element < 0 ? Spectrum(0.0f) : InvPi * radiosity_at(solution_.reflected, hit, y);
         if (delta && y.shape->emitter()) incoming += y.shape->emitter()->eval(y);
         return L + bs.weight * incoming;

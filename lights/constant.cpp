@@ -30,7 +30,9 @@ public:
     }
 
     Spectrum eval(const SurfaceInteraction& si) const override { return emission_at(radiance_, measured_.get(), si.wavelengths); }
-    Spectrum eval_environment(const Vec3&, const Wavelengths* w) const override { return emission_at(radiance_, measured_.get(), w); }
+    Spectrum eval_environment(const Vec3&, const Wavelengths* w, float) const override {
+        return emission_at(radiance_, measured_.get(), w);
+    }
 
     DirectionSample sample_direction(const SurfaceInteraction& ref, const Vec2& u, Spectrum& weight) const override {
         DirectionSample ds;

@@ -62,10 +62,10 @@ public:
     }
 
     // In the spectral variant the interpolated colour's emission spectrum (unbounded, times D65).
-    Spectrum eval_environment(const Vec3& d, const Wavelengths* w) const override {
+    Spectrum eval_environment(const Vec3& d, const Wavelengths* w, float) const override {
         return rgb_at_wavelengths(lookup(map_direction(d).uv), SpectrumRole::Emission, w);
     }
-    Spectrum eval(const SurfaceInteraction& si) const override { return eval_environment(-si.wi_world(), si.wavelengths); }
+    Spectrum eval(const SurfaceInteraction& si) const override { return eval_environment(-si.wi_world(), si.wavelengths, si.time); }
 
     DirectionSample sample_direction(const SurfaceInteraction& ref, const Vec2& u, Spectrum& weight) const override {
         DirectionSample ds;

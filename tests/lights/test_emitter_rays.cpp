@@ -237,7 +237,7 @@ TEST_CASE("emitter rays: directional, constant and envmap light enters through t
     m.position = [&](const EmitterRay& r) { return disk_coordinates(*envmap, r); };
     m.consistent = [&](const EmitterRay& r) {
         return close(r.pdf_direction, env_pdf(r.ray.d)) && on_disk_plane(*envmap, r) &&
-               close(r.weight.y, env.eval_environment(-r.ray.d, nullptr).y / r.pdf_direction * (1.0 / r.pdf_position));
+               close(r.weight.y, env.eval_environment(-r.ray.d, nullptr, 0.0f).y / r.pdf_direction * (1.0 / r.pdf_position));
     };
     m.power_allowance = 2e-3;  // power() integrates the bilinear map by the midpoint rule
     check_rays("envmap", env, m, 7);

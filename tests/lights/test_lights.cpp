@@ -20,9 +20,9 @@ using namespace candela::test;
 
 namespace {
 
-// The statistical tests of this file: 7 irradiance z-tests, 1 on the error bars' N^-1/2, 11
+// The statistical tests of this file: 7 irradiance z-tests, 1 on the error bars' N^-1/2, 12
 // emitter chi-squares and 2 solid-angle z-tests with 2 uv chi-squares, 5 + 3 light-tree chi-squares, 2 strategy z-tests.
-constexpr int LightTests = 33;
+constexpr int LightTests = 34;
 const double Alpha = sidak(0.01, LightTests);
 
 Ref<Scene> scene_from(const std::string& body) { return load_scene_xml("lights", body); }
@@ -288,6 +288,10 @@ TEST_CASE("emitters: sampling matches pdf_direction for every kind of light", "[
         R"(<emitter type="sunsky"><float name="sun_scale" value="0"/><vector name="sun_direction" x="0.5" y="0.1" z="0.3"/>
                               <transform name="to_world"><rotate x="1" angle="-90"/></transform></emitter>)",
         Vec3(0.0f), 13);
+    check_emitter_sampling("timed sun and sky, the sky",
+                           R"(<emitter type="timed_sunsky"><float name="sun_scale" value="0"/><float name="window_start_time" value="11"/>
+                              <transform name="to_world"><rotate x="1" angle="-90"/></transform></emitter>)",
+                           Vec3(0.0f), 14);
 }
 
 namespace {

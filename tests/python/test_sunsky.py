@@ -66,3 +66,24 @@ def test_invalid_values_are_refused():
         sky_scene([0, 0, 1], turbidity=0.5)
     with pytest.raises(Exception, match="sun_direction and a time"):
         sky_scene([0, 0, 1], sun_direction=[0, 0, 1], hour=9.0)
+
+
+def test_timed_sunsky_changes_over_the_shutter():
+    # Ten days from 2025-03-01, 7:00 to 19:00 each, over a sensor shutter of [0, 1]: a meter
+    # aimed at the zenith reads the sky at the instant its shutter gives (night at the window's
+    # end, day in between); its parameters are listed under Mitsuba's names.
+    def reading(time):
+        film = {"type": "hdrfilm", "width": 1, "height": 1, "rfilter": {"type": "box"}, "component_format": "float32"}
+        sensor = {"type": "radiancemeter", "origin": [0, 0, 0], "direction": [0, 0, 1], "film": film,
+                  "shutter_open": time, "shutter_close": time}
+        scene = mi.load_dict({"type": "scene", "integrator": {"type": "path"}, "meter": sensor,
+                              "sky": {"type": "timed_sunsky", "start_year": 2025, "start_month": 3, "end_year": 2025,
+                                      "end_month": 3, "end_day": 11, "latitude": 46.5, "longitude": 6.6, "timezone": 1.0}})
+        return scene, mi.render(scene, spp=1)[0, 0]
+
+    scene, noon = reading(0.04)  # day 0, 7:00 + 12 h x 0.4 = 11:48
+    _, evening = reading(0.0999)  # day 0, 18:59: the sun has set
+    assert np.all(noon > 0) and np.all(evening == 0)
+    params = mi.traverse(scene)
+    for key in ("sky.window_start_time", "sky.window_end_time", "sky.start_year", "sky.end_day", "sky.latitude", "sky.turbidity"):
+        assert key in params
