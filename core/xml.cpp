@@ -304,7 +304,9 @@ private:
         if (child.type() != pugi::node_element) return;
         std::string tag = child.name();
         auto kind = object_tags().find(tag);
-        if (kind != object_tags().end()) {
+        if (kind != object_tags().end() && kind->second == ObjectKind::Shape && attr_or(doc, child, "type", "") == "merge") {
+            read_merge(doc, child, props, in_scene);
+        } else if (kind != object_tags().end()) {
             Ref<Object> obj = read_object(doc, child, kind->second);
             std::string name = has_attr(child, "name") ? property_name(doc, child) : next_arg_name();
             props.set_object(name, obj, where(doc, child));
@@ -344,6 +346,21 @@ private:
             throw SceneError(where(doc, child), "unknown element <resource_path> (Mitsuba 3 calls it <path value=\"...\"/>)");
         } else {
             read_property(doc, child, props);
+        }
+    }
+
+    // <shape type="merge">: Mitsuba 3's merge shape joins the meshes it holds that share a BSDF,
+    // media, emitter and sensor into one mesh, to save memory and BVH work, and passes its other
+    // shapes through; no pixel changes. Candela takes every shape it holds (nested merges too) as
+    // the scene's own, written in its place. It holds shapes only and sits directly in <scene>;
+    // its id names nothing.
+    void read_merge(Document& doc, const pugi::xml_node& node, Properties& scene_props, bool in_scene) {
+        check_attributes(doc, node, {"type", "id", "name"});
+        if (!in_scene) throw SceneError(where(doc, node), "a merge shape must be directly inside <scene>");
+        for (pugi::xml_node child : node.children()) {
+            const bool shape = child.type() != pugi::node_element || std::strcmp(child.name(), "shape") == 0;
+            if (!shape) throw SceneError(where(doc, child), std::string("a merge shape holds shapes only, not <") + child.name() + ">");
+            read_child(doc, child, scene_props, /*in_scene=*/true, 0);
         }
     }
 

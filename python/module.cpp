@@ -106,8 +106,10 @@ SceneHandle load_string(const std::string& xml, const std::string& virtual_path,
     return without_gil([&] { return SceneHandle{load_scene_from_string(xml, virtual_path, string_map(params), v, sensor)}; });
 }
 
-// The XML tag of a plugin type ("diffuse" -> "bsdf"), or None.
+// The XML tag of a plugin type ("diffuse" -> "bsdf"), or None. "merge" is a shape the loader
+// expands (core/xml.cpp), not a registered plugin.
 py::object plugin_tag(const std::string& type) {
+    if (type == "merge") return py::str("shape");
     for (ObjectKind kind :
          {ObjectKind::Shape, ObjectKind::BSDF, ObjectKind::Emitter, ObjectKind::Texture, ObjectKind::Sensor, ObjectKind::Film,
           ObjectKind::Filter, ObjectKind::Sampler, ObjectKind::Integrator, ObjectKind::Medium, ObjectKind::Phase, ObjectKind::Volume}) {

@@ -260,3 +260,32 @@ TEST_CASE("xml: a confined file resolver finds nothing outside its folders, thro
     FileResolver::confine_to({});
     CHECK_NOTHROW(load_scene((dir / "inside" / "scene.xml").string()));
 }
+
+TEST_CASE("xml: a merge shape's shapes are the scene's own, nested merges too, and it holds shapes only", "[xml][merge]") {
+    // Mitsuba 3.8's merge joins meshes and changes no pixel: the scene with merges renders the
+    // image of the same shapes written at the top level, bit for bit.
+    const std::string camera =
+        R"(<sensor type="perspective"><transform name="to_world"><lookat origin="0, 1, 6" target="0, 0, 0" up="0, 1, 0"/>
+        </transform><sampler type="independent"><integer name="sample_count" value="4"/></sampler>
+        <film type="hdrfilm"><integer name="width" value="24"/><integer name="height" value="16"/></film></sensor>
+        <emitter type="constant"/>)";
+    const std::string a = R"(<shape type="cube"><transform name="to_world"><translate x="-1.5"/></transform></shape>)";
+    const std::string b = R"(<shape type="sphere"><bsdf type="roughconductor"/></shape>)";
+    const std::string c = R"(<shape type="rectangle" id="floor"><transform name="to_world"><scale value="4"/><rotate x="1" angle="-90"/>
+        <translate y="-1"/></transform></shape>)";
+    Ref<Scene> flat = load(scene_xml(camera + a + b + c));
+    Ref<Scene> merged =
+        load(scene_xml(camera + "<shape type=\"merge\" id=\"all\">" + a + "<shape type=\"merge\">" + b + "</shape>" + c + "</shape>"));
+    REQUIRE(merged->shapes().size() == flat->shapes().size());
+    RenderOptions options;
+    options.threads = 2;
+    const Image one = flat->integrator().render(*flat, options).image, two = merged->integrator().render(*merged, options).image;
+    CHECK(one.data() == two.data());
+
+    SceneError e = load_error(scene_xml("<shape type=\"merge\">\n<bsdf type=\"diffuse\"/></shape>"));
+    CHECK_THAT(e.message(), Catch::Contains("holds shapes only, not <bsdf>"));
+    CHECK(e.location.line == 3);
+    e = load_error(scene_xml("<shape type=\"instance\">\n<shape type=\"merge\"/></shape>"));
+    CHECK_THAT(e.message(), Catch::Contains("directly inside <scene>"));
+    CHECK(e.location.line == 3);
+}

@@ -143,3 +143,15 @@ def test_load_dict_of_a_single_plugin_is_a_checked_plugin():
     assert isinstance(candela.load_dict(d), candela.Scene)
     with pytest.raises(candela.SceneError, match="max_depth"):
         candela.load_dict({"type": "path", "max_depth": "deep"})
+
+
+def test_a_merge_dictionary_adds_its_shapes_to_the_scene():
+    # Mitsuba 3.8's merge shape, as scripts write it: its shapes are the scene's own, and the
+    # image is the one of the same shapes written at the top level, bit for bit.
+    shapes = {"a": {"type": "sphere"}, "b": {"type": "cube", "to_world": candela.mitsuba.ScalarTransform4f().translate([2, 0, 0])}}
+    base = {"type": "scene", "sky": {"type": "constant"},
+            "camera": {"type": "perspective", "to_world": candela.mitsuba.ScalarTransform4f().look_at(origin=[0, 0, 6], target=[1, 0, 0], up=[0, 1, 0]),
+                       "film": {"type": "hdrfilm", "width": 16, "height": 12}}}
+    flat = candela.load_dict({**base, **shapes})
+    merged = candela.load_dict({**base, "merged": {"type": "merge", **shapes}})
+    np.testing.assert_array_equal(render_pixels(flat), render_pixels(merged))
