@@ -88,7 +88,6 @@ TensorFile::TensorFile(const std::string& path) : path_(path) {
     std::streamoff end = in.tellg();
     if (end < 0) fail("cannot read the file's size");
     uint64_t size = uint64_t(end);
-    if (size < FileHeader) fail("truncated: " + std::to_string(size) + " bytes, shorter than the 18-byte header of a tensor file");
     check_memory(size, "the tensor file \"" + path + "\"");
     data_.resize(size_t(size));
     in.seekg(0);
@@ -96,14 +95,11 @@ TensorFile::TensorFile(const std::string& path) : path_(path) {
     parse();
 }
 
-TensorFile::TensorFile(std::string name, std::vector<uint8_t> bytes) : path_(std::move(name)), data_(std::move(bytes)) {
-    if (data_.size() < FileHeader)
-        fail("truncated: " + std::to_string(data_.size()) + " bytes, shorter than the 18-byte header of a tensor file");
-    parse();
-}
+TensorFile::TensorFile(std::string name, std::vector<uint8_t> bytes) : path_(std::move(name)), data_(std::move(bytes)) { parse(); }
 
 void TensorFile::parse() {
     const uint64_t size = data_.size();
+    if (size < FileHeader) fail("truncated: " + std::to_string(size) + " bytes, shorter than the 18-byte header of a tensor file");
     HeaderReader r(*this, data_);
     if (r.text(12, "the magic") != std::string("tensor_file", 12)) fail("not a tensor file (it does not start with \"tensor_file\")");
     unsigned major = unsigned(r.unsigned_int(1, "the version")), minor = unsigned(r.unsigned_int(1, "the version"));

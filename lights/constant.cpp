@@ -24,10 +24,7 @@ public:
         measured_ = props.measured_spectrum("radiance");
     }
 
-    void set_scene(const Scene& scene) override {
-        disk_.center = scene.bbox().valid() ? scene.bbox().center() : Vec3(0.0f);
-        disk_.radius = std::max(scene.bbox().bounding_radius(), 1e-3f);
-    }
+    void set_scene(const Scene& scene) override { disk_ = SceneDisk::around(scene.bbox()); }
 
     Spectrum eval(const SurfaceInteraction& si) const override { return emission_at(radiance_, measured_.get(), si.wavelengths); }
     Spectrum eval_environment(const Vec3&, const Wavelengths* w, float) const override {

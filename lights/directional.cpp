@@ -26,10 +26,7 @@ public:
         direction_ = glm::normalize(d);
     }
 
-    void set_scene(const Scene& scene) override {
-        disk_.center = scene.bbox().valid() ? scene.bbox().center() : Vec3(0.0f);
-        disk_.radius = std::max(scene.bbox().bounding_radius(), 1e-3f);
-    }
+    void set_scene(const Scene& scene) override { disk_ = SceneDisk::around(scene.bbox()); }
 
     DirectionSample sample_direction(const SurfaceInteraction& ref, const Vec2&, Spectrum& weight) const override {
         DirectionSample ds;

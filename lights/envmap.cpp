@@ -56,10 +56,7 @@ public:
         build_distribution();
     }
 
-    void set_scene(const Scene& scene) override {
-        disk_.center = scene.bbox().valid() ? scene.bbox().center() : Vec3(0.0f);
-        disk_.radius = std::max(scene.bbox().bounding_radius(), 1e-3f);
-    }
+    void set_scene(const Scene& scene) override { disk_ = SceneDisk::around(scene.bbox()); }
 
     // In the spectral variant the interpolated colour's emission spectrum (unbounded, times D65).
     Spectrum eval_environment(const Vec3& d, const Wavelengths* w, float) const override {

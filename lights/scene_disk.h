@@ -14,6 +14,12 @@ struct SceneDisk {
     Vec3 center{0.0f};
     float radius = 1.0f;
 
+    // The disk of a scene's bounds: centred on them (the origin when there are none), with their
+    // bounding radius (at least 1e-3).
+    static SceneDisk around(const BoundingBox& bounds) {
+        return {bounds.valid() ? bounds.center() : Vec3(0.0f), std::max(bounds.bounding_radius(), 1e-3f)};
+    }
+
     float area() const { return Pi * radius * radius; }
     // The ray along unit direction d from the disk point picked by u.
     Ray ray(const Vec3& d, const Vec2& u) const {

@@ -207,11 +207,7 @@ private:
         sky_distribution_ = Distribution2D(weights, Azimuths, Cosines);
         const Spectrum sky_integral = Spectrum(float(integral[0]), float(integral[1]), float(integral[2]));
 
-        // The sun: its radiance at the disk's centre times its solid angle.
-        Spectrum sun_integral(0.0f);
-        if (state_.up)
-            sun_integral = (model_->radiance(state_, state_.sun, true, nullptr) - model_->radiance(state_, state_.sun, false, nullptr)) *
-                           float(model_->sun_solid_angle());
+        const Spectrum sun_integral = model_->sun_integral(state_);
         radiance_integral_ = sky_integral + sun_integral;
         const float sky_power = std::max(luminance(sky_integral), 0.0f), sun_power = std::max(luminance(sun_integral), 0.0f);
         if (sun_power <= 0.0f)

@@ -113,6 +113,11 @@ std::vector<double> to_doubles(const std::vector<float>& v) { return std::vector
 
 }  // namespace
 
+int julian_day(int year, int month, int day) {
+    int a = (month - 14) / 12;
+    return (1461 * (year + 4800 + a)) / 4 + (367 * (month - 2 - 12 * a)) / 12 - (3 * ((year + 4900 + a) / 100)) / 4 + day - 32075;
+}
+
 // The PSA algorithm (Blanco-Muriel et al., "Computing the solar vector", Solar Energy 70(5),
 // 2001), in single precision as Mitsuba's scalar variants compute it: the Julian date then rounds
 // to a quarter day, which moves only the slow terms (the daily rotation comes from the hours
@@ -122,11 +127,8 @@ Vec3 sun_direction_at(const SunRecord& r) {
     using std::cos, std::sin;
     const float pi = 3.14159265358979323846f;
     float hours_ut = r.hour - r.timezone + (r.minute + r.second / 60.0f) / 60.0f;
-    // Julian day number (integer arithmetic, truncating division), then days since 2000-01-01 12:00 UT.
-    int a = (r.month - 14) / 12;
-    int jdn =
-        (1461 * (r.year + 4800 + a)) / 4 + (367 * (r.month - 2 - 12 * a)) / 12 - (3 * ((r.year + 4900 + a) / 100)) / 4 + r.day - 32075;
-    float n = (float(jdn) - 0.5f + hours_ut / 24.0f) - 2451545.0f;
+    // Days since 2000-01-01 12:00 UT.
+    float n = (float(julian_day(r.year, r.month, r.day)) - 0.5f + hours_ut / 24.0f) - 2451545.0f;
     // Ecliptic coordinates.
     float omega = 2.1429f - 0.0010394594f * n;
     float mean_longitude = 4.8950630f + 0.017202791698f * n;
@@ -230,6 +232,7 @@ SunskyModel::SunskyModel(const SunskySettings& settings) : settings_(settings) {
 void SunskyModel::state_at(const Vec3& sun_local, SunskyState& state) const {
     state.sun = sun_local;
     const double eta = 0.5 * PiD - double(unit_angle(sun_local, Vec3(0.0f, 0.0f, 1.0f)));
+    state.elevation = eta;
     state.up = eta >= 0.0;
     bezier(sky_rgb_, 3, eta, &state.sky_rgb[0][0]);
     bezier(sky_spectral_, SunskyWavelengths, eta, &state.sky_spectral[0][0]);
@@ -284,9 +287,8 @@ Spectrum SunskyModel::radiance(const SunskyState& state, const Vec3& local, bool
 
 float SunskyModel::sun_share(const SunskyState& state) const {
     if (!state.up) return 0.0f;
-    const double eta = 0.5 * PiD - double(unit_angle(state.sun, Vec3(0.0f, 0.0f, 1.0f)));
-    const int i0 = irradiance_row(eta);
-    const double w = irradiance_weight(eta, i0);
+    const int i0 = irradiance_row(state.elevation);
+    const double w = irradiance_weight(state.elevation, i0);
     double sun[SunskyWavelengths], sky[SunskyWavelengths];
     for (int i = 0; i < SunskyWavelengths; ++i) {
         size_t a = size_t(i0) * SunskyWavelengths + i, b = a + SunskyWavelengths;
@@ -295,6 +297,12 @@ float SunskyModel::sun_share(const SunskyState& state) const {
     }
     const double sun_y = settings_.sun_scale * model_spectrum_xyz(sun).y, sky_y = settings_.sky_scale * model_spectrum_xyz(sky).y;
     return sun_y + sky_y > 0.0 ? float(sun_y / (sun_y + sky_y)) : 0.0f;
+}
+
+Spectrum SunskyModel::sun_integral(const SunskyState& state) const {
+    if (!state.up || settings_.sun_scale == 0.0f) return Spectrum(0.0f);
+    const Spectrum centre = settings_.complex_sun ? complex_sun_rgb(state.sun, 0.0f) : state.sun_rgb;
+    return centre * float(sun_solid_angle_);
 }
 
 double SunskyModel::cos_psi(float gamma) const {
@@ -355,10 +363,7 @@ void SunskyEmitterBase::update() {
     update_sun();
 }
 
-void SunskyEmitterBase::set_scene(const Scene& scene) {
-    disk_.center = scene.bbox().valid() ? scene.bbox().center() : Vec3(0.0f);
-    disk_.radius = std::max(scene.bbox().bounding_radius(), 1e-3f);
-}
+void SunskyEmitterBase::set_scene(const Scene& scene) { disk_ = SceneDisk::around(scene.bbox()); }
 
 std::optional<LocalApproximation> SunskyEmitterBase::local_approximation() const {
     LocalApproximation a;

@@ -27,6 +27,10 @@ struct SunRecord {
     float hour = 15.0f, minute = 0.0f, second = 0.0f;
 };
 
+// The Julian day number of a calendar date (Fliegel and Van Flandern's integer formula, with
+// truncating division; a day past the month's end counts on into the next month).
+int julian_day(int year, int month, int day);
+
 // The direction toward the sun at a date, time and place, in the emitter's frame (+z the zenith,
 // +x south, -y east; Mitsuba's convention).
 Vec3 sun_direction_at(const SunRecord& record);
@@ -49,6 +53,7 @@ struct SunskySettings {
 // The model finished for one sun position: what depends on the sun's elevation.
 struct SunskyState {
     Vec3 sun{0.0f, 0.0f, 1.0f};  // toward the sun, local
+    double elevation = 0.0;      // of the sun, radians
     bool up = false;             // above the horizon: else everything is black
     // The sky's nine coefficients (A B C D E F G I H) and mean radiance L_M, per RGB channel and
     // per model wavelength.
@@ -64,7 +69,6 @@ public:
     // InputError for settings out of range.
     explicit SunskyModel(const SunskySettings& settings);
 
-    const SunskySettings& settings() const { return settings_; }
     void state_at(const Vec3& sun_local, SunskyState& state) const;
     // Radiance toward unit local direction `local`: the sky's, plus the sun's when `in_sun`. At
     // the path's wavelengths in the spectral variant.
@@ -75,6 +79,8 @@ public:
     // The sun's share of the luminous irradiance a surface facing it receives, from the model's
     // irradiance tables (sun_scale and sky_scale applied): for choosing between sun and sky.
     float sun_share(const SunskyState& state) const;
+    // The sun's radiance integrated over its disk, taken as its centre's (RGB).
+    Spectrum sun_integral(const SunskyState& state) const;
 
 private:
     Spectrum complex_sun_rgb(const Vec3& local, float gamma) const;

@@ -43,12 +43,6 @@ namespace {
 constexpr float AureoleCosine = 0.96592582628f;  // cos(15 degrees)
 constexpr float FloatEpsilon = 0x1p-24f;         // Mitsuba's dr::Epsilon<float>
 
-// Days from the Julian day number of a calendar date (truncating integer arithmetic).
-int julian_day(int year, int month, int day) {
-    int a = (month - 14) / 12;
-    return (1461 * (year + 4800 + a)) / 4 + (367 * (month - 2 - 12 * a)) / 12 - (3 * ((year + 4900 + a) / 100)) / 4 + day - 32075;
-}
-
 }  // namespace
 
 class TimedSunskyEmitter final : public SunskyEmitterBase {
@@ -191,8 +185,7 @@ private:
                     float sin_theta = safe_sqrt(1.0f - cos_theta * cos_theta);
                     sky += model_->radiance(state, Vec3(sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta), false, nullptr);
                 }
-            Spectrum sun = model_->radiance(state, state.sun, true, nullptr) - model_->radiance(state, state.sun, false, nullptr);
-            total += sky * (TwoPi / float(Azimuths * Cosines)) + sun * float(model_->sun_solid_angle());
+            total += sky * (TwoPi / float(Azimuths * Cosines)) + model_->sun_integral(state);
         }
         return total / float(Times);
     }
