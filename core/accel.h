@@ -57,8 +57,8 @@ public:
 private:
     static bool memory_monitor(void* self, ssize_t bytes, bool post);
     // Embree takes ray times in [0, 1] only (its assertions stop the program otherwise). Rays of
-    // camera paths carry times within the shutter; a ray made without one (time 0, a light
-    // path's) in a scene whose shutter opens later takes the nearest instant of the shutter.
+    // camera and light paths carry times within the shutter; a ray made without one (time 0)
+    // in a scene whose shutter opens later takes the nearest instant of the shutter.
     // Inline: every query asks it.
     float embree_time(float time) const { return std::clamp(time_(time), 0.0f, 1.0f); }
 

@@ -76,7 +76,9 @@ public:
     // A ray leaving the emitter: the origin from `u_position`, the direction from `u_direction`.
     // A failed sample is not valid().
     // `wavelengths`: the light path's, in the spectral variant (null in RGB): the weight is at them.
-    virtual EmitterRay sample_ray(const Vec2& u_position, const Vec2& u_direction, Wavelengths* wavelengths) const = 0;
+    // `time`: the light path's shutter time (Mitsuba's sample_ray(time, ...)): a moving emitter
+    // takes its pose then. The returned ray's own time is the caller's to set.
+    virtual EmitterRay sample_ray(const Vec2& u_position, const Vec2& u_direction, Wavelengths* wavelengths, float time) const = 0;
     // The factor on the flux of a sample_ray ray where it first meets a surface at distance
     // `dist`: 1 for physical emitters; point and spot lights with the lecture's distance
     // attenuation give d^2 / (a0 + a1 d + a2 d^2), the ratio of their law to the inverse square.

@@ -464,7 +464,7 @@ void Integrator::refuse_unrendered_media(const Scene& scene) const {
 void Integrator::refuse_unrendered_motion(const Scene& scene) const {
     if (!scene.is_animated() || renders_motion()) return;
     throw SceneError(scene.motion_location(), "this animated to_world (motion blur) is not rendered by the " + to_string() +
-                                                  " integrator: render the scene with path, volpath or direct");
+                                                  " integrator: render the scene with path, volpath, direct or ptracer");
 }
 
 RenderResult SamplingIntegrator::render(const Scene& scene, const RenderOptions& options) {

@@ -83,10 +83,11 @@ public:
     // weight): 1 for cameras and radiance meters; pi for the irradiance meter, whose rays are
     // cosine-distributed, so that pi L estimates the irradiance.
     virtual float sample_weight(const Vec2& film_pos) const { return 1.0f; }
-    // The connection from world point `ref` to the sensor; `aperture_u` picks the lens point of
+    // The connection from world point `ref` to the sensor at shutter time `time` (an animated
+    // camera takes its pose then, as sample_ray does); `aperture_u` picks the lens point of
     // cameras with a lens. pdf 0 when `ref` is outside the view or the clip range, and always
     // for sensors that light paths cannot reach (see reached_by_light_paths).
-    virtual SensorSample sample_direction(const Vec3& ref, const Vec2& aperture_u) const { return SensorSample(); }
+    virtual SensorSample sample_direction(const Vec3& ref, const Vec2& aperture_u, float time) const { return SensorSample(); }
     // Whether light paths can connect to the sensor (the particle tracer's condition): false for
     // a radiance meter or a distant sensor (a delta in both position and direction) and for a
     // batch of sensors.
@@ -110,8 +111,10 @@ public:
         sampler_ = std::move(sampler);
         sampler_->set_film(film_->full_size(), film_sampled_border(*film_));
     }
-    // The camera's pose at the shutter's opening (the rasterizer's, and the light tracers').
+    // The camera's pose at the shutter's opening (the rasterizer's).
     const Transform& to_world() const { return to_world_; }
+    // Its pose at shutter time `time` (to_world() when it does not move): a light path's.
+    virtual Transform pose_at(float time) const { return to_world_; }
     // Whether the camera's to_world is animated (<animation name="to_world">).
     virtual bool is_animated() const { return false; }
     virtual SourceLocation motion_location() const { return {}; }

@@ -44,9 +44,13 @@ LightPathTracer::LightPathTracer(const Scene& scene, int max_hits, int rr_depth)
 bool LightPathTracer::start(PCG32& rng, LightPathStart& s) const {
     float u_pick = rng.next_float();
     const Vec2 u_position = next_vec2(rng), u_direction = next_vec2(rng);
+    const Sensor& sensor = scene_.sensor();
+    const float time = sensor.shutter_open_time() > 0.0f ? sensor.sample_time(rng.next_float()) : sensor.shutter_open();
     s.emitter = lights_->sample(SurfaceInteraction(), u_pick, s.pick_prob);
     if (!s.emitter || !(s.pick_prob > 0.0f)) return false;
-    s.ray = s.emitter->sample_ray(u_position, u_direction, s.wavelengths);
+    s.time = time;
+    s.ray = s.emitter->sample_ray(u_position, u_direction, s.wavelengths, time);
+    s.ray.ray.time = time;
     if (!s.ray.valid() || is_black(s.ray.weight) || !all_finite(s.ray.weight)) return false;
     s.beta = s.ray.weight / s.pick_prob;
     return true;

@@ -36,6 +36,8 @@ struct LightVertex {
 
 // Where a light path starts: an emitter picked by power and a ray it emits.
 struct LightPathStart {
+    // The path's shutter time: the emitter's pose, and every ray of the path, take it.
+    float time = 0.0f;
     const Emitter* emitter = nullptr;
     float pick_prob = 0.0f;
     EmitterRay ray;
@@ -77,7 +79,9 @@ public:
     // `rr_depth` segments on, with probability min(throughput / emitted weight, 0.95).
     LightPathTracer(const Scene& scene, int max_hits, int rr_depth);
 
-    // Picks an emitter (by power) and one of its rays; false when the sample carries nothing.
+    // Picks an emitter (by power), a shutter time (uniform over the sensor's shutter, as a camera
+    // sample's; its opening when the shutter is closed, drawing nothing) and one of the emitter's
+    // rays at that time; false when the sample carries nothing.
     bool start(PCG32& rng, LightPathStart& start) const;
     // Follows a path from its start: visit(const LightVertex&) runs at each surface hit; the
     // path ends where visit returns false, after max_hits hits, or by absorption or roulette.
@@ -104,6 +108,7 @@ void LightPathTracer::follow(PCG32& rng, const LightPathStart& start, Visit&& vi
     origin.p_error = start.ray.p_error;
     origin.n = start.ray.n;
     origin.wavelengths = start.wavelengths;
+    origin.time = start.time;
     Ray ray = start.ray.n == Vec3(0.0f) ? start.ray.ray : origin.spawn_ray(start.ray.ray.d);
     ray.wavelengths = start.wavelengths;
     Spectrum beta = start.beta;

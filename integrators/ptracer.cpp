@@ -23,6 +23,10 @@
 // single direction, shows environments black, as in Mitsuba). `directionalarea` lights work
 // as in Mitsuba's ptracer: their beams are traced, and they are black to the eye.
 //
+// Motion blur: each light path is traced at one shutter time, uniform over the sensor's shutter
+// (Mitsuba's ptracer draws it the same way): moving shapes, emitters and cameras take their poses
+// then, and timed_sunsky its sun.
+//
 // In scalar_spectral_polarized a light path carries the Stokes vector of its light (emitted
 // unpolarised; each BSDF's Mueller matrix with the directions swapped, Mitsuba's importance
 // transport), and a connection splats the S0 of what leaves toward the sensor.
@@ -73,6 +77,9 @@ public:
     }
 
     RenderResult render(const Scene& scene, const RenderOptions& options) override;
+    // Each light path takes its own shutter time (LightPathTracer::start), and its emitter, its
+    // rays and its connections to the sensor their poses then.
+    bool renders_motion() const override { return true; }
     std::string to_string() const override { return "ptracer"; }
     std::string parts_refusal() const override {
         return "its samples are light paths that splat onto whichever pixels they reach, not sample indices of pixels";
@@ -119,9 +126,10 @@ void ParticleTracerIntegrator::trace_path(const LightPathTracer& tracer, PCG32& 
 // sensor's weight.
 void ParticleTracerIntegrator::connect_area_emitter(const Scene& scene, const LightPathStart& start, PCG32& rng, ChunkSplats& out) const {
     Vec2 u = next_vec2(rng);
-    SensorSample ss = scene.sensor().sample_direction(start.ray.ray.o, u);
+    SensorSample ss = scene.sensor().sample_direction(start.ray.ray.o, u, start.time);
     if (!(ss.pdf > 0.0f)) return;
     SurfaceInteraction si;
+    si.time = start.time;
     si.p = start.ray.ray.o;
     si.p_error = start.ray.p_error;
     si.n = start.ray.n;
@@ -144,15 +152,18 @@ void ParticleTracerIntegrator::connect_area_emitter(const Scene& scene, const Li
 void ParticleTracerIntegrator::connect_environment(const Scene& scene, const LightPathStart& start, PCG32& rng, ChunkSplats& out) const {
     const Vec2 u_dir = next_vec2(rng), u_lens = next_vec2(rng);
     SurfaceInteraction eye;
-    eye.p = scene.sensor().to_world().apply_point(Vec3(0.0f));
+    eye.p = scene.sensor().pose_at(start.time).apply_point(Vec3(0.0f));
     eye.wavelengths = start.wavelengths;
+    eye.time = start.time;
     Spectrum radiance_over_pdf;
     DirectionSample ds = start.emitter->sample_direction(eye, u_dir, radiance_over_pdf);
     if (!(ds.pdf > 0.0f) || is_black(radiance_over_pdf)) return;
     float far = 1e3f * (glm::length(eye.p - scene.bbox().center()) + scene.bbox().bounding_radius() + 1.0f);
-    SensorSample ss = scene.sensor().sample_direction(eye.p + ds.d * far, u_lens);
+    SensorSample ss = scene.sensor().sample_direction(eye.p + ds.d * far, u_lens, start.time);
     if (!(ss.pdf > 0.0f)) return;
-    if (scene.occluded(Ray(ss.p, -ss.d))) return;  // the camera ray must escape
+    Ray camera_ray(ss.p, -ss.d);
+    camera_ray.time = start.time;
+    if (scene.occluded(camera_ray)) return;  // the camera ray must escape
     splat(scene, ss.film_pos, radiance_over_pdf * (far * far * ss.weight / start.pick_prob), start.wavelengths, out);
 }
 
@@ -160,7 +171,7 @@ void ParticleTracerIntegrator::connect_environment(const Scene& scene, const Lig
 // sensor's weight.
 void ParticleTracerIntegrator::connect_vertex(const Scene& scene, const LightVertex& v, PCG32& rng, ChunkSplats& out) const {
     Vec2 u = next_vec2(rng);
-    SensorSample ss = scene.sensor().sample_direction(v.si->p, u);
+    SensorSample ss = scene.sensor().sample_direction(v.si->p, u, v.si->time);
     if (!(ss.pdf > 0.0f)) return;
     Vec3 wo = v.si->to_local(ss.d);
     float correction = shading_normal_correction(*v.si, wo);
@@ -198,7 +209,6 @@ void ParticleTracerIntegrator::splat(const Scene& scene, const Vec2& film_pos, c
 
 RenderResult ParticleTracerIntegrator::render(const Scene& scene, const RenderOptions& options) {
     refuse_unrendered_media(scene);
-    refuse_unrendered_motion(scene);
     if (!scene.sensor().reached_by_light_paths())
         throw InputError("ptracer cannot render through the " + scene.sensor().to_string() +
                          " sensor: light paths cannot reach it (render it with path or another camera-path integrator)");

@@ -71,10 +71,10 @@ public:
 
     // Light paths: a point uniform by area, a cosine-weighted direction on the front side; the
     // cosine cancels, leaving the weight pi L(uv) / pdf_area.
-    EmitterRay sample_ray(const Vec2& u_position, const Vec2& u_direction, Wavelengths* wavelengths) const override {
+    EmitterRay sample_ray(const Vec2& u_position, const Vec2& u_direction, Wavelengths* wavelengths, float time) const override {
         EmitterRay r;
         PositionSample ps = shape_->sample_position(u_position);
-        if (motion_) ps = to_world_sample(open_pose_, ps);
+        if (motion_) ps = to_world_sample(motion_->eval(time), ps);
         if (!(ps.pdf > 0.0f)) return r;
         Vec3 local = warp::square_to_cosine_hemisphere(u_direction);
         r.pdf_direction = warp::square_to_cosine_hemisphere_pdf(local);

@@ -48,7 +48,7 @@ public:
     // Flux through the scene's bounding disk: L * 4pi * (pi r^2).
     Spectrum power() const override { return radiance_ * (FourPi * disk_.area()); }
     // Light paths: a direction uniform over the sphere, then a point on the bounding disk across it.
-    EmitterRay sample_ray(const Vec2& u_position, const Vec2& u_direction, Wavelengths* wavelengths) const override {
+    EmitterRay sample_ray(const Vec2& u_position, const Vec2& u_direction, Wavelengths* wavelengths, float) const override {
         EmitterRay r;
         r.ray = disk_.ray(warp::square_to_uniform_sphere(u_direction), u_position);
         r.pdf_position = 1.0f / disk_.area();

@@ -42,7 +42,7 @@ public:
     }
     float pdf_direction(const SurfaceInteraction&, const DirectionSample&) const override { return 0.0f; }
     // Light paths start uniformly on the scene's bounding disk across the beam (lights/scene_disk.h).
-    EmitterRay sample_ray(const Vec2& u_position, const Vec2&, Wavelengths* wavelengths) const override {
+    EmitterRay sample_ray(const Vec2& u_position, const Vec2&, Wavelengths* wavelengths, float) const override {
         EmitterRay r;
         r.ray = disk_.ray(direction_, u_position);
         r.pdf_position = 1.0f / disk_.area();

@@ -63,7 +63,7 @@ public:
     }
     float pdf_direction(const SurfaceInteraction&, const DirectionSample&) const override { return 0.0f; }
     // Light paths: a point uniform by area, leaving along the normal (a delta in direction).
-    EmitterRay sample_ray(const Vec2& u_position, const Vec2&, Wavelengths* wavelengths) const override {
+    EmitterRay sample_ray(const Vec2& u_position, const Vec2&, Wavelengths* wavelengths, float) const override {
         EmitterRay r;
         PositionSample ps = shape_->sample_position(u_position);
         if (!(ps.pdf > 0.0f)) return r;

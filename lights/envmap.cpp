@@ -98,8 +98,8 @@ public:
     // Flux through the scene's bounding disk: pi r^2 times the radiance integrated over the sphere.
     Spectrum power() const override { return integral_ * disk_.area(); }
     // Light paths: from the bounding disk along directions drawn as for next-event estimation.
-    EmitterRay sample_ray(const Vec2& u_position, const Vec2& u_direction, Wavelengths* wavelengths) const override {
-        return environment_ray(*this, disk_, u_position, u_direction, wavelengths);
+    EmitterRay sample_ray(const Vec2& u_position, const Vec2& u_direction, Wavelengths* wavelengths, float time) const override {
+        return environment_ray(*this, disk_, u_position, u_direction, wavelengths, time);
     }
     // Local model: ambient radiance equal to the map's average over the sphere (reflections and
     // refractions still look the map up through eval_environment).

@@ -6,7 +6,8 @@
 //   to_world                 transform   alternative to position; or an animation
 //                                        <animation name="to_world">: the light takes its
 //                                        position at the time of the point it lights (motion
-//                                        blur); rasterizer and light tracers: at shutter_open
+//                                        blur), or of ptracer's light path; the rasterizer: at
+//                                        shutter_open
 //   attenuation_constant,    float       the received radiance is intensity / (a0 + a1 d + a2 d^2);
 //   attenuation_linear,                  defaults 0, 0, 1: the physical inverse-square law
 //   attenuation_quadratic
@@ -48,8 +49,9 @@ public:
     }
     float pdf_direction(const SurfaceInteraction&, const DirectionSample&) const override { return 0.0f; }
     // Light paths leave uniformly over the sphere.
-    EmitterRay sample_ray(const Vec2&, const Vec2& u_direction, Wavelengths* wavelengths) const override {
-        return point_source_ray(position_, warp::square_to_uniform_sphere(u_direction), InvFourPi,
+    EmitterRay sample_ray(const Vec2&, const Vec2& u_direction, Wavelengths* wavelengths, float time) const override {
+        const Vec3 position = motion_.is_animated() ? motion_.eval(time).apply_point(Vec3(0.0f)) : position_;
+        return point_source_ray(position, warp::square_to_uniform_sphere(u_direction), InvFourPi,
                                 emission_at(intensity_, measured_.get(), wavelengths));
     }
     float ray_attenuation(float dist) const override { return attenuation_.ray_factor(dist); }

@@ -66,7 +66,7 @@ public:
     // Light paths leave through a point uniform on the image plane at depth 1 (area 4 tan_x tan_y):
     // solid-angle density 1 / (4 tan_x tan_y cos^3 theta), which the intensity pi scale T / cos^3
     // divides into the constant weight pi scale T(uv) 4 tan_x tan_y.
-    EmitterRay sample_ray(const Vec2&, const Vec2& u_direction, Wavelengths* wavelengths) const override {
+    EmitterRay sample_ray(const Vec2&, const Vec2& u_direction, Wavelengths* wavelengths, float) const override {
         Vec3 local = projection_.direction(u_direction);  // z = 1
         float len = glm::length(local), cos_theta = 1.0f / len;
         float image_area = 4.0f * projection_.tan_half_x * projection_.tan_half_x / projection_.aspect;

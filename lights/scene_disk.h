@@ -34,9 +34,10 @@ struct SceneDisk {
 // direction drawn as seen from the disk's centre (the light travels the opposite way), then a point
 // on the disk across it. The ray's weight is radiance / (pdf_direction pdf_position).
 inline EmitterRay environment_ray(const Emitter& emitter, const SceneDisk& disk, const Vec2& u_position, const Vec2& u_direction,
-                                  Wavelengths* wavelengths) {
+                                  Wavelengths* wavelengths, float time) {
     SurfaceInteraction center;
     center.p = disk.center;
+    center.time = time;
     center.wavelengths = wavelengths;
     Spectrum radiance_over_pdf;
     DirectionSample ds = emitter.sample_direction(center, u_direction, radiance_over_pdf);

@@ -4,8 +4,9 @@
 //   intensity          rgb         radiant intensity on the axis in W sr^-1 (default 1)
 //   to_world           transform   apex at the origin, beam along +z (use a lookat); or an
 //                      animation   <animation name="to_world">: the light takes its pose at
-//                                  the time of the point it lights (motion blur); the
-//                                  rasterizer and the light tracers see the pose at shutter_open
+//                                  the time of the point it lights (motion blur), or of
+//                                  ptracer's light path; the rasterizer sees the pose at
+//                                  shutter_open
 //   cutoff_angle       float       degrees from the axis where emission ends (default 20)
 //   beam_width         float       degrees of full intensity; in between it falls off linearly
 //                                  in the angle, as in Mitsuba (default 3/4 of cutoff_angle)
@@ -92,17 +93,18 @@ public:
     // Light paths leave uniformly over the cone (as in Mitsuba), weighted by the falloff and the
     // texture. The density is carried through to_world (its Jacobian |det M| / |M v|^3), so a
     // scaled spot stays correct.
-    EmitterRay sample_ray(const Vec2&, const Vec2& u_direction, Wavelengths* wavelengths) const override {
+    EmitterRay sample_ray(const Vec2&, const Vec2& u_direction, Wavelengths* wavelengths, float time) const override {
+        const Transform pose = motion_.is_animated() ? motion_.eval(time) : to_world_;
         Vec3 local = warp::square_to_uniform_cone(u_direction, cos_cutoff_);
-        Vec3 world = to_world_.apply_vector(local);
+        Vec3 world = pose.apply_vector(local);
         float len = glm::length(world);
-        float pdf = warp::square_to_uniform_cone_pdf(local, cos_cutoff_) * len * len * len / std::abs(to_world_.determinant3());
+        float pdf = warp::square_to_uniform_cone_pdf(local, cos_cutoff_) * len * len * len / std::abs(pose.determinant3());
         Spectrum intensity = intensity_ * falloff(local);
         if (texture_) intensity *= texture_->eval(texture_uv(local));
         if (wavelengths)  // textured: the emission spectrum of that colour
             intensity = texture_ ? rgb_at_wavelengths(intensity, SpectrumRole::Emission, wavelengths)
                                  : emission_at(intensity_, measured_.get(), wavelengths) * falloff(local);
-        EmitterRay r = point_source_ray(position_, world / len, std::isfinite(pdf) ? pdf : 0.0f, intensity);
+        EmitterRay r = point_source_ray(pose.apply_point(Vec3(0.0f)), world / len, std::isfinite(pdf) ? pdf : 0.0f, intensity);
         return r;
     }
     float ray_attenuation(float dist) const override { return attenuation_.ray_factor(dist); }

@@ -57,7 +57,7 @@ public:
 
     // The importance is 1 / area per unit area on the front side; a point sampled with
     // solid-angle density p as seen from `ref` weighs cos / (dist^2 area p_area) = 1 / (area p).
-    SensorSample sample_direction(const Vec3& ref, const Vec2& u) const override {
+    SensorSample sample_direction(const Vec3& ref, const Vec2& u, float) const override {
         SurfaceInteraction at;
         at.p = ref;
         DirectionSample ds = shape_->sample_direction(at, u);

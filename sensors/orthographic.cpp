@@ -30,10 +30,12 @@ public:
         if (!(cross_section_ > 0.0f)) props.fail("to_world", "the camera's to_world must be invertible");
     }
 
-    // The viewed rectangle's area across the view direction (to_world may scale or shear).
-    void film_size_changed() override {
-        Vec3 ex = to_world_.apply_vector(Vec3(2.0f, 0.0f, 0.0f)), ey = to_world_.apply_vector(Vec3(0.0f, 2.0f / aspect_, 0.0f));
-        cross_section_ = std::abs(glm::dot(glm::cross(ex, ey), direction_));
+    void film_size_changed() override { cross_section_ = cross_section(to_world_, direction_); }
+    // The viewed rectangle's area across the view direction `direction` of pose `to_world` (it
+    // may scale or shear).
+    float cross_section(const Transform& to_world, const Vec3& direction) const {
+        Vec3 ex = to_world.apply_vector(Vec3(2.0f, 0.0f, 0.0f)), ey = to_world.apply_vector(Vec3(0.0f, 2.0f / aspect_, 0.0f));
+        return std::abs(glm::dot(glm::cross(ex, ey), direction));
     }
 
     Ray sample_ray(const Vec2& film_pos, const Vec2&, float time) const override {
@@ -56,19 +58,29 @@ public:
 
     // Light tracing: the one ray that reaches `ref` runs along the view axis; its importance is
     // film pixels per unit area across the beam, W H / (viewed cross-section).
-    SensorSample sample_direction(const Vec3& ref, const Vec2&) const override {
+    // An animated camera connects with its pose at `time`.
+    SensorSample sample_direction(const Vec3& ref, const Vec2&, float time) const override {
         SensorSample s;
-        Vec3 local = world_to_local_.apply_point(ref);
+        Vec3 local = camera_point(ref, time);
         Vec2 fraction(0.5f - 0.5f * local.x, 0.5f - 0.5f * local.y * aspect_);
         if (!(local.z > near_clip_) || !on_film(fraction)) return s;
-        s.p = to_world_.apply_point(Vec3(local.x, local.y, near_clip_));
+        const Vec3 start(local.x, local.y, near_clip_);
+        float cross_section_now = cross_section_;
+        if (motion_.is_animated()) {
+            const Transform pose = pose_at(time);
+            s.p = pose.apply_point(start);
+            s.d = -glm::normalize(pose.apply_vector(Vec3(0.0f, 0.0f, 1.0f)));
+            cross_section_now = cross_section(pose, -s.d);
+        } else {
+            s.p = to_world_.apply_point(start);
+            s.d = -direction_;
+        }
         s.dist = glm::length(ref - s.p);
-        if (!(s.dist > 0.0f && s.dist < far_clip_ - near_clip_)) return SensorSample();
-        s.d = -direction_;
+        if (!(s.dist > 0.0f && s.dist < far_clip_ - near_clip_) || !(cross_section_now > 0.0f)) return SensorSample();
         s.film_pos = film_pixels(fraction);
         s.pdf = 1.0f;
         s.delta = true;
-        s.weight = film_area() / cross_section_;
+        s.weight = film_area() / cross_section_now;
         return s;
     }
 

@@ -56,12 +56,12 @@ public:
         return ray;
     }
 
-    SensorSample sample_direction(const Vec3& ref, const Vec2&) const override {
-        Vec3 local = world_to_local_.apply_point(ref);
+    SensorSample sample_direction(const Vec3& ref, const Vec2&, float time) const override {
+        Vec3 local = camera_point(ref, time);
         if (!(local.z > near_clip_ && local.z < far_clip_)) return SensorSample();
         Vec2 fraction = projection_.film_position(local);
         if (!on_film(fraction)) return SensorSample();
-        return lens_connection(ref, local, Vec3(0.0f), fraction, projection_.tan_half_x);
+        return lens_connection(ref, local, Vec3(0.0f), fraction, projection_.tan_half_x, time);
     }
 
     std::optional<PinholeProjection> pinhole() const override { return projection_; }

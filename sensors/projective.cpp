@@ -49,8 +49,8 @@ void ProjectiveCamera::refuse_scaling(const Properties& props) const {
         if (key.transform.has_scale()) props.fail("to_world", "the camera's to_world must not scale");
 }
 
-SensorSample ProjectiveCamera::lens_connection(const Vec3& ref, const Vec3& local, const Vec3& lens, const Vec2& fraction,
-                                               float tan_half_x) const {
+SensorSample ProjectiveCamera::lens_connection(const Vec3& ref, const Vec3& local, const Vec3& lens, const Vec2& fraction, float tan_half_x,
+                                               float time) const {
     SensorSample s;
     Vec3 v = local - lens;  // camera space, from the lens point toward the reference point
     float r2 = squared_length(v), r = std::sqrt(r2);
@@ -59,7 +59,8 @@ SensorSample ProjectiveCamera::lens_connection(const Vec3& ref, const Vec3& loca
     float image_area = 4.0f * tan_half_x * tan_half_x / aspect_;
     s.weight = film_area() / (image_area * cos_theta * cos_theta * cos_theta * r2);
     // The camera ray starts where it crosses the near plane (z = near_clip).
-    s.p = to_world_.apply_point(lens + v * (near_clip_ / v.z));
+    const Vec3 start = lens + v * (near_clip_ / v.z);
+    s.p = motion_.is_animated() ? motion_.eval(time).apply_point(start) : to_world_.apply_point(start);
     Vec3 to_sensor = s.p - ref;
     s.dist = glm::length(to_sensor);
     if (!(s.dist > 0.0f)) return SensorSample();

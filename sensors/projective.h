@@ -32,6 +32,7 @@ class ProjectiveCamera : public Sensor {
 public:
     bool is_animated() const override { return motion_.is_animated(); }
     SourceLocation motion_location() const override { return motion_.where; }
+    Transform pose_at(float time) const override { return motion_.is_animated() ? motion_.eval(time) : to_world_; }
     // "to_world" (a camera that does not move) and its film (core/parameters.h).
     void traverse(ParameterVisitor& visitor) override;
     void parameters_changed(const std::vector<std::string>& keys) override;
@@ -54,10 +55,14 @@ protected:
     // ray runs from the lens through `local`, entering the view at depth near_clip, and carries
     // W_e cos / dist^2 = film_area / (A cos^3 dist^2), A the image plane's area at depth 1
     // (4 tan(fov_x / 2) tan(fov_y / 2)): pixel area per solid angle, then per area at `local`.
-    SensorSample lens_connection(const Vec3& ref, const Vec3& local, const Vec3& lens, const Vec2& fraction, float tan_half_x) const;
+    // `time`: the connection's shutter time (the camera's pose then).
+    SensorSample lens_connection(const Vec3& ref, const Vec3& local, const Vec3& lens, const Vec2& fraction, float tan_half_x,
+                                 float time) const;
 
-    // The camera's pose at `time` (to_world_ itself when it does not move).
-    Transform pose_at(float time) const { return motion_.is_animated() ? motion_.eval(time) : to_world_; }
+    // World point `ref` in camera space at `time` (light tracing's connections).
+    Vec3 camera_point(const Vec3& ref, float time) const {
+        return (motion_.is_animated() ? motion_.eval(time).inverse() : world_to_local_).apply_point(ref);
+    }
     // Stops at to_world when some keyframe scales (the pinhole cameras' requirement).
     void refuse_scaling(const Properties& props) const;
     // The pinhole of a perspective or thin-lens camera: its pose, the field of view read from

@@ -16,6 +16,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <regex>
 
 using namespace candela;
@@ -264,4 +265,75 @@ TEST_CASE("every integrator renders an outdoor scene under sun and sky in every 
                     CHECK(sum > 0.0);
                 }
             }
+}
+
+TEST_CASE("every integrator renders a moving scene in every variant, or stops at the animation's line",
+          "[integrator][sampler][animation]") {
+    // A moving camera, box and area light over the shutter [0, 1]. The camera-path integrators
+    // and ptracer take each sample's or light path's time; the photon mappers and radiosity
+    // cache light at one instant and stop at the line of the first moving shape's animation;
+    // raster draws the shutter's opening. Variant refusals stop at load, at the integrator's
+    // line (2).
+    const auto dir = scratch_dir("every-combination-motion");
+    const std::vector<std::string> without_motion = {"sppm", "photonmapper", "radiosity"};
+    for (Variant variant : {Variant::ScalarRGB, Variant::ScalarSpectral, Variant::ScalarSpectralPolarized})
+        for (const IntegratorCase& integrator : integrator_cases()) {
+            INFO(integrator.name << " in " << variant_name(variant));
+            const std::string xml = R"(<scene version="3.0.0">
+  )" + integrator.xml + R"(
+  <sensor type="perspective"><float name="fov" value="50"/><float name="shutter_close" value="1"/>
+    <animation name="to_world">
+      <transform time="0"><lookat origin="0, 2, 5" target="0, 0.5, 0" up="0, 1, 0"/></transform>
+      <transform time="1"><lookat origin="0.5, 2, 5" target="0.5, 0.5, 0" up="0, 1, 0"/></transform></animation>
+    <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/></film></sensor>
+  <shape type="rectangle"><transform name="to_world"><scale value="4"/><rotate x="1" angle="-90"/></transform></shape>
+  <shape type="cube"><bsdf type="roughconductor"><float name="alpha" value="0.2"/></bsdf>
+    <animation name="to_world">
+      <transform time="0"><scale value="0.4"/><translate x="-1" y="0.4"/></transform>
+      <transform time="1"><scale value="0.4"/><translate x="1" y="0.4"/></transform></animation></shape>
+  <shape type="rectangle"><emitter type="area"><rgb name="radiance" value="8"/></emitter>
+    <animation name="to_world">
+      <transform time="0"><scale value="0.5"/><rotate x="1" angle="90"/><translate x="-0.5" y="2.5"/></transform>
+      <transform time="1"><scale value="0.5"/><rotate x="1" angle="90"/><translate x="0.5" y="2.5"/></transform></animation></shape>
+  <emitter type="constant"><rgb name="radiance" value="0.1"/></emitter>
+</scene>)";
+            write_text(dir / "scene.xml", xml);
+            const size_t cube_animation = xml.find("<animation", xml.find(R"(<shape type="cube">)"));
+            const std::string cube_line =
+                "scene.xml:" + std::to_string(1 + std::count(xml.begin(), xml.begin() + cube_animation, '\n')) + ":";
+            const bool refused_at_load = (variant != Variant::ScalarRGB && integrator.name == "raster") ||
+                                         (variant == Variant::ScalarSpectralPolarized &&
+                                          (integrator.name == "sppm" || integrator.name == "photonmapper" || integrator.name == "prb"));
+            const bool refused_at_render = std::find(without_motion.begin(), without_motion.end(), integrator.name) != without_motion.end();
+            Ref<Scene> scene;
+            try {
+                scene = load_scene((dir / "scene.xml").string(), {}, variant);
+            } catch (const SceneError& e) {
+                INFO(e.what());
+                CHECK(refused_at_load);
+                CHECK(std::string(e.what()).find("scene.xml:2:") != std::string::npos);
+                continue;
+            }
+            CHECK_FALSE(refused_at_load);
+            for (const std::string& sampler : std::vector<std::string>{"independent", "ldsampler"}) {
+                INFO("with " << sampler);
+                RenderResult r;
+                try {
+                    r = scene->integrator().render(*scene, five_samples_with(sampler));
+                } catch (const SceneError& e) {
+                    INFO(e.what());
+                    CHECK(refused_at_render);
+                    CHECK(std::string(e.what()).find(cube_line) != std::string::npos);
+                    CHECK(std::string(e.what()).find("motion blur") != std::string::npos);
+                    continue;
+                }
+                CHECK_FALSE(refused_at_render);
+                CHECK(all_finite_pixels(r.image));
+                CHECK(r.stats.nonfinite == 0);
+                CHECK_FALSE(r.stats.partial);
+                double sum = 0.0;
+                for (float v : r.image.data()) sum += v;
+                CHECK(sum > 0.0);
+            }
+        }
 }

@@ -63,7 +63,7 @@ void check_rays(const char* what, const Emitter& emitter, const RayModel& model,
     std::vector<double> flux[3];
     for (int i = 0; i < Samples; ++i) {
         Vec2 u_pos(rng.next_float(), rng.next_float()), u_dir(rng.next_float(), rng.next_float());
-        EmitterRay r = emitter.sample_ray(u_pos, u_dir, nullptr);
+        EmitterRay r = emitter.sample_ray(u_pos, u_dir, nullptr, 0.0f);
         for (int c = 0; c < 3; ++c) flux[c].push_back(r.valid() ? r.weight[c] : 0.0);
         if (!r.valid()) {
             failed += 1.0;
@@ -320,7 +320,8 @@ TEST_CASE("emitter rays: area lights look up mapped radiance and choose their si
         PCG32 rng(3, 7);
         int disagreements = 0;
         for (int i = 0; i < 2000; ++i) {
-            EmitterRay r = light.sample_ray(Vec2(rng.next_float(), rng.next_float()), Vec2(rng.next_float(), rng.next_float()), nullptr);
+            EmitterRay r =
+                light.sample_ray(Vec2(rng.next_float(), rng.next_float()), Vec2(rng.next_float(), rng.next_float()), nullptr, 0.0f);
             REQUIRE(r.valid());
             // What a camera path finds there: the hit's emission toward the ray's direction.
             SurfaceInteraction hit;

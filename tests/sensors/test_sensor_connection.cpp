@@ -62,7 +62,7 @@ TEST_CASE("sensor connection: sample_direction inverts sample_ray", "[camera][li
             Vec2 film(rng.next_float() * Width, rng.next_float() * Height), lens(rng.next_float(), rng.next_float());
             Ray ray = sensor.sample_ray(film, lens);
             Vec3 x = ray(ray.tmin + 0.5f + 8.0f * rng.next_float());
-            SensorSample ss = sensor.sample_direction(x, lens);
+            SensorSample ss = sensor.sample_direction(x, lens, 0.0f);
             ++checked;
             bool ok = ss.pdf > 0.0f && glm::length(ss.film_pos - film) < 2e-3f && glm::length(ss.d + ray.d) < 1e-4f &&
                       glm::length(ss.p - ray(ray.tmin)) < 1e-4f * (1.0f + glm::length(ss.p)) &&
@@ -74,8 +74,8 @@ TEST_CASE("sensor connection: sample_direction inverts sample_ray", "[camera][li
         INFO(c.name << ": " << wrong << " of " << checked << " connections did not retrace their camera ray");
         CHECK(wrong == 0);
         // Points behind the camera or outside the view have no connection.
-        CHECK(sensor.sample_direction(Vec3(0.5f, 1, 9), Vec2(0.5f)).pdf == 0.0f);
-        CHECK(sensor.sample_direction(Vec3(30, 1, 0), Vec2(0.5f)).pdf == 0.0f);
+        CHECK(sensor.sample_direction(Vec3(0.5f, 1, 9), Vec2(0.5f), 0.0f).pdf == 0.0f);
+        CHECK(sensor.sample_direction(Vec3(30, 1, 0), Vec2(0.5f), 0.0f).pdf == 0.0f);
     }
 }
 
@@ -94,7 +94,7 @@ TEST_CASE("sensor connection: importance is the film's Jacobian (integral and un
         std::vector<Vec2> landed(n);
         for (int i = 0; i < n; ++i) {
             Vec3 x = center + axis_u * half * (2 * rng.next_float() - 1) + axis_v * half * (2 * rng.next_float() - 1);
-            SensorSample ss = sensor.sample_direction(x, Vec2(rng.next_float(), rng.next_float()));
+            SensorSample ss = sensor.sample_direction(x, Vec2(rng.next_float(), rng.next_float()), 0.0f);
             if (!(ss.pdf > 0.0f)) continue;
             weights[i] = ss.weight * std::abs(glm::dot(normal, ss.d));
             landed[i] = ss.film_pos;

@@ -210,15 +210,15 @@ TEST_CASE("instance motion: incommensurate keyframe times stop at their line, a 
 <animation name="to_world"><transform time="0"/><transform time="1"/><transform time="1.000123"/></animation></shape>)");
     CHECK_THAT(uneven_shape.message(), Catch::Contains("unevenly spaced"));
     // An integrator that renders no motion stops at the animation's line.
-    Ref<Scene> scene = load_scene_xml("motion-ptracer", R"(<shape type="shapegroup" id="g"><shape type="sphere"/></shape>
+    Ref<Scene> scene = load_scene_xml("motion-photonmapper", R"(<shape type="shapegroup" id="g"><shape type="sphere"/></shape>
 <shape type="instance"><ref id="g"/>
 <animation name="to_world"><transform time="0"/><transform time="1"/></animation></shape>
-<integrator type="ptracer"/>)");
+<integrator type="photonmapper"/>)");
     try {
         scene->integrator().render(*scene, RenderOptions());
-        FAIL("ptracer rendered a moving scene");
+        FAIL("photonmapper rendered a moving scene");
     } catch (const SceneError& e) {
-        CHECK_THAT(e.message(), Catch::Contains("not rendered by the ptracer integrator"));
+        CHECK_THAT(e.message(), Catch::Contains("not rendered by the photonmapper integrator"));
         CHECK(e.location.line == 4);
     }
 }

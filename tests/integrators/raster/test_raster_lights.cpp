@@ -50,7 +50,7 @@ public:
     float pdf_direction(const SurfaceInteraction&, const DirectionSample&) const override { return 0.0f; }
     Spectrum eval(const SurfaceInteraction&) const override { return Spectrum(0.0f); }
     Spectrum power() const override { return FourPi * intensity_; }
-    EmitterRay sample_ray(const Vec2&, const Vec2& u_direction, Wavelengths*) const override {
+    EmitterRay sample_ray(const Vec2&, const Vec2& u_direction, Wavelengths*, float) const override {
         return point_source_ray(position_, warp::square_to_uniform_sphere(u_direction), InvFourPi, intensity_);
     }
     std::string to_string() const override { return "test_recording_point"; }
