@@ -49,18 +49,6 @@ std::vector<std::string> plugin_names(ObjectKind kind) {
 
 namespace {
 
-// Mitsuba 3 plugins that Candela deliberately does not have, with the reason. Candela renders
-// without derivatives: differentiable integrators have no place in it, and rendering these
-// plugins as something else would give a silently wrong picture.
-const char* unsupported_reason(ObjectKind kind, const std::string& type) {
-    static const char* differentiable = "differentiable rendering is not supported (render media with volpath or volpathmis)";
-    static const std::map<std::pair<ObjectKind, std::string>, const char*> table = {
-        {{ObjectKind::Integrator, "prbvolpath"}, differentiable},
-    };
-    auto it = table.find({kind, type});
-    return it == table.end() ? nullptr : it->second;
-}
-
 // Names that scenes from Mitsuba's development carry but Candela does not have, with the plugin
 // to use instead: a hint in the error, never a silent substitute.
 const char* instead_of(ObjectKind kind, const std::string& type) {
@@ -117,8 +105,6 @@ Ref<Object> create_plugin(ObjectKind kind, const Properties& props) {
     }
     if (it == registry().end()) {
         std::string what = std::string(kind_tag(kind)) + " type \"" + props.plugin_type() + "\"";
-        if (const char* reason = unsupported_reason(kind, props.plugin_type()))
-            throw SceneError(props.location(), "unsupported " + what + ": " + reason);
         if (const char* hint = instead_of(kind, props.plugin_type())) throw SceneError(props.location(), "unknown " + what + ": " + hint);
         std::string known;
         for (auto& name : plugin_names(kind)) known += (known.empty() ? "" : ", ") + name;

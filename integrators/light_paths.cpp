@@ -41,11 +41,14 @@ LightPathTracer::LightPathTracer(const Scene& scene, int max_hits, int rr_depth)
       max_hits_(max_hits < 0 ? UINT32_MAX : uint32_t(max_hits)),
       rr_depth_(uint32_t(std::max(rr_depth, 1))) {}
 
-bool LightPathTracer::start(PCG32& rng, LightPathStart& s) const {
+float LightPathTracer::sample_time(PCG32& rng) const {
+    const Sensor& sensor = scene_.sensor();
+    return sensor.shutter_open_time() > 0.0f ? sensor.sample_time(rng.next_float()) : sensor.shutter_open();
+}
+
+bool LightPathTracer::start(PCG32& rng, float time, LightPathStart& s) const {
     float u_pick = rng.next_float();
     const Vec2 u_position = next_vec2(rng), u_direction = next_vec2(rng);
-    const Sensor& sensor = scene_.sensor();
-    const float time = sensor.shutter_open_time() > 0.0f ? sensor.sample_time(rng.next_float()) : sensor.shutter_open();
     s.emitter = lights_->sample(SurfaceInteraction(), u_pick, s.pick_prob);
     if (!s.emitter || !(s.pick_prob > 0.0f)) return false;
     s.time = time;

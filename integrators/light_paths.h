@@ -79,10 +79,12 @@ public:
     // `rr_depth` segments on, with probability min(throughput / emitted weight, 0.95).
     LightPathTracer(const Scene& scene, int max_hits, int rr_depth);
 
-    // Picks an emitter (by power), a shutter time (uniform over the sensor's shutter, as a camera
-    // sample's; its opening when the shutter is closed, drawing nothing) and one of the emitter's
-    // rays at that time; false when the sample carries nothing.
-    bool start(PCG32& rng, LightPathStart& start) const;
+    // A light path's own shutter time: uniform over the sensor's shutter, as a camera sample's;
+    // its opening when the shutter is closed, drawing nothing.
+    float sample_time(PCG32& rng) const;
+    // Picks an emitter (by power) and one of its rays at shutter time `time` (start.time receives
+    // it); false when the sample carries nothing.
+    bool start(PCG32& rng, float time, LightPathStart& start) const;
     // Follows a path from its start: visit(const LightVertex&) runs at each surface hit; the
     // path ends where visit returns false, after max_hits hits, or by absorption or roulette.
     template <typename Visit>

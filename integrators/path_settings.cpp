@@ -15,6 +15,13 @@ std::optional<PathSettingProblem> check_path_settings(const PathSettings& s) {
     return std::nullopt;
 }
 
+void refuse_polarized_variant(const Properties& props, const std::string& integrator) {
+    if (props.variant() != Variant::ScalarSpectralPolarized) return;
+    props.fail(integrator +
+               " does not render in variant scalar_spectral_polarized (as in Mitsuba 3); it renders in scalar_rgb and "
+               "scalar_spectral, and path or volpath render polarization");
+}
+
 PathSettings read_path_settings(const Properties& props, uint32_t fields, const PathSettings& defaults) {
     PathSettings s = defaults;
     if (fields & DepthSettings) {

@@ -276,7 +276,10 @@ void PhotonMapIntegrator::build_map(const LightPathTracer& tracer, bool caustic,
                     wavelengths = sample_visible_wavelengths(rng.next_float());
                     start.wavelengths = &wavelengths;
                 }
-                if (!tracer.start(rng, start)) continue;
+                // Its own shutter time: under a still scene (the only kind photonmapper renders) a
+                // sky that changes over the shutter (timed_sunsky) is averaged over it.
+                const float time = tracer.sample_time(rng);
+                if (!tracer.start(rng, time, start)) continue;
                 tracer.follow(rng, start, [&](const LightVertex& v) {
                     if (!settings_.within_depth(v.depth + 1)) return false;
                     bool gathers = gathers_photons(*v.bsdf);

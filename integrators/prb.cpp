@@ -19,10 +19,7 @@ namespace candela {
 namespace {
 
 PathSettings prb_settings(const Properties& props) {
-    if (props.variant() == Variant::ScalarSpectralPolarized)
-        props.fail(
-            "prb does not render in variant scalar_spectral_polarized (as in Mitsuba 3); it renders in scalar_rgb and "
-            "scalar_spectral, and path or volpath render polarization");
+    refuse_polarized_variant(props, "prb");
     PathSettings defaults;
     defaults.max_depth = 6;  // prb.py's default, where path's is unbounded
     return read_path_settings(props, DepthSettings | HideEmittersSetting, defaults);

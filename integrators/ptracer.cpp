@@ -108,7 +108,8 @@ void ParticleTracerIntegrator::trace_path(const LightPathTracer& tracer, PCG32& 
         start.wavelengths = &wavelengths;
         start.polarized = scene.polarized();
     }
-    if (!tracer.start(rng, start)) return;
+    const float time = tracer.sample_time(rng);
+    if (!tracer.start(rng, time, start)) return;
     if (!settings_.hide_emitters && settings_.within_depth(1)) {
         if (start.emitter->is_infinite())
             connect_environment(scene, start, rng, out);

@@ -38,6 +38,10 @@
 // before they join the statistics. Not in scalar_spectral_polarized (its photons carry no Stokes
 // vector).
 //
+// Motion blur the same way: each pass draws one shutter time (its own stream), at which its
+// camera rays and light paths both meet moving shapes, emitters and cameras; the passes average
+// over the shutter as they average over each pixel's area (consistent, as the rest).
+//
 // Deterministic: camera samples depend on (seed, pixel, pass), light paths on (seed, index); each
 // visible point sums its photons in a fixed order (integrators/photon_grid.h). Not available:
 // AOVs (passes are correlated, so there is no per-pixel variance).
@@ -125,6 +129,8 @@ public:
 
     RenderResult render(const Scene& scene, const RenderOptions& options) override;
     std::string to_string() const override { return "sppm"; }
+    // Each pass is traced at one shutter time (camera rays and photons alike).
+    bool renders_motion() const override { return true; }
     std::string parts_refusal() const override {
         return "each pass shrinks the photon radius of every visible point from the photons of all earlier passes, so a range "
                "of passes depends on those before it and its pixels have no independent samples";
@@ -138,13 +144,14 @@ private:
     }
     // The camera pass for one pixel: the emission and direct light found (returned) and the
     // visible point (vp.bsdf null when there is none).
-    // `wavelengths`: the pixel's copy of the pass's wavelengths (spectral variant; null in RGB).
+    // `wavelengths`: the pixel's copy of the pass's wavelengths (spectral variant; null in RGB);
+    // `time`: the pass's shutter time.
     Spectrum trace_camera(const Scene& scene, Sampler& sampler, const FilterSampler& filter, const Vec2i& pixel, Wavelengths* wavelengths,
-                          GatherPoint& vp) const;
+                          float time, GatherPoint& vp) const;
     // The photons of light paths [begin, end) of pass `pass`, each path at its own copy of the
-    // pass's wavelengths (spectral variant; null in RGB).
+    // pass's wavelengths (spectral variant; null in RGB), at the pass's shutter time.
     void trace_photons(const LightPathTracer& tracer, uint64_t seed, uint64_t first, uint64_t count, const Wavelengths* wavelengths,
-                       PassPhotons& out) const;
+                       float time, PassPhotons& out) const;
     // Radiance from the photons near a visible point (sum of f beta, and their number). A photon
     // whose path dispersed carries only its hero wavelength: unless the visible point's own path
     // did too (its conversion then weighs the hero alone), its flux is the hero's, tripled, as
@@ -162,12 +169,12 @@ private:
 };
 
 Spectrum SPPMIntegrator::trace_camera(const Scene& scene, Sampler& sampler, const FilterSampler& filter, const Vec2i& pixel,
-                                      Wavelengths* wavelengths, GatherPoint& vp) const {
+                                      Wavelengths* wavelengths, float time, GatherPoint& vp) const {
     float filter_weight;
     Vec2 offset = filter.sample(sampler.next_2d(), filter_weight);
     if (!scene.sensor().jitter()) offset = Vec2(0.0f), filter_weight = 1.0f;  // the pixel's centre
     Vec2 pos = Vec2(pixel) + Vec2(0.5f) + offset;
-    Ray ray = scene.sensor().sample_ray(pos, sampler.next_2d());
+    Ray ray = scene.sensor().sample_ray(pos, sampler.next_2d(), time);
     ray.wavelengths = wavelengths;
     WalkSettings walk;
     walk.max_depth = settings_.max_depth;
@@ -183,7 +190,7 @@ Spectrum SPPMIntegrator::trace_camera(const Scene& scene, Sampler& sampler, cons
 }
 
 void SPPMIntegrator::trace_photons(const LightPathTracer& tracer, uint64_t seed, uint64_t first, uint64_t count,
-                                   const Wavelengths* wavelengths, PassPhotons& out) const {
+                                   const Wavelengths* wavelengths, float time, PassPhotons& out) const {
     out.photons.clear();
     out.paths = count;
     for (uint64_t i = 0; i < count; ++i) {
@@ -194,7 +201,7 @@ void SPPMIntegrator::trace_photons(const LightPathTracer& tracer, uint64_t seed,
             own = *wavelengths;
             start.wavelengths = &own;
         }
-        if (!tracer.start(rng, start)) continue;
+        if (!tracer.start(rng, time, start)) continue;
         tracer.follow(rng, start, [&](const LightVertex& v) {
             // Direct light (depth 1) is next-event estimation's; the shortest camera path is one segment.
             if (!settings_.within_depth(v.depth + 1)) return false;
@@ -227,7 +234,8 @@ Spectrum SPPMIntegrator::gather(const PhotonGrid& grid, const GatherPoint& vp, f
 // measured on the first work unit of the first pass (the same paths the render traces first).
 void SPPMIntegrator::check_render_memory(const LightPathTracer& tracer, uint64_t seed, uint64_t chunk, size_t pixels) const {
     PassPhotons pilot;
-    trace_photons(tracer, seed, 0, std::min<uint64_t>(chunk, uint64_t(photon_count_)), nullptr, pilot);
+    trace_photons(tracer, seed, 0, std::min<uint64_t>(chunk, uint64_t(photon_count_)), nullptr, tracer.scene().sensor().shutter_open(),
+                  pilot);
     const double per_path = double(pilot.photons.size()) / double(std::max<uint64_t>(pilot.paths, 1));
     const uint64_t photons = uint64_t(std::ceil(per_path * double(photon_count_)));
     const uint64_t per_pixel = sizeof(PixelState) + sizeof(GatherPoint) + sizeof(Spectrum) + sizeof(Wavelengths);
@@ -243,7 +251,6 @@ void SPPMIntegrator::check_render_memory(const LightPathTracer& tracer, uint64_t
 
 RenderResult SPPMIntegrator::render(const Scene& scene, const RenderOptions& options) {
     refuse_unrendered_media(scene);
-    refuse_unrendered_motion(scene);
     auto t_start = std::chrono::steady_clock::now();
     if (!options.aovs.empty()) throw InputError("sppm renders no AOVs (its passes are correlated: there is no per-pixel variance)");
     const SampleSettings samples = sample_settings(scene, options);
@@ -294,6 +301,13 @@ RenderResult SPPMIntegrator::render(const Scene& scene, const RenderOptions& opt
             const float u = rng.next_float();
             pass_wavelengths = response ? response->sample(u) : sample_visible_wavelengths(u);
         }
+        // Motion blur: every pass draws one shutter time from its own stream, shared by its camera
+        // rays and light paths, so that its photons and visible points meet the scene in one pose.
+        float pass_time = scene.sensor().shutter_open();
+        if (scene.sensor().shutter_open_time() > 0.0f) {
+            PCG32 rng = light_path_rng(samples.seed, 4, uint64_t(pass));
+            pass_time = tracer.sample_time(rng);
+        }
         // (1) Camera pass.
         arena.execute([&] {
             parallel_chunks(pixels, 256, [&](size_t begin, size_t end) {
@@ -307,7 +321,7 @@ RenderResult SPPMIntegrator::render(const Scene& scene, const RenderOptions& opt
                         pixel_wavelengths[i] = pass_wavelengths;
                         w = &pixel_wavelengths[i];
                     }
-                    direct[i] = to_rgb(trace_camera(scene, sampler, filter, pixel, w, vps[i]), i);
+                    direct[i] = to_rgb(trace_camera(scene, sampler, filter, pixel, w, pass_time, vps[i]), i);
                 }
                 rays += thread_ray_count() - before;
             });
@@ -315,7 +329,7 @@ RenderResult SPPMIntegrator::render(const Scene& scene, const RenderOptions& opt
         // (2) Photon pass, concatenated in path order.
         uint64_t first = uint64_t(pass) * uint64_t(photon_count_);
         if (!trace_in_chunks(arena, uint64_t(photon_count_), chunk, chunks, interrupt, rays, [&](uint64_t b, uint64_t e, PassPhotons& out) {
-                trace_photons(tracer, samples.seed, first + b, e - b, spectral ? &pass_wavelengths : nullptr, out);
+                trace_photons(tracer, samples.seed, first + b, e - b, spectral ? &pass_wavelengths : nullptr, pass_time, out);
             }))
             break;
         photons.clear();

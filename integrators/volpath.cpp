@@ -1,4 +1,6 @@
-// volpath and volpathmis: volumetric path tracing with Mitsuba 3's names and semantics.
+// volpath and volpathmis: volumetric path tracing with Mitsuba 3's names and semantics; and
+// prbvolpath, Mitsuba 3's differentiable volumetric path tracer, whose forward (primal) estimate
+// is volpath's (Candela renders forward only: its gradients are not computed).
 // Free flights through media are sampled by delta tracking, shadow rays find their
 // transmittance by ratio tracking (exactly, in homogeneous media), surfaces scatter as in
 // `path` (next-event estimation and BSDF sampling combined by the power heuristic; phase-function
@@ -7,10 +9,11 @@
 // shape with an interior or exterior medium (null-BSDF and dielectric boundaries alike); shadow
 // rays cross null surfaces (and masks), changing medium there, and stop at any other surface.
 //
-// Parameters (both; Mitsuba 3):
+// Parameters (all three; Mitsuba 3):
 //   max_depth       integer   longest path in scattering events: surface bounces and real
 //                             collisions in media count, null surfaces and null collisions do
-//                             not; -1 = unbounded (default), 1 = only emitters seen directly
+//                             not; -1 = unbounded (default; prbvolpath: 6, Mitsuba's), 1 = only
+//                             emitters seen directly
 //   rr_depth        integer   depth from which Russian roulette may end paths (default 5)
 //   hide_emitters   boolean   no emission seen before the first scattering event (default false)
 //   light_sampler   string    how next-event estimation picks a light, as `path`: tree (default),
@@ -25,6 +28,7 @@
 //               only the real/null choice does.
 //   volpathmis  uses each channel's own majorant (Mitsuba's volpathmis): a medium that is thin in
 //               one channel and dense in another gets free flights suited to each.
+//   prbvolpath  as volpath; not in the polarized variant (as in Mitsuba).
 // For grey media (equal channels) both are plain delta tracking with weight albedo.
 //
 // In scalar_spectral the three channels are the path's three wavelengths (core/wavelengths.h):
@@ -68,11 +72,14 @@ uint32_t float_bits(float f) {
 
 class VolPathIntegrator : public SamplingIntegrator {
 public:
-    VolPathIntegrator(const Properties& props, bool spectral_mis)
-        : settings_(read_path_settings(props, DepthSettings | HideEmittersSetting | LightSamplerSetting)), spectral_mis_(spectral_mis) {}
+    // `name`: the plugin's; `defaults`: its settings where the scene gives none.
+    VolPathIntegrator(const Properties& props, bool spectral_mis, const char* name, const PathSettings& defaults = PathSettings{})
+        : settings_(read_path_settings(props, DepthSettings | HideEmittersSetting | LightSamplerSetting, defaults)),
+          spectral_mis_(spectral_mis),
+          name_(name) {}
     void prepare(const Scene& scene) override { lights_ = create_light_sampler(settings_.light_sampler, scene); }
     bool renders_media() const override { return true; }
-    std::string to_string() const override { return spectral_mis_ ? "volpathmis" : "volpath"; }
+    std::string to_string() const override { return name_; }
 
     // A sample is valid (alpha) when the path meets a surface that is not purely null or scatters
     // in a medium, or when the environment is visible (there is one and hide_emitters is off).
@@ -104,6 +111,7 @@ private:
 
     PathSettings settings_;
     bool spectral_mis_;
+    const char* name_;
     std::unique_ptr<LightSampler> lights_;
 };
 
@@ -179,13 +187,25 @@ Spectrum VolPathIntegrator::sample_phase_light(const Scene& scene, Sampler& samp
 }
 
 struct VolPath : VolPathIntegrator {
-    explicit VolPath(const Properties& props) : VolPathIntegrator(props, false) {}
+    explicit VolPath(const Properties& props) : VolPathIntegrator(props, false, "volpath") {}
 };
 struct VolPathMis : VolPathIntegrator {
-    explicit VolPathMis(const Properties& props) : VolPathIntegrator(props, true) {}
+    explicit VolPathMis(const Properties& props) : VolPathIntegrator(props, true, "volpathmis") {}
+};
+// prbvolpath: Mitsuba's differentiable volumetric path tracer; its forward estimate is volpath's
+// (delta tracking, next-event estimation, roulette) with max_depth 6 by default.
+PathSettings prbvolpath_defaults(const Properties& props) {
+    refuse_polarized_variant(props, "prbvolpath");
+    PathSettings defaults;
+    defaults.max_depth = 6;
+    return defaults;
+}
+struct PrbVolPath : VolPathIntegrator {
+    explicit PrbVolPath(const Properties& props) : VolPathIntegrator(props, false, "prbvolpath", prbvolpath_defaults(props)) {}
 };
 
 CANDELA_REGISTER_SPECTRAL(VolPath, ObjectKind::Integrator, "volpath");
 CANDELA_REGISTER_SPECTRAL(VolPathMis, ObjectKind::Integrator, "volpathmis");
+CANDELA_REGISTER_SPECTRAL(PrbVolPath, ObjectKind::Integrator, "prbvolpath");
 
 }  // namespace candela

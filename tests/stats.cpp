@@ -1,5 +1,8 @@
 #include "tests/stats.h"
 
+#include "core/integrator.h"
+#include "core/scene.h"
+
 #include <cmath>
 
 namespace candela::test {
@@ -115,6 +118,36 @@ double largest_block_z(const Image& a, const Image& b, std::string* where) {
                          " +- " + std::to_string(d.std_error);
         }
     return largest;
+}
+
+SeedBlockMeans seed_block_means(const Scene& scene, int seeds, int block) {
+    SeedBlockMeans means;
+    int blocks_x = 0;
+    for (int k = 0; k < seeds; ++k) {
+        RenderOptions options;
+        options.seed = uint64_t(1000 + k);
+        const Image image = scene.integrator().render(scene, options).image;
+        blocks_x = image.width() / block;
+        means.resize(size_t(blocks_x * (image.height() / block)));
+        for (size_t b = 0; b < means.size(); ++b)
+            for (int c = 0; c < 3; ++c)
+                means[b][c].push_back(channel_mean(image, c, int(b % blocks_x) * block, int(b / blocks_x) * block, block, block).mean);
+    }
+    return means;
+}
+
+double smallest_welch_p(const SeedBlockMeans& a, const SeedBlockMeans& b, std::string& where) {
+    double smallest = 1.0;
+    for (size_t block = 0; block < a.size() && block < b.size(); ++block)
+        for (int c = 0; c < 3; ++c) {
+            const WelchResult w = welch_test(a[block][c], b[block][c]);
+            if (w.p_value < smallest) {
+                smallest = w.p_value;
+                where = "block " + std::to_string(block) + " channel " + std::to_string(c) + ": t = " + std::to_string(w.t) + ", means " +
+                        std::to_string(mean_and_error(a[block][c]).mean) + " and " + std::to_string(mean_and_error(b[block][c]).mean);
+            }
+        }
+    return smallest;
 }
 
 }  // namespace candela::test

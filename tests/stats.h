@@ -6,9 +6,14 @@
 #include "analysis/statistics.h"
 #include "core/image.h"
 
+#include <array>
 #include <functional>
 #include <string>
 #include <vector>
+
+namespace candela {
+class Scene;
+}
 
 namespace candela::test {
 
@@ -39,5 +44,15 @@ MeanAndError mean_difference(const Image& a, const Image& b, int ch, int x0 = 0,
 // over the whole image and over each of 16 blocks of 8 x 8 pixels, in units of its standard
 // error; the largest |z| of those 51 (3 x 17) z-tests, and where it was (`where`).
 double largest_block_z(const Image& a, const Image& b, std::string* where = nullptr);
+
+// Per block of `block` x `block` pixels (row-major) and channel, the block's mean in each of
+// `seeds` renders of `scene` by its integrator with seeds 1000, 1001, ...: independent renders,
+// so the spread of a block's means is its error whatever correlates the pixels of one render
+// (a light tracer's splats, a photon map).
+using SeedBlockMeans = std::vector<std::array<std::vector<double>, 3>>;
+SeedBlockMeans seed_block_means(const Scene& scene, int seeds, int block);
+// The smallest two-sided p-value of Welch's test over the blocks and channels of two such sets
+// (same image size and block), and where it was with both means (`where`).
+double smallest_welch_p(const SeedBlockMeans& a, const SeedBlockMeans& b, std::string& where);
 
 }  // namespace candela::test

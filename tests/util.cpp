@@ -10,6 +10,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -113,6 +114,12 @@ std::string box_film(int size, int spp) {
 }  // namespace candela::test
 
 namespace candela::test {
+
+bool all_finite_pixels(const Image& image) {
+    for (float v : image.data())
+        if (!std::isfinite(v)) return false;
+    return true;
+}
 
 RenderResult render_file(const std::string& scene_path, const SceneParameters& params, int threads, std::vector<std::string> aovs) {
     Ref<Scene> scene = load_scene(scene_path, params);

@@ -33,6 +33,8 @@ std::string read_text(const std::filesystem::path& path);
 
 // Loads a scene file with `params` and renders it with its own integrator.
 RenderResult render_file(const std::string& scene_path, const SceneParameters& params, int threads = 0, std::vector<std::string> aovs = {});
+// Whether every value of every pixel and channel is finite.
+bool all_finite_pixels(const Image& image);
 
 // CANDELA_TEST_EFFORT: a number in (0, 1], default 1. The sanitizer runs of scripts/test.sh set
 // it to run the long tests at reduced size.

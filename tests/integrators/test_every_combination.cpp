@@ -34,6 +34,10 @@ const std::vector<IntegratorCase>& integrator_cases() {
     static const std::vector<IntegratorCase> cases = {
         {"path", R"(<integrator type="path"/>)"},
         {"prb", R"(<integrator type="prb"/>)"},
+        {"prb_basic", R"(<integrator type="prb_basic"/>)"},
+        {"prb_projective", R"(<integrator type="prb_projective"><integer name="sppi" value="4"/></integrator>)"},
+        {"direct_projective", R"(<integrator type="direct_projective"><string name="guiding" value="grid"/></integrator>)"},
+        {"prbvolpath", R"(<integrator type="prbvolpath"/>)"},
         {"volpath", R"(<integrator type="volpath"/>)"},
         {"volpathmis", R"(<integrator type="volpathmis"/>)"},
         {"direct", R"(<integrator type="direct"/>)"},
@@ -68,6 +72,34 @@ std::string combination_scene(const std::filesystem::path& dir, const std::strin
     return path.string();
 }
 
+// Whether `integrator` stops in `variant` when its scene loads: raster renders RGB only, and
+// neither the photon mappers nor Mitsuba's differentiable integrators render polarization.
+bool refuses_variant(const std::string& integrator, Variant variant) {
+    if (variant == Variant::ScalarRGB) return false;
+    if (integrator == "raster") return true;
+    const std::vector<std::string> unpolarized = {"sppm",           "photonmapper",      "prb",       "prb_basic",
+                                                  "prb_projective", "direct_projective", "prbvolpath"};
+    return variant == Variant::ScalarSpectralPolarized &&
+           std::find(unpolarized.begin(), unpolarized.end(), integrator) != unpolarized.end();
+}
+
+// The scene at `path` in `variant` (with `params`), or null when it stops as it loads, which it
+// must then be expected to (`refused`), at `line` ("scene.xml:N:"), naming the variant.
+Ref<Scene> load_unless_refused(const std::string& path, Variant variant, bool refused, const std::string& line,
+                               const SceneParameters& params = {}) {
+    try {
+        Ref<Scene> scene = load_scene(path, params, variant);
+        CHECK_FALSE(refused);
+        return scene;
+    } catch (const SceneError& e) {
+        INFO(e.what());
+        CHECK(refused);
+        CHECK(std::string(e.what()).find(line) != std::string::npos);
+        CHECK(std::string(e.what()).find(variant_name(variant)) != std::string::npos);
+        return nullptr;
+    }
+}
+
 // Two threads and 5 samples with `sampler`: 5 is a square for none of the samplers and a power of
 // two for neither.
 RenderOptions five_samples_with(const std::string& sampler) {
@@ -76,12 +108,6 @@ RenderOptions five_samples_with(const std::string& sampler) {
     options.threads = 2;
     options.spp = 5;
     return options;
-}
-
-bool all_finite_pixels(const Image& image) {
-    for (float v : image.data())
-        if (!std::isfinite(v)) return false;
-    return true;
 }
 
 }  // namespace
@@ -113,20 +139,9 @@ TEST_CASE("every integrator renders with every sampler in the spectral variants,
         for (const IntegratorCase& integrator : integrator_cases()) {
             INFO(integrator.name << " in " << variant_name(variant));
             const std::string scene_path = combination_scene(dir, integrator.xml, false);
-            const bool refused = integrator.name == "raster" ||
-                                 (variant == Variant::ScalarSpectralPolarized &&
-                                  (integrator.name == "sppm" || integrator.name == "photonmapper" || integrator.name == "prb"));
-            Ref<Scene> scene;
-            try {
-                scene = load_scene(scene_path, {{"res", "16"}, {"spp", "5"}}, variant);
-            } catch (const SceneError& e) {
-                INFO(e.what());
-                CHECK(refused);
-                CHECK(std::string(e.what()).find("scene.xml:5:") != std::string::npos);
-                CHECK(std::string(e.what()).find(variant_name(variant)) != std::string::npos);
-                continue;
-            }
-            CHECK_FALSE(refused);
+            Ref<Scene> scene = load_unless_refused(scene_path, variant, refuses_variant(integrator.name, variant),
+                                                   "scene.xml:5:", {{"res", "16"}, {"spp", "5"}});
+            if (!scene) continue;
             for (const std::string& sampler : AllSamplers) {
                 INFO("with " << sampler);
                 const RenderResult r = scene->integrator().render(*scene, five_samples_with(sampler));
@@ -241,19 +256,9 @@ TEST_CASE("every integrator renders an outdoor scene under sun and sky in every 
     <transform name="to_world"><lookat origin="0, 1.5, 5" target="0, 1.2, 0" up="0, 1, 0"/></transform>
     <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/></film></sensor>
 </scene>)");
-                const bool refused = (variant != Variant::ScalarRGB && integrator.name == "raster") ||
-                                     (variant == Variant::ScalarSpectralPolarized &&
-                                      (integrator.name == "sppm" || integrator.name == "photonmapper" || integrator.name == "prb"));
-                Ref<Scene> scene;
-                try {
-                    scene = load_scene((dir / "scene.xml").string(), {}, variant);
-                } catch (const SceneError& e) {
-                    INFO(e.what());
-                    CHECK(refused);
-                    CHECK(std::string(e.what()).find("scene.xml:2:") != std::string::npos);
-                    continue;
-                }
-                CHECK_FALSE(refused);
+                Ref<Scene> scene =
+                    load_unless_refused((dir / "scene.xml").string(), variant, refuses_variant(integrator.name, variant), "scene.xml:2:");
+                if (!scene) continue;
                 for (const std::string& sampler : std::vector<std::string>{"independent", "zsobol"}) {
                     INFO("with " << sampler);
                     const RenderResult r = scene->integrator().render(*scene, five_samples_with(sampler));
@@ -269,13 +274,13 @@ TEST_CASE("every integrator renders an outdoor scene under sun and sky in every 
 
 TEST_CASE("every integrator renders a moving scene in every variant, or stops at the animation's line",
           "[integrator][sampler][animation]") {
-    // A moving camera, box and area light over the shutter [0, 1]. The camera-path integrators
-    // and ptracer take each sample's or light path's time; the photon mappers and radiosity
+    // A moving camera, box and area light over the shutter [0, 1]. The camera-path integrators,
+    // ptracer and sppm take each sample's, light path's or pass's time; photonmapper and radiosity
     // cache light at one instant and stop at the line of the first moving shape's animation;
     // raster draws the shutter's opening. Variant refusals stop at load, at the integrator's
     // line (2).
     const auto dir = scratch_dir("every-combination-motion");
-    const std::vector<std::string> without_motion = {"sppm", "photonmapper", "radiosity"};
+    const std::vector<std::string> without_motion = {"photonmapper", "radiosity"};
     for (Variant variant : {Variant::ScalarRGB, Variant::ScalarSpectral, Variant::ScalarSpectralPolarized})
         for (const IntegratorCase& integrator : integrator_cases()) {
             INFO(integrator.name << " in " << variant_name(variant));
@@ -301,20 +306,10 @@ TEST_CASE("every integrator renders a moving scene in every variant, or stops at
             const size_t cube_animation = xml.find("<animation", xml.find(R"(<shape type="cube">)"));
             const std::string cube_line =
                 "scene.xml:" + std::to_string(1 + std::count(xml.begin(), xml.begin() + cube_animation, '\n')) + ":";
-            const bool refused_at_load = (variant != Variant::ScalarRGB && integrator.name == "raster") ||
-                                         (variant == Variant::ScalarSpectralPolarized &&
-                                          (integrator.name == "sppm" || integrator.name == "photonmapper" || integrator.name == "prb"));
             const bool refused_at_render = std::find(without_motion.begin(), without_motion.end(), integrator.name) != without_motion.end();
-            Ref<Scene> scene;
-            try {
-                scene = load_scene((dir / "scene.xml").string(), {}, variant);
-            } catch (const SceneError& e) {
-                INFO(e.what());
-                CHECK(refused_at_load);
-                CHECK(std::string(e.what()).find("scene.xml:2:") != std::string::npos);
-                continue;
-            }
-            CHECK_FALSE(refused_at_load);
+            Ref<Scene> scene =
+                load_unless_refused((dir / "scene.xml").string(), variant, refuses_variant(integrator.name, variant), "scene.xml:2:");
+            if (!scene) continue;
             for (const std::string& sampler : std::vector<std::string>{"independent", "ldsampler"}) {
                 INFO("with " << sampler);
                 RenderResult r;

@@ -59,12 +59,6 @@ ImageComparison against_reference(const Image& img, const std::string& name) {
     return compare_images(img, read_image(source_path("scenes/validation/refs/" + name + ".exr")));
 }
 
-bool all_finite_pixels(const Image& img) {
-    for (float v : img.data())
-        if (!std::isfinite(v)) return false;
-    return true;
-}
-
 }  // namespace
 
 TEST_CASE("sppm: agrees with Mitsuba 3 on the validation cbox and glass, and its error falls with passes", "[render][sppm][validation]") {

@@ -239,8 +239,8 @@ TEST_CASE("mitsuba docs scenes: the four motion-blur scenes render (moving insta
     double differing = 0;
     for (size_t i = 0; i < still.data().size(); ++i) differing += still.data()[i] != blurred.data()[i];
     CHECK(differing > 0);
-    // The photon mappers render no motion: they stop and say so (ptracer renders it:
-    // tests/integrators/test_ptracer_motion.cpp).
+    // photonmapper renders no motion: it stops and says so (ptracer and sppm render it:
+    // tests/integrators/test_light_path_motion.cpp).
     CHECK_THROWS_WITH(render(scenes / "animation_shape.xml", {}, {{"integrator", "photonmapper"}}), Catch::Contains("motion blur"));
 }
 
