@@ -20,11 +20,17 @@
 // timed_sunsky could not be compared: the peer build's scalar_rgb returns the same meaningless
 // colour in every direction and its llvm_ad_rgb stops with a JIT error; reading its source, its
 // sun's irradiance lags sunsky's by half an elevation step, 1.5 degrees, through its texture
-// lookup, which Candela does not copy.) Light paths (ptracer, photon mapping) start at time 0.
+// lookup, which Candela does not copy.) Light paths take their own time too (ptracer's per
+// path, sppm's per pass, photonmapper's per photon).
 //
 // Sampling (not Mitsuba's): at the ray's time, the sun's cone, and for the sky an even mixture of
 // cosine-weighted directions and a 15-degree cone around the sun (the bright aureole), chosen in
 // proportion to the tabulated luminous irradiance of sun and sky.
+//
+// The model at a time (the sun's position, then about 140 Bezier sums of the sky's coefficients)
+// is kept per thread for the last time asked: one camera sample's next-event samples, escaped
+// rays and their densities all share its time, so it is computed once per sample, not at each
+// query. A pure function of the time: the image is the same bit for bit.
 
 #include "core/error.h"
 #include "core/frame.h"
@@ -34,6 +40,7 @@
 #include "lights/sunsky_model.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 namespace candela {
@@ -42,6 +49,16 @@ namespace {
 
 constexpr float AureoleCosine = 0.96592582628f;  // cos(15 degrees)
 constexpr float FloatEpsilon = 0x1p-24f;         // Mitsuba's dr::Epsilon<float>
+
+// Every update of every timed_sunsky gets its own key, so a thread's cached state is never taken
+// for another emitter's or an edited one's.
+std::atomic<uint64_t> g_next_state_key{1};
+
+struct StateCache {
+    uint64_t key = 0;
+    float time = 0.0f;
+    SunskyState state;
+};
 
 }  // namespace
 
@@ -65,16 +82,14 @@ public:
     }
 
     Spectrum eval_environment(const Vec3& d, const Wavelengths* w, float time) const override {
-        SunskyState state;
-        state_at(time, state);
+        const SunskyState& state = state_at(time);
         Vec3 local = to_local(d);
         return model_->radiance(state, local, model_->sees_sun(state, local), w);
     }
 
     DirectionSample sample_direction(const SurfaceInteraction& ref, const Vec2& u, Spectrum& weight) const override {
         weight = Spectrum(0.0f);
-        SunskyState state;
-        state_at(ref.time, state);
+        const SunskyState& state = state_at(ref.time);
         if (!state.up) return DirectionSample{};
         const float p_sun = sun_probability(state);
         const Frame sun_frame(state.sun);
@@ -100,8 +115,7 @@ public:
     }
 
     float pdf_direction(const SurfaceInteraction& ref, const DirectionSample& ds) const override {
-        SunskyState state;
-        state_at(ref.time, state);
+        const SunskyState& state = state_at(ref.time);
         if (!state.up) return 0.0f;
         Vec3 local = to_local(ds.d);
         return pdf_local(state, local, model_->sees_sun(state, local), sun_probability(state));
@@ -135,11 +149,24 @@ private:
         if (days_ < 0) throw InputError("the start date is after the end date");
         // Equal dates: the one day (Mitsuba would step back a day).
         days_ = std::max(days_, 1);
+        state_key_ = g_next_state_key.fetch_add(1);
         radiance_integral_ = mean_radiance_integral();
     }
 
+    // The model at a ray's time, from this thread's cache when it was the last time asked (see
+    // the top of the file). The reference holds until this thread asks for another time.
+    const SunskyState& state_at(float time) const {
+        thread_local StateCache cache;
+        if (cache.key != state_key_ || !(cache.time == time)) {
+            compute_state(time, cache.state);
+            cache.key = state_key_;
+            cache.time = time;
+        }
+        return cache.state;
+    }
+
     // The sun at a ray's time (see the top of the file) and the model finished for it.
-    void state_at(float time, SunskyState& state) const {
+    void compute_state(float time, SunskyState& state) const {
         const float open_time = shutter_close_ - shutter_open_;
         const float s = open_time > 0.0f ? (time - shutter_open_) / open_time : 0.0f;
         const float day = s * (float(days_) - FloatEpsilon);
@@ -175,8 +202,7 @@ private:
         constexpr int Times = 16, Azimuths = 64, Cosines = 32;
         Spectrum total(0.0f);
         for (int k = 0; k < Times; ++k) {
-            SunskyState state;
-            state_at(shutter_open_ + (k + 0.5f) / Times * (shutter_close_ - shutter_open_), state);
+            const SunskyState& state = state_at(shutter_open_ + (k + 0.5f) / Times * (shutter_close_ - shutter_open_));
             if (!state.up) continue;
             Spectrum sky(0.0f);
             for (int j = 0; j < Cosines; ++j)
@@ -195,6 +221,7 @@ private:
     int start_year_ = 2025, start_month_ = 1, start_day_ = 1, end_year_ = 2026, end_month_ = 1, end_day_ = 1;
     float shutter_open_ = 0.0f, shutter_close_ = 1.0f;
     int days_ = 365;
+    uint64_t state_key_ = 0;  // this update's key in the threads' caches
 };
 
 CANDELA_REGISTER_SPECTRAL(TimedSunskyEmitter, ObjectKind::Emitter, "timed_sunsky");
