@@ -392,10 +392,12 @@ void add_part(const PartHeader& h, PixelSums& image_sums) {
                 if (!std::isfinite(v)) throw InputError(h.path + ": holds a non-finite sum at pixel " + pixel_name(x, y));
                 return v;
             };
+            // A count is written only up to 2^24, which float32 holds exactly (write_part refuses
+            // more): anything above is not a part's.
             auto count = [&]() {
                 const double v = part.at(x, y, index[c++]);
-                if (!(v >= 0.0 && v <= double(UINT32_MAX) && v == std::floor(v)))
-                    throw InputError(h.path + ": holds a sample count that is not a whole number in [0, 2^32) at pixel " +
+                if (!(v >= 0.0 && v <= double(MaxExactCount) && v == std::floor(v)))
+                    throw InputError(h.path + ": holds a sample count that is not a whole number in [0, 2^24] at pixel " +
                                      pixel_name(x, y));
                 return uint32_t(v);
             };
