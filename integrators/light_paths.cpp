@@ -51,7 +51,6 @@ bool LightPathTracer::start(PCG32& rng, float time, LightPathStart& s) const {
     const Vec2 u_position = next_vec2(rng), u_direction = next_vec2(rng);
     s.emitter = lights_->sample(SurfaceInteraction(), u_pick, s.pick_prob);
     if (!s.emitter || !(s.pick_prob > 0.0f)) return false;
-    s.time = time;
     s.ray = s.emitter->sample_ray(u_position, u_direction, s.wavelengths, time);
     s.ray.ray.time = time;
     if (!s.ray.valid() || is_black(s.ray.weight) || !all_finite(s.ray.weight)) return false;

@@ -36,11 +36,12 @@ struct LightVertex {
 
 // Where a light path starts: an emitter picked by power and a ray it emits.
 struct LightPathStart {
-    // The path's shutter time: the emitter's pose, and every ray of the path, take it.
-    float time = 0.0f;
     const Emitter* emitter = nullptr;
     float pick_prob = 0.0f;
     EmitterRay ray;
+    // The path's shutter time, its first ray's: the emitter's pose, and every ray of the path,
+    // take it.
+    float time() const { return ray.ray.time; }
     Spectrum beta{0.0f};  // ray.weight / pick_prob
     // The path's wavelengths in the spectral variant (set before start(); null in RGB): the
     // emitted weight and every value along the path are at them.
@@ -82,8 +83,8 @@ public:
     // A light path's own shutter time: uniform over the sensor's shutter, as a camera sample's;
     // its opening when the shutter is closed, drawing nothing.
     float sample_time(PCG32& rng) const;
-    // Picks an emitter (by power) and one of its rays at shutter time `time` (start.time receives
-    // it); false when the sample carries nothing.
+    // Picks an emitter (by power) and one of its rays at shutter time `time` (start.time() gives
+    // it back); false when the sample carries nothing.
     bool start(PCG32& rng, float time, LightPathStart& start) const;
     // Follows a path from its start: visit(const LightVertex&) runs at each surface hit; the
     // path ends where visit returns false, after max_hits hits, or by absorption or roulette.
@@ -110,7 +111,7 @@ void LightPathTracer::follow(PCG32& rng, const LightPathStart& start, Visit&& vi
     origin.p_error = start.ray.p_error;
     origin.n = start.ray.n;
     origin.wavelengths = start.wavelengths;
-    origin.time = start.time;
+    origin.time = start.time();
     Ray ray = start.ray.n == Vec3(0.0f) ? start.ray.ray : origin.spawn_ray(start.ray.ray.d);
     ray.wavelengths = start.wavelengths;
     Spectrum beta = start.beta;

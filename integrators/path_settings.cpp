@@ -15,11 +15,14 @@ std::optional<PathSettingProblem> check_path_settings(const PathSettings& s) {
     return std::nullopt;
 }
 
-void refuse_polarized_variant(const Properties& props, const std::string& integrator) {
-    if (props.variant() != Variant::ScalarSpectralPolarized) return;
-    props.fail(integrator +
-               " does not render in variant scalar_spectral_polarized (as in Mitsuba 3); it renders in scalar_rgb and "
-               "scalar_spectral, and path or volpath render polarization");
+PathSettings read_differentiable_settings(const Properties& props, const std::string& integrator, uint32_t fields, int default_max_depth) {
+    if (props.variant() == Variant::ScalarSpectralPolarized)
+        props.fail(integrator +
+                   " does not render in variant scalar_spectral_polarized (as in Mitsuba 3); it renders in scalar_rgb and "
+                   "scalar_spectral, and path or volpath render polarization");
+    PathSettings defaults;
+    defaults.max_depth = default_max_depth;
+    return read_path_settings(props, fields, defaults);
 }
 
 PathSettings read_path_settings(const Properties& props, uint32_t fields, const PathSettings& defaults) {

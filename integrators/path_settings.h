@@ -44,9 +44,10 @@ std::optional<PathSettingProblem> check_path_settings(const PathSettings& settin
 // Reads the `fields` (PathSettingFields) from an integrator's properties; what they do not give
 // keeps its value in `defaults`. An invalid value is a SceneError at its file:line.
 PathSettings read_path_settings(const Properties& props, uint32_t fields, const PathSettings& defaults = PathSettings{});
-// Mitsuba 3's differentiable integrators (prb, prb_basic, prb_projective, direct_projective,
-// prbvolpath) do not render in the polarized variant: in it, a SceneError at the integrator's
-// line naming `integrator`; nothing otherwise.
-void refuse_polarized_variant(const Properties& props, const std::string& integrator);
+// The settings of Mitsuba 3's differentiable integrators (prb, prb_basic, prb_projective,
+// direct_projective, prbvolpath): the `fields` as read_path_settings reads them, max_depth
+// `default_max_depth` where the scene gives none. They do not render in the polarized variant:
+// in it, a SceneError at the integrator's line naming `integrator`.
+PathSettings read_differentiable_settings(const Properties& props, const std::string& integrator, uint32_t fields, int default_max_depth);
 
 }  // namespace candela

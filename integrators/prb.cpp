@@ -16,20 +16,11 @@
 
 namespace candela {
 
-namespace {
-
-PathSettings prb_settings(const Properties& props) {
-    refuse_polarized_variant(props, "prb");
-    PathSettings defaults;
-    defaults.max_depth = 6;  // prb.py's default, where path's is unbounded
-    return read_path_settings(props, DepthSettings | HideEmittersSetting, defaults);
-}
-
-}  // namespace
-
 class PrbIntegrator final : public PathIntegrator {
 public:
-    explicit PrbIntegrator(const Properties& props) : PathIntegrator(prb_settings(props)) {}
+    // max_depth 6: prb.py's default, where path's is unbounded.
+    explicit PrbIntegrator(const Properties& props)
+        : PathIntegrator(read_differentiable_settings(props, "prb", DepthSettings | HideEmittersSetting, 6)) {}
     std::string to_string() const override { return "prb"; }
 };
 

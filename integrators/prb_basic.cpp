@@ -33,20 +33,11 @@
 
 namespace candela {
 
-namespace {
-
-PathSettings prb_basic_settings(const Properties& props) {
-    refuse_polarized_variant(props, "prb_basic");
-    PathSettings defaults;
-    defaults.max_depth = 6;  // prb_basic.py's default
-    return read_path_settings(props, DepthSettings | HideEmittersSetting, defaults);
-}
-
-}  // namespace
-
 class PrbBasicIntegrator final : public SamplingIntegrator {
 public:
-    explicit PrbBasicIntegrator(const Properties& props) : settings_(prb_basic_settings(props)) {}
+    // max_depth 6: prb_basic.py's default.
+    explicit PrbBasicIntegrator(const Properties& props)
+        : settings_(read_differentiable_settings(props, "prb_basic", DepthSettings | HideEmittersSetting, 6)) {}
     std::string to_string() const override { return "prb_basic"; }
 
     // A sample is valid (the film's alpha) when its camera ray meets a surface, or when the

@@ -44,9 +44,8 @@ void read_projective_gradient_settings(const Properties& props) {
 }
 
 PathSettings projective_settings(const Properties& props, const std::string& name, bool direct) {
-    refuse_polarized_variant(props, name);
+    PathSettings settings = read_differentiable_settings(props, name, DepthSettings | HideEmittersSetting, -1);
     read_projective_gradient_settings(props);
-    PathSettings settings = read_path_settings(props, DepthSettings | HideEmittersSetting);
     if (direct) {
         settings.max_depth = 2;
         settings.rr_depth = PathSettings().rr_depth;

@@ -77,7 +77,7 @@ public:
     }
 
     RenderResult render(const Scene& scene, const RenderOptions& options) override;
-    // Each light path takes its own shutter time (LightPathTracer::start), and its emitter, its
+    // Each light path takes its own shutter time (LightPathTracer::sample_time), and its emitter, its
     // rays and its connections to the sensor their poses then.
     bool renders_motion() const override { return true; }
     std::string to_string() const override { return "ptracer"; }
@@ -127,10 +127,10 @@ void ParticleTracerIntegrator::trace_path(const LightPathTracer& tracer, PCG32& 
 // sensor's weight.
 void ParticleTracerIntegrator::connect_area_emitter(const Scene& scene, const LightPathStart& start, PCG32& rng, ChunkSplats& out) const {
     Vec2 u = next_vec2(rng);
-    SensorSample ss = scene.sensor().sample_direction(start.ray.ray.o, u, start.time);
+    SensorSample ss = scene.sensor().sample_direction(start.ray.ray.o, u, start.time());
     if (!(ss.pdf > 0.0f)) return;
     SurfaceInteraction si;
-    si.time = start.time;
+    si.time = start.time();
     si.p = start.ray.ray.o;
     si.p_error = start.ray.p_error;
     si.n = start.ray.n;
@@ -153,17 +153,17 @@ void ParticleTracerIntegrator::connect_area_emitter(const Scene& scene, const Li
 void ParticleTracerIntegrator::connect_environment(const Scene& scene, const LightPathStart& start, PCG32& rng, ChunkSplats& out) const {
     const Vec2 u_dir = next_vec2(rng), u_lens = next_vec2(rng);
     SurfaceInteraction eye;
-    eye.p = scene.sensor().pose_at(start.time).apply_point(Vec3(0.0f));
+    eye.p = scene.sensor().pose_at(start.time()).apply_point(Vec3(0.0f));
     eye.wavelengths = start.wavelengths;
-    eye.time = start.time;
+    eye.time = start.time();
     Spectrum radiance_over_pdf;
     DirectionSample ds = start.emitter->sample_direction(eye, u_dir, radiance_over_pdf);
     if (!(ds.pdf > 0.0f) || is_black(radiance_over_pdf)) return;
     float far = 1e3f * (glm::length(eye.p - scene.bbox().center()) + scene.bbox().bounding_radius() + 1.0f);
-    SensorSample ss = scene.sensor().sample_direction(eye.p + ds.d * far, u_lens, start.time);
+    SensorSample ss = scene.sensor().sample_direction(eye.p + ds.d * far, u_lens, start.time());
     if (!(ss.pdf > 0.0f)) return;
     Ray camera_ray(ss.p, -ss.d);
-    camera_ray.time = start.time;
+    camera_ray.time = start.time();
     if (scene.occluded(camera_ray)) return;  // the camera ray must escape
     splat(scene, ss.film_pos, radiance_over_pdf * (far * far * ss.weight / start.pick_prob), start.wavelengths, out);
 }

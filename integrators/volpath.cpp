@@ -72,11 +72,9 @@ uint32_t float_bits(float f) {
 
 class VolPathIntegrator : public SamplingIntegrator {
 public:
-    // `name`: the plugin's; `defaults`: its settings where the scene gives none.
-    VolPathIntegrator(const Properties& props, bool spectral_mis, const char* name, const PathSettings& defaults = PathSettings{})
-        : settings_(read_path_settings(props, DepthSettings | HideEmittersSetting | LightSamplerSetting, defaults)),
-          spectral_mis_(spectral_mis),
-          name_(name) {}
+    // `name`: the plugin's.
+    VolPathIntegrator(const PathSettings& settings, bool spectral_mis, const char* name)
+        : settings_(settings), spectral_mis_(spectral_mis), name_(name) {}
     void prepare(const Scene& scene) override { lights_ = create_light_sampler(settings_.light_sampler, scene); }
     bool renders_media() const override { return true; }
     std::string to_string() const override { return name_; }
@@ -186,22 +184,19 @@ Spectrum VolPathIntegrator::sample_phase_light(const Scene& scene, Sampler& samp
     return T * f * light.weight * (mis / light.pick_prob);
 }
 
+constexpr uint32_t VolPathSettings = DepthSettings | HideEmittersSetting | LightSamplerSetting;
+
 struct VolPath : VolPathIntegrator {
-    explicit VolPath(const Properties& props) : VolPathIntegrator(props, false, "volpath") {}
+    explicit VolPath(const Properties& props) : VolPathIntegrator(read_path_settings(props, VolPathSettings), false, "volpath") {}
 };
 struct VolPathMis : VolPathIntegrator {
-    explicit VolPathMis(const Properties& props) : VolPathIntegrator(props, true, "volpathmis") {}
+    explicit VolPathMis(const Properties& props) : VolPathIntegrator(read_path_settings(props, VolPathSettings), true, "volpathmis") {}
 };
 // prbvolpath: Mitsuba's differentiable volumetric path tracer; its forward estimate is volpath's
 // (delta tracking, next-event estimation, roulette) with max_depth 6 by default.
-PathSettings prbvolpath_defaults(const Properties& props) {
-    refuse_polarized_variant(props, "prbvolpath");
-    PathSettings defaults;
-    defaults.max_depth = 6;
-    return defaults;
-}
 struct PrbVolPath : VolPathIntegrator {
-    explicit PrbVolPath(const Properties& props) : VolPathIntegrator(props, false, "prbvolpath", prbvolpath_defaults(props)) {}
+    explicit PrbVolPath(const Properties& props)
+        : VolPathIntegrator(read_differentiable_settings(props, "prbvolpath", VolPathSettings, 6), false, "prbvolpath") {}
 };
 
 CANDELA_REGISTER_SPECTRAL(VolPath, ObjectKind::Integrator, "volpath");

@@ -58,29 +58,24 @@ public:
 
     // Light tracing: the one ray that reaches `ref` runs along the view axis; its importance is
     // film pixels per unit area across the beam, W H / (viewed cross-section).
-    // An animated camera connects with its pose at `time`.
+    // An animated camera connects with its pose at `time`: the view axis and the cross-section
+    // are that pose's (a still camera's are direction_ and cross_section_, computed alike).
     SensorSample sample_direction(const Vec3& ref, const Vec2&, float time) const override {
         SensorSample s;
-        Vec3 local = camera_point(ref, time);
+        const Transform pose = pose_at(time);
+        Vec3 local = pose.inverse().apply_point(ref);
         Vec2 fraction(0.5f - 0.5f * local.x, 0.5f - 0.5f * local.y * aspect_);
         if (!(local.z > near_clip_) || !on_film(fraction)) return s;
-        const Vec3 start(local.x, local.y, near_clip_);
-        float cross_section_now = cross_section_;
-        if (motion_.is_animated()) {
-            const Transform pose = pose_at(time);
-            s.p = pose.apply_point(start);
-            s.d = -glm::normalize(pose.apply_vector(Vec3(0.0f, 0.0f, 1.0f)));
-            cross_section_now = cross_section(pose, -s.d);
-        } else {
-            s.p = to_world_.apply_point(start);
-            s.d = -direction_;
-        }
+        s.p = pose.apply_point(Vec3(local.x, local.y, near_clip_));
+        const Vec3 direction = glm::normalize(pose.apply_vector(Vec3(0.0f, 0.0f, 1.0f)));
+        const float viewed = cross_section(pose, direction);
         s.dist = glm::length(ref - s.p);
-        if (!(s.dist > 0.0f && s.dist < far_clip_ - near_clip_) || !(cross_section_now > 0.0f)) return SensorSample();
+        if (!(s.dist > 0.0f && s.dist < far_clip_ - near_clip_) || !(viewed > 0.0f)) return SensorSample();
+        s.d = -direction;
         s.film_pos = film_pixels(fraction);
         s.pdf = 1.0f;
         s.delta = true;
-        s.weight = film_area() / cross_section_now;
+        s.weight = film_area() / viewed;
         return s;
     }
 

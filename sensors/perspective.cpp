@@ -57,11 +57,12 @@ public:
     }
 
     SensorSample sample_direction(const Vec3& ref, const Vec2&, float time) const override {
-        Vec3 local = camera_point(ref, time);
+        const Transform pose = pose_at(time);
+        Vec3 local = pose.inverse().apply_point(ref);
         if (!(local.z > near_clip_ && local.z < far_clip_)) return SensorSample();
         Vec2 fraction = projection_.film_position(local);
         if (!on_film(fraction)) return SensorSample();
-        return lens_connection(ref, local, Vec3(0.0f), fraction, projection_.tan_half_x, time);
+        return lens_connection(ref, local, Vec3(0.0f), fraction, projection_.tan_half_x, pose);
     }
 
     std::optional<PinholeProjection> pinhole() const override { return projection_; }

@@ -10,7 +10,6 @@ namespace candela {
 ProjectiveCamera::ProjectiveCamera(const Properties& props) : Sensor(props) {
     motion_ = props.get_animated_transform("to_world", Transform());
     to_world_ = motion_.is_animated() ? motion_.eval(shutter_open_) : motion_.first();
-    world_to_local_ = to_world_.inverse();
     take_size(film_->full_size());
 
     near_clip_ = props.get_float("near_clip", 0.01f);
@@ -50,7 +49,7 @@ void ProjectiveCamera::refuse_scaling(const Properties& props) const {
 }
 
 SensorSample ProjectiveCamera::lens_connection(const Vec3& ref, const Vec3& local, const Vec3& lens, const Vec2& fraction, float tan_half_x,
-                                               float time) const {
+                                               const Transform& pose) const {
     SensorSample s;
     Vec3 v = local - lens;  // camera space, from the lens point toward the reference point
     float r2 = squared_length(v), r = std::sqrt(r2);
@@ -59,8 +58,7 @@ SensorSample ProjectiveCamera::lens_connection(const Vec3& ref, const Vec3& loca
     float image_area = 4.0f * tan_half_x * tan_half_x / aspect_;
     s.weight = film_area() / (image_area * cos_theta * cos_theta * cos_theta * r2);
     // The camera ray starts where it crosses the near plane (z = near_clip).
-    const Vec3 start = lens + v * (near_clip_ / v.z);
-    s.p = motion_.is_animated() ? motion_.eval(time).apply_point(start) : to_world_.apply_point(start);
+    s.p = pose.apply_point(lens + v * (near_clip_ / v.z));
     Vec3 to_sensor = s.p - ref;
     s.dist = glm::length(to_sensor);
     if (!(s.dist > 0.0f)) return SensorSample();
@@ -79,7 +77,6 @@ void ProjectiveCamera::traverse(ParameterVisitor& visitor) {
 void ProjectiveCamera::parameters_changed(const std::vector<std::string>& keys) {
     if (std::find(keys.begin(), keys.end(), "to_world") == keys.end()) return;
     motion_ = AnimatedTransform(to_world_);
-    world_to_local_ = to_world_.inverse();
     pose_changed();
 }
 

@@ -55,14 +55,10 @@ protected:
     // ray runs from the lens through `local`, entering the view at depth near_clip, and carries
     // W_e cos / dist^2 = film_area / (A cos^3 dist^2), A the image plane's area at depth 1
     // (4 tan(fov_x / 2) tan(fov_y / 2)): pixel area per solid angle, then per area at `local`.
-    // `time`: the connection's shutter time (the camera's pose then).
+    // `pose`: the camera's at the connection's shutter time (pose_at), of which `local` is in
+    // camera space.
     SensorSample lens_connection(const Vec3& ref, const Vec3& local, const Vec3& lens, const Vec2& fraction, float tan_half_x,
-                                 float time) const;
-
-    // World point `ref` in camera space at `time` (light tracing's connections).
-    Vec3 camera_point(const Vec3& ref, float time) const {
-        return (motion_.is_animated() ? motion_.eval(time).inverse() : world_to_local_).apply_point(ref);
-    }
+                                 const Transform& pose) const;
     // Stops at to_world when some keyframe scales (the pinhole cameras' requirement).
     void refuse_scaling(const Properties& props) const;
     // The pinhole of a perspective or thin-lens camera: its pose, the field of view read from
@@ -76,7 +72,6 @@ protected:
     static void expose_x_fov(ParameterVisitor& visitor, PinholeProjection& projection);
 
     AnimatedTransform motion_;
-    Transform world_to_local_;
     float aspect_ = 1.0f;  // width / height of the full film
     float near_clip_ = 0.01f, far_clip_ = 1e4f, focus_distance_ = 1e4f;
 

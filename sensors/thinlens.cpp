@@ -52,14 +52,15 @@ public:
     // density 1 / (pi a^2) cancels against the camera's own averaging over the aperture, so the
     // weight is the pinhole's, measured from the lens point.
     SensorSample sample_direction(const Vec3& ref, const Vec2& aperture_u, float time) const override {
-        Vec3 local = camera_point(ref, time);
+        const Transform pose = pose_at(time);
+        Vec3 local = pose.inverse().apply_point(ref);
         if (!(local.z > near_clip_ && local.z < far_clip_)) return SensorSample();
         Vec2 a = aperture_radius_ * warp::square_to_uniform_disk_concentric(aperture_u);
         Vec3 lens(a.x, a.y, 0.0f);
         Vec3 focus = lens + (local - lens) * (focus_distance_ / local.z);
         Vec2 fraction = projection_.film_position(focus);
         if (!on_film(fraction)) return SensorSample();
-        SensorSample s = lens_connection(ref, local, lens, fraction, projection_.tan_half_x, time);
+        SensorSample s = lens_connection(ref, local, lens, fraction, projection_.tan_half_x, pose);
         if (aperture_radius_ > 0.0f && s.pdf > 0.0f) {
             // Solid-angle density at ref of the lens point: (1 / (pi a^2)) r^2 / cos theta.
             Vec3 v = local - lens;
