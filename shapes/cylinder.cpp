@@ -75,10 +75,7 @@ public:
         if (t0 > t1) std::swap(t0, t1);
         for (double th : {t0, t1}) {
             double z = o.z + th * d.z;
-            if (th >= tmin && th <= tmax && z >= 0.0 && z <= 1.0) {
-                t = float(th);
-                return true;
-            }
+            if (z >= 0.0 && z <= 1.0 && root_in_segment(th, tmin, tmax, t)) return true;
         }
         return false;
     }

@@ -43,13 +43,13 @@ public:
         Vec3d o(world_to_object_.apply_point(of)), d(world_to_object_.apply_vector(df));
         if (d.z == 0.0) return false;
         double th = -o.z / d.z;
-        // Strictly beyond tmin: a ray leaving the disk's exact centre (an untransformed disk's
-        // point there has no rounding error, so it is not offset) starts on the plane, at t = 0,
-        // and must not hit its own origin.
-        if (!(th > tmin && th <= tmax)) return false;
+        // A ray leaving the disk's exact centre (an untransformed disk's point there has no
+        // rounding error, so it is not offset) starts on the plane, at t = 0: strictly beyond tmin.
+        float hit_t;
+        if (!root_in_segment(th, tmin, tmax, hit_t)) return false;
         double x = o.x + th * d.x, y = o.y + th * d.y;
         if (x * x + y * y > 1.0) return false;
-        t = float(th);
+        t = hit_t;
         return true;
     }
 

@@ -23,6 +23,7 @@
 #include "core/accel.h"
 #include "core/registry.h"
 #include "core/shape.h"
+#include "shapes/analytic_shape.h"
 
 #include <cstring>
 #include <fstream>
@@ -125,7 +126,7 @@ public:
     float surface_area() const override { throw std::logic_error("an sdfgrid carries no emitter"); }
     PositionSample sample_position(const Vec2&) const override { throw std::logic_error("an sdfgrid carries no emitter"); }
 
-    // The nearest hit of the world-space ray on surface voxel `slot`, within [tmin, tmax].
+    // The nearest hit of the world-space ray on surface voxel `slot`, within (tmin, tmax].
     bool intersect_voxel(unsigned slot, const Vec3& of, const Vec3& df, float tmin, float tmax, float& t) const;
     BoundingBox voxel_bounds(unsigned slot) const;
 
@@ -264,7 +265,8 @@ bool SdfGrid::intersect_voxel(unsigned slot, const Vec3& of, const Vec3& df, flo
     glm::dvec3 scale(res_ - 1);
     glm::dvec3 o = glm::dvec3(world_to_object_ * glm::dvec4(Vec3d(of), 1.0)) * scale - glm::dvec3(v);
     glm::dvec3 d = glm::dvec3(world_to_object_ * glm::dvec4(Vec3d(df), 0.0)) * scale;
-    double t0 = tmin, t1 = tmax;
+    // Roots strictly beyond tmin (shapes/analytic_shape.h): the search starts at the next float.
+    double t0 = std::nextafter(tmin, Infinity), t1 = tmax;
     for (int axis = 0; axis < 3; ++axis) {  // the slab test against the voxel
         if (d[axis] == 0.0) {
             if (o[axis] < 0.0 || o[axis] > 1.0) return false;
@@ -288,8 +290,7 @@ bool SdfGrid::intersect_voxel(unsigned slot, const Vec3& of, const Vec3& df, flo
     double c0 = p0 + q0 * o.z, c1 = p1 + q1 * o.z + q0 * d.z, c2 = p2 + q2 * o.z + q1 * d.z, c3 = q2 * d.z;
     double root;
     if (!first_cubic_root(c3, c2, c1, c0, t0, t1, root)) return false;
-    t = float(root);
-    return t >= tmin && t <= tmax;
+    return root_in_segment(root, tmin, tmax, t);
 }
 
 namespace {
