@@ -40,14 +40,14 @@ public:
         : settings_(read_differentiable_settings(props, "prb_basic", DepthSettings | HideEmittersSetting, 6)) {}
     std::string to_string() const override { return "prb_basic"; }
 
-    // A sample is valid (the film's alpha) when its camera ray meets a surface, or when the
-    // environment is visible (there is one and hide_emitters is off).
+    // A sample is valid (the film's alpha) when its camera ray meets a surface, whatever it sees
+    // beyond: prb_basic.py's "depth != 0" (path and prb count a visible environment too).
     Spectrum sample_radiance(const Scene& scene, Sampler& sampler, const Ray& camera_ray, SampleRecord& record) const override {
         Spectrum L(0.0f), beta(1.0f);
         float eta = 1.0f;
         Ray ray = camera_ray;
         SurfaceInteraction si;
-        record.valid = !settings_.hide_emitters && !scene.infinite_emitters().empty();
+        record.valid = false;
         for (uint32_t depth = 0; settings_.max_depth != 0; ++depth) {
             const bool seen_directly = depth == 0;
             if (!scene.intersect(ray, si)) {

@@ -114,6 +114,32 @@ TEST_CASE("prb_basic: at depth 1 it sees what path sees directly, bit for bit, a
     CHECK(all_finite_pixels(unbounded));
 }
 
+TEST_CASE("prb_basic: its alpha is whether the camera ray meets a surface (prb_basic.py's validity)", "[render][prb]") {
+    // The view's top rows see the sky past the floor. prb_basic.py returns "depth != 0" as its
+    // validity, so alpha is 0 there; path counts a visible environment as valid (alpha 1), and
+    // the depth integrator's alpha is the camera ray's hit, from the same camera rays.
+    auto rgba = [](const std::string& integrator) {
+        std::string xml = scene_xml(integrator, 4);
+        const std::string filter = R"(<rfilter type="box"/>)";
+        xml.replace(xml.find(filter), filter.size(), R"(<string name="pixel_format" value="rgba"/>)" + filter);
+        return render_image(*load_scene_from_string(xml, scratch_dir("prb_integrators").string() + "/scene.xml"));
+    };
+    const Image basic = rgba(R"(<integrator type="prb_basic"/>)");
+    const Image path = rgba(R"(<integrator type="path"/>)");
+    const Image depth = rgba(R"(<integrator type="depth"/>)");
+    REQUIRE(basic.channel_count() == 4);
+    int missed = 0, hit = 0;
+    for (int y = 0; y < basic.height(); ++y)
+        for (int x = 0; x < basic.width(); ++x) {
+            CHECK(basic.at(x, y, 3) == depth.at(x, y, 3));
+            CHECK(path.at(x, y, 3) == 1.0f);
+            missed += basic.at(x, y, 3) == 0.0f;
+            hit += basic.at(x, y, 3) == 1.0f;
+        }
+    CHECK(missed > 0);
+    CHECK(hit > 0);
+}
+
 TEST_CASE("prb_projective and direct_projective: their gradient settings are checked at their lines", "[render][prb][errors]") {
     CHECK_THAT(load_error(R"(<integrator type="prb_projective"><string name="guiding" value="kdtree"/></integrator>)"),
                Catch::Contains("guiding must be none, grid or octree"));
