@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <sstream>
 
 namespace candela {
@@ -219,6 +220,9 @@ void check_spectrum(const SampledSpectrum& s) {
     if (s.wavelengths.size() < 2) throw SpectrumFormatError("a sampled spectrum needs at least two wavelength:value pairs");
     for (size_t i = 0; i < s.wavelengths.size(); ++i) {
         if (!std::isfinite(s.wavelengths[i]) || !std::isfinite(s.values[i])) throw SpectrumFormatError("non-finite sample");
+        // Values become floats where they are used: beyond float's range they would be infinite.
+        if (std::fabs(s.values[i]) > double(std::numeric_limits<float>::max()))
+            throw SpectrumFormatError("a value beyond the range of a 32-bit float (" + std::to_string(s.values[i]) + ")");
         if (i > 0 && s.wavelengths[i] < s.wavelengths[i - 1])
             throw SpectrumFormatError("wavelengths must increase (" + std::to_string(s.wavelengths[i]) + " nm follows " +
                                       std::to_string(s.wavelengths[i - 1]) + " nm)");

@@ -11,9 +11,11 @@
 #include <pugixml.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <set>
 #include <sstream>
 
@@ -249,6 +251,9 @@ private:
         double v = std::strtod(t.c_str(), &end);
         if (t.empty() || end != t.c_str() + t.size()) throw SceneError(where(doc, node), "\"" + text + "\" is not a number");
         if (!std::isfinite(v)) throw SceneError(where(doc, node), "\"" + text + "\" is not a finite number");
+        // Every number a plugin reads becomes a float: beyond its range it would be infinite.
+        if (std::fabs(v) > double(std::numeric_limits<float>::max()))
+            throw SceneError(where(doc, node), "\"" + text + "\" is beyond the range of a 32-bit float (magnitude at most 3.4e38)");
         return v;
     }
 

@@ -473,6 +473,20 @@ Image in_pixel_format(const Image& rgb, const std::vector<float>& coverage, Pixe
     return out;
 }
 
+// Blacks out the pixels whose colour is not storable (NaN, infinite or beyond 1e30: core/film.h),
+// as the pixel loop drops such samples; how many. Finite inputs can still overflow float in a
+// frame's sums (an intensity near 3.4e38 times a falloff and a sum of lights).
+uint64_t drop_unstorable_pixels(Image& rgb) {
+    uint64_t dropped = 0;
+    for (int y = 0; y < rgb.height(); ++y)
+        for (int x = 0; x < rgb.width(); ++x)
+            if (!storable_sample_value(rgb.rgb_at(x, y))) {
+                for (int c = 0; c < 3; ++c) rgb.at(x, y, c) = 0.0f;
+                ++dropped;
+            }
+    return dropped;
+}
+
 }  // namespace
 
 RenderResult RasterIntegrator::render(const Scene& scene, const RenderOptions& options) {
@@ -504,6 +518,7 @@ RenderResult RasterIntegrator::render(const Scene& scene, const RenderOptions& o
         fog_pass(frame, buffers);
         resolve_pass(frame, buffers);
         overlay_pass(frame, buffers);
+        result.stats.nonfinite = drop_unstorable_pixels(buffers.image);
         result.image = in_pixel_format(buffers.image, buffers.coverage, scene.sensor().film().pixel_format());
         result.stats.samples = frame.sample_count();
     });

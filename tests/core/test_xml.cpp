@@ -192,6 +192,13 @@ TEST_CASE("xml: errors name the file and line", "[xml][errors]") {
         {"unknown id", scene_xml("<shape type=\"sphere\">\n<ref id=\"nope\"/>\n</shape>"), 3, "unknown id \"nope\""},
         {"duplicate id", scene_xml("<bsdf type=\"diffuse\" id=\"a\"/>\n<bsdf type=\"diffuse\" id=\"a\"/>"), 3, "duplicate id"},
         {"bad number", scene_xml("<shape type=\"sphere\">\n<float name=\"radius\" value=\"1.0x\"/>\n</shape>"), 3, "is not a number"},
+        // Finite as a double, infinite as the float it becomes (found by fuzz_scene: a raster
+        // render of a point light of intensity 1e75 held infinite pixels).
+        {"beyond float", scene_xml("<emitter type=\"point\">\n<rgb name=\"intensity\" value=\"1e75\"/>\n</emitter>"), 3,
+         "beyond the range of a 32-bit float"},
+        {"spectrum beyond float",
+         scene_xml("<emitter type=\"point\">\n<spectrum name=\"intensity\" value=\"400:1, 500:1e40\"/>\n</emitter>"), 3,
+         "beyond the range of a 32-bit float"},
         {"bad integer", scene_xml("<integrator type=\"path\">\n<integer name=\"max_depth\" value=\"2.5\"/>\n</integrator>"), 3,
          "is not an integer"},
         {"bad boolean", scene_xml("<integrator type=\"path\">\n<boolean name=\"hide_emitters\" value=\"yes\"/>\n</integrator>"), 3,

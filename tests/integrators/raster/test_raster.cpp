@@ -274,3 +274,17 @@ TEST_CASE("raster: the cube_map property names six face images relative to the s
     CHECK_THROWS_WITH(scene_with("sky/{face}.png"), Catch::Contains("scene.xml:") && Catch::Contains("file not found"));
     CHECK_THROWS_WITH(scene_with("sky/pz.exr"), Catch::Contains("scene.xml:") && Catch::Contains("must contain {face}"));
 }
+
+TEST_CASE("raster: pixels beyond 1e30 or not finite are blacked out and counted, as the pixel loop drops such samples", "[raster]") {
+    // A point light of intensity 1e35 (a float) lights the sphere to about 1e34: past what a film
+    // stores (core/film.h, storable_sample_value). The frame holds only storable values.
+    Ref<Scene> scene = scene_from(R"(<integrator type="raster"/>
+        <sensor type="perspective"><transform name="to_world"><lookat origin="0, 0, 4" target="0, 0, 0" up="0, 1, 0"/></transform>
+            <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/>
+                <string name="component_format" value="float32"/></film></sensor>
+        <emitter type="point"><point name="position" value="0, 0, 3"/><rgb name="intensity" value="1e35"/></emitter>
+        <shape type="sphere"><bsdf type="diffuse"/></shape>)");
+    const RenderResult r = scene->integrator().render(*scene, RenderOptions{});
+    CHECK(r.stats.nonfinite > 0);
+    for (float v : r.image.data()) CHECK(storable_sample_value(v));
+}
