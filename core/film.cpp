@@ -2,6 +2,8 @@
 
 #include "core/spectral.h"
 
+#include <algorithm>
+
 namespace candela {
 
 std::vector<std::string> pixel_format_channels(PixelFormat format) {
@@ -32,6 +34,36 @@ void write_pixel_format(PixelFormat format, const Spectrum& rgb, float alpha, fl
             for (int k = 0; k < 3; ++k) out[c++] = float(xyz[k]);
     }
     if (pixel_format_has_alpha(format)) out[c] = alpha;
+}
+
+FilmBands::FilmBands(std::vector<std::string> band_names, std::vector<SampledSpectrum> band_responses)
+    : names(std::move(band_names)), responses(std::move(band_responses)) {
+    // Their sum, exact as a piecewise linear function on the union of their wavelengths.
+    SampledSpectrum sum;
+    for (const SampledSpectrum& r : responses) sum.wavelengths.insert(sum.wavelengths.end(), r.wavelengths.begin(), r.wavelengths.end());
+    std::sort(sum.wavelengths.begin(), sum.wavelengths.end());
+    sum.wavelengths.erase(std::unique(sum.wavelengths.begin(), sum.wavelengths.end()), sum.wavelengths.end());
+    for (double l : sum.wavelengths) {
+        double total = 0.0;
+        for (const SampledSpectrum& r : responses) {
+            const double v = r.at(l);
+            if (v < 0.0)
+                throw SpectrumFormatError("a sensor response must not be negative (" + std::to_string(v) + " at " + std::to_string(l) +
+                                          " nm)");
+            total += v;
+        }
+        sum.values.push_back(total);
+    }
+    sampling = std::make_shared<SensorResponse>(std::move(sum));
+}
+
+void FilmBands::values(const Spectrum& L, const Wavelengths& w, float* out) const {
+    for (int j = 0; j < count(); ++j) {
+        double v = 0.0;
+        for (int i = 0; i < WavelengthSamples; ++i)
+            if (w.pdf[i] > 0.0f) v += responses[size_t(j)].at(w.lambda[i]) * double(L[i]) / double(w.pdf[i]);
+        out[j] = float(v / WavelengthSamples);
+    }
 }
 
 std::string film_description(const Film& film) {

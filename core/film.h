@@ -5,8 +5,10 @@
 #include "core/filter.h"
 #include "core/object.h"
 #include "core/spectrum.h"
+#include "core/wavelengths.h"
 
 #include <cmath>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -24,6 +26,25 @@ bool pixel_format_has_alpha(PixelFormat format);
 // Rec. 709 primaries), so converting after filtering equals converting every sample.
 void write_pixel_format(PixelFormat format, const Spectrum& rgb, float alpha, float* out);
 
+// A spectral film's channels (Mitsuba's specfilm), in the spectral variants: one per sensor
+// response function srf_j, each the integral of srf_j(l) L(l) dl over 360-830 nm (no CIE
+// normalisation). Wavelengths are drawn in proportion to the sum of the responses (`sampling`),
+// so each sample's band values are (1/n) sum_i srf_j(l_i) L(l_i) / p(l_i) over its n wavelengths.
+struct FilmBands {
+    std::vector<std::string> names;          // the channels, in alphabetical order (Mitsuba's)
+    std::vector<SampledSpectrum> responses;  // srf_j, in the order of `names`
+    std::shared_ptr<const SensorResponse> sampling;
+
+    // Throws SpectrumFormatError when the responses are negative somewhere, or zero over 360-830 nm.
+    FilmBands(std::vector<std::string> names, std::vector<SampledSpectrum> responses);
+    int count() const { return int(names.size()); }
+    // The band values of one sample (count() of them) from its values at the wavelengths `w`.
+    void values(const Spectrum& L, const Wavelengths& w, float* out) const;
+};
+
+// At most this many bands per film: a sample's values live on the stack of the pixel loop.
+constexpr int MaxFilmBands = 32;
+
 class Film : public Object {
 public:
     ObjectKind kind() const override { return ObjectKind::Film; }
@@ -33,6 +54,8 @@ public:
     virtual const ReconstructionFilter& filter() const = 0;
     virtual bool float32() const = 0;  // component_format: float32 or float16
     virtual PixelFormat pixel_format() const = 0;
+    // A spectral film's bands, which replace the pixel format's channels; null for an RGB film.
+    virtual const FilmBands* bands() const { return nullptr; }
     // Mitsuba's sample_border: pixels within the filter's reach outside the crop window are
     // sampled too, so that edge pixels get their full filter support.
     virtual bool sample_border() const = 0;

@@ -86,7 +86,7 @@ SampleLayout sample_layout(const Film& film, const SamplingIntegrator& integrato
     if (extras.size() > size_t(MaxSampleChannels))
         throw InputError("the integrator reports " + std::to_string(extras.size()) + " channels per sample, more than the " +
                          std::to_string(MaxSampleChannels) + " Candela supports");
-    return SampleLayout(film.pixel_format(), std::move(extras));
+    return SampleLayout::of_film(film, std::move(extras));
 }
 
 // Tiles covering the region in row-major order (the order gather_sums() adds them), each with a
@@ -218,7 +218,8 @@ public:
           first_hit_(layers.first_hit()),
           differential_scale_(1.0f / std::sqrt(float(std::max(spp, 1)))),
           spectral_(scene.spectral()),
-          polarized_(scene.polarized()) {}
+          polarized_(scene.polarized()),
+          bands_(scene.sensor().film().bands()) {}
 
     // Samples `samples` of every pixel the tile samples, unless the render was interrupted before.
     void sample_tile(Tile& tile, const SampleRange& samples, Sampler& sampler, Interruption& interruption, RenderCounters& counters,
@@ -246,7 +247,7 @@ private:
         PixelStats* ps = tile.stats.empty() || !own ? nullptr : &tile.stats[size_t(local.y) * tile.size.x + local.x];
         if (ps && !ps->active) return;
         if (ps) ps->taken += uint32_t(samples.end - samples.begin);
-        float values[3 + 1 + MaxSampleChannels];
+        float values[MaxFilmBands + MaxSampleChannels], band_values[MaxFilmBands];
         for (int s = samples.begin; s < samples.end; ++s) {
             sampler.start(pixel, uint32_t(s));
             SampleRecord record;
@@ -259,17 +260,26 @@ private:
             Wavelengths wavelengths;
             StokesSpectrum stokes;  // what a polarized path sums besides its S0
             if (spectral_) {
-                wavelengths = draw_wavelengths(sampler, sensor_.response());
+                // A specfilm's wavelengths follow its bands' responses (a sensor's srf is then refused).
+                wavelengths = draw_wavelengths(sampler, bands_ ? bands_->sampling.get() : sensor_.response());
                 if (polarized_) wavelengths.stokes = &stokes;
                 ray.wavelengths = &wavelengths;
             }
             Spectrum L = integrator_.sample_radiance(scene_, sampler, ray, record) * sensor_.sample_weight(record.film_pos);
-            if (spectral_) {
-                if (const SensorResponse* response = sensor_.response()) L *= response->at(wavelengths);
-                L = spectral_to_linear_srgb(L, wavelengths);
-            }
             ++taken;
-            if (!values_.fill(L, record.valid, record.channels, values)) {
+            bool storable;
+            if (bands_) {
+                bands_->values(L, wavelengths, band_values);
+                storable = values_.fill_bands(band_values, record.channels, values);
+                L = Spectrum(0.0f);  // no colour: the pixel statistics (variance, adaptive) are refused with bands
+            } else {
+                if (spectral_) {
+                    if (const SensorResponse* response = sensor_.response()) L *= response->at(wavelengths);
+                    L = spectral_to_linear_srgb(L, wavelengths);
+                }
+                storable = values_.fill(L, record.valid, record.channels, values);
+            }
+            if (!storable) {
                 ++nonfinite;
                 continue;
             }
@@ -298,6 +308,7 @@ private:
     const bool first_hit_;
     const float differential_scale_;
     const bool spectral_, polarized_;
+    const FilmBands* bands_;  // a specfilm's, or null
 };
 
 // Adaptive sampling's check, between passes. A pixel's error is Cycles' estimate
@@ -467,6 +478,14 @@ void Integrator::refuse_unrendered_motion(const Scene& scene) const {
                                                   " integrator: render the scene with path, volpath, direct or ptracer");
 }
 
+void Integrator::refuse_film_bands(const Scene& scene) const {
+    const Film& film = scene.sensor().film();
+    if (!film.bands()) return;
+    throw SceneError(film.location(), "the " + to_string() +
+                                          " integrator renders an RGB image, not a specfilm's spectral bands: "
+                                          "render them with path, volpath, direct or another integrator of camera samples, or use hdrfilm");
+}
+
 RenderResult SamplingIntegrator::render(const Scene& scene, const RenderOptions& options) {
     refuse_unrendered_media(scene);
     refuse_unrendered_motion(scene);
@@ -482,6 +501,11 @@ RenderResult SamplingIntegrator::render(const Scene& scene, const RenderOptions&
     Ref<Sampler> prototype = configured_sampler(scene, options);
     const SampleRange samples = sample_indices(options.samples, prototype->sample_count());
     const AdaptiveSchedule adaptive(options.adaptive, prototype->sample_count());
+    // Both measure the noise of a pixel's colour, which a specfilm's bands do not have.
+    if (film.bands() && (layers.variance() || adaptive.enabled))
+        throw InputError(std::string(layers.variance() ? "--aov variance" : "adaptive sampling") +
+                         " measures the noise of each pixel's RGB colour, and a specfilm renders spectral bands, not a colour: "
+                         "render with hdrfilm, or without it");
     // Whether a pixel takes a sample depends on its earlier samples and on its neighbours': a part
     // could not know, so adaptive renders are whole (see farm/resumable_render.h).
     if (adaptive.enabled && (samples.begin != 0 || samples.end != prototype->sample_count() || !window.whole(film.crop_size())))

@@ -138,6 +138,9 @@ public:
     // on a scene with an animated to_world rather than render one pose silently.
     virtual bool renders_motion() const { return false; }
     void refuse_unrendered_motion(const Scene& scene) const;
+    // Stops with a SceneError at the film's line when the film is a specfilm: for the integrators
+    // that develop their own image (ptracer, sppm, raster) rather than the pixel loop's bands.
+    void refuse_film_bands(const Scene& scene) const;
     // Why render() cannot honour RenderOptions::samples and ::region and fill RenderResult::sums
     // (so that a render is split across machines and merged, resumed or checkpointed); "" when it
     // can: only integrators whose every sample depends on nothing but (seed, pixel, sample index)

@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 #include "core/math.h"
+#include "core/text.h"
 
 #include <algorithm>
 #include <cmath>
@@ -74,8 +75,36 @@ double PixelStats::variance_of_mean(int c) const {
 SampleLayout::SampleLayout(PixelFormat format, std::vector<std::string> integrator_channels)
     : format_(format), alpha_(pixel_format_has_alpha(format)), extra_names_(std::move(integrator_channels)) {}
 
+SampleLayout::SampleLayout(std::vector<std::string> band_names, std::vector<std::string> integrator_channels)
+    : band_names_(std::move(band_names)), extra_names_(std::move(integrator_channels)) {}
+
+SampleLayout SampleLayout::of_film(const Film& film, std::vector<std::string> integrator_channels) {
+    if (const FilmBands* bands = film.bands()) return SampleLayout(bands->names, std::move(integrator_channels));
+    return SampleLayout(film.pixel_format(), std::move(integrator_channels));
+}
+
+namespace {
+const std::string BandsKey = "bands:";
+std::string joined(const std::vector<std::string>& names) {
+    std::string out;
+    for (const std::string& n : names) out += (out.empty() ? "" : ",") + n;
+    return out;
+}
+}  // namespace
+
+std::string SampleLayout::film_key() const { return has_bands() ? BandsKey + joined(band_names_) : joined(pixel_format_channels(format_)); }
+
+SampleLayout SampleLayout::from_film_key(const std::string& key, std::vector<std::string> integrator_channels) {
+    if (key.rfind(BandsKey, 0) == 0 && key.size() > BandsKey.size())
+        return SampleLayout(split_list(key.substr(BandsKey.size())), std::move(integrator_channels));
+    for (PixelFormat f :
+         {PixelFormat::Luminance, PixelFormat::LuminanceAlpha, PixelFormat::RGB, PixelFormat::RGBA, PixelFormat::XYZ, PixelFormat::XYZA})
+        if (joined(pixel_format_channels(f)) == key) return SampleLayout(f, std::move(integrator_channels));
+    throw InputError("film channels \"" + key + "\" name no pixel format");
+}
+
 std::vector<std::string> SampleLayout::value_names() const {
-    std::vector<std::string> names = {"R", "G", "B"};
+    std::vector<std::string> names = has_bands() ? band_names_ : std::vector<std::string>{"R", "G", "B"};
     if (alpha_) names.push_back("A");
     names.insert(names.end(), extra_names_.begin(), extra_names_.end());
     return names;
@@ -95,8 +124,22 @@ bool SampleLayout::fill(const Spectrum& L, bool valid, const float* integrator_v
     return storable;
 }
 
+bool SampleLayout::fill_bands(const float* band_values, const float* integrator_values, float* out) const {
+    bool storable = true;
+    int c = 0;
+    for (int k = 0; k < film_values(); ++k) {
+        out[c++] = band_values[k];
+        storable = storable && storable_sample_value(band_values[k]);
+    }
+    for (int k = 0; k < extras(); ++k) {
+        out[c++] = integrator_values[k];
+        storable = storable && storable_sample_value(integrator_values[k]);
+    }
+    return storable;
+}
+
 std::vector<std::string> SampleLayout::channels() const {
-    std::vector<std::string> names = pixel_format_channels(format_);
+    std::vector<std::string> names = has_bands() ? band_names_ : pixel_format_channels(format_);
     names.insert(names.end(), extra_names_.begin(), extra_names_.end());
     return names;
 }
@@ -113,6 +156,10 @@ float saturated(double v) {
 }  // namespace
 
 void SampleLayout::write(const double* v, float* out) const {
+    if (has_bands()) {
+        for (int k = 0; k < values(); ++k) out[k] = saturated(v[k]);
+        return;
+    }
     const Spectrum rgb{saturated(v[0]), saturated(v[1]), saturated(v[2])};
     write_pixel_format(format_, rgb, alpha_ ? saturated(v[3]) : 1.0f, out);
     // The format's conversion (XYZ's Z row sums to 1.09) can carry the largest floats past range.

@@ -79,22 +79,35 @@ struct PixelStats {
 
 // What each sample splats into the image, filtered like the radiance (as Mitsuba films its alpha
 // and AOVs): R, G, B, then alpha (1 for a valid sample, 0 otherwise) when the film's pixel format
-// has one, then the integrator's channels; and how the image's first channels come from them.
+// has one, then the integrator's channels; with a spectral film (specfilm), its bands' values in
+// place of R, G, B and alpha. And how the image's first channels come from them.
 class SampleLayout {
 public:
     SampleLayout() = default;
     SampleLayout(PixelFormat format, std::vector<std::string> integrator_channels);
+    // A spectral film's: the bands (core/film.h: FilmBands), named as their channels.
+    SampleLayout(std::vector<std::string> band_names, std::vector<std::string> integrator_channels);
+    // The film's: its bands when it has them, else its pixel format.
+    static SampleLayout of_film(const Film& film, std::vector<std::string> integrator_channels);
 
-    int values() const { return 3 + (alpha_ ? 1 : 0) + extras(); }
+    int values() const { return film_values() + extras(); }
+    // The values of the film's own: R, G, B and alpha, or one per band.
+    int film_values() const { return has_bands() ? int(band_names_.size()) : 3 + (alpha_ ? 1 : 0); }
     int extras() const { return int(extra_names_.size()); }
-    PixelFormat format() const { return format_; }
+    bool has_bands() const { return !band_names_.empty(); }
     const std::vector<std::string>& integrator_channels() const { return extra_names_; }
-    // The splatted values' names: R, G, B, A (with alpha), then the integrator's channels.
+    // The splatted values' names: R, G, B, A (with alpha), or the bands, then the integrator's.
     std::vector<std::string> value_names() const;
+    // What a part file records of the film's channels: the pixel format's channels ("R,G,B,A"),
+    // or "bands:" and the band names; from_film_key() reads it back.
+    std::string film_key() const;
+    static SampleLayout from_film_key(const std::string& key, std::vector<std::string> integrator_channels);
 
     // The splatted values of one sample; false when any is not storable (storable_sample_value).
     bool fill(const Spectrum& L, bool valid, const float* integrator_values, float* out) const;
-    // The image's first channels: the film's pixel format, then the integrator's channels.
+    // The same for a spectral film, from the sample's band values (FilmBands::values).
+    bool fill_bands(const float* band_values, const float* integrator_values, float* out) const;
+    // The image's first channels: the film's pixel format or bands, then the integrator's channels.
     std::vector<std::string> channels() const;
     // Writes those channels of one pixel from its normalised values.
     void write(const double* v, float* out) const;
@@ -102,6 +115,7 @@ public:
 private:
     PixelFormat format_ = PixelFormat::RGB;
     bool alpha_ = false;
+    std::vector<std::string> band_names_;
     std::vector<std::string> extra_names_;
 };
 

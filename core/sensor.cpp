@@ -30,6 +30,8 @@ Sensor::Sensor(const Properties& props) {
             props.fail("srf",
                        "a sensor response function (srf) needs a spectral variant (--variant scalar_spectral); Mitsuba's RGB "
                        "variants reject it too");
+        if (film_->bands())
+            props.fail("srf", "a sensor's srf and a specfilm's bands both weigh the wavelengths: give the responses to the specfilm alone");
         auto measured = props.measured_spectrum("srf");
         if (!measured) props.fail("srf", "srf must be a spectrum of samples (wavelength:value pairs, a file, regular or irregular)");
         props.get_texture("srf");  // read: it is the response below

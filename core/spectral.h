@@ -34,6 +34,8 @@ enum class SpectrumRole {
     Reflectance,  // weighted by D65, clamped to [0, 1]: a flat spectrum is grey
     Unbounded,    // eta, k, int_ior, ext_ior, sigma_t: weighted by D65, only negatives clamped
     Emission,     // directly inside an <emitter>: not weighted, negatives clamped
+    Response,     // a sensor's `srf` and a specfilm's bands (directly inside a <film>): a sensor's
+                  // response, used only as its samples (spectral variants); it has no colour
 };
 
 // A malformed spectrum (the loader adds the file and line of the element).

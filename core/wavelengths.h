@@ -4,6 +4,8 @@
 // wavelengths, one per component of a Spectrum, and every value along its path is the value at
 // those wavelengths; the pixel loop turns the result into linear sRGB through the CIE 1931
 // matching functions before the film sees it, so films, AOVs, farm parts and files stay RGB.
+// The one exception is a specfilm (core/film.h, FilmBands): its channels are spectral bands,
+// each the integral of its response times the radiance, and its wavelengths follow the responses.
 
 #include "core/distribution.h"
 #include "core/rgb2spec.h"

@@ -496,7 +496,9 @@ private:
         props.set_file_resolver(doc.resolver);
         read_children(doc, node, props);
         std::string name = has_attr(node, "name") ? property_name(doc, node) : "";
-        SpectrumRole role = spectrum_role(std::strcmp(node.parent().name(), "emitter") == 0, name);
+        SpectrumRole role = std::strcmp(node.parent().name(), "film") == 0
+                                ? SpectrumRole::Response
+                                : spectrum_role(std::strcmp(node.parent().name(), "emitter") == 0, name);
         Ref<Object> texture;
         SampledSpectrum measured;
         Spectrum rgb = spectrum_plugin_rgb(props, role, &texture, &measured);
@@ -590,7 +592,9 @@ private:
                                       " is Mitsuba 0.6 syntax, read only in scenes of version below 2.0 (write " +
                                       (tag == "blackbody" ? "<spectrum type=\"blackbody\">" : "<rgb> with linear values") + ")");
         std::string name = property_name(doc, node);
-        SpectrumRole role = spectrum_role(std::strcmp(node.parent().name(), "emitter") == 0, name);
+        SpectrumRole role = std::strcmp(node.parent().name(), "film") == 0
+                                ? SpectrumRole::Response
+                                : spectrum_role(std::strcmp(node.parent().name(), "emitter") == 0, name);
         std::string intent = attr_or(doc, node, "intent", "");
         if (intent == "illuminant")
             role = SpectrumRole::Emission;
@@ -640,7 +644,9 @@ private:
         } else if (v.size() == 1) {
             rgb = tag == "rgb" ? Spectrum(float(v[0])) : uniform_spectrum_rgb(v[0], role);
             // An emitter's single value is an equal-energy spectrum, not the emission of a grey.
-            if (tag != "rgb" && role == SpectrumRole::Emission) *measured = SampledSpectrum{{CieMin, CieMax}, {v[0], v[0]}};
+            // So is a film's (a flat sensor response over the visible range).
+            if (tag != "rgb" && (role == SpectrumRole::Emission || role == SpectrumRole::Response))
+                *measured = SampledSpectrum{{CieMin, CieMax}, {v[0], v[0]}};
         } else if (v.size() == 3 && (tag == "rgb" || doc.upgrade)) {
             // <rgb>, or a pre-2.0 <spectrum> of three bins: Mitsuba 0.6's RGB builds read it as rgb.
             rgb = Spectrum(float(v[0]), float(v[1]), float(v[2]));

@@ -25,8 +25,8 @@ namespace candela {
 SpectrumRole spectrum_role(bool inside_emitter, const std::string& name) {
     if (inside_emitter) return SpectrumRole::Emission;
     // Mitsuba 3's unbounded spectra (xml.cpp, is_unbounded_spectrum), sigma_t among them.
-    if (name == "eta" || name == "k" || name == "int_ior" || name == "ext_ior" || name == "sigma_t" || name == "srf")
-        return SpectrumRole::Unbounded;
+    if (name == "eta" || name == "k" || name == "int_ior" || name == "ext_ior" || name == "sigma_t") return SpectrumRole::Unbounded;
+    if (name == "srf") return SpectrumRole::Response;  // a sensor's response, as a specfilm's bands
     return SpectrumRole::Reflectance;
 }
 
@@ -35,6 +35,7 @@ Spectrum uniform_spectrum_rgb(double value, SpectrumRole role) {
 }
 
 Spectrum sampled_spectrum_rgb(const SampledSpectrum& s, SpectrumRole role, const SourceLocation& where) {
+    if (role == SpectrumRole::Response) return Spectrum(0.0f);
     bool clamped = false;
     Spectrum rgb = spectrum_to_rgb(s, role != SpectrumRole::Emission, role == SpectrumRole::Reflectance, &clamped);
     if (clamped) {
@@ -85,8 +86,9 @@ Spectrum spectrum_plugin_rgb(const Properties& props, SpectrumRole role, Ref<Obj
     const std::string& type = props.plugin_type();
     if (type == "uniform") {
         const float value = props.get_float("value", 1.0f);
-        // In an emitter the spectral variant emits it flat (equal energy), as Mitsuba's does.
-        if (role == SpectrumRole::Emission) *measured = SampledSpectrum{{CieMin, CieMax}, {value, value}};
+        // In an emitter the spectral variant emits it flat (equal energy), as Mitsuba's does; in
+        // a film it is a flat response.
+        if (role == SpectrumRole::Emission || role == SpectrumRole::Response) *measured = SampledSpectrum{{CieMin, CieMax}, {value, value}};
         return Spectrum(value);
     }
     if (type == "srgb") {

@@ -168,12 +168,7 @@ std::string join_names(const std::vector<std::string>& names) {
 
 AovLayout RenderIdentity::layout() const { return AovLayout(split_list(aovs)); }
 
-SampleLayout RenderIdentity::values() const {
-    for (PixelFormat f :
-         {PixelFormat::Luminance, PixelFormat::LuminanceAlpha, PixelFormat::RGB, PixelFormat::RGBA, PixelFormat::XYZ, PixelFormat::XYZA})
-        if (join_names(pixel_format_channels(f)) == film_channels) return SampleLayout(f, split_list(integrator_channels));
-    throw InputError("film channels \"" + film_channels + "\" name no pixel format");
-}
+SampleLayout RenderIdentity::values() const { return SampleLayout::from_film_key(film_channels, split_list(integrator_channels)); }
 
 std::string RenderIdentity::difference(const RenderIdentity& o) const {
     auto differs = [](const std::string& what, const std::string& a, const std::string& b) {
@@ -222,7 +217,7 @@ RenderIdentity render_identity(const Scene& scene, const std::string& scene_path
     id.image = scene.sensor().film().crop_size();
     id.integrator = scene.integrator().to_string();
     id.variant = variant_name(scene.variant());
-    id.film_channels = join_names(pixel_format_channels(values.format()));
+    id.film_channels = values.film_key();
     id.integrator_channels = join_names(values.integrator_channels());
     id.aovs = layout.names();
     id.version = CANDELA_VERSION;

@@ -48,7 +48,7 @@ struct RenderIdentity {
     Vec2i image{0};       // the image size (the film's crop window)
     std::string integrator;
     std::string variant = "scalar_rgb";  // core/variant.h (parts written before it existed are RGB)
-    std::string film_channels;           // the film's pixel format as its channels ("R,G,B,A")
+    std::string film_channels;           // SampleLayout::film_key(): "R,G,B,A", or "bands:" and a specfilm's
     std::string integrator_channels;     // SamplingIntegrator::channel_names(), joined by ','
     std::string aovs;                    // AovLayout::names()
     std::string version;                 // Candela's
@@ -58,7 +58,7 @@ struct RenderIdentity {
     std::string command;
 
     AovLayout layout() const;
-    // InputError when film_channels names no pixel format.
+    // InputError when film_channels names no pixel format or bands.
     SampleLayout values() const;
     // "" when `other` is the same render, else the first field that differs, both values shown.
     std::string difference(const RenderIdentity& other) const;

@@ -104,7 +104,7 @@ ResumableResult render_resumable(const Scene& scene, RenderOptions options, cons
     result.stats = planned_render(scene, options);
     check_target(request.target, scene.sensor().film().crop_size(), result.stats.spp);
     const AovLayout layout(options.aovs);
-    const SampleLayout values(scene.sensor().film().pixel_format(), integrator->channel_names());
+    const SampleLayout values = SampleLayout::of_film(scene.sensor().film(), integrator->channel_names());
     PartHeader& h = result.header;
     h.identity = render_identity(scene, request.scene_path, result.stats, values, layout, request.command);
     h.started = seconds_since_epoch();

@@ -210,6 +210,7 @@ void ParticleTracerIntegrator::splat(const Scene& scene, const Vec2& film_pos, c
 
 RenderResult ParticleTracerIntegrator::render(const Scene& scene, const RenderOptions& options) {
     refuse_unrendered_media(scene);
+    refuse_film_bands(scene);
     if (!scene.sensor().reached_by_light_paths())
         throw InputError("ptracer cannot render through the " + scene.sensor().to_string() +
                          " sensor: light paths cannot reach it (render it with path or another camera-path integrator)");

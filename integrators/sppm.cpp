@@ -251,6 +251,7 @@ void SPPMIntegrator::check_render_memory(const LightPathTracer& tracer, uint64_t
 
 RenderResult SPPMIntegrator::render(const Scene& scene, const RenderOptions& options) {
     refuse_unrendered_media(scene);
+    refuse_film_bands(scene);
     auto t_start = std::chrono::steady_clock::now();
     if (!options.aovs.empty()) throw InputError("sppm renders no AOVs (its passes are correlated: there is no per-pixel variance)");
     const SampleSettings samples = sample_settings(scene, options);

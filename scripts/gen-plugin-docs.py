@@ -530,9 +530,12 @@ def family_page(family: Family, plugins: list[Plugin], headers: list[SharedHeade
         out.append("")
         tags = ", ".join(f'`<{KIND_BY_ENUM[k].tag} type="{name}">`' for name, k in p.names)
         # Every plugin of the spectral variant renders in the polarized one too; a plugin whose
-        # comment says it renders only there (stokes) refuses the others at its line.
+        # comment says it renders only there (stokes), or only in the spectral variants
+        # (specfilm), refuses the others at its line.
         if "Renders only in scalar_spectral_polarized" in " ".join(p.comment):
             variants = "scalar_spectral_polarized only"
+        elif "Renders only in the spectral variants" in " ".join(p.comment):
+            variants = "scalar_spectral and scalar_spectral_polarized only"
         elif p.spectral and "Not in scalar_spectral_polarized" in " ".join(p.comment):
             variants = "scalar_rgb and scalar_spectral"
         elif p.spectral:

@@ -491,6 +491,7 @@ uint64_t drop_unstorable_pixels(Image& rgb) {
 
 RenderResult RasterIntegrator::render(const Scene& scene, const RenderOptions& options) {
     using namespace raster;
+    refuse_film_bands(scene);
     for (const auto& shape : scene.shapes())
         if (shape->is_medium_transition()) {
             warn(SourceLocation{scene.source_file, 0},

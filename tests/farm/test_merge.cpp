@@ -70,12 +70,13 @@ struct Splitter {
     std::string scene_path;
     std::filesystem::path dir;
     int written = 0;
+    std::vector<std::string> aovs = AllAovs;
 
     RenderResult render(const SampleRange& samples, const ImageRect& region) const {
         RenderOptions options;
         options.spp = Spp;
         options.seed = 11;
-        options.aovs = AllAovs;
+        options.aovs = aovs;
         options.samples = samples;
         options.region = region;
         return scene->integrator().render(*scene, options);
@@ -86,7 +87,7 @@ struct Splitter {
         RenderOptions options;
         options.spp = Spp;
         options.seed = 11;
-        options.aovs = AllAovs;
+        options.aovs = aovs;
         ResumableRequest request;
         request.scene_path = scene_path;
         request.command = "candela render test";
@@ -99,10 +100,11 @@ struct Splitter {
     }
 };
 
-Splitter make_splitter(const std::string& integrator, const std::string& name, const std::string& scene_path = split_test_scene()) {
+Splitter make_splitter(const std::string& integrator, const std::string& name, const std::string& scene_path = split_test_scene(),
+                       Variant variant = Variant::ScalarRGB) {
     Splitter s;
     s.scene_path = scene_path;
-    s.scene = load_scene(s.scene_path, {{"integrator", integrator}});
+    s.scene = load_scene(s.scene_path, {{"integrator", integrator}}, variant);
     s.dir = scratch_dir(name);
     return s;
 }
@@ -173,6 +175,23 @@ TEST_CASE("farm: parts keep the film's pixel format and alpha, sample_border and
         INFO(channel);
         CHECK(single.channel_index(channel) >= 0);
     }
+}
+
+TEST_CASE("farm: parts keep a specfilm's bands (scalar_spectral)", "[farm][specfilm]") {
+    // The part files record the bands by name ("bands:..."), and the merge develops them as they
+    // are (no colour conversion). No variance AOV: a specfilm has no colour to measure it on.
+    const std::string scene = split_scene("cbox_specfilm", "<integrator type=\"path\"/>", "");
+    std::string xml = read_text(scene);
+    replace_once(xml, "<film type=\"hdrfilm\">", "<film type=\"specfilm\">");
+    replace_once(
+        xml, "<rfilter type=\"gaussian\"/>",
+        "<rfilter type=\"gaussian\"/><spectrum name=\"red\" value=\"600:1, 700:1\"/><spectrum name=\"blue\" value=\"400:1, 500:0.5\"/>");
+    write_text(scene, xml);
+    Splitter s = make_splitter("path", "split-specfilm", scene, Variant::ScalarSpectral);
+    s.aovs = {"albedo", "normal", "depth", "samples"};
+    const Image single = check_splits(s, "path (specfilm)", {{0, 16}, {0, 5, 16}});
+    CHECK(single.channels() == std::vector<std::string>{"blue", "red", "albedo.R", "albedo.G", "albedo.B", "normal.X", "normal.Y",
+                                                        "normal.Z", "depth.Z", "samples.N"});
 }
 
 TEST_CASE("farm: parts of the photon mapper merge into the single render (every part builds the same maps)", "[farm]") {
