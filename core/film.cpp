@@ -45,13 +45,7 @@ FilmBands::FilmBands(std::vector<std::string> band_names, std::vector<SampledSpe
     sum.wavelengths.erase(std::unique(sum.wavelengths.begin(), sum.wavelengths.end()), sum.wavelengths.end());
     for (double l : sum.wavelengths) {
         double total = 0.0;
-        for (const SampledSpectrum& r : responses) {
-            const double v = r.at(l);
-            if (v < 0.0)
-                throw SpectrumFormatError("a sensor response must not be negative (" + std::to_string(v) + " at " + std::to_string(l) +
-                                          " nm)");
-            total += v;
-        }
+        for (const SampledSpectrum& r : responses) total += r.at(l);
         sum.values.push_back(total);
     }
     sampling = std::make_shared<SensorResponse>(std::move(sum));

@@ -35,7 +35,8 @@ struct FilmBands {
     std::vector<SampledSpectrum> responses;  // srf_j, in the order of `names`
     std::shared_ptr<const SensorResponse> sampling;
 
-    // Throws SpectrumFormatError when the responses are negative somewhere, or zero over 360-830 nm.
+    // Throws SpectrumFormatError when their sum is negative somewhere or zero over 360-830 nm
+    // (SensorResponse); specfilm refuses a negative band at its own line first.
     FilmBands(std::vector<std::string> names, std::vector<SampledSpectrum> responses);
     int count() const { return int(names.size()); }
     // The band values of one sample (count() of them) from its values at the wavelengths `w`.

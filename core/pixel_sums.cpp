@@ -85,21 +85,18 @@ SampleLayout SampleLayout::of_film(const Film& film, std::vector<std::string> in
 
 namespace {
 const std::string BandsKey = "bands:";
-std::string joined(const std::vector<std::string>& names) {
-    std::string out;
-    for (const std::string& n : names) out += (out.empty() ? "" : ",") + n;
-    return out;
-}
 }  // namespace
 
-std::string SampleLayout::film_key() const { return has_bands() ? BandsKey + joined(band_names_) : joined(pixel_format_channels(format_)); }
+std::string SampleLayout::film_key() const {
+    return has_bands() ? BandsKey + join_list(band_names_) : join_list(pixel_format_channels(format_));
+}
 
 SampleLayout SampleLayout::from_film_key(const std::string& key, std::vector<std::string> integrator_channels) {
     if (key.rfind(BandsKey, 0) == 0 && key.size() > BandsKey.size())
         return SampleLayout(split_list(key.substr(BandsKey.size())), std::move(integrator_channels));
     for (PixelFormat f :
          {PixelFormat::Luminance, PixelFormat::LuminanceAlpha, PixelFormat::RGB, PixelFormat::RGBA, PixelFormat::XYZ, PixelFormat::XYZA})
-        if (joined(pixel_format_channels(f)) == key) return SampleLayout(f, std::move(integrator_channels));
+        if (join_list(pixel_format_channels(f)) == key) return SampleLayout(f, std::move(integrator_channels));
     throw InputError("film channels \"" + key + "\" name no pixel format");
 }
 

@@ -30,6 +30,13 @@ inline std::vector<std::string> split_list(const std::string& text) {
     return items;
 }
 
+// Names joined by ',' ("R,G,B"): what split_list reads back, for names without commas or spaces.
+inline std::string join_list(const std::vector<std::string>& names) {
+    std::string out;
+    for (const std::string& n : names) out += (out.empty() ? "" : ",") + n;
+    return out;
+}
+
 // One item of such a list as a finite number: false when it is not one, whole.
 inline bool parse_finite_float(const std::string& item, float& v) {
     size_t used = 0;

@@ -158,12 +158,6 @@ struct HeaderReader {
     }
 };
 
-std::string join_names(const std::vector<std::string>& names) {
-    std::string out;
-    for (const std::string& n : names) out += (out.empty() ? "" : ",") + n;
-    return out;
-}
-
 }  // namespace
 
 AovLayout RenderIdentity::layout() const { return AovLayout(split_list(aovs)); }
@@ -218,7 +212,7 @@ RenderIdentity render_identity(const Scene& scene, const std::string& scene_path
     id.integrator = scene.integrator().to_string();
     id.variant = variant_name(scene.variant());
     id.film_channels = values.film_key();
-    id.integrator_channels = join_names(values.integrator_channels());
+    id.integrator_channels = join_list(values.integrator_channels());
     id.aovs = layout.names();
     id.version = CANDELA_VERSION;
     id.float32 = scene.sensor().film().float32();

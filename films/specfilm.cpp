@@ -39,6 +39,9 @@ public:
             if (!measured) continue;  // another parameter (or a mistake check_all_used reports)
             props.get_texture(name);  // read: it is the band below
             if (name.rfind("_arg", 0) == 0) props.fail(name, "a specfilm's spectrum needs a name: it names the band's channel");
+            // Part files list the bands joined by commas (SampleLayout::film_key).
+            if (name.find_first_of(", \t\n") != std::string::npos)
+                props.fail(name, "a band's name names its channel: no commas or spaces (\"" + name + "\")");
             const SampledSpectrum& response = measured->spectrum();
             for (double v : response.values)
                 if (v < 0.0) props.fail(name, "a sensor response must not be negative (" + std::to_string(v) + ")");

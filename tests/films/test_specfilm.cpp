@@ -178,6 +178,7 @@ TEST_CASE("specfilm: errors at their lines", "[specfilm][errors]") {
     CHECK_THAT(load_error(film(R"(<spectrum type="uniform"><float name="value" value="1"/></spectrum>)"), 4),
                Catch::Contains("needs a name"));
     CHECK_THAT(load_error(film(R"(<spectrum name="a" value="900:1, 1000:1"/>)"), 3), Catch::Contains("360-830"));
+    CHECK_THAT(load_error(film(R"(<spectrum name="a,b" value="400:1, 500:1"/>)"), 4), Catch::Contains("no commas or spaces"));
     CHECK_THAT(load_error(film(R"(<spectrum name="a" value="400:1, 500:1"/>)", R"(<spectrum name="srf" value="400:1, 500:1"/>)"), 2),
                Catch::Contains("specfilm"));
     // The integrators that develop their own image stop at the film when they render.

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import candela.mitsuba as mi
-from conftest import Z, candela, cli_render, subprocess_env
+from conftest import BINARY, Z, candela, cli_render, subprocess_env
 
 # A grey floor and a grey ball lit by a rectangle whose emission is a measured spectrum: green,
 # 500 to 570 nm. In the spectral variant the light is used per wavelength; in scalar_rgb it is
@@ -301,3 +301,19 @@ def test_specfilm_from_a_mitsuba_dictionary():
     with mi.variant_context("scalar_rgb"):
         with pytest.raises(Exception, match="spectral variants only"):
             mi.load_dict(scene_dict)
+
+
+def test_the_viewer_refuses_a_specfilm(tmp_path):
+    # The viewer's displays and its raster side are colour images: a specfilm scene stops with an
+    # InputError from Python and exit code 2 from `candela view`, before anything is served.
+    xml = """<scene version="3.0.0"><sensor type="perspective"><film type="specfilm">
+        <integer name="width" value="8"/><integer name="height" value="8"/>
+        <spectrum name="band" value="400:1, 500:1"/></film></sensor></scene>"""
+    with pytest.raises(candela.InputError, match="specfilm"):
+        candela.view(candela.load_string(xml, variant="scalar_spectral"))
+    path = tmp_path / "specfilm.xml"
+    path.write_text(xml)
+    done = subprocess.run([str(BINARY), "view", str(path), "--variant", "scalar_spectral"], capture_output=True, text=True,
+                          timeout=60, env=subprocess_env())
+    assert done.returncode == 2
+    assert "specfilm" in done.stderr
