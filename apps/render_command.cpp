@@ -12,6 +12,7 @@
 
 #include "apps/render_output.h"
 #include "core/file_resolver.h"
+#include "core/film.h"
 #include "core/integrator.h"
 #include "core/memory_budget.h"
 #include "core/progress.h"
@@ -347,10 +348,7 @@ void add_render_command(CLI::App& app, std::function<int()>& run) {
             // which writes what it has: main() chose StopMode::Graceful for it (core/stop.h).
             Ref<Scene> scene = args->input.load();
             apply_mode(*scene, *args);
-            if (args->png && scene->sensor().film().bands())
-                throw InputError(
-                    "--png previews the image's colour, and a specfilm renders spectral bands, which have none "
-                    "(render with hdrfilm for a preview)");
+            if (args->png) require_colour_film(scene->sensor().film(), "--png previews the image's colour");
             RenderOptions options;
             options.spp = args->spp;
             if (args->seed >= 0) options.seed = uint64_t(args->seed);

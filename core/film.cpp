@@ -60,6 +60,10 @@ void FilmBands::values(const Spectrum& L, const Wavelengths& w, float* out) cons
     }
 }
 
+void require_colour_film(const Film& film, const std::string& use) {
+    if (film.bands()) throw InputError(use + ", and a specfilm renders spectral bands, which have no colour: use hdrfilm for it");
+}
+
 std::string film_description(const Film& film) {
     Vec2i crop = film.crop_size();
     std::string size = std::to_string(crop.x) + " x " + std::to_string(crop.y);

@@ -64,6 +64,10 @@ public:
     virtual SourceLocation location() const { return {}; }
 };
 
+// Stops with an InputError when `film` renders bands (a specfilm) for what needs the image's
+// colour; `use` says what and why ("--png previews the image's colour").
+void require_colour_film(const Film& film, const std::string& use);
+
 // The ring of pixels around the crop that is sampled too: the filter's reach with sample_border,
 // else 0. Samplers serve the full film grown by it (Sampler::set_film).
 int film_sampled_border(const Film& film);

@@ -501,11 +501,8 @@ RenderResult SamplingIntegrator::render(const Scene& scene, const RenderOptions&
     Ref<Sampler> prototype = configured_sampler(scene, options);
     const SampleRange samples = sample_indices(options.samples, prototype->sample_count());
     const AdaptiveSchedule adaptive(options.adaptive, prototype->sample_count());
-    // Both measure the noise of a pixel's colour, which a specfilm's bands do not have.
-    if (film.bands() && (layers.variance() || adaptive.enabled))
-        throw InputError(std::string(layers.variance() ? "--aov variance" : "adaptive sampling") +
-                         " measures the noise of each pixel's RGB colour, and a specfilm renders spectral bands, not a colour: "
-                         "render with hdrfilm, or without it");
+    if (layers.variance()) require_colour_film(film, "--aov variance measures the noise of each pixel's RGB colour");
+    if (adaptive.enabled) require_colour_film(film, "adaptive sampling measures the noise of each pixel's RGB colour");
     // Whether a pixel takes a sample depends on its earlier samples and on its neighbours': a part
     // could not know, so adaptive renders are whole (see farm/resumable_render.h).
     if (adaptive.enabled && (samples.begin != 0 || samples.end != prototype->sample_count() || !window.whole(film.crop_size())))

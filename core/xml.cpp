@@ -496,9 +496,7 @@ private:
         props.set_file_resolver(doc.resolver);
         read_children(doc, node, props);
         std::string name = has_attr(node, "name") ? property_name(doc, node) : "";
-        SpectrumRole role = std::strcmp(node.parent().name(), "film") == 0
-                                ? SpectrumRole::Response
-                                : spectrum_role(std::strcmp(node.parent().name(), "emitter") == 0, name);
+        SpectrumRole role = spectrum_role(node.parent().name(), name);
         Ref<Object> texture;
         SampledSpectrum measured;
         Spectrum rgb = spectrum_plugin_rgb(props, role, &texture, &measured);
@@ -592,9 +590,7 @@ private:
                                       " is Mitsuba 0.6 syntax, read only in scenes of version below 2.0 (write " +
                                       (tag == "blackbody" ? "<spectrum type=\"blackbody\">" : "<rgb> with linear values") + ")");
         std::string name = property_name(doc, node);
-        SpectrumRole role = std::strcmp(node.parent().name(), "film") == 0
-                                ? SpectrumRole::Response
-                                : spectrum_role(std::strcmp(node.parent().name(), "emitter") == 0, name);
+        SpectrumRole role = spectrum_role(node.parent().name(), name);
         std::string intent = attr_or(doc, node, "intent", "");
         if (intent == "illuminant")
             role = SpectrumRole::Emission;

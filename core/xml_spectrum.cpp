@@ -22,8 +22,9 @@
 
 namespace candela {
 
-SpectrumRole spectrum_role(bool inside_emitter, const std::string& name) {
-    if (inside_emitter) return SpectrumRole::Emission;
+SpectrumRole spectrum_role(const std::string& parent_tag, const std::string& name) {
+    if (parent_tag == "emitter") return SpectrumRole::Emission;
+    if (parent_tag == "film") return SpectrumRole::Response;
     // Mitsuba 3's unbounded spectra (xml.cpp, is_unbounded_spectrum), sigma_t among them.
     if (name == "eta" || name == "k" || name == "int_ior" || name == "ext_ior" || name == "sigma_t") return SpectrumRole::Unbounded;
     if (name == "srf") return SpectrumRole::Response;  // a sensor's response, as a specfilm's bands

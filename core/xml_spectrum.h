@@ -10,8 +10,9 @@
 
 namespace candela {
 
-// The role of a spectrum property called `name` (an emitter's own properties are emissions).
-SpectrumRole spectrum_role(bool inside_emitter, const std::string& name);
+// The role of a spectrum property called `name` directly inside an element `parent_tag`: an
+// emitter's own properties are emissions, a film's (specfilm's bands) responses.
+SpectrumRole spectrum_role(const std::string& parent_tag, const std::string& name);
 
 // A single value: grey, except in an emitter (uniform_emission_rgb).
 Spectrum uniform_spectrum_rgb(double value, SpectrumRole role);

@@ -22,7 +22,7 @@
 #include "core/texture.h"
 #include "films/image_film.h"
 
-#include <algorithm>
+#include <map>
 
 namespace candela {
 
@@ -33,7 +33,7 @@ public:
             props.fail(
                 "specfilm renders in the spectral variants only (--variant scalar_spectral), as Mitsuba's; "
                 "in RGB use hdrfilm");
-        std::vector<std::pair<std::string, SampledSpectrum>> bands;
+        std::map<std::string, SampledSpectrum> bands;  // by name: the channels' alphabetical order
         for (const std::string& name : props.names()) {
             auto measured = props.measured_spectrum(name);
             if (!measured) continue;  // another parameter (or a mistake check_all_used reports)
@@ -45,13 +45,11 @@ public:
             const SampledSpectrum& response = measured->spectrum();
             for (double v : response.values)
                 if (v < 0.0) props.fail(name, "a sensor response must not be negative (" + std::to_string(v) + ")");
-            bands.emplace_back(name, response);
+            if (int(bands.size()) == MaxFilmBands) props.fail(name, "specfilm takes at most " + std::to_string(MaxFilmBands) + " bands");
+            bands.emplace(name, response);
         }
         if (bands.empty())
             props.fail("specfilm needs at least one sensor response function: a <spectrum> with a name, which names its channel");
-        if (int(bands.size()) > MaxFilmBands)
-            props.fail(bands[size_t(MaxFilmBands)].first, "specfilm takes at most " + std::to_string(MaxFilmBands) + " bands");
-        std::sort(bands.begin(), bands.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
         std::vector<std::string> names;
         std::vector<SampledSpectrum> responses;
         for (auto& [name, response] : bands) {

@@ -27,9 +27,4 @@ inline bool root_in_segment(double root, float tmin, float tmax, float& t) {
     t = rounded;
     return true;
 }
-// The nearer of two roots t0 <= t1 that is a hit in (tmin, tmax].
-inline bool nearest_root_in_segment(double t0, double t1, float tmin, float tmax, float& t) {
-    return root_in_segment(t0, tmin, tmax, t) || root_in_segment(t1, tmin, tmax, t);
-}
-
 }  // namespace candela

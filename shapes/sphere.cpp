@@ -56,7 +56,7 @@ public:
         double q = -(b + std::copysign(std::sqrt(disc), b));
         double t0 = q / a, t1 = q != 0.0 ? c / q : t0;
         if (t0 > t1) std::swap(t0, t1);
-        return nearest_root_in_segment(t0, t1, tmin, tmax, t);
+        return root_in_segment(t0, tmin, tmax, t) || root_in_segment(t1, tmin, tmax, t);
     }
 
     void fill_interaction(const Ray& ray, const RayHit& hit, SurfaceInteraction& si) const override {

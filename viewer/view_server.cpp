@@ -183,11 +183,7 @@ ViewServer::ViewServer(Ref<Scene> scene, const std::string& scene_path, const Vi
     s.bind = options.bind;
     s.scene_path = scene_path;
     s.scene = std::move(scene);
-    // Its raster side and its displays are colour images.
-    if (s.scene->sensor().film().bands())
-        throw InputError(
-            "the viewer shows colour images, and a specfilm renders spectral bands, which have none "
-            "(view the scene with hdrfilm)");
+    require_colour_film(s.scene->sensor().film(), "the viewer shows colour images (its displays and its raster side)");
     if (options.port < 0 || options.port > 65535) throw InputError("--port must lie between 0 and 65535");
     for (char ch : options.bind)
         if (!(std::isalnum(static_cast<unsigned char>(ch)) || ch == '.' || ch == ':' || ch == '[' || ch == ']'))
