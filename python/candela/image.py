@@ -1,6 +1,7 @@
 """Images as NumPy arrays: ``candela.Image`` is an ``ndarray`` (height x width x channels,
 float32) viewing the pixels Candela rendered or read, without a copy, with the channel names and
-the file's metadata beside them. Jupyter shows one as a tonemapped sRGB picture.
+the file's metadata beside them. Jupyter shows one as a tonemapped sRGB picture (bands of a
+specfilm side by side in grey).
 """
 
 from __future__ import annotations
@@ -89,7 +90,20 @@ class Image(np.ndarray):
         write_image(path, self, float32=float32)
 
     def _repr_png_(self) -> bytes:
-        return _candela.encode_png(np.ascontiguousarray(self.to_srgb8()))
+        return _candela.encode_png(np.ascontiguousarray(self._preview_srgb8()))
+
+    def _preview_srgb8(self) -> np.ndarray:
+        """What Jupyter shows: the colour, or for an image of named channels that are not a
+        colour (a specfilm's bands) each channel in grey side by side, left to right in the
+        channels' order, under one scale (the largest finite value is white): to_srgb8 would
+        show the first channels as if they were R, G and B."""
+        names = set(self.channels)
+        if {"R", "G", "B"} <= names or "Y" in names or self.channels == default_channels(self.shape[2]):
+            return self.to_srgb8()
+        x = np.nan_to_num(np.asarray(self, dtype=np.float64), nan=0.0, posinf=0.0, neginf=0.0)
+        top = x.max() if x.size else 0.0
+        tiles = np.concatenate([x[:, :, c] for c in range(x.shape[2])], axis=1) / (top if top > 0.0 else 1.0)
+        return srgb8(np.repeat(tiles[:, :, None], 3, axis=2))
 
     def __repr__(self):
         return f"candela.Image({self.width} x {self.height}, channels {','.join(self.channels)})"

@@ -833,8 +833,13 @@ class Bitmap:
                 f"  size = [{self.width()}, {self.height()}],\n  srgb_gamma = {int(self._srgb)},\n"
                 f"  channels = {self._names}\n]")
 
-    def _repr_png_(self) -> bytes:
-        rgb = self.convert(_PixelFormat.RGB, Struct.Type.UInt8, True)
+    def _repr_png_(self):
+        # None (Jupyter then shows the text) for what has no RGB picture, a MultiChannel bitmap
+        # of bands, rather than a traceback under the cell.
+        try:
+            rgb = self.convert(_PixelFormat.RGB, Struct.Type.UInt8, True)
+        except NotImplementedError:
+            return None
         return _native.encode_png(np.ascontiguousarray(rgb._data))
 
     # --- conversion ----------------------------------------------------------------------------

@@ -11,6 +11,7 @@ import pytest
 
 import candela.mitsuba as mi
 from conftest import BINARY, Z, candela, cli_render, subprocess_env
+from test_images import decode_png
 
 # A grey floor and a grey ball lit by a rectangle whose emission is a measured spectrum: green,
 # 500 to 570 nm. In the spectral variant the light is used per wavelength; in scalar_rgb it is
@@ -317,3 +318,26 @@ def test_the_viewer_refuses_a_specfilm(tmp_path):
                           timeout=60, env=subprocess_env())
     assert done.returncode == 2
     assert "specfilm" in done.stderr
+
+
+def test_a_specfilm_image_shows_its_bands_side_by_side():
+    # Jupyter's picture of a specfilm render: each band in grey, left to right in the channels'
+    # order, under one scale (the largest value white), not the first bands taken for R, G and B;
+    # mitsuba.Bitmap has no RGB picture of bands and offers none (None: Jupyter shows the text).
+    xml = """<scene version="3.0.0"><integrator type="path"/><sensor type="perspective">
+        <sampler type="independent"><integer name="sample_count" value="4"/></sampler>
+        <film type="specfilm"><integer name="width" value="6"/><integer name="height" value="4"/>
+        <spectrum name="narrow" value="500:1, 550:1"/><spectrum name="wide" value="400:1, 600:1"/></film></sensor>
+        <emitter type="constant"><spectrum name="radiance" value="1"/></emitter></scene>"""
+    image = candela.render(candela.load_string(xml, variant="scalar_spectral"))
+    assert image.channels == ["narrow", "wide"]
+    shown = decode_png(image._repr_png_())
+    assert shown.shape == (4, 12, 3)
+    bands = np.asarray(image, dtype=np.float64)
+    expected = candela.image.srgb8(np.repeat((np.concatenate([bands[:, :, 0], bands[:, :, 1]], axis=1) / bands.max())[:, :, None], 3, axis=2))
+    assert np.array_equal(shown, expected)
+    # The wide band (200 nm of a flat sky, about 200) on the right, brighter than the narrow one
+    # (50 nm, about 50). Each sample's wide value is at least its narrow one (the wide response
+    # covers the narrow one), so every pixel is at least as bright, and the tile brighter.
+    assert np.all(shown[:, 6:] >= shown[:, :6]) and shown[:, 6:].mean() > shown[:, :6].mean()
+    assert mi.Bitmap(image)._repr_png_() is None
