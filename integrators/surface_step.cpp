@@ -15,18 +15,9 @@ bool survive_roulette(const PathSettings& settings, Sampler& sampler, uint32_t d
     return true;
 }
 
-bool settle_roulette(const PathSettings& settings, Sampler& sampler, CameraPath& path) {
-    if (path.roulette_pending) {
-        path.roulette_pending = false;
-        if (!survive_roulette(settings, sampler, path.roulette_dims, path)) return false;
-    }
-    return max_component(path.weights.beta) > 0.0f;
-}
-
 bool surface_step(const Scene& scene, const LightSampler& lights, const PathSettings& settings, Sampler& sampler, uint32_t dims,
                   const SurfaceInteraction& si, const BSDF& bsdf, const PathMedium& medium, CameraPath& path, Spectrum& L,
                   Vec3& direction) {
-    if (!settle_roulette(settings, sampler, path)) return false;
     if (!bsdf.has_null_lobe()) path.scattered = true;
     // At the last allowed bounce only a Null lobe may still carry the path on.
     const bool may_scatter = settings.may_extend(path.depth);
@@ -63,11 +54,13 @@ bool surface_step(const Scene& scene, const LightSampler& lights, const PathSett
     } else {
         path.eta *= bs.eta;
         path.scatter(si, bs.pdf, is_delta(bs.lobe));
-        path.roulette_pending = true;
-        path.roulette_dims = dims;
+        // Russian roulette before the extension ray is traced, as Mitsuba decides it: a path it
+        // ends costs no ray (nor the emission that ray would have found, which the survivors'
+        // 1 / q makes up for).
+        if (!survive_roulette(settings, sampler, dims, path)) return false;
     }
     direction = si.to_world(bs.wo);
-    return true;
+    return max_component(path.weights.beta) > 0.0f;
 }
 
 Spectrum emission_found(const LightSampler& lights, const PathSettings& settings, const CameraPath& path, const SurfaceInteraction& hit) {

@@ -45,10 +45,6 @@ struct CameraPath {
     int null_crossings = 0;      // Null lobes crossed since the last scattering event
     bool scattered = false;      // met a surface that is not purely null, or scattered (the film's alpha)
     PolarizedPath polarization;  // the polarized variant's Mueller product (inactive otherwise)
-    // The roulette owed for the surface scattering at this vertex block (decided at the next
-    // vertex, after the emission the scattered ray found has been added), or none.
-    bool roulette_pending = false;
-    uint32_t roulette_dims = 0;
 
     // Records a scattering event at `at` sampled with solid-angle density `pdf`.
     void scatter(const SurfaceInteraction& at, float pdf, bool delta) {
@@ -62,17 +58,14 @@ struct CameraPath {
 // min(max(estimate weight) eta^2, 0.95), its throughput divided by it, once its depth reaches
 // rr_depth. Draws dimension dims + Roulette. False when the path ends.
 bool survive_roulette(const PathSettings& settings, Sampler& sampler, uint32_t dims, CameraPath& path);
-// The roulette owed for the last surface scattering, if any; false when it ends the path or the
-// throughput is zero. surface_step() settles it first; `path` thus decides it after the emission
-// the scattered ray found, volpath right after the step (before the next free flight).
-bool settle_roulette(const PathSettings& settings, Sampler& sampler, CameraPath& path);
 
 // The surface vertex whose numbers start at dimension `dims` (SampleDimensions::bounce(k) for
-// vertex k of a camera path; si.wi set, `bsdf` its BSDF): the roulette still owed, next-event
-// estimation added to `L` (times the path's estimate weight; `medium` is where the path is, for
-// the shadow rays), then the BSDF sample. Returns false when the path ends here; else
-// `direction` (world) is where it goes on, through a Null lobe or after a scattering event
-// (whose roulette is then owed), and the throughput includes the sample's weight.
+// vertex k of a camera path; si.wi set, `bsdf` its BSDF): next-event estimation added to `L`
+// (times the path's estimate weight; `medium` is where the path is, for the shadow rays), the
+// BSDF sample, and after a scattering event the Russian roulette (before the next ray is
+// traced). Returns false when the path ends here; else `direction` (world) is where it goes on,
+// through a Null lobe or after a scattering event, and the throughput includes the sample's
+// weight (and 1 / q of a roulette it survived).
 bool surface_step(const Scene& scene, const LightSampler& lights, const PathSettings& settings, Sampler& sampler, uint32_t dims,
                   const SurfaceInteraction& si, const BSDF& bsdf, const PathMedium& medium, CameraPath& path, Spectrum& L, Vec3& direction);
 

@@ -160,8 +160,6 @@ Spectrum VolPathIntegrator::trace(const Scene& scene, Sampler& sampler, Ray ray,
         if (!surface_step(scene, *lights_, settings_, sampler, dims, si, *si.shape->bsdf(), PathMedium{medium, &rng}, path, L, d)) break;
         if (si.shape->is_medium_transition()) medium = si.shape->target_medium(si, d);
         ray = si.spawn_ray(d);
-        // The roulette of a surface scattering comes before the next free flight.
-        if (!settle_roulette(settings_, sampler, path)) break;
     }
     return L;
 }

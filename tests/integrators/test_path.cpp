@@ -136,3 +136,49 @@ TEST_CASE("prb: Mitsuba's PRB integrator renders forward as the path tracer with
     CHECK_THROWS_WITH(load_scene_from_string(scene_xml(R"(<integrator type="prb"/>)"), "prb.xml", {}, Variant::ScalarSpectralPolarized),
                       Catch::Contains("prb does not render in variant scalar_spectral_polarized"));
 }
+
+TEST_CASE("path: Russian roulette ends a path before its next ray is traced (Mitsuba's order)", "[render][furnace]") {
+    // The closed furnace sphere (albedo 0.5, Le 1) with roulette from the first vertex: at each
+    // vertex q = min(max(beta), 0.95) = 0.5 and a survivor's beta returns to 1, so a path has
+    // 1 + G vertices with G geometric (P(G >= k) = 0.5^k): E = 2, variance 2. Each vertex traces one
+    // shadow ray (every point of the sphere faces every other inside it) and, if it survives,
+    // its extension ray: 2 (1 + G) rays per sample, mean 4, variance 8. Deciding the roulette
+    // after tracing the extension ray (as Candela did before) gives 5.
+    std::string xml = read_text(source_path("scenes/furnace/closed_sphere.xml"));
+    xml = std::regex_replace(xml, std::regex(R"(<integer name="max_depth" value="\$max_depth"/>)"),
+                             R"($&<integer name="rr_depth" value="1"/>)");
+    Ref<Scene> scene = load_scene_from_string(xml, source_path("scenes/furnace/roulette.xml"), {{"res", "16"}, {"spp", "256"}});
+    RenderOptions options;
+    options.seed = 3;
+    RenderResult r = scene->integrator().render(*scene, options);
+    const double n = double(r.stats.samples), z = two_sided_z(sidak(0.01, 2));
+    const double rays_per_sample = double(r.stats.rays) / n;
+    INFO("rays per sample " << rays_per_sample << " over " << n << " samples");
+    CHECK(std::abs(rays_per_sample - 4.0) <= z * std::sqrt(8.0 / n));
+    MeanAndError m = pixel_mean(r.image, 0);
+    INFO("mean " << m.mean << " +- " << m.std_error);
+    CHECK(std::abs(m.mean - 2.0) <= z * m.std_error);
+}
+
+TEST_CASE("path and volpath render a scene without media bit for bit", "[render]") {
+    // One surface vertex (integrators/surface_step.h) and one order of its numbers and roulette:
+    // without media volpath is the path tracer. Diffuse walls and a glass sphere (its eta^2 in
+    // the roulette), the scenes' samplers and ldsampler.
+    for (const char* name : {"cbox", "glass"})
+        for (const char* sampler : {"", "ldsampler"}) {
+            auto render_with = [&](const std::string& integrator) {
+                std::string xml = read_text(source_path(std::string("scenes/validation/") + name + ".xml"));
+                xml = std::regex_replace(xml, std::regex(R"(<integrator type="path">)"), "<integrator type=\"" + integrator + "\">");
+                Ref<Scene> scene =
+                    load_scene_from_string(xml, source_path("scenes/validation/volpath.xml"), {{"res", "16"}, {"spp", "16"}});
+                RenderOptions options;
+                options.seed = 5;
+                options.sampler = sampler;
+                return scene->integrator().render(*scene, options);
+            };
+            INFO(name << " with sampler '" << sampler << "'");
+            const RenderResult path = render_with("path"), volpath = render_with("volpath");
+            CHECK(path.image.data() == volpath.image.data());
+            CHECK(path.stats.rays == volpath.stats.rays);
+        }
+}
