@@ -13,11 +13,12 @@
 //   light_sampler   string    how next-event estimation picks a light: tree (default; a light
 //                             BVH, best with many lights), power, uniform
 // Roulette continues with probability min(max(throughput) * eta^2, 0.95) (Mitsuba's rule),
-// decided at the vertex, before the scattered ray is traced (as Mitsuba). Surfaces with a Null lobe (null, mask,
-// polarizer, thindielectric) are crossed without a bounce, at most 256 in a row: a sampled Null lobe neither
-// counts toward max_depth nor moves the vertex that MIS weights refer to, and shadow rays take
-// their null_transmission (Scene::transmittance). Scenes without them pay nothing. The surface
-// vertex is integrators/surface_step.h, which volpath shares.
+// decided at the vertex, before the scattered ray is traced (as Mitsuba). Surfaces with a Null
+// lobe (null, mask, polarizer, thindielectric) are crossed without a bounce, at most 256 in a
+// row: a sampled Null lobe neither counts toward max_depth nor moves the vertex that MIS
+// weights refer to, and shadow rays take their null_transmission (Scene::transmittance). Scenes
+// without them pay nothing. The surface vertex is integrators/surface_step.h, which volpath
+// shares.
 
 #include "integrators/path.h"
 
