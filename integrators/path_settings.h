@@ -6,6 +6,9 @@
 
 #include "lights/light_sampler.h"
 
+#include "core/spectrum.h"
+
+#include <algorithm>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -27,6 +30,11 @@ struct PathSettings {
     // Whether a path of `segments` segments is within max_depth.
     bool within_depth(uint32_t segments) const { return max_depth < 0 || segments <= uint32_t(max_depth); }
 };
+
+// Russian roulette's rule (Mitsuba's): a path whose depth has reached rr_depth goes on with
+// probability min(max(beta) eta^2, 0.95). The relative index crossed, squared, keeps paths inside
+// glass alive (radiance there is scaled by eta^2); the cap keeps every path a chance to end.
+inline float roulette_continue_probability(const Spectrum& beta, float eta) { return std::min(max_component(beta) * eta * eta, 0.95f); }
 
 // Which settings an integrator reads from its properties.
 enum PathSettingFields : uint32_t {

@@ -3,6 +3,7 @@
 #include "core/sampler.h"
 #include "core/scene.h"
 #include "integrators/direct_lighting.h"
+#include "integrators/path_settings.h"
 
 namespace candela {
 
@@ -58,7 +59,7 @@ GatherPoint walk_to_gather_point(const Scene& scene, Sampler& sampler, Ray ray, 
         eta *= bs.eta;
         all_delta = all_delta && is_delta(bs.lobe);
         if (depth >= uint32_t(settings.rr_depth)) {
-            float q = std::min(max_component(beta) * eta * eta, 0.95f);
+            float q = roulette_continue_probability(beta, eta);
             if (!(sampler.next_1d() < q)) break;
             beta /= q;
         }

@@ -65,7 +65,7 @@ public:
             const uint32_t dims = SampleDimensions::bounce(depth);
             if (settings_.max_depth < 0 && depth >= uint32_t(settings_.rr_depth)) {
                 sampler.set_dimension(dims + SampleDimensions::Roulette);
-                const float q = std::min(max_component(beta) * eta * eta, 0.95f);
+                const float q = roulette_continue_probability(beta, eta);
                 if (!(sampler.next_1d() < q)) break;
                 beta /= q;
             }

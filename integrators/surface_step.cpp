@@ -9,7 +9,7 @@ namespace candela {
 bool survive_roulette(const PathSettings& settings, Sampler& sampler, uint32_t dims, CameraPath& path) {
     if (path.depth < uint32_t(settings.rr_depth)) return true;
     sampler.set_dimension(dims + SampleDimensions::Roulette);
-    const float q = std::min(max_component(path.weights.estimate_weight()) * path.eta * path.eta, 0.95f);
+    const float q = roulette_continue_probability(path.weights.estimate_weight(), path.eta);
     if (!(sampler.next_1d() < q)) return false;
     path.weights.beta /= q;
     return true;

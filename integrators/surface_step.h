@@ -54,9 +54,9 @@ struct CameraPath {
     }
 };
 
-// Russian roulette with Mitsuba's rule: the path goes on with probability
-// min(max(estimate weight) eta^2, 0.95), its throughput divided by it, once its depth reaches
-// rr_depth. Draws dimension dims + Roulette. False when the path ends.
+// Russian roulette by roulette_continue_probability (path_settings.h) of the estimate weight,
+// once the path's depth reaches rr_depth; a survivor's throughput is divided by it. Draws
+// dimension dims + Roulette. False when the path ends.
 bool survive_roulette(const PathSettings& settings, Sampler& sampler, uint32_t dims, CameraPath& path);
 
 // The surface vertex whose numbers start at dimension `dims` (SampleDimensions::bounce(k) for
