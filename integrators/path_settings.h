@@ -4,9 +4,8 @@
 // read and checked here and nowhere else, each bad value named at its own line (Mitsuba 3's
 // names and meanings).
 
-#include "lights/light_sampler.h"
-
 #include "core/spectrum.h"
+#include "lights/light_sampler.h"
 
 #include <algorithm>
 #include <cstdint>
