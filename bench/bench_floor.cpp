@@ -85,6 +85,8 @@ FloorScene describe(const Scene& scene) {
         fs.light_shape = shape;
         fs.light = shape->emitter();
         fs.radiance = fs.emission.back() = shape->emitter()->eval(probe);
+        probe.uv = Vec2(0.25f, 0.75f);
+        if (fs.radiance != shape->emitter()->eval(probe)) throw std::runtime_error("the light's radiance varies over its surface");
         PositionSample c = shape->sample_position(Vec2(0.0f)), x = shape->sample_position(Vec2(1.0f, 0.0f)),
                        y = shape->sample_position(Vec2(0.0f, 1.0f));
         fs.corner = c.p, fs.edge_x = x.p - c.p, fs.edge_y = y.p - c.p, fs.light_normal = c.n;
