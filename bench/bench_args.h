@@ -1,7 +1,8 @@
 #pragma once
 // The command line of the benchmark programs (bench/*.cpp): --help, option values checked as they
 // are read, and a main() that turns every error into one line on stderr and exit code 2 (the
-// project's rule for bad input), never an abort. Each program keeps its own parsing loop:
+// project's rule for bad input), never an abort; and the median the programs report of their
+// rounds. Each program keeps its own parsing loop:
 //
 //   int run(int argc, char** argv) {
 //       for (int i = 1; i < argc; ++i) {
@@ -15,6 +16,7 @@
 
 #include "core/text.h"
 
+#include <algorithm>
 #include <climits>
 #include <cstdio>
 #include <cstdlib>
@@ -93,6 +95,14 @@ inline int run_main(int argc, char** argv, const char* usage, int (*run)(int, ch
         std::fprintf(stderr, "%s: %s\n", program, e.what());
     }
     return 2;
+}
+
+// The median of a round's figures (the mean of the middle two for an even count); 0 for none.
+inline double median(std::vector<double> values) {
+    if (values.empty()) return 0.0;
+    std::sort(values.begin(), values.end());
+    const size_t n = values.size();
+    return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
 }  // namespace bench

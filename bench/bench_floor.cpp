@@ -257,11 +257,6 @@ FloorRun render_floor(const FloorScene& fs, unsigned pieces, int spp, tbb::task_
     return {double(rays.load()) / seconds * 1e-6, double(rays.load()) / samples, total / samples};
 }
 
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
-
 const char* const usage =
     "usage: bench_floor [SCENE.xml] [--threads N] [--spp N] [--rounds N]\n"
     "  SCENE.xml     diffuse shapes and one rectangle area light (default " CANDELA_SOURCE_DIR
@@ -313,7 +308,7 @@ int run(int argc, char** argv) {
         }
     }
     std::printf("medians of Mrays/s over candela's:");
-    for (int v = 0; v < 5; ++v) std::printf("  %s %.3f", names[v], median(ratios[size_t(v)]));
+    for (int v = 0; v < 5; ++v) std::printf("  %s %.3f", names[v], bench::median(ratios[size_t(v)]));
     std::printf("\n");
     return 0;
 }

@@ -180,11 +180,9 @@ int run(int argc, char** argv) {
     std::printf("embree closest-hit rays   %lld incoherent per round, %.1f%% hit\n", ray_count, 100.0 * double(hits) / double(ray_count));
     std::printf("path tracer               %d spp, %llu rays per round (%.2f per sample)\n", result.stats.spp,
                 (unsigned long long)result.stats.rays, double(result.stats.rays) / double(result.stats.samples));
-    std::vector<double> sorted = ratios;
-    std::sort(sorted.begin(), sorted.end());
-    double median = sorted.size() % 2 ? sorted[sorted.size() / 2] : 0.5 * (sorted[sorted.size() / 2 - 1] + sorted[sorted.size() / 2]);
-    std::printf("ratio path/embree Mrays   median %.3f of %d rounds (lowest %.3f, highest %.3f)\n", median, rounds, sorted.front(),
-                sorted.back());
+    const auto [lowest, highest] = std::minmax_element(ratios.begin(), ratios.end());
+    std::printf("ratio path/embree Mrays   median %.3f of %d rounds (lowest %.3f, highest %.3f)\n", bench::median(ratios), rounds, *lowest,
+                *highest);
     // Packets and streams: the ray records are filled per packet (a wavefront tracer keeps its
     // batch in this layout), hits counted as in trace().
     RTCScene embree = scene->accel().scene();
