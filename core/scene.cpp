@@ -32,20 +32,20 @@ Scene::Scene(const Properties& props, int sensor_index) {
     }
     // The scene's own sensors in document order, then those nested in shapes, in shape order
     // (the order Mitsuba 3.8 numbers them in, `mitsuba -s N`).
-    std::vector<Ref<Object>> sensors = props.get_objects(ObjectKind::Sensor);
+    for (auto& sensor : props.get_objects(ObjectKind::Sensor)) sensors_.push_back(std::static_pointer_cast<Sensor>(sensor));
     for (auto& shape : shapes_)
-        if (auto& attached = shape->attached_sensor()) sensors.push_back(attached);
+        if (auto& attached = shape->attached_sensor()) sensors_.push_back(attached);
+    if (sensors_.empty()) sensors_.push_back(create_plugin_as<Sensor>(ObjectKind::Sensor, Properties("perspective", props.location())));
     // The second one is the mistake: its line, not the scene's.
     auto second = [&](ObjectKind kind) { return props.location_of(props.get_named_objects(kind)[1].first); };
-    sensor_count_ = std::max<int>(1, int(sensors.size()));
-    if (sensor_index < 0 || sensor_index >= sensor_count_)
+    const int sensor_count = int(sensors_.size());
+    if (sensor_index < 0 || sensor_index >= sensor_count)
         throw SceneError(
             props.location(),
-            "sensor index " + std::to_string(sensor_index) + " is out of range: the scene has " + std::to_string(sensor_count_) +
-                (sensor_count_ == 1 ? " sensor (index 0)" : " sensors (indices 0 to " + std::to_string(sensor_count_ - 1) + ")"));
+            "sensor index " + std::to_string(sensor_index) + " is out of range: the scene has " + std::to_string(sensor_count) +
+                (sensor_count == 1 ? " sensor (index 0)" : " sensors (indices 0 to " + std::to_string(sensor_count - 1) + ")"));
     sensor_index_ = sensor_index;
-    sensor_ = sensors.empty() ? create_plugin_as<Sensor>(ObjectKind::Sensor, Properties("perspective", props.location()))
-                              : std::static_pointer_cast<Sensor>(sensors[size_t(sensor_index)]);
+    sensor_ = sensors_[size_t(sensor_index)];
     auto integrators = props.get_objects(ObjectKind::Integrator);
     if (integrators.size() > 1) throw SceneError(second(ObjectKind::Integrator), "only one integrator per scene is supported");
     integrator_ = integrators.empty() ? create_plugin_as<Integrator>(ObjectKind::Integrator, Properties("path", props.location()))

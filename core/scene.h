@@ -60,8 +60,12 @@ public:
     Sensor& sensor() const { return *sensor_; }
     // The scene file's sensors (1 for a scene that declares none: the default camera), and which
     // of them sensor() is.
-    int sensor_count() const { return sensor_count_; }
+    int sensor_count() const { return int(sensors_.size()); }
     int sensor_index() const { return sensor_index_; }
+    // Sensor `index` (below sensor_count()), as the file describes it: only sensor() is prepared
+    // for rendering (its film and sampler sized, its scene set). Python's scene.sensors() reads
+    // the others.
+    const Sensor& sensor_at(int index) const { return *sensors_.at(size_t(index)); }
     Integrator& integrator() const { return *integrator_; }
     const Ref<Integrator>& integrator_ref() const { return integrator_; }
     void set_integrator(Ref<Integrator> integrator) { integrator_ = std::move(integrator); }
@@ -90,7 +94,8 @@ private:
     std::vector<Ref<Emitter>> emitters_;
     std::vector<const Emitter*> infinite_emitters_;
     Ref<Sensor> sensor_;
-    int sensor_count_ = 1, sensor_index_ = 0;
+    std::vector<Ref<Sensor>> sensors_;
+    int sensor_index_ = 0;
     Ref<Integrator> integrator_;
     BoundingBox bbox_;
     Accel accel_;

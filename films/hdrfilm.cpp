@@ -54,6 +54,7 @@ public:
     }
 
     PixelFormat pixel_format() const override { return pixel_format_; }
+    std::string to_string() const override { return "hdrfilm"; }
 
 private:
     PixelFormat pixel_format_ = PixelFormat::RGB;

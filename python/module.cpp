@@ -295,6 +295,35 @@ void set_parameters(SceneHandle& h, const std::map<std::string, py::array_t<floa
     apply_parameter_changes(*h.scene, changed);
 }
 
+// What Python's scene.sensors() shows of sensor `index`: its plugin type, id, pose, shutter,
+// film and sample count, as the scene holds them now (traverse changes included).
+py::dict sensor_info(SceneHandle& h, int index) {
+    std::lock_guard<std::mutex> lock(*h.lock);
+    if (index < 0 || index >= h.scene->sensor_count())
+        throw py::index_error("sensor index " + std::to_string(index) + " is out of range: the scene has " +
+                              std::to_string(h.scene->sensor_count()) + " sensor(s)");
+    const Sensor& sensor = h.scene->sensor_at(index);
+    const Film& film = sensor.film();
+    py::array_t<float> to_world({4, 4});
+    const Mat4& m = sensor.to_world().matrix();  // column-major: m[col][row]
+    for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 4; ++c) to_world.mutable_at(r, c) = m[c][r];
+    auto pair = [](const Vec2i& v) { return py::make_tuple(v.x, v.y); };
+    py::dict info;
+    info["type"] = sensor.to_string();
+    info["id"] = sensor.id;
+    info["to_world"] = to_world;
+    info["shutter_open"] = sensor.shutter_open();
+    info["shutter_open_time"] = sensor.shutter_open_time();
+    info["film_type"] = film.to_string();
+    info["film_size"] = pair(film.full_size());
+    info["crop_size"] = pair(film.crop_size());
+    info["crop_offset"] = pair(film.crop_offset());
+    info["sampler_type"] = sensor.sampler().to_string();
+    info["spp"] = sensor.sampler().sample_count();
+    return info;
+}
+
 // --- analysis ---------------------------------------------------------------------------------
 
 py::dict comparison_dict(const ImageComparison& c) {
@@ -568,6 +597,15 @@ PYBIND11_MODULE(_candela, m) {
     m.def("parameter_list", &parameter_list);
     m.def("get_parameter", &get_parameter);
     m.def("set_parameters", &set_parameters);
+    m.def("sensor_info", &sensor_info, py::arg("scene"), py::arg("index"));
+    m.def(
+        "scene_bbox",
+        [](SceneHandle& h) {
+            std::lock_guard<std::mutex> lock(*h.lock);
+            const BoundingBox& b = h.scene->bbox();
+            return py::make_tuple(py::make_tuple(b.min.x, b.min.y, b.min.z), py::make_tuple(b.max.x, b.max.y, b.max.z));
+        },
+        "The scene's bounds (its shapes'), as (min, max); an empty scene's min is +inf, its max -inf");
     m.def("compare", &compare, py::arg("test"), py::arg("reference"), py::arg("block_size"), py::arg("heatmap_range"));
     m.def("converge", &converge, py::arg("scene"), py::arg("spp_counts"), py::arg("expected"), py::arg("reference"), py::arg("seed"),
           py::arg("threads"));

@@ -11,10 +11,10 @@
 
 What is here behaves as Mitsuba's does, rendered by Candela: RGB and spectral variants (the LLVM
 and CUDA ones run on Candela's CPU renderer, with a notice), scenes from files, strings and
-dictionaries, rendering, traverse/update, the transform and 3-vector types, Bitmap and mi.util's
-image writers, the Cornell box dictionary. What is not here (autodiff and Dr.Jit arrays, Python
-plugins, ray queries from Python, polarised and monochrome rendering, ...) raises
-NotImplementedError naming the feature instead of answering differently from Mitsuba.
+dictionaries, rendering, traverse/update, the scene's sensors (their films and samplers) and
+bounds, the transform and 3-vector types, Bitmap and mi.util's image writers, the Cornell box
+dictionary. What is not here (autodiff and Dr.Jit arrays, Python plugins, ray queries from
+Python, polarised and monochrome rendering, ...) raises NotImplementedError naming the feature instead of answering differently from Mitsuba.
 docs/python.md has the table.
 """
 
@@ -46,7 +46,8 @@ __all__ = [
     "set_variant", "variant", "variants", "variant_context", "is_rgb", "is_spectral", "is_polarized", "is_monochromatic",
     "load_file", "load_string", "load_dict", "render", "traverse", "SceneParameters", "Scene", "cornell_box",
     "ScalarTransform4f", "Transform4f", "ScalarAffineTransform4f", "AffineTransform4f",
-    "ScalarPoint3f", "Point3f", "ScalarVector3f", "Vector3f", "ScalarNormal3f", "Normal3f", "ScalarColor3f", "Color3f",
+    "ScalarPoint3f", "Point3f", "ScalarVector2u", "Vector2u", "ScalarBoundingBox3f", "BoundingBox3f", "Sensor", "Film",
+    "Sampler", "ScalarVector3f", "Vector3f", "ScalarNormal3f", "Normal3f", "ScalarColor3f", "Color3f",
     "Bitmap", "Struct", "util", "luminance", "LogLevel", "set_log_level", "log_level", "Log",
 ]
 
@@ -351,14 +352,22 @@ def render(scene, params=None, sensor=0, integrator=None, seed: int = 0, seed_gr
         if sensor.kind != "sensor":
             raise TypeError(f"sensor must be a sensor (from load_dict) or an index, got a {sensor.kind}")
         return _render_with_sensor(scene, sensor, spp, seed, integrator)
+    if isinstance(sensor, Sensor):
+        if sensor._scene is not scene:
+            raise ValueError("sensor is one of another scene's sensors: give a sensor of this scene (scene.sensors()), "
+                             "its index, or a sensor from load_dict")
+        sensor = sensor._index
     if isinstance(sensor, bool) or not isinstance(sensor, (int, np.integer)):
         raise TypeError(f"sensor must be a sensor's index (an int) or a sensor from load_dict, got {sensor!r}")
     if not 0 <= sensor < scene.sensor_count:
         raise IndexError(f"sensor index {sensor} is out of range: the scene has {scene.sensor_count} sensor"
                          f"{'s' if scene.sensor_count != 1 else ''}")
     if sensor != scene.sensor_index:
-        return _render_with_sensor(scene, int(sensor), spp, seed, integrator)
-    return _candela.render(scene, spp=int(spp) or None, seed=seed, integrator=integrator)
+        image = _render_with_sensor(scene, int(sensor), spp, seed, integrator)
+    else:
+        image = _candela.render(scene, spp=int(spp) or None, seed=seed, integrator=integrator)
+    _developed.setdefault(scene, {})[int(sensor)] = image
+    return image
 
 
 class SceneParameters(_CandelaSceneParameters):
@@ -581,6 +590,214 @@ def cornell_box() -> dict:
                       "to_world": T.translate([-0.33, -0.4, -0.28]) @ T.rotate([0, 1, 0], 18.25) @ T.scale([0.3, 0.61, 0.3]),
                       "bsdf": dict(white_ref)},
     }
+
+
+# --------------------------------------------------------------------------------------------------
+# The scene's sensors (their films and samplers) and bounds, read-only (scene.sensors(), bbox())
+# --------------------------------------------------------------------------------------------------
+
+class ScalarVector2u(np.ndarray):
+    """Two whole numbers (uint32), as a film's size(): x, y; indexing and arithmetic as NumPy's."""
+
+    def __new__(cls, x=0, y=None):
+        values = [x, x if y is None else y] if np.ndim(x) == 0 else list(np.asarray(x).reshape(-1))
+        if len(values) != 2 or any(int(v) != v or v < 0 for v in values):
+            raise TypeError(f"{cls.__name__} holds two whole numbers >= 0, got {values!r}")
+        return np.array([int(v) for v in values], dtype=np.uint32).view(cls)
+
+    x = property(lambda self: int(self[0]))
+    y = property(lambda self: int(self[1]))
+
+    def __repr__(self):
+        return f"[{int(self[0])}, {int(self[1])}]"
+
+    __str__ = __repr__
+
+
+Vector2u = ScalarVector2u
+
+
+class ScalarBoundingBox3f:
+    """An axis-aligned box, as Mitsuba's: min and max (ScalarPoint3f); without arguments an empty
+    box (min +inf, max -inf), which expand() grows. scene.bbox() gives the scene's."""
+
+    def __init__(self, min=None, max=None):  # noqa: A002 - Mitsuba's argument names
+        if min is None:
+            self.min, self.max = ScalarPoint3f(np.inf), ScalarPoint3f(-np.inf)
+        else:
+            self.min = ScalarPoint3f(min)
+            self.max = ScalarPoint3f(min if max is None else max)
+
+    def valid(self) -> bool:
+        return bool(np.all(self.min <= self.max))
+
+    def center(self) -> ScalarPoint3f:
+        return ScalarPoint3f((np.asarray(self.min) + np.asarray(self.max)) * 0.5)
+
+    def extents(self) -> ScalarVector3f:
+        return ScalarVector3f(np.asarray(self.max) - np.asarray(self.min))
+
+    def volume(self) -> float:
+        return float(np.prod(self.extents())) if self.valid() else 0.0
+
+    def surface_area(self) -> float:
+        if not self.valid():
+            return 0.0
+        e = np.asarray(self.extents())
+        return float(2.0 * (e[0] * e[1] + e[1] * e[2] + e[2] * e[0]))
+
+    def major_axis(self) -> int:
+        return int(np.argmax(np.asarray(self.extents())))
+
+    def minor_axis(self) -> int:
+        return int(np.argmin(np.asarray(self.extents())))
+
+    def contains(self, p) -> bool:
+        if isinstance(p, ScalarBoundingBox3f):
+            return bool(np.all(self.min <= p.min) and np.all(p.max <= self.max))
+        p = np.asarray(p, dtype=np.float64)
+        return bool(np.all(self.min <= p) and np.all(p <= self.max))
+
+    def expand(self, p) -> None:
+        """Grows the box to hold the point or box `p`."""
+        low, high = (p.min, p.max) if isinstance(p, ScalarBoundingBox3f) else (p, p)
+        self.min = ScalarPoint3f(np.minimum(np.asarray(self.min), np.asarray(low, dtype=np.float64)))
+        self.max = ScalarPoint3f(np.maximum(np.asarray(self.max), np.asarray(high, dtype=np.float64)))
+
+    def reset(self) -> None:
+        self.min, self.max = ScalarPoint3f(np.inf), ScalarPoint3f(-np.inf)
+
+    def __eq__(self, other):
+        return isinstance(other, ScalarBoundingBox3f) and np.array_equal(self.min, other.min) and \
+            np.array_equal(self.max, other.max)
+
+    def __repr__(self):
+        return f"BoundingBox3f[\n  min = {self.min!r},\n  max = {self.max!r}\n]"
+
+
+BoundingBox3f = ScalarBoundingBox3f
+
+
+def _scene_bbox(self) -> ScalarBoundingBox3f:
+    """The scene's bounds: the box around its shapes (empty, not valid(), for a scene without)."""
+    low, high = _native.scene_bbox(self)
+    box = ScalarBoundingBox3f()
+    box.min, box.max = ScalarPoint3f(low), ScalarPoint3f(high)
+    return box
+
+
+class _SceneObjectView:
+    """What a scene's sensor, film or sampler shows of itself in Python: a read-only view of the
+    scene as it is now. Mitsuba's other methods on it say they are not available."""
+
+    _kind = "object"
+
+    def __init__(self, scene, index: int):
+        self._scene, self._index = scene, index
+
+    def _info(self) -> dict:
+        return _native.sensor_info(self._scene, self._index)
+
+    def __getattr__(self, name):
+        if name.startswith("_"):
+            raise AttributeError(name)
+        if name in _PLUGIN_METHODS or name in _VIEW_METHODS:
+            raise NotImplementedError(f"{self._kind}.{name}: {_OBJECTS} is not available in candela.mitsuba (a scene's "
+                                      f"{self._kind} shows what it is; edit it with mi.traverse, render it with "
+                                      "mi.render(scene, sensor=...))")
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+
+
+class Sampler(_SceneObjectView):
+    """A scene sensor's sampler: its type and sample_count()."""
+
+    _kind = "sampler"
+
+    def sample_count(self) -> int:
+        return int(self._info()["spp"])
+
+    def __repr__(self):
+        info = self._info()
+        return f"Sampler[type={info['sampler_type']}, sample_count={info['spp']}]"
+
+
+class Film(_SceneObjectView):
+    """A scene sensor's film: size() (the full film), crop_size(), crop_offset(), and after
+    mi.render from this sensor, the image: develop() as render returned it, bitmap() as a Bitmap."""
+
+    _kind = "film"
+
+    def size(self) -> ScalarVector2u:
+        return ScalarVector2u(self._info()["film_size"])
+
+    def crop_size(self) -> ScalarVector2u:
+        return ScalarVector2u(self._info()["crop_size"])
+
+    def crop_offset(self) -> ScalarVector2u:
+        return ScalarVector2u(self._info()["crop_offset"])
+
+    def _image(self):
+        image = _developed.get(self._scene, {}).get(self._index)
+        if image is None:
+            raise RuntimeError(f"{self._kind}.develop(): sensor {self._index}'s film holds no image yet; render it "
+                               "first (mi.render(scene, sensor=...))")
+        return image
+
+    def develop(self, raw: bool = False):
+        """The image of the last mi.render from this film's sensor (a candela.Image, H x W x C)."""
+        return self._image()
+
+    def bitmap(self, raw: bool = False):
+        """The same image as a Bitmap."""
+        return Bitmap(self._image())
+
+    def __repr__(self):
+        info = self._info()
+        return (f"Film[type={info['film_type']}, size={list(info['film_size'])}, crop_size={list(info['crop_size'])}, "
+                f"crop_offset={list(info['crop_offset'])}]")
+
+
+class Sensor(_SceneObjectView):
+    """One of a scene's sensors (scene.sensors()[i]): its film(), sampler(), pose
+    (world_transform()), shutter and id(); mi.render(scene, sensor=it) renders from it."""
+
+    _kind = "sensor"
+
+    def film(self) -> Film:
+        return Film(self._scene, self._index)
+
+    def sampler(self) -> Sampler:
+        return Sampler(self._scene, self._index)
+
+    def world_transform(self) -> Transform:
+        return Transform(np.asarray(self._info()["to_world"], dtype=np.float64))
+
+    def shutter_open(self) -> float:
+        return float(self._info()["shutter_open"])
+
+    def shutter_open_time(self) -> float:
+        return float(self._info()["shutter_open_time"])
+
+    def id(self) -> str:
+        return self._info()["id"]
+
+    def __repr__(self):
+        info = self._info()
+        return f"Sensor[type={info['type']}, id={info['id']!r}, index={self._index}]"
+
+
+# The image each of a scene's sensors last rendered through mi.render (its film's develop()).
+_developed: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+# Mitsuba's methods of sensors, films and samplers that are not in _PLUGIN_METHODS.
+_VIEW_METHODS = ("prepare", "clear", "put_block", "create_block", "schedule_storage", "rfilter", "set_size",
+                 "set_crop_window", "sample_border", "base_channels_count", "prepare_sample", "seed", "fork",
+                 "advance", "next_1d", "next_2d", "set_sample_count", "wavefront_size", "set_shape",
+                 "needs_aperture_sample", "shape", "x_fov", "near_clip", "far_clip", "set_film")
+
+
+def _scene_sensors(self) -> list:
+    """The scene's sensors in file order (mi.render(scene, sensor=i) renders the i-th)."""
+    return [Sensor(self, i) for i in range(self.sensor_count)]
 
 
 # --------------------------------------------------------------------------------------------------
@@ -1161,14 +1378,14 @@ _UNSUPPORTED: dict[str, str] = {}
 for _name in ("Float", "Float16", "Float32", "Float64", "Int", "Int8", "Int32", "Int64", "UInt", "UInt8", "UInt32",
               "UInt64", "Bool", "Mask", "TensorXf", "TensorXf16", "TensorXf64", "TensorXi", "TensorXu", "TensorXb",
               "TensorXi64", "TensorXu64", "ArrayXf", "ArrayXi", "ArrayXu", "ArrayXb", "ArrayXf64", "Array2f", "Array3f",
-              "Array4f", "Point2f", "Point2i", "Point2u", "Point4f", "Vector2f", "Vector2i", "Vector2u", "Vector4f",
+              "Array4f", "Point2f", "Point2i", "Point2u", "Point4f", "Vector2f", "Vector2i", "Vector4f",
               "Vector3i", "Vector3u", "Point3i", "Point3u", "Vector0f", "Vector1f", "Color0f", "Color1f", "Spectrum",
               "UnpolarizedSpectrum", "Matrix2f", "Matrix3f", "Matrix4f", "Matrix44f", "Quaternion4f", "Complex2f",
               "ScalarFloat", "ScalarInt32", "ScalarUInt32", "ScalarPoint2f", "ScalarPoint2i", "ScalarPoint2u",
-              "ScalarPoint3i", "ScalarPoint3u", "ScalarVector2f", "ScalarVector2i", "ScalarVector2u", "ScalarVector3i",
+              "ScalarPoint3i", "ScalarPoint3u", "ScalarVector2f", "ScalarVector2i", "ScalarVector3i",
               "ScalarVector3u", "ScalarVector4f", "ScalarColor0f", "ScalarColor1f", "ScalarMatrix2f", "ScalarMatrix3f",
-              "ScalarMatrix4f", "ScalarBoundingBox2f", "ScalarBoundingBox3f", "ScalarBoundingSphere3f", "BoundingBox2f",
-              "BoundingBox3f", "BoundingSphere3f", "Transform3f", "ScalarTransform3f", "AffineTransform3f",
+              "ScalarMatrix4f", "ScalarBoundingBox2f", "ScalarBoundingSphere3f", "BoundingBox2f",
+              "BoundingSphere3f", "Transform3f", "ScalarTransform3f", "AffineTransform3f",
               "ScalarAffineTransform3f", "Frame3f", "ScalarFrame3f", "Loop", "Texture2f", "Texture3f", "Spectrum3f",
               "UnpolarizedSpectrum3f", "Stokes4f", "MuellerMatrix"):
     _UNSUPPORTED[_name] = _AUTODIFF
@@ -1180,7 +1397,7 @@ for _name in ("register_bsdf", "register_emitter", "register_integrator", "regis
               "register_sampler", "register_shape", "SamplingIntegrator", "ADIntegrator", "Integrator",
               "AdjointIntegrator", "python"):
     _UNSUPPORTED[_name] = _PLUGINS
-for _name in ("BSDF", "Emitter", "Sensor", "Shape", "Mesh", "Texture", "Film", "ImageBlock", "Sampler", "Medium",
+for _name in ("BSDF", "Emitter", "Shape", "Mesh", "Texture", "ImageBlock", "Medium",
               "PhaseFunction", "Volume", "VolumeGrid", "ReconstructionFilter", "Endpoint", "ShapeGroup", "Object",
               "Properties", "PluginManager", "TraversalCallback", "ParamFlags", "BSDFFlags", "EmitterFlags", "RayFlags",
               "FilterBoundaryCondition", "Resampler", "ProjectiveCamera", "Class", "load_plugin"):
@@ -1231,7 +1448,7 @@ del _name
 
 # Mitsuba's scene and plugin objects have methods that Candela's do not: asking a candela.Scene or
 # a candela.Plugin for one of them says so, instead of a bare AttributeError.
-_SCENE_METHODS = ("sensors", "emitters", "shapes", "shapes_dr", "emitters_dr", "sensors_dr", "bbox", "ray_intersect",
+_SCENE_METHODS = ("emitters", "shapes", "shapes_dr", "emitters_dr", "sensors_dr", "ray_intersect",
                   "ray_intersect_preliminary", "ray_test", "sample_emitter", "sample_emitter_direction",
                   "sample_emitter_ray", "eval_emitter_direction", "pdf_emitter", "pdf_emitter_direction",
                   "environment", "sample_silhouette", "invert_silhouette_sample", "parameters_changed", "id",
@@ -1261,6 +1478,8 @@ def _plugin_getattr(self, name):
 
 if "__getattr__" not in _candela.Scene.__dict__:
     _candela.Scene.__getattr__ = _scene_getattr
+    _candela.Scene.sensors = _scene_sensors
+    _candela.Scene.bbox = _scene_bbox
 if "__getattr__" not in _Plugin.__dict__:
     _Plugin.__getattr__ = _plugin_getattr
 

@@ -184,6 +184,52 @@ def test_render_a_scene_sensor_by_index(tmp_path):
         candela.load_file(xml, sensor=5)
 
 
+def test_scene_sensors_films_and_bounds():
+    # Mitsuba's scene.sensors()[i].film().size() and friends, read from the scene as it is now.
+    T = mi.ScalarTransform4f
+    base = {"type": "scene", "light": {"type": "constant"},
+            "ball": {"type": "sphere", "center": [0.5, 0, 0], "radius": 0.8, "bsdf": {"type": "diffuse"}}}
+    scene = mi.load_dict({**base, "camera_a": sensor([-2, 1, 4], 24, 16, 8),
+                          "camera_b": {"type": "perspective", "fov": 40, "shutter_open": 0.25, "shutter_close": 0.75,
+                                       "to_world": T.translate([1, 2, 3]),
+                                       "sampler": {"type": "stratified", "sample_count": 9},
+                                       "film": {"type": "hdrfilm", "width": 40, "height": 30, "crop_offset_x": 4,
+                                                "crop_offset_y": 2, "crop_width": 12, "crop_height": 10}}})
+    a, b = scene.sensors()
+    assert isinstance(a, mi.Sensor) and (a.id(), b.id()) == ("camera_a", "camera_b")
+    assert list(a.film().size()) == [24, 16] and a.film().crop_size().x == 24 and a.sampler().sample_count() == 8
+    assert list(b.film().size()) == [40, 30] and list(b.film().crop_size()) == [12, 10]
+    assert list(b.film().crop_offset()) == [4, 2] and b.sampler().sample_count() == 9
+    assert (b.shutter_open(), b.shutter_open_time()) == (0.25, 0.5) and a.shutter_open_time() == 0.0
+    assert np.allclose(b.world_transform().matrix, T.translate([1, 2, 3]).matrix)
+    # The pose follows traverse's edits.
+    params = mi.traverse(scene)
+    params["camera_a.to_world"] = T.translate([0, 0, 5])
+    params.update()
+    assert np.allclose(a.world_transform().matrix, T.translate([0, 0, 5]).matrix)
+    # A film holds the image of the last render from its sensor (Mitsuba's develop() and bitmap()).
+    with pytest.raises(RuntimeError, match="holds no image yet"):
+        b.film().develop()
+    image = mi.render(scene, sensor=b, seed=3)
+    assert image.shape == (10, 12, 3)
+    assert np.array_equal(np.asarray(image), np.asarray(mi.render(scene, sensor=1, seed=3)))
+    assert np.array_equal(np.asarray(b.film().develop()), np.asarray(image))
+    assert np.array_equal(np.asarray(b.film().bitmap()), np.asarray(image))
+    with pytest.raises(RuntimeError, match="holds no image yet"):
+        a.film().develop()
+    with pytest.raises(ValueError, match="another scene's sensors"):
+        mi.render(mi.load_dict(base), sensor=a)
+    with pytest.raises(NotImplementedError, match=r"film\.rfilter"):
+        a.film().rfilter()
+    # The bounds: the box around the shapes (the sphere, centre (0.5, 0, 0), radius 0.8).
+    box = scene.bbox()
+    assert isinstance(box, mi.BoundingBox3f) and box.valid()
+    assert np.allclose(box.min, [-0.3, -0.8, -0.8], atol=1e-5) and np.allclose(box.max, [1.3, 0.8, 0.8], atol=1e-5)
+    assert np.allclose(box.center(), [0.5, 0, 0], atol=1e-5) and box.major_axis() in (0, 1, 2)
+    assert box.contains([0.5, 0.5, 0.5]) and not box.contains([2, 0, 0])
+    assert not mi.BoundingBox3f().valid() and not mi.load_dict({"type": "scene"}).bbox().valid()
+
+
 def test_render_from_a_sensor_object_keeps_parameter_edits(tmp_path):
     scene = mi.load_file(CBOX, res=16, spp=4)
     params = mi.traverse(scene)
@@ -701,8 +747,8 @@ def test_what_is_not_offered_raises_not_implemented(name, words):
 
 def test_scene_and_plugin_methods_of_mitsuba():
     scene = mi.load_file(CBOX, res=8)
-    with pytest.raises(NotImplementedError, match=r"Scene\.sensors"):
-        scene.sensors()
+    with pytest.raises(NotImplementedError, match=r"Scene\.shapes"):
+        scene.shapes()
     with pytest.raises(NotImplementedError, match=r"Scene\.ray_intersect"):
         scene.ray_intersect
     bsdf = mi.load_dict({"type": "diffuse"})
