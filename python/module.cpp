@@ -16,6 +16,7 @@
 #include "analysis/validation.h"
 #include "core/error.h"
 #include "core/file_output.h"
+#include "core/filter.h"
 #include "core/image.h"
 #include "core/integrator.h"
 #include "core/parameters.h"
@@ -598,6 +599,16 @@ PYBIND11_MODULE(_candela, m) {
     m.def("get_parameter", &get_parameter);
     m.def("set_parameters", &set_parameters);
     m.def("sensor_info", &sensor_info, py::arg("scene"), py::arg("index"));
+    m.def(
+        "film_filter",
+        [](SceneHandle& h, py::array_t<double, py::array::c_style | py::array::forcecast> offsets) {
+            const ReconstructionFilter& filter = h.scene->sensor().film().filter();
+            py::array_t<double> weights(offsets.size());
+            for (ssize_t i = 0; i < offsets.size(); ++i) weights.mutable_data()[i] = filter.eval(float(offsets.data()[i]));
+            return py::make_tuple(filter.radius(), weights);
+        },
+        py::arg("scene"), py::arg("offsets"),
+        "The reconstruction filter of the scene's film: its radius (pixels) and its 1D weights at `offsets` (pixels)");
     m.def(
         "scene_bbox",
         [](SceneHandle& h) {

@@ -48,7 +48,7 @@ __all__ = [
     "ScalarTransform4f", "Transform4f", "ScalarAffineTransform4f", "AffineTransform4f",
     "ScalarPoint3f", "Point3f", "ScalarVector2u", "Vector2u", "ScalarBoundingBox3f", "BoundingBox3f", "Sensor", "Film",
     "Sampler", "ScalarVector3f", "Vector3f", "ScalarNormal3f", "Normal3f", "ScalarColor3f", "Color3f",
-    "Bitmap", "Struct", "util", "luminance", "LogLevel", "set_log_level", "log_level", "Log",
+    "Bitmap", "Struct", "FilterBoundaryCondition", "util", "luminance", "LogLevel", "set_log_level", "log_level", "Log",
 ]
 
 # --------------------------------------------------------------------------------------------------
@@ -1219,11 +1219,208 @@ class Bitmap:
             raise NotImplementedError(f"writing a {self._format.name} bitmap as PNG is not available in candela.mitsuba")
         _write_whole(path, _encode_png(self._data, colour_type, self._srgb))
 
+    # --- editing and resampling ---------------------------------------------------------------
+    def clear(self) -> None:
+        """Sets every component to zero."""
+        self._data[...] = 0
+
+    def vflip(self) -> None:
+        """Flips the image upside down, in place."""
+        self._data[...] = self._data[::-1].copy()
+
+    def accumulate(self, bitmap, source_offset=None, target_offset=None, size=None) -> None:
+        """Adds `bitmap`'s pixels to this one's: the `size` pixels from `source_offset` in it onto
+        `target_offset` here (defaults: the origins, the whole source), cut to both images as
+        Mitsuba does. Both must have the same pixel format, component format and channels.
+        ``accumulate(bitmap, target_offset)`` adds the whole bitmap there."""
+        if not isinstance(bitmap, Bitmap):
+            raise TypeError(f"Bitmap.accumulate expects a Bitmap, got {type(bitmap).__name__}")
+        if (bitmap._format, bitmap._component, bitmap.channel_count()) != (self._format, self._component,
+                                                                           self.channel_count()):
+            raise ValueError("Bitmap.accumulate: the source and target bitmaps are incompatible (pixel format, "
+                             "component format and channel count must agree)")
+        if target_offset is None and size is None and source_offset is not None:
+            source_offset, target_offset = None, source_offset  # accumulate(bitmap, target_offset)
+        sx, sy = (int(v) for v in (source_offset if source_offset is not None else (0, 0)))
+        tx, ty = (int(v) for v in (target_offset if target_offset is not None else (0, 0)))
+        w, h = (int(v) for v in (size if size is not None else (bitmap.width(), bitmap.height())))
+        # Negative offsets move the region's start; then the region stops at both images' edges.
+        for axis in range(2):
+            s0, t0 = (sx, tx) if axis == 0 else (sy, ty)
+            shift = max(0, -s0, -t0)
+            s0, t0 = s0 + shift, t0 + shift
+            extent = (w if axis == 0 else h) - shift
+            limit_s = bitmap.width() if axis == 0 else bitmap.height()
+            limit_t = self.width() if axis == 0 else self.height()
+            extent = min(extent, limit_s - s0, limit_t - t0)
+            if axis == 0:
+                sx, tx, w = s0, t0, extent
+            else:
+                sy, ty, h = s0, t0, extent
+        if w <= 0 or h <= 0:
+            return
+        region = self._data[ty:ty + h, tx:tx + w]
+        region += bitmap._data[sy:sy + h, sx:sx + w].astype(region.dtype, copy=False)
+
+    def split(self) -> list:
+        """The layers of a multichannel image (an EXR with AOVs): (name, Bitmap) pairs sorted by
+        name, channels grouped by the prefix before their last '.' ('albedo.R' -> layer 'albedo';
+        channels without one form '<root>'). A layer of R, G, B (and A) becomes an RGB (RGBA)
+        bitmap, of X, Y, Z an XYZ one, of Y a Y one, others MultiChannel. A bitmap that is not
+        MultiChannel is its own only layer, '<root>'."""
+        if self._format != _PixelFormat.MultiChannel:
+            return [("<root>", self)]
+        layers: dict[str, list[tuple[str, int]]] = {}
+        for i, name in enumerate(self._names):
+            prefix, dot, suffix = name.rpartition(".")
+            layers.setdefault(prefix if dot else "<root>", []).append((suffix, i))
+        result = []
+        for prefix, members in layers.items():
+            suffixes = [suffix for suffix, _ in members]
+            extras = [x for x in ("A", "W") if x in suffixes]
+            if "W" in extras and (prefix != "<root>" or "A" not in extras):
+                raise ValueError(f"Bitmap.split: layer {prefix!r} has a weight channel (W), which only the root layer "
+                                 "may have, with an alpha channel")
+            colours = sorted(x for x in suffixes if x not in extras)
+            pixel_format = None
+            for candidate in (_PixelFormat.RGB, _PixelFormat.XYZ, _PixelFormat.Y):
+                if colours == sorted(_CHANNELS[candidate]) and len(suffixes) == len(colours) + len(extras):
+                    pixel_format = _PixelFormat[candidate.name + "".join(extras)] if extras else candidate
+            if pixel_format is None or pixel_format not in _CHANNELS:
+                pixel_format, order = _PixelFormat.MultiChannel, suffixes
+            else:
+                order = _CHANNELS[pixel_format]
+            index = dict(members)
+            layer = Bitmap(self._data[:, :, [index[x] for x in order]], pixel_format,
+                           order if pixel_format == _PixelFormat.MultiChannel else None)
+            layer._srgb = self._srgb
+            result.append((prefix, layer))
+        return sorted(result, key=lambda item: item[0])
+
+    def resample(self, res, rfilter=None, bc=None, clamp=None, temp=None):
+        """Up- or downsamples to `res` (width, height) with Mitsuba's separable resampler: each
+        output pixel is a normalised sum of source pixels weighted by the reconstruction filter
+        `rfilter` (a filter from load_dict; default a 2-lobe Lanczos), the filter widened by the
+        scale factor when downsampling. `bc`: what lies outside the image along x and y
+        (FilterBoundaryCondition, default Clamp for both); `clamp`: (low, high) limits of the
+        results. Float16, float32 and float64 bitmaps only, as in Mitsuba. ``resample(target,
+        ...)`` with a Bitmap fills that one (same formats) instead of returning a new one."""
+        if self._component not in (Struct.Type.Float16, Struct.Type.Float32, Struct.Type.Float64):
+            raise ValueError(f"Bitmap.resample: the component format must be Float16, Float32 or Float64, not "
+                             f"{self._component.name} (convert the bitmap first), as in Mitsuba")
+        target = res if isinstance(res, Bitmap) else None
+        if target is not None:
+            if (target._format, target._component, target.channel_count()) != (self._format, self._component,
+                                                                               self.channel_count()):
+                raise ValueError("Bitmap.resample: the target bitmap is incompatible (pixel format, component format "
+                                 "and channel count must agree)")
+            res = target.size()
+        width, height = (int(v) for v in res)
+        if width < 1 or height < 1:
+            raise ValueError(f"Bitmap.resample: the resolution must be at least 1 x 1, got {width} x {height}")
+        if bc is None:
+            bc = (FilterBoundaryCondition.Clamp, FilterBoundaryCondition.Clamp)
+        elif isinstance(bc, FilterBoundaryCondition):
+            bc = (bc, bc)
+        low, high = (-np.inf, np.inf) if clamp is None else (float(clamp[0]), float(clamp[1]))
+        radius, weights_at = _filter_weights(rfilter)
+        data = self._data.astype(np.float64)
+        if width != self.width():
+            data = _resample_axis(data, 1, width, radius, weights_at, bc[0], low, high)
+        if height != self.height():
+            data = _resample_axis(data, 0, height, radius, weights_at, bc[1], low, high)
+        data = data.astype(self._data.dtype)
+        if target is None:
+            target = Bitmap(self)
+            target._data = np.ascontiguousarray(data)
+        else:
+            target._data[...] = data
+        return target
+
     # --- what Mitsuba's Bitmap has besides ---------------------------------------------------
     def __getattr__(self, name):
-        if name in ("resample", "accumulate", "split", "clear", "vflip", "rebuild_channels", "struct_", "detect_file_format"):
+        if name in ("rebuild_channels", "struct_", "detect_file_format"):
             raise NotImplementedError(f"Bitmap.{name} is not available in candela.mitsuba: use NumPy on np.array(bitmap)")
         raise AttributeError(f"'Bitmap' object has no attribute {name!r}")
+
+
+class FilterBoundaryCondition(enum.Enum):
+    """What Bitmap.resample reads outside the image: the nearest edge pixel (Clamp), the image
+    repeated (Repeat) or mirrored (Mirror), or zeros (Zero) or ones (One)."""
+    Clamp = 0
+    Repeat = 1
+    Mirror = 2
+    Zero = 3
+    One = 4
+
+
+# The reconstruction filters Bitmap.resample used, by their dictionary: a filter is evaluated by
+# Candela's own plugin (loaded in a film), so the weights are those a film would use.
+_filters: dict[str, object] = {}
+
+
+def _filter_weights(rfilter):
+    """(radius, weights at offsets) of a reconstruction filter from load_dict (or its dictionary);
+    None is Mitsuba's default for resampling, a 2-lobe Lanczos."""
+    if rfilter is None:
+        rfilter = {"type": "lanczos", "lobes": 2}
+    if isinstance(rfilter, _Plugin):
+        if rfilter.kind != "rfilter":
+            raise TypeError(f"Bitmap.resample: rfilter must be a reconstruction filter, got a {rfilter.kind}")
+        rfilter = rfilter.dictionary
+    if not isinstance(rfilter, dict):
+        raise TypeError(f"Bitmap.resample: rfilter must be a reconstruction filter from load_dict, got {rfilter!r}")
+    key = repr(sorted(rfilter.items()))
+    holder = _filters.get(key)
+    if holder is None:
+        holder = _candela.load_dict({"type": "scene", "sensor": {
+            "type": "perspective", "film": {"type": "hdrfilm", "width": 1, "height": 1, "rfilter": rfilter}}})
+        _filters[key] = holder
+    radius = _native.film_filter(holder, np.zeros(0))[0]
+    return radius, lambda offsets: _native.film_filter(holder, offsets)[1]
+
+
+def _resample_axis(data: np.ndarray, axis: int, size: int, radius: float, weights_at, bc, low: float, high: float):
+    """Resamples `data` (H x W x C, float64) along `axis` to `size` pixels (Mitsuba's Resampler:
+    output pixel i's centre lies at (i + 0.5) source / size; its weights are the filter's at the
+    source pixel centres around it, normalised to sum to one; downsampling widens the filter by
+    the scale factor, so that it averages every source pixel it covers)."""
+    source = data.shape[axis]
+    scale = 1.0
+    if size < source:
+        scale = source / size
+        radius = radius * scale
+    taps = int(np.ceil(2.0 * radius))
+    if size == source and taps % 2 != 1:
+        taps -= 1  # the same size: taps centred on the source pixel, which a filter keeps whole
+    centres = (np.arange(size) + 0.5) * (source / size)
+    starts = np.floor(centres - radius + 0.5).astype(np.int64)
+    index = starts[:, None] + np.arange(taps)[None, :]
+    weights = weights_at(((index + 0.5 - centres[:, None]) / scale).reshape(-1)).reshape(size, taps)
+    total = weights.sum(axis=1, keepdims=True)
+    weights = np.divide(weights, total, out=np.zeros_like(weights), where=total != 0)
+    outside = (index < 0) | (index >= source)
+    constant = 0.0
+    if bc == FilterBoundaryCondition.Clamp:
+        index = np.clip(index, 0, source - 1)
+    elif bc == FilterBoundaryCondition.Repeat:
+        index = np.mod(index, source)
+    elif bc == FilterBoundaryCondition.Mirror:
+        index = np.mod(index, 2 * source)
+        index = np.where(index >= source, 2 * source - index - 1, index)
+    elif bc in (FilterBoundaryCondition.Zero, FilterBoundaryCondition.One):
+        constant = 1.0 if bc == FilterBoundaryCondition.One else 0.0
+        constant = (weights * outside).sum(axis=1) * constant  # what the pixels outside add
+        weights = np.where(outside, 0.0, weights)
+        index = np.clip(index, 0, source - 1)
+    else:
+        raise TypeError(f"Bitmap.resample: bc must be FilterBoundaryCondition values, got {bc!r}")
+    moved = np.moveaxis(data, axis, 0)  # the resampled axis first
+    out = np.zeros((size,) + moved.shape[1:])
+    for k in range(taps):
+        out += weights[:, k].reshape((size,) + (1,) * (moved.ndim - 1)) * moved[index[:, k]]
+    out += np.reshape(constant, (-1,) + (1,) * (moved.ndim - 1))
+    return np.moveaxis(np.clip(out, low, high), 0, axis)
 
 
 def _write_whole(path: str, data: bytes):
@@ -1400,7 +1597,7 @@ for _name in ("register_bsdf", "register_emitter", "register_integrator", "regis
 for _name in ("BSDF", "Emitter", "Shape", "Mesh", "Texture", "ImageBlock", "Medium",
               "PhaseFunction", "Volume", "VolumeGrid", "ReconstructionFilter", "Endpoint", "ShapeGroup", "Object",
               "Properties", "PluginManager", "TraversalCallback", "ParamFlags", "BSDFFlags", "EmitterFlags", "RayFlags",
-              "FilterBoundaryCondition", "Resampler", "ProjectiveCamera", "Class", "load_plugin"):
+              "Resampler", "ProjectiveCamera", "Class", "load_plugin"):
     _UNSUPPORTED[_name] = _OBJECTS
 for _name in ("Ray3f", "RayDifferential3f", "ScalarRay3f", "SurfaceInteraction3f", "Interaction3f",
               "MediumInteraction3f", "PreliminaryIntersection3f", "BSDFContext", "BSDFSample3f", "DirectionSample3f",

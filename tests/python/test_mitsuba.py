@@ -637,6 +637,87 @@ def test_bitmap_of_a_render_with_layers(tmp_path):
         mi.Bitmap(np.zeros((2, 2, 5), np.float32)).convert(mi.Bitmap.PixelFormat.RGB)
 
 
+def test_bitmap_split_of_a_render_with_layers():
+    # Mitsuba's split(): one bitmap per layer, sorted by name, '<root>' for the unprefixed channels.
+    layered = candela.render(candela.load_file(CBOX, res=8), spp=2, aovs=["albedo", "depth"])
+    layers = dict(mi.Bitmap(layered).split())
+    assert sorted(layers) == ["<root>", "albedo", "depth"]
+    assert layers["<root>"].pixel_format() == mi.Bitmap.PixelFormat.RGB
+    assert layers["albedo"].pixel_format() == mi.Bitmap.PixelFormat.RGB
+    assert np.array_equal(np.array(layers["<root>"]), np.asarray(layered)[:, :, :3])
+    names = list(layered.channels)
+    for layer, channels in (("albedo", "RGB"), ("depth", "Z")):  # --aov depth is the EXR's depth.Z
+        columns = [names.index(f"{layer}.{c}") for c in channels]
+        assert np.array_equal(np.array(layers[layer]), np.asarray(layered)[:, :, columns])
+    assert layers["depth"].pixel_format() == mi.Bitmap.PixelFormat.MultiChannel
+    assert layers["depth"].channel_names() == ["Z"]
+    # Channels in another order come back in R, G, B order; a bitmap with one layer is its own.
+    mixed = mi.Bitmap(np.arange(24, dtype=np.float32).reshape(2, 3, 4), channel_names=["n.B", "n.G", "n.R", "n.A"])
+    (name, layer), = mixed.split()
+    assert name == "n" and layer.pixel_format() == mi.Bitmap.PixelFormat.RGBA
+    assert np.array_equal(np.array(layer), np.array(mixed)[:, :, [2, 1, 0, 3]])
+    rgb = mi.Bitmap(np.zeros((2, 2, 3), np.float32))
+    assert rgb.split() == [("<root>", rgb)]
+
+
+def test_bitmap_resample():
+    ramp = np.tile(np.arange(8, dtype=np.float64), (2, 1))[:, :, None]  # 2 x 8, value = x
+    b = mi.Bitmap(ramp)
+    # The same size with the default 2-lobe Lanczos: the filter is zero at the other pixel centres.
+    assert np.array_equal(np.array(b.resample([8, 2])), ramp)
+    # Upsampled 2x with a tent (radius 1): linear interpolation between pixel centres, the edges
+    # clamped. Output pixel i lies at x = (i + 0.5) / 2 - 0.5 in source pixel coordinates.
+    up = np.array(b.resample([16, 2], rfilter=mi.load_dict({"type": "tent"})))[0, :, 0]
+    assert np.allclose(up, np.clip((np.arange(16) + 0.5) / 2 - 0.5, 0, 7))
+    # Downsampled 2x with a box: the mean of each pair of pixels (the filter widened to 2 pixels).
+    rng = np.random.default_rng(5)
+    data = rng.random((6, 10, 3)).astype(np.float32)
+    box = np.array(mi.Bitmap(data).resample([5, 3], rfilter=mi.load_dict({"type": "box"})))
+    assert box.dtype == np.float32 and np.allclose(box, data.reshape(3, 2, 5, 2, 3).mean(axis=(1, 3)), atol=1e-6)
+    # Boundary conditions, on a constant image: Clamp, Repeat and Mirror keep it, Zero darkens
+    # the edges by the weight outside, One keeps it; clamp limits the results.
+    ones = mi.Bitmap(np.ones((4, 4, 1), np.float32))
+    B = mi.FilterBoundaryCondition
+    for bc in (B.Clamp, B.Repeat, B.Mirror, B.One):
+        assert np.allclose(np.array(ones.resample([7, 3], bc=(bc, bc))), 1.0), bc
+    zero = np.array(ones.resample([7, 3], bc=(B.Zero, B.Zero)))[..., 0]
+    assert zero[1, 3] > zero[0, 0] and not np.allclose(zero, 1.0)
+    limited = np.array(ones.resample([7, 3], bc=(B.Zero, B.Zero), clamp=(0.95, 0.97)))
+    assert limited.min() == np.float32(0.95) and limited.max() == np.float32(0.97)
+    # Repeat wraps, Mirror reflects: a 1-pixel-wide upsample reads across the edges.
+    step = mi.Bitmap(np.array([[[0.0], [1.0]]]))  # 1 x 2
+    wrapped = np.array(step.resample([4, 1], rfilter=mi.load_dict({"type": "tent"}), bc=(B.Repeat, B.Repeat)))
+    mirrored = np.array(step.resample([4, 1], rfilter=mi.load_dict({"type": "tent"}), bc=(B.Mirror, B.Mirror)))
+    assert np.allclose(wrapped[0, :, 0], [0.25, 0.25, 0.75, 0.75]) and np.allclose(mirrored[0, :, 0], [0, 0.25, 0.75, 1])
+    # Into a given bitmap; 8-bit bitmaps are refused, as by Mitsuba.
+    target = mi.Bitmap(mi.Bitmap.PixelFormat.RGB, mi.Struct.Type.Float32, [5, 3])
+    assert mi.Bitmap(data).resample(target, rfilter=mi.load_dict({"type": "box"})) is target
+    assert np.allclose(np.array(target), box)
+    with pytest.raises(ValueError, match="Float16, Float32 or Float64"):
+        mi.Bitmap(np.zeros((2, 2, 3), np.uint8)).resample([1, 1])
+
+
+def test_bitmap_clear_vflip_accumulate():
+    data = np.arange(24, dtype=np.float32).reshape(2, 4, 3)
+    b = mi.Bitmap(data)
+    b.vflip()
+    assert np.array_equal(np.array(b), data[::-1])
+    total = mi.Bitmap(np.zeros((3, 5, 3), np.float32))
+    total.accumulate(mi.Bitmap(data))
+    total.accumulate(mi.Bitmap(data), [2, 2])  # at x 2, y 2: cut to the target
+    expected = np.zeros((3, 5, 3), np.float32)
+    expected[:2, :4] += data
+    expected[2:, 2:] += data[:1, :3]
+    assert np.array_equal(np.array(total), expected)
+    total.accumulate(mi.Bitmap(data), [1, 0], [0, 0], [2, 1])  # a 2 x 1 region from x 1
+    expected[0, 0:2] += data[0, 1:3]
+    assert np.array_equal(np.array(total), expected)
+    total.clear()
+    assert not np.array(total).any()
+    with pytest.raises(ValueError, match="incompatible"):
+        total.accumulate(mi.Bitmap(np.zeros((2, 2, 4), np.float32)))
+
+
 def test_bitmap_write_and_read(tmp_path, image):
     b = mi.Bitmap(image)
     b.write(tmp_path / "b.exr")
@@ -662,8 +743,8 @@ def test_bitmap_write_and_read(tmp_path, image):
         b.write(tmp_path / "b.hdr")
     with pytest.raises(ValueError, match="unknown file format"):
         b.write(tmp_path / "b.xyz")
-    with pytest.raises(NotImplementedError, match="resample"):
-        b.resample([8, 8])
+    with pytest.raises(NotImplementedError, match="struct_"):
+        b.struct_()
 
 
 def test_bitmap_write_in_a_given_format_at_the_exact_path(tmp_path, image):
