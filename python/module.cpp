@@ -14,11 +14,13 @@
 #include "analysis/expression.h"
 #include "analysis/image_metrics.h"
 #include "analysis/validation.h"
+#include "core/bsdf.h"
 #include "core/error.h"
 #include "core/file_output.h"
 #include "core/filter.h"
 #include "core/image.h"
 #include "core/integrator.h"
+#include "core/mesh.h"
 #include "core/parameters.h"
 #include "core/progress.h"
 #include "core/registry.h"
@@ -325,6 +327,63 @@ py::dict sensor_info(SceneHandle& h, int index) {
     return info;
 }
 
+py::tuple bbox_tuple(const BoundingBox& b) {
+    return py::make_tuple(py::make_tuple(b.min.x, b.min.y, b.min.z), py::make_tuple(b.max.x, b.max.y, b.max.z));
+}
+
+// What Python's scene.shapes() shows of shape `index` (Scene::shapes() order): its plugin type,
+// id, bounds, area, mesh sizes, and which emitter, sensor and BSDF it carries.
+py::dict shape_info(SceneHandle& h, int index) {
+    std::lock_guard<std::mutex> lock(*h.lock);
+    const auto& shapes = h.scene->shapes();
+    if (index < 0 || size_t(index) >= shapes.size())
+        throw py::index_error("shape index " + std::to_string(index) + " is out of range: the scene has " + std::to_string(shapes.size()) +
+                              " shape(s)");
+    const Shape& shape = *shapes[size_t(index)];
+    py::dict info;
+    info["type"] = shape.to_string();
+    info["id"] = shape.id;
+    info["bbox"] = bbox_tuple(shape.bbox());
+    info["surface_area"] = shape.surface_area();
+    const auto* mesh = dynamic_cast<const Mesh*>(&shape);
+    info["is_mesh"] = mesh != nullptr;
+    info["vertex_count"] = mesh ? mesh->positions().size() : 0;
+    info["face_count"] = mesh ? mesh->triangle_count() : 0;
+    int emitter_index = -1;
+    const auto& emitters = h.scene->emitters();
+    for (size_t i = 0; i < emitters.size(); ++i)
+        if (shape.emitter() && emitters[i].get() == shape.emitter()) emitter_index = int(i);
+    info["emitter_index"] = emitter_index;
+    int sensor_index = -1;
+    for (int i = 0; i < h.scene->sensor_count(); ++i)
+        if (shape.attached_sensor() && &h.scene->sensor_at(i) == shape.attached_sensor().get()) sensor_index = i;
+    info["sensor_index"] = sensor_index;
+    info["bsdf_type"] = shape.bsdf() ? shape.bsdf()->to_string() : std::string();
+    info["bsdf_id"] = shape.bsdf() ? shape.bsdf()->id : std::string();
+    return info;
+}
+
+// What Python's scene.emitters() shows of emitter `index` (area emitters first, as Scene keeps
+// them): its plugin type, id, whether it is at infinity, and the shape it lies on.
+py::dict emitter_info(SceneHandle& h, int index) {
+    std::lock_guard<std::mutex> lock(*h.lock);
+    const auto& emitters = h.scene->emitters();
+    if (index < 0 || size_t(index) >= emitters.size())
+        throw py::index_error("emitter index " + std::to_string(index) + " is out of range: the scene has " +
+                              std::to_string(emitters.size()) + " emitter(s)");
+    const Emitter& emitter = *emitters[size_t(index)];
+    int shape_index = -1;
+    const auto& shapes = h.scene->shapes();
+    for (size_t i = 0; i < shapes.size(); ++i)
+        if (emitter.shape() && shapes[i].get() == emitter.shape()) shape_index = int(i);
+    py::dict info;
+    info["type"] = emitter.to_string();
+    info["id"] = emitter.id;
+    info["is_environment"] = emitter.is_infinite();
+    info["shape_index"] = shape_index;
+    return info;
+}
+
 // --- analysis ---------------------------------------------------------------------------------
 
 py::dict comparison_dict(const ImageComparison& c) {
@@ -544,6 +603,8 @@ PYBIND11_MODULE(_candela, m) {
         .def_property_readonly("path", [](const SceneHandle& h) { return h.scene->source_file; })
         .def_property_readonly("sensor_count", [](const SceneHandle& h) { return h.scene->sensor_count(); })
         .def_property_readonly("sensor_index", [](const SceneHandle& h) { return h.scene->sensor_index(); })
+        .def_property_readonly("shape_count", [](const SceneHandle& h) { return h.scene->shapes().size(); })
+        .def_property_readonly("emitter_count", [](const SceneHandle& h) { return h.scene->emitters().size(); })
         .def_property_readonly("film_size",
                                [](const SceneHandle& h) {
                                    const Vec2i s = h.scene->sensor().film().crop_size();
@@ -599,6 +660,8 @@ PYBIND11_MODULE(_candela, m) {
     m.def("get_parameter", &get_parameter);
     m.def("set_parameters", &set_parameters);
     m.def("sensor_info", &sensor_info, py::arg("scene"), py::arg("index"));
+    m.def("shape_info", &shape_info, py::arg("scene"), py::arg("index"));
+    m.def("emitter_info", &emitter_info, py::arg("scene"), py::arg("index"));
     m.def(
         "film_filter",
         [](SceneHandle& h, py::array_t<double, py::array::c_style | py::array::forcecast> offsets) {
@@ -613,8 +676,7 @@ PYBIND11_MODULE(_candela, m) {
         "scene_bbox",
         [](SceneHandle& h) {
             std::lock_guard<std::mutex> lock(*h.lock);
-            const BoundingBox& b = h.scene->bbox();
-            return py::make_tuple(py::make_tuple(b.min.x, b.min.y, b.min.z), py::make_tuple(b.max.x, b.max.y, b.max.z));
+            return bbox_tuple(h.scene->bbox());
         },
         "The scene's bounds (its shapes'), as (min, max); an empty scene's min is +inf, its max -inf");
     m.def("compare", &compare, py::arg("test"), py::arg("reference"), py::arg("block_size"), py::arg("heatmap_range"));

@@ -47,7 +47,7 @@ __all__ = [
     "load_file", "load_string", "load_dict", "render", "traverse", "SceneParameters", "Scene", "cornell_box",
     "ScalarTransform4f", "Transform4f", "ScalarAffineTransform4f", "AffineTransform4f",
     "ScalarPoint3f", "Point3f", "ScalarVector2u", "Vector2u", "ScalarBoundingBox3f", "BoundingBox3f", "Sensor", "Film",
-    "Sampler", "ScalarVector3f", "Vector3f", "ScalarNormal3f", "Normal3f", "ScalarColor3f", "Color3f",
+    "Sampler", "Shape", "Mesh", "Emitter", "BSDF", "ScalarVector3f", "Vector3f", "ScalarNormal3f", "Normal3f", "ScalarColor3f", "Color3f",
     "Bitmap", "Struct", "FilterBoundaryCondition", "util", "luminance", "LogLevel", "set_log_level", "log_level", "Log",
 ]
 
@@ -687,16 +687,24 @@ def _scene_bbox(self) -> ScalarBoundingBox3f:
 
 
 class _SceneObjectView:
-    """What a scene's sensor, film or sampler shows of itself in Python: a read-only view of the
-    scene as it is now. Mitsuba's other methods on it say they are not available."""
+    """What one of a scene's objects (a sensor, its film or sampler, a shape, an emitter, a BSDF)
+    shows of itself in Python: a read-only view of the scene as it is now. Mitsuba's other
+    methods on it say they are not available."""
 
     _kind = "object"
+    _read = staticmethod(_native.sensor_info)  # (scene, index) -> the object's facts
 
     def __init__(self, scene, index: int):
         self._scene, self._index = scene, index
 
     def _info(self) -> dict:
-        return _native.sensor_info(self._scene, self._index)
+        return self._read(self._scene, self._index)
+
+    def __eq__(self, other):
+        return type(other) is type(self) and other._scene is self._scene and other._index == self._index
+
+    def __hash__(self):
+        return hash((type(self), id(self._scene), self._index))
 
     def __getattr__(self, name):
         if name.startswith("_"):
@@ -704,7 +712,7 @@ class _SceneObjectView:
         if name in _PLUGIN_METHODS or name in _VIEW_METHODS:
             raise NotImplementedError(f"{self._kind}.{name}: {_OBJECTS} is not available in candela.mitsuba (a scene's "
                                       f"{self._kind} shows what it is; edit it with mi.traverse, render it with "
-                                      "mi.render(scene, sensor=...))")
+                                      "mi.render)")
         raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
 
 
@@ -784,6 +792,110 @@ class Sensor(_SceneObjectView):
     def __repr__(self):
         info = self._info()
         return f"Sensor[type={info['type']}, id={info['id']!r}, index={self._index}]"
+
+
+class BSDF(_SceneObjectView):
+    """The BSDF of one of a scene's shapes (shape.bsdf()): its id()."""
+
+    _kind = "bsdf"
+    _read = staticmethod(_native.shape_info)
+
+    def id(self) -> str:
+        return self._info()["bsdf_id"]
+
+    def __repr__(self):
+        info = self._info()
+        return f"BSDF[type={info['bsdf_type']}, id={info['bsdf_id']!r}]"
+
+
+class Emitter(_SceneObjectView):
+    """One of a scene's emitters (scene.emitters()[i]): id(), is_environment(), and for an area
+    light the shape it lies on (shape())."""
+
+    _kind = "emitter"
+    _read = staticmethod(_native.emitter_info)
+
+    def id(self) -> str:
+        return self._info()["id"]
+
+    def is_environment(self) -> bool:
+        return bool(self._info()["is_environment"])
+
+    def shape(self):
+        index = self._info()["shape_index"]
+        return _shape_view(self._scene, index) if index >= 0 else None
+
+    def __repr__(self):
+        info = self._info()
+        return f"Emitter[type={info['type']}, id={info['id']!r}, index={self._index}]"
+
+
+class Shape(_SceneObjectView):
+    """One of a scene's shapes (scene.shapes()[i]): id(), bbox(), surface_area(), its bsdf(),
+    emitter() and sensor() (None when it has none), is_emitter(), is_sensor(), is_mesh()."""
+
+    _kind = "shape"
+    _read = staticmethod(_native.shape_info)
+
+    def id(self) -> str:
+        return self._info()["id"]
+
+    def bbox(self) -> "ScalarBoundingBox3f":
+        low, high = self._info()["bbox"]
+        return ScalarBoundingBox3f(low, high)
+
+    def surface_area(self) -> float:
+        return float(self._info()["surface_area"])
+
+    def is_mesh(self) -> bool:
+        return bool(self._info()["is_mesh"])
+
+    def is_emitter(self) -> bool:
+        return self._info()["emitter_index"] >= 0
+
+    def is_sensor(self) -> bool:
+        return self._info()["sensor_index"] >= 0
+
+    def emitter(self):
+        index = self._info()["emitter_index"]
+        return Emitter(self._scene, index) if index >= 0 else None
+
+    def sensor(self):
+        index = self._info()["sensor_index"]
+        return Sensor(self._scene, index) if index >= 0 else None
+
+    def bsdf(self):
+        return BSDF(self._scene, self._index) if self._info()["bsdf_type"] else None
+
+    def __repr__(self):
+        info = self._info()
+        return f"{type(self).__name__}[type={info['type']}, id={info['id']!r}, index={self._index}]"
+
+
+class Mesh(Shape):
+    """A scene's shape that is a triangle mesh: also vertex_count() and face_count()."""
+
+    _kind = "mesh"
+
+    def vertex_count(self) -> int:
+        return int(self._info()["vertex_count"])
+
+    def face_count(self) -> int:
+        return int(self._info()["face_count"])
+
+
+def _shape_view(scene, index: int) -> Shape:
+    return (Mesh if _native.shape_info(scene, index)["is_mesh"] else Shape)(scene, index)
+
+
+def _scene_shapes(self) -> list:
+    """The scene's shapes (meshes as mi.Mesh)."""
+    return [_shape_view(self, i) for i in range(self.shape_count)]
+
+
+def _scene_emitters(self) -> list:
+    """The scene's emitters: the area lights of its shapes, then the others in file order."""
+    return [Emitter(self, i) for i in range(self.emitter_count)]
 
 
 # The image each of a scene's sensors last rendered through mi.render (its film's develop()).
@@ -1594,7 +1706,7 @@ for _name in ("register_bsdf", "register_emitter", "register_integrator", "regis
               "register_sampler", "register_shape", "SamplingIntegrator", "ADIntegrator", "Integrator",
               "AdjointIntegrator", "python"):
     _UNSUPPORTED[_name] = _PLUGINS
-for _name in ("BSDF", "Emitter", "Shape", "Mesh", "Texture", "ImageBlock", "Medium",
+for _name in ("Texture", "ImageBlock", "Medium",
               "PhaseFunction", "Volume", "VolumeGrid", "ReconstructionFilter", "Endpoint", "ShapeGroup", "Object",
               "Properties", "PluginManager", "TraversalCallback", "ParamFlags", "BSDFFlags", "EmitterFlags", "RayFlags",
               "Resampler", "ProjectiveCamera", "Class", "load_plugin"):
@@ -1645,7 +1757,7 @@ del _name
 
 # Mitsuba's scene and plugin objects have methods that Candela's do not: asking a candela.Scene or
 # a candela.Plugin for one of them says so, instead of a bare AttributeError.
-_SCENE_METHODS = ("emitters", "shapes", "shapes_dr", "emitters_dr", "sensors_dr", "ray_intersect",
+_SCENE_METHODS = ("shapes_dr", "emitters_dr", "sensors_dr", "ray_intersect",
                   "ray_intersect_preliminary", "ray_test", "sample_emitter", "sample_emitter_direction",
                   "sample_emitter_ray", "eval_emitter_direction", "pdf_emitter", "pdf_emitter_direction",
                   "environment", "sample_silhouette", "invert_silhouette_sample", "parameters_changed", "id",
@@ -1676,6 +1788,8 @@ def _plugin_getattr(self, name):
 if "__getattr__" not in _candela.Scene.__dict__:
     _candela.Scene.__getattr__ = _scene_getattr
     _candela.Scene.sensors = _scene_sensors
+    _candela.Scene.shapes = _scene_shapes
+    _candela.Scene.emitters = _scene_emitters
     _candela.Scene.bbox = _scene_bbox
 if "__getattr__" not in _Plugin.__dict__:
     _Plugin.__getattr__ = _plugin_getattr

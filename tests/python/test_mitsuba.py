@@ -230,6 +230,33 @@ def test_scene_sensors_films_and_bounds():
     assert not mi.BoundingBox3f().valid() and not mi.load_dict({"type": "scene"}).bbox().valid()
 
 
+def test_scene_shapes_and_emitters():
+    scene = mi.load_file(CBOX, res=8)
+    shapes = {shape.id(): shape for shape in scene.shapes()}
+    assert len(scene.shapes()) == 8 and all(isinstance(s, mi.Shape) for s in shapes.values())
+    light, box = shapes["light"], shapes["tall_box"]
+    assert light.is_emitter() and not box.is_emitter() and box.emitter() is None and not light.is_sensor()
+    assert isinstance(box, mi.Mesh) and box.face_count() == 12 and light.face_count() == 2
+    assert box.bsdf().id() == "white" and shapes["left"].bsdf().id() == "red"
+    assert np.isclose(light.surface_area(), 0.25) and np.allclose(light.bbox().center(), [0, 0.99, 0], atol=1e-6)
+    emitters = scene.emitters()
+    assert len(emitters) == 1 and emitters[0] == light.emitter() and emitters[0].shape() == light
+    assert not emitters[0].is_environment()
+    # Moving a shape through traverse moves its bounds (and the scene's).
+    params = mi.traverse(scene)
+    positions = np.asarray(params["tall_box.vertex_positions"]).reshape(-1, 3) + [0, 0, 5]
+    params["tall_box.vertex_positions"] = positions.reshape(-1)
+    params.update()
+    assert np.isclose(box.bbox().center()[2], -0.28 + 5, atol=1e-4) and scene.bbox().max[2] > 5
+    # An environment emitter, a sphere that is no mesh.
+    sky = mi.load_dict({"type": "scene", "sky": {"type": "constant"}, "ball": {"type": "sphere", "radius": 2}})
+    (ball,), (env,) = sky.shapes(), sky.emitters()
+    assert not isinstance(ball, mi.Mesh) and not ball.is_mesh() and np.isclose(ball.surface_area(), 16 * np.pi, rtol=1e-5)
+    assert env.is_environment() and env.id() == "sky" and env.shape() is None
+    with pytest.raises(NotImplementedError, match=r"bsdf\.eval"):
+        box.bsdf().eval
+
+
 def test_render_from_a_sensor_object_keeps_parameter_edits(tmp_path):
     scene = mi.load_file(CBOX, res=16, spp=4)
     params = mi.traverse(scene)
@@ -816,7 +843,7 @@ def test_util_write_bitmap_and_convert_to_bitmap(tmp_path, image):
     ("SamplingIntegrator", "custom plugins"),
     ("xml", "dict_to_xml"),
     ("Thread", "file resolver"),
-    ("BSDF", "plugin objects"),
+    ("Texture", "plugin objects"),
     ("Ray3f", "ray tracing"),
     ("warp", "sampling queries"),
 ])
@@ -828,8 +855,8 @@ def test_what_is_not_offered_raises_not_implemented(name, words):
 
 def test_scene_and_plugin_methods_of_mitsuba():
     scene = mi.load_file(CBOX, res=8)
-    with pytest.raises(NotImplementedError, match=r"Scene\.shapes"):
-        scene.shapes()
+    with pytest.raises(NotImplementedError, match=r"Scene\.shapes_dr"):
+        scene.shapes_dr()
     with pytest.raises(NotImplementedError, match=r"Scene\.ray_intersect"):
         scene.ray_intersect
     bsdf = mi.load_dict({"type": "diffuse"})
