@@ -11,10 +11,11 @@
 
 What is here behaves as Mitsuba's does, rendered by Candela: RGB and spectral variants (the LLVM
 and CUDA ones run on Candela's CPU renderer, with a notice), scenes from files, strings and
-dictionaries, rendering, traverse/update, the scene's sensors (their films and samplers) and
-bounds, the transform and 3-vector types, Bitmap and mi.util's image writers, the Cornell box
-dictionary. What is not here (autodiff and Dr.Jit arrays, Python plugins, ray queries from
-Python, polarised and monochrome rendering, ...) raises NotImplementedError naming the feature instead of answering differently from Mitsuba.
+dictionaries, rendering, traverse/update, what a scene holds (its sensors with their films and
+samplers, shapes, emitters and bounds, read-only), the transform and 3-vector types, Bitmap and
+mi.util's image writers, the Cornell box dictionary. What is not here (autodiff and Dr.Jit arrays,
+Python plugins, ray queries from Python, polarised and monochrome rendering, ...) raises
+NotImplementedError naming the feature instead of answering differently from Mitsuba.
 docs/python.md has the table.
 """
 
@@ -46,8 +47,9 @@ __all__ = [
     "set_variant", "variant", "variants", "variant_context", "is_rgb", "is_spectral", "is_polarized", "is_monochromatic",
     "load_file", "load_string", "load_dict", "render", "traverse", "SceneParameters", "Scene", "cornell_box",
     "ScalarTransform4f", "Transform4f", "ScalarAffineTransform4f", "AffineTransform4f",
-    "ScalarPoint3f", "Point3f", "ScalarVector2u", "Vector2u", "ScalarBoundingBox3f", "BoundingBox3f", "Sensor", "Film",
-    "Sampler", "Shape", "Mesh", "Emitter", "BSDF", "ScalarVector3f", "Vector3f", "ScalarNormal3f", "Normal3f", "ScalarColor3f", "Color3f",
+    "ScalarPoint3f", "Point3f", "ScalarVector3f", "Vector3f", "ScalarNormal3f", "Normal3f", "ScalarColor3f", "Color3f",
+    "ScalarVector2u", "Vector2u", "ScalarBoundingBox3f", "BoundingBox3f",
+    "Sensor", "Film", "Sampler", "Shape", "Mesh", "Emitter", "BSDF",
     "Bitmap", "Struct", "FilterBoundaryCondition", "util", "luminance", "LogLevel", "set_log_level", "log_level", "Log",
 ]
 
@@ -593,7 +595,7 @@ def cornell_box() -> dict:
 
 
 # --------------------------------------------------------------------------------------------------
-# The scene's sensors (their films and samplers) and bounds, read-only (scene.sensors(), bbox())
+# What a scene holds, read-only: its sensors (films, samplers), shapes, emitters and bounds
 # --------------------------------------------------------------------------------------------------
 
 class ScalarVector2u(np.ndarray):
