@@ -49,7 +49,7 @@ __all__ = [
     "ScalarTransform4f", "Transform4f", "ScalarAffineTransform4f", "AffineTransform4f",
     "ScalarPoint3f", "Point3f", "ScalarVector3f", "Vector3f", "ScalarNormal3f", "Normal3f", "ScalarColor3f", "Color3f",
     "ScalarVector2u", "Vector2u", "ScalarBoundingBox3f", "BoundingBox3f",
-    "Sensor", "Film", "Sampler", "Shape", "Mesh", "Emitter", "BSDF",
+    "Sensor", "Film", "Sampler", "Shape", "Mesh", "Emitter", "BSDF", "Integrator",
     "Bitmap", "Struct", "FilterBoundaryCondition", "util", "luminance", "LogLevel", "set_log_level", "log_level", "Log",
 ]
 
@@ -354,6 +354,11 @@ def render(scene, params=None, sensor=0, integrator=None, seed: int = 0, seed_gr
         if sensor.kind != "sensor":
             raise TypeError(f"sensor must be a sensor (from load_dict) or an index, got a {sensor.kind}")
         return _render_with_sensor(scene, sensor, spp, seed, integrator)
+    if isinstance(integrator, Integrator):
+        if integrator._scene is not scene:
+            raise ValueError("integrator is another scene's (scene.integrator()): give this scene's, or one from "
+                             "load_dict")
+        integrator = None
     if isinstance(sensor, Sensor):
         if sensor._scene is not scene:
             raise ValueError("sensor is one of another scene's sensors: give a sensor of this scene (scene.sensors()), "
@@ -761,6 +766,10 @@ class Film(_SceneObjectView):
         """The same image as a Bitmap."""
         return Bitmap(self._image())
 
+    def write(self, path) -> None:
+        """Writes that image to `path` (its format from the extension, as Bitmap.write)."""
+        self.bitmap().write(path)
+
     def __repr__(self):
         info = self._info()
         return (f"Film[type={info['film_type']}, size={list(info['film_size'])}, crop_size={list(info['crop_size'])}, "
@@ -898,6 +907,41 @@ def _scene_shapes(self) -> list:
 def _scene_emitters(self) -> list:
     """The scene's emitters: the area lights of its shapes, then the others in file order."""
     return [Emitter(self, i) for i in range(self.emitter_count)]
+
+
+class Integrator(_SceneObjectView):
+    """A scene's integrator (scene.integrator()): render(scene, sensor) renders the scene with it,
+    as mi.render does, and leaves the image in the sensor's film (film().bitmap())."""
+
+    _kind = "integrator"
+
+    def __init__(self, scene):
+        super().__init__(scene, 0)
+
+    def render(self, scene, sensor=0, seed: int = 0, spp: int = 0, develop: bool = True, evaluate: bool = True):
+        """The image of `scene` from `sensor` (an index or one of scene.sensors()), as
+        mi.render(scene, sensor=sensor, seed=seed, spp=spp). `develop` and `evaluate` are accepted:
+        the image is always developed, and also kept in the sensor's film."""
+        if scene is not self._scene:
+            raise ValueError("Integrator.render: this is another scene's integrator (scene.integrator() of the scene "
+                             "you render)")
+        return render(scene, sensor=sensor, seed=seed, spp=spp)
+
+    def __repr__(self):
+        return f"Integrator[type={str(self._scene.integrator)}]"
+
+
+class _IntegratorName(str):
+    """candela.Scene.integrator under candela.mitsuba: still the integrator's name (a str), and,
+    called as Mitsuba's scene.integrator(), the scene's Integrator."""
+
+    def __new__(cls, name: str, scene):
+        value = super().__new__(cls, name)
+        value._scene = scene
+        return value
+
+    def __call__(self) -> Integrator:
+        return Integrator(self._scene)
 
 
 # The image each of a scene's sensors last rendered through mi.render (its film's develop()).
@@ -1705,7 +1749,7 @@ for _name in ("ad", "grad", "enable_grad", "disable_grad", "backward", "forward"
     _UNSUPPORTED[_name] = "automatic differentiation (mi.ad, optimizers, gradients)"
 for _name in ("register_bsdf", "register_emitter", "register_integrator", "register_sensor", "register_texture",
               "register_medium", "register_phasefunction", "register_volume", "register_film", "register_rfilter",
-              "register_sampler", "register_shape", "SamplingIntegrator", "ADIntegrator", "Integrator",
+              "register_sampler", "register_shape", "SamplingIntegrator", "ADIntegrator",
               "AdjointIntegrator", "python"):
     _UNSUPPORTED[_name] = _PLUGINS
 for _name in ("Texture", "ImageBlock", "Medium",
@@ -1793,6 +1837,9 @@ if "__getattr__" not in _candela.Scene.__dict__:
     _candela.Scene.shapes = _scene_shapes
     _candela.Scene.emitters = _scene_emitters
     _candela.Scene.bbox = _scene_bbox
+    _integrator_name = _candela.Scene.integrator
+    _candela.Scene.integrator = property(lambda self: _IntegratorName(_integrator_name.fget(self), self),
+                                         doc=_integrator_name.__doc__)
 if "__getattr__" not in _Plugin.__dict__:
     _Plugin.__getattr__ = _plugin_getattr
 

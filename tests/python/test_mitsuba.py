@@ -230,6 +230,26 @@ def test_scene_sensors_films_and_bounds():
     assert not mi.BoundingBox3f().valid() and not mi.load_dict({"type": "scene"}).bbox().valid()
 
 
+def test_scene_integrator_renders_into_the_sensor_film(tmp_path):
+    # Mitsuba 3 scripts: scene.integrator().render(scene, sensor), then sensor.film().bitmap().
+    scene = mi.load_file(CBOX, res=16, spp=4)
+    assert scene.integrator == "path" and isinstance(scene.integrator, str)  # candela's name, still
+    integrator = scene.integrator()
+    assert isinstance(integrator, mi.Integrator)
+    sensor = scene.sensors()[0]
+    image = integrator.render(scene, sensor, seed=3)
+    assert np.array_equal(np.asarray(image), np.asarray(mi.render(scene, seed=3)))
+    assert np.array_equal(np.array(sensor.film().bitmap()), np.asarray(image))
+    assert np.array_equal(np.asarray(mi.render(scene, integrator=integrator, seed=3)), np.asarray(image))
+    sensor.film().write(tmp_path / "film.exr")
+    assert np.array_equal(np.asarray(candela.read_image(tmp_path / "film.exr")), np.asarray(image))
+    other = mi.load_file(CBOX, res=8, spp=4)
+    with pytest.raises(ValueError, match="another scene's integrator"):
+        integrator.render(other, 0)
+    with pytest.raises(ValueError, match="another scene's"):
+        mi.render(other, integrator=integrator)
+
+
 def test_scene_shapes_and_emitters():
     scene = mi.load_file(CBOX, res=8)
     shapes = {shape.id(): shape for shape in scene.shapes()}
