@@ -1482,7 +1482,8 @@ class Bitmap:
             bc = (bc, bc)
         low, high = (-np.inf, np.inf) if clamp is None else (float(clamp[0]), float(clamp[1]))
         radius, weights_at = _filter_weights(rfilter)
-        data = self._data.astype(np.float64)
+        # In the bitmap's own precision, as Mitsuba (float32 for float16 data).
+        data = self._data.astype(np.float64 if self._component == Struct.Type.Float64 else np.float32)
         if width != self.width():
             data = _resample_axis(data, 1, width, radius, weights_at, bc[0], low, high)
         if height != self.height():
@@ -1539,7 +1540,7 @@ def _filter_weights(rfilter):
 
 
 def _resample_axis(data: np.ndarray, axis: int, size: int, radius: float, weights_at, bc, low: float, high: float):
-    """Resamples `data` (H x W x C, float64) along `axis` to `size` pixels (Mitsuba's Resampler:
+    """Resamples `data` (H x W x C, float32 or float64) along `axis` to `size` pixels (Mitsuba's Resampler:
     output pixel i's centre lies at (i + 0.5) source / size; its weights are the filter's at the
     source pixel centres around it, normalised to sum to one; downsampling widens the filter by
     the scale factor, so that it averages every source pixel it covers)."""
@@ -1574,10 +1575,11 @@ def _resample_axis(data: np.ndarray, axis: int, size: int, radius: float, weight
     else:
         raise TypeError(f"Bitmap.resample: bc must be FilterBoundaryCondition values, got {bc!r}")
     moved = np.moveaxis(data, axis, 0)  # the resampled axis first
-    out = np.zeros((size,) + moved.shape[1:])
+    weights = weights.astype(data.dtype)
+    out = np.zeros((size,) + moved.shape[1:], dtype=data.dtype)
     for k in range(taps):
         out += weights[:, k].reshape((size,) + (1,) * (moved.ndim - 1)) * moved[index[:, k]]
-    out += np.reshape(constant, (-1,) + (1,) * (moved.ndim - 1))
+    out += np.reshape(constant, (-1,) + (1,) * (moved.ndim - 1)).astype(data.dtype)
     return np.moveaxis(np.clip(out, low, high), 0, axis)
 
 
