@@ -45,7 +45,7 @@ Scene::Scene(const Properties& props, int sensor_index) {
             "sensor index " + std::to_string(sensor_index) + " is out of range: the scene has " + std::to_string(sensor_count) +
                 (sensor_count == 1 ? " sensor (index 0)" : " sensors (indices 0 to " + std::to_string(sensor_count - 1) + ")"));
     sensor_index_ = sensor_index;
-    sensor_ = sensors_[size_t(sensor_index)];
+    Sensor& sensor = this->sensor();
     auto integrators = props.get_objects(ObjectKind::Integrator);
     if (integrators.size() > 1) throw SceneError(second(ObjectKind::Integrator), "only one integrator per scene is supported");
     integrator_ = integrators.empty() ? create_plugin_as<Integrator>(ObjectKind::Integrator, Properties("path", props.location()))
@@ -61,26 +61,26 @@ Scene::Scene(const Properties& props, int sensor_index) {
         if (shape->bsdf()->has_null_lobe()) has_null_surfaces_ = true;
         if (shape->is_medium_transition()) has_media_ = true;
     }
-    if (sensor_->medium()) has_media_ = true;
-    const float shutter_close = sensor_->shutter_open() + sensor_->shutter_open_time();
+    if (sensor.medium()) has_media_ = true;
+    const float shutter_close = sensor.shutter_open() + sensor.shutter_open_time();
     // The first animation in the scene, for the message of an integrator that renders none.
     auto note_motion = [&](bool animated, const SourceLocation& where) {
         if (animated && !is_animated_) motion_location_ = where;
         is_animated_ = is_animated_ || animated;
     };
     for (auto& shape : shapes_) {
-        shape->set_shutter(sensor_->shutter_open(), shutter_close);
+        shape->set_shutter(sensor.shutter_open(), shutter_close);
         note_motion(shape->is_animated(), shape->motion_location());
     }
-    note_motion(sensor_->is_animated(), sensor_->motion_location());
+    note_motion(sensor.is_animated(), sensor.motion_location());
     for (auto& emitter : emitters_) note_motion(emitter->is_animated(), emitter->motion_location());
-    accel_.set_shutter(sensor_->shutter_open(), shutter_close);
+    accel_.set_shutter(sensor.shutter_open(), shutter_close);
     accel_.build(shapes_);
     for (auto& emitter : emitters_) {
         emitter->set_scene(*this);
         if (emitter->is_infinite()) infinite_emitters_.push_back(emitter.get());
     }
-    sensor_->set_scene(*this);
+    sensor.set_scene(*this);
 }
 
 void Scene::update_geometry() {
@@ -88,7 +88,7 @@ void Scene::update_geometry() {
     for (auto& shape : shapes_) bbox_.expand(shape->bbox());
     accel_.build(shapes_);
     for (auto& emitter : emitters_) emitter->set_scene(*this);
-    sensor_->set_scene(*this);
+    sensor().set_scene(*this);
 }
 
 bool Scene::intersect(const Ray& ray, SurfaceInteraction& si) const {

@@ -57,7 +57,7 @@ public:
     // Radiance from all infinite emitters along an escaped ray.
     Spectrum eval_environment(const Vec3& d, const Wavelengths* wavelengths = nullptr, float time = 0.0f) const;
 
-    Sensor& sensor() const { return *sensor_; }
+    Sensor& sensor() const { return *sensors_[size_t(sensor_index_)]; }
     // The scene file's sensors (1 for a scene that declares none: the default camera), and which
     // of them sensor() is.
     int sensor_count() const { return int(sensors_.size()); }
@@ -93,9 +93,8 @@ private:
     std::vector<Ref<Shape>> shapes_;
     std::vector<Ref<Emitter>> emitters_;
     std::vector<const Emitter*> infinite_emitters_;
-    Ref<Sensor> sensor_;
     std::vector<Ref<Sensor>> sensors_;
-    int sensor_index_ = 0;
+    int sensor_index_ = 0;  // which of sensors_ sensor() is
     Ref<Integrator> integrator_;
     BoundingBox bbox_;
     Accel accel_;
