@@ -298,13 +298,19 @@ void set_parameters(SceneHandle& h, const std::map<std::string, py::array_t<floa
     apply_parameter_changes(*h.scene, changed);
 }
 
+// Throws Python's IndexError unless 0 <= index < count ("sensor index 3 is out of range: the
+// scene has 2 sensor(s)").
+void check_index(const char* what, int index, size_t count) {
+    if (index < 0 || size_t(index) >= count)
+        throw py::index_error(std::string(what) + " index " + std::to_string(index) + " is out of range: the scene has " +
+                              std::to_string(count) + " " + what + "(s)");
+}
+
 // What Python's scene.sensors() shows of sensor `index`: its plugin type, id, pose, shutter,
 // film and sample count, as the scene holds them now (traverse changes included).
 py::dict sensor_info(SceneHandle& h, int index) {
     std::lock_guard<std::mutex> lock(*h.lock);
-    if (index < 0 || index >= h.scene->sensor_count())
-        throw py::index_error("sensor index " + std::to_string(index) + " is out of range: the scene has " +
-                              std::to_string(h.scene->sensor_count()) + " sensor(s)");
+    check_index("sensor", index, size_t(h.scene->sensor_count()));
     const Sensor& sensor = h.scene->sensor_at(index);
     const Film& film = sensor.film();
     py::array_t<float> to_world({4, 4});
@@ -336,9 +342,7 @@ py::tuple bbox_tuple(const BoundingBox& b) {
 py::dict shape_info(SceneHandle& h, int index) {
     std::lock_guard<std::mutex> lock(*h.lock);
     const auto& shapes = h.scene->shapes();
-    if (index < 0 || size_t(index) >= shapes.size())
-        throw py::index_error("shape index " + std::to_string(index) + " is out of range: the scene has " + std::to_string(shapes.size()) +
-                              " shape(s)");
+    check_index("shape", index, shapes.size());
     const Shape& shape = *shapes[size_t(index)];
     py::dict info;
     info["type"] = shape.to_string();
@@ -368,9 +372,7 @@ py::dict shape_info(SceneHandle& h, int index) {
 py::dict emitter_info(SceneHandle& h, int index) {
     std::lock_guard<std::mutex> lock(*h.lock);
     const auto& emitters = h.scene->emitters();
-    if (index < 0 || size_t(index) >= emitters.size())
-        throw py::index_error("emitter index " + std::to_string(index) + " is out of range: the scene has " +
-                              std::to_string(emitters.size()) + " emitter(s)");
+    check_index("emitter", index, emitters.size());
     const Emitter& emitter = *emitters[size_t(index)];
     int shape_index = -1;
     const auto& shapes = h.scene->shapes();
