@@ -630,7 +630,7 @@ class ScalarBoundingBox3f:
 
     def __init__(self, min=None, max=None):  # noqa: A002 - Mitsuba's argument names
         if min is None:
-            self.min, self.max = ScalarPoint3f(np.inf), ScalarPoint3f(-np.inf)
+            self.reset()
         else:
             self.min = ScalarPoint3f(min)
             self.max = ScalarPoint3f(min if max is None else max)
@@ -688,9 +688,7 @@ BoundingBox3f = ScalarBoundingBox3f
 def _scene_bbox(self) -> ScalarBoundingBox3f:
     """The scene's bounds: the box around its shapes (empty, not valid(), for a scene without)."""
     low, high = _native.scene_bbox(self)
-    box = ScalarBoundingBox3f()
-    box.min, box.max = ScalarPoint3f(low), ScalarPoint3f(high)
-    return box
+    return ScalarBoundingBox3f(low, high)
 
 
 class _SceneObjectView:
@@ -721,6 +719,17 @@ class _SceneObjectView:
                                       f"{self._kind} shows what it is; edit it with mi.traverse, render it with "
                                       "mi.render)")
         raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+
+
+class _NamedView(_SceneObjectView):
+    """A view of an object with its own plugin type and id (a sensor, shape or emitter)."""
+
+    def id(self) -> str:
+        return self._info()["id"]
+
+    def __repr__(self):
+        info = self._info()
+        return f"{type(self).__name__}[type={info['type']}, id={info['id']!r}, index={self._index}]"
 
 
 class Sampler(_SceneObjectView):
@@ -776,7 +785,7 @@ class Film(_SceneObjectView):
                 f"crop_offset={list(info['crop_offset'])}]")
 
 
-class Sensor(_SceneObjectView):
+class Sensor(_NamedView):
     """One of a scene's sensors (scene.sensors()[i]): its film(), sampler(), pose
     (world_transform()), shutter and id(); mi.render(scene, sensor=it) renders from it."""
 
@@ -797,13 +806,6 @@ class Sensor(_SceneObjectView):
     def shutter_open_time(self) -> float:
         return float(self._info()["shutter_open_time"])
 
-    def id(self) -> str:
-        return self._info()["id"]
-
-    def __repr__(self):
-        info = self._info()
-        return f"Sensor[type={info['type']}, id={info['id']!r}, index={self._index}]"
-
 
 class BSDF(_SceneObjectView):
     """The BSDF of one of a scene's shapes (shape.bsdf()): its id()."""
@@ -819,15 +821,12 @@ class BSDF(_SceneObjectView):
         return f"BSDF[type={info['bsdf_type']}, id={info['bsdf_id']!r}]"
 
 
-class Emitter(_SceneObjectView):
+class Emitter(_NamedView):
     """One of a scene's emitters (scene.emitters()[i]): id(), is_environment(), and for an area
     light the shape it lies on (shape())."""
 
     _kind = "emitter"
     _read = staticmethod(_native.emitter_info)
-
-    def id(self) -> str:
-        return self._info()["id"]
 
     def is_environment(self) -> bool:
         return bool(self._info()["is_environment"])
@@ -836,20 +835,13 @@ class Emitter(_SceneObjectView):
         index = self._info()["shape_index"]
         return _shape_view(self._scene, index) if index >= 0 else None
 
-    def __repr__(self):
-        info = self._info()
-        return f"Emitter[type={info['type']}, id={info['id']!r}, index={self._index}]"
 
-
-class Shape(_SceneObjectView):
+class Shape(_NamedView):
     """One of a scene's shapes (scene.shapes()[i]): id(), bbox(), surface_area(), its bsdf(),
     emitter() and sensor() (None when it has none), is_emitter(), is_sensor(), is_mesh()."""
 
     _kind = "shape"
     _read = staticmethod(_native.shape_info)
-
-    def id(self) -> str:
-        return self._info()["id"]
 
     def bbox(self) -> "ScalarBoundingBox3f":
         low, high = self._info()["bbox"]
@@ -877,10 +869,6 @@ class Shape(_SceneObjectView):
 
     def bsdf(self):
         return BSDF(self._scene, self._index) if self._info()["bsdf_type"] else None
-
-    def __repr__(self):
-        info = self._info()
-        return f"{type(self).__name__}[type={info['type']}, id={info['id']!r}, index={self._index}]"
 
 
 class Mesh(Shape):
@@ -1393,32 +1381,25 @@ class Bitmap:
         ``accumulate(bitmap, target_offset)`` adds the whole bitmap there."""
         if not isinstance(bitmap, Bitmap):
             raise TypeError(f"Bitmap.accumulate expects a Bitmap, got {type(bitmap).__name__}")
-        if (bitmap._format, bitmap._component, bitmap.channel_count()) != (self._format, self._component,
-                                                                           self.channel_count()):
-            raise ValueError("Bitmap.accumulate: the source and target bitmaps are incompatible (pixel format, "
-                             "component format and channel count must agree)")
+        self._check_same_layout(bitmap, "Bitmap.accumulate: the source and target bitmaps are incompatible")
         if target_offset is None and size is None and source_offset is not None:
             source_offset, target_offset = None, source_offset  # accumulate(bitmap, target_offset)
         sx, sy = (int(v) for v in (source_offset if source_offset is not None else (0, 0)))
         tx, ty = (int(v) for v in (target_offset if target_offset is not None else (0, 0)))
         w, h = (int(v) for v in (size if size is not None else (bitmap.width(), bitmap.height())))
-        # Negative offsets move the region's start; then the region stops at both images' edges.
-        for axis in range(2):
-            s0, t0 = (sx, tx) if axis == 0 else (sy, ty)
-            shift = max(0, -s0, -t0)
-            s0, t0 = s0 + shift, t0 + shift
-            extent = (w if axis == 0 else h) - shift
-            limit_s = bitmap.width() if axis == 0 else bitmap.height()
-            limit_t = self.width() if axis == 0 else self.height()
-            extent = min(extent, limit_s - s0, limit_t - t0)
-            if axis == 0:
-                sx, tx, w = s0, t0, extent
-            else:
-                sy, ty, h = s0, t0, extent
+        sx, tx, w = _clip_span(sx, tx, w, bitmap.width(), self.width())
+        sy, ty, h = _clip_span(sy, ty, h, bitmap.height(), self.height())
         if w <= 0 or h <= 0:
             return
         region = self._data[ty:ty + h, tx:tx + w]
         region += bitmap._data[sy:sy + h, sx:sx + w].astype(region.dtype, copy=False)
+
+    def _check_same_layout(self, other: "Bitmap", message: str) -> None:
+        """Raises ValueError(message ...) unless `other` has this bitmap's pixel format,
+        component format and channel count."""
+        if (other._format, other._component, other.channel_count()) != (self._format, self._component,
+                                                                         self.channel_count()):
+            raise ValueError(f"{message} (pixel format, component format and channel count must agree)")
 
     def split(self) -> list:
         """The layers of a multichannel image (an EXR with AOVs): (name, Bitmap) pairs sorted by
@@ -1468,10 +1449,7 @@ class Bitmap:
                              f"{self._component.name} (convert the bitmap first), as in Mitsuba")
         target = res if isinstance(res, Bitmap) else None
         if target is not None:
-            if (target._format, target._component, target.channel_count()) != (self._format, self._component,
-                                                                               self.channel_count()):
-                raise ValueError("Bitmap.resample: the target bitmap is incompatible (pixel format, component format "
-                                 "and channel count must agree)")
+            self._check_same_layout(target, "Bitmap.resample: the target bitmap is incompatible")
             res = target.size()
         width, height = (int(v) for v in res)
         if width < 1 or height < 1:
@@ -1581,6 +1559,15 @@ def _resample_axis(data: np.ndarray, axis: int, size: int, radius: float, weight
         out += weights[:, k].reshape((size,) + (1,) * (moved.ndim - 1)) * moved[index[:, k]]
     out += np.reshape(constant, (-1,) + (1,) * (moved.ndim - 1)).astype(data.dtype)
     return np.moveaxis(np.clip(out, low, high), 0, axis)
+
+
+def _clip_span(source: int, target: int, length: int, source_size: int, target_size: int) -> tuple[int, int, int]:
+    """A span of `length` pixels from `source` in one image onto `target` in another, along one
+    axis, cut to both: negative starts move it, the images' ends stop it. Its new start in each
+    and its length (0 or less: nothing left)."""
+    shift = max(0, -source, -target)
+    source, target = source + shift, target + shift
+    return source, target, min(length - shift, source_size - source, target_size - target)
 
 
 def _write_whole(path: str, data: bytes):
