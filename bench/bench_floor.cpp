@@ -14,8 +14,9 @@
 //            close by, area sampling far away)
 //   hits     Scene::intersect (the hit's SurfaceInteraction: shading frame, uv, error bounds)
 //   shadows  shadow rays through Scene::transmittance, offset by both ends' error bounds
-// and a fourth puts all three in. Each round renders the scene with Candela's integrator and then
-// the five floors, side by side; it prints rays per second, rays per sample and image means (the
+// and a fourth puts all three in. A sixth, the wavefront floor (below), is the floor rebuilt as a
+// wavefront: 16-ray packets and shading written for vectors. Each round renders the scene with
+// Candela's integrator and then the six floors, side by side; it prints rays per second, rays per sample and image means (the
 // same estimand: they agree to the noise) and, last, the medians of each floor's Mrays/s over
 // Candela's. Issue 34 asks the path tracer for 0.85 of raw Embree's rate (bench_throughput);
 // the floor says how much of the rest is Embree and how much is shading.
@@ -35,7 +36,9 @@
 #include "core/xml.h"
 
 #include <embree3/rtcore.h>
+#include <immintrin.h>
 #include <tbb/task_arena.h>
+#include <cstring>
 
 #include <algorithm>
 #include <atomic>
@@ -231,23 +234,19 @@ struct FloorRun {
     double mrays = 0.0, rays_per_sample = 0.0, mean = 0.0;
 };
 
-FloorRun render_floor(const FloorScene& fs, unsigned pieces, int spp, tbb::task_arena& arena) {
-    const Sensor& sensor = fs.scene->sensor();
-    Vec2i size = sensor.film().full_size();
+// Times render_rows(y0, y1, row_sums, rays) over the film's rows in parallel: each call renders
+// rows [y0, y1) at `spp`, adds each row's mean radiance times its sample count to row_sums[y] and
+// counts the rays it traced.
+template <class RenderRows>
+FloorRun time_rows(const FloorScene& fs, int spp, tbb::task_arena& arena, const RenderRows& render_rows) {
+    Vec2i size = fs.scene->sensor().film().full_size();
     std::atomic<long long> rays{0};
     std::vector<double> row_sums(size_t(size.y), 0.0);
     auto t0 = std::chrono::steady_clock::now();
     arena.execute([&] {
         parallel_chunks(size_t(size.y), 1, [&](size_t y0, size_t y1) {
             long long local_rays = 0;
-            for (size_t y = y0; y < y1; ++y)
-                for (int x = 0; x < size.x; ++x)
-                    for (int s = 0; s < spp; ++s) {
-                        PCG32 rng((y * size.x + x) * uint64_t(spp) + s, 7);
-                        Vec2 film_pos(float(x) + rng.next_float(), float(y) + rng.next_float());
-                        Spectrum L = trace(fs, pieces, sensor.sample_ray(film_pos, Vec2(0.5f)), rng, local_rays);
-                        row_sums[y] += average(L);
-                    }
+            render_rows(y0, y1, row_sums, local_rays);
             rays += local_rays;
         });
     });
@@ -255,6 +254,276 @@ FloorRun render_floor(const FloorScene& fs, unsigned pieces, int spp, tbb::task_
     double samples = double(size.x) * size.y * spp, total = 0.0;
     for (double r : row_sums) total += r;
     return {double(rays.load()) / seconds * 1e-6, double(rays.load()) / samples, total / samples};
+}
+
+FloorRun render_floor(const FloorScene& fs, unsigned pieces, int spp, tbb::task_arena& arena) {
+    const Sensor& sensor = fs.scene->sensor();
+    const int width = sensor.film().full_size().x;
+    return time_rows(fs, spp, arena, [&](size_t y0, size_t y1, std::vector<double>& row_sums, long long& rays) {
+        for (size_t y = y0; y < y1; ++y)
+            for (int x = 0; x < width; ++x)
+                for (int s = 0; s < spp; ++s) {
+                    PCG32 rng((y * width + x) * uint64_t(spp) + s, 7);
+                    Vec2 film_pos(float(x) + rng.next_float(), float(y) + rng.next_float());
+                    Spectrum L = trace(fs, pieces, sensor.sample_ray(film_pos, Vec2(0.5f)), rng, rays);
+                    row_sums[y] += average(L);
+                }
+    });
+}
+
+// ---- The wavefront floor ---------------------------------------------------------------------
+// The floor's estimator again (area sampling of the light, fixed offsets, tables by geometry id),
+// but the paths of a film row advance together, bounce by bounce, as pbrt-v4's wavefront
+// integrator and Mitsuba's vectorized variants do:
+//   - their state is structure of arrays, laid out so that Embree's 16-ray packets are the state
+//     itself (nothing is copied into or out of a packet), and every ray of a bounce is traced by
+//     rtcIntersect16 or rtcOccluded16;
+//   - the shading is written for vectors (GCC's vector extensions, 4 lanes: the baseline
+//     x86-64's SSE, so no other build flags), every branch a select;
+//   - paths that end are compacted away after each bounce.
+// Its random numbers are hashed from (path, dimension), so that a path's numbers do not depend on
+// the batch it travels in; they are not the scalar floor's PCG32 streams, so the images agree in
+// mean, not pixel by pixel. It answers issue 34's question of what a wavefront design gains on
+// Debian's Embree before any of Candela's generality is put back.
+
+// A 32-bit integer hash (Wellons' "lowbias32"), for one number (uint32_t) or a vector of them (VU).
+template <class U>
+U hash32(U x) {
+    x ^= x >> 16;
+    x *= 0x7feb352du;
+    x ^= x >> 15;
+    x *= 0x846ca68bu;
+    x ^= x >> 16;
+    return x;
+}
+inline float hashed_float(uint32_t path, uint32_t dim) {
+    return float(hash32(path * 0x9e3779b9u + hash32(dim + 0x632be5abu)) >> 8) * 0x1p-24f;
+}
+
+// Embree reads a packet's valid mask with aligned vector loads.
+struct alignas(64) ValidMask16 {
+    int lane[16];
+};
+
+// A row's paths: lane i is lane i % 16 of packet i / 16.
+struct WaveState {
+    std::vector<RTCRayHit16> rays;  // extension rays and their hits
+    std::vector<RTCRay16> shadows;  // each path's shadow ray
+    std::vector<ValidMask16> valid, shadow_valid;
+    std::vector<float> beta_r, beta_g, beta_b, L_r, L_g, L_b, bsdf_pdf, nee_r, nee_g, nee_b;
+    std::vector<uint32_t> path, depth;
+    std::vector<uint8_t> alive;
+    void resize(size_t n) {
+        size_t packets = (n + 15) / 16, lanes = packets * 16;
+        rays.resize(packets), shadows.resize(packets), valid.resize(packets), shadow_valid.resize(packets);
+        for (auto* v : {&beta_r, &beta_g, &beta_b, &L_r, &L_g, &L_b, &bsdf_pdf, &nee_r, &nee_g, &nee_b}) v->resize(lanes);
+        path.resize(lanes), depth.resize(lanes), alive.resize(lanes);
+    }
+};
+
+// Four lanes as one SSE vector; comparisons give lane masks, `mask ? a : b` selects.
+typedef float VF __attribute__((vector_size(16)));
+typedef int32_t VI __attribute__((vector_size(16)));
+typedef uint32_t VU __attribute__((vector_size(16)));
+constexpr int Width = 4;
+
+inline VF load(const float* p) {
+    VF v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
+inline VU load(const uint32_t* p) {
+    VU v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
+inline void store(float* p, const VF& v) { std::memcpy(p, &v, sizeof v); }
+inline VF splat(float x) { return VF{} + x; }
+inline VF vsqrt(const VF& v) {
+    __m128 q;
+    std::memcpy(&q, &v, sizeof q);
+    q = _mm_sqrt_ps(q);
+    VF r;
+    std::memcpy(&r, &q, sizeof r);
+    return r;
+}
+inline VF vmin(const VF& a, const VF& b) { return a < b ? a : b; }
+inline VF vmax(const VF& a, const VF& b) { return a > b ? a : b; }
+inline VF vabs(const VF& a) { return a < 0.0f ? -a : a; }
+inline VF vhashed_float(const VU& path, const VU& dim) {
+    return __builtin_convertvector(hash32(path * 0x9e3779b9u + hash32(dim + 0x632be5abu)) >> 8, VF) * 0x1p-24f;
+}
+
+// One bounce of lanes [0, n), after their extension rays were traced: the emission found
+// (weighted against the light sample of the vertex before), the light sample and its shadow ray,
+// the cosine-weighted BSDF sample (the concentric disk with both of its cases computed and one
+// selected, Candela's polynomial sine and cosine) and the roulette. Vertex k draws dimensions
+// 2 + 5k to 6 + 5k: light point (2), direction (2), roulette.
+void shade_wave(const FloorScene& fs, const float* albedo, const float* emission, WaveState& w, size_t n) {
+    const Vec3 corner = fs.corner, ex = fs.edge_x, ey = fs.edge_y, ln = fs.light_normal;
+    const float area = fs.light_area;
+    const uint32_t geometries = uint32_t(fs.albedo.size());
+    for (size_t b = 0; b * 16 < n; ++b) {
+        RTCRayHit16& rh = w.rays[b];
+        RTCRay16& sh = w.shadows[b];
+        for (int o = 0; o < 16; o += Width) {
+            const size_t i0 = b * 16 + size_t(o);
+            VI lane;
+            for (int l = 0; l < Width; ++l) lane[l] = int(i0) + l;
+            const VU geom = load(rh.hit.geomID + o);
+            const VI hit = (lane < int(n)) & (geom < geometries);
+            const VU g = hit ? geom : VU{};
+            const VF dx = load(rh.ray.dir_x + o), dy = load(rh.ray.dir_y + o), dz = load(rh.ray.dir_z + o);
+            const VF t = hit ? load(rh.ray.tfar + o) : VF{};
+            VF nx = load(rh.hit.Ng_x + o), ny = load(rh.hit.Ng_y + o), nz = load(rh.hit.Ng_z + o);
+            const VF inv_n = 1.0f / vsqrt(vmax(nx * nx + ny * ny + nz * nz, splat(1e-30f)));
+            nx *= inv_n, ny *= inv_n, nz *= inv_n;
+            const VF px = load(rh.ray.org_x + o) + t * dx, py = load(rh.ray.org_y + o) + t * dy, pz = load(rh.ray.org_z + o) + t * dz;
+            const VF cos_in = nx * dx + ny * dy + nz * dz;
+            const VU path = load(&w.path[i0]), depth = load(&w.depth[i0]);
+            VF e_r, e_g, e_b, a_r, a_g, a_b;
+            for (int l = 0; l < Width; ++l) {
+                const float *e = emission + 3 * g[l], *a = albedo + 3 * g[l];
+                e_r[l] = e[0], e_g[l] = e[1], e_b[l] = e[2], a_r[l] = a[0], a_g[l] = a[1], a_b[l] = a[2];
+            }
+            // The light's area density in solid angle at the ray's origin (the lifted vertex).
+            const VF cos_light_hit = -(ln.x * dx + ln.y * dy + ln.z * dz);
+            const VF light_pdf_hit = cos_light_hit > 0.0f ? t * t / (cos_light_hit * area) : VF{};
+            const VF prev = load(&w.bsdf_pdf[i0]);
+            const VF mis_hit = depth == 0u ? splat(1.0f) : prev * prev / (prev * prev + light_pdf_hit * light_pdf_hit);
+            const VF emit = (hit & (cos_in < 0.0f)) ? mis_hit : VF{};
+            VF br = load(&w.beta_r[i0]), bg = load(&w.beta_g[i0]), bb = load(&w.beta_b[i0]);
+            store(&w.L_r[i0], load(&w.L_r[i0]) + br * e_r * emit);
+            store(&w.L_g[i0], load(&w.L_g[i0]) + bg * e_g * emit);
+            store(&w.L_b[i0], load(&w.L_b[i0]) + bb * e_b * emit);
+            const VF flip = cos_in > 0.0f ? splat(-1.0f) : splat(1.0f);
+            nx *= flip, ny *= flip, nz *= flip;
+            const VU dim = 2u + 5u * depth;
+            const VF u0 = vhashed_float(path, dim), u1 = vhashed_float(path, dim + 1u), u2 = vhashed_float(path, dim + 2u);
+            const VF u3 = vhashed_float(path, dim + 3u), u4 = vhashed_float(path, dim + 4u);
+            // Next-event estimation: a uniform point on the light.
+            const VF tx = corner.x + u0 * ex.x + u1 * ey.x, ty = corner.y + u0 * ex.y + u1 * ey.y, tz = corner.z + u0 * ex.z + u1 * ey.z;
+            const VF vx = tx - px, vy = ty - py, vz = tz - pz, d2 = vx * vx + vy * vy + vz * vz, dist = vsqrt(d2);
+            const VF cos_light = -(ln.x * vx + ln.y * vy + ln.z * vz) / dist;
+            const VF light_pdf = cos_light > 0.0f ? d2 / (cos_light * area) : VF{};
+            const VF cos_surface = (nx * vx + ny * vy + nz * vz) / dist;
+            const VI nee = hit & (cos_surface > 0.0f) & (light_pdf > 0.0f);
+            const VF bsdf_at_light = cos_surface * InvPi;
+            // f cos / pdf_light times the power heuristic's weight, pdf_light^2 / (pdf_light^2 + pdf_bsdf^2).
+            const VF nee_weight = nee ? bsdf_at_light * light_pdf / (light_pdf * light_pdf + bsdf_at_light * bsdf_at_light) : VF{};
+            store(&w.nee_r[i0], br * a_r * (fs.radiance.x * nee_weight));
+            store(&w.nee_g[i0], bg * a_g * (fs.radiance.y * nee_weight));
+            store(&w.nee_b[i0], bb * a_b * (fs.radiance.z * nee_weight));
+            const VF lift = 1e-4f * (1.0f + vmax(vmax(vabs(px), vabs(py)), vabs(pz)));
+            const VF qx = px + nx * lift, qy = py + ny * lift, qz = pz + nz * lift;
+            store(sh.org_x + o, qx), store(sh.org_y + o, qy), store(sh.org_z + o, qz);
+            store(sh.dir_x + o, tx - qx), store(sh.dir_y + o, ty - qy), store(sh.dir_z + o, tz - qz);
+            store(sh.tnear + o, VF{}), store(sh.tfar + o, splat(1.0f - 1e-4f)), store(sh.time + o, VF{});
+            for (int l = 0; l < Width; ++l)
+                sh.mask[o + l] = 0xFFFFFFFFu, sh.id[o + l] = 0u, sh.flags[o + l] = 0u, w.shadow_valid[b].lane[o + l] = nee[l];
+            // The BSDF sample.
+            const VF sx = 2.0f * u2 - 1.0f, sy = 2.0f * u3 - 1.0f;
+            const VI x_major = vabs(sx) > vabs(sy);
+            const VF r = x_major ? sx : sy, across = x_major ? sy : sx;
+            const VF phi = r == 0.0f ? VF{} : (Pi / 4.0f) * (across / r), p2 = phi * phi;
+            const VF s = phi + phi * p2 * (-1.6666654611e-1f + p2 * (8.3321608736e-3f + p2 * -1.9515295891e-4f));
+            const VF c = 1.0f - 0.5f * p2 + p2 * p2 * (4.166664568298827e-2f + p2 * (-1.388731625493765e-3f + p2 * 2.443315711809948e-5f));
+            const VF lx = r * (x_major ? c : s), ly = r * (x_major ? s : c);
+            const VF lz = vsqrt(vmax(1.0f - lx * lx - ly * ly, VF{}));
+            // The frame of basis() above.
+            const VF sign = nz < 0.0f ? splat(-1.0f) : splat(1.0f), ia = -1.0f / (sign + nz), ib = nx * ny * ia;
+            const VF b1x = 1.0f + sign * nx * nx * ia, b1y = sign * ib, b1z = -sign * nx;
+            const VF b2x = ib, b2y = sign + ny * ny * ia, b2z = -ny;
+            store(rh.ray.org_x + o, qx), store(rh.ray.org_y + o, qy), store(rh.ray.org_z + o, qz);
+            store(rh.ray.dir_x + o, lx * b1x + ly * b2x + lz * nx);
+            store(rh.ray.dir_y + o, lx * b1y + ly * b2y + lz * ny);
+            store(rh.ray.dir_z + o, lx * b1z + ly * b2z + lz * nz);
+            store(&w.bsdf_pdf[i0], lz * InvPi);
+            br *= a_r, bg *= a_g, bb *= a_b;
+            // Russian roulette from depth 5, as the floor.
+            const VF q = depth + 1u >= 5u ? vmin(vmax(vmax(br, bg), bb), splat(0.95f)) : splat(1.0f);
+            const VI survives = hit & (u4 < q);
+            const VF inv_q = 1.0f / q;
+            store(&w.beta_r[i0], br * inv_q), store(&w.beta_g[i0], bg * inv_q), store(&w.beta_b[i0], bb * inv_q);
+            const VU next_depth = depth + 1u;
+            std::memcpy(&w.depth[i0], &next_depth, sizeof next_depth);
+            for (int l = 0; l < Width; ++l) w.alive[i0 + l] = survives[l] != 0;
+        }
+    }
+}
+
+// Moves lane `from` to lane `to` (to <= from): what the next bounce reads.
+void move_lane(WaveState& w, size_t from, size_t to) {
+    RTCRay16 &a = w.rays[from / 16].ray, &b = w.rays[to / 16].ray;
+    size_t i = from % 16, j = to % 16;
+    b.org_x[j] = a.org_x[i], b.org_y[j] = a.org_y[i], b.org_z[j] = a.org_z[i];
+    b.dir_x[j] = a.dir_x[i], b.dir_y[j] = a.dir_y[i], b.dir_z[j] = a.dir_z[i];
+    w.beta_r[to] = w.beta_r[from], w.beta_g[to] = w.beta_g[from], w.beta_b[to] = w.beta_b[from];
+    w.L_r[to] = w.L_r[from], w.L_g[to] = w.L_g[from], w.L_b[to] = w.L_b[from];
+    w.bsdf_pdf[to] = w.bsdf_pdf[from], w.path[to] = w.path[from], w.depth[to] = w.depth[from];
+}
+
+FloorRun render_wavefront(const FloorScene& fs, int spp, tbb::task_arena& arena) {
+    const Sensor& sensor = fs.scene->sensor();
+    const size_t width = size_t(sensor.film().full_size().x), count = width * size_t(spp);
+    std::vector<float> albedo, emission;
+    for (size_t g = 0; g < fs.albedo.size(); ++g)
+        for (int c = 0; c < 3; ++c) albedo.push_back(fs.albedo[g][c]), emission.push_back(fs.emission[g][c]);
+    return time_rows(fs, spp, arena, [&](size_t y0, size_t y1, std::vector<double>& row_sums, long long& rays) {
+        static thread_local WaveState w;  // a row's worth, kept by each thread across rows
+        if (w.path.size() < count) w.resize(count);
+        RTCIntersectContext context;
+        for (size_t y = y0; y < y1; ++y) {
+            // The camera rays, one path per pixel sample.
+            for (size_t i = 0; i < count; ++i) {
+                const uint32_t path = uint32_t(y * count + i);
+                const float x = float(i / size_t(spp));
+                Ray ray = sensor.sample_ray(Vec2(x + hashed_float(path, 0), float(y) + hashed_float(path, 1)), Vec2(0.5f));
+                RTCRay16& r = w.rays[i / 16].ray;
+                const size_t l = i % 16;
+                r.org_x[l] = ray.o.x, r.org_y[l] = ray.o.y, r.org_z[l] = ray.o.z;
+                r.dir_x[l] = ray.d.x, r.dir_y[l] = ray.d.y, r.dir_z[l] = ray.d.z;
+                w.path[i] = path, w.depth[i] = 0, w.bsdf_pdf[i] = 0.0f;
+                w.beta_r[i] = w.beta_g[i] = w.beta_b[i] = 1.0f;
+                w.L_r[i] = w.L_g[i] = w.L_b[i] = 0.0f;
+            }
+            for (size_t n = count; n > 0;) {
+                const size_t packets = (n + 15) / 16;
+                for (size_t b = 0; b < packets; ++b) {
+                    RTCRayHit16& rh = w.rays[b];
+                    for (size_t l = 0; l < 16; ++l) {
+                        w.valid[b].lane[l] = b * 16 + l < n ? -1 : 0;
+                        rh.ray.tnear[l] = 0.0f, rh.ray.tfar[l] = Infinity, rh.ray.time[l] = 0.0f;
+                        rh.ray.mask[l] = 0xFFFFFFFFu, rh.ray.id[l] = 0u, rh.ray.flags[l] = 0u;
+                        rh.hit.geomID[l] = RTC_INVALID_GEOMETRY_ID;
+                    }
+                    rtcInitIntersectContext(&context);
+                    rtcIntersect16(w.valid[b].lane, fs.embree, &context, &rh);
+                }
+                rays += (long long)n;
+                shade_wave(fs, albedo.data(), emission.data(), w, n);
+                for (size_t b = 0; b < packets; ++b) {
+                    rtcInitIntersectContext(&context);
+                    rtcOccluded16(w.shadow_valid[b].lane, fs.embree, &context, &w.shadows[b]);
+                }
+                // Unoccluded light samples count; ended paths leave their radiance, the rest move up.
+                size_t kept = 0;
+                for (size_t i = 0; i < n; ++i) {
+                    if (w.shadow_valid[i / 16].lane[i % 16]) {
+                        ++rays;
+                        if (w.shadows[i / 16].tfar[i % 16] >= 0.0f) w.L_r[i] += w.nee_r[i], w.L_g[i] += w.nee_g[i], w.L_b[i] += w.nee_b[i];
+                    }
+                    if (w.alive[i]) {
+                        if (kept != i) move_lane(w, i, kept);
+                        ++kept;
+                    } else {
+                        row_sums[y] += (double(w.L_r[i]) + w.L_g[i] + w.L_b[i]) / 3.0;
+                    }
+                }
+                n = kept;
+            }
+        }
+    });
 }
 
 const char* const usage =
@@ -292,7 +561,7 @@ int run(int argc, char** argv) {
     std::printf("scene %s, %d threads, %d spp\n", scene_path.c_str(), arena.max_concurrency(), spp);
     std::printf("round  %-12s %8s %10s %8s\n", "renderer", "Mrays/s", "rays/spl", "mean");
     render_floor(fs, 0, 1, arena);  // warm-up: threads and Embree's data
-    std::vector<std::vector<double>> ratios(5);
+    std::vector<std::vector<double>> ratios(6);
     for (int round = 1; round <= rounds; ++round) {
         RenderResult result = scene->integrator().render(*scene, options);
         double path_mrays = double(result.stats.rays) / result.stats.seconds * 1e-6, mean = 0.0;
@@ -306,9 +575,13 @@ int run(int argc, char** argv) {
             ratios[size_t(v)].push_back(f.mrays / path_mrays);
             std::printf("%5d  %-12s %8.2f %10.2f %8.4f\n", round, names[v], f.mrays, f.rays_per_sample, f.mean);
         }
+        FloorRun f = render_wavefront(fs, spp, arena);
+        ratios[5].push_back(f.mrays / path_mrays);
+        std::printf("%5d  %-12s %8.2f %10.2f %8.4f\n", round, "wavefront", f.mrays, f.rays_per_sample, f.mean);
     }
     std::printf("medians of Mrays/s over candela's:");
     for (int v = 0; v < 5; ++v) std::printf("  %s %.3f", names[v], bench::median(ratios[size_t(v)]));
+    std::printf("  wavefront %.3f", bench::median(ratios[5]));
     std::printf("\n");
     return 0;
 }
