@@ -311,13 +311,21 @@ struct WaveState {
     std::vector<RTCRay16> shadows;  // each path's shadow ray
     std::vector<ValidMask16> valid, shadow_valid;
     std::vector<float> beta_r, beta_g, beta_b, L_r, L_g, L_b, bsdf_pdf, nee_r, nee_g, nee_b;
+    std::vector<float> from_x, from_y, from_z, from_nx, from_ny, from_nz;  // the vertex before
+    // Between the passes of a bounce: the hit (normal on the side the ray came from), the
+    // vertex's numbers, the light sample, and the light's density at the hit from the vertex before.
+    std::vector<float> px, py, pz, nx, ny, nz, u0, u1, u2, u3, u4, tx, ty, tz, light_pdf, light_pdf_hit;
+    std::vector<int32_t> hit, front;
     std::vector<uint32_t> path, depth;
     std::vector<uint8_t> alive;
     void resize(size_t n) {
         size_t packets = (n + 15) / 16, lanes = packets * 16;
         rays.resize(packets), shadows.resize(packets), valid.resize(packets), shadow_valid.resize(packets);
-        for (auto* v : {&beta_r, &beta_g, &beta_b, &L_r, &L_g, &L_b, &bsdf_pdf, &nee_r, &nee_g, &nee_b}) v->resize(lanes);
-        path.resize(lanes), depth.resize(lanes), alive.resize(lanes);
+        for (auto* v : {&beta_r, &beta_g, &beta_b,  &L_r,     &L_g,     &L_b, &bsdf_pdf, &nee_r, &nee_g,     &nee_b,        &from_x,
+                        &from_y, &from_z, &from_nx, &from_ny, &from_nz, &px,  &py,       &pz,    &nx,        &ny,           &nz,
+                        &u0,     &u1,     &u2,      &u3,      &u4,      &tx,  &ty,       &tz,    &light_pdf, &light_pdf_hit})
+            v->resize(lanes);
+        hit.resize(lanes), front.resize(lanes), path.resize(lanes), depth.resize(lanes), alive.resize(lanes);
     }
 };
 
@@ -354,102 +362,172 @@ inline VF vhashed_float(const VU& path, const VU& dim) {
     return __builtin_convertvector(hash32(path * 0x9e3779b9u + hash32(dim + 0x632be5abu)) >> 8, VF) * 0x1p-24f;
 }
 
-// One bounce of lanes [0, n), after their extension rays were traced: the emission found
-// (weighted against the light sample of the vertex before), the light sample and its shadow ray,
-// the cosine-weighted BSDF sample (the concentric disk with both of its cases computed and one
-// selected, Candela's polynomial sine and cosine) and the roulette. Vertex k draws dimensions
-// 2 + 5k to 6 + 5k: light point (2), direction (2), roulette.
-void shade_wave(const FloorScene& fs, const float* albedo, const float* emission, WaveState& w, size_t n) {
+inline void store(int32_t* p, const VI& v) { std::memcpy(p, &v, sizeof v); }
+inline VI load(const int32_t* p) {
+    VI v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
+
+// A bounce of lanes [0, n), after their extension rays were traced, in three passes:
+//   hits     (vector) the hit point and the normal on the side the ray came from;
+//   samples  the vertex's numbers, a point on the light and its density, and the light's density
+//            at the hit seen from the vertex before (for the emission's MIS weight): by vectors
+//            (hashed numbers, uniform area sampling) in the wavefront floor, or lane by lane
+//            through Candela's Sampler and Emitter in its generic variant;
+//   shade    (vector) the emission found, the light sample's contribution and shadow ray, the
+//            cosine-weighted BSDF sample (the concentric disk with both of its cases computed and
+//            one selected, Candela's polynomial sine and cosine) and the roulette.
+// Vertex k draws its own dimensions: light point (2), direction (2), roulette.
+template <class Pass>
+void for_lanes(size_t n, const Pass& pass) {
+    for (size_t i0 = 0; i0 < n; i0 += Width) {
+        VI lane;
+        for (int l = 0; l < Width; ++l) lane[l] = int(i0) + l;
+        pass(i0 / 16, int(i0 % 16), i0, lane < int(n));
+    }
+}
+
+void wave_hits(const FloorScene& fs, WaveState& w, size_t n) {
+    const uint32_t geometries = uint32_t(fs.albedo.size());
+    for_lanes(n, [&](size_t b, int o, size_t i0, VI valid) {
+        const RTCRayHit16& rh = w.rays[b];
+        const VI hit = valid & (load(rh.hit.geomID + o) < geometries);
+        const VF dx = load(rh.ray.dir_x + o), dy = load(rh.ray.dir_y + o), dz = load(rh.ray.dir_z + o);
+        const VF t = hit ? load(rh.ray.tfar + o) : VF{};
+        VF nx = load(rh.hit.Ng_x + o), ny = load(rh.hit.Ng_y + o), nz = load(rh.hit.Ng_z + o);
+        const VF inv_n = 1.0f / vsqrt(vmax(nx * nx + ny * ny + nz * nz, splat(1e-30f)));
+        nx *= inv_n, ny *= inv_n, nz *= inv_n;
+        const VF cos_in = nx * dx + ny * dy + nz * dz, flip = cos_in > 0.0f ? splat(-1.0f) : splat(1.0f);
+        store(&w.px[i0], load(rh.ray.org_x + o) + t * dx), store(&w.py[i0], load(rh.ray.org_y + o) + t * dy);
+        store(&w.pz[i0], load(rh.ray.org_z + o) + t * dz);
+        store(&w.nx[i0], nx * flip), store(&w.ny[i0], ny * flip), store(&w.nz[i0], nz * flip);
+        store(&w.hit[i0], hit), store(&w.front[i0], hit & (cos_in < 0.0f));
+    });
+}
+
+void wave_samples_floor(const FloorScene& fs, WaveState& w, size_t n) {
     const Vec3 corner = fs.corner, ex = fs.edge_x, ey = fs.edge_y, ln = fs.light_normal;
     const float area = fs.light_area;
-    const uint32_t geometries = uint32_t(fs.albedo.size());
-    for (size_t b = 0; b * 16 < n; ++b) {
-        RTCRayHit16& rh = w.rays[b];
-        RTCRay16& sh = w.shadows[b];
-        for (int o = 0; o < 16; o += Width) {
-            const size_t i0 = b * 16 + size_t(o);
-            VI lane;
-            for (int l = 0; l < Width; ++l) lane[l] = int(i0) + l;
-            const VU geom = load(rh.hit.geomID + o);
-            const VI hit = (lane < int(n)) & (geom < geometries);
-            const VU g = hit ? geom : VU{};
-            const VF dx = load(rh.ray.dir_x + o), dy = load(rh.ray.dir_y + o), dz = load(rh.ray.dir_z + o);
-            const VF t = hit ? load(rh.ray.tfar + o) : VF{};
-            VF nx = load(rh.hit.Ng_x + o), ny = load(rh.hit.Ng_y + o), nz = load(rh.hit.Ng_z + o);
-            const VF inv_n = 1.0f / vsqrt(vmax(nx * nx + ny * ny + nz * nz, splat(1e-30f)));
-            nx *= inv_n, ny *= inv_n, nz *= inv_n;
-            const VF px = load(rh.ray.org_x + o) + t * dx, py = load(rh.ray.org_y + o) + t * dy, pz = load(rh.ray.org_z + o) + t * dz;
-            const VF cos_in = nx * dx + ny * dy + nz * dz;
-            const VU path = load(&w.path[i0]), depth = load(&w.depth[i0]);
-            VF e_r, e_g, e_b, a_r, a_g, a_b;
-            for (int l = 0; l < Width; ++l) {
-                const float *e = emission + 3 * g[l], *a = albedo + 3 * g[l];
-                e_r[l] = e[0], e_g[l] = e[1], e_b[l] = e[2], a_r[l] = a[0], a_g[l] = a[1], a_b[l] = a[2];
-            }
-            // The light's area density in solid angle at the ray's origin (the lifted vertex).
-            const VF cos_light_hit = -(ln.x * dx + ln.y * dy + ln.z * dz);
-            const VF light_pdf_hit = cos_light_hit > 0.0f ? t * t / (cos_light_hit * area) : VF{};
-            const VF prev = load(&w.bsdf_pdf[i0]);
-            const VF mis_hit = depth == 0u ? splat(1.0f) : prev * prev / (prev * prev + light_pdf_hit * light_pdf_hit);
-            const VF emit = (hit & (cos_in < 0.0f)) ? mis_hit : VF{};
-            VF br = load(&w.beta_r[i0]), bg = load(&w.beta_g[i0]), bb = load(&w.beta_b[i0]);
-            store(&w.L_r[i0], load(&w.L_r[i0]) + br * e_r * emit);
-            store(&w.L_g[i0], load(&w.L_g[i0]) + bg * e_g * emit);
-            store(&w.L_b[i0], load(&w.L_b[i0]) + bb * e_b * emit);
-            const VF flip = cos_in > 0.0f ? splat(-1.0f) : splat(1.0f);
-            nx *= flip, ny *= flip, nz *= flip;
-            const VU dim = 2u + 5u * depth;
-            const VF u0 = vhashed_float(path, dim), u1 = vhashed_float(path, dim + 1u), u2 = vhashed_float(path, dim + 2u);
-            const VF u3 = vhashed_float(path, dim + 3u), u4 = vhashed_float(path, dim + 4u);
-            // Next-event estimation: a uniform point on the light.
-            const VF tx = corner.x + u0 * ex.x + u1 * ey.x, ty = corner.y + u0 * ex.y + u1 * ey.y, tz = corner.z + u0 * ex.z + u1 * ey.z;
-            const VF vx = tx - px, vy = ty - py, vz = tz - pz, d2 = vx * vx + vy * vy + vz * vz, dist = vsqrt(d2);
-            const VF cos_light = -(ln.x * vx + ln.y * vy + ln.z * vz) / dist;
-            const VF light_pdf = cos_light > 0.0f ? d2 / (cos_light * area) : VF{};
-            const VF cos_surface = (nx * vx + ny * vy + nz * vz) / dist;
-            const VI nee = hit & (cos_surface > 0.0f) & (light_pdf > 0.0f);
-            const VF bsdf_at_light = cos_surface * InvPi;
-            // f cos / pdf_light times the power heuristic's weight, pdf_light^2 / (pdf_light^2 + pdf_bsdf^2).
-            const VF nee_weight = nee ? bsdf_at_light * light_pdf / (light_pdf * light_pdf + bsdf_at_light * bsdf_at_light) : VF{};
-            store(&w.nee_r[i0], br * a_r * (fs.radiance.x * nee_weight));
-            store(&w.nee_g[i0], bg * a_g * (fs.radiance.y * nee_weight));
-            store(&w.nee_b[i0], bb * a_b * (fs.radiance.z * nee_weight));
-            const VF lift = 1e-4f * (1.0f + vmax(vmax(vabs(px), vabs(py)), vabs(pz)));
-            const VF qx = px + nx * lift, qy = py + ny * lift, qz = pz + nz * lift;
-            store(sh.org_x + o, qx), store(sh.org_y + o, qy), store(sh.org_z + o, qz);
-            store(sh.dir_x + o, tx - qx), store(sh.dir_y + o, ty - qy), store(sh.dir_z + o, tz - qz);
-            store(sh.tnear + o, VF{}), store(sh.tfar + o, splat(1.0f - 1e-4f)), store(sh.time + o, VF{});
-            for (int l = 0; l < Width; ++l)
-                sh.mask[o + l] = 0xFFFFFFFFu, sh.id[o + l] = 0u, sh.flags[o + l] = 0u, w.shadow_valid[b].lane[o + l] = nee[l];
-            // The BSDF sample.
-            const VF sx = 2.0f * u2 - 1.0f, sy = 2.0f * u3 - 1.0f;
-            const VI x_major = vabs(sx) > vabs(sy);
-            const VF r = x_major ? sx : sy, across = x_major ? sy : sx;
-            const VF phi = r == 0.0f ? VF{} : (Pi / 4.0f) * (across / r), p2 = phi * phi;
-            const VF s = phi + phi * p2 * (-1.6666654611e-1f + p2 * (8.3321608736e-3f + p2 * -1.9515295891e-4f));
-            const VF c = 1.0f - 0.5f * p2 + p2 * p2 * (4.166664568298827e-2f + p2 * (-1.388731625493765e-3f + p2 * 2.443315711809948e-5f));
-            const VF lx = r * (x_major ? c : s), ly = r * (x_major ? s : c);
-            const VF lz = vsqrt(vmax(1.0f - lx * lx - ly * ly, VF{}));
-            // The frame of basis() above.
-            const VF sign = nz < 0.0f ? splat(-1.0f) : splat(1.0f), ia = -1.0f / (sign + nz), ib = nx * ny * ia;
-            const VF b1x = 1.0f + sign * nx * nx * ia, b1y = sign * ib, b1z = -sign * nx;
-            const VF b2x = ib, b2y = sign + ny * ny * ia, b2z = -ny;
-            store(rh.ray.org_x + o, qx), store(rh.ray.org_y + o, qy), store(rh.ray.org_z + o, qz);
-            store(rh.ray.dir_x + o, lx * b1x + ly * b2x + lz * nx);
-            store(rh.ray.dir_y + o, lx * b1y + ly * b2y + lz * ny);
-            store(rh.ray.dir_z + o, lx * b1z + ly * b2z + lz * nz);
-            store(&w.bsdf_pdf[i0], lz * InvPi);
-            br *= a_r, bg *= a_g, bb *= a_b;
-            // Russian roulette from depth 5, as the floor.
-            const VF q = depth + 1u >= 5u ? vmin(vmax(vmax(br, bg), bb), splat(0.95f)) : splat(1.0f);
-            const VI survives = hit & (u4 < q);
-            const VF inv_q = 1.0f / q;
-            store(&w.beta_r[i0], br * inv_q), store(&w.beta_g[i0], bg * inv_q), store(&w.beta_b[i0], bb * inv_q);
-            const VU next_depth = depth + 1u;
-            std::memcpy(&w.depth[i0], &next_depth, sizeof next_depth);
-            for (int l = 0; l < Width; ++l) w.alive[i0 + l] = survives[l] != 0;
+    for_lanes(n, [&](size_t b, int o, size_t i0, VI) {
+        const RTCRayHit16& rh = w.rays[b];
+        const VU path = load(&w.path[i0]), dim = 2u + 5u * load(&w.depth[i0]);
+        const VF u0 = vhashed_float(path, dim), u1 = vhashed_float(path, dim + 1u);
+        store(&w.u0[i0], u0), store(&w.u1[i0], u1), store(&w.u2[i0], vhashed_float(path, dim + 2u));
+        store(&w.u3[i0], vhashed_float(path, dim + 3u)), store(&w.u4[i0], vhashed_float(path, dim + 4u));
+        // A uniform point on the light, and its density in solid angle.
+        const VF tx = corner.x + u0 * ex.x + u1 * ey.x, ty = corner.y + u0 * ex.y + u1 * ey.y, tz = corner.z + u0 * ex.z + u1 * ey.z;
+        const VF vx = tx - load(&w.px[i0]), vy = ty - load(&w.py[i0]), vz = tz - load(&w.pz[i0]);
+        const VF d2 = vx * vx + vy * vy + vz * vz, cos_light = -(ln.x * vx + ln.y * vy + ln.z * vz) / vsqrt(d2);
+        store(&w.tx[i0], tx), store(&w.ty[i0], ty), store(&w.tz[i0], tz);
+        store(&w.light_pdf[i0], cos_light > 0.0f ? d2 / (cos_light * area) : VF{});
+        // The same density at the hit, seen from the ray's origin (the lifted vertex before).
+        const VF dx = load(rh.ray.dir_x + o), dy = load(rh.ray.dir_y + o), dz = load(rh.ray.dir_z + o), t = load(rh.ray.tfar + o);
+        const VF cos_light_hit = -(ln.x * dx + ln.y * dy + ln.z * dz);
+        store(&w.light_pdf_hit[i0], cos_light_hit > 0.0f ? t * t / (cos_light_hit * area) : VF{});
+    });
+}
+
+// The generic variant's middle pass, one lane at a time: the numbers from Candela's sampler (the
+// path's SampleDimensions), the light sample and its density from Candela's emitter.
+void wave_samples_generic(const FloorScene& fs, Sampler& sampler, int width, int spp, WaveState& w, size_t n) {
+    const unsigned light_geometry = unsigned(std::find(fs.emission.begin(), fs.emission.end(), fs.radiance) - fs.emission.begin());
+    for (size_t i = 0; i < n; ++i) {
+        const uint32_t path = w.path[i], per_row = uint32_t(width * spp);
+        sampler.start(Vec2i(int(path % per_row) / spp, int(path / per_row)), path % uint32_t(spp));
+        const uint32_t dims = SampleDimensions::bounce(w.depth[i]);
+        sampler.set_dimension(dims + SampleDimensions::LightPosition);
+        const Vec2 ul = sampler.next_2d();
+        sampler.set_dimension(dims + SampleDimensions::Direction);
+        const Vec2 ud = sampler.next_2d();
+        sampler.set_dimension(dims + SampleDimensions::Roulette);
+        w.u0[i] = ul.x, w.u1[i] = ul.y, w.u2[i] = ud.x, w.u3[i] = ud.y, w.u4[i] = sampler.next_1d();
+        SurfaceInteraction ref;
+        ref.p = Vec3(w.px[i], w.py[i], w.pz[i]), ref.n = Vec3(w.nx[i], w.ny[i], w.nz[i]);
+        Spectrum weight;
+        const DirectionSample ds = fs.light->sample_direction(ref, ul, weight);
+        w.tx[i] = ds.p.x, w.ty[i] = ds.p.y, w.tz[i] = ds.p.z, w.light_pdf[i] = ds.pdf;
+        w.light_pdf_hit[i] = 0.0f;
+        if (w.front[i] && w.depth[i] > 0 && w.rays[i / 16].hit.geomID[i % 16] == light_geometry) {
+            SurfaceInteraction from;
+            from.p = Vec3(w.from_x[i], w.from_y[i], w.from_z[i]), from.n = Vec3(w.from_nx[i], w.from_ny[i], w.from_nz[i]);
+            DirectionSample at;
+            at.p = ref.p, at.n = fs.light_normal;
+            const Vec3 to = at.p - from.p;
+            at.dist = glm::length(to), at.d = to / at.dist;
+            w.light_pdf_hit[i] = fs.light->pdf_direction(from, at);
         }
     }
+}
+
+void wave_shade(const FloorScene& fs, const float* albedo, const float* emission, WaveState& w, size_t n) {
+    for_lanes(n, [&](size_t b, int o, size_t i0, VI) {
+        RTCRayHit16& rh = w.rays[b];
+        RTCRay16& sh = w.shadows[b];
+        const VI hit = load(&w.hit[i0]);
+        const VU g = hit ? load(rh.hit.geomID + o) : VU{}, depth = load(&w.depth[i0]);
+        const VF px = load(&w.px[i0]), py = load(&w.py[i0]), pz = load(&w.pz[i0]);
+        const VF nx = load(&w.nx[i0]), ny = load(&w.ny[i0]), nz = load(&w.nz[i0]);
+        VF e_r, e_g, e_b, a_r, a_g, a_b;
+        for (int l = 0; l < Width; ++l) {
+            const float *e = emission + 3 * g[l], *a = albedo + 3 * g[l];
+            e_r[l] = e[0], e_g[l] = e[1], e_b[l] = e[2], a_r[l] = a[0], a_g[l] = a[1], a_b[l] = a[2];
+        }
+        // The emission found, weighted against the light sample of the vertex before (power heuristic).
+        const VF prev = load(&w.bsdf_pdf[i0]), pdf_hit = load(&w.light_pdf_hit[i0]);
+        const VF mis_hit = depth == 0u ? splat(1.0f) : prev * prev / (prev * prev + pdf_hit * pdf_hit);
+        const VF emit = load(&w.front[i0]) ? mis_hit : VF{};
+        VF br = load(&w.beta_r[i0]), bg = load(&w.beta_g[i0]), bb = load(&w.beta_b[i0]);
+        store(&w.L_r[i0], load(&w.L_r[i0]) + br * e_r * emit);
+        store(&w.L_g[i0], load(&w.L_g[i0]) + bg * e_g * emit);
+        store(&w.L_b[i0], load(&w.L_b[i0]) + bb * e_b * emit);
+        // The light sample: f cos / pdf_light times the power heuristic's weight.
+        const VF tx = load(&w.tx[i0]), ty = load(&w.ty[i0]), tz = load(&w.tz[i0]), light_pdf = load(&w.light_pdf[i0]);
+        const VF vx = tx - px, vy = ty - py, vz = tz - pz;
+        const VF cos_surface = (nx * vx + ny * vy + nz * vz) / vsqrt(vx * vx + vy * vy + vz * vz);
+        const VI nee = hit & (cos_surface > 0.0f) & (light_pdf > 0.0f);
+        const VF bsdf_at_light = cos_surface * InvPi;
+        const VF nee_weight = nee ? bsdf_at_light * light_pdf / (light_pdf * light_pdf + bsdf_at_light * bsdf_at_light) : VF{};
+        store(&w.nee_r[i0], br * a_r * (fs.radiance.x * nee_weight));
+        store(&w.nee_g[i0], bg * a_g * (fs.radiance.y * nee_weight));
+        store(&w.nee_b[i0], bb * a_b * (fs.radiance.z * nee_weight));
+        const VF lift = 1e-4f * (1.0f + vmax(vmax(vabs(px), vabs(py)), vabs(pz)));
+        const VF qx = px + nx * lift, qy = py + ny * lift, qz = pz + nz * lift;
+        store(sh.org_x + o, qx), store(sh.org_y + o, qy), store(sh.org_z + o, qz);
+        store(sh.dir_x + o, tx - qx), store(sh.dir_y + o, ty - qy), store(sh.dir_z + o, tz - qz);
+        store(sh.tnear + o, VF{}), store(sh.tfar + o, splat(1.0f - 1e-4f)), store(sh.time + o, VF{});
+        for (int l = 0; l < Width; ++l)
+            sh.mask[o + l] = 0xFFFFFFFFu, sh.id[o + l] = 0u, sh.flags[o + l] = 0u, w.shadow_valid[b].lane[o + l] = nee[l];
+        // The BSDF sample.
+        const VF sx = 2.0f * load(&w.u2[i0]) - 1.0f, sy = 2.0f * load(&w.u3[i0]) - 1.0f;
+        const VI x_major = vabs(sx) > vabs(sy);
+        const VF r = x_major ? sx : sy, across = x_major ? sy : sx;
+        const VF phi = r == 0.0f ? VF{} : (Pi / 4.0f) * (across / r), p2 = phi * phi;
+        const VF s = phi + phi * p2 * (-1.6666654611e-1f + p2 * (8.3321608736e-3f + p2 * -1.9515295891e-4f));
+        const VF c = 1.0f - 0.5f * p2 + p2 * p2 * (4.166664568298827e-2f + p2 * (-1.388731625493765e-3f + p2 * 2.443315711809948e-5f));
+        const VF lx = r * (x_major ? c : s), ly = r * (x_major ? s : c);
+        const VF lz = vsqrt(vmax(1.0f - lx * lx - ly * ly, VF{}));
+        // The frame of basis() above.
+        const VF sign = nz < 0.0f ? splat(-1.0f) : splat(1.0f), ia = -1.0f / (sign + nz), ib = nx * ny * ia;
+        const VF b1x = 1.0f + sign * nx * nx * ia, b1y = sign * ib, b1z = -sign * nx;
+        const VF b2x = ib, b2y = sign + ny * ny * ia, b2z = -ny;
+        store(rh.ray.org_x + o, qx), store(rh.ray.org_y + o, qy), store(rh.ray.org_z + o, qz);
+        store(rh.ray.dir_x + o, lx * b1x + ly * b2x + lz * nx);
+        store(rh.ray.dir_y + o, lx * b1y + ly * b2y + lz * ny);
+        store(rh.ray.dir_z + o, lx * b1z + ly * b2z + lz * nz);
+        store(&w.bsdf_pdf[i0], lz * InvPi);
+        store(&w.from_x[i0], px), store(&w.from_y[i0], py), store(&w.from_z[i0], pz);
+        store(&w.from_nx[i0], nx), store(&w.from_ny[i0], ny), store(&w.from_nz[i0], nz);
+        br *= a_r, bg *= a_g, bb *= a_b;
+        // Russian roulette from depth 5, as the floor.
+        const VF q = depth + 1u >= 5u ? vmin(vmax(vmax(br, bg), bb), splat(0.95f)) : splat(1.0f);
+        const VI survives = hit & (load(&w.u4[i0]) < q);
+        const VF inv_q = 1.0f / q;
+        store(&w.beta_r[i0], br * inv_q), store(&w.beta_g[i0], bg * inv_q), store(&w.beta_b[i0], bb * inv_q);
+        const VU next_depth = depth + 1u;
+        std::memcpy(&w.depth[i0], &next_depth, sizeof next_depth);
+        for (int l = 0; l < Width; ++l) w.alive[i0 + l] = survives[l] != 0;
+    });
 }
 
 // Moves lane `from` to lane `to` (to <= from): what the next bounce reads.
@@ -461,9 +539,14 @@ void move_lane(WaveState& w, size_t from, size_t to) {
     w.beta_r[to] = w.beta_r[from], w.beta_g[to] = w.beta_g[from], w.beta_b[to] = w.beta_b[from];
     w.L_r[to] = w.L_r[from], w.L_g[to] = w.L_g[from], w.L_b[to] = w.L_b[from];
     w.bsdf_pdf[to] = w.bsdf_pdf[from], w.path[to] = w.path[from], w.depth[to] = w.depth[from];
+    w.from_x[to] = w.from_x[from], w.from_y[to] = w.from_y[from], w.from_z[to] = w.from_z[from];
+    w.from_nx[to] = w.from_nx[from], w.from_ny[to] = w.from_ny[from], w.from_nz[to] = w.from_nz[from];
 }
 
-FloorRun render_wavefront(const FloorScene& fs, int spp, tbb::task_arena& arena) {
+// With `sampler` (a prototype to clone), the generic variant: the numbers from that sampler and
+// the light sample from Candela's emitter, lane by lane. The sampler must give a sample's numbers
+// by dimension (not a stream such as independent's), as lanes draw them one vertex at a time.
+FloorRun render_wavefront(const FloorScene& fs, int spp, const Sampler* generic, tbb::task_arena& arena) {
     const Sensor& sensor = fs.scene->sensor();
     const size_t width = size_t(sensor.film().full_size().x), count = width * size_t(spp);
     std::vector<float> albedo, emission;
@@ -472,13 +555,19 @@ FloorRun render_wavefront(const FloorScene& fs, int spp, tbb::task_arena& arena)
     return time_rows(fs, spp, arena, [&](size_t y0, size_t y1, std::vector<double>& row_sums, long long& rays) {
         static thread_local WaveState w;  // a row's worth, kept by each thread across rows
         if (w.path.size() < count) w.resize(count);
+        Ref<Sampler> sampler = generic ? generic->clone() : nullptr;
         RTCIntersectContext context;
         for (size_t y = y0; y < y1; ++y) {
             // The camera rays, one path per pixel sample.
             for (size_t i = 0; i < count; ++i) {
                 const uint32_t path = uint32_t(y * count + i);
                 const float x = float(i / size_t(spp));
-                Ray ray = sensor.sample_ray(Vec2(x + hashed_float(path, 0), float(y) + hashed_float(path, 1)), Vec2(0.5f));
+                Vec2 film(hashed_float(path, 0), hashed_float(path, 1));
+                if (generic) {
+                    sampler->start(Vec2i(int(x), int(y)), uint32_t(i % size_t(spp)));
+                    film = sampler->next_2d();
+                }
+                Ray ray = sensor.sample_ray(Vec2(x, float(y)) + film, Vec2(0.5f));
                 RTCRay16& r = w.rays[i / 16].ray;
                 const size_t l = i % 16;
                 r.org_x[l] = ray.o.x, r.org_y[l] = ray.o.y, r.org_z[l] = ray.o.z;
@@ -501,7 +590,12 @@ FloorRun render_wavefront(const FloorScene& fs, int spp, tbb::task_arena& arena)
                     rtcIntersect16(w.valid[b].lane, fs.embree, &context, &rh);
                 }
                 rays += (long long)n;
-                shade_wave(fs, albedo.data(), emission.data(), w, n);
+                wave_hits(fs, w, n);
+                if (generic)
+                    wave_samples_generic(fs, *sampler, int(width), spp, w, n);
+                else
+                    wave_samples_floor(fs, w, n);
+                wave_shade(fs, albedo.data(), emission.data(), w, n);
                 for (size_t b = 0; b < packets; ++b) {
                     rtcInitIntersectContext(&context);
                     rtcOccluded16(w.shadow_valid[b].lane, fs.embree, &context, &w.shadows[b]);
@@ -527,22 +621,27 @@ FloorRun render_wavefront(const FloorScene& fs, int spp, tbb::task_arena& arena)
 }
 
 const char* const usage =
-    "usage: bench_floor [SCENE.xml] [--threads N] [--spp N] [--rounds N]\n"
+    "usage: bench_floor [SCENE.xml] [--threads N] [--spp N] [--rounds N] [--sampler NAME]\n"
     "  SCENE.xml     diffuse shapes and one rectangle area light (default " CANDELA_SOURCE_DIR
     "/scenes/cbox.xml)\n"
     "  --threads N   threads (default 0: all cores)\n"
     "  --spp N       samples per pixel (default 32)\n"
-    "  --rounds N    rounds of Candela's render and the floors side by side (default 3)\n";
+    "  --rounds N    rounds of Candela's render and the floors side by side (default 3)\n"
+    "  --sampler NAME  Candela's render with this sampler instead of the scene's, and the generic wavefront\n"
+    "                (run only with it; a sampler addressable by dimension: ldsampler, stratified, sobol, ...)\n";
 
 int run(int argc, char** argv) {
     std::string scene_path = std::string(CANDELA_SOURCE_DIR) + "/scenes/cbox.xml";
     int threads = 0, spp = 32, rounds = 3;
+    std::string sampler;
     for (int i = 1; i < argc; ++i) {
         std::string a = argv[i];
         if (a == "--threads")
             threads = bench::int_option(argc, argv, i, 0);
         else if (a == "--spp")
             spp = bench::int_option(argc, argv, i, 1);
+        else if (a == "--sampler")
+            sampler = bench::option_value(argc, argv, i);
         else if (a == "--rounds")
             rounds = bench::int_option(argc, argv, i, 1);
         else if (bench::is_option(a))
@@ -556,12 +655,14 @@ int run(int argc, char** argv) {
     RenderOptions options;
     options.spp = spp;
     options.threads = threads;
+    options.sampler = sampler;
+    Ref<Sampler> generic = sampler.empty() ? nullptr : configured_sampler(*scene, options);
     const unsigned variants[] = {0u, Lights, Hits, Shadows, Lights | Hits | Shadows};
     const char* const names[] = {"floor", "+lights", "+hits", "+shadows", "+all three"};
     std::printf("scene %s, %d threads, %d spp\n", scene_path.c_str(), arena.max_concurrency(), spp);
     std::printf("round  %-12s %8s %10s %8s\n", "renderer", "Mrays/s", "rays/spl", "mean");
     render_floor(fs, 0, 1, arena);  // warm-up: threads and Embree's data
-    std::vector<std::vector<double>> ratios(6);
+    std::vector<std::vector<double>> ratios(7);
     for (int round = 1; round <= rounds; ++round) {
         RenderResult result = scene->integrator().render(*scene, options);
         double path_mrays = double(result.stats.rays) / result.stats.seconds * 1e-6, mean = 0.0;
@@ -575,13 +676,17 @@ int run(int argc, char** argv) {
             ratios[size_t(v)].push_back(f.mrays / path_mrays);
             std::printf("%5d  %-12s %8.2f %10.2f %8.4f\n", round, names[v], f.mrays, f.rays_per_sample, f.mean);
         }
-        FloorRun f = render_wavefront(fs, spp, arena);
-        ratios[5].push_back(f.mrays / path_mrays);
-        std::printf("%5d  %-12s %8.2f %10.2f %8.4f\n", round, "wavefront", f.mrays, f.rays_per_sample, f.mean);
+        for (const Sampler* with : {(const Sampler*)nullptr, (const Sampler*)generic.get()}) {
+            FloorRun f = render_wavefront(fs, spp, with, arena);
+            ratios[with ? 6 : 5].push_back(f.mrays / path_mrays);
+            std::printf("%5d  %-12s %8.2f %10.2f %8.4f\n", round, with ? "wave generic" : "wavefront", f.mrays, f.rays_per_sample, f.mean);
+            if (!generic) break;
+        }
     }
     std::printf("medians of Mrays/s over candela's:");
     for (int v = 0; v < 5; ++v) std::printf("  %s %.3f", names[v], bench::median(ratios[size_t(v)]));
     std::printf("  wavefront %.3f", bench::median(ratios[5]));
+    if (generic) std::printf("  wave generic %.3f", bench::median(ratios[6]));
     std::printf("\n");
     return 0;
 }
