@@ -428,9 +428,88 @@ void wave_samples_floor(const FloorScene& fs, WaveState& w, size_t n) {
     });
 }
 
+// acos by Abramowitz and Stegun 4.4.46 (|error| <= 2e-8 on [0, 1]), reflected for x < 0.
+inline VF vacos(VF x) {
+    x = vmin(vmax(x, splat(-1.0f)), splat(1.0f));
+    const VF a = vabs(x);
+    const VF p = 1.5707963050f +
+                 a * (-0.2145988016f +
+                      a * (0.0889789874f +
+                           a * (-0.0501743046f + a * (0.0308918810f + a * (-0.0170881256f + a * (0.0066700901f + a * -0.0012624911f))))));
+    const VF r = vsqrt(vmax(1.0f - a, VF{})) * p;
+    return x < 0.0f ? Pi - r : r;
+}
+// sin and cos of any x: the nearest multiple n of pi/2 taken out (two-part constant), the rest
+// by the quarter-circle polynomials, the quadrant n mod 4 choosing and signing them.
+inline void vsincos(const VF& x, VF& s, VF& c) {
+    const VF nf = __builtin_convertvector(__builtin_convertvector(x * (2.0f / Pi) + (x < 0.0f ? splat(-0.5f) : splat(0.5f)), VI), VF);
+    const VF r = (x - nf * 1.57079637050628662109375f) - nf * -4.37113900018624283e-8f, r2 = r * r;
+    const VF sr = r + r * r2 * (-1.6666654611e-1f + r2 * (8.3321608736e-3f + r2 * -1.9515295891e-4f));
+    const VF cr = 1.0f - 0.5f * r2 + r2 * r2 * (4.166664568298827e-2f + r2 * (-1.388731625493765e-3f + r2 * 2.443315711809948e-5f));
+    const VI q = __builtin_convertvector(nf, VI) & 3;
+    const VI swap = (q & 1) != 0;
+    const VF ss = swap ? cr : sr, cc = swap ? sr : cr;
+    s = (q >= 2) ? -ss : ss;
+    c = ((q == 1) | (q == 2)) ? -cc : cc;
+}
+
+// The rectangle light's sample as Rectangle::sample_direction takes it, for 4 lanes at once:
+// uniform in solid angle (Urena et al. 2013) where the estimated solid angle A |z0| / r^3 is at
+// least 0.1 sr, uniform by area elsewhere (both computed, one selected), nothing for points behind
+// it. Reads u0, u1 and the hit; writes the light point and its density. An orthogonal rectangle
+// only (run() checks).
+void wave_lights_vector(const FloorScene& fs, WaveState& w, size_t n) {
+    const Vec3 corner = fs.corner, ex = fs.edge_x, ey = fs.edge_y;
+    const float len_x = glm::length(ex), len_y = glm::length(ey);
+    const Vec3 xa = ex / len_x, ya = ey / len_y, za = glm::cross(xa, ya), centre = corner + 0.5f * (ex + ey), ln = fs.light_normal;
+    const float area = fs.light_area, k = 0.1f;
+    for_lanes(n, [&](size_t, int, size_t i0, VI) {
+        const VF px = load(&w.px[i0]), py = load(&w.py[i0]), pz = load(&w.pz[i0]), u0 = load(&w.u0[i0]), u1 = load(&w.u1[i0]);
+        // Area sampling.
+        const VF ax = corner.x + u0 * ex.x + u1 * ey.x, ay = corner.y + u0 * ex.y + u1 * ey.y, az = corner.z + u0 * ex.z + u1 * ey.z;
+        const VF vx = ax - px, vy = ay - py, vz = az - pz, d2 = vx * vx + vy * vy + vz * vz;
+        const VF cos_light = -(ln.x * vx + ln.y * vy + ln.z * vz) / vsqrt(d2);
+        const VF area_pdf = cos_light > 0.0f ? d2 / (cos_light * area) : VF{};
+        // The threshold on the estimated solid angle A |z0| / r^3 > k, squared.
+        const VF cx = centre.x - px, cy = centre.y - py, cz = centre.z - pz;
+        const VF zc = cx * za.x + cy * za.y + cz * za.z, r2 = cx * cx + cy * cy + cz * cz, aa = len_x * len_y * zc;
+        VI spherical = (vabs(zc) >= 1e-4f * std::max(len_x, len_y)) & (aa * aa >= k * k * (r2 * r2 * r2));
+        // Solid-angle sampling (Urena et al. 2013), in the rectangle's frame seen from p.
+        const VF dx = corner.x - px, dy = corner.y - py, dz = corner.z - pz;
+        VF z0 = dx * za.x + dy * za.y + dz * za.z;
+        const VF zsign = z0 > 0.0f ? splat(-1.0f) : splat(1.0f);
+        z0 = z0 * zsign;
+        const VF x0 = dx * xa.x + dy * xa.y + dz * xa.z, y0 = dx * ya.x + dy * ya.y + dz * ya.z, x1 = x0 + len_x, y1 = y0 + len_y;
+        const VF z2 = z0 * z0;
+        const VF irx0 = 1.0f / vsqrt(z2 + x0 * x0), irx1 = 1.0f / vsqrt(z2 + x1 * x1), iry0 = 1.0f / vsqrt(z2 + y0 * y0),
+                 iry1 = 1.0f / vsqrt(z2 + y1 * y1);
+        const VF g0 = vacos(y0 * x1 * iry0 * irx1), g1 = vacos(-x1 * y1 * irx1 * iry1), g2 = vacos(x0 * y1 * iry1 * irx0),
+                 g3 = vacos(-x0 * y0 * irx0 * iry0);
+        const VF b0 = -y0 * iry0, b1 = y1 * iry1, kk = TwoPi - g2 - g3, solid_angle = g0 + g1 - kk;
+        spherical &= solid_angle > 1e-3f;
+        VF sn, cs;
+        vsincos(u0 * solid_angle + kk, sn, cs);
+        const VF fu = (cs * b0 - b1) / sn;
+        const VF cu = vmin(vmax((fu < 0.0f ? splat(-1.0f) : splat(1.0f)) / vsqrt(fu * fu + b0 * b0), splat(-1.0f)), splat(1.0f));
+        const VF xu = vmin(vmax(-(cu * z0) / vsqrt(vmax(1.0f - cu * cu, VF{})), x0), x1);
+        const VF d = vsqrt(xu * xu + z2);
+        const VF h0 = y0 / vsqrt(d * d + y0 * y0), h1 = y1 / vsqrt(d * d + y1 * y1), hv = h0 + u1 * (h1 - h0), hv2 = hv * hv;
+        const VF yv = vmin(vmax(hv2 < 1.0f - 1e-6f ? (hv * d) / vsqrt(vmax(1.0f - hv2, splat(1e-30f))) : y1, y0), y1);
+        // p + xu x + yv y + z0 z', where z' is -z when the corner lay at positive z (z0 <= 0 now).
+        const VF zx = za.x * zsign, zy = za.y * zsign, zz = za.z * zsign;
+        const VF qx = px + xu * xa.x + yv * ya.x + z0 * zx, qy = py + xu * xa.y + yv * ya.y + z0 * zy,
+                 qz = pz + xu * xa.z + yv * ya.z + z0 * zz;
+        store(&w.tx[i0], spherical ? qx : ax), store(&w.ty[i0], spherical ? qy : ay), store(&w.tz[i0], spherical ? qz : az);
+        // A one-sided light: nothing for points behind it.
+        const VI in_front = -(dx * ln.x + dy * ln.y + dz * ln.z) > 0.0f;
+        store(&w.light_pdf[i0], in_front ? (spherical ? 1.0f / solid_angle : area_pdf) : VF{});
+    });
+}
+
 // The generic variant's middle pass, one lane at a time: the numbers from Candela's sampler (the
 // path's SampleDimensions), the light sample and its density from Candela's emitter.
-void wave_samples_generic(const FloorScene& fs, Sampler& sampler, int width, int spp, WaveState& w, size_t n) {
+// With `vector_lights` the light sample is left to wave_lights_vector.
+void wave_samples_generic(const FloorScene& fs, Sampler& sampler, int width, int spp, bool vector_lights, WaveState& w, size_t n) {
     const unsigned light_geometry = unsigned(std::find(fs.emission.begin(), fs.emission.end(), fs.radiance) - fs.emission.begin());
     for (size_t i = 0; i < n; ++i) {
         const uint32_t path = w.path[i], per_row = uint32_t(width * spp);
@@ -442,17 +521,19 @@ void wave_samples_generic(const FloorScene& fs, Sampler& sampler, int width, int
         const Vec2 ud = sampler.next_2d();
         sampler.set_dimension(dims + SampleDimensions::Roulette);
         w.u0[i] = ul.x, w.u1[i] = ul.y, w.u2[i] = ud.x, w.u3[i] = ud.y, w.u4[i] = sampler.next_1d();
-        SurfaceInteraction ref;
-        ref.p = Vec3(w.px[i], w.py[i], w.pz[i]), ref.n = Vec3(w.nx[i], w.ny[i], w.nz[i]);
-        Spectrum weight;
-        const DirectionSample ds = fs.light->sample_direction(ref, ul, weight);
-        w.tx[i] = ds.p.x, w.ty[i] = ds.p.y, w.tz[i] = ds.p.z, w.light_pdf[i] = ds.pdf;
+        if (!vector_lights) {
+            SurfaceInteraction ref;
+            ref.p = Vec3(w.px[i], w.py[i], w.pz[i]), ref.n = Vec3(w.nx[i], w.ny[i], w.nz[i]);
+            Spectrum weight;
+            const DirectionSample ds = fs.light->sample_direction(ref, ul, weight);
+            w.tx[i] = ds.p.x, w.ty[i] = ds.p.y, w.tz[i] = ds.p.z, w.light_pdf[i] = ds.pdf;
+        }
         w.light_pdf_hit[i] = 0.0f;
         if (w.front[i] && w.depth[i] > 0 && w.rays[i / 16].hit.geomID[i % 16] == light_geometry) {
             SurfaceInteraction from;
             from.p = Vec3(w.from_x[i], w.from_y[i], w.from_z[i]), from.n = Vec3(w.from_nx[i], w.from_ny[i], w.from_nz[i]);
             DirectionSample at;
-            at.p = ref.p, at.n = fs.light_normal;
+            at.p = Vec3(w.px[i], w.py[i], w.pz[i]), at.n = fs.light_normal;
             const Vec3 to = at.p - from.p;
             at.dist = glm::length(to), at.d = to / at.dist;
             w.light_pdf_hit[i] = fs.light->pdf_direction(from, at);
@@ -546,7 +627,8 @@ void move_lane(WaveState& w, size_t from, size_t to) {
 // With `sampler` (a prototype to clone), the generic variant: the numbers from that sampler and
 // the light sample from Candela's emitter, lane by lane. The sampler must give a sample's numbers
 // by dimension (not a stream such as independent's), as lanes draw them one vertex at a time.
-FloorRun render_wavefront(const FloorScene& fs, int spp, const Sampler* generic, tbb::task_arena& arena) {
+// With `vector_lights`, the light sample of wave_lights_vector (the rectangle's own sampling).
+FloorRun render_wavefront(const FloorScene& fs, int spp, const Sampler* generic, bool vector_lights, tbb::task_arena& arena) {
     const Sensor& sensor = fs.scene->sensor();
     const size_t width = size_t(sensor.film().full_size().x), count = width * size_t(spp);
     std::vector<float> albedo, emission;
@@ -591,10 +673,13 @@ FloorRun render_wavefront(const FloorScene& fs, int spp, const Sampler* generic,
                 }
                 rays += (long long)n;
                 wave_hits(fs, w, n);
-                if (generic)
-                    wave_samples_generic(fs, *sampler, int(width), spp, w, n);
-                else
+                if (generic) {
+                    wave_samples_generic(fs, *sampler, int(width), spp, vector_lights, w, n);
+                    if (vector_lights) wave_lights_vector(fs, w, n);
+                } else {
                     wave_samples_floor(fs, w, n);
+                    if (vector_lights) wave_lights_vector(fs, w, n);
+                }
                 wave_shade(fs, albedo.data(), emission.data(), w, n);
                 for (size_t b = 0; b < packets; ++b) {
                     rtcInitIntersectContext(&context);
@@ -621,25 +706,29 @@ FloorRun render_wavefront(const FloorScene& fs, int spp, const Sampler* generic,
 }
 
 const char* const usage =
-    "usage: bench_floor [SCENE.xml] [--threads N] [--spp N] [--rounds N] [--sampler NAME]\n"
+    "usage: bench_floor [SCENE.xml] [--threads N] [--spp N] [--rounds N] [--sampler NAME] [--vector-lights]\n"
     "  SCENE.xml     diffuse shapes and one rectangle area light (default " CANDELA_SOURCE_DIR
     "/scenes/cbox.xml)\n"
     "  --threads N   threads (default 0: all cores)\n"
     "  --spp N       samples per pixel (default 32)\n"
     "  --rounds N    rounds of Candela's render and the floors side by side (default 3)\n"
     "  --sampler NAME  Candela's render with this sampler instead of the scene's, and the generic wavefront\n"
-    "                (run only with it; a sampler addressable by dimension: ldsampler, stratified, sobol, ...)\n";
+    "                (run only with it; a sampler addressable by dimension: ldsampler, stratified, sobol, ...)\n"
+    "  --vector-lights  the wavefronts sample the light as the rectangle does (solid angle close by), in vectors\n";
 
 int run(int argc, char** argv) {
     std::string scene_path = std::string(CANDELA_SOURCE_DIR) + "/scenes/cbox.xml";
     int threads = 0, spp = 32, rounds = 3;
     std::string sampler;
+    bool vector_lights = false;
     for (int i = 1; i < argc; ++i) {
         std::string a = argv[i];
         if (a == "--threads")
             threads = bench::int_option(argc, argv, i, 0);
         else if (a == "--spp")
             spp = bench::int_option(argc, argv, i, 1);
+        else if (a == "--vector-lights")
+            vector_lights = true;
         else if (a == "--sampler")
             sampler = bench::option_value(argc, argv, i);
         else if (a == "--rounds")
@@ -657,6 +746,8 @@ int run(int argc, char** argv) {
     options.threads = threads;
     options.sampler = sampler;
     Ref<Sampler> generic = sampler.empty() ? nullptr : configured_sampler(*scene, options);
+    if (vector_lights && std::abs(glm::dot(glm::normalize(fs.edge_x), glm::normalize(fs.edge_y))) >= 1e-4f)
+        throw std::runtime_error("--vector-lights needs a rectangle light without shear");
     const unsigned variants[] = {0u, Lights, Hits, Shadows, Lights | Hits | Shadows};
     const char* const names[] = {"floor", "+lights", "+hits", "+shadows", "+all three"};
     std::printf("scene %s, %d threads, %d spp\n", scene_path.c_str(), arena.max_concurrency(), spp);
@@ -677,7 +768,7 @@ int run(int argc, char** argv) {
             std::printf("%5d  %-12s %8.2f %10.2f %8.4f\n", round, names[v], f.mrays, f.rays_per_sample, f.mean);
         }
         for (const Sampler* with : {(const Sampler*)nullptr, (const Sampler*)generic.get()}) {
-            FloorRun f = render_wavefront(fs, spp, with, arena);
+            FloorRun f = render_wavefront(fs, spp, with, vector_lights, arena);
             ratios[with ? 6 : 5].push_back(f.mrays / path_mrays);
             std::printf("%5d  %-12s %8.2f %10.2f %8.4f\n", round, with ? "wave generic" : "wavefront", f.mrays, f.rays_per_sample, f.mean);
             if (!generic) break;
