@@ -318,6 +318,7 @@ struct WaveState {
     std::vector<int32_t> hit, front;
     std::vector<uint32_t> path, depth;
     std::vector<uint8_t> alive;
+    std::vector<SamplerState> sampler_state;  // the generic variant's: where each path's sample stands
     void resize(size_t n) {
         size_t packets = (n + 15) / 16, lanes = packets * 16;
         rays.resize(packets), shadows.resize(packets), valid.resize(packets), shadow_valid.resize(packets);
@@ -325,7 +326,7 @@ struct WaveState {
                         &from_y, &from_z, &from_nx, &from_ny, &from_nz, &px,  &py,       &pz,    &nx,        &ny,           &nz,
                         &u0,     &u1,     &u2,      &u3,      &u4,      &tx,  &ty,       &tz,    &light_pdf, &light_pdf_hit})
             v->resize(lanes);
-        hit.resize(lanes), front.resize(lanes), path.resize(lanes), depth.resize(lanes), alive.resize(lanes);
+        hit.resize(lanes), front.resize(lanes), path.resize(lanes), depth.resize(lanes), alive.resize(lanes), sampler_state.resize(lanes);
     }
 };
 
@@ -509,11 +510,10 @@ void wave_lights_vector(const FloorScene& fs, WaveState& w, size_t n) {
 // The generic variant's middle pass, one lane at a time: the numbers from Candela's sampler (the
 // path's SampleDimensions), the light sample and its density from Candela's emitter.
 // With `vector_lights` the light sample is left to wave_lights_vector.
-void wave_samples_generic(const FloorScene& fs, Sampler& sampler, int width, int spp, bool vector_lights, WaveState& w, size_t n) {
+void wave_samples_generic(const FloorScene& fs, Sampler& sampler, bool vector_lights, WaveState& w, size_t n) {
     const unsigned light_geometry = unsigned(std::find(fs.emission.begin(), fs.emission.end(), fs.radiance) - fs.emission.begin());
     for (size_t i = 0; i < n; ++i) {
-        const uint32_t path = w.path[i], per_row = uint32_t(width * spp);
-        sampler.start(Vec2i(int(path % per_row) / spp, int(path / per_row)), path % uint32_t(spp));
+        sampler.restore(w.sampler_state[i]);
         const uint32_t dims = SampleDimensions::bounce(w.depth[i]);
         sampler.set_dimension(dims + SampleDimensions::LightPosition);
         const Vec2 ul = sampler.next_2d();
@@ -521,6 +521,7 @@ void wave_samples_generic(const FloorScene& fs, Sampler& sampler, int width, int
         const Vec2 ud = sampler.next_2d();
         sampler.set_dimension(dims + SampleDimensions::Roulette);
         w.u0[i] = ul.x, w.u1[i] = ul.y, w.u2[i] = ud.x, w.u3[i] = ud.y, w.u4[i] = sampler.next_1d();
+        sampler.save(w.sampler_state[i]);
         if (!vector_lights) {
             SurfaceInteraction ref;
             ref.p = Vec3(w.px[i], w.py[i], w.pz[i]), ref.n = Vec3(w.nx[i], w.ny[i], w.nz[i]);
@@ -619,14 +620,14 @@ void move_lane(WaveState& w, size_t from, size_t to) {
     b.dir_x[j] = a.dir_x[i], b.dir_y[j] = a.dir_y[i], b.dir_z[j] = a.dir_z[i];
     w.beta_r[to] = w.beta_r[from], w.beta_g[to] = w.beta_g[from], w.beta_b[to] = w.beta_b[from];
     w.L_r[to] = w.L_r[from], w.L_g[to] = w.L_g[from], w.L_b[to] = w.L_b[from];
-    w.bsdf_pdf[to] = w.bsdf_pdf[from], w.path[to] = w.path[from], w.depth[to] = w.depth[from];
+    w.bsdf_pdf[to] = w.bsdf_pdf[from], w.path[to] = w.path[from], w.depth[to] = w.depth[from], w.sampler_state[to] = w.sampler_state[from];
     w.from_x[to] = w.from_x[from], w.from_y[to] = w.from_y[from], w.from_z[to] = w.from_z[from];
     w.from_nx[to] = w.from_nx[from], w.from_ny[to] = w.from_ny[from], w.from_nz[to] = w.from_nz[from];
 }
 
 // With `sampler` (a prototype to clone), the generic variant: the numbers from that sampler and
-// the light sample from Candela's emitter, lane by lane. The sampler must give a sample's numbers
-// by dimension (not a stream such as independent's), as lanes draw them one vertex at a time.
+// the light sample from Candela's emitter, lane by lane. One sampler serves a thread's lanes: each
+// lane keeps where its sample stands (Sampler::save) and restores it before its next numbers.
 // With `vector_lights`, the light sample of wave_lights_vector (the rectangle's own sampling).
 FloorRun render_wavefront(const FloorScene& fs, int spp, const Sampler* generic, bool vector_lights, tbb::task_arena& arena) {
     const Sensor& sensor = fs.scene->sensor();
@@ -648,6 +649,7 @@ FloorRun render_wavefront(const FloorScene& fs, int spp, const Sampler* generic,
                 if (generic) {
                     sampler->start(Vec2i(int(x), int(y)), uint32_t(i % size_t(spp)));
                     film = sampler->next_2d();
+                    sampler->save(w.sampler_state[i]);
                 }
                 Ray ray = sensor.sample_ray(Vec2(x, float(y)) + film, Vec2(0.5f));
                 RTCRay16& r = w.rays[i / 16].ray;
@@ -674,7 +676,7 @@ FloorRun render_wavefront(const FloorScene& fs, int spp, const Sampler* generic,
                 rays += (long long)n;
                 wave_hits(fs, w, n);
                 if (generic) {
-                    wave_samples_generic(fs, *sampler, int(width), spp, vector_lights, w, n);
+                    wave_samples_generic(fs, *sampler, vector_lights, w, n);
                     if (vector_lights) wave_lights_vector(fs, w, n);
                 } else {
                     wave_samples_floor(fs, w, n);
@@ -713,7 +715,7 @@ const char* const usage =
     "  --spp N       samples per pixel (default 32)\n"
     "  --rounds N    rounds of Candela's render and the floors side by side (default 3)\n"
     "  --sampler NAME  Candela's render with this sampler instead of the scene's, and the generic wavefront\n"
-    "                (run only with it; a sampler addressable by dimension: ldsampler, stratified, sobol, ...)\n"
+    "                (run only with it)\n"
     "  --vector-lights  the wavefronts sample the light as the rectangle does (solid angle close by), in vectors\n";
 
 int run(int argc, char** argv) {

@@ -68,6 +68,16 @@ public:
         }
     }
 
+    // The generator's whole state, to be set again later (a sampler's save and restore).
+    void get_state(uint64_t& state, uint64_t& inc) const {
+        state = state_;
+        inc = inc_;
+    }
+    void set_state(uint64_t state, uint64_t inc) {
+        state_ = state;
+        inc_ = inc;
+    }
+
 private:
     uint64_t state_ = 0, inc_ = 1;
 };

@@ -18,6 +18,15 @@ namespace candela {
 
 class Properties;
 
+// Where one sample stands in its sampler: what start() set and the next dimension, with what the
+// sampler derived from them (a hashed sequence, a generator's state) in `words`. Only the sampler
+// that saved it reads it.
+struct SamplerState {
+    Vec2i pixel{0};
+    uint32_t index = 0, dimension = 0;
+    uint64_t words[2] = {0, 0};
+};
+
 class Sampler : public Object {
 public:
     ObjectKind kind() const override { return ObjectKind::Sampler; }
@@ -47,7 +56,24 @@ public:
         if (index >= uint32_t(sample_count_) || pixel.x < -film_border_ || pixel.y < -film_border_ ||
             pixel.x >= film_size_.x + film_border_ || pixel.y >= film_size_.y + film_border_)
             refuse_start(pixel, index);
+        started_pixel_ = pixel;
+        started_index_ = index;
         start_sample(pixel, index);
+    }
+    // For integrators that advance many samples in turn (a wavefront), one sampler serving them
+    // all: save() where a sample stands (after start() and any draws) and restore() it later to go
+    // on exactly there, the next numbers bit for bit those it would have drawn. The default keeps
+    // the pixel, index and dimension and restores by start() and set_dimension(): right for every
+    // sampler whose numbers depend on the dimension and not on the draws before. Stream samplers
+    // (independent) must override both; others may, to skip start()'s hashing.
+    virtual void save(SamplerState& state) const {
+        state.pixel = started_pixel_;
+        state.index = started_index_;
+        state.dimension = dimension_;
+    }
+    virtual void restore(const SamplerState& state) {
+        start(state.pixel, state.index);
+        dimension_ = state.dimension;
     }
     // Continues at dimension `d` (see SampleDimensions).
     void set_dimension(uint32_t d) { dimension_ = d; }
@@ -74,6 +100,8 @@ protected:
     int sample_count_ = 4;
     uint64_t seed_ = 0;
     uint32_t dimension_ = 0;  // the next dimension handed out
+    Vec2i started_pixel_{0};  // what start() was last given (save())
+    uint32_t started_index_ = 0;
     Vec2i film_size_{1};
     int film_border_ = 0;
 

@@ -22,6 +22,18 @@ public:
         return Vec2(a, rng_.next_float());
     }
 
+    // A stream: its state is the generator's, not the dimension.
+    void save(SamplerState& state) const override {
+        Sampler::save(state);
+        rng_.get_state(state.words[0], state.words[1]);
+    }
+    void restore(const SamplerState& state) override {
+        started_pixel_ = state.pixel;
+        started_index_ = state.index;
+        dimension_ = state.dimension;
+        rng_.set_state(state.words[0], state.words[1]);
+    }
+
 protected:
     void start_sample(const Vec2i& pixel, uint32_t index) override { seed_for_sample(rng_, seed_, pixel, index); }
 

@@ -20,20 +20,23 @@ public:
     // Sample indices are permuted over the strata per dimension (above).
     bool stratified_only_as_a_whole() const override { return true; }
 
+    // The sample's sequence and key are saved as well, so that restore() hashes nothing.
+    void save(SamplerState& state) const override {
+        Sampler::save(state);
+        state.words[0] = sequence_;
+        state.words[1] = sample_key_;
+    }
+    void restore(const SamplerState& state) override {
+        started_pixel_ = state.pixel;
+        started_index_ = state.index;
+        enter(state.words[0], state.index, state.words[1]);
+        dimension_ = state.dimension;
+    }
+
 protected:
     void start_sample(const Vec2i& pixel, uint32_t index) override {
-        uint64_t sequence = hash_combine(seed_, pixel_key(pixel));
-        // A pixel's samples come one after another (the pixel loop), so what depends only on the
-        // pixel's sequence is kept until the next pixel: the dimension seeds (below) and what a
-        // sampler computes in sequence_changed().
-        if (seeds_.keep_for(sequence)) {
-            sequence_ = sequence;
-            sequence_changed();
-        }
-        // Whatever changed the count (set_sample_count), the divisor follows it.
-        if (count_divisor_.n != uint32_t(sample_count_)) count_divisor_ = Divisor(uint32_t(sample_count_));
-        index_ = index;
-        sample_key_ = hash_combine(sequence_, index_);
+        const uint64_t sequence = hash_combine(seed_, pixel_key(pixel));
+        enter(sequence, index, hash_combine(sequence, index));
         dimension_ = 0;
     }
     // Reads sample_count (in [1, 2^30], default 4) and seed (default 0), then rounds the count with
@@ -68,6 +71,20 @@ protected:
     Divisor count_divisor_;    // sample_count_, for permute_index over the pixel's sample indices
 
 private:
+    // Makes sample `index` of the pixel with `sequence` (and key hash_combine(sequence, index))
+    // the current one. A pixel's samples come one after another (the pixel loop), so what depends
+    // only on the pixel's sequence is kept until the next pixel: the dimension seeds (below) and
+    // what a sampler computes in sequence_changed().
+    void enter(uint64_t sequence, uint32_t index, uint64_t sample_key) {
+        if (seeds_.keep_for(sequence)) {
+            sequence_ = sequence;
+            sequence_changed();
+        }
+        // Whatever changed the count (set_sample_count), the divisor follows it.
+        if (count_divisor_.n != uint32_t(sample_count_)) count_divisor_ = Divisor(uint32_t(sample_count_));
+        index_ = index;
+        sample_key_ = sample_key;
+    }
     // The current pixel's dimension_seed() values, by key dim * 8 + salt (dimensions below 64),
     // kept for the pixel's sequence.
     mutable KeptPerPixel<uint64_t, uint32_t, 64 * 8> seeds_;

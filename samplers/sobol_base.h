@@ -22,6 +22,10 @@ public:
     // (bench/bench_adaptive, Cornell box): adaptive sampling still reached uniform's error with
     // 0.87 to 0.98 of the samples. zsobol, which shares this, was not measured.
     bool stratified_only_as_a_whole() const override { return false; }
+    // sobol and zsobol derive more per sample than the pixel sequence's save() keeps (their
+    // point's index and what is kept per pixel for it): they restore by start().
+    void save(SamplerState& state) const override { Sampler::save(state); }
+    void restore(const SamplerState& state) override { Sampler::restore(state); }
 
 protected:
     int round_sample_count(int spp) override {

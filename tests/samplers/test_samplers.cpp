@@ -363,6 +363,56 @@ TEST_CASE("samplers: skip_1d passes over one number and leaves every later numbe
     }
 }
 
+TEST_CASE("samplers: restore() continues a saved sample bit for bit, with other samples drawn in between", "[sampler][determinism]") {
+    // A wavefront advances many samples in turn through one sampler: each lane saves where its
+    // sample stands and restores it before its next numbers (as bench_floor's generic wave does).
+    for (const std::string& name : AllSamplers) {
+        INFO(name);
+        Ref<Sampler> s = make_sampler(name, 16, Vec2i(16));
+        const auto a = draw(*s, Vec2i(4, 9), 5), b = draw(*s, Vec2i(11, 2), 15);
+        // The two samples drawn in turn, saved and restored between every call (draw()'s order).
+        SamplerState state_a, state_b;
+        s->start(Vec2i(4, 9), 5);
+        s->save(state_a);
+        s->start(Vec2i(11, 2), 15);
+        s->save(state_b);
+        std::array<float, Dims> got_a{}, got_b{};
+        auto step = [&](SamplerState& state, std::array<float, Dims>& got, int k) {
+            s->restore(state);
+            if (k == 0 || k == 3 || k == 7) {
+                Vec2 v = s->next_2d();
+                got[size_t(k)] = v.x, got[size_t(k) + 1] = v.y;
+            } else {
+                got[size_t(k)] = s->next_1d();
+            }
+            s->save(state);
+        };
+        for (int k : {0, 2, 3, 5, 6, 7, 9}) {
+            step(state_a, got_a, k);
+            step(state_b, got_b, k);
+        }
+        CHECK(got_a == a);
+        CHECK(got_b == b);
+        // A clone restores what another sampler saved, and a restored sample goes on at any
+        // dimension (the path's layout jumps), beyond the kept ones too.
+        for (uint32_t dim : {3u, 70u, 300u}) {
+            Ref<Sampler> copy = s->clone();
+            Ref<Sampler> fresh = make_sampler(name, 16, Vec2i(16));
+            fresh->start(Vec2i(4, 9), 5);
+            s->start(Vec2i(4, 9), 5);
+            s->next_2d();
+            s->save(state_a);
+            fresh->next_2d();
+            copy->restore(state_a);
+            CHECK(copy->dimension() == fresh->dimension());
+            copy->set_dimension(dim);
+            fresh->set_dimension(dim);
+            CHECK(copy->next_2d() == fresh->next_2d());
+            CHECK(copy->next_1d() == fresh->next_1d());
+        }
+    }
+}
+
 TEST_CASE("samplers: sample counts round as Mitsuba (pbrt-v4 for sobol and zsobol) does, with a warning at the sampler", "[sampler]") {
     struct Case {
         std::string xml;
