@@ -34,6 +34,7 @@
 #include "core/shape.h"
 #include "core/warp.h"
 #include "core/xml.h"
+#include "integrators/direct_lighting.h"
 
 #include <embree3/rtcore.h>
 #include <immintrin.h>
@@ -612,6 +613,88 @@ void wave_shade(const FloorScene& fs, const float* albedo, const float* emission
     });
 }
 
+// The generic wave with Candela's shading as well (--candela-shading), one lane at a time after the
+// packets are traced: the hit record (Shape::fill_interaction), the emission found with its MIS
+// weight from the emitter's density, the sampler's numbers, the light sample, the BSDF's eval_pdf
+// and sample, and robust shadow and extension rays (shadow_ray, spawn_ray), all through their
+// scalar interfaces; only the rays stay packets. What a first wavefront `path` built on the scalar
+// plugins would cost.
+void wave_candela(const FloorScene& fs, Sampler& sampler, WaveState& w, size_t n) {
+    for (size_t i = 0; i < n; ++i) {
+        RTCRayHit16& rh = w.rays[i / 16];
+        RTCRay16& sh = w.shadows[i / 16];
+        const size_t l = i % 16;
+        w.shadow_valid[i / 16].lane[l] = 0;
+        w.nee_r[i] = w.nee_g[i] = w.nee_b[i] = 0.0f;
+        w.alive[i] = 0;
+        const Shape* shape = fs.scene->accel().shape(rh.hit.geomID[l]);
+        if (!shape) continue;
+        const Ray ray(Vec3(rh.ray.org_x[l], rh.ray.org_y[l], rh.ray.org_z[l]), Vec3(rh.ray.dir_x[l], rh.ray.dir_y[l], rh.ray.dir_z[l]));
+        RayHit hit;
+        hit.t = rh.ray.tfar[l], hit.prim_index = rh.hit.primID[l], hit.u = rh.hit.u[l], hit.v = rh.hit.v[l];
+        SurfaceInteraction si;
+        si.shape = shape;
+        shape->fill_interaction(ray, hit, si);
+        si.prim_index = hit.prim_index, si.prim_uv = Vec2(hit.u, hit.v), si.t = hit.t, si.wi = si.to_local(-ray.d);
+        Spectrum beta(w.beta_r[i], w.beta_g[i], w.beta_b[i]), L(w.L_r[i], w.L_g[i], w.L_b[i]);
+        const uint32_t depth = w.depth[i];
+        if (const Emitter* emitter = shape->emitter()) {
+            const Spectrum Le = emitter->eval(si);
+            float mis = 1.0f;
+            if (depth > 0 && !is_black(Le)) {
+                SurfaceInteraction from;
+                from.p = Vec3(w.from_x[i], w.from_y[i], w.from_z[i]), from.n = Vec3(w.from_nx[i], w.from_ny[i], w.from_nz[i]);
+                DirectionSample at;
+                at.p = si.p, at.n = si.shading.n;
+                const Vec3 to = si.p - from.p;
+                at.dist = glm::length(to), at.d = to / at.dist;
+                mis = power_heuristic(w.bsdf_pdf[i], emitter->pdf_direction(from, at));
+            }
+            L += beta * Le * mis;
+        }
+        sampler.restore(w.sampler_state[i]);
+        const uint32_t dims = SampleDimensions::bounce(depth);
+        sampler.set_dimension(dims + SampleDimensions::LightPosition);
+        const Vec2 u_light = sampler.next_2d();
+        sampler.set_dimension(dims + SampleDimensions::Direction);
+        const Vec2 u_direction = sampler.next_2d();
+        sampler.set_dimension(dims + SampleDimensions::Roulette);
+        const float u_roulette = sampler.next_1d();
+        sampler.save(w.sampler_state[i]);
+        const BSDF& bsdf = *shape->bsdf();
+        Spectrum weight(0.0f);
+        const DirectionSample ds = fs.light->sample_direction(si, u_light, weight);
+        if (ds.pdf > 0.0f && !is_black(weight)) {
+            const BSDFEvalPdf f = bsdf.eval_pdf(BSDFContext(), si, si.to_local(ds.d));
+            if (!is_black(f.value)) {
+                const Ray r = shadow_ray(si, ds);
+                sh.org_x[l] = r.o.x, sh.org_y[l] = r.o.y, sh.org_z[l] = r.o.z, sh.dir_x[l] = r.d.x, sh.dir_y[l] = r.d.y,
+                sh.dir_z[l] = r.d.z;
+                sh.tnear[l] = r.tmin, sh.tfar[l] = r.tmax, sh.time[l] = 0.0f, sh.mask[l] = 0xFFFFFFFFu, sh.id[l] = 0u, sh.flags[l] = 0u;
+                w.shadow_valid[i / 16].lane[l] = -1;
+                const Spectrum c = beta * f.value * weight * power_heuristic(ds.pdf, f.pdf);
+                w.nee_r[i] = c.x, w.nee_g[i] = c.y, w.nee_b[i] = c.z;
+            }
+        }
+        w.L_r[i] = L.x, w.L_g[i] = L.y, w.L_b[i] = L.z;
+        const BSDFSample bs = bsdf.sample(BSDFContext(), si, 0.0f, u_direction);
+        if (!bs.valid() || is_black(bs.weight)) continue;
+        beta *= bs.weight;
+        // Russian roulette from depth 5, as the floor.
+        const float q = depth + 1 >= 5 ? std::min(max_component(beta), 0.95f) : 1.0f;
+        if (!(u_roulette < q)) continue;
+        beta /= q;
+        const Ray next = si.spawn_ray(si.to_world(bs.wo));
+        rh.ray.org_x[l] = next.o.x, rh.ray.org_y[l] = next.o.y, rh.ray.org_z[l] = next.o.z;
+        rh.ray.dir_x[l] = next.d.x, rh.ray.dir_y[l] = next.d.y, rh.ray.dir_z[l] = next.d.z;
+        w.beta_r[i] = beta.x, w.beta_g[i] = beta.y, w.beta_b[i] = beta.z;
+        w.bsdf_pdf[i] = bs.pdf, w.depth[i] = depth + 1;
+        w.from_x[i] = si.p.x, w.from_y[i] = si.p.y, w.from_z[i] = si.p.z, w.from_nx[i] = si.n.x, w.from_ny[i] = si.n.y,
+        w.from_nz[i] = si.n.z;
+        w.alive[i] = 1;
+    }
+}
+
 // Moves lane `from` to lane `to` (to <= from): what the next bounce reads.
 void move_lane(WaveState& w, size_t from, size_t to) {
     RTCRay16 &a = w.rays[from / 16].ray, &b = w.rays[to / 16].ray;
@@ -629,7 +712,9 @@ void move_lane(WaveState& w, size_t from, size_t to) {
 // the light sample from Candela's emitter, lane by lane. One sampler serves a thread's lanes: each
 // lane keeps where its sample stands (Sampler::save) and restores it before its next numbers.
 // With `vector_lights`, the light sample of wave_lights_vector (the rectangle's own sampling).
-FloorRun render_wavefront(const FloorScene& fs, int spp, const Sampler* generic, bool vector_lights, tbb::task_arena& arena) {
+// With `candela_shading` (and `generic`), the bounce is wave_candela's.
+FloorRun render_wavefront(const FloorScene& fs, int spp, const Sampler* generic, bool vector_lights, bool candela_shading,
+                          tbb::task_arena& arena) {
     const Sensor& sensor = fs.scene->sensor();
     const size_t width = size_t(sensor.film().full_size().x), count = width * size_t(spp);
     std::vector<float> albedo, emission;
@@ -674,15 +759,17 @@ FloorRun render_wavefront(const FloorScene& fs, int spp, const Sampler* generic,
                     rtcIntersect16(w.valid[b].lane, fs.embree, &context, &rh);
                 }
                 rays += (long long)n;
-                wave_hits(fs, w, n);
-                if (generic) {
-                    wave_samples_generic(fs, *sampler, vector_lights, w, n);
-                    if (vector_lights) wave_lights_vector(fs, w, n);
+                if (generic && candela_shading) {
+                    wave_candela(fs, *sampler, w, n);
                 } else {
-                    wave_samples_floor(fs, w, n);
+                    wave_hits(fs, w, n);
+                    if (generic)
+                        wave_samples_generic(fs, *sampler, vector_lights, w, n);
+                    else
+                        wave_samples_floor(fs, w, n);
                     if (vector_lights) wave_lights_vector(fs, w, n);
+                    wave_shade(fs, albedo.data(), emission.data(), w, n);
                 }
-                wave_shade(fs, albedo.data(), emission.data(), w, n);
                 for (size_t b = 0; b < packets; ++b) {
                     rtcInitIntersectContext(&context);
                     rtcOccluded16(w.shadow_valid[b].lane, fs.embree, &context, &w.shadows[b]);
@@ -716,13 +803,14 @@ const char* const usage =
     "  --rounds N    rounds of Candela's render and the floors side by side (default 3)\n"
     "  --sampler NAME  Candela's render with this sampler instead of the scene's, and the generic wavefront\n"
     "                (run only with it)\n"
-    "  --vector-lights  the wavefronts sample the light as the rectangle does (solid angle close by), in vectors\n";
+    "  --vector-lights  the wavefronts sample the light as the rectangle does (solid angle close by), in vectors\n"
+    "  --candela-shading  the generic wavefront shades with Candela's hit records, emitter, BSDF and rays, lane by lane\n";
 
 int run(int argc, char** argv) {
     std::string scene_path = std::string(CANDELA_SOURCE_DIR) + "/scenes/cbox.xml";
     int threads = 0, spp = 32, rounds = 3;
     std::string sampler;
-    bool vector_lights = false;
+    bool vector_lights = false, candela_shading = false;
     for (int i = 1; i < argc; ++i) {
         std::string a = argv[i];
         if (a == "--threads")
@@ -731,6 +819,8 @@ int run(int argc, char** argv) {
             spp = bench::int_option(argc, argv, i, 1);
         else if (a == "--vector-lights")
             vector_lights = true;
+        else if (a == "--candela-shading")
+            candela_shading = true;
         else if (a == "--sampler")
             sampler = bench::option_value(argc, argv, i);
         else if (a == "--rounds")
@@ -770,7 +860,7 @@ int run(int argc, char** argv) {
             std::printf("%5d  %-12s %8.2f %10.2f %8.4f\n", round, names[v], f.mrays, f.rays_per_sample, f.mean);
         }
         for (const Sampler* with : {(const Sampler*)nullptr, (const Sampler*)generic.get()}) {
-            FloorRun f = render_wavefront(fs, spp, with, vector_lights, arena);
+            FloorRun f = render_wavefront(fs, spp, with, vector_lights, candela_shading, arena);
             ratios[with ? 6 : 5].push_back(f.mrays / path_mrays);
             std::printf("%5d  %-12s %8.2f %10.2f %8.4f\n", round, with ? "wave generic" : "wavefront", f.mrays, f.rays_per_sample, f.mean);
             if (!generic) break;
