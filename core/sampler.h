@@ -102,6 +102,12 @@ protected:
     uint32_t dimension_ = 0;  // the next dimension handed out
     Vec2i started_pixel_{0};  // what start() was last given (save())
     uint32_t started_index_ = 0;
+    // The part of restore() every override shares: the sample's pixel, index and next dimension.
+    void restore_position(const SamplerState& state) {
+        started_pixel_ = state.pixel;
+        started_index_ = state.index;
+        dimension_ = state.dimension;
+    }
     Vec2i film_size_{1};
     int film_border_ = 0;
 

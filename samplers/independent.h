@@ -28,9 +28,7 @@ public:
         rng_.get_state(state.words[0], state.words[1]);
     }
     void restore(const SamplerState& state) override {
-        started_pixel_ = state.pixel;
-        started_index_ = state.index;
-        dimension_ = state.dimension;
+        restore_position(state);
         rng_.set_state(state.words[0], state.words[1]);
     }
 

@@ -27,10 +27,8 @@ public:
         state.words[1] = sample_key_;
     }
     void restore(const SamplerState& state) override {
-        started_pixel_ = state.pixel;
-        started_index_ = state.index;
         enter(state.words[0], state.index, state.words[1]);
-        dimension_ = state.dimension;
+        restore_position(state);
     }
 
 protected:
