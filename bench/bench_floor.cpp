@@ -1,7 +1,8 @@
 // bench_floor: the floor under the path tracer's time per ray, and what each piece of
 // Candela's generality adds to it.
 //
-//   bench_floor [SCENE.xml] [--threads N] [--spp N] [--rounds N]
+//   bench_floor [SCENE.xml] [--threads N] [--spp N] [--rounds N] [--sampler NAME] [--vector-lights]
+//               [--candela-shading]
 //
 // The floor is a minimal path tracer written for one kind of scene only: diffuse BSDFs of
 // constant reflectance and one rectangle area light of constant radiance (the Cornell box). It
@@ -15,10 +16,13 @@
 //   hits     Scene::intersect (the hit's SurfaceInteraction: shading frame, uv, error bounds)
 //   shadows  shadow rays through Scene::transmittance, offset by both ends' error bounds
 // and a fourth puts all three in. A sixth, the wavefront floor (below), is the floor rebuilt as a
-// wavefront: 16-ray packets and shading written for vectors. Each round renders the scene with
-// Candela's integrator and then the six floors, side by side; it prints rays per second, rays per sample and image means (the
-// same estimand: they agree to the noise) and, last, the medians of each floor's Mrays/s over
-// Candela's. Issue 34 asks the path tracer for 0.85 of raw Embree's rate (bench_throughput);
+// wavefront: 16-ray packets and shading written for vectors. With --sampler a seventh, the generic
+// wave, takes its numbers from Candela's sampler and its light sample from Candela's emitter, lane
+// by lane (--vector-lights: the rectangle's sampling in vectors instead, in both waves;
+// --candela-shading: every lane shaded through Candela's scalar interfaces). Each round renders
+// the scene with Candela's integrator and then the floors, side by side; it prints rays per
+// second, rays per sample and image means (the same estimand: they agree to the noise) and, last,
+// the medians of each floor's Mrays/s over Candela's. Issue 34 asks the path tracer for 0.85 of raw Embree's rate (bench_throughput);
 // the floor says how much of the rest is Embree and how much is shading.
 // It prints figures and asserts nothing. Scenes of any other kind are refused, with the reason.
 
