@@ -385,6 +385,8 @@ inline VI load(const int32_t* p) {
 //            cosine-weighted BSDF sample (the concentric disk with both of its cases computed and
 //            one selected, Candela's polynomial sine and cosine) and the roulette.
 // Vertex k draws its own dimensions: light point (2), direction (2), roulette.
+// for_lanes calls pass(packet, first lane within it, first lane overall, mask of the Width lanes
+// below n) for each group of Width lanes.
 template <class Pass>
 void for_lanes(size_t n, const Pass& pass) {
     for (size_t i0 = 0; i0 < n; i0 += Width) {
