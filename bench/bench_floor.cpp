@@ -39,16 +39,18 @@
 #include "core/warp.h"
 #include "core/xml.h"
 #include "integrators/direct_lighting.h"
+#include "lights/light_sampler.h"
 
 #include <embree3/rtcore.h>
 #include <immintrin.h>
 #include <tbb/task_arena.h>
-#include <cstring>
 
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -65,6 +67,7 @@ struct FloorScene {
     RTCScene embree = nullptr;
     std::vector<Spectrum> albedo, emission;
     const Shape* light_shape = nullptr;
+    unsigned light_geometry = 0;  // its Embree geometry id
     const Emitter* light = nullptr;
     Spectrum radiance{0.0f};
     Vec3 corner{0.0f}, edge_x{0.0f}, edge_y{0.0f}, light_normal{0.0f};
@@ -91,6 +94,7 @@ FloorScene describe(const Scene& scene) {
         if (fs.light || shape->to_string() != "rectangle" || shape->emitter()->to_string() != "area")
             throw std::runtime_error("the scene needs exactly one light, an area rectangle");
         fs.light_shape = shape;
+        fs.light_geometry = id;
         fs.light = shape->emitter();
         fs.radiance = fs.emission.back() = shape->emitter()->eval(probe);
         probe.uv = Vec2(0.25f, 0.75f);
@@ -292,6 +296,7 @@ FloorRun render_floor(const FloorScene& fs, unsigned pieces, int spp, tbb::task_
 // Debian's Embree before any of Candela's generality is put back.
 
 // A 32-bit integer hash (Wellons' "lowbias32"), for one number (uint32_t) or a vector of them (VU).
+// Not core/rng.h's 64-bit mixers: 64-bit multiplies have no SSE2 instruction, 32-bit ones do.
 template <class U>
 U hash32(U x) {
     x ^= x >> 16;
@@ -301,9 +306,13 @@ U hash32(U x) {
     x ^= x >> 16;
     return x;
 }
-inline float hashed_float(uint32_t path, uint32_t dim) {
-    return float(hash32(path * 0x9e3779b9u + hash32(dim + 0x632be5abu)) >> 8) * 0x1p-24f;
+// The 24 bits of path `path`'s number in dimension `dim` (hashed_float and vhashed_float scale them
+// to [0, 1)).
+template <class U>
+U hashed_bits(U path, U dim) {
+    return hash32(path * 0x9e3779b9u + hash32(dim + 0x632be5abu)) >> 8;
 }
+inline float hashed_float(uint32_t path, uint32_t dim) { return float(hashed_bits(path, dim)) * 0x1p-24f; }
 
 // Embree reads a packet's valid mask with aligned vector loads.
 struct alignas(64) ValidMask16 {
@@ -335,6 +344,12 @@ struct WaveState {
     }
 };
 
+// Lane l of a packet takes `ray`'s origin and direction.
+void put_ray(RTCRay16& packet, size_t l, const Ray& ray) {
+    packet.org_x[l] = ray.o.x, packet.org_y[l] = ray.o.y, packet.org_z[l] = ray.o.z;
+    packet.dir_x[l] = ray.d.x, packet.dir_y[l] = ray.d.y, packet.dir_z[l] = ray.d.z;
+}
+
 // Four lanes as one SSE vector; comparisons give lane masks, `mask ? a : b` selects.
 typedef float VF __attribute__((vector_size(16)));
 typedef int32_t VI __attribute__((vector_size(16)));
@@ -351,7 +366,13 @@ inline VU load(const uint32_t* p) {
     std::memcpy(&v, p, sizeof v);
     return v;
 }
+inline VI load(const int32_t* p) {
+    VI v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
 inline void store(float* p, const VF& v) { std::memcpy(p, &v, sizeof v); }
+inline void store(int32_t* p, const VI& v) { std::memcpy(p, &v, sizeof v); }
 inline VF splat(float x) { return VF{} + x; }
 inline VF vsqrt(const VF& v) {
     __m128 q;
@@ -364,16 +385,7 @@ inline VF vsqrt(const VF& v) {
 inline VF vmin(const VF& a, const VF& b) { return a < b ? a : b; }
 inline VF vmax(const VF& a, const VF& b) { return a > b ? a : b; }
 inline VF vabs(const VF& a) { return a < 0.0f ? -a : a; }
-inline VF vhashed_float(const VU& path, const VU& dim) {
-    return __builtin_convertvector(hash32(path * 0x9e3779b9u + hash32(dim + 0x632be5abu)) >> 8, VF) * 0x1p-24f;
-}
-
-inline void store(int32_t* p, const VI& v) { std::memcpy(p, &v, sizeof v); }
-inline VI load(const int32_t* p) {
-    VI v;
-    std::memcpy(&v, p, sizeof v);
-    return v;
-}
+inline VF vhashed_float(const VU& path, const VU& dim) { return __builtin_convertvector(hashed_bits(path, dim), VF) * 0x1p-24f; }
 
 // A bounce of lanes [0, n), after their extension rays were traced, in three passes:
 //   hits     (vector) the hit point and the normal on the side the ray came from;
@@ -518,7 +530,6 @@ void wave_lights_vector(const FloorScene& fs, WaveState& w, size_t n) {
 // path's SampleDimensions), the light sample and its density from Candela's emitter.
 // With `vector_lights` the light sample is left to wave_lights_vector.
 void wave_samples_generic(const FloorScene& fs, Sampler& sampler, bool vector_lights, WaveState& w, size_t n) {
-    const unsigned light_geometry = unsigned(std::find(fs.emission.begin(), fs.emission.end(), fs.radiance) - fs.emission.begin());
     for (size_t i = 0; i < n; ++i) {
         sampler.restore(w.sampler_state[i]);
         const uint32_t dims = SampleDimensions::bounce(w.depth[i]);
@@ -537,7 +548,7 @@ void wave_samples_generic(const FloorScene& fs, Sampler& sampler, bool vector_li
             w.tx[i] = ds.p.x, w.ty[i] = ds.p.y, w.tz[i] = ds.p.z, w.light_pdf[i] = ds.pdf;
         }
         w.light_pdf_hit[i] = 0.0f;
-        if (w.front[i] && w.depth[i] > 0 && w.rays[i / 16].hit.geomID[i % 16] == light_geometry) {
+        if (w.front[i] && w.depth[i] > 0 && w.rays[i / 16].hit.geomID[i % 16] == fs.light_geometry) {
             SurfaceInteraction from;
             from.p = Vec3(w.from_x[i], w.from_y[i], w.from_z[i]), from.n = Vec3(w.from_nx[i], w.from_ny[i], w.from_nz[i]);
             DirectionSample at;
@@ -623,9 +634,10 @@ void wave_shade(const FloorScene& fs, const float* albedo, const float* emission
 // packets are traced: the hit record (Shape::fill_interaction), the emission found with its MIS
 // weight from the emitter's density, the sampler's numbers, the light sample, the BSDF's eval_pdf
 // and sample, and robust shadow and extension rays (shadow_ray, spawn_ray), all through their
-// scalar interfaces; only the rays stay packets. What a first wavefront `path` built on the scalar
+// scalar interfaces (the emission's weight is the path tracer's own emitter_hit_weight, with the
+// scene's default light sampler); only the rays stay packets. What a first wavefront `path` built on the scalar
 // plugins would cost.
-void wave_candela(const FloorScene& fs, Sampler& sampler, WaveState& w, size_t n) {
+void wave_candela(const FloorScene& fs, const LightSampler& lights, Sampler& sampler, WaveState& w, size_t n) {
     for (size_t i = 0; i < n; ++i) {
         RTCRayHit16& rh = w.rays[i / 16];
         RTCRay16& sh = w.shadows[i / 16];
@@ -650,11 +662,7 @@ void wave_candela(const FloorScene& fs, Sampler& sampler, WaveState& w, size_t n
             if (depth > 0 && !is_black(Le)) {
                 SurfaceInteraction from;
                 from.p = Vec3(w.from_x[i], w.from_y[i], w.from_z[i]), from.n = Vec3(w.from_nx[i], w.from_ny[i], w.from_nz[i]);
-                DirectionSample at;
-                at.p = si.p, at.n = si.shading.n;
-                const Vec3 to = si.p - from.p;
-                at.dist = glm::length(to), at.d = to / at.dist;
-                mis = power_heuristic(w.bsdf_pdf[i], emitter->pdf_direction(from, at));
+                mis = emitter_hit_weight(lights, from, w.bsdf_pdf[i], *emitter, si);
             }
             L += beta * Le * mis;
         }
@@ -674,8 +682,7 @@ void wave_candela(const FloorScene& fs, Sampler& sampler, WaveState& w, size_t n
             const BSDFEvalPdf f = bsdf.eval_pdf(BSDFContext(), si, si.to_local(ds.d));
             if (!is_black(f.value)) {
                 const Ray r = shadow_ray(si, ds);
-                sh.org_x[l] = r.o.x, sh.org_y[l] = r.o.y, sh.org_z[l] = r.o.z, sh.dir_x[l] = r.d.x, sh.dir_y[l] = r.d.y,
-                sh.dir_z[l] = r.d.z;
+                put_ray(sh, l, r);
                 sh.tnear[l] = r.tmin, sh.tfar[l] = r.tmax, sh.time[l] = 0.0f, sh.mask[l] = 0xFFFFFFFFu, sh.id[l] = 0u, sh.flags[l] = 0u;
                 w.shadow_valid[i / 16].lane[l] = -1;
                 const Spectrum c = beta * f.value * weight * power_heuristic(ds.pdf, f.pdf);
@@ -690,9 +697,7 @@ void wave_candela(const FloorScene& fs, Sampler& sampler, WaveState& w, size_t n
         const float q = depth + 1 >= 5 ? std::min(max_component(beta), 0.95f) : 1.0f;
         if (!(u_roulette < q)) continue;
         beta /= q;
-        const Ray next = si.spawn_ray(si.to_world(bs.wo));
-        rh.ray.org_x[l] = next.o.x, rh.ray.org_y[l] = next.o.y, rh.ray.org_z[l] = next.o.z;
-        rh.ray.dir_x[l] = next.d.x, rh.ray.dir_y[l] = next.d.y, rh.ray.dir_z[l] = next.d.z;
+        put_ray(rh.ray, l, si.spawn_ray(si.to_world(bs.wo)));
         w.beta_r[i] = beta.x, w.beta_g[i] = beta.y, w.beta_b[i] = beta.z;
         w.bsdf_pdf[i] = bs.pdf, w.depth[i] = depth + 1;
         w.from_x[i] = si.p.x, w.from_y[i] = si.p.y, w.from_z[i] = si.p.z, w.from_nx[i] = si.n.x, w.from_ny[i] = si.n.y,
@@ -726,6 +731,7 @@ FloorRun render_wavefront(const FloorScene& fs, int spp, const Sampler* generic,
     std::vector<float> albedo, emission;
     for (size_t g = 0; g < fs.albedo.size(); ++g)
         for (int c = 0; c < 3; ++c) albedo.push_back(fs.albedo[g][c]), emission.push_back(fs.emission[g][c]);
+    const std::unique_ptr<LightSampler> lights = create_light_sampler(DefaultLightSampler, *fs.scene);
     return time_rows(fs, spp, arena, [&](size_t y0, size_t y1, std::vector<double>& row_sums, long long& rays) {
         static thread_local WaveState w;  // a row's worth, kept by each thread across rows
         if (w.path.size() < count) w.resize(count);
@@ -742,11 +748,7 @@ FloorRun render_wavefront(const FloorScene& fs, int spp, const Sampler* generic,
                     film = sampler->next_2d();
                     sampler->save(w.sampler_state[i]);
                 }
-                Ray ray = sensor.sample_ray(Vec2(x, float(y)) + film, Vec2(0.5f));
-                RTCRay16& r = w.rays[i / 16].ray;
-                const size_t l = i % 16;
-                r.org_x[l] = ray.o.x, r.org_y[l] = ray.o.y, r.org_z[l] = ray.o.z;
-                r.dir_x[l] = ray.d.x, r.dir_y[l] = ray.d.y, r.dir_z[l] = ray.d.z;
+                put_ray(w.rays[i / 16].ray, i % 16, sensor.sample_ray(Vec2(x, float(y)) + film, Vec2(0.5f)));
                 w.path[i] = path, w.depth[i] = 0, w.bsdf_pdf[i] = 0.0f;
                 w.beta_r[i] = w.beta_g[i] = w.beta_b[i] = 1.0f;
                 w.L_r[i] = w.L_g[i] = w.L_b[i] = 0.0f;
@@ -757,6 +759,7 @@ FloorRun render_wavefront(const FloorScene& fs, int spp, const Sampler* generic,
                     RTCRayHit16& rh = w.rays[b];
                     for (size_t l = 0; l < 16; ++l) {
                         w.valid[b].lane[l] = b * 16 + l < n ? -1 : 0;
+                        w.shadow_valid[b].lane[l] = 0;  // the shading sets its lanes'; the last packet's tail stays off
                         rh.ray.tnear[l] = 0.0f, rh.ray.tfar[l] = Infinity, rh.ray.time[l] = 0.0f;
                         rh.ray.mask[l] = 0xFFFFFFFFu, rh.ray.id[l] = 0u, rh.ray.flags[l] = 0u;
                         rh.hit.geomID[l] = RTC_INVALID_GEOMETRY_ID;
@@ -766,7 +769,7 @@ FloorRun render_wavefront(const FloorScene& fs, int spp, const Sampler* generic,
                 }
                 rays += (long long)n;
                 if (generic && candela_shading) {
-                    wave_candela(fs, *sampler, w, n);
+                    wave_candela(fs, *lights, *sampler, w, n);
                 } else {
                     wave_hits(fs, w, n);
                     if (generic)
