@@ -2,6 +2,7 @@
 //                [--quiet] [--aov albedo,normal,depth,variance,samples] [--sampler NAME]
 //                [--adaptive-threshold T [--adaptive-min-spp N] [--adaptive-step N]] [--max-memory SIZE]
 //                [--samples START:END] [--crop x,y,w,h] [--resume PARTIAL.exr] [--checkpoint MINUTES]
+//                [--no-wavefront]
 // With --samples or --crop it renders one part of a split render (farm/part_file.h), which
 // `candela merge` adds up with the others. Ctrl-C or SIGTERM stops a render and writes what it has
 // as a part marked partial; --resume continues it, --checkpoint writes one every MINUTES. Renders
@@ -50,7 +51,7 @@ struct RenderArgs {
     std::string samples, crop;  // a part of a split render
     std::string resume;         // a part to continue
     double checkpoint_minutes = 0.0;
-    bool png = false, quiet = false;
+    bool png = false, quiet = false, no_wavefront = false;
 
     bool part() const { return !samples.empty() || !crop.empty(); }
 };
@@ -331,6 +332,9 @@ void add_render_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("--mode", args->mode,
                     "path (Monte Carlo global illumination) or raster (local illumination); default: the scene's integrator")
         ->check(one_of("--mode", {"path", "raster"}));
+    cmd->add_flag("--no-wavefront", args->no_wavefront,
+                  "Trace camera paths one at a time even where the path tracer would trace them as a wavefront, in ray batches "
+                  "(the image is the same bit for bit; for comparison and benchmarks)");
     args->raster.add_to(cmd);
     cmd->callback([args, &run] {
         run = [args] {
@@ -358,6 +362,7 @@ void add_render_command(CLI::App& app, std::function<int()>& run) {
             options.aovs = args->aovs;
             options.sampler = args->sampler;
             options.adaptive = args->adaptive;
+            options.wavefront = !args->no_wavefront;
             const bool sums = scene->integrator().renders_parts() && !options.adaptive.enabled();
             if (!sums && (args->part() || !args->resume.empty() || args->checkpoint_minutes > 0.0))
                 throw InputError(parts_refusal(*scene, options));

@@ -16,6 +16,8 @@
 // against single rays in the same round: what batching could gain inside Embree (issue 34's
 // "measure before you choose"). Then (6) the same single rays and packets with the scene rebuilt
 // without RTC_SCENE_FLAG_ROBUST (Mitsuba 3's setting): what Candela's watertight traversal costs.
+// Each round also renders one path at a time (RenderOptions::wavefront off; the same image), so
+// that the wavefront's gain is a ratio measured side by side.
 // It prints figures and asserts nothing.
 
 #include "bench/bench_args.h"
@@ -140,7 +142,7 @@ int run(int argc, char** argv) {
     options.threads = threads;
     std::printf("scene                     %s\n", scene_path.c_str());
     std::printf("threads                   %d\n", used_threads);
-    std::printf("round  embree Mrays/s  path Mrays/s  path samples/s  ratio path/embree\n");
+    std::printf("round  embree Mrays/s  path Mrays/s  path samples/s  ratio path/embree  one-at-a-time Mrays/s  its ratio/embree\n");
     // Closest hits for the first `count` rays, traced by the arena's threads; how many hit.
     auto trace = [&](size_t count) {
         std::atomic<long long> hits{0};
@@ -161,7 +163,7 @@ int run(int argc, char** argv) {
     RenderOptions warm_up = options;
     warm_up.spp = 1;
     scene->integrator().render(*scene, warm_up);
-    std::vector<double> ratios;
+    std::vector<double> ratios, scalar_ratios, wave_gains;
     long long hits = 0;
     double path_mrays = 0.0;  // the last round's, for the Embree-share line
     RenderResult result;
@@ -175,7 +177,14 @@ int run(int argc, char** argv) {
         path_mrays = double(result.stats.rays) / result.stats.seconds * 1e-6;
         double samples_per_s = double(result.stats.samples) / result.stats.seconds;
         ratios.push_back(path_mrays / embree_mrays);
-        std::printf("%5d  %14.2f  %12.2f  %14.0f  %17.3f\n", round + 1, embree_mrays, path_mrays, samples_per_s, ratios.back());
+        RenderOptions one_at_a_time = options;
+        one_at_a_time.wavefront = false;
+        const RenderResult scalar = scene->integrator().render(*scene, one_at_a_time);
+        const double scalar_mrays = double(scalar.stats.rays) / scalar.stats.seconds * 1e-6;
+        scalar_ratios.push_back(scalar_mrays / embree_mrays);
+        wave_gains.push_back(path_mrays / scalar_mrays);
+        std::printf("%5d  %14.2f  %12.2f  %14.0f  %17.3f  %21.2f  %16.3f\n", round + 1, embree_mrays, path_mrays, samples_per_s,
+                    ratios.back(), scalar_mrays, scalar_ratios.back());
     }
     std::printf("embree closest-hit rays   %lld incoherent per round, %.1f%% hit\n", ray_count, 100.0 * double(hits) / double(ray_count));
     std::printf("path tracer               %d spp, %llu rays per round (%.2f per sample)\n", result.stats.spp,
@@ -183,6 +192,8 @@ int run(int argc, char** argv) {
     const auto [lowest, highest] = std::minmax_element(ratios.begin(), ratios.end());
     std::printf("ratio path/embree Mrays   median %.3f of %d rounds (lowest %.3f, highest %.3f)\n", bench::median(ratios), rounds, *lowest,
                 *highest);
+    std::printf("one path at a time        median ratio to embree %.3f; path's Mrays/s over it: median %.3f\n",
+                bench::median(scalar_ratios), bench::median(wave_gains));
     // Packets and streams: the ray records are filled per packet (a wavefront tracer keeps its
     // batch in this layout), hits counted as in trace().
     RTCScene embree = scene->accel().scene();

@@ -153,4 +153,77 @@ bool Accel::occluded(const Ray& ray) const {
     return r.tfar < 0.0f;  // Embree sets tfar to -inf on a hit
 }
 
+namespace {
+// Embree reads a packet's valid mask with aligned vector loads.
+struct alignas(64) PacketMask {
+    int lanes[Accel::PacketSize];
+};
+
+// Lanes [0, n) of `mask` on, with `rays` written into the packet's ray fields (times mapped by
+// `time`); the lanes beyond n off.
+template <class Packet, class TimeMap>
+void fill_packet(const Ray* const rays[], size_t n, const TimeMap& time, PacketMask& mask, Packet& r) {
+    for (size_t i = 0; i < Accel::PacketSize; ++i) {
+        mask.lanes[i] = i < n ? -1 : 0;
+        if (i >= n) continue;
+        const Ray& ray = *rays[i];
+        r.org_x[i] = ray.o.x;
+        r.org_y[i] = ray.o.y;
+        r.org_z[i] = ray.o.z;
+        r.dir_x[i] = ray.d.x;
+        r.dir_y[i] = ray.d.y;
+        r.dir_z[i] = ray.d.z;
+        r.tnear[i] = ray.tmin;
+        r.tfar[i] = ray.tmax;
+        r.time[i] = time(ray.time);
+        r.mask[i] = 0xFFFFFFFFu;
+        r.id[i] = unsigned(i);
+        r.flags[i] = 0;
+    }
+}
+}  // namespace
+
+void Accel::intersect_packet(const Ray* const rays[], size_t n, const Shape* shapes[], RayHit hits[]) const {
+    n = std::min(n, PacketSize);
+    g_rays_traced += n;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    PacketMask mask;
+    RTCRayHit16 rh;
+    fill_packet(
+        rays, n, [this](float t) { return embree_time(t); }, mask, rh.ray);
+    for (size_t i = 0; i < PacketSize; ++i) rh.hit.geomID[i] = rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+    g_inside_embree = 1;
+    rtcIntersect16(mask.lanes, scene_, &context, &rh);
+    g_inside_embree = 0;
+    for (size_t i = 0; i < n; ++i) {
+        if (rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) {
+            shapes[i] = nullptr;
+            continue;
+        }
+        const bool instance = rh.hit.instID[0][i] != RTC_INVALID_GEOMETRY_ID;
+        hits[i].t = rh.ray.tfar[i];
+        hits[i].prim_index = rh.hit.primID[i];
+        hits[i].u = rh.hit.u[i];
+        hits[i].v = rh.hit.v[i];
+        hits[i].instance_geometry = instance ? rh.hit.geomID[i] : RTC_INVALID_GEOMETRY_ID;
+        shapes[i] = shapes_[instance ? rh.hit.instID[0][i] : rh.hit.geomID[i]];
+    }
+}
+
+void Accel::occluded_packet(const Ray* const rays[], size_t n, bool blocked[]) const {
+    n = std::min(n, PacketSize);
+    g_rays_traced += n;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    PacketMask mask;
+    RTCRay16 r;
+    fill_packet(
+        rays, n, [this](float t) { return embree_time(t); }, mask, r);
+    g_inside_embree = 1;
+    rtcOccluded16(mask.lanes, scene_, &context, &r);
+    g_inside_embree = 0;
+    for (size_t i = 0; i < n; ++i) blocked[i] = r.tfar[i] < 0.0f;  // Embree sets tfar to -inf on a hit
+}
+
 }  // namespace candela

@@ -45,6 +45,11 @@ public:
     const Shape* intersect(const Ray& ray, RayHit& hit) const;
     // True when anything blocks the ray within [ray.tmin, ray.tmax].
     bool occluded(const Ray& ray) const;
+    // The same for up to PacketSize rays at once (Embree's 16-ray packets, rtcIntersect16 and
+    // rtcOccluded16: a wavefront's batches), answered as the calls above answer each ray.
+    static constexpr size_t PacketSize = 16;
+    void intersect_packet(const Ray* const rays[], size_t n, const Shape* shapes[], RayHit hits[]) const;
+    void occluded_packet(const Ray* const rays[], size_t n, bool blocked[]) const;
 
     RTCDevice device() const { return device_; }
     RTCScene scene() const { return scene_; }
@@ -73,6 +78,43 @@ private:
 // A user geometry's bounds callback's answer: box b, padded by a relative epsilon so that hits
 // exactly on the box survive Embree's culling.
 void write_padded_bounds(const BoundingBox& b, RTCBounds* out);
+
+// A user geometry's Embree callbacks (analytic shapes, SDF grids), for any packet width N
+// (rtcIntersect1 calls them with N = 1, the wavefront's packets with 16): each valid lane's ray
+// is answered by `hit_t(o, d, tnear, tfar, t)`, true with the hit's distance t; a hit records the
+// shape's primitive with barycentrics 0 and a placeholder normal (fill_interaction computes the
+// real one).
+template <class HitDistance>
+void intersect_user_geometry(const RTCIntersectFunctionNArguments* args, const HitDistance& hit_t) {
+    RTCRayN* ray = RTCRayHitN_RayN(args->rayhit, args->N);
+    RTCHitN* hit = RTCRayHitN_HitN(args->rayhit, args->N);
+    const unsigned N = args->N;
+    for (unsigned i = 0; i < N; ++i) {
+        if (!args->valid[i]) continue;
+        const Vec3 o(RTCRayN_org_x(ray, N, i), RTCRayN_org_y(ray, N, i), RTCRayN_org_z(ray, N, i));
+        const Vec3 d(RTCRayN_dir_x(ray, N, i), RTCRayN_dir_y(ray, N, i), RTCRayN_dir_z(ray, N, i));
+        float t;
+        if (!hit_t(o, d, RTCRayN_tnear(ray, N, i), RTCRayN_tfar(ray, N, i), t)) continue;
+        RTCRayN_tfar(ray, N, i) = t;
+        RTCHitN_u(hit, N, i) = RTCHitN_v(hit, N, i) = 0.0f;
+        RTCHitN_Ng_x(hit, N, i) = RTCHitN_Ng_y(hit, N, i) = 0.0f;
+        RTCHitN_Ng_z(hit, N, i) = 1.0f;
+        RTCHitN_primID(hit, N, i) = args->primID;
+        RTCHitN_geomID(hit, N, i) = args->geomID;
+        RTCHitN_instID(hit, N, i, 0) = args->context->instID[0];
+    }
+}
+template <class HitDistance>
+void occluded_user_geometry(const RTCOccludedFunctionNArguments* args, const HitDistance& hit_t) {
+    const unsigned N = args->N;
+    for (unsigned i = 0; i < N; ++i) {
+        if (!args->valid[i]) continue;
+        const Vec3 o(RTCRayN_org_x(args->ray, N, i), RTCRayN_org_y(args->ray, N, i), RTCRayN_org_z(args->ray, N, i));
+        const Vec3 d(RTCRayN_dir_x(args->ray, N, i), RTCRayN_dir_y(args->ray, N, i), RTCRayN_dir_z(args->ray, N, i));
+        float t;
+        if (hit_t(o, d, RTCRayN_tnear(args->ray, N, i), RTCRayN_tfar(args->ray, N, i), t)) RTCRayN_tfar(args->ray, N, i) = -Infinity;
+    }
+}
 
 // Embree builds BVHs on threads of its own (TBB's workers) and calls Candela's callbacks there
 // (shape bounds, the memory monitor). Each such callback holds one of these for its duration: in

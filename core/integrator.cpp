@@ -204,11 +204,13 @@ struct RenderCounters {
     std::atomic<uint64_t> rays{0}, samples{0}, nonfinite{0};
 };
 
-// Takes samples for the pixels of tiles with the calling thread's sampler.
+// Takes samples for the pixels of tiles with the calling thread's sampler: one at a time
+// (SamplingIntegrator::sample_radiance), or, when `batched`, a tile's samples in batches of
+// BatchLength (sample_batch), splatted in the same order.
 class TileSampler {
 public:
     TileSampler(const SamplingIntegrator& integrator, const Scene& scene, const SampleLayout& values, const AovLayout& layers,
-                const RenderWindow& window, int spp)
+                const RenderWindow& window, int spp, bool batched)
         : integrator_(integrator),
           scene_(scene),
           sensor_(scene.sensor()),
@@ -219,7 +221,8 @@ public:
           differential_scale_(1.0f / std::sqrt(float(std::max(spp, 1)))),
           spectral_(scene.spectral()),
           polarized_(scene.polarized()),
-          bands_(scene.sensor().film().bands()) {}
+          bands_(scene.sensor().film().bands()),
+          batched_(batched) {}
 
     // Samples `samples` of every pixel the tile samples, unless the render was interrupted before.
     void sample_tile(Tile& tile, const SampleRange& samples, Sampler& sampler, Interruption& interruption, RenderCounters& counters,
@@ -227,8 +230,12 @@ public:
         if (interruption.check()) return;
         uint64_t rays_before = thread_ray_count();
         uint64_t taken = 0, nonfinite = 0;
-        for (int y = tile.sample_min.y; y < tile.sample_max.y; ++y)
-            for (int x = tile.sample_min.x; x < tile.sample_max.x; ++x) sample_pixel(tile, Vec2i(x, y), samples, sampler, taken, nonfinite);
+        if (batched_)
+            sample_tile_batched(tile, samples, sampler, taken, nonfinite);
+        else
+            for (int y = tile.sample_min.y; y < tile.sample_max.y; ++y)
+                for (int x = tile.sample_min.x; x < tile.sample_max.x; ++x)
+                    sample_pixel(tile, Vec2i(x, y), samples, sampler, taken, nonfinite);
         tile.done = samples.end;
         counters.rays += thread_ray_count() - rays_before;
         counters.samples += taken;
@@ -237,26 +244,58 @@ public:
     }
 
 private:
-    // The samples of one pixel (tile coordinates): each positions the sampler at (pixel, index),
-    // so its random numbers depend on nothing else. Samples with a non-finite value are counted
-    // and dropped.
+    // The samples of a batch: enough paths for Embree's packets to stay full through the bounces
+    // as paths end, few enough that their state stays in the core's caches.
+    static constexpr size_t BatchLength = 1024;
+
+    // Where a pixel's samples go (tile coordinates): its statistics (null when none are kept or
+    // the pixel is outside the tile's own), and whether it takes samples at all (adaptive
+    // sampling may have stopped it); counts the samples it is about to take.
+    PixelStats* begin_pixel(Tile& tile, const Vec2i& local, const SampleRange& samples, bool& active) const {
+        const bool own = local.x >= 0 && local.y >= 0 && local.x < tile.size.x && local.y < tile.size.y;
+        PixelStats* ps = tile.stats.empty() || !own ? nullptr : &tile.stats[size_t(local.y) * tile.size.x + local.x];
+        active = !ps || ps->active;
+        if (ps && active) ps->taken += uint32_t(samples.end - samples.begin);
+        return ps;
+    }
+
+    // Positions the sampler at sample `index` of `pixel`, so that its random numbers depend on
+    // nothing else, and draws the camera's numbers: the film position and aperture into
+    // `record`, and the camera ray.
+    Ray camera_sample(const Vec2i& pixel, uint32_t index, Sampler& sampler, SampleRecord& record) const {
+        sampler.start(pixel, index);
+        record.film_pos = Vec2(pixel) + sensor_.pixel_offset(sampler.next_2d());
+        record.aperture = sampler.next_2d();
+        record.differential_scale = differential_scale_;
+        return sensor_.sample_ray(record.film_pos, record.aperture, sample_time(sampler));
+    }
+
+    // Splats a sample's RGB value `L` (radiance times the sensor's sample_weight) at `film_pos`; a
+    // sample with a non-finite value is counted and dropped.
+    void splat_rgb(Tile& tile, PixelStats* ps, uint32_t index, const Vec2& film_pos, const Spectrum& L, bool valid, const float* channels,
+                   const FirstHitAovs& aov, uint64_t& nonfinite) const {
+        float values[MaxFilmBands + MaxSampleChannels];
+        if (!values_.fill(L, valid, channels, values)) {
+            ++nonfinite;
+            return;
+        }
+        tile.block.put(film_pos - Vec2(block_origin_), values);
+        if (ps) ps->add(L, aov, index);
+    }
+
+    // The samples of one pixel (tile coordinates), one at a time.
     void sample_pixel(Tile& tile, const Vec2i& local, const SampleRange& samples, Sampler& sampler, uint64_t& taken,
                       uint64_t& nonfinite) const {
         const Vec2i pixel = region_origin_ + tile.offset + local;
-        const bool own = local.x >= 0 && local.y >= 0 && local.x < tile.size.x && local.y < tile.size.y;
-        PixelStats* ps = tile.stats.empty() || !own ? nullptr : &tile.stats[size_t(local.y) * tile.size.x + local.x];
-        if (ps && !ps->active) return;
-        if (ps) ps->taken += uint32_t(samples.end - samples.begin);
+        bool active;
+        PixelStats* ps = begin_pixel(tile, local, samples, active);
+        if (!active) return;
         float values[MaxFilmBands + MaxSampleChannels], band_values[MaxFilmBands];
         for (int s = samples.begin; s < samples.end; ++s) {
-            sampler.start(pixel, uint32_t(s));
             SampleRecord record;
-            record.film_pos = Vec2(pixel) + sensor_.pixel_offset(sampler.next_2d());
-            record.aperture = sampler.next_2d();
-            record.differential_scale = differential_scale_;
             FirstHitAovs aov;
             record.first_hit = first_hit_ ? &aov : nullptr;
-            Ray ray = sensor_.sample_ray(record.film_pos, record.aperture, sample_time(sampler));
+            Ray ray = camera_sample(pixel, uint32_t(s), sampler, record);
             Wavelengths wavelengths;
             StokesSpectrum stokes;  // what a polarized path sums besides its S0
             if (spectral_) {
@@ -267,25 +306,62 @@ private:
             }
             Spectrum L = integrator_.sample_radiance(scene_, sampler, ray, record) * sensor_.sample_weight(record.film_pos);
             ++taken;
-            bool storable;
             if (bands_) {
                 bands_->values(L, wavelengths, band_values);
-                storable = values_.fill_bands(band_values, record.channels, values);
-                L = Spectrum(0.0f);  // no colour: the pixel statistics (variance, adaptive) are refused with bands
-            } else {
-                if (spectral_) {
-                    if (const SensorResponse* response = sensor_.response()) L *= response->at(wavelengths);
-                    L = spectral_to_linear_srgb(L, wavelengths);
+                if (!values_.fill_bands(band_values, record.channels, values)) {
+                    ++nonfinite;
+                    continue;
                 }
-                storable = values_.fill(L, record.valid, record.channels, values);
-            }
-            if (!storable) {
-                ++nonfinite;
+                // No colour: the pixel statistics (variance, adaptive) are refused with bands.
+                tile.block.put(record.film_pos - Vec2(block_origin_), values);
+                if (ps) ps->add(Spectrum(0.0f), aov, uint32_t(s));
                 continue;
             }
-            tile.block.put(record.film_pos - Vec2(block_origin_), values);
-            if (ps) ps->add(L, aov, uint32_t(s));
+            if (spectral_) {
+                if (const SensorResponse* response = sensor_.response()) L *= response->at(wavelengths);
+                L = spectral_to_linear_srgb(L, wavelengths);
+            }
+            splat_rgb(tile, ps, uint32_t(s), record.film_pos, L, record.valid, record.channels, aov, nonfinite);
         }
+    }
+
+    // The tile's samples in batches (RGB, no channels, no first-hit layers: render() checks),
+    // pixel by pixel and sample by sample as sample_pixel takes them, and splatted in that order.
+    void sample_tile_batched(Tile& tile, const SampleRange& samples, Sampler& sampler, uint64_t& taken, uint64_t& nonfinite) const {
+        struct Pending {
+            Vec2 film_pos;
+            PixelStats* ps;
+            uint32_t index;
+        };
+        thread_local std::vector<BatchSample> batch;
+        thread_local std::vector<Pending> where;
+        batch.resize(BatchLength);
+        where.resize(BatchLength);
+        const FirstHitAovs no_aov;
+        size_t n = 0;
+        auto flush = [&] {
+            integrator_.sample_batch(scene_, sampler, batch.data(), n);
+            taken += n;
+            for (size_t i = 0; i < n; ++i)
+                splat_rgb(tile, where[i].ps, where[i].index, where[i].film_pos, batch[i].L * sensor_.sample_weight(where[i].film_pos),
+                          batch[i].valid, nullptr, no_aov, nonfinite);
+            n = 0;
+        };
+        for (int y = tile.sample_min.y; y < tile.sample_max.y; ++y)
+            for (int x = tile.sample_min.x; x < tile.sample_max.x; ++x) {
+                bool active;
+                PixelStats* ps = begin_pixel(tile, Vec2i(x, y), samples, active);
+                if (!active) continue;
+                const Vec2i pixel = region_origin_ + tile.offset + Vec2i(x, y);
+                for (int s = samples.begin; s < samples.end; ++s) {
+                    SampleRecord record;
+                    batch[n].ray = camera_sample(pixel, uint32_t(s), sampler, record);
+                    sampler.save(batch[n].sampler_state);
+                    where[n] = Pending{record.film_pos, ps, uint32_t(s)};
+                    if (++n == BatchLength) flush();
+                }
+            }
+        if (n) flush();
     }
 
     // The camera sample's shutter time: from its own dimension when the shutter is open for a
@@ -309,6 +385,7 @@ private:
     const float differential_scale_;
     const bool spectral_, polarized_;
     const FilmBands* bands_;  // a specfilm's, or null
+    const bool batched_;
 };
 
 // Adaptive sampling's check, between passes. A pixel's error is Cycles' estimate
@@ -525,7 +602,9 @@ RenderResult SamplingIntegrator::render(const Scene& scene, const RenderOptions&
                               options.progress_sink);
     RenderCounters counters;
     Interruption interruption(options.interrupt);
-    const TileSampler tile_sampler(*this, scene, values, layers, window, prototype->sample_count());
+    // Batches only where they give the same image: RGB radiance alone per sample.
+    const bool batched = options.wavefront && !layers.first_hit() && !film.bands() && channel_names().empty() && samples_in_batches(scene);
+    const TileSampler tile_sampler(*this, scene, values, layers, window, prototype->sample_count(), batched);
     tbb::enumerable_thread_specific<Ref<Sampler>> samplers([&] { return prototype->clone(); });
     tbb::task_arena arena = thread_arena(options.threads);
     auto last_checkpoint = std::chrono::steady_clock::now();

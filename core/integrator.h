@@ -7,6 +7,7 @@
 #include "core/pixel_sums.h"
 #include "core/progress.h"
 #include "core/ray.h"
+#include "core/sampler.h"
 #include "core/spectrum.h"
 
 #include <atomic>
@@ -60,6 +61,10 @@ struct RenderOptions {
     // passes the render takes checkpoints and sees interruptions. The viewer asks for narrow
     // passes to show its progress often from one render call.
     int widest_pass = 32;
+    // Whether camera samples may be taken in batches where the integrator can (a wavefront:
+    // SamplingIntegrator::samples_in_batches); the image is the same either way. False: one at a
+    // time, sample_radiance() for every sample (the reference a batch is tested against).
+    bool wavefront = true;
     std::function<void(const PixelSums& sums, const std::vector<CoverageBox>& coverage)> checkpoint;
 };
 
@@ -121,6 +126,16 @@ struct SampleRecord {
     void record_first_hit(const SurfaceInteraction& si);
 };
 
+// One camera sample of a batch (SamplingIntegrator::sample_batch). In: its camera ray and where
+// the sample stands in the sampler after the camera's numbers. Out: its radiance and whether it
+// is valid (SampleRecord::valid).
+struct BatchSample {
+    Ray ray;
+    SamplerState sampler_state;
+    Spectrum L{0.0f};
+    bool valid = false;
+};
+
 class Integrator : public Object {
 public:
     ObjectKind kind() const override { return ObjectKind::Integrator; }
@@ -161,6 +176,13 @@ public:
     virtual void prepare(const Scene& scene) {}
     // Radiance arriving along `ray`; fills `record` (valid, channels, first_hit when asked).
     virtual Spectrum sample_radiance(const Scene& scene, Sampler& sampler, const Ray& ray, SampleRecord& record) const = 0;
+    // Whether this render's camera samples may go to sample_batch() many at a time instead of one
+    // at a time to sample_radiance(), which gives every sample the same radiance and validity bit
+    // for bit (a wavefront path tracer). Asked only for renders without --aov first-hit layers,
+    // channels or a specfilm's bands. No by default.
+    virtual bool samples_in_batches(const Scene& scene) const { return false; }
+    // Fills L and valid of samples[0, n), serving them all with one sampler (Sampler::restore).
+    virtual void sample_batch(const Scene& scene, Sampler& sampler, BatchSample samples[], size_t n) const {}
     // The extra channels every sample fills, written after the film's own (Mitsuba's
     // aov_names(): "dd.T", "nn.X", ...); at most MaxSampleChannels.
     virtual std::vector<std::string> channel_names() const { return {}; }

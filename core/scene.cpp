@@ -93,7 +93,10 @@ void Scene::update_geometry() {
 
 bool Scene::intersect(const Ray& ray, SurfaceInteraction& si) const {
     RayHit hit;
-    const Shape* shape = accel_.intersect(ray, hit);
+    return interaction_of_hit(ray, accel_.intersect(ray, hit), hit, si);
+}
+
+bool Scene::interaction_of_hit(const Ray& ray, const Shape* shape, const RayHit& hit, SurfaceInteraction& si) {
     si.time = ray.time;
     si.wavelengths = ray.wavelengths;
     if (!shape) {
@@ -110,6 +113,21 @@ bool Scene::intersect(const Ray& ray, SurfaceInteraction& si) const {
     si.t = hit.t;
     si.wi = si.to_local(-ray.d);
     return true;
+}
+
+void Scene::intersect_batch(const Ray* const rays[], SurfaceInteraction* const si[], bool found[], size_t n) const {
+    const Shape* shapes[Accel::PacketSize];
+    RayHit hits[Accel::PacketSize];
+    for (size_t first = 0; first < n; first += Accel::PacketSize) {
+        const size_t count = std::min(Accel::PacketSize, n - first);
+        accel_.intersect_packet(rays + first, count, shapes, hits);
+        for (size_t i = 0; i < count; ++i) found[first + i] = interaction_of_hit(*rays[first + i], shapes[i], hits[i], *si[first + i]);
+    }
+}
+
+void Scene::occluded_batch(const Ray* const rays[], bool blocked[], size_t n) const {
+    for (size_t first = 0; first < n; first += Accel::PacketSize)
+        accel_.occluded_packet(rays + first, std::min(Accel::PacketSize, n - first), blocked + first);
 }
 
 Spectrum Scene::transmittance(const Ray& shadow_ray, MuellerSpectrum* crossed) const {

@@ -32,6 +32,13 @@ public:
     // Closest surface along the ray; si.is_valid() is false for a miss.
     bool intersect(const Ray& ray, SurfaceInteraction& si) const;
     bool occluded(const Ray& ray) const { return accel_.occluded(ray); }
+    // The same for a batch of rays at once, traced as Embree packets (a wavefront): found[i] and
+    // si[i] as intersect(*rays[i], *si[i]) gives them, blocked[i] as occluded(*rays[i]).
+    void intersect_batch(const Ray* const rays[], SurfaceInteraction* const si[], bool found[], size_t n) const;
+    void occluded_batch(const Ray* const rays[], bool blocked[], size_t n) const;
+    // Whether a surface has a Null lobe (null, mask, polarizer): then shadow rays need
+    // transmittance(), not only occluded().
+    bool has_null_surfaces() const { return has_null_surfaces_; }
     // The fraction of light that travels along the shadow ray unblocked: 0 or 1 from one any-hit
     // query, unless the scene has surfaces with a Null lobe (null, mask, polarizer); then the
     // product of the null_transmission() of every surface the ray crosses (0 at an opaque one).
@@ -89,6 +96,9 @@ public:
     std::vector<std::string> input_files;
 
 private:
+    // intersect()'s answer from the accelerator's: the interaction of `shape` (null: a miss) hit by `ray`.
+    static bool interaction_of_hit(const Ray& ray, const Shape* shape, const RayHit& hit, SurfaceInteraction& si);
+
     Variant variant_ = Variant::ScalarRGB;
     std::vector<Ref<Shape>> shapes_;
     std::vector<Ref<Emitter>> emitters_;

@@ -68,23 +68,36 @@ Ray shadow_ray(const SurfaceInteraction& at, const DirectionSample& ds) {
     return std::isinf(ds.dist) ? at.spawn_ray(ds.d) : at.spawn_ray_to(ds.p, ds.delta ? Vec3(0.0f) : ds.n, ds.p_error);
 }
 
+UnshadowedLight unshadowed_emitter_mis(const LightSampler& lights, const LightSampleNumbers& u, const SurfaceInteraction& si,
+                                       const BSDF& bsdf, const BSDFContext& ctx, StrategyShares shares) {
+    UnshadowedLight out;
+    const LightSample light = draw_light_sample(lights, u, si);
+    if (!light.valid()) return out;
+    const DirectionSample& ds = light.ds;
+    out.wo = si.to_local(ds.d);
+    // eval and pdf together (the pdf weighs this sample against BSDF sampling below).
+    const BSDFEvalPdf f_pdf = bsdf.eval_pdf(ctx, si, out.wo);
+    if (is_black(f_pdf.value)) return out;
+    out.f = f_pdf.value;
+    out.light_weight = light.weight;
+    const float w = ds.delta ? 1.0f : power_heuristic(ds.pdf * light.pick_prob * shares.emitter, f_pdf.pdf * shares.bsdf);
+    out.scale = w / light.pick_prob;
+    out.shadow = shadow_ray(si, ds);
+    out.towards = ds.d;
+    out.valid = true;
+    return out;
+}
+
 Spectrum sample_emitter_mis(const Scene& scene, const LightSampler& lights, const LightSampleNumbers& u, const SurfaceInteraction& si,
                             const BSDF& bsdf, const BSDFContext& ctx, StrategyShares shares, const PathMedium& medium,
                             StokesSpectrum* arriving) {
-    const LightSample light = draw_light_sample(lights, u, si);
-    if (!light.valid()) return Spectrum(0.0f);
-    const DirectionSample& ds = light.ds;
-    Vec3 wo = si.to_local(ds.d);
-    // eval and pdf together (the pdf weighs this sample against BSDF sampling below).
-    const BSDFEvalPdf f_pdf = bsdf.eval_pdf(ctx, si, wo);
-    const Spectrum& f = f_pdf.value;
-    if (is_black(f)) return Spectrum(0.0f);
-    // Through null surfaces and masks, and media when there is an rng (from the medium on ds's side).
-    const Medium* start = medium.rng && si.shape->is_medium_transition() ? si.shape->target_medium(si, ds.d) : medium.medium;
-    const Spectrum T = shadow_transmittance(scene, shadow_ray(si, ds), start, medium.rng, &bsdf, ctx, si, wo, arriving);
+    const UnshadowedLight light = unshadowed_emitter_mis(lights, u, si, bsdf, ctx, shares);
+    if (!light.valid) return Spectrum(0.0f);
+    // Through null surfaces and masks, and media when there is an rng (from the medium on the light's side).
+    const Medium* start = medium.rng && si.shape->is_medium_transition() ? si.shape->target_medium(si, light.towards) : medium.medium;
+    const Spectrum T = shadow_transmittance(scene, light.shadow, start, medium.rng, &bsdf, ctx, si, light.wo, arriving);
     if (is_black(T)) return Spectrum(0.0f);
-    float w = ds.delta ? 1.0f : power_heuristic(ds.pdf * light.pick_prob * shares.emitter, f_pdf.pdf * shares.bsdf);
-    return T * f * light.weight * (w / light.pick_prob);
+    return T * light.f * light.light_weight * light.scale;
 }
 
 float emitter_hit_weight(const LightSampler& lights, const SurfaceInteraction& from, float bsdf_pdf, const Emitter& emitter,

@@ -16,8 +16,8 @@ bool survive_roulette(const PathSettings& settings, Sampler& sampler, uint32_t d
 }
 
 bool surface_step(const Scene& scene, const LightSampler& lights, const PathSettings& settings, Sampler& sampler, uint32_t dims,
-                  const SurfaceInteraction& si, const BSDF& bsdf, const PathMedium& medium, CameraPath& path, Spectrum& L,
-                  Vec3& direction) {
+                  const SurfaceInteraction& si, const BSDF& bsdf, const PathMedium& medium, CameraPath& path, Spectrum& L, Vec3& direction,
+                  PendingShadow* deferred) {
     if (!bsdf.has_null_lobe()) path.scattered = true;
     // At the last allowed bounce only a Null lobe may still carry the path on.
     const bool may_scatter = settings.may_extend(path.depth);
@@ -37,7 +37,14 @@ bool surface_step(const Scene& scene, const LightSampler& lights, const PathSett
     // dependent chain (a division, a polynomial, a square root) then runs alongside the light
     // sample's instead of between the shadow ray and the extension ray, where nothing overlaps it.
     const BSDFSample bs = bsdf.sample(ctx, si, u_lobe, u_direction);
-    if (estimate_next_event) {
+    if (estimate_next_event && deferred) {
+        const UnshadowedLight light = unshadowed_emitter_mis(lights, u_light, si, bsdf, BSDFContext());
+        deferred->pending = light.valid;
+        if (light.valid) {
+            deferred->shadow = light.shadow;
+            deferred->value = path.weights.estimate_weight() * light.contribution();
+        }
+    } else if (estimate_next_event) {
         StokesSpectrum arriving;
         const Spectrum nee = sample_emitter_mis(scene, lights, u_light, si, bsdf, BSDFContext(), {}, medium,
                                                 path.polarization.active() ? &arriving : nullptr);

@@ -59,15 +59,28 @@ struct CameraPath {
 // dimension dims + Roulette. False when the path ends.
 bool survive_roulette(const PathSettings& settings, Sampler& sampler, uint32_t dims, CameraPath& path);
 
+// A next-event estimate held back until its shadow ray is traced (a wavefront traces many
+// paths' shadow rays together): `value` (already times the path's estimate weight) joins the
+// path's radiance when `shadow` is clear. Only where a clear shadow ray means a transmittance of
+// exactly 1 (no Null surfaces, no media) and the contribution needs no Stokes vectors (not
+// polarized).
+struct PendingShadow {
+    Ray shadow;
+    Spectrum value{0.0f};
+    bool pending = false;
+};
+
 // The surface vertex whose numbers start at dimension `dims` (SampleDimensions::bounce(k) for
 // vertex k of a camera path; si.wi set, `bsdf` its BSDF): next-event estimation added to `L`
 // (times the path's estimate weight; `medium` is where the path is, for the shadow rays), the
 // BSDF sample, and after a scattering event the Russian roulette (before the next ray is
 // traced). Returns false when the path ends here; else `direction` (world) is where it goes on,
 // through a Null lobe or after a scattering event, and the throughput includes the sample's
-// weight (and 1 / q of a roulette it survived).
+// weight (and 1 / q of a roulette it survived). With `deferred`, next-event estimation's shadow
+// ray is not traced here: its estimate is left there (pending when there is one), not added to L.
 bool surface_step(const Scene& scene, const LightSampler& lights, const PathSettings& settings, Sampler& sampler, uint32_t dims,
-                  const SurfaceInteraction& si, const BSDF& bsdf, const PathMedium& medium, CameraPath& path, Spectrum& L, Vec3& direction);
+                  const SurfaceInteraction& si, const BSDF& bsdf, const PathMedium& medium, CameraPath& path, Spectrum& L, Vec3& direction,
+                  PendingShadow* deferred = nullptr);
 
 // The emission the path finds at surface `hit` (0 when hide_emitters hides it: nothing has
 // scattered yet), weighted against next-event estimation from the last scattering vertex, times

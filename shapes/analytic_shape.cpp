@@ -12,29 +12,17 @@ void bounds_callback(const RTCBoundsFunctionArguments* args) {
 }
 
 void intersect_callback(const RTCIntersectFunctionNArguments* args) {
-    if (!args->valid[0]) return;
     auto* shape = static_cast<const AnalyticShape*>(args->geometryUserPtr);
-    auto* rh = reinterpret_cast<RTCRayHit*>(args->rayhit);  // N == 1 for rtcIntersect1
-    Vec3 o(rh->ray.org_x, rh->ray.org_y, rh->ray.org_z), d(rh->ray.dir_x, rh->ray.dir_y, rh->ray.dir_z);
-    float t;
-    if (!shape->intersect_t(o, d, rh->ray.tnear, rh->ray.tfar, t)) return;
-    rh->ray.tfar = t;
-    rh->hit.u = 0.0f;
-    rh->hit.v = 0.0f;
-    rh->hit.Ng_x = rh->hit.Ng_y = 0.0f;
-    rh->hit.Ng_z = 1.0f;
-    rh->hit.primID = args->primID;
-    rh->hit.geomID = args->geomID;
-    rh->hit.instID[0] = args->context->instID[0];
+    intersect_user_geometry(args, [shape](const Vec3& o, const Vec3& d, float tnear, float tfar, float& t) {
+        return shape->intersect_t(o, d, tnear, tfar, t);
+    });
 }
 
 void occluded_callback(const RTCOccludedFunctionNArguments* args) {
-    if (!args->valid[0]) return;
     auto* shape = static_cast<const AnalyticShape*>(args->geometryUserPtr);
-    auto* ray = reinterpret_cast<RTCRay*>(args->ray);
-    Vec3 o(ray->org_x, ray->org_y, ray->org_z), d(ray->dir_x, ray->dir_y, ray->dir_z);
-    float t;
-    if (shape->intersect_t(o, d, ray->tnear, ray->tfar, t)) ray->tfar = -Infinity;
+    occluded_user_geometry(args, [shape](const Vec3& o, const Vec3& d, float tnear, float tfar, float& t) {
+        return shape->intersect_t(o, d, tnear, tfar, t);
+    });
 }
 }  // namespace
 

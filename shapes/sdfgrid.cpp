@@ -301,30 +301,19 @@ void sdf_bounds(const RTCBoundsFunctionArguments* args) {
 }
 
 void sdf_intersect(const RTCIntersectFunctionNArguments* args) {
-    if (!args->valid[0]) return;
     auto* grid = static_cast<const SdfGrid*>(args->geometryUserPtr);
-    auto* rh = reinterpret_cast<RTCRayHit*>(args->rayhit);  // N == 1 for rtcIntersect1
-    float t;
-    if (!grid->intersect_voxel(args->primID, Vec3(rh->ray.org_x, rh->ray.org_y, rh->ray.org_z),
-                               Vec3(rh->ray.dir_x, rh->ray.dir_y, rh->ray.dir_z), rh->ray.tnear, rh->ray.tfar, t))
-        return;
-    rh->ray.tfar = t;
-    rh->hit.u = rh->hit.v = 0.0f;
-    rh->hit.Ng_x = rh->hit.Ng_y = 0.0f;
-    rh->hit.Ng_z = 1.0f;
-    rh->hit.primID = args->primID;
-    rh->hit.geomID = args->geomID;
-    rh->hit.instID[0] = args->context->instID[0];
+    const unsigned voxel = args->primID;
+    intersect_user_geometry(args, [grid, voxel](const Vec3& o, const Vec3& d, float tnear, float tfar, float& t) {
+        return grid->intersect_voxel(voxel, o, d, tnear, tfar, t);
+    });
 }
 
 void sdf_occluded(const RTCOccludedFunctionNArguments* args) {
-    if (!args->valid[0]) return;
     auto* grid = static_cast<const SdfGrid*>(args->geometryUserPtr);
-    auto* ray = reinterpret_cast<RTCRay*>(args->ray);
-    float t;
-    if (grid->intersect_voxel(args->primID, Vec3(ray->org_x, ray->org_y, ray->org_z), Vec3(ray->dir_x, ray->dir_y, ray->dir_z), ray->tnear,
-                              ray->tfar, t))
-        ray->tfar = -Infinity;
+    const unsigned voxel = args->primID;
+    occluded_user_geometry(args, [grid, voxel](const Vec3& o, const Vec3& d, float tnear, float tfar, float& t) {
+        return grid->intersect_voxel(voxel, o, d, tnear, tfar, t);
+    });
 }
 }  // namespace
 

@@ -1,0 +1,162 @@
+// The path tracer as a wavefront (PathIntegrator::sample_batch): a batch of camera samples
+// advances bounce by bounce, each bounce's extension rays traced together as Embree's 16-ray
+// packets (Scene::intersect_batch), then every path shaded, then the bounce's shadow rays traced
+// together (Scene::occluded_batch). Each path runs the same vertex as the scalar path
+// (surface_step, emission_found, environment_found) with its shadow ray held back
+// (PendingShadow), and keeps where its sample stands in the one sampler the batch shares
+// (Sampler::save/restore), so that every sample's numbers and radiance are bit for bit those of
+// sample_radiance; tests/integrators/test_path_wave.cpp holds the two to that.
+//
+// Used for what it reproduces exactly: the RGB variant (no wavelengths, no Stokes vectors),
+// scenes without Null surfaces (a clear shadow ray then has a transmittance of exactly 1) and
+// without media (path refuses them anyway). Everything else, and every render with --aov
+// first-hit layers, takes the scalar path.
+//
+// What it gains and what it does not yet is measured in docs/benchmarks.md ("The wavefront
+// path"): the shading is still the scalar plugins', lane by lane.
+
+#include "core/bsdf.h"
+#include "core/sampler.h"
+#include "core/scene.h"
+#include "integrators/path.h"
+#include "integrators/surface_step.h"
+
+#include <memory>
+#include <vector>
+
+namespace candela {
+
+namespace {
+
+// One path of the batch.
+struct WaveLane {
+    SurfaceInteraction si;  // where the path's last ray arrived
+    CameraPath path;
+    Ray ray;  // the ray it traces next
+    SamplerState sampler_state;
+    PendingShadow shadow;
+    // What sample_radiance adds up: the emission the camera ray finds, and what the path finds
+    // after (continue_path's sum), added last in that order.
+    Spectrum seen{0.0f}, gathered{0.0f};
+    uint32_t dims = 0;      // the next vertex's first dimension
+    bool at_camera = true;  // its ray is the camera ray
+    bool goes_on = false;   // after this bounce's vertex: the path traces another ray
+};
+
+// A thread's lanes and the arrays the batch queries take, reused from batch to batch (the pixel
+// loop's threads render many batches each).
+struct WaveWorkspace {
+    std::vector<WaveLane> lanes;
+    std::vector<uint32_t> live, pending;  // lanes still tracing; lanes with a shadow ray this bounce
+    std::vector<const Ray*> rays;
+    std::vector<SurfaceInteraction*> hits;
+    std::unique_ptr<bool[]> flags;  // the batch queries' answers (std::vector<bool> has no data())
+    size_t flag_capacity = 0;
+    bool* flags_for(size_t n) {
+        if (n > flag_capacity) flags.reset(new bool[flag_capacity = n]);
+        return flags.get();
+    }
+};
+
+}  // namespace
+
+bool PathIntegrator::samples_in_batches(const Scene& scene) const {
+    return !scene.spectral() && !scene.has_null_surfaces() && !scene.has_media();
+}
+
+void PathIntegrator::sample_batch(const Scene& scene, Sampler& sampler, BatchSample samples[], size_t n) const {
+    const bool environment_seen = !settings_.hide_emitters && !scene.infinite_emitters().empty();
+    if (settings_.max_depth == 0) {
+        for (size_t i = 0; i < n; ++i) samples[i].L = Spectrum(0.0f), samples[i].valid = false;
+        return;
+    }
+    thread_local WaveWorkspace w;
+    if (w.lanes.size() < n) w.lanes.resize(n);
+    w.live.resize(n);
+    for (size_t i = 0; i < n; ++i) {
+        WaveLane& lane = w.lanes[i];
+        lane.ray = samples[i].ray;
+        lane.sampler_state = samples[i].sampler_state;
+        lane.seen = lane.gathered = Spectrum(0.0f);
+        lane.at_camera = true;
+        w.live[i] = uint32_t(i);
+    }
+    size_t live = n;
+    while (live > 0) {
+        // Trace: every live path's ray, in packets.
+        w.rays.resize(live);
+        w.hits.resize(live);
+        bool* found = w.flags_for(n);
+        for (size_t k = 0; k < live; ++k) {
+            WaveLane& lane = w.lanes[w.live[k]];
+            w.rays[k] = &lane.ray;
+            w.hits[k] = &lane.si;
+        }
+        scene.intersect_batch(w.rays.data(), w.hits.data(), found, live);
+        // Shade: what each path found, then its vertex (surface_step), as sample_radiance and
+        // continue_path take them.
+        w.pending.clear();
+        size_t still = 0;
+        for (size_t k = 0; k < live; ++k) {
+            const uint32_t index = w.live[k];
+            WaveLane& lane = w.lanes[index];
+            lane.shadow.pending = false;
+            bool goes_on = found[k];
+            if (lane.at_camera) {
+                if (!found[k]) {
+                    samples[index].L =
+                        settings_.hide_emitters ? Spectrum(0.0f) : scene.eval_environment(lane.ray.d, nullptr, lane.ray.time);
+                    samples[index].valid = environment_seen;
+                    continue;
+                }
+                // Seen directly: no MIS (the camera ray is a delta "lobe").
+                if (const Emitter* emitter = lane.si.shape->emitter(); emitter && !settings_.hide_emitters)
+                    lane.seen += emitter->eval(lane.si);
+                lane.path = CameraPath(lane.si);
+                lane.path.polarization.begin(nullptr);
+                lane.dims = SampleDimensions::FirstBounce;
+                lane.at_camera = false;
+            } else if (!found[k]) {
+                lane.gathered += environment_found(scene, *lights_, settings_, lane.path, lane.ray.d);
+            } else {
+                lane.gathered += emission_found(*lights_, settings_, lane.path, lane.si);
+            }
+            if (goes_on) {
+                sampler.restore(lane.sampler_state);
+                Vec3 direction;
+                goes_on = surface_step(scene, *lights_, settings_, sampler, lane.dims, lane.si, *lane.si.shape->bsdf(), PathMedium{},
+                                       lane.path, lane.gathered, direction, &lane.shadow);
+                sampler.save(lane.sampler_state);
+                if (goes_on) {
+                    lane.ray = lane.si.spawn_ray(direction);
+                    lane.dims += SampleDimensions::PerBounce;
+                }
+            }
+            if (lane.shadow.pending) w.pending.push_back(index);
+            lane.goes_on = goes_on;
+            if (goes_on) w.live[still++] = index;
+            if (!goes_on && !lane.shadow.pending) {
+                samples[index].L = lane.seen + lane.gathered;
+                samples[index].valid = lane.path.scattered || environment_seen;
+            }
+        }
+        // The bounce's shadow rays, in packets; a clear one adds its estimate.
+        const size_t shadows = w.pending.size();
+        w.rays.resize(shadows);
+        bool* blocked = w.flags_for(n);
+        for (size_t k = 0; k < shadows; ++k) w.rays[k] = &w.lanes[w.pending[k]].shadow.shadow;
+        scene.occluded_batch(w.rays.data(), blocked, shadows);
+        for (size_t k = 0; k < shadows; ++k) {
+            const uint32_t index = w.pending[k];
+            WaveLane& lane = w.lanes[index];
+            if (!blocked[k]) lane.gathered += lane.shadow.value;
+            if (!lane.goes_on) {
+                samples[index].L = lane.seen + lane.gathered;
+                samples[index].valid = lane.path.scattered || environment_seen;
+            }
+        }
+        live = still;
+    }
+}
+
+}  // namespace candela

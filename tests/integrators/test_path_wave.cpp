@@ -1,0 +1,152 @@
+// The path tracer's wavefront (integrators/path_wave.cpp) against the path tracer one path at a
+// time (RenderOptions::wavefront off): the same image bit for bit, and the same ray count, for
+// every sampler and what a user can combine with it (settings, shapes that Embree calls back for
+// a packet, instances, motion blur, environment maps, adaptive sampling, parts of a render).
+
+#include "core/integrator.h"
+#include "core/scene.h"
+#include "core/xml.h"
+#include "tests/util.h"
+
+#include <catch2/catch.hpp>
+
+#include <regex>
+
+using namespace candela;
+using namespace candela::test;
+
+namespace {
+
+const std::vector<std::string> AllSamplers = {"independent", "stratified", "multijitter", "orthogonal", "ldsampler", "sobol", "zsobol"};
+
+bool batched(const Scene& scene) {
+    const auto* integrator = dynamic_cast<const SamplingIntegrator*>(&scene.integrator());
+    return integrator && integrator->samples_in_batches(scene);
+}
+
+// Renders `scene` with `options` as a wavefront and one path at a time, and compares.
+void check_same_render(const Scene& scene, RenderOptions options) {
+    options.wavefront = true;
+    const RenderResult wave = scene.integrator().render(scene, options);
+    options.wavefront = false;
+    const RenderResult one = scene.integrator().render(scene, options);
+    REQUIRE(wave.image.data().size() == one.image.data().size());
+    size_t differing = 0;
+    for (size_t i = 0; i < one.image.data().size(); ++i) differing += wave.image.data()[i] != one.image.data()[i];
+    CHECK(differing == 0);
+    CHECK(wave.stats.rays == one.stats.rays);
+    CHECK(wave.stats.samples == one.stats.samples);
+    CHECK(wave.stats.nonfinite == one.stats.nonfinite);
+    double sum = 0.0;
+    for (float v : one.image.data()) sum += v;
+    CHECK(sum > 0.0);
+}
+
+RenderOptions with_sampler(const std::string& sampler, int spp = 5) {
+    RenderOptions options;
+    options.sampler = sampler;
+    options.spp = spp;
+    options.seed = 7;
+    options.threads = 2;
+    return options;
+}
+
+}  // namespace
+
+TEST_CASE("path wavefront: the validation scenes render bit for bit as one path at a time with every sampler", "[render][wavefront]") {
+    // Diffuse, conductors, plastics, rough glass, textures, an environment map, point, spot and
+    // directional lights, spheres (user geometry: Embree calls it back for a whole packet).
+    // The scene with a thin dielectric (a Null lobe) renders one path at a time either way.
+    int scenes_batched = 0;
+    for (const char* name : {"cbox", "conductors", "envmap", "glass", "lights", "plastics", "roughglass", "textured"}) {
+        Ref<Scene> scene = load_scene(source_path(std::string("scenes/validation/") + name + ".xml"), {{"res", "16"}, {"spp", "5"}});
+        scenes_batched += batched(*scene);
+        CHECK(batched(*scene) == !scene->has_null_surfaces());
+        for (const std::string& sampler : AllSamplers) {
+            INFO(name << " with " << sampler);
+            check_same_render(*scene, with_sampler(sampler));
+        }
+    }
+    CHECK(scenes_batched >= 7);
+}
+
+TEST_CASE("path wavefront: path's settings, hidden emitters and short paths render bit for bit as one path at a time",
+          "[render][wavefront]") {
+    const std::string cbox = read_text(source_path("scenes/validation/cbox.xml"));
+    const std::string envmap = read_text(source_path("scenes/validation/envmap.xml"));
+    const std::vector<std::string> settings = {
+        R"(<integer name="max_depth" value="1"/>)",
+        R"(<integer name="max_depth" value="2"/>)",
+        R"(<integer name="max_depth" value="3"/><integer name="rr_depth" value="1"/>)",
+        R"(<integer name="max_depth" value="0"/>)",
+        R"(<boolean name="hide_emitters" value="true"/>)",
+        R"(<string name="light_sampler" value="uniform"/>)",
+        R"(<string name="light_sampler" value="power"/>)",
+    };
+    for (const std::string* base : {&cbox, &envmap})
+        for (const std::string& setting : settings) {
+            const std::string xml = std::regex_replace(*base, std::regex(R"(<integrator type="path">[\s\S]*?</integrator>)"),
+                                                       "<integrator type=\"path\">" + setting + "</integrator>");
+            Ref<Scene> scene = load_scene_from_string(xml, source_path("scenes/validation/wave.xml"), {{"res", "16"}, {"spp", "5"}});
+            REQUIRE(batched(*scene));
+            INFO((base == &cbox ? "cbox" : "envmap") << " with " << setting);
+            if (setting.find("\"0\"") != std::string::npos) {
+                // Nothing at all: both renders black.
+                RenderOptions options = with_sampler("independent");
+                const RenderResult wave = scene->integrator().render(*scene, options);
+                options.wavefront = false;
+                CHECK(wave.image.data() == scene->integrator().render(*scene, options).image.data());
+                continue;
+            }
+            for (const char* sampler : {"independent", "ldsampler"}) check_same_render(*scene, with_sampler(sampler));
+        }
+}
+
+TEST_CASE("path wavefront: instances, analytic shapes and motion blur render bit for bit as one path at a time", "[render][wavefront]") {
+    // A shape group of a sphere and a cube instanced twice (Embree's instance ids in a packet),
+    // a disk and a cylinder (user geometry), one instance moving while the shutter is open (each
+    // lane's own time).
+    const std::string body = pinhole_camera("0, 1, 6", "0, 0, 0", 24, 16, 45) + R"(
+        <shape type="shapegroup" id="group">
+            <shape type="sphere"><float name="radius" value="0.5"/><bsdf type="diffuse"/></shape>
+            <shape type="cube"><transform name="to_world"><scale value="0.3"/><translate x="1"/></transform>
+                <bsdf type="roughconductor"/></shape>
+        </shape>
+        <shape type="instance"><ref id="group"/><transform name="to_world"><translate x="-1.2"/></transform></shape>
+        <shape type="instance"><ref id="group"/>
+            <animation name="to_world"><transform time="0"><translate x="0.8"/></transform>
+                <transform time="1"><translate x="1.2" y="0.3"/></transform></animation></shape>
+        <shape type="disk"><transform name="to_world"><scale value="4"/><rotate x="1" angle="-90"/><translate y="-0.6"/></transform>
+            <bsdf type="diffuse"><rgb name="reflectance" value="0.6, 0.5, 0.4"/></bsdf></shape>
+        <shape type="cylinder"><point name="p0" value="0, -0.6, -1.5"/><point name="p1" value="0, 1, -1.5"/>
+            <float name="radius" value="0.3"/><bsdf type="plastic"/></shape>
+        <shape type="rectangle"><transform name="to_world"><rotate x="1" angle="90"/><translate y="3"/></transform>
+            <emitter type="area"><rgb name="radiance" value="3"/></emitter></shape>
+        <emitter type="constant"><rgb name="radiance" value="0.2"/></emitter>)";
+    std::string xml = scene_xml(body);
+    xml = std::regex_replace(xml, std::regex(R"(<sensor type="perspective">)"),
+                             R"(<sensor type="perspective"><float name="shutter_open" value="0"/><float name="shutter_close" value="1"/>)");
+    Ref<Scene> scene = load_scene_from_string(xml, source_path("scenes/validation/wave.xml"));
+    REQUIRE(scene->is_animated());
+    REQUIRE(scene->sensor().shutter_open_time() > 0.0f);
+    REQUIRE(batched(*scene));
+    for (const std::string& sampler : AllSamplers) {
+        INFO(sampler);
+        check_same_render(*scene, with_sampler(sampler, 6));
+    }
+}
+
+TEST_CASE("path wavefront: adaptive sampling, parts of a render and one thread give what one path at a time gives", "[render][wavefront]") {
+    Ref<Scene> scene = load_scene(source_path("scenes/validation/cbox.xml"), {{"res", "24"}, {"spp", "8"}});
+    RenderOptions adaptive = with_sampler("independent", 64);
+    adaptive.adaptive.threshold = 0.05f;
+    adaptive.adaptive.min_spp = 8;
+    check_same_render(*scene, adaptive);
+    RenderOptions part = with_sampler("sobol", 16);
+    part.samples = SampleRange{3, 11};
+    part.region = ImageRect{Vec2i(5, 7), Vec2i(13, 9)};
+    check_same_render(*scene, part);
+    RenderOptions one_thread = with_sampler("zsobol", 8);
+    one_thread.threads = 1;
+    check_same_render(*scene, one_thread);
+}
