@@ -181,21 +181,29 @@ void fill_packet(const Ray* const rays[], size_t n, const TimeMap& time, PacketM
         r.flags[i] = 0;
     }
 }
-}  // namespace
 
-void Accel::intersect_packet(const Ray* const rays[], size_t n, const Shape* shapes[], RayHit hits[]) const {
-    n = std::min(n, PacketSize);
+// Fills `packet` with rays[0, n) (n <= PacketSize) and runs `query(valid, context)` on it,
+// counted as n rays and marked as inside Embree.
+template <class Packet, class TimeMap, class Query>
+void query_packet(const Ray* const rays[], size_t n, const TimeMap& time, Packet& packet, const Query& query) {
     g_rays_traced += n;
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     PacketMask mask;
-    RTCRayHit16 rh;
-    fill_packet(
-        rays, n, [this](float t) { return embree_time(t); }, mask, rh.ray);
-    for (size_t i = 0; i < PacketSize; ++i) rh.hit.geomID[i] = rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+    fill_packet(rays, n, time, mask, packet);
     g_inside_embree = 1;
-    rtcIntersect16(mask.lanes, scene_, &context, &rh);
+    query(mask.lanes, &context);
     g_inside_embree = 0;
+}
+}  // namespace
+
+void Accel::intersect_packet(const Ray* const rays[], size_t n, const Shape* shapes[], RayHit hits[]) const {
+    n = std::min(n, PacketSize);
+    RTCRayHit16 rh;
+    for (size_t i = 0; i < PacketSize; ++i) rh.hit.geomID[i] = rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+    query_packet(
+        rays, n, [this](float t) { return embree_time(t); }, rh.ray,
+        [&](const int* valid, RTCIntersectContext* context) { rtcIntersect16(valid, scene_, context, &rh); });
     for (size_t i = 0; i < n; ++i) {
         if (rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) {
             shapes[i] = nullptr;
@@ -213,16 +221,10 @@ void Accel::intersect_packet(const Ray* const rays[], size_t n, const Shape* sha
 
 void Accel::occluded_packet(const Ray* const rays[], size_t n, bool blocked[]) const {
     n = std::min(n, PacketSize);
-    g_rays_traced += n;
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    PacketMask mask;
     RTCRay16 r;
-    fill_packet(
-        rays, n, [this](float t) { return embree_time(t); }, mask, r);
-    g_inside_embree = 1;
-    rtcOccluded16(mask.lanes, scene_, &context, &r);
-    g_inside_embree = 0;
+    query_packet(
+        rays, n, [this](float t) { return embree_time(t); }, r,
+        [&](const int* valid, RTCIntersectContext* context) { rtcOccluded16(valid, scene_, context, &r); });
     for (size_t i = 0; i < n; ++i) blocked[i] = r.tfar[i] < 0.0f;  // Embree sets tfar to -inf on a hit
 }
 
