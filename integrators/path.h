@@ -24,10 +24,11 @@ public:
     void prepare(const Scene& scene) override;
     // A sample is valid (the film's alpha) when it scatters at a surface, or when the environment
     // is visible (there is one and hide_emitters is off), as in Mitsuba.
-    Spectrum sample_radiance(const Scene& scene, Sampler& sampler, const Ray& ray, SampleRecord& record) const override;
+    // Final: sample_batch() gives what it gives, so a subclass (prb, ...) changes neither.
+    Spectrum sample_radiance(const Scene& scene, Sampler& sampler, const Ray& ray, SampleRecord& record) const final;
     // The same as a wavefront, bit for bit (path_wave.cpp): RGB scenes without Null surfaces.
-    bool samples_in_batches(const Scene& scene) const override;
-    void sample_batch(const Scene& scene, Sampler& sampler, BatchSample samples[], size_t n) const override;
+    bool samples_in_batches(const Scene& scene) const final;
+    void sample_batch(const Scene& scene, Sampler& sampler, BatchSample samples[], size_t n) const final;
     // Radiance that `bsdf` at vertex `si` (si.wi set) scatters toward si.wi, by next-event
     // estimation and BSDF sampling with MIS, following the path onward; `depth` is the number of
     // segments that led to si. Emission at si itself is not included. prepare() must have run.

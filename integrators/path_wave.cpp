@@ -50,11 +50,16 @@ struct WaveWorkspace {
     std::vector<uint32_t> live, pending;  // lanes still tracing; lanes with a shadow ray this bounce
     std::vector<const Ray*> rays;
     std::vector<SurfaceInteraction*> hits;
-    std::unique_ptr<bool[]> flags;  // the batch queries' answers (std::vector<bool> has no data())
-    size_t flag_capacity = 0;
-    bool* flags_for(size_t n) {
-        if (n > flag_capacity) flags.reset(new bool[flag_capacity = n]);
-        return flags.get();
+    // The batch queries' answers (std::vector<bool> has no data()).
+    std::unique_ptr<bool[]> found, blocked;
+    size_t capacity = 0;
+
+    void reserve(size_t n) {
+        if (lanes.size() < n) lanes.resize(n);
+        if (capacity >= n) return;
+        found.reset(new bool[n]);
+        blocked.reset(new bool[n]);
+        capacity = n;
     }
 };
 
@@ -71,8 +76,15 @@ void PathIntegrator::sample_batch(const Scene& scene, Sampler& sampler, BatchSam
         return;
     }
     thread_local WaveWorkspace w;
-    if (w.lanes.size() < n) w.lanes.resize(n);
+    w.reserve(n);
     w.live.resize(n);
+    // A path's sample, once it has ended and its last shadow ray (if any) is traced: the sums in
+    // sample_radiance's order, and its validity by the same rule.
+    auto finish = [&](uint32_t index) {
+        const WaveLane& lane = w.lanes[index];
+        samples[index].L = lane.seen + lane.gathered;
+        samples[index].valid = lane.path.scattered || environment_seen;
+    };
     for (size_t i = 0; i < n; ++i) {
         WaveLane& lane = w.lanes[i];
         lane.ray = samples[i].ray;
@@ -86,7 +98,7 @@ void PathIntegrator::sample_batch(const Scene& scene, Sampler& sampler, BatchSam
         // Trace: every live path's ray, in packets.
         w.rays.resize(live);
         w.hits.resize(live);
-        bool* found = w.flags_for(n);
+        bool* found = w.found.get();
         for (size_t k = 0; k < live; ++k) {
             WaveLane& lane = w.lanes[w.live[k]];
             w.rays[k] = &lane.ray;
@@ -135,25 +147,19 @@ void PathIntegrator::sample_batch(const Scene& scene, Sampler& sampler, BatchSam
             if (lane.shadow.pending) w.pending.push_back(index);
             lane.goes_on = goes_on;
             if (goes_on) w.live[still++] = index;
-            if (!goes_on && !lane.shadow.pending) {
-                samples[index].L = lane.seen + lane.gathered;
-                samples[index].valid = lane.path.scattered || environment_seen;
-            }
+            if (!goes_on && !lane.shadow.pending) finish(index);
         }
         // The bounce's shadow rays, in packets; a clear one adds its estimate.
         const size_t shadows = w.pending.size();
         w.rays.resize(shadows);
-        bool* blocked = w.flags_for(n);
+        bool* blocked = w.blocked.get();
         for (size_t k = 0; k < shadows; ++k) w.rays[k] = &w.lanes[w.pending[k]].shadow.shadow;
         scene.occluded_batch(w.rays.data(), blocked, shadows);
         for (size_t k = 0; k < shadows; ++k) {
             const uint32_t index = w.pending[k];
             WaveLane& lane = w.lanes[index];
             if (!blocked[k]) lane.gathered += lane.shadow.value;
-            if (!lane.goes_on) {
-                samples[index].L = lane.seen + lane.gathered;
-                samples[index].valid = lane.path.scattered || environment_seen;
-            }
+            if (!lane.goes_on) finish(index);
         }
         live = still;
     }

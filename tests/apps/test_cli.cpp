@@ -41,6 +41,16 @@ TEST_CASE("cli: render writes an EXR with metadata, -D and --spp apply, --png wr
     CHECK(read_text(dir / "quiet.txt").empty());
 }
 
+TEST_CASE("cli: render --no-wavefront traces one path at a time and writes the same image", "[cli][wavefront]") {
+    auto dir = scratch_dir("cli-wavefront");
+    const std::string common = "'" + Cbox + "' -D res=20 --spp 4 --seed 3 --sampler ldsampler --quiet -o ";
+    REQUIRE(run_command(render_cmd(common + "'" + (dir / "wave.exr").string() + "'"), dir / "wave.txt") == 0);
+    REQUIRE(run_command(render_cmd(common + "'" + (dir / "one.exr").string() + "' --no-wavefront"), dir / "one.txt") == 0);
+    const Image wave = read_image((dir / "wave.exr").string()), one = read_image((dir / "one.exr").string());
+    CHECK(wave.data() == one.data());
+    CHECK(wave.metadata.at("candela.rays") == one.metadata.at("candela.rays"));
+}
+
 TEST_CASE("cli: OpenImageIO is loaded only when a program reads an image other than EXR and PNG", "[cli][images]") {
     // Its ~250 libraries took about 0.25-0.45 s at every start (core/image_codecs.h). The dynamic
     // loader's own log (LD_DEBUG=files) names every library it loads and every dlopen.
