@@ -34,6 +34,7 @@ struct WaveLane {
     CameraPath path;
     Ray ray;  // the ray it traces next
     SamplerState sampler_state;
+    VertexNumbers numbers;  // its vertex's numbers, drawn before it is shaded
     PendingShadow shadow;
     // What sample_radiance adds up: the emission the camera ray finds, and what the path finds
     // after (continue_path's sum), added last in that order.
@@ -105,15 +106,14 @@ void PathIntegrator::sample_batch(const Scene& scene, Sampler& sampler, BatchSam
             w.hits[k] = &lane.si;
         }
         scene.intersect_batch(w.rays.data(), w.hits.data(), found, live);
-        // Shade: what each path found, then its vertex (surface_step), as sample_radiance and
-        // continue_path take them.
-        w.pending.clear();
+        // What each path found, as sample_radiance and continue_path take it, and the numbers of
+        // the vertex it found, drawn for all paths before any is shaded: each path's draws are
+        // then independent work the core overlaps with the next path's, not a latency that the
+        // BSDF sample waits on.
         size_t still = 0;
         for (size_t k = 0; k < live; ++k) {
             const uint32_t index = w.live[k];
             WaveLane& lane = w.lanes[index];
-            lane.shadow.pending = false;
-            bool goes_on = found[k];
             if (lane.at_camera) {
                 if (!found[k]) {
                     samples[index].L =
@@ -130,24 +130,36 @@ void PathIntegrator::sample_batch(const Scene& scene, Sampler& sampler, BatchSam
                 lane.at_camera = false;
             } else if (!found[k]) {
                 lane.gathered += environment_found(scene, *lights_, settings_, lane.path, lane.ray.d);
+                finish(index);
+                continue;
             } else {
                 lane.gathered += emission_found(*lights_, settings_, lane.path, lane.si);
             }
-            if (goes_on) {
-                sampler.restore(lane.sampler_state);
-                Vec3 direction;
-                goes_on = surface_step(scene, *lights_, settings_, sampler, lane.dims, lane.si, *lane.si.shape->bsdf(), PathMedium{},
-                                       lane.path, lane.gathered, direction, &lane.shadow);
-                sampler.save(lane.sampler_state);
-                if (goes_on) {
-                    lane.ray = lane.si.spawn_ray(direction);
-                    lane.dims += SampleDimensions::PerBounce;
-                }
+            sampler.restore(lane.sampler_state);
+            draw_vertex_numbers(*lights_, settings_, sampler, lane.dims, *lane.si.shape->bsdf(), lane.path, lane.numbers);
+            sampler.save(lane.sampler_state);
+            w.live[still++] = index;
+        }
+        live = still;
+        // Each vertex (surface_step's), its shadow ray held back.
+        w.pending.clear();
+        still = 0;
+        for (size_t k = 0; k < live; ++k) {
+            const uint32_t index = w.live[k];
+            WaveLane& lane = w.lanes[index];
+            lane.shadow.pending = false;
+            Vec3 direction;
+            lane.goes_on = surface_step_drawn(scene, *lights_, settings_, lane.numbers, lane.si, *lane.si.shape->bsdf(), lane.path,
+                                              lane.gathered, direction, lane.shadow);
+            if (lane.goes_on) {
+                lane.ray = lane.si.spawn_ray(direction);
+                lane.dims += SampleDimensions::PerBounce;
+                w.live[still++] = index;
             }
-            if (lane.shadow.pending) w.pending.push_back(index);
-            lane.goes_on = goes_on;
-            if (goes_on) w.live[still++] = index;
-            if (!goes_on && !lane.shadow.pending) finish(index);
+            if (lane.shadow.pending)
+                w.pending.push_back(index);
+            else if (!lane.goes_on)
+                finish(index);
         }
         // The bounce's shadow rays, in packets; a clear one adds its estimate.
         const size_t shadows = w.pending.size();

@@ -6,33 +6,63 @@
 
 namespace candela {
 
-bool survive_roulette(const PathSettings& settings, Sampler& sampler, uint32_t dims, CameraPath& path) {
-    if (path.depth < uint32_t(settings.rr_depth)) return true;
-    sampler.set_dimension(dims + SampleDimensions::Roulette);
+namespace {
+
+// Russian roulette's decision with the number `u` (survive_roulette's rule).
+bool survive_with(float u, CameraPath& path) {
     const float q = roulette_continue_probability(path.weights.estimate_weight(), path.eta);
-    if (!(sampler.next_1d() < q)) return false;
+    if (!(u < q)) return false;
     path.weights.beta /= q;
     return true;
 }
 
-bool surface_step(const Scene& scene, const LightSampler& lights, const PathSettings& settings, Sampler& sampler, uint32_t dims,
-                  const SurfaceInteraction& si, const BSDF& bsdf, const PathMedium& medium, CameraPath& path, Spectrum& L, Vec3& direction,
-                  PendingShadow* deferred) {
+// The numbers of the vertex at `dims`, drawn from the sampler as the vertex asks for them, in
+// the sampler's order: the light pick and position (LightPick, LightPosition), the lobe and
+// direction, the roulette.
+struct DrawnFromSampler {
+    const LightSampler& lights;
+    Sampler& sampler;
+    uint32_t dims;
+
+    LightSampleNumbers light(bool estimate_next_event) {
+        sampler.set_dimension(dims + SampleDimensions::LightPick);
+        return estimate_next_event ? draw_light_numbers(lights, sampler) : LightSampleNumbers{};
+    }
+    float lobe(const BSDF& bsdf) {
+        sampler.set_dimension(dims + SampleDimensions::Lobe);
+        return draw_lobe_number(bsdf, sampler);
+    }
+    Vec2 direction() { return sampler.next_2d(); }
+    float roulette() {
+        sampler.set_dimension(dims + SampleDimensions::Roulette);
+        return sampler.next_1d();
+    }
+};
+
+// The numbers drawn before (draw_vertex_numbers).
+struct DrawnBefore {
+    const VertexNumbers& u;
+    LightSampleNumbers light(bool) const { return u.light; }
+    float lobe(const BSDF&) const { return u.lobe; }
+    Vec2 direction() const { return u.direction; }
+    float roulette() const { return u.roulette; }
+};
+
+// The vertex of surface_step, its numbers from `numbers`.
+template <class Numbers>
+bool scatter_at_surface(const Scene& scene, const LightSampler& lights, const PathSettings& settings, Numbers& numbers,
+                        const SurfaceInteraction& si, const BSDF& bsdf, const PathMedium& medium, CameraPath& path, Spectrum& L,
+                        Vec3& direction, PendingShadow* deferred) {
     if (!bsdf.has_null_lobe()) path.scattered = true;
     // At the last allowed bounce only a Null lobe may still carry the path on.
     const bool may_scatter = settings.may_extend(path.depth);
     if (!may_scatter && !bsdf.has_null_lobe()) return false;
     BSDFContext ctx;
     if (!may_scatter) ctx.lobes = Null;
-    // The numbers in the sampler's order: the light pick and position (LightPick, LightPosition),
-    // then the lobe and direction.
     const bool estimate_next_event = may_scatter && bsdf.has_smooth_lobe();
-    LightSampleNumbers u_light;
-    sampler.set_dimension(dims + SampleDimensions::LightPick);
-    if (estimate_next_event) u_light = draw_light_numbers(lights, sampler);
-    sampler.set_dimension(dims + SampleDimensions::Lobe);
-    const float u_lobe = draw_lobe_number(bsdf, sampler);
-    const Vec2 u_direction = sampler.next_2d();
+    const LightSampleNumbers u_light = numbers.light(estimate_next_event);
+    const float u_lobe = numbers.lobe(bsdf);
+    const Vec2 u_direction = numbers.direction();
     // The BSDF sample before next-event estimation, which does not change it: the warp's
     // dependent chain (a division, a polynomial, a square root) then runs alongside the light
     // sample's instead of between the shadow ray and the extension ray, where nothing overlaps it.
@@ -64,10 +94,45 @@ bool surface_step(const Scene& scene, const LightSampler& lights, const PathSett
         // Russian roulette before the extension ray is traced, as Mitsuba decides it: a path it
         // ends costs no ray (nor the emission that ray would have found, which the survivors'
         // 1 / q makes up for).
-        if (!survive_roulette(settings, sampler, dims, path)) return false;
+        if (path.depth >= uint32_t(settings.rr_depth) && !survive_with(numbers.roulette(), path)) return false;
     }
     direction = si.to_world(bs.wo);
     return max_component(path.weights.beta) > 0.0f;
+}
+
+}  // namespace
+
+bool survive_roulette(const PathSettings& settings, Sampler& sampler, uint32_t dims, CameraPath& path) {
+    if (path.depth < uint32_t(settings.rr_depth)) return true;
+    sampler.set_dimension(dims + SampleDimensions::Roulette);
+    return survive_with(sampler.next_1d(), path);
+}
+
+bool surface_step(const Scene& scene, const LightSampler& lights, const PathSettings& settings, Sampler& sampler, uint32_t dims,
+                  const SurfaceInteraction& si, const BSDF& bsdf, const PathMedium& medium, CameraPath& path, Spectrum& L,
+                  Vec3& direction) {
+    DrawnFromSampler numbers{lights, sampler, dims};
+    return scatter_at_surface(scene, lights, settings, numbers, si, bsdf, medium, path, L, direction, nullptr);
+}
+
+void draw_vertex_numbers(const LightSampler& lights, const PathSettings& settings, Sampler& sampler, uint32_t dims, const BSDF& bsdf,
+                         const CameraPath& path, VertexNumbers& u) {
+    const bool may_scatter = settings.may_extend(path.depth);
+    if (!may_scatter) return;  // the vertex ends the path (no Null lobe) before drawing
+    DrawnFromSampler numbers{lights, sampler, dims};
+    u.light = numbers.light(bsdf.has_smooth_lobe());
+    u.lobe = numbers.lobe(bsdf);
+    u.direction = numbers.direction();
+    // The scattering event takes the path to depth + 1; the roulette's number is drawn only
+    // where it will be read (a stream sampler's later numbers stay in place).
+    if (path.depth + 1 >= uint32_t(settings.rr_depth)) u.roulette = numbers.roulette();
+}
+
+bool surface_step_drawn(const Scene& scene, const LightSampler& lights, const PathSettings& settings, const VertexNumbers& u,
+                        const SurfaceInteraction& si, const BSDF& bsdf, CameraPath& path, Spectrum& L, Vec3& direction,
+                        PendingShadow& deferred) {
+    DrawnBefore numbers{u};
+    return scatter_at_surface(scene, lights, settings, numbers, si, bsdf, PathMedium{}, path, L, direction, &deferred);
 }
 
 Spectrum emission_found(const LightSampler& lights, const PathSettings& settings, const CameraPath& path, const SurfaceInteraction& hit) {

@@ -76,11 +76,27 @@ struct PendingShadow {
 // BSDF sample, and after a scattering event the Russian roulette (before the next ray is
 // traced). Returns false when the path ends here; else `direction` (world) is where it goes on,
 // through a Null lobe or after a scattering event, and the throughput includes the sample's
-// weight (and 1 / q of a roulette it survived). With `deferred`, next-event estimation's shadow
-// ray is not traced here: its estimate is left there (pending when there is one), not added to L.
+// weight (and 1 / q of a roulette it survived).
 bool surface_step(const Scene& scene, const LightSampler& lights, const PathSettings& settings, Sampler& sampler, uint32_t dims,
-                  const SurfaceInteraction& si, const BSDF& bsdf, const PathMedium& medium, CameraPath& path, Spectrum& L, Vec3& direction,
-                  PendingShadow* deferred = nullptr);
+                  const SurfaceInteraction& si, const BSDF& bsdf, const PathMedium& medium, CameraPath& path, Spectrum& L, Vec3& direction);
+
+// The same vertex for a wavefront, in two halves, where `bsdf` has no Null lobe and the path is
+// in no medium: draw_vertex_numbers draws every number surface_step would draw, in its order
+// (the roulette's whenever the scattering event reaches rr_depth: should the BSDF sample end the
+// path instead, its sample draws nothing after it anyway); surface_step_drawn then does what
+// surface_step does with them, next-event estimation's shadow ray held back in `deferred`
+// (pending when there is one; not added to L).
+struct VertexNumbers {
+    LightSampleNumbers light;
+    float lobe = 0.5f;
+    Vec2 direction{0.5f};
+    float roulette = 0.5f;
+};
+void draw_vertex_numbers(const LightSampler& lights, const PathSettings& settings, Sampler& sampler, uint32_t dims, const BSDF& bsdf,
+                         const CameraPath& path, VertexNumbers& u);
+bool surface_step_drawn(const Scene& scene, const LightSampler& lights, const PathSettings& settings, const VertexNumbers& u,
+                        const SurfaceInteraction& si, const BSDF& bsdf, CameraPath& path, Spectrum& L, Vec3& direction,
+                        PendingShadow& deferred);
 
 // The emission the path finds at surface `hit` (0 when hide_emitters hides it: nothing has
 // scattered yet), weighted against next-event estimation from the last scattering vertex, times
