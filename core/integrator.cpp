@@ -325,7 +325,7 @@ private:
         }
     }
 
-    // The tile's samples in batches (RGB, no channels, no first-hit layers: render() checks),
+    // The tile's samples in batches (RGB, no channels, no bands: render() checks),
     // pixel by pixel and sample by sample as sample_pixel takes them, and splatted in that order.
     void sample_tile_batched(Tile& tile, const SampleRange& samples, Sampler& sampler, uint64_t& taken, uint64_t& nonfinite) const {
         struct Pending {
@@ -335,16 +335,17 @@ private:
         };
         thread_local std::vector<BatchSample> batch;
         thread_local std::vector<Pending> where;
+        thread_local std::vector<FirstHitAovs> aovs;
         batch.resize(BatchLength);
         where.resize(BatchLength);
-        const FirstHitAovs no_aov;
+        aovs.resize(BatchLength);
         size_t n = 0;
         auto flush = [&] {
             integrator_.sample_batch(scene_, sampler, batch.data(), n);
             taken += n;
             for (size_t i = 0; i < n; ++i)
                 splat_rgb(tile, where[i].ps, where[i].index, where[i].film_pos, batch[i].L * sensor_.sample_weight(where[i].film_pos),
-                          batch[i].valid, nullptr, no_aov, nonfinite);
+                          batch[i].valid, nullptr, aovs[i], nonfinite);
             n = 0;
         };
         for (int y = tile.sample_min.y; y < tile.sample_max.y; ++y)
@@ -357,6 +358,8 @@ private:
                     SampleRecord record;
                     batch[n].ray = camera_sample(pixel, uint32_t(s), sampler, record);
                     sampler.save(batch[n].sampler_state);
+                    aovs[n] = FirstHitAovs();
+                    batch[n].first_hit = first_hit_ ? &aovs[n] : nullptr;
                     where[n] = Pending{record.film_pos, ps, uint32_t(s)};
                     if (++n == BatchLength) flush();
                 }
@@ -509,18 +512,17 @@ ImageRect sums_rect(const Film& film, const ImageRect& region) {
     return ImageRect{lo, hi - lo};
 }
 
-void SampleRecord::record_first_hit(const SurfaceInteraction& si) {
-    if (!first_hit) return;
+void SampleRecord::fill_first_hit(const SurfaceInteraction& si, FirstHitAovs& aovs) {
     if (si.wavelengths) {
         // The albedo layer is a colour in every variant: the BSDF's albedo in RGB.
         SurfaceInteraction rgb = si;
         rgb.wavelengths = nullptr;
-        first_hit->albedo = si.shape->bsdf()->albedo(rgb);
+        aovs.albedo = si.shape->bsdf()->albedo(rgb);
     } else {
-        first_hit->albedo = si.shape->bsdf()->albedo(si);
+        aovs.albedo = si.shape->bsdf()->albedo(si);
     }
-    first_hit->normal = si.shading.n;
-    first_hit->depth = si.t;
+    aovs.normal = si.shading.n;
+    aovs.depth = si.t;
 }
 
 void annotate_image(Image& image, const RenderStats& s, const std::string& integrator, const std::string& scene_path) {
@@ -603,7 +605,7 @@ RenderResult SamplingIntegrator::render(const Scene& scene, const RenderOptions&
     RenderCounters counters;
     Interruption interruption(options.interrupt);
     // Batches only where they give the same image: RGB radiance alone per sample.
-    const bool batched = options.wavefront && !layers.first_hit() && !film.bands() && channel_names().empty() && samples_in_batches(scene);
+    const bool batched = options.wavefront && !film.bands() && channel_names().empty() && samples_in_batches(scene);
     const TileSampler tile_sampler(*this, scene, values, layers, window, prototype->sample_count(), batched);
     tbb::enumerable_thread_specific<Ref<Sampler>> samplers([&] { return prototype->clone(); });
     tbb::task_arena arena = thread_arena(options.threads);

@@ -123,15 +123,22 @@ struct SampleRecord {
     float channels[MaxSampleChannels];
 
     // Fills the --aov first-hit layers, when asked for, from the camera ray's first surface.
-    void record_first_hit(const SurfaceInteraction& si);
+    void record_first_hit(const SurfaceInteraction& si) {
+        if (first_hit) fill_first_hit(si, *first_hit);
+    }
+    // What record_first_hit records: the BSDF's albedo (a colour in every variant), the shading
+    // normal and the distance.
+    static void fill_first_hit(const SurfaceInteraction& si, FirstHitAovs& aovs);
 };
 
-// One camera sample of a batch (SamplingIntegrator::sample_batch). In: its camera ray and where
-// the sample stands in the sampler after the camera's numbers. Out: its radiance and whether it
-// is valid (SampleRecord::valid).
+// One camera sample of a batch (SamplingIntegrator::sample_batch). In: its camera ray, where
+// the sample stands in the sampler after the camera's numbers, and the --aov first-hit layers to
+// fill or null (as SampleRecord's). Out: its radiance and whether it is valid
+// (SampleRecord::valid).
 struct BatchSample {
     Ray ray;
     SamplerState sampler_state;
+    FirstHitAovs* first_hit = nullptr;
     Spectrum L{0.0f};
     bool valid = false;
 };
@@ -178,8 +185,8 @@ public:
     virtual Spectrum sample_radiance(const Scene& scene, Sampler& sampler, const Ray& ray, SampleRecord& record) const = 0;
     // Whether this render's camera samples may go to sample_batch() many at a time instead of one
     // at a time to sample_radiance(), which gives every sample the same radiance and validity bit
-    // for bit (a wavefront path tracer). Asked only for renders without --aov first-hit layers,
-    // channels or a specfilm's bands. No by default.
+    // for bit (a wavefront path tracer). Asked only for renders without integrator channels or
+    // a specfilm's bands. No by default.
     virtual bool samples_in_batches(const Scene& scene) const { return false; }
     // Fills L and valid of samples[0, n), serving them all with one sampler (Sampler::restore).
     virtual void sample_batch(const Scene& scene, Sampler& sampler, BatchSample samples[], size_t n) const {}

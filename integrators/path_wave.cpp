@@ -9,8 +9,7 @@
 //
 // Used for what it reproduces exactly: the RGB variant (no wavelengths, no Stokes vectors),
 // scenes without Null surfaces (a clear shadow ray then has a transmittance of exactly 1) and
-// without media (path refuses them anyway). Everything else, and every render with --aov
-// first-hit layers, takes the scalar path.
+// without media (path refuses them anyway). Everything else takes the scalar path.
 //
 // What it gains and what it does not yet is measured in docs/benchmarks.md ("The wavefront
 // path"): the shading is still the scalar plugins', lane by lane.
@@ -121,6 +120,7 @@ void PathIntegrator::sample_batch(const Scene& scene, Sampler& sampler, BatchSam
                     samples[index].valid = environment_seen;
                     continue;
                 }
+                if (samples[index].first_hit) SampleRecord::fill_first_hit(lane.si, *samples[index].first_hit);
                 // Seen directly: no MIS (the camera ray is a delta "lobe").
                 if (const Emitter* emitter = lane.si.shape->emitter(); emitter && !settings_.hide_emitters)
                     lane.seen += emitter->eval(lane.si);

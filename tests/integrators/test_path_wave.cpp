@@ -1,7 +1,8 @@
 // The path tracer's wavefront (integrators/path_wave.cpp) against the path tracer one path at a
 // time (RenderOptions::wavefront off): the same image bit for bit, and the same ray count, for
 // every sampler and what a user can combine with it (settings, shapes that Embree calls back for
-// a packet, instances, motion blur, environment maps, adaptive sampling, parts of a render).
+// a packet, instances, motion blur, environment maps, adaptive sampling, parts of a render, the
+// --aov layers).
 
 #include "core/integrator.h"
 #include "core/scene.h"
@@ -24,8 +25,9 @@ bool batched(const Scene& scene) {
     return integrator && integrator->samples_in_batches(scene);
 }
 
-// Renders `scene` with `options` as a wavefront and one path at a time, and compares.
-void check_same_render(const Scene& scene, RenderOptions options) {
+// Renders `scene` with `options` as a wavefront and one path at a time, and compares; returns
+// the wavefront's.
+RenderResult check_same_render(const Scene& scene, RenderOptions options) {
     options.wavefront = true;
     const RenderResult wave = scene.integrator().render(scene, options);
     options.wavefront = false;
@@ -40,6 +42,7 @@ void check_same_render(const Scene& scene, RenderOptions options) {
     double sum = 0.0;
     for (float v : one.image.data()) sum += v;
     CHECK(sum > 0.0);
+    return wave;
 }
 
 RenderOptions with_sampler(const std::string& sampler, int spp = 5) {
@@ -136,7 +139,8 @@ TEST_CASE("path wavefront: instances, analytic shapes and motion blur render bit
     }
 }
 
-TEST_CASE("path wavefront: adaptive sampling, parts of a render and one thread give what one path at a time gives", "[render][wavefront]") {
+TEST_CASE("path wavefront: adaptive sampling, parts of a render, --aov layers and one thread give what one path at a time gives",
+          "[render][wavefront]") {
     Ref<Scene> scene = load_scene(source_path("scenes/validation/cbox.xml"), {{"res", "24"}, {"spp", "8"}});
     RenderOptions adaptive = with_sampler("independent", 64);
     adaptive.adaptive.threshold = 0.05f;
@@ -146,6 +150,10 @@ TEST_CASE("path wavefront: adaptive sampling, parts of a render and one thread g
     part.samples = SampleRange{3, 11};
     part.region = ImageRect{Vec2i(5, 7), Vec2i(13, 9)};
     check_same_render(*scene, part);
+    RenderOptions layers = with_sampler("stratified", 9);
+    layers.aovs = {"albedo", "normal", "depth", "variance", "samples"};
+    const RenderResult with_layers = check_same_render(*scene, layers);
+    CHECK(with_layers.image.channels().size() > 3 + 3 + 3 + 1);
     RenderOptions one_thread = with_sampler("zsobol", 8);
     one_thread.threads = 1;
     check_same_render(*scene, one_thread);
