@@ -283,6 +283,13 @@ private:
         if (ps) ps->add(L, aov, index);
     }
 
+    // The spectral variants' sample values `L` at `wavelengths` (times the sensor's sample_weight)
+    // as the film's linear sRGB, through the sensor's spectral response when it has one.
+    Spectrum film_rgb(Spectrum L, const Wavelengths& wavelengths) const {
+        if (const SensorResponse* response = sensor_.response()) L *= response->at(wavelengths);
+        return spectral_to_linear_srgb(L, wavelengths);
+    }
+
     // The samples of one pixel (tile coordinates), one at a time.
     void sample_pixel(Tile& tile, const Vec2i& local, const SampleRange& samples, Sampler& sampler, uint64_t& taken,
                       uint64_t& nonfinite) const {
@@ -317,15 +324,13 @@ private:
                 if (ps) ps->add(Spectrum(0.0f), aov, uint32_t(s));
                 continue;
             }
-            if (spectral_) {
-                if (const SensorResponse* response = sensor_.response()) L *= response->at(wavelengths);
-                L = spectral_to_linear_srgb(L, wavelengths);
-            }
+            if (spectral_) L = film_rgb(L, wavelengths);
             splat_rgb(tile, ps, uint32_t(s), record.film_pos, L, record.valid, record.channels, aov, nonfinite);
         }
     }
 
-    // The tile's samples in batches (RGB, no channels, no bands: render() checks),
+    // The tile's samples in batches (no channels, no bands, not polarized: render() and the
+    // integrator check),
     // pixel by pixel and sample by sample as sample_pixel takes them, and splatted in that order.
     void sample_tile_batched(Tile& tile, const SampleRange& samples, Sampler& sampler, uint64_t& taken, uint64_t& nonfinite) const {
         struct Pending {
@@ -336,16 +341,20 @@ private:
         thread_local std::vector<BatchSample> batch;
         thread_local std::vector<Pending> where;
         thread_local std::vector<FirstHitAovs> aovs;
+        thread_local std::vector<Wavelengths> wavelengths;  // the spectral variant's, each sample's own
         batch.resize(BatchLength);
         where.resize(BatchLength);
         aovs.resize(BatchLength);
+        wavelengths.resize(BatchLength);
         size_t n = 0;
         auto flush = [&] {
             integrator_.sample_batch(scene_, sampler, batch.data(), n);
             taken += n;
-            for (size_t i = 0; i < n; ++i)
-                splat_rgb(tile, where[i].ps, where[i].index, where[i].film_pos, batch[i].L * sensor_.sample_weight(where[i].film_pos),
-                          batch[i].valid, nullptr, aovs[i], nonfinite);
+            for (size_t i = 0; i < n; ++i) {
+                Spectrum L = batch[i].L * sensor_.sample_weight(where[i].film_pos);
+                if (spectral_) L = film_rgb(L, wavelengths[i]);
+                splat_rgb(tile, where[i].ps, where[i].index, where[i].film_pos, L, batch[i].valid, nullptr, aovs[i], nonfinite);
+            }
             n = 0;
         };
         for (int y = tile.sample_min.y; y < tile.sample_max.y; ++y)
@@ -357,6 +366,10 @@ private:
                 for (int s = samples.begin; s < samples.end; ++s) {
                     SampleRecord record;
                     batch[n].ray = camera_sample(pixel, uint32_t(s), sampler, record);
+                    if (spectral_) {
+                        wavelengths[n] = draw_wavelengths(sampler, sensor_.response());
+                        batch[n].ray.wavelengths = &wavelengths[n];
+                    }
                     sampler.save(batch[n].sampler_state);
                     aovs[n] = FirstHitAovs();
                     batch[n].first_hit = first_hit_ ? &aovs[n] : nullptr;

@@ -7,8 +7,8 @@
 // (Sampler::save/restore), so that every sample's numbers and radiance are bit for bit those of
 // sample_radiance; tests/integrators/test_path_wave.cpp holds the two to that.
 //
-// Used for what it reproduces exactly: the RGB variant (no wavelengths, no Stokes vectors),
-// scenes without Null surfaces (a clear shadow ray then has a transmittance of exactly 1) and
+// Used for what it reproduces exactly: the RGB and spectral variants (each sample's wavelengths
+// are its own, drawn by the pixel loop; no Stokes vectors), scenes without Null surfaces (a clear shadow ray then has a transmittance of exactly 1) and
 // without media (path refuses them anyway). Everything else takes the scalar path.
 //
 // What it gains and what it does not yet is measured in docs/benchmarks.md ("The wavefront
@@ -66,7 +66,7 @@ struct WaveWorkspace {
 }  // namespace
 
 bool PathIntegrator::samples_in_batches(const Scene& scene) const {
-    return !scene.spectral() && !scene.has_null_surfaces() && !scene.has_media();
+    return !scene.polarized() && !scene.has_null_surfaces() && !scene.has_media();
 }
 
 void PathIntegrator::sample_batch(const Scene& scene, Sampler& sampler, BatchSample samples[], size_t n) const {
@@ -116,7 +116,7 @@ void PathIntegrator::sample_batch(const Scene& scene, Sampler& sampler, BatchSam
             if (lane.at_camera) {
                 if (!found[k]) {
                     samples[index].L =
-                        settings_.hide_emitters ? Spectrum(0.0f) : scene.eval_environment(lane.ray.d, nullptr, lane.ray.time);
+                        settings_.hide_emitters ? Spectrum(0.0f) : scene.eval_environment(lane.ray.d, lane.ray.wavelengths, lane.ray.time);
                     samples[index].valid = environment_seen;
                     continue;
                 }
@@ -125,7 +125,7 @@ void PathIntegrator::sample_batch(const Scene& scene, Sampler& sampler, BatchSam
                 if (const Emitter* emitter = lane.si.shape->emitter(); emitter && !settings_.hide_emitters)
                     lane.seen += emitter->eval(lane.si);
                 lane.path = CameraPath(lane.si);
-                lane.path.polarization.begin(nullptr);
+                lane.path.polarization.begin(lane.ray.wavelengths);  // inactive: no Stokes vectors
                 lane.dims = SampleDimensions::FirstBounce;
                 lane.at_camera = false;
             } else if (!found[k]) {

@@ -6,6 +6,7 @@
 
 #include "core/integrator.h"
 #include "core/scene.h"
+#include "core/variant.h"
 #include "core/xml.h"
 #include "tests/util.h"
 
@@ -71,6 +72,23 @@ TEST_CASE("path wavefront: the validation scenes render bit for bit as one path 
         }
     }
     CHECK(scenes_batched >= 7);
+}
+
+TEST_CASE("path wavefront: the spectral variant renders bit for bit as one path at a time, the polarized one path at a time",
+          "[render][wavefront][spectral]") {
+    // Each sample's wavelengths are drawn by the pixel loop after the camera's numbers and belong
+    // to that sample (a dispersive glass terminates its secondary ones); the polarized variant's
+    // Stokes sums are not batched.
+    for (const char* name : {"cbox", "conductors", "roughglass", "textured", "envmap"}) {
+        const std::string path = source_path(std::string("scenes/validation/") + name + ".xml");
+        Ref<Scene> scene = load_scene(path, {{"res", "12"}, {"spp", "5"}}, Variant::ScalarSpectral);
+        CHECK(batched(*scene));
+        for (const char* sampler : {"independent", "ldsampler", "zsobol"}) {
+            INFO(name << " with " << sampler);
+            check_same_render(*scene, with_sampler(sampler));
+        }
+        CHECK_FALSE(batched(*load_scene(path, {{"res", "12"}, {"spp", "5"}}, Variant::ScalarSpectralPolarized)));
+    }
 }
 
 TEST_CASE("path wavefront: path's settings, hidden emitters and short paths render bit for bit as one path at a time",
