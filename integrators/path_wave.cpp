@@ -1,15 +1,17 @@
 // The path tracer as a wavefront (PathIntegrator::sample_batch): a batch of camera samples
 // advances bounce by bounce, each bounce's extension rays traced together as Embree's 16-ray
-// packets (Scene::intersect_batch), then every path shaded, then the bounce's shadow rays traced
-// together (Scene::occluded_batch). Each path runs the same vertex as the scalar path
-// (surface_step, emission_found, environment_found) with its shadow ray held back
-// (PendingShadow), and keeps where its sample stands in the one sampler the batch shares
-// (Sampler::save/restore), so that every sample's numbers and radiance are bit for bit those of
-// sample_radiance; tests/integrators/test_path_wave.cpp holds the two to that.
+// packets (Scene::intersect_batch), then every path's vertex numbers drawn, then every path
+// shaded, then the bounce's shadow rays traced together (Scene::occluded_batch). Each path runs
+// the scalar path's vertex (surface_step's, as draw_vertex_numbers and surface_step_drawn;
+// emission_found, environment_found) with its shadow ray held back (PendingShadow), and keeps
+// where its sample stands in the one sampler the batch shares (Sampler::save/restore), so that
+// every sample's numbers and radiance are bit for bit those of sample_radiance;
+// tests/integrators/test_path_wave.cpp holds the two to that.
 //
 // Used for what it reproduces exactly: the RGB and spectral variants (each sample's wavelengths
-// are its own, drawn by the pixel loop; no Stokes vectors), scenes without Null surfaces (a clear shadow ray then has a transmittance of exactly 1) and
-// without media (path refuses them anyway). Everything else takes the scalar path.
+// are its own, drawn by the pixel loop; no Stokes vectors), scenes without Null surfaces (a clear
+// shadow ray then has a transmittance of exactly 1) and without media (path refuses them
+// anyway). Everything else takes the scalar path.
 //
 // What it gains and what it does not yet is measured in docs/benchmarks.md ("The wavefront
 // path"): the shading is still the scalar plugins', lane by lane.
