@@ -283,6 +283,12 @@ private:
         if (ps) ps->add(L, aov, index);
     }
 
+    // The spectral variants' wavelengths of a sample, drawn after the camera's numbers: a
+    // specfilm's follow its bands' responses (a sensor's srf is then refused), else the sensor's.
+    Wavelengths sample_wavelengths(Sampler& sampler) const {
+        return draw_wavelengths(sampler, bands_ ? bands_->sampling.get() : sensor_.response());
+    }
+
     // The spectral variants' sample values `L` at `wavelengths` (times the sensor's sample_weight)
     // as the film's linear sRGB, through the sensor's spectral response when it has one.
     Spectrum film_rgb(Spectrum L, const Wavelengths& wavelengths) const {
@@ -306,8 +312,7 @@ private:
             Wavelengths wavelengths;
             StokesSpectrum stokes;  // what a polarized path sums besides its S0
             if (spectral_) {
-                // A specfilm's wavelengths follow its bands' responses (a sensor's srf is then refused).
-                wavelengths = draw_wavelengths(sampler, bands_ ? bands_->sampling.get() : sensor_.response());
+                wavelengths = sample_wavelengths(sampler);
                 if (polarized_) wavelengths.stokes = &stokes;
                 ray.wavelengths = &wavelengths;
             }
@@ -330,8 +335,8 @@ private:
     }
 
     // The tile's samples in batches (no channels, no bands, not polarized: render() and the
-    // integrator check),
-    // pixel by pixel and sample by sample as sample_pixel takes them, and splatted in that order.
+    // integrator check), pixel by pixel and sample by sample as sample_pixel takes them, and
+    // splatted in that order.
     void sample_tile_batched(Tile& tile, const SampleRange& samples, Sampler& sampler, uint64_t& taken, uint64_t& nonfinite) const {
         struct Pending {
             Vec2 film_pos;
@@ -367,7 +372,7 @@ private:
                     SampleRecord record;
                     batch[n].ray = camera_sample(pixel, uint32_t(s), sampler, record);
                     if (spectral_) {
-                        wavelengths[n] = draw_wavelengths(sampler, sensor_.response());
+                        wavelengths[n] = sample_wavelengths(sampler);
                         batch[n].ray.wavelengths = &wavelengths[n];
                     }
                     sampler.save(batch[n].sampler_state);
@@ -617,7 +622,8 @@ RenderResult SamplingIntegrator::render(const Scene& scene, const RenderOptions&
                               options.progress_sink);
     RenderCounters counters;
     Interruption interruption(options.interrupt);
-    // Batches only where they give the same image: RGB radiance alone per sample.
+    // Batches only where they give the same image: per sample its radiance, validity and first-hit
+    // layers, no integrator channels or band values (the integrator says what else it needs).
     const bool batched = options.wavefront && !film.bands() && channel_names().empty() && samples_in_batches(scene);
     const TileSampler tile_sampler(*this, scene, values, layers, window, prototype->sample_count(), batched);
     tbb::enumerable_thread_specific<Ref<Sampler>> samplers([&] { return prototype->clone(); });

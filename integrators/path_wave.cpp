@@ -108,9 +108,8 @@ void PathIntegrator::sample_batch(const Scene& scene, Sampler& sampler, BatchSam
         }
         scene.intersect_batch(w.rays.data(), w.hits.data(), found, live);
         // What each path found, as sample_radiance and continue_path take it, and the numbers of
-        // the vertex it found, drawn for all paths before any is shaded: each path's draws are
-        // then independent work the core overlaps with the next path's, not a latency that the
-        // BSDF sample waits on.
+        // the vertex it found, drawn for all paths before any is shaded: the place for a batch
+        // draw (by itself no faster than drawing in the vertex, measured 2026-12-07).
         size_t still = 0;
         for (size_t k = 0; k < live; ++k) {
             const uint32_t index = w.live[k];
