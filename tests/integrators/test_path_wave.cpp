@@ -12,6 +12,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <cstdlib>
 #include <regex>
 
 using namespace candela;
@@ -54,6 +55,27 @@ RenderOptions with_sampler(const std::string& sampler, int spp = 5) {
     options.threads = 2;
     return options;
 }
+
+// Sets an environment variable for its lifetime, then restores what was there (or unsets it).
+class ScopedEnvironment {
+public:
+    ScopedEnvironment(const char* name, const char* value) : name_(name) {
+        if (const char* previous = std::getenv(name)) previous_ = previous, had_previous_ = true;
+        setenv(name, value, 1);
+    }
+    ~ScopedEnvironment() {
+        if (had_previous_)
+            setenv(name_.c_str(), previous_.c_str(), 1);
+        else
+            unsetenv(name_.c_str());
+    }
+    ScopedEnvironment(const ScopedEnvironment&) = delete;
+    ScopedEnvironment& operator=(const ScopedEnvironment&) = delete;
+
+private:
+    std::string name_, previous_;
+    bool had_previous_ = false;
+};
 
 }  // namespace
 
@@ -175,4 +197,28 @@ TEST_CASE("path wavefront: adaptive sampling, parts of a render, --aov layers an
     RenderOptions one_thread = with_sampler("zsobol", 8);
     one_thread.threads = 1;
     check_same_render(*scene, one_thread);
+}
+
+TEST_CASE("path wavefront: Embree's kernels for machines without AVX-512 answer its part-filled packets", "[render][wavefront]") {
+    // Embree answers a 16-ray query with its widest kernels; without AVX-512 it splits it into
+    // 8- or 4-ray ones, which asserted (and aborted) on the unused lanes of a packet the wave had
+    // left unwritten. CANDELA_EMBREE_CONFIG selects those kernels on any machine that has them.
+    struct Isa {
+        const char* config;
+        bool supported;
+    };
+    const Isa isas[] = {{"isa=sse4.2", bool(__builtin_cpu_supports("sse4.2"))},
+                        {"isa=avx", bool(__builtin_cpu_supports("avx"))},
+                        {"isa=avx2", bool(__builtin_cpu_supports("avx2"))}};
+    for (const Isa& isa : isas) {
+        if (!isa.supported) continue;
+        INFO(isa.config);
+        ScopedEnvironment config("CANDELA_EMBREE_CONFIG", isa.config);
+        for (const char* name : {"cbox", "lights", "envmap"}) {
+            INFO(name);
+            Ref<Scene> scene = load_scene(source_path(std::string("scenes/validation/") + name + ".xml"), {{"res", "16"}, {"spp", "5"}});
+            REQUIRE(batched(*scene));
+            check_same_render(*scene, with_sampler("independent"));
+        }
+    }
 }
