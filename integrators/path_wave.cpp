@@ -125,7 +125,7 @@ void PathIntegrator::sample_batch(const Scene& scene, Sampler& sampler, BatchSam
                 // Seen directly: no MIS (the camera ray is a delta "lobe").
                 if (const Emitter* emitter = lane.si.shape->emitter(); emitter && !settings_.hide_emitters)
                     lane.seen += emitter->eval(lane.si);
-                lane.path = CameraPath(lane.si);
+                lane.path.restart(lane.si);
                 lane.path.polarization.begin(lane.ray.wavelengths);  // inactive: no Stokes vectors
                 lane.dims = SampleDimensions::FirstBounce;
                 lane.at_camera = false;
