@@ -68,16 +68,16 @@ Ray shadow_ray(const SurfaceInteraction& at, const DirectionSample& ds) {
     return std::isinf(ds.dist) ? at.spawn_ray(ds.d) : at.spawn_ray_to(ds.p, ds.delta ? Vec3(0.0f) : ds.n, ds.p_error);
 }
 
-UnshadowedLight unshadowed_emitter_mis(const LightSampler& lights, const LightSampleNumbers& u, const SurfaceInteraction& si,
-                                       const BSDF& bsdf, const BSDFContext& ctx, StrategyShares shares) {
-    UnshadowedLight out;
+void unshadowed_emitter_mis(const LightSampler& lights, const LightSampleNumbers& u, const SurfaceInteraction& si, const BSDF& bsdf,
+                            const BSDFContext& ctx, UnshadowedLight& out, StrategyShares shares) {
+    out.valid = false;
     const LightSample light = draw_light_sample(lights, u, si);
-    if (!light.valid()) return out;
+    if (!light.valid()) return;
     const DirectionSample& ds = light.ds;
     out.wo = si.to_local(ds.d);
     // eval and pdf together (the pdf weighs this sample against BSDF sampling below).
     const BSDFEvalPdf f_pdf = bsdf.eval_pdf(ctx, si, out.wo);
-    if (is_black(f_pdf.value)) return out;
+    if (is_black(f_pdf.value)) return;
     out.f = f_pdf.value;
     out.light_weight = light.weight;
     const float w = ds.delta ? 1.0f : power_heuristic(ds.pdf * light.pick_prob * shares.emitter, f_pdf.pdf * shares.bsdf);
@@ -85,19 +85,19 @@ UnshadowedLight unshadowed_emitter_mis(const LightSampler& lights, const LightSa
     out.shadow = shadow_ray(si, ds);
     out.towards = ds.d;
     out.valid = true;
-    return out;
 }
 
 Spectrum sample_emitter_mis(const Scene& scene, const LightSampler& lights, const LightSampleNumbers& u, const SurfaceInteraction& si,
                             const BSDF& bsdf, const BSDFContext& ctx, StrategyShares shares, const PathMedium& medium,
                             StokesSpectrum* arriving) {
-    const UnshadowedLight light = unshadowed_emitter_mis(lights, u, si, bsdf, ctx, shares);
+    UnshadowedLight light;
+    unshadowed_emitter_mis(lights, u, si, bsdf, ctx, light, shares);
     if (!light.valid) return Spectrum(0.0f);
     // Through null surfaces and masks, and media when there is an rng (from the medium on the light's side).
     const Medium* start = medium.rng && si.shape->is_medium_transition() ? si.shape->target_medium(si, light.towards) : medium.medium;
     const Spectrum T = shadow_transmittance(scene, light.shadow, start, medium.rng, &bsdf, ctx, si, light.wo, arriving);
     if (is_black(T)) return Spectrum(0.0f);
-    return T * light.f * light.light_weight * light.scale;
+    return light.contribution(T);
 }
 
 float emitter_hit_weight(const LightSampler& lights, const SurfaceInteraction& from, float bsdf_pdf, const Emitter& emitter,

@@ -101,10 +101,11 @@ inline LightSample draw_light_sample(const LightSampler& lights, Sampler& sample
 // light, else a segment that stops short of the point's surface (its normal and error bound).
 Ray shadow_ray(const SurfaceInteraction& at, const DirectionSample& ds);
 
-// A next-event-estimation sample before its shadow ray is traced: what sample_emitter_mis
-// returns when the shadow ray is clear, f * light_weight * scale, and that ray. A wavefront
+// A next-event-estimation sample before its shadow ray is traced: that ray, and what
+// sample_emitter_mis returns once its transmittance T is known, contribution(T). A wavefront
 // traces the shadow rays of many paths together (Scene::occluded_batch) and adds the
-// contribution of those that are clear.
+// contributions of those that are clear. Written into the caller's `out` (a wavefront's lane
+// keeps it; returned by value it was built and then copied there, 1% of a Cornell box render).
 struct UnshadowedLight {
     Spectrum f{0.0f};             // the BSDF toward the light (eval)
     Spectrum light_weight{0.0f};  // the light's radiance over its pdf
@@ -113,10 +114,11 @@ struct UnshadowedLight {
     Vec3 wo{0.0f};       // toward the light, local
     Vec3 towards{0.0f};  // toward the light, world
     bool valid = false;  // false: no contribution, and no shadow ray to trace
-    Spectrum contribution() const { return f * light_weight * scale; }
+    // Its estimate once the shadow ray's transmittance T is known.
+    Spectrum contribution(const Spectrum& T) const { return T * f * light_weight * scale; }
 };
-UnshadowedLight unshadowed_emitter_mis(const LightSampler& lights, const LightSampleNumbers& u, const SurfaceInteraction& si,
-                                       const BSDF& bsdf, const BSDFContext& ctx, StrategyShares shares = {});
+void unshadowed_emitter_mis(const LightSampler& lights, const LightSampleNumbers& u, const SurfaceInteraction& si, const BSDF& bsdf,
+                            const BSDFContext& ctx, UnshadowedLight& out, StrategyShares shares = {});
 
 // One next-event-estimation sample at `si` (si.wi set) for `bsdf` restricted to `ctx`: the light's
 // radiance times the BSDF and the shadow ray's transmittance (through null surfaces, and media

@@ -9,9 +9,11 @@
 // tests/integrators/test_path_wave.cpp holds the two to that.
 //
 // Used for what it reproduces exactly: the RGB and spectral variants (each sample's wavelengths
-// are its own, drawn by the pixel loop; no Stokes vectors), scenes without Null surfaces (a clear
-// shadow ray then has a transmittance of exactly 1) and without media (path refuses them
-// anyway). Everything else takes the scalar path.
+// are its own, drawn by the pixel loop; no Stokes vectors) without media (path refuses them
+// anyway). In a scene with Null surfaces (thindielectric, mask, null) a shadow ray's
+// transmittance is Scene::transmittance's, one ray at a time; without them the bounce's shadow
+// rays go to Embree as packets (clear means a transmittance of exactly 1). The polarized variant
+// takes the scalar path.
 //
 // What it gains and what it does not yet is measured in docs/benchmarks.md ("The wavefront
 // path"): the shading is still the scalar plugins', lane by lane.
@@ -67,9 +69,7 @@ struct WaveWorkspace {
 
 }  // namespace
 
-bool PathIntegrator::samples_in_batches(const Scene& scene) const {
-    return !scene.polarized() && !scene.has_null_surfaces() && !scene.has_media();
-}
+bool PathIntegrator::samples_in_batches(const Scene& scene) const { return !scene.polarized() && !scene.has_media(); }
 
 void PathIntegrator::sample_batch(const Scene& scene, Sampler& sampler, BatchSample samples[], size_t n) const {
     const bool environment_seen = !settings_.hide_emitters && !scene.infinite_emitters().empty();
@@ -150,8 +150,8 @@ void PathIntegrator::sample_batch(const Scene& scene, Sampler& sampler, BatchSam
             WaveLane& lane = w.lanes[index];
             lane.shadow.pending = false;
             Vec3 direction;
-            lane.goes_on = surface_step_drawn(scene, *lights_, settings_, lane.numbers, lane.si, *lane.si.shape->bsdf(), lane.path,
-                                              lane.gathered, direction, lane.shadow);
+            lane.goes_on = surface_step_drawn(scene, *lights_, settings_, lane.numbers, LaterDraws{sampler, lane.sampler_state, lane.dims},
+                                              lane.si, *lane.si.shape->bsdf(), lane.path, lane.gathered, direction, lane.shadow);
             if (lane.goes_on) {
                 lane.ray = lane.si.spawn_ray(direction);
                 lane.dims += SampleDimensions::PerBounce;
@@ -162,18 +162,25 @@ void PathIntegrator::sample_batch(const Scene& scene, Sampler& sampler, BatchSam
             else if (!lane.goes_on)
                 finish(index);
         }
-        // The bounce's shadow rays, in packets; a clear one adds its estimate.
+        // The bounce's shadow rays, in packets; a clear one adds its estimate. Through Null
+        // surfaces, each its transmittance.
         const size_t shadows = w.pending.size();
-        w.rays.resize(shadows);
-        bool* blocked = w.blocked.get();
-        for (size_t k = 0; k < shadows; ++k) w.rays[k] = &w.lanes[w.pending[k]].shadow.shadow;
-        scene.occluded_batch(w.rays.data(), blocked, shadows);
-        for (size_t k = 0; k < shadows; ++k) {
-            const uint32_t index = w.pending[k];
-            WaveLane& lane = w.lanes[index];
-            if (!blocked[k]) lane.gathered += lane.shadow.value;
-            if (!lane.goes_on) finish(index);
+        if (scene.has_null_surfaces()) {
+            for (size_t k = 0; k < shadows; ++k) {
+                WaveLane& lane = w.lanes[w.pending[k]];
+                const Spectrum T = scene.transmittance(lane.shadow.light.shadow);
+                if (!is_black(T)) lane.gathered += lane.shadow.value(T);
+            }
+        } else {
+            w.rays.resize(shadows);
+            bool* blocked = w.blocked.get();
+            for (size_t k = 0; k < shadows; ++k) w.rays[k] = &w.lanes[w.pending[k]].shadow.light.shadow;
+            scene.occluded_batch(w.rays.data(), blocked, shadows);
+            for (size_t k = 0; k < shadows; ++k)
+                if (!blocked[k]) w.lanes[w.pending[k]].gathered += w.lanes[w.pending[k]].shadow.value(Spectrum(1.0f));
         }
+        for (size_t k = 0; k < shadows; ++k)
+            if (!w.lanes[w.pending[k]].goes_on) finish(w.pending[k]);
         live = still;
     }
 }

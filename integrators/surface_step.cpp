@@ -39,13 +39,22 @@ struct DrawnFromSampler {
     }
 };
 
-// The numbers drawn before (draw_vertex_numbers).
+// The numbers drawn before (draw_vertex_numbers); the roulette's, when it was not, drawn now
+// from the lane's place in the sampler.
 struct DrawnBefore {
     const VertexNumbers& u;
+    LaterDraws later;
     LightSampleNumbers light(bool) const { return u.light; }
     float lobe(const BSDF&) const { return u.lobe; }
     Vec2 direction() const { return u.direction; }
-    float roulette() const { return u.roulette; }
+    float roulette() {
+        if (u.roulette_drawn) return u.roulette;
+        later.sampler.restore(later.state);
+        later.sampler.set_dimension(later.dims + SampleDimensions::Roulette);
+        const float number = later.sampler.next_1d();
+        later.sampler.save(later.state);
+        return number;
+    }
 };
 
 // The vertex of surface_step, its numbers from `numbers`.
@@ -68,12 +77,9 @@ bool scatter_at_surface(const Scene& scene, const LightSampler& lights, const Pa
     // sample's instead of between the shadow ray and the extension ray, where nothing overlaps it.
     const BSDFSample bs = bsdf.sample(ctx, si, u_lobe, u_direction);
     if (estimate_next_event && deferred) {
-        const UnshadowedLight light = unshadowed_emitter_mis(lights, u_light, si, bsdf, BSDFContext());
-        deferred->pending = light.valid;
-        if (light.valid) {
-            deferred->shadow = light.shadow;
-            deferred->value = path.weights.estimate_weight() * light.contribution();
-        }
+        unshadowed_emitter_mis(lights, u_light, si, bsdf, BSDFContext(), deferred->light);
+        deferred->pending = deferred->light.valid;
+        if (deferred->pending) deferred->path_weight = path.weights.estimate_weight();
     } else if (estimate_next_event) {
         StokesSpectrum arriving;
         const Spectrum nee = sample_emitter_mis(scene, lights, u_light, si, bsdf, BSDFContext(), {}, medium,
@@ -118,20 +124,25 @@ bool surface_step(const Scene& scene, const LightSampler& lights, const PathSett
 void draw_vertex_numbers(const LightSampler& lights, const PathSettings& settings, Sampler& sampler, uint32_t dims, const BSDF& bsdf,
                          const CameraPath& path, VertexNumbers& u) {
     const bool may_scatter = settings.may_extend(path.depth);
-    if (!may_scatter) return;  // the vertex ends the path (no Null lobe) before drawing
+    u.roulette_drawn = false;
+    if (!may_scatter && !bsdf.has_null_lobe()) return;  // the vertex ends the path before drawing
     DrawnFromSampler numbers{lights, sampler, dims};
-    u.light = numbers.light(bsdf.has_smooth_lobe());
+    u.light = numbers.light(may_scatter && bsdf.has_smooth_lobe());
     u.lobe = numbers.lobe(bsdf);
     u.direction = numbers.direction();
     // The scattering event takes the path to depth + 1; the roulette's number is drawn only
-    // where it will be read (a stream sampler's later numbers stay in place).
-    if (path.depth + 1 >= uint32_t(settings.rr_depth)) u.roulette = numbers.roulette();
+    // where it will be read (a stream sampler's later numbers stay in place): behind a Null lobe
+    // only once the lobe is known (DrawnBefore::roulette).
+    if (may_scatter && !bsdf.has_null_lobe() && path.depth + 1 >= uint32_t(settings.rr_depth)) {
+        u.roulette = numbers.roulette();
+        u.roulette_drawn = true;
+    }
 }
 
 bool surface_step_drawn(const Scene& scene, const LightSampler& lights, const PathSettings& settings, const VertexNumbers& u,
-                        const SurfaceInteraction& si, const BSDF& bsdf, CameraPath& path, Spectrum& L, Vec3& direction,
+                        LaterDraws later, const SurfaceInteraction& si, const BSDF& bsdf, CameraPath& path, Spectrum& L, Vec3& direction,
                         PendingShadow& deferred) {
-    DrawnBefore numbers{u};
+    DrawnBefore numbers{u, later};
     return scatter_at_surface(scene, lights, settings, numbers, si, bsdf, PathMedium{}, path, L, direction, &deferred);
 }
 

@@ -18,6 +18,7 @@ namespace candela {
 
 class Scene;
 class Sampler;
+struct SamplerState;
 
 // Where the path last scattered (a surface bounce or a real collision in a medium): the point
 // that MIS weights of emission found later refer to. Before the first event it is the camera,
@@ -74,14 +75,16 @@ struct CameraPath {
 bool survive_roulette(const PathSettings& settings, Sampler& sampler, uint32_t dims, CameraPath& path);
 
 // A next-event estimate held back until its shadow ray is traced (a wavefront traces many
-// paths' shadow rays together): `value` (already times the path's estimate weight) joins the
-// path's radiance when `shadow` is clear. Only where a clear shadow ray means a transmittance of
-// exactly 1 (no Null surfaces, no media) and the contribution needs no Stokes vectors (not
+// paths' shadow rays together): `light` (its shadow ray, BSDF value, weight and MIS scale) and
+// the path's estimate weight at the vertex; value(T) is what joins the path's radiance once the
+// shadow ray's transmittance T is known (1 when clear and the scene has no Null surfaces), the
+// same product sample_emitter_mis forms. Only in no medium and without Stokes vectors (not
 // polarized).
 struct PendingShadow {
-    Ray shadow;
-    Spectrum value{0.0f};
+    UnshadowedLight light;
+    Spectrum path_weight{0.0f};
     bool pending = false;
+    Spectrum value(const Spectrum& T) const { return path_weight * light.contribution(T); }
 };
 
 // The surface vertex whose numbers start at dimension `dims` (SampleDimensions::bounce(k) for
@@ -94,22 +97,30 @@ struct PendingShadow {
 bool surface_step(const Scene& scene, const LightSampler& lights, const PathSettings& settings, Sampler& sampler, uint32_t dims,
                   const SurfaceInteraction& si, const BSDF& bsdf, const PathMedium& medium, CameraPath& path, Spectrum& L, Vec3& direction);
 
-// The same vertex for a wavefront, in two halves, where `bsdf` has no Null lobe and the path is
-// in no medium: draw_vertex_numbers draws every number surface_step would draw, in its order
-// (the roulette's whenever the scattering event reaches rr_depth: should the BSDF sample end the
-// path instead, its sample draws nothing after it anyway); surface_step_drawn then does what
-// surface_step does with them, next-event estimation's shadow ray held back in `deferred`
-// (pending when there is one; not added to L).
+// The same vertex for a wavefront, in two halves, where the path is in no medium:
+// draw_vertex_numbers draws the numbers surface_step would draw, in its order, from the lane's
+// place in the sampler (the roulette's whenever the scattering event reaches rr_depth: should
+// the BSDF sample end the path instead, its sample draws nothing after it anyway); then
+// surface_step_drawn does what surface_step does with them, next-event estimation's shadow ray
+// held back in `deferred` (pending when there is one; not added to L). Behind a BSDF with a Null
+// lobe the roulette's number is drawn only if the sampled lobe scatters, as surface_step draws
+// it: surface_step_drawn draws it then from `later`, the lane's place after the other numbers.
 struct VertexNumbers {
     LightSampleNumbers light;
     float lobe = 0.5f;
     Vec2 direction{0.5f};
     float roulette = 0.5f;
+    bool roulette_drawn = false;
+};
+struct LaterDraws {
+    Sampler& sampler;
+    SamplerState& state;
+    uint32_t dims;
 };
 void draw_vertex_numbers(const LightSampler& lights, const PathSettings& settings, Sampler& sampler, uint32_t dims, const BSDF& bsdf,
                          const CameraPath& path, VertexNumbers& u);
 bool surface_step_drawn(const Scene& scene, const LightSampler& lights, const PathSettings& settings, const VertexNumbers& u,
-                        const SurfaceInteraction& si, const BSDF& bsdf, CameraPath& path, Spectrum& L, Vec3& direction,
+                        LaterDraws later, const SurfaceInteraction& si, const BSDF& bsdf, CameraPath& path, Spectrum& L, Vec3& direction,
                         PendingShadow& deferred);
 
 // The emission the path finds at surface `hit` (0 when hide_emitters hides it: nothing has
