@@ -26,8 +26,7 @@ public:
     // is visible (there is one and hide_emitters is off), as in Mitsuba.
     // Final: sample_batch() gives what it gives, so a subclass (prb, ...) changes neither.
     Spectrum sample_radiance(const Scene& scene, Sampler& sampler, const Ray& ray, SampleRecord& record) const final;
-    // The same as a wavefront, bit for bit (path_wave.cpp): RGB and spectral scenes without Null
-    // surfaces.
+    // The same as a wavefront, bit for bit (path_wave.cpp): RGB and spectral scenes.
     bool samples_in_batches(const Scene& scene) const final;
     void sample_batch(const Scene& scene, Sampler& sampler, BatchSample samples[], size_t n) const final;
     // Radiance that `bsdf` at vertex `si` (si.wi set) scatters toward si.wi, by next-event
