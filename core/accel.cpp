@@ -9,7 +9,9 @@
 #include <csignal>
 #include <cstddef>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <string>
 
 namespace candela {
 
@@ -38,8 +40,15 @@ bool thread_inside_embree() { return g_inside_embree != 0; }
 Accel::Accel() : owns_device_(true) {
     // CANDELA_EMBREE_CONFIG, when set, is Embree's device configuration ("isa=avx2",
     // "verbose=1"...): how the kernels of a machine without AVX-512 are tested on one with it.
-    device_ = rtcNewDevice(std::getenv("CANDELA_EMBREE_CONFIG"));
-    if (!device_) throw std::runtime_error("could not create the Embree device");
+    const char* config = std::getenv("CANDELA_EMBREE_CONFIG");
+    device_ = rtcNewDevice(config);
+    if (!device_) {
+        const int code = int(rtcGetDeviceError(nullptr));
+        if (config)
+            throw InputError("CANDELA_EMBREE_CONFIG=\"" + std::string(config) + "\": Embree refused this device configuration (error " +
+                             std::to_string(code) + ")");
+        throw InternalError("could not create the Embree device (error " + std::to_string(code) + ")");
+    }
     rtcSetDeviceErrorFunction(device_, embree_error, nullptr);
     rtcSetDeviceMemoryMonitorFunction(device_, memory_monitor, this);
 }
