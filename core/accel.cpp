@@ -51,9 +51,13 @@ Accel::Accel() : owns_device_(true) {
     }
     rtcSetDeviceErrorFunction(device_, embree_error, nullptr);
     rtcSetDeviceMemoryMonitorFunction(device_, memory_monitor, this);
+    native_packet16_ = rtcGetDeviceProperty(device_, RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED) != 0;
 }
 
-Accel::Accel(RTCDevice shared_device) : device_(shared_device) { rtcRetainDevice(device_); }
+Accel::Accel(RTCDevice shared_device) : device_(shared_device) {
+    rtcRetainDevice(device_);
+    native_packet16_ = rtcGetDeviceProperty(device_, RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED) != 0;
+}
 
 Accel::~Accel() {
     // Scenes of shape groups may outlive this one on the same device: stop counting into *this.
@@ -166,20 +170,48 @@ bool Accel::occluded(const Ray& ray) const {
 
 namespace {
 // Embree reads a packet's valid mask with aligned vector loads.
+template <int Width>
 struct alignas(64) PacketMask {
-    int lanes[Accel::PacketSize];
+    int lanes[Width];
+};
+
+// Embree's packet types and queries by width: 16 where the device's kernels are 16 wide
+// (AVX-512), else 8 (a 16-ray query on AVX2 kernels is answered as two 8-ray ones, measured 4%
+// slower than asking for the two: bench/results/embree_isa_2026-12-07.txt).
+template <int Width>
+struct PacketQueries;
+template <>
+struct PacketQueries<8> {
+    using RayHitPacket = RTCRayHit8;
+    using RayPacket = RTCRay8;
+    static void intersect(const int* valid, RTCScene scene, RTCIntersectContext* context, RTCRayHit8* rh) {
+        rtcIntersect8(valid, scene, context, rh);
+    }
+    static void occluded(const int* valid, RTCScene scene, RTCIntersectContext* context, RTCRay8* r) {
+        rtcOccluded8(valid, scene, context, r);
+    }
+};
+template <>
+struct PacketQueries<16> {
+    using RayHitPacket = RTCRayHit16;
+    using RayPacket = RTCRay16;
+    static void intersect(const int* valid, RTCScene scene, RTCIntersectContext* context, RTCRayHit16* rh) {
+        rtcIntersect16(valid, scene, context, rh);
+    }
+    static void occluded(const int* valid, RTCScene scene, RTCIntersectContext* context, RTCRay16* r) {
+        rtcOccluded16(valid, scene, context, r);
+    }
 };
 
 // Lanes [0, n) of `mask` on, with `rays` written into the packet's ray fields (times mapped by
 // `time`); the lanes beyond n off.
-template <class Packet, class TimeMap>
-void fill_packet(const Ray* const rays[], size_t n, const TimeMap& time, PacketMask& mask, Packet& r) {
-    for (size_t i = 0; i < Accel::PacketSize; ++i) {
+template <int Width, class Packet, class TimeMap>
+void fill_packet(const Ray* const rays[], size_t n, const TimeMap& time, PacketMask<Width>& mask, Packet& r) {
+    for (size_t i = 0; i < size_t(Width); ++i) {
         mask.lanes[i] = i < n ? -1 : 0;
         if (i >= n) {
-            // An off lane still holds a valid empty ray: Embree's AVX2 kernels, which answer a
-            // 16-ray query as two 8-ray ones, assert every lane's ray valid under the split's
-            // mask (seen under valgrind, which offers AVX2 only).
+            // An off lane still holds a valid empty ray: Embree's kernels narrower than the
+            // packet (a 16-ray query on AVX2) assert every lane's ray valid under the split's mask.
             r.org_x[i] = r.org_y[i] = r.org_z[i] = 0.0f;
             r.dir_x[i] = r.dir_y[i] = r.dir_z[i] = 1.0f;
             r.tnear[i] = 0.0f;
@@ -206,28 +238,28 @@ void fill_packet(const Ray* const rays[], size_t n, const TimeMap& time, PacketM
     }
 }
 
-// Fills `packet` with rays[0, n) (n <= PacketSize) and runs `query(valid, context)` on it,
-// counted as n rays and marked as inside Embree.
-template <class Packet, class TimeMap, class Query>
+// Fills `packet` with rays[0, n) (n <= Width) and runs `query(valid, context)` on it, counted as
+// n rays and marked as inside Embree.
+template <int Width, class Packet, class TimeMap, class Query>
 void query_packet(const Ray* const rays[], size_t n, const TimeMap& time, Packet& packet, const Query& query) {
     g_rays_traced += n;
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
-    PacketMask mask;
-    fill_packet(rays, n, time, mask, packet);
+    PacketMask<Width> mask;
+    fill_packet<Width>(rays, n, time, mask, packet);
     g_inside_embree = 1;
     query(mask.lanes, &context);
     g_inside_embree = 0;
 }
 }  // namespace
 
-void Accel::intersect_packet(const Ray* const rays[], size_t n, const Shape* shapes[], RayHit hits[]) const {
-    n = std::min(n, PacketSize);
-    RTCRayHit16 rh;
-    for (size_t i = 0; i < PacketSize; ++i) rh.hit.geomID[i] = rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
-    query_packet(
+template <int Width>
+void Accel::intersect_lanes(const Ray* const rays[], size_t n, const Shape* shapes[], RayHit hits[]) const {
+    typename PacketQueries<Width>::RayHitPacket rh;
+    for (size_t i = 0; i < size_t(Width); ++i) rh.hit.geomID[i] = rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+    query_packet<Width>(
         rays, n, [this](float t) { return embree_time(t); }, rh.ray,
-        [&](const int* valid, RTCIntersectContext* context) { rtcIntersect16(valid, scene_, context, &rh); });
+        [&](const int* valid, RTCIntersectContext* context) { PacketQueries<Width>::intersect(valid, scene_, context, &rh); });
     for (size_t i = 0; i < n; ++i) {
         if (rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) {
             shapes[i] = nullptr;
@@ -243,13 +275,26 @@ void Accel::intersect_packet(const Ray* const rays[], size_t n, const Shape* sha
     }
 }
 
+template <int Width>
+void Accel::occluded_lanes(const Ray* const rays[], size_t n, bool blocked[]) const {
+    typename PacketQueries<Width>::RayPacket r;
+    query_packet<Width>(
+        rays, n, [this](float t) { return embree_time(t); }, r,
+        [&](const int* valid, RTCIntersectContext* context) { PacketQueries<Width>::occluded(valid, scene_, context, &r); });
+    for (size_t i = 0; i < n; ++i) blocked[i] = r.tfar[i] < 0.0f;  // Embree sets tfar to -inf on a hit
+}
+
+void Accel::intersect_packet(const Ray* const rays[], size_t n, const Shape* shapes[], RayHit hits[]) const {
+    n = std::min(n, PacketSize);
+    if (native_packet16_) return intersect_lanes<16>(rays, n, shapes, hits);
+    for (size_t first = 0; first < n; first += 8)
+        intersect_lanes<8>(rays + first, std::min<size_t>(8, n - first), shapes + first, hits + first);
+}
+
 void Accel::occluded_packet(const Ray* const rays[], size_t n, bool blocked[]) const {
     n = std::min(n, PacketSize);
-    RTCRay16 r;
-    query_packet(
-        rays, n, [this](float t) { return embree_time(t); }, r,
-        [&](const int* valid, RTCIntersectContext* context) { rtcOccluded16(valid, scene_, context, &r); });
-    for (size_t i = 0; i < n; ++i) blocked[i] = r.tfar[i] < 0.0f;  // Embree sets tfar to -inf on a hit
+    if (native_packet16_) return occluded_lanes<16>(rays, n, blocked);
+    for (size_t first = 0; first < n; first += 8) occluded_lanes<8>(rays + first, std::min<size_t>(8, n - first), blocked + first);
 }
 
 }  // namespace candela

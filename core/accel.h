@@ -46,7 +46,8 @@ public:
     // True when anything blocks the ray within [ray.tmin, ray.tmax].
     bool occluded(const Ray& ray) const;
     // The same for up to PacketSize rays at once (Embree's 16-ray packets, rtcIntersect16 and
-    // rtcOccluded16: a wavefront's batches), answered as the calls above answer each ray.
+    // rtcOccluded16, or two 8-ray ones where the device's kernels are 8 wide: a wavefront's
+    // batches), answered as the calls above answer each ray.
     static constexpr size_t PacketSize = 16;
     void intersect_packet(const Ray* const rays[], size_t n, const Shape* shapes[], RayHit hits[]) const;
     void occluded_packet(const Ray* const rays[], size_t n, bool blocked[]) const;
@@ -66,9 +67,15 @@ private:
     // in a scene whose shutter opens later takes the nearest instant of the shutter.
     // Inline: every query asks it.
     float embree_time(float time) const { return std::clamp(time_(time), 0.0f, 1.0f); }
+    // A packet query of `Width` (8 or 16) rays.
+    template <int Width>
+    void intersect_lanes(const Ray* const rays[], size_t n, const Shape* shapes[], RayHit hits[]) const;
+    template <int Width>
+    void occluded_lanes(const Ray* const rays[], size_t n, bool blocked[]) const;
 
     RTCDevice device_ = nullptr;
     bool owns_device_ = false;
+    bool native_packet16_ = true;  // the device's kernels answer 16-ray packets as one
     RTCScene scene_ = nullptr;
     std::vector<const Shape*> shapes_;  // by Embree geometry id
     EmbreeTime time_;
