@@ -176,8 +176,9 @@ struct alignas(64) PacketMask {
 };
 
 // Embree's packet types and queries by width: 16 where the device's kernels are 16 wide
-// (AVX-512), else 8 (a 16-ray query on AVX2 kernels is answered as two 8-ray ones, measured 4%
-// slower than asking for the two: bench/results/embree_isa_2026-12-07.txt).
+// (AVX-512), else 8. On AVX2 kernels Embree answers a 16-ray query as two 8-ray ones, and
+// asking for the two measured 4% faster in raw Embree and 1% in the wave
+// (bench/results/embree_isa_2026-12-07.txt).
 template <int Width>
 struct PacketQueries;
 template <>
