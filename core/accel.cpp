@@ -212,7 +212,7 @@ void fill_packet(const Ray* const rays[], size_t n, const TimeMap& time, PacketM
         mask.lanes[i] = i < n ? -1 : 0;
         if (i >= n) {
             // An off lane still holds a valid empty ray: Embree's kernels narrower than the
-            // packet (a 16-ray query on AVX2) assert every lane's ray valid under the split's mask.
+            // packet (an 8-ray query on SSE4.2) assert every lane's ray valid under the split's mask.
             r.org_x[i] = r.org_y[i] = r.org_z[i] = 0.0f;
             r.dir_x[i] = r.dir_y[i] = r.dir_z[i] = 1.0f;
             r.tnear[i] = 0.0f;

@@ -54,7 +54,7 @@ TEST_CASE("cli: render --no-wavefront traces one path at a time and writes the s
 TEST_CASE("cli: CANDELA_EMBREE_CONFIG selects Embree's kernels and a configuration Embree refuses is bad input", "[cli][wavefront]") {
     auto dir = scratch_dir("cli-embree-config");
     const std::string args = "'" + Cbox + "' -D res=20 --spp 4 --seed 3 --quiet -o ";
-    // The SSE4.2 kernels answer the wave's 16-ray packets as four 4-ray ones (their hits may
+    // The SSE4.2 kernels answer the wave's 8-ray packets as two 4-ray ones (their hits may
     // differ from the widest kernels' in the last bits, so the image is not compared here; the
     // wave's test holds it to the one-path-at-a-time image under the same kernels).
     REQUIRE(run_command("CANDELA_EMBREE_CONFIG=isa=sse4.2 " + render_cmd(args + "'" + (dir / "sse.exr").string() + "'"), dir / "sse.txt") ==

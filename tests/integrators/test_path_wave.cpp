@@ -235,9 +235,10 @@ TEST_CASE("path wavefront: adaptive sampling, parts of a render, --aov layers an
 }
 
 TEST_CASE("path wavefront: Embree's kernels for machines without AVX-512 answer its part-filled packets", "[render][wavefront]") {
-    // Embree answers a 16-ray query with its widest kernels; without AVX-512 it splits it into
-    // 8- or 4-ray ones, which asserted (and aborted) on the unused lanes of a packet the wave had
-    // left unwritten. CANDELA_EMBREE_CONFIG selects those kernels on any machine that has them.
+    // Without AVX-512 the wave asks for 8-ray packets (Accel::intersect_packet), which the SSE4.2
+    // kernels split again into 4-ray ones; a split asserted (and aborted) on the unused lanes of a
+    // packet the wave had left unwritten. CANDELA_EMBREE_CONFIG selects those kernels on any
+    // machine that has them.
     struct Isa {
         const char* config;
         bool supported;
