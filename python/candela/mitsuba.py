@@ -300,34 +300,72 @@ def _load_recipe(recipe, variant: str, sensor: dict | None = None, sensor_index:
     return _native.load_string(text, virtual, _candela._parameters(params), variant, sensor_index)
 
 
+# The scene last loaded for render(scene, sensor=<another index>), per scene: (the index, that
+# scene, what its sensor changes: _load_with_sensor). Rendering from that sensor again carries the
+# edits over instead of loading twice; one entry per scene, so a scene keeps at most one more
+# copy of itself in memory.
+_other_sensor_scenes: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+
+
+def _load_with_sensor(scene, recipe, **sensor):
+    """The scene loaded again from its recipe with another sensor (`sensor_index=` or `sensor=`
+    as _load_recipe takes them), and the parameters that sensor changes: {name: (its value with
+    the scene's own sensor, its value with this one)}, from one load with each."""
+    moved = _load_recipe(recipe, scene.variant, **sensor)
+    fresh = _load_recipe(recipe, scene.variant)
+    changed = {}
+    for name, _ in _native.parameter_list(moved):
+        value = _native.get_parameter(moved, name)
+        try:
+            own = _native.get_parameter(fresh, name)
+        except Exception:  # noqa: BLE001 - only in the scene with this sensor
+            own = None
+        if own is None or not np.array_equal(value, own):
+            changed[name] = (own, value)
+    return moved, changed
+
+
+def _carry_edits(scene, moved, changed) -> None:
+    """Gives `moved` the scene's parameter values as they are now (edited through traverse or
+    not), but the camera's own (to_world, x_fov); where moved's sensor changed a value
+    (`changed`), only an edit made to the scene carries over."""
+    updates = {}
+    wanted = dict(_native.parameter_list(moved))
+    for name, _ in _native.parameter_list(scene):
+        if name.endswith((".to_world", ".x_fov")) or name not in wanted:
+            continue
+        value = _native.get_parameter(scene, name)
+        if name in changed:
+            own, with_sensor = changed[name]
+            if own is not None and np.array_equal(value, own):
+                value = with_sensor  # not edited: moved keeps what its sensor gives it
+        if not np.array_equal(value, _native.get_parameter(moved, name)):
+            updates[name] = np.asarray(value, dtype=np.float32)
+    if updates:
+        _native.set_parameters(moved, updates)
+
+
 def _render_with_sensor(scene, sensor, spp, seed, integrator):
     """Renders `scene` from `sensor` (a sensor from load_dict, or the index of another of the
-    scene's sensors): the scene is loaded again with that sensor, and the parameters changed since
-    it was loaded (through traverse) are carried over, the camera's own (to_world, x_fov) excepted."""
+    scene's sensors): the scene is loaded again with that sensor (for an index, once while the
+    scene keeps rendering from it), and the parameters changed since it was loaded (through
+    traverse) are carried over, the camera's own (to_world, x_fov) excepted."""
     recipe = _recipes.get(scene)
     if recipe is None:
         raise NotImplementedError("mi.render(..., sensor=...) with a sensor other than the scene's first, for a scene not "
                                   "loaded by candela.mitsuba's load_file, load_string or load_dict, is not available")
     # Loaded again in the scene's own variant, whatever the current one is.
     if isinstance(sensor, _Plugin):
-        moved = _load_recipe(recipe, scene.variant, sensor=sensor.dictionary)
+        moved, changed = _load_with_sensor(scene, recipe, sensor=sensor.dictionary)
     else:
-        moved = _load_recipe(recipe, scene.variant, sensor_index=sensor)
-    fresh = _load_recipe(recipe, scene.variant)
-    changes = {}
-    wanted = dict(_native.parameter_list(moved))
-    for name, _ in _native.parameter_list(scene):
-        if name.endswith((".to_world", ".x_fov")) or name not in wanted:
-            continue
-        value = _native.get_parameter(scene, name)
-        try:
-            if np.array_equal(value, _native.get_parameter(fresh, name)):
-                continue
-        except Exception:  # noqa: BLE001 - not in the fresh scene: take it as changed
-            pass
-        changes[name] = np.asarray(value, dtype=np.float32)
-    if changes:
-        _native.set_parameters(moved, changes)
+        cached = _other_sensor_scenes.get(scene)
+        if cached is not None and cached[0] == sensor:
+            moved, changed = cached[1], cached[2]
+        else:
+            _other_sensor_scenes.pop(scene, None)  # its memory before the next load
+            moved, changed = _load_with_sensor(scene, recipe, sensor_index=sensor)
+            _other_sensor_scenes[scene] = (sensor, moved, changed)
+    _carry_edits(scene, moved, changed)
     return _candela.render(moved, spp=int(spp) or None, seed=seed, integrator=integrator)
 
 

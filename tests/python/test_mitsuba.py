@@ -184,6 +184,41 @@ def test_render_a_scene_sensor_by_index(tmp_path):
         candela.load_file(xml, sensor=5)
 
 
+def test_render_another_sensor_again_loads_once(monkeypatch):
+    # render(scene, sensor=i) loads the scene again with sensor i active; rendering from it again
+    # reuses that load and carries traverse's edits over (made, changed, undone), the same pixels
+    # as a scene loaded with each edit in place.
+    base = {"type": "scene", "light": {"type": "constant"},
+            "ball": {"type": "sphere", "bsdf": {"type": "diffuse", "id": "paint",
+                                                "reflectance": {"type": "rgb", "value": [0.5, 0.5, 0.5]}}},
+            "camera_a": sensor([-2, 1, 4], 12, 8, 4), "camera_b": sensor([2, 1, 4], 10, 6, 4)}
+    scene = mi.load_dict(base)
+    loads = []
+    real_load = mi._load_recipe
+    monkeypatch.setattr(mi, "_load_recipe", lambda *args, **kwargs: loads.append(kwargs) or real_load(*args, **kwargs))
+
+    def expected(value):
+        edited = {**base, "ball": {**base["ball"], "bsdf": {**base["ball"]["bsdf"],
+                                                            "reflectance": {"type": "rgb", "value": value}}}}
+        return np.asarray(candela.render(candela.load_dict(edited, sensor=1), seed=2))
+
+    unedited = np.asarray(mi.render(scene, sensor=1, seed=2))
+    assert len(loads) == 2  # the scene with sensor 1, and once with its own to tell what the sensor changes
+    assert np.array_equal(unedited, expected([0.5, 0.5, 0.5]))
+    params = mi.traverse(scene)
+    for value in ([0.9, 0.1, 0.1], [0.1, 0.9, 0.1], [0.5, 0.5, 0.5]):
+        params["paint.reflectance.value"] = mi.Color3f(*value)
+        params.update()
+        assert np.array_equal(np.asarray(mi.render(scene, sensor=1, seed=2)), expected(value))
+    assert len(loads) == 2
+    # The scene's own sensor takes no load; another index replaces the kept one.
+    mi.render(scene, sensor=0, seed=2)
+    assert len(loads) == 2
+    mi.render(scene, sensor=1, seed=2, spp=1)
+    assert len(loads) == 2
+    assert np.array_equal(np.asarray(mi.render(scene, sensor=1, seed=2)), unedited)
+
+
 def test_scene_sensors_films_and_bounds():
     # Mitsuba's scene.sensors()[i].film().size() and friends, read from the scene as it is now.
     T = mi.ScalarTransform4f
