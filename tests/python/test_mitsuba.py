@@ -191,7 +191,8 @@ def test_render_another_sensor_again_loads_once(monkeypatch):
     base = {"type": "scene", "light": {"type": "constant"},
             "ball": {"type": "sphere", "bsdf": {"type": "diffuse", "id": "paint",
                                                 "reflectance": {"type": "rgb", "value": [0.5, 0.5, 0.5]}}},
-            "camera_a": sensor([-2, 1, 4], 12, 8, 4), "camera_b": sensor([2, 1, 4], 10, 6, 4)}
+            "camera_a": sensor([-2, 1, 4], 12, 8, 4), "camera_b": sensor([2, 1, 4], 10, 6, 4),
+            "camera_c": sensor([0, 3, 4], 8, 8, 4)}
     scene = mi.load_dict(base)
     loads = []
     real_load = mi._load_recipe
@@ -211,12 +212,16 @@ def test_render_another_sensor_again_loads_once(monkeypatch):
         params.update()
         assert np.array_equal(np.asarray(mi.render(scene, sensor=1, seed=2)), expected(value))
     assert len(loads) == 2
-    # The scene's own sensor takes no load; another index replaces the kept one.
+    # The scene's own sensor takes no load, nor another sample count.
     mi.render(scene, sensor=0, seed=2)
-    assert len(loads) == 2
     mi.render(scene, sensor=1, seed=2, spp=1)
     assert len(loads) == 2
     assert np.array_equal(np.asarray(mi.render(scene, sensor=1, seed=2)), unedited)
+    # Another index replaces the kept load (one per scene): going back loads sensor 1 again.
+    mi.render(scene, sensor=2, seed=2)
+    assert len(loads) == 4
+    assert np.array_equal(np.asarray(mi.render(scene, sensor=1, seed=2)), unedited)
+    assert len(loads) == 6
 
 
 def test_scene_sensors_films_and_bounds():
