@@ -240,12 +240,13 @@ void fill_packet(const Ray* const rays[], size_t n, const TimeMap& time, PacketM
 }
 
 // Fills `packet` with rays[0, n) (n <= Width) and runs `query(valid, context)` on it, counted as
-// n rays and marked as inside Embree.
+// n rays and marked as inside Embree; `coherent` as Accel::intersect_packet's.
 template <int Width, class Packet, class TimeMap, class Query>
-void query_packet(const Ray* const rays[], size_t n, const TimeMap& time, Packet& packet, const Query& query) {
+void query_packet(const Ray* const rays[], size_t n, const TimeMap& time, Packet& packet, bool coherent, const Query& query) {
     g_rays_traced += n;
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
+    if (coherent) context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
     PacketMask<Width> mask;
     fill_packet<Width>(rays, n, time, mask, packet);
     g_inside_embree = 1;
@@ -255,11 +256,11 @@ void query_packet(const Ray* const rays[], size_t n, const TimeMap& time, Packet
 }  // namespace
 
 template <int Width>
-void Accel::intersect_lanes(const Ray* const rays[], size_t n, const Shape* shapes[], RayHit hits[]) const {
+void Accel::intersect_lanes(const Ray* const rays[], size_t n, const Shape* shapes[], RayHit hits[], bool coherent) const {
     typename PacketQueries<Width>::RayHitPacket rh;
     for (size_t i = 0; i < size_t(Width); ++i) rh.hit.geomID[i] = rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
     query_packet<Width>(
-        rays, n, [this](float t) { return embree_time(t); }, rh.ray,
+        rays, n, [this](float t) { return embree_time(t); }, rh.ray, coherent,
         [&](const int* valid, RTCIntersectContext* context) { PacketQueries<Width>::intersect(valid, scene_, context, &rh); });
     for (size_t i = 0; i < n; ++i) {
         if (rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) {
@@ -280,16 +281,16 @@ template <int Width>
 void Accel::occluded_lanes(const Ray* const rays[], size_t n, bool blocked[]) const {
     typename PacketQueries<Width>::RayPacket r;
     query_packet<Width>(
-        rays, n, [this](float t) { return embree_time(t); }, r,
+        rays, n, [this](float t) { return embree_time(t); }, r, false,
         [&](const int* valid, RTCIntersectContext* context) { PacketQueries<Width>::occluded(valid, scene_, context, &r); });
     for (size_t i = 0; i < n; ++i) blocked[i] = r.tfar[i] < 0.0f;  // Embree sets tfar to -inf on a hit
 }
 
-void Accel::intersect_packet(const Ray* const rays[], size_t n, const Shape* shapes[], RayHit hits[]) const {
+void Accel::intersect_packet(const Ray* const rays[], size_t n, const Shape* shapes[], RayHit hits[], bool coherent) const {
     n = std::min(n, PacketSize);
-    if (native_packet16_) return intersect_lanes<16>(rays, n, shapes, hits);
+    if (native_packet16_) return intersect_lanes<16>(rays, n, shapes, hits, coherent);
     for (size_t first = 0; first < n; first += 8)
-        intersect_lanes<8>(rays + first, std::min<size_t>(8, n - first), shapes + first, hits + first);
+        intersect_lanes<8>(rays + first, std::min<size_t>(8, n - first), shapes + first, hits + first, coherent);
 }
 
 void Accel::occluded_packet(const Ray* const rays[], size_t n, bool blocked[]) const {

@@ -47,9 +47,12 @@ public:
     bool occluded(const Ray& ray) const;
     // The same for up to PacketSize rays at once (Embree's 16-ray packets, rtcIntersect16 and
     // rtcOccluded16, or two 8-ray ones where the device's kernels are 8 wide: a wavefront's
-    // batches), answered as the calls above answer each ray.
+    // batches), answered as the calls above answer each ray. `coherent`: the rays leave from
+    // about one place in about one direction (one pixel's camera rays), so Embree may trace them
+    // as a frustum (RTC_INTERSECT_CONTEXT_FLAG_COHERENT; the same hits, found faster for such
+    // rays and slower for scattered ones).
     static constexpr size_t PacketSize = 16;
-    void intersect_packet(const Ray* const rays[], size_t n, const Shape* shapes[], RayHit hits[]) const;
+    void intersect_packet(const Ray* const rays[], size_t n, const Shape* shapes[], RayHit hits[], bool coherent = false) const;
     void occluded_packet(const Ray* const rays[], size_t n, bool blocked[]) const;
 
     RTCDevice device() const { return device_; }
@@ -69,7 +72,7 @@ private:
     float embree_time(float time) const { return std::clamp(time_(time), 0.0f, 1.0f); }
     // A packet query of `Width` (8 or 16) rays.
     template <int Width>
-    void intersect_lanes(const Ray* const rays[], size_t n, const Shape* shapes[], RayHit hits[]) const;
+    void intersect_lanes(const Ray* const rays[], size_t n, const Shape* shapes[], RayHit hits[], bool coherent) const;
     template <int Width>
     void occluded_lanes(const Ray* const rays[], size_t n, bool blocked[]) const;
 

@@ -115,12 +115,12 @@ bool Scene::interaction_of_hit(const Ray& ray, const Shape* shape, const RayHit&
     return true;
 }
 
-void Scene::intersect_batch(const Ray* const rays[], SurfaceInteraction* const si[], bool found[], size_t n) const {
+void Scene::intersect_batch(const Ray* const rays[], SurfaceInteraction* const si[], bool found[], size_t n, bool coherent) const {
     const Shape* shapes[Accel::PacketSize];
     RayHit hits[Accel::PacketSize];
     for (size_t first = 0; first < n; first += Accel::PacketSize) {
         const size_t count = std::min(Accel::PacketSize, n - first);
-        accel_.intersect_packet(rays + first, count, shapes, hits);
+        accel_.intersect_packet(rays + first, count, shapes, hits, coherent);
         for (size_t i = 0; i < count; ++i) found[first + i] = interaction_of_hit(*rays[first + i], shapes[i], hits[i], *si[first + i]);
     }
 }

@@ -34,7 +34,8 @@ public:
     bool occluded(const Ray& ray) const { return accel_.occluded(ray); }
     // The same for a batch of rays at once, traced as Embree packets (a wavefront): found[i] and
     // si[i] as intersect(*rays[i], *si[i]) gives them, blocked[i] as occluded(*rays[i]).
-    void intersect_batch(const Ray* const rays[], SurfaceInteraction* const si[], bool found[], size_t n) const;
+    // `coherent`: each packet's rays run nearly together (Accel::intersect_packet's).
+    void intersect_batch(const Ray* const rays[], SurfaceInteraction* const si[], bool found[], size_t n, bool coherent = false) const;
     void occluded_batch(const Ray* const rays[], bool blocked[], size_t n) const;
     // Whether a surface has a Null lobe (null, mask, polarizer): then shadow rays need
     // transmittance(), not only occluded().

@@ -92,6 +92,11 @@ public:
     // a radiance meter or a distant sensor (a delta in both position and direction) and for a
     // batch of sensors.
     virtual bool reached_by_light_paths() const { return false; }
+    // Whether the rays of one pixel's samples, and of neighbouring pixels, leave from about one
+    // place in about one direction (a camera's; not an irradiance meter's hemisphere of
+    // directions): the wavefront then traces its camera rays as coherent packets (Accel's
+    // `coherent`). Only speed depends on it.
+    virtual bool rays_coherent() const { return false; }
 
     // Called once the scene's geometry is built (the distant sensor places its rays outside the
     // scene's bounding sphere).

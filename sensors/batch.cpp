@@ -76,6 +76,13 @@ public:
             if (sensor->is_animated()) return true;
         return false;
     }
+    // A batch's pixel belongs to one sub-sensor; a packet may straddle two slices' edge (a few
+    // packets of a film's rows: rays of two frusta, traced correctly, only slower).
+    bool rays_coherent() const override {
+        for (auto& sensor : sensors_)
+            if (!sensor->rays_coherent()) return false;
+        return true;
+    }
     SourceLocation motion_location() const override {
         for (auto& sensor : sensors_)
             if (sensor->is_animated()) return sensor->motion_location();

@@ -37,6 +37,7 @@ public:
     void traverse(ParameterVisitor& visitor) override;
     void parameters_changed(const std::vector<std::string>& keys) override;
     bool reached_by_light_paths() const override { return true; }
+    bool rays_coherent() const override { return true; }
     // A batch's slice: the aspect follows the new size; the field of view along x is kept.
     void set_film_size(const Vec2i& size) override;
 

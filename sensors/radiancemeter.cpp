@@ -46,6 +46,8 @@ public:
         return ray;
     }
 
+    bool rays_coherent() const override { return true; }  // one ray, again and again
+
     std::string to_string() const override { return "radiancemeter"; }
 };
 
