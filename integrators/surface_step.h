@@ -48,7 +48,11 @@ struct CameraPath {
         eta = 1.0f;
         null_crossings = 0;
         scattered = false;
-        polarization = PolarizedPath();  // an empty optional assigns without copying its storage
+        // Inactive until begin(), field by field: `= PolarizedPath()` value-initialises a
+        // temporary, which zeroes all of it (rep stos over 200 bytes) since its default
+        // constructor is not user-provided.
+        polarization.stokes = nullptr;
+        polarization.product.reset();
     }
 
     // The throughput (beta) and, in chromatic media, volpath's spectral MIS ratio; without media
