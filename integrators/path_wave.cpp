@@ -98,7 +98,7 @@ void PathIntegrator::sample_batch(const Scene& scene, Sampler& sampler, BatchSam
     size_t live = n;
     // The first round traces camera rays only: a packet holds one pixel's samples (or a row's
     // neighbouring pixels), which Embree traces faster as a frustum when the sensor's rays run
-    // together (5% of a Cornell-box render, bench/results/coherent_camera_rays_2026-12-07.txt).
+    // together (3-5% of a Cornell-box render, bench/results/coherent_camera_rays_2026-12-07.txt).
     // Later rounds' rays scatter: the coherent traversal was slower for them (the first bounce's
     // by 1%, the shadow rays' by 6%).
     bool coherent = scene.sensor().rays_coherent();
