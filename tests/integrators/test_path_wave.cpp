@@ -327,3 +327,83 @@ TEST_CASE("path wavefront: packets traced as coherent find the hits single rays 
     CHECK(differing == 0);
     CHECK(hits > rays.size() / 2);
 }
+
+TEST_CASE("path wavefront: every kind of sensor renders bit for bit as one path at a time whether its rays run together or not",
+          "[render][wavefront]") {
+    // The wave traces camera rays as coherent packets for the sensors that say their rays run
+    // together (Sensor::rays_coherent) and as scattered ones otherwise; the image must not tell.
+    const std::string film = R"(<film type="hdrfilm"><integer name="width" value="12"/><integer name="height" value="10"/>
+        <rfilter type="box"/></film>)";
+    const std::string pose = R"(<transform name="to_world"><lookat origin="0, 1, 5" target="0, 0, 0" up="0, 1, 0"/></transform>)";
+    const std::string world = R"(
+        <shape type="obj"><string name="filename" value="meshes/torus.obj"/><bsdf type="diffuse"/></shape>
+        <shape type="cube"><transform name="to_world"><scale value="0.3"/><translate x="1" y="0.3"/></transform>
+            <bsdf type="roughconductor"/></shape>
+        <shape type="rectangle"><transform name="to_world"><scale value="4"/><rotate x="1" angle="-90"/><translate y="-0.6"/></transform>
+            <bsdf type="diffuse"/>%s</shape>
+        <shape type="rectangle"><transform name="to_world"><rotate x="1" angle="90"/><translate y="3"/></transform>
+            <emitter type="area"><rgb name="radiance" value="4"/></emitter></shape>
+        <emitter type="constant"><rgb name="radiance" value="0.3"/></emitter>)";
+    auto with_floor_sensor = [&](const std::string& floor_sensor) {
+        std::string body = world;
+        body.replace(body.find("%s"), 2, floor_sensor);
+        return body;
+    };
+    // The meters measure one value: a 1 x 1 film, and more samples.
+    const std::string meter_film = R"(<film type="hdrfilm"><integer name="width" value="1"/><integer name="height" value="1"/>
+        <rfilter type="box"/></film>)";
+    struct Case {
+        const char* name;
+        std::string body;
+        bool coherent;
+        int spp = 20;
+    };
+    const std::string perspective = R"(<sensor type="perspective"><float name="fov" value="50"/>)" + pose + film + "</sensor>";
+    const std::vector<Case> cases = {
+        {"perspective", perspective + with_floor_sensor(""), true},
+        {"thinlens",
+         R"(<sensor type="thinlens"><float name="fov" value="50"/><float name="aperture_radius" value="0.2"/>
+            <float name="focus_distance" value="4"/>)" +
+             pose + film + "</sensor>" + with_floor_sensor(""),
+         true},
+        {"orthographic",
+         R"(<sensor type="orthographic"><transform name="to_world"><scale x="2" y="2"/>
+            <lookat origin="0, 1, 5" target="0, 0, 0" up="0, 1, 0"/></transform>)" +
+             film + "</sensor>" + with_floor_sensor(""),
+         true},
+        {"radiancemeter",
+         R"(<sensor type="radiancemeter"><point name="origin" value="0, 1, 5"/><vector name="direction" value="0, -0.2, -1"/>)" +
+             meter_film + "</sensor>" + with_floor_sensor(""),
+         true, 400},
+        {"distant",
+         R"(<sensor type="distant"><vector name="direction" value="0.2, -1, 0.1"/>)" + meter_film + "</sensor>" + with_floor_sensor(""),
+         false, 400},
+        {"irradiancemeter", with_floor_sensor(R"(<sensor type="irradiancemeter">)" + meter_film + "</sensor>"), false, 400},
+        {"batch of a perspective and an orthographic camera",
+         R"(<sensor type="batch"><sensor type="perspective"><float name="fov" value="50"/>)" + pose +
+             R"(</sensor><sensor type="orthographic"><transform name="to_world"><scale x="2" y="2"/>
+            <lookat origin="0, 1, 5" target="0, 0, 0" up="0, 1, 0"/></transform></sensor>
+            <film type="hdrfilm"><integer name="width" value="24"/><integer name="height" value="10"/><rfilter type="box"/></film></sensor>)" +
+             with_floor_sensor(""),
+         true},
+        {"batch of a radiance meter and an irradiance meter",
+         R"(<sensor type="batch"><sensor type="radiancemeter"><point name="origin" value="0, 1, 5"/>
+            <vector name="direction" value="0, -0.2, -1"/>)" +
+             meter_film + R"(</sensor><ref id="floor"/>
+            <film type="hdrfilm"><integer name="width" value="2"/><integer name="height" value="1"/><rfilter type="box"/></film></sensor>)" +
+             std::regex_replace(with_floor_sensor(R"(<sensor type="irradiancemeter">)" + meter_film + "</sensor>"),
+                                std::regex(R"(<shape type="rectangle"><transform name="to_world"><scale value="4"/>)"),
+                                R"(<shape type="rectangle" id="floor"><transform name="to_world"><scale value="4"/>)"),
+         false, 400},
+    };
+    for (const Case& c : cases) {
+        INFO(c.name);
+        Ref<Scene> scene = load_scene_from_string(scene_xml(c.body), source_path("scenes/validation/sensors.xml"));
+        REQUIRE(batched(*scene));
+        CHECK(scene->sensor().rays_coherent() == c.coherent);
+        for (const char* sampler : {"independent", "ldsampler"}) {
+            INFO(sampler);
+            check_same_render(*scene, with_sampler(sampler, c.spp));
+        }
+    }
+}
