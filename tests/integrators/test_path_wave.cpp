@@ -287,8 +287,10 @@ TEST_CASE("path wavefront: packets traced as coherent find the hits single rays 
     // One pixel's 16 rays (the wave's packets at 16 spp and more), then rows of 16 pixels, one ray
     // each (at 1 spp).
     for (int y = 0; y < 32; ++y)
-        for (int x = 0; x < 32; ++x, packet_sizes.push_back(16))
+        for (int x = 0; x < 32; ++x) {
+            packet_sizes.push_back(16);
             for (int s = 0; s < 16; ++s) rays.push_back(sensor.sample_ray(Vec2(float(x), float(y)) + next_2d(), Vec2(0.5f)));
+        }
     for (int y = 0; y < 32; ++y)
         for (int x = 0; x < 32; ++x) {
             if (x % 16 == 0) packet_sizes.push_back(16);
@@ -339,7 +341,7 @@ TEST_CASE("path wavefront: every kind of sensor renders bit for bit as one path 
         <shape type="obj"><string name="filename" value="meshes/torus.obj"/><bsdf type="diffuse"/></shape>
         <shape type="cube"><transform name="to_world"><scale value="0.3"/><translate x="1" y="0.3"/></transform>
             <bsdf type="roughconductor"/></shape>
-        <shape type="rectangle"><transform name="to_world"><scale value="4"/><rotate x="1" angle="-90"/><translate y="-0.6"/></transform>
+        <shape type="rectangle" id="floor"><transform name="to_world"><scale value="4"/><rotate x="1" angle="-90"/><translate y="-0.6"/></transform>
             <bsdf type="diffuse"/>%s</shape>
         <shape type="rectangle"><transform name="to_world"><rotate x="1" angle="90"/><translate y="3"/></transform>
             <emitter type="area"><rgb name="radiance" value="4"/></emitter></shape>
@@ -359,6 +361,8 @@ TEST_CASE("path wavefront: every kind of sensor renders bit for bit as one path 
         int spp = 20;
     };
     const std::string perspective = R"(<sensor type="perspective"><float name="fov" value="50"/>)" + pose + film + "</sensor>";
+    const std::string orthographic_pose = R"(<transform name="to_world"><scale x="2" y="2"/>
+            <lookat origin="0, 1, 5" target="0, 0, 0" up="0, 1, 0"/></transform>)";
     const std::vector<Case> cases = {
         {"perspective", perspective + with_floor_sensor(""), true},
         {"thinlens",
@@ -366,11 +370,7 @@ TEST_CASE("path wavefront: every kind of sensor renders bit for bit as one path 
             <float name="focus_distance" value="4"/>)" +
              pose + film + "</sensor>" + with_floor_sensor(""),
          true},
-        {"orthographic",
-         R"(<sensor type="orthographic"><transform name="to_world"><scale x="2" y="2"/>
-            <lookat origin="0, 1, 5" target="0, 0, 0" up="0, 1, 0"/></transform>)" +
-             film + "</sensor>" + with_floor_sensor(""),
-         true},
+        {"orthographic", R"(<sensor type="orthographic">)" + orthographic_pose + film + "</sensor>" + with_floor_sensor(""), true},
         {"radiancemeter",
          R"(<sensor type="radiancemeter"><point name="origin" value="0, 1, 5"/><vector name="direction" value="0, -0.2, -1"/>)" +
              meter_film + "</sensor>" + with_floor_sensor(""),
@@ -381,8 +381,7 @@ TEST_CASE("path wavefront: every kind of sensor renders bit for bit as one path 
         {"irradiancemeter", with_floor_sensor(R"(<sensor type="irradiancemeter">)" + meter_film + "</sensor>"), false, 400},
         {"batch of a perspective and an orthographic camera",
          R"(<sensor type="batch"><sensor type="perspective"><float name="fov" value="50"/>)" + pose +
-             R"(</sensor><sensor type="orthographic"><transform name="to_world"><scale x="2" y="2"/>
-            <lookat origin="0, 1, 5" target="0, 0, 0" up="0, 1, 0"/></transform></sensor>
+             R"(</sensor><sensor type="orthographic">)" + orthographic_pose + R"(</sensor>
             <film type="hdrfilm"><integer name="width" value="24"/><integer name="height" value="10"/><rfilter type="box"/></film></sensor>)" +
              with_floor_sensor(""),
          true},
@@ -391,9 +390,7 @@ TEST_CASE("path wavefront: every kind of sensor renders bit for bit as one path 
             <vector name="direction" value="0, -0.2, -1"/>)" +
              meter_film + R"(</sensor><ref id="floor"/>
             <film type="hdrfilm"><integer name="width" value="2"/><integer name="height" value="1"/><rfilter type="box"/></film></sensor>)" +
-             std::regex_replace(with_floor_sensor(R"(<sensor type="irradiancemeter">)" + meter_film + "</sensor>"),
-                                std::regex(R"(<shape type="rectangle"><transform name="to_world"><scale value="4"/>)"),
-                                R"(<shape type="rectangle" id="floor"><transform name="to_world"><scale value="4"/>)"),
+             with_floor_sensor(R"(<sensor type="irradiancemeter">)" + meter_film + "</sensor>"),
          false, 400},
     };
     for (const Case& c : cases) {
