@@ -1,6 +1,7 @@
 // The scalar helpers of core/math.h that replace library calls on the hot path must give the
 // library's results exactly.
 
+#include "core/fast_trig.h"
 #include "core/math.h"
 #include "core/rng.h"
 
@@ -16,6 +17,22 @@ bool same_bits(float a, float b) {
     std::memcpy(&x, &a, sizeof x);
     std::memcpy(&y, &b, sizeof y);
     return x == y;
+}
+// |approx - exact| in units in the last place of the float nearest `exact`.
+double ulp_error(float approx, double exact) {
+    float e = float(exact);
+    float ulp = std::nextafter(std::abs(e), Infinity) - std::abs(e);
+    return std::abs(double(approx) - exact) / double(ulp);
+}
+float float_from_bits(uint32_t bits) {
+    float x;
+    std::memcpy(&x, &bits, sizeof x);
+    return x;
+}
+uint32_t bits_of(float x) {
+    uint32_t bits;
+    std::memcpy(&bits, &x, sizeof bits);
+    return bits;
 }
 }  // namespace
 
@@ -49,11 +66,6 @@ TEST_CASE("math: next_float_toward is std::nextafter toward +-infinity, and v it
 // float of the interval (about 16 million arguments) and at its end; the symmetry in sign is exact.
 TEST_CASE("math: sincos_quarter_pi is within 2 ulp of sin and cos on [-pi/4, pi/4]", "[math]") {
     const float limit = 0.78539818525f;  // the float nearest pi/4, just above it
-    auto ulp_error = [](float approx, double exact) {
-        float e = float(exact);
-        float ulp = std::nextafter(std::abs(e), Infinity) - std::abs(e);
-        return std::abs(double(approx) - exact) / double(ulp);
-    };
     double worst_sin = 0.0, worst_cos = 0.0;
     long asymmetric = 0;
     auto check = [&](float x) {
@@ -64,13 +76,7 @@ TEST_CASE("math: sincos_quarter_pi is within 2 ulp of sin and cos on [-pi/4, pi/
         if (x != 0.0f) worst_sin = std::max(worst_sin, ulp_error(s, std::sin(double(x))));
         worst_cos = std::max(worst_cos, ulp_error(c, std::cos(double(x))));
     };
-    uint32_t last;
-    std::memcpy(&last, &limit, sizeof last);
-    for (uint32_t bits = 0; bits < last; bits += 64) {
-        float x;
-        std::memcpy(&x, &bits, sizeof x);
-        check(x);
-    }
+    for (uint32_t bits = 0; bits < bits_of(limit); bits += 64) check(float_from_bits(bits));
     check(limit);
     INFO("worst sin error " << worst_sin << " ulp, worst cos error " << worst_cos << " ulp");
     CHECK(worst_sin <= 2.0);
@@ -117,4 +123,47 @@ TEST_CASE("math: ceil_to_int and floor_to_int are int(std::ceil) and int(std::fl
     }
     INFO("first wrong value " << first_wrong);
     CHECK(wrong == 0);
+}
+
+// acos4 stands in for std::acos in the spherical rectangle's four angles. Every 16th float of
+// [0, 1] (about 66 million arguments) with both signs, each lane given a different argument;
+// arguments outside [-1, 1] are clamped, as safe_acos clamps them.
+TEST_CASE("math: acos4 is within 2 ulp of acos on [-1 1] in every lane and clamps outside it", "[math]") {
+    double worst = 0.0;
+    float worst_at = 0.0f;
+    for (uint32_t bits = 0; bits <= bits_of(1.0f); bits += 16) {
+        const float x = float_from_bits(bits), y = float_from_bits(bits_of(1.0f) - bits);
+        const Float4 lanes{x, -x, y, -y};
+        const Float4 result = acos4(lanes);
+        for (int lane = 0; lane < 4; ++lane) {
+            const double error = ulp_error(result[lane], std::acos(double(lanes[lane])));
+            if (error > worst) worst = error, worst_at = lanes[lane];
+        }
+    }
+    INFO("worst error " << worst << " ulp at " << worst_at);
+    CHECK(worst <= 2.0);
+    const Float4 ends = acos4(Float4{1.0f, -1.0f, 1.5f, -7.0f});
+    CHECK(ends[0] == 0.0f);
+    CHECK(ends[1] == Pi);
+    CHECK(ends[2] == 0.0f);
+    CHECK(ends[3] == Pi);
+    CHECK(acos4(splat4(0.0f))[0] == Pi / 2.0f);
+}
+
+// sincos_any stands in for std::sin and std::cos of the spherical rectangle's sampled angle, in
+// [0, 4 pi]. Every 64th float of [0, 20] with both signs: the error is within 2^-23 absolute
+// (an ulp of values in [1, 2), 1.5 ulp of those in [1/2, 1)), with the quadrants' signs right.
+TEST_CASE("math: sincos_any is within 2^-23 of sin and cos on [-20 20]", "[math]") {
+    double worst_sin = 0.0, worst_cos = 0.0;
+    for (uint32_t bits = 0; bits <= bits_of(20.0f); bits += 64) {
+        for (float x : {float_from_bits(bits), -float_from_bits(bits)}) {
+            float s, c;
+            sincos_any(x, s, c);
+            worst_sin = std::max(worst_sin, std::abs(double(s) - std::sin(double(x))));
+            worst_cos = std::max(worst_cos, std::abs(double(c) - std::cos(double(x))));
+        }
+    }
+    INFO("worst sin error " << worst_sin << ", worst cos error " << worst_cos);
+    CHECK(worst_sin <= 0x1p-23);
+    CHECK(worst_cos <= 0x1p-23);
 }
