@@ -61,15 +61,11 @@ inline void sincos_any(float x, float& s, float& c) {
     float s_r, c_r;
     sincos_quarter_pi(r, s_r, c_r);
     // Quadrant q: sin x = (s_r, c_r, -s_r, -c_r)[q mod 4], cos x = (c_r, -s_r, -c_r, s_r)[q mod 4].
-    const uint32_t swap = 0u - uint32_t(q & 1);
+    // Each choice an all-ones or all-zeros mask for select_float.
+    const uint32_t swap = 0u - uint32_t(q & 1), negate_s = 0u - uint32_t((q >> 1) & 1), negate_c = 0u - uint32_t(((q + 1) >> 1) & 1);
     const float s_swapped = select_float(swap, c_r, s_r), c_swapped = select_float(swap, s_r, c_r);
-    uint32_t s_bits, c_bits;
-    std::memcpy(&s_bits, &s_swapped, sizeof s_bits);
-    std::memcpy(&c_bits, &c_swapped, sizeof c_bits);
-    s_bits ^= uint32_t(q & 2) << 30;
-    c_bits ^= uint32_t((q + 1) & 2) << 30;
-    std::memcpy(&s, &s_bits, sizeof s);
-    std::memcpy(&c, &c_bits, sizeof c);
+    s = select_float(negate_s, -s_swapped, s_swapped);
+    c = select_float(negate_c, -c_swapped, c_swapped);
 }
 
 }  // namespace candela
